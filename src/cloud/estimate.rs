@@ -1,0 +1,339 @@
+//! Estimating what a file lacks: normals (PCA + consistent orientation) and radii.
+//!
+//! Normals: the eigenvector of the smallest eigenvalue of the covariance of
+//! each point's k nearest neighbours. Their signs are made consistent by
+//! propagating along a minimum spanning tree of the neighbour graph, with edge
+//! cost 1 - |n_i . n_j| (Hoppe et al. 1992), so orientation never flips
+//! across a smooth surface. Each connected piece then gets its global sign:
+//! towards the scanner when the file's origin lies outside the cloud and sees
+//! (almost) every point from the front, as in a single-view scan; otherwise
+//! outwards, away from the cloud's centre.
+//!
+//! Radii: a multiple of the mean distance to the k nearest neighbours, so
+//! neighbouring splats overlap and cover the surface; outliers are clamped
+//! to a multiple of the median.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use glam::{Mat3, Vec3};
+use rayon::prelude::*;
+
+use super::PointCloud;
+use crate::spatial::knn::{self, Neighbours};
+
+/// Radii are clamped to this multiple of the median radius.
+pub const MAX_RADIUS_OVER_MEDIAN: f32 = 6.0;
+
+/// Share of points that must face the file origin to call the cloud a single-view scan.
+const SCANNER_FACING_SHARE: f32 = 0.8;
+
+#[derive(Debug, Clone)]
+pub struct EstimateOptions {
+    /// Neighbours used for the PCA normal.
+    pub normal_neighbours: usize,
+    /// Neighbours whose mean distance sets the radius.
+    pub radius_neighbours: usize,
+    /// Radius = this x mean neighbour distance.
+    pub radius_scale: f32,
+}
+
+impl Default for EstimateOptions {
+    fn default() -> Self {
+        Self { normal_neighbours: 16, radius_neighbours: 8, radius_scale: 1.1 }
+    }
+}
+
+/// What [`complete`] did beyond filling the gaps.
+#[derive(Debug, Default)]
+pub struct Estimated {
+    pub isolated_points: usize,
+    pub clamped_radii: usize,
+    pub scanner_position: Option<Vec3>,
+}
+
+/// Fills the normals and radii marked as needed, in place.
+///
+/// `file_origin` is the file's coordinate origin after re-centring: the
+/// sensor position when the cloud is a single-view scan.
+pub fn complete(
+    cloud: &mut PointCloud,
+    needs_normal: &[bool],
+    needs_radius: &[bool],
+    file_origin: Vec3,
+    options: &EstimateOptions,
+    progress: bool,
+) -> Estimated {
+    let mut out = Estimated::default();
+    let any_normal = needs_normal.iter().any(|&b| b);
+    let any_radius = needs_radius.iter().any(|&b| b);
+    if any_normal || any_radius {
+        let k = options.normal_neighbours.max(options.radius_neighbours).max(3);
+        let bar = progress.then(|| crate::progress::bar(cloud.len() as u64, "finding neighbours"));
+        let tick = |n: u64| {
+            if let Some(b) = &bar {
+                b.inc(n);
+            }
+        };
+        let neighbours = knn::k_nearest(&cloud.positions, k, &tick);
+        if let Some(b) = bar {
+            b.finish_and_clear();
+        }
+        if any_normal {
+            estimate_normals(cloud, &neighbours, needs_normal, options.normal_neighbours);
+            orient_normals(cloud, &neighbours, needs_normal, file_origin);
+        }
+        if any_radius {
+            let (isolated, clamped) = estimate_radii(cloud, &neighbours, needs_radius, options);
+            out.isolated_points = isolated;
+            out.clamped_radii = clamped;
+        }
+    }
+    out.scanner_position = scanner_position(cloud, file_origin);
+    out
+}
+
+fn estimate_normals(cloud: &mut PointCloud, nb: &Neighbours, needed: &[bool], k: usize) {
+    let positions = &cloud.positions;
+    let k = k.min(nb.k);
+    cloud.normals.par_iter_mut().enumerate().for_each(|(i, n)| {
+        if !needed[i] {
+            return;
+        }
+        let around = &nb.of(i)[..k];
+        let centre = (positions[i] + around.iter().map(|&j| positions[j as usize]).sum::<Vec3>()) / (k + 1) as f32;
+        let mut cov = Mat3::ZERO;
+        for p in std::iter::once(positions[i]).chain(around.iter().map(|&j| positions[j as usize])) {
+            let d = p - centre;
+            cov += Mat3::from_cols(d * d.x, d * d.y, d * d.z);
+        }
+        *n = smallest_eigenvector(cov).unwrap_or(Vec3::Z);
+    });
+}
+
+/// Unit eigenvector of the smallest eigenvalue of a symmetric 3x3 matrix.
+///
+/// Cyclic Jacobi rotations: a dozen lines, exact for symmetric matrices, and
+/// no linear-algebra crate for one call.
+pub fn smallest_eigenvector(m: Mat3) -> Option<Vec3> {
+    let mut a = m.to_cols_array_2d().map(|c| c.map(|v| v as f64));
+    let mut v = [[1.0f64, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for _sweep in 0..24 {
+        let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
+        if off < 1e-30 {
+            break;
+        }
+        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+            if a[p][q].abs() < 1e-300 {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let t = if theta == 0.0 { 1.0 } else { t };
+            let c = 1.0 / (t * t + 1.0).sqrt();
+            let s = t * c;
+            for row in a.iter_mut() {
+                let (akp, akq) = (row[p], row[q]);
+                row[p] = c * akp - s * akq;
+                row[q] = s * akp + c * akq;
+            }
+            let (row_p, row_q) = (a[p], a[q]);
+            a[p] = std::array::from_fn(|k| c * row_p[k] - s * row_q[k]);
+            a[q] = std::array::from_fn(|k| s * row_p[k] + c * row_q[k]);
+            for row in v.iter_mut() {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - s * vq;
+                row[q] = s * vp + c * vq;
+            }
+        }
+    }
+    let smallest = (0..3).min_by(|&x, &y| a[x][x].total_cmp(&a[y][y]))?;
+    let e = Vec3::new(v[0][smallest] as f32, v[1][smallest] as f32, v[2][smallest] as f32);
+    let len = e.length();
+    (len.is_finite() && len > 1e-6).then(|| e / len)
+}
+
+/// Makes estimated normal signs consistent (MST propagation), then picks each
+/// connected piece's sign. Normals read from the file are never flipped; they
+/// seed the propagation instead.
+fn orient_normals(cloud: &mut PointCloud, nb: &Neighbours, estimated: &[bool], file_origin: Vec3) {
+    let n = cloud.len();
+    let k = nb.k.min(8);
+    // Symmetric neighbour graph in CSR form.
+    let mut degree = vec![0u32; n + 1];
+    for i in 0..n {
+        for &j in &nb.of(i)[..k] {
+            if j as usize != i {
+                degree[i] += 1;
+                degree[j as usize] += 1;
+            }
+        }
+    }
+    let mut start = vec![0usize; n + 1];
+    for i in 0..n {
+        start[i + 1] = start[i] + degree[i] as usize;
+    }
+    let mut fill = start.clone();
+    let mut adjacency = vec![0u32; start[n]];
+    for i in 0..n {
+        for &j in &nb.of(i)[..k] {
+            let j = j as usize;
+            if j != i {
+                adjacency[fill[i]] = j as u32;
+                fill[i] += 1;
+                adjacency[fill[j]] = i as u32;
+                fill[j] += 1;
+            }
+        }
+    }
+
+    let normals = &mut cloud.normals;
+    let positions = &cloud.positions;
+    let centre = positions.iter().sum::<Vec3>() / n.max(1) as f32;
+    let mut component = vec![u32::MAX; n];
+    let mut heap = BinaryHeap::new();
+    let mut pieces: Vec<Vec<u32>> = Vec::new();
+    // Seeds: first the points whose normals came from the file (they fix the sign).
+    let seeds = (0..n).filter(|&i| !estimated[i]).chain((0..n).filter(|&i| estimated[i]));
+    for seed in seeds {
+        if component[seed] != u32::MAX {
+            continue;
+        }
+        let id = pieces.len() as u32;
+        let mut members = Vec::new();
+        heap.push((Reverse(0u32), seed as u32, seed as u32));
+        while let Some((_, node, parent)) = heap.pop() {
+            let node = node as usize;
+            if component[node] != u32::MAX {
+                continue;
+            }
+            component[node] = id;
+            members.push(node as u32);
+            if estimated[node] && node != parent as usize && normals[node].dot(normals[parent as usize]) < 0.0 {
+                normals[node] = -normals[node];
+            }
+            for &j in &adjacency[start[node]..start[node + 1]] {
+                if component[j as usize] == u32::MAX {
+                    let cost = 1.0 - normals[node].dot(normals[j as usize]).abs();
+                    heap.push((Reverse((cost.clamp(0.0, 1.0) * 1e6) as u32), j, node as u32));
+                }
+            }
+        }
+        pieces.push(members);
+    }
+
+    // Global sign: towards the scanner for a single view, else each piece outwards.
+    let outside = !bounds_contain(positions, file_origin, 0.1);
+    let facing: Vec<f32> = pieces
+        .iter()
+        .map(|m| m.iter().map(|&i| (normals[i as usize].dot(file_origin - positions[i as usize])).signum()).sum())
+        .collect();
+    let total_facing: f32 = facing.iter().map(|f| f.abs()).sum();
+    let single_view = outside && total_facing >= SCANNER_FACING_SHARE * n as f32;
+    if single_view {
+        // Every point of a single view was seen from the scanner, so each
+        // normal faces it; per point is more robust than per piece on noisy
+        // (e.g. stereo) surfaces, where propagation can leave flipped patches.
+        for i in (0..n).filter(|&i| estimated[i]) {
+            if normals[i].dot(file_origin - positions[i]) < 0.0 {
+                normals[i] = -normals[i];
+            }
+        }
+        return;
+    }
+    for members in &pieces {
+        if members.iter().any(|&i| !estimated[i as usize]) {
+            continue;
+        }
+        let outward: f32 = members.iter().map(|&i| normals[i as usize].dot(positions[i as usize] - centre)).sum();
+        let flip = outward < 0.0;
+        if flip {
+            for &i in members {
+                normals[i as usize] = -normals[i as usize];
+            }
+        }
+    }
+}
+
+/// The file origin, if the cloud looks like a single-view scan taken from it.
+fn scanner_position(cloud: &PointCloud, file_origin: Vec3) -> Option<Vec3> {
+    if cloud.is_empty() || bounds_contain(&cloud.positions, file_origin, 0.1) {
+        return None;
+    }
+    let facing = cloud.positions.par_iter().zip(&cloud.normals).filter(|(p, n)| n.dot(file_origin - **p) > 0.0).count();
+    (facing as f32 >= SCANNER_FACING_SHARE * cloud.len() as f32).then_some(file_origin)
+}
+
+/// Whether `p` lies in the bounding box of `points` grown by `margin` of its size.
+fn bounds_contain(points: &[Vec3], p: Vec3, margin: f32) -> bool {
+    let Some(first) = points.first() else { return false };
+    let (lo, hi) = points.iter().fold((*first, *first), |(lo, hi), q| (lo.min(*q), hi.max(*q)));
+    let grow = (hi - lo) * margin;
+    p.cmpge(lo - grow).all() && p.cmple(hi + grow).all()
+}
+
+/// Returns (isolated points, clamped radii).
+fn estimate_radii(
+    cloud: &mut PointCloud,
+    nb: &Neighbours,
+    needed: &[bool],
+    options: &EstimateOptions,
+) -> (usize, usize) {
+    let k = options.radius_neighbours.min(nb.k).max(1);
+    let raw: Vec<f32> = (0..cloud.len())
+        .into_par_iter()
+        .map(|i| {
+            let d = &nb.distances_of(i)[..k];
+            let positive: Vec<f32> = d.iter().copied().filter(|&x| x > 0.0).collect();
+            if positive.is_empty() {
+                0.0
+            } else {
+                options.radius_scale * positive.iter().sum::<f32>() / positive.len() as f32
+            }
+        })
+        .collect();
+    let mut sorted: Vec<f32> = raw.iter().copied().filter(|&r| r > 0.0).collect();
+    if sorted.is_empty() {
+        // Every point coincides: give them a radius that is visible.
+        sorted.push(1.0);
+    }
+    let mid = sorted.len() / 2;
+    let median = *sorted.select_nth_unstable_by(mid, f32::total_cmp).1;
+    let (mut isolated, mut clamped) = (0, 0);
+    for (i, r) in raw.into_iter().enumerate() {
+        if !needed[i] {
+            continue;
+        }
+        cloud.radii[i] = if r <= 0.0 {
+            isolated += 1;
+            median
+        } else if r > MAX_RADIUS_OVER_MEDIAN * median {
+            clamped += 1;
+            MAX_RADIUS_OVER_MEDIAN * median
+        } else {
+            r
+        };
+    }
+    (isolated, clamped)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_smallest_eigenvector_of_a_flat_covariance_is_its_normal() {
+        // Points spread in a plane with normal n: covariance = I - n n^T (scaled).
+        for n in [Vec3::X, Vec3::new(1.0, 2.0, -0.5).normalize(), Vec3::new(-0.3, 0.1, 0.9).normalize()] {
+            let cov = Mat3::IDENTITY - Mat3::from_cols(n * n.x, n * n.y, n * n.z);
+            let e = smallest_eigenvector(cov).unwrap();
+            assert!(e.dot(n).abs() > 1.0 - 1e-5, "{e} vs {n}");
+        }
+    }
+
+    #[test]
+    fn a_zero_matrix_has_no_preferred_direction_but_gives_a_unit_vector() {
+        let e = smallest_eigenvector(Mat3::ZERO).unwrap();
+        assert!((e.length() - 1.0).abs() < 1e-6);
+    }
+}

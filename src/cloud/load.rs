@@ -1,0 +1,373 @@
+//! From a PLY file to a repaired [`PointCloud`].
+//!
+//! Positions are re-centred in f64 on the bounding-box centre before they
+//! become f32, so UTM-sized coordinates keep their millimetres. Attributes the
+//! file lacks are derived: normals from mesh faces (area-weighted) or by PCA
+//! over neighbours, radii from 3D Gaussian scales or from neighbour distances,
+//! colours from `red/green/blue` (any type) or from the Gaussian SH DC term.
+//! Bad records are skipped or repaired, and each kind is counted in the report.
+
+use std::path::Path;
+use std::time::Instant;
+
+use glam::{DVec3, Quat, Vec3};
+
+use super::estimate::{self, EstimateOptions};
+use super::ply::{self, PlyData, Scalar};
+use super::{CloudError, LoadReport, PointCloud, Provenance};
+
+/// Colour used when a file has none (a light clay tone).
+pub const DEFAULT_COLOR: [u8; 3] = [200, 190, 170];
+
+/// Zeroth-order spherical-harmonic constant used by 3D Gaussian splatting.
+const SH_C0: f64 = 0.282_094_791_773_878_14;
+
+/// How many Gaussian standard deviations a splat disc spans (our kernel has σ = 0.4 r).
+const GAUSSIAN_SIGMAS_PER_RADIUS: f32 = 2.5;
+
+/// Options for [`load_with`].
+#[derive(Debug, Clone, Default)]
+pub struct LoadOptions {
+    pub estimate: EstimateOptions,
+    /// Show progress bars for long steps.
+    pub progress: bool,
+}
+
+/// Loads `path` with default options.
+pub fn load(path: &Path) -> Result<(PointCloud, LoadReport), CloudError> {
+    load_with(path, &LoadOptions::default())
+}
+
+const NORMAL_NAMES: [[&str; 3]; 2] = [["nx", "ny", "nz"], ["normal_x", "normal_y", "normal_z"]];
+const COLOR_NAMES: [[&str; 3]; 3] =
+    [["red", "green", "blue"], ["r", "g", "b"], ["diffuse_red", "diffuse_green", "diffuse_blue"]];
+const ALPHA_NAMES: [&str; 2] = ["alpha", "diffuse_alpha"];
+const GAUSSIAN_NAMES: [&str; 11] =
+    ["f_dc_0", "f_dc_1", "f_dc_2", "opacity", "scale_0", "scale_1", "scale_2", "rot_0", "rot_1", "rot_2", "rot_3"];
+
+fn is_wanted(name: &str) -> bool {
+    matches!(name, "x" | "y" | "z" | "radius")
+        || NORMAL_NAMES.iter().flatten().any(|n| *n == name)
+        || COLOR_NAMES.iter().flatten().any(|n| *n == name)
+        || ALPHA_NAMES.contains(&name)
+        || GAUSSIAN_NAMES.contains(&name)
+}
+
+/// Loads `path`, estimating and repairing as `options` say.
+pub fn load_with(path: &Path, options: &LoadOptions) -> Result<(PointCloud, LoadReport), CloudError> {
+    let bytes = std::fs::read(path).map_err(|e| CloudError::io(path, e))?;
+    let started = Instant::now();
+    let data = ply::parse(path, &bytes, &is_wanted)?;
+    drop(bytes);
+    let decode_seconds = started.elapsed().as_secs_f64();
+    build(path, data, decode_seconds, options)
+}
+
+/// Loads the mesh at `path` and samples `count` splats uniformly over its
+/// surface (area-weighted), with face normals and radii from the sample spacing.
+pub fn load_surface_samples(
+    path: &Path,
+    count: usize,
+    options: &LoadOptions,
+) -> Result<(PointCloud, LoadReport), CloudError> {
+    let bytes = std::fs::read(path).map_err(|e| CloudError::io(path, e))?;
+    let started = Instant::now();
+    let mut data = ply::parse(path, &bytes, &|name| matches!(name, "x" | "y" | "z"))?;
+    drop(bytes);
+    let decode_seconds = started.elapsed().as_secs_f64();
+    if data.triangles.is_empty() {
+        return Err(CloudError::content(path, "the file has no faces, so there is no surface to sample"));
+    }
+    let xyz = columns(&data, &["x", "y", "z"]).ok_or_else(|| CloudError::content(path, "vertices have no x/y/z"))?;
+    let vertices: Vec<DVec3> = (0..data.vertex_count).map(|i| DVec3::new(xyz[0][i], xyz[1][i], xyz[2][i])).collect();
+    if vertices.iter().any(|v| !v.is_finite()) {
+        return Err(CloudError::content(
+            path,
+            "a mesh vertex has NaN or infinite coordinates; cannot sample its faces",
+        ));
+    }
+    let (points, normals) = super::mesh::sample_surface(&vertices, &data.triangles, count);
+    if points.is_empty() {
+        return Err(CloudError::content(path, "every face has zero area"));
+    }
+    let sampled = points.len();
+    data.vertex_columns.clear();
+    for (name, axis) in [("x", 0), ("y", 1), ("z", 2)] {
+        data.vertex_columns.insert(name.into(), points.iter().map(|p| p[axis]).collect());
+    }
+    for (name, axis) in [("nx", 0), ("ny", 1), ("nz", 2)] {
+        data.vertex_columns.insert(name.into(), normals.iter().map(|n| n[axis]).collect());
+    }
+    data.vertex_count = sampled;
+    data.triangles.clear();
+    let (cloud, mut report) = build(path, data, decode_seconds, options)?;
+    report.normals = Provenance::FromFaces;
+    Ok((cloud, report))
+}
+
+fn columns<'a>(data: &'a PlyData, names: &[&str; 3]) -> Option<[&'a Vec<f64>; 3]> {
+    let c = &data.vertex_columns;
+    Some([c.get(names[0])?, c.get(names[1])?, c.get(names[2])?])
+}
+
+fn build(
+    path: &Path,
+    data: PlyData,
+    decode_seconds: f64,
+    options: &LoadOptions,
+) -> Result<(PointCloud, LoadReport), CloudError> {
+    let n = data.vertex_count;
+    let mut warnings = Vec::new();
+    let xyz = columns(&data, &["x", "y", "z"]).ok_or_else(|| CloudError::content(path, "vertices have no x/y/z"))?;
+    let positions: Vec<DVec3> = (0..n).map(|i| DVec3::new(xyz[0][i], xyz[1][i], xyz[2][i])).collect();
+    let mut keep: Vec<bool> = positions.iter().map(|p| p.is_finite()).collect();
+    let non_finite = keep.iter().filter(|k| !**k).count();
+    if non_finite > 0 {
+        warnings.push(format!("{non_finite} vertices with NaN or infinite coordinates were skipped"));
+    }
+
+    // Mesh faces: area-weighted vertex normals, and unused vertices are dropped.
+    let mut face_normals: Option<Vec<DVec3>> = None;
+    if !data.triangles.is_empty() {
+        let (normals, used) = face_vertex_normals(&positions, &keep, &data.triangles);
+        let unused = (0..n).filter(|&i| keep[i] && !used[i]).count();
+        if unused > 0 {
+            warnings.push(format!("{unused} vertices not used by any face were skipped (they lie off the surface)"));
+        }
+        for i in 0..n {
+            keep[i] &= used[i];
+        }
+        face_normals = Some(normals);
+    }
+    if data.degenerate_faces > 0 {
+        warnings.push(format!("{} faces with fewer than 3 vertices were skipped", data.degenerate_faces));
+    }
+    let kept: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
+    if kept.is_empty() {
+        return Err(CloudError::content(path, "the file has no vertex with finite coordinates"));
+    }
+
+    // Re-centre in f64 on the bounding-box centre.
+    let (lo, hi) = kept
+        .iter()
+        .fold((positions[kept[0]], positions[kept[0]]), |(lo, hi), &i| (lo.min(positions[i]), hi.max(positions[i])));
+    let origin = (lo + hi) * 0.5;
+    let mut cloud = PointCloud {
+        positions: kept.iter().map(|&i| (positions[i] - origin).as_vec3()).collect(),
+        origin: origin.to_array(),
+        ..Default::default()
+    };
+    let extent = (hi - lo).max_element();
+    if extent > 0.0 && extent / (hi.abs().max(lo.abs()).max_element().max(1e-300)) < 1e-6 {
+        warnings.push("the coordinates span less than a millionth of their magnitude; precision may be lost".into());
+    }
+
+    let gaussians = GAUSSIAN_NAMES.iter().all(|g| data.vertex_columns.contains_key(*g));
+    let gather = |col: &Vec<f64>| -> Vec<f64> { kept.iter().map(|&i| col[i]).collect() };
+
+    // Normals.
+    let mut needs_normal = vec![true; kept.len()];
+    let mut normals_from = Provenance::Estimated;
+    cloud.normals = vec![Vec3::ZERO; kept.len()];
+    if let Some(cols) = NORMAL_NAMES.iter().find_map(|names| columns(&data, names)) {
+        normals_from = Provenance::FromFile;
+        let mut bad = 0;
+        for (k, &i) in kept.iter().enumerate() {
+            let v = Vec3::new(cols[0][i] as f32, cols[1][i] as f32, cols[2][i] as f32);
+            let len = v.length();
+            if len.is_finite() && len > 1e-12 {
+                cloud.normals[k] = v / len;
+                needs_normal[k] = false;
+            } else {
+                bad += 1;
+            }
+        }
+        if bad > 0 {
+            warnings.push(format!("{bad} zero or non-finite normals were re-estimated from neighbours"));
+        }
+    } else if let Some(face_normals) = &face_normals {
+        normals_from = Provenance::FromFaces;
+        let mut bad = 0;
+        for (k, &i) in kept.iter().enumerate() {
+            let v = face_normals[i];
+            if v.length() > 0.0 && v.is_finite() {
+                cloud.normals[k] = v.normalize().as_vec3();
+                needs_normal[k] = false;
+            } else {
+                bad += 1;
+            }
+        }
+        if bad > 0 {
+            warnings.push(format!("{bad} vertices whose faces have zero area got normals from neighbours"));
+        }
+    }
+
+    // Colours.
+    let mut colors_from = Provenance::Default;
+    cloud.colors = vec![DEFAULT_COLOR; kept.len()];
+    if let Some((names, cols)) = COLOR_NAMES.iter().find_map(|names| Some((names, columns(&data, names)?))) {
+        colors_from = Provenance::FromFile;
+        let scale = 255.0 / data.vertex_types.get(names[0]).map_or(1.0, |t: &Scalar| t.unit_max());
+        let floats_above_one = data.vertex_types.get(names[0]).is_some_and(|t| t.is_float())
+            && kept.iter().any(|&i| cols[0][i] > 1.0 || cols[1][i] > 1.0 || cols[2][i] > 1.0);
+        // Float colours above 1 are taken as 0-255 values.
+        let scale = if floats_above_one { 1.0 } else { scale };
+        for (k, &i) in kept.iter().enumerate() {
+            cloud.colors[k] = [0, 1, 2].map(|c| to_u8(cols[c][i] * scale));
+        }
+    } else if gaussians {
+        colors_from = Provenance::FromGaussians;
+        let dc = columns(&data, &["f_dc_0", "f_dc_1", "f_dc_2"]).expect("checked above");
+        for (k, &i) in kept.iter().enumerate() {
+            cloud.colors[k] = [0, 1, 2].map(|c| to_u8((0.5 + SH_C0 * dc[c][i]) * 255.0));
+        }
+    }
+
+    // Opacity.
+    let mut opacity_from = Provenance::Default;
+    cloud.opacity = vec![1.0; kept.len()];
+    if let Some(name) = ALPHA_NAMES.iter().find(|n| data.vertex_columns.contains_key(**n)) {
+        opacity_from = Provenance::FromFile;
+        let col = gather(&data.vertex_columns[*name]);
+        let unit = data.vertex_types.get(*name).map_or(1.0, |t| t.unit_max());
+        let mut clamped = 0;
+        for (a, v) in cloud.opacity.iter_mut().zip(&col) {
+            let x = v / unit;
+            if !(0.0..=1.0).contains(&x) {
+                clamped += 1;
+            }
+            *a = if x.is_finite() { x.clamp(0.0, 1.0) as f32 } else { 1.0 };
+        }
+        if clamped > 0 {
+            warnings.push(format!("{clamped} alpha values outside 0..1 were clamped"));
+        }
+    } else if gaussians {
+        opacity_from = Provenance::FromGaussians;
+        for (a, &i) in cloud.opacity.iter_mut().zip(&kept) {
+            let logit = data.vertex_columns["opacity"][i];
+            let s = 1.0 / (1.0 + (-logit).exp());
+            *a = if s.is_finite() { s as f32 } else { 1.0 };
+        }
+    }
+    if cloud.opacity.iter().all(|&a| a <= 0.0) {
+        warnings.push("alpha is 0 for every vertex (an unused channel); the cloud is rendered opaque".into());
+        cloud.opacity.iter_mut().for_each(|a| *a = 1.0);
+    }
+
+    // Radii.
+    let mut needs_radius = vec![true; kept.len()];
+    let mut radii_from = Provenance::Estimated;
+    cloud.radii = vec![0.0; kept.len()];
+    if let Some(col) = data.vertex_columns.get("radius") {
+        radii_from = Provenance::FromFile;
+        let mut bad = 0;
+        for (k, &i) in kept.iter().enumerate() {
+            let r = col[i] as f32;
+            if r.is_finite() && r > 0.0 {
+                cloud.radii[k] = r;
+                needs_radius[k] = false;
+            } else {
+                bad += 1;
+            }
+        }
+        if bad > 0 {
+            warnings.push(format!("{bad} radii that were zero, negative or not finite were re-estimated"));
+        }
+    } else if gaussians {
+        radii_from = Provenance::FromGaussians;
+        normals_from = Provenance::FromGaussians;
+        let c = &data.vertex_columns;
+        for (k, &i) in kept.iter().enumerate() {
+            let scales = [c["scale_0"][i], c["scale_1"][i], c["scale_2"][i]].map(|s| s.exp() as f32);
+            let q =
+                Quat::from_xyzw(c["rot_1"][i] as f32, c["rot_2"][i] as f32, c["rot_3"][i] as f32, c["rot_0"][i] as f32);
+            let (thin, a, b) = thinnest_axis(scales);
+            let r = GAUSSIAN_SIGMAS_PER_RADIUS * (scales[a] * scales[b]).sqrt();
+            let q_len = q.length();
+            if r.is_finite() && r > 0.0 && q_len.is_finite() && q_len > 1e-12 {
+                cloud.radii[k] = r;
+                needs_radius[k] = false;
+                cloud.normals[k] = (q / q_len) * Vec3::AXES[thin];
+                needs_normal[k] = false;
+            }
+        }
+    }
+
+    let estimate_started = Instant::now();
+    let scanner = (-origin).as_vec3();
+    let estimated =
+        estimate::complete(&mut cloud, &needs_normal, &needs_radius, scanner, &options.estimate, options.progress);
+    if estimated.isolated_points > 0 {
+        warnings.push(format!(
+            "{} points whose nearest neighbours all coincide with them got the median radius",
+            estimated.isolated_points
+        ));
+    }
+    if estimated.clamped_radii > 0 {
+        warnings.push(format!(
+            "{} outlier radii were clamped to {}x the median",
+            estimated.clamped_radii,
+            estimate::MAX_RADIUS_OVER_MEDIAN
+        ));
+    }
+    cloud.scanner_position = estimated.scanner_position;
+    let estimate_seconds = estimate_started.elapsed().as_secs_f64();
+    if !needs_normal.iter().any(|&b| b) && normals_from == Provenance::Estimated {
+        normals_from = Provenance::FromFile;
+    }
+
+    let report = LoadReport {
+        encoding: data.encoding.clone(),
+        comments: data.comments.clone(),
+        elements: data
+            .elements
+            .iter()
+            .map(|e| (e.name.clone(), e.count, e.properties.iter().map(|p| p.name.clone()).collect()))
+            .collect(),
+        vertices_in_file: n,
+        faces_in_file: data.face_count,
+        normals: normals_from,
+        radii: radii_from,
+        colors: colors_from,
+        opacity: opacity_from,
+        warnings,
+        decode_seconds,
+        estimate_seconds,
+    };
+    debug_assert!(cloud.is_consistent());
+    Ok((cloud, report))
+}
+
+fn to_u8(v: f64) -> u8 {
+    if v.is_finite() { v.round().clamp(0.0, 255.0) as u8 } else { 0 }
+}
+
+/// Index of the smallest scale and of the other two.
+fn thinnest_axis(s: [f32; 3]) -> (usize, usize, usize) {
+    if s[0] <= s[1] && s[0] <= s[2] {
+        (0, 1, 2)
+    } else if s[1] <= s[2] {
+        (1, 0, 2)
+    } else {
+        (2, 0, 1)
+    }
+}
+
+/// Area-weighted vertex normals of a triangle mesh, and which vertices faces use.
+fn face_vertex_normals(positions: &[DVec3], valid: &[bool], triangles: &[[u32; 3]]) -> (Vec<DVec3>, Vec<bool>) {
+    let mut normals = vec![DVec3::ZERO; positions.len()];
+    let mut used = vec![false; positions.len()];
+    for t in triangles {
+        let [a, b, c] = t.map(|i| i as usize);
+        if !(valid[a] && valid[b] && valid[c]) {
+            continue;
+        }
+        // The cross product's length is twice the area: area weighting for free.
+        let n = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
+        for v in [a, b, c] {
+            normals[v] += n;
+            used[v] = true;
+        }
+    }
+    (normals, used)
+}

@@ -1,0 +1,152 @@
+//! Point clouds: the structure-of-arrays splat set and everything that fills it.
+//!
+//! A [`PointCloud`] holds, per splat, a position (re-centred in f64 on load,
+//! then stored as f32), a unit normal, a disc radius, a colour and an opacity.
+//! [`load`] reads any PLY file (ASCII or binary, clouds, meshes or 3D Gaussian
+//! splats), repairs bad records and estimates what the file lacks; the
+//! [`LoadReport`] says what was read, estimated and repaired.
+
+mod error;
+pub mod estimate;
+pub mod load;
+pub mod mesh;
+pub mod ply;
+pub mod write;
+
+pub use error::CloudError;
+pub use load::{LoadOptions, load, load_surface_samples, load_with};
+
+use glam::Vec3;
+
+/// Optical material for transparent rendering modes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Material {
+    /// Index of refraction (1.0 = air).
+    pub refractive_index: f32,
+    /// Absorption coefficient per unit length (Beer's law).
+    pub absorption: f32,
+}
+
+/// A set of surface splats, stored as a structure of arrays.
+#[derive(Debug, Clone, Default)]
+pub struct PointCloud {
+    /// Splat centres, relative to [`PointCloud::origin`].
+    pub positions: Vec<Vec3>,
+    /// Unit normals.
+    pub normals: Vec<Vec3>,
+    /// Disc radii, in the same units as the positions.
+    pub radii: Vec<f32>,
+    /// sRGB colours, 0-255.
+    pub colors: Vec<[u8; 3]>,
+    /// Opacity in 0..=1 (1 = opaque).
+    pub opacity: Vec<f32>,
+    /// Optional material for transparent modes.
+    pub material: Option<Material>,
+    /// The f64 offset subtracted from the file's coordinates on load.
+    pub origin: [f64; 3],
+    /// Where a single-view scan was taken from (file origin, re-centred), if
+    /// the normals show that every point faces it.
+    pub scanner_position: Option<Vec3>,
+}
+
+/// Axis-aligned bounds and the bounding sphere of a cloud.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bounds {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Bounds {
+    pub fn center(&self) -> Vec3 {
+        (self.min + self.max) * 0.5
+    }
+
+    /// Radius of the sphere around [`Bounds::center`] that holds the box.
+    pub fn radius(&self) -> f32 {
+        ((self.max - self.min) * 0.5).length()
+    }
+}
+
+impl PointCloud {
+    pub fn len(&self) -> usize {
+        self.positions.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.positions.is_empty()
+    }
+
+    /// Bounds of the splat centres, or `None` for an empty cloud.
+    pub fn bounds(&self) -> Option<Bounds> {
+        let first = *self.positions.first()?;
+        let (min, max) = self.positions.iter().fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+        Some(Bounds { min, max })
+    }
+
+    /// Mean splat radius (0 for an empty cloud).
+    pub fn mean_radius(&self) -> f32 {
+        if self.radii.is_empty() {
+            return 0.0;
+        }
+        (self.radii.iter().map(|&r| r as f64).sum::<f64>() / self.radii.len() as f64) as f32
+    }
+
+    /// True when any splat is not fully opaque.
+    pub fn has_transparency(&self) -> bool {
+        self.opacity.iter().any(|&a| a < 1.0)
+    }
+
+    /// Checks that every column has one entry per splat.
+    pub fn is_consistent(&self) -> bool {
+        let n = self.positions.len();
+        self.normals.len() == n && self.radii.len() == n && self.colors.len() == n && self.opacity.len() == n
+    }
+}
+
+/// How an attribute of the cloud came to be.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Provenance {
+    /// Read from the file.
+    FromFile,
+    /// Derived from the mesh faces.
+    FromFaces,
+    /// Derived from 3D Gaussian splat parameters.
+    FromGaussians,
+    /// Estimated from the neighbours.
+    Estimated,
+    /// Not in the file; a default value was used.
+    Default,
+}
+
+impl std::fmt::Display for Provenance {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Provenance::FromFile => "from file",
+            Provenance::FromFaces => "from mesh faces",
+            Provenance::FromGaussians => "from 3D Gaussian parameters",
+            Provenance::Estimated => "estimated from neighbours",
+            Provenance::Default => "default",
+        })
+    }
+}
+
+/// What the loader read, estimated and repaired.
+#[derive(Debug, Clone)]
+pub struct LoadReport {
+    pub encoding: String,
+    pub comments: Vec<String>,
+    /// `(element name, count, property names)` for every element of the file.
+    pub elements: Vec<(String, usize, Vec<String>)>,
+    pub vertices_in_file: usize,
+    pub faces_in_file: usize,
+    pub normals: Provenance,
+    pub radii: Provenance,
+    pub colors: Provenance,
+    pub opacity: Provenance,
+    /// One line per repair or skip, each with its count.
+    pub warnings: Vec<String>,
+    /// Seconds spent decoding the file body.
+    pub decode_seconds: f64,
+    /// Seconds spent estimating normals and radii.
+    pub estimate_seconds: f64,
+}

@@ -1,0 +1,82 @@
+//! Writing clouds as binary PLY (`x y z nx ny nz radius red green blue [alpha]`).
+//!
+//! The file is written to a temporary file beside the target and renamed, so
+//! a failed or interrupted write never leaves a partial file.
+
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use super::{CloudError, PointCloud};
+
+/// Writes `cloud` to `path` as binary little-endian PLY, atomically.
+///
+/// Positions get the cloud's origin added back (in f64), so the written file
+/// has the same coordinates as the source. `alpha` is written only when some
+/// splat is not opaque.
+pub fn write_ply(cloud: &PointCloud, path: &Path, comments: &[String]) -> Result<(), CloudError> {
+    let with_alpha = cloud.has_transparency();
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(|e| CloudError::io(path, e))?;
+    {
+        let mut w = BufWriter::new(tmp.as_file_mut());
+        let io = |e| CloudError::io(path, e);
+        let mut header = String::from("ply\nformat binary_little_endian 1.0\n");
+        for c in comments {
+            header.push_str(&format!("comment {}\n", c.replace(['\n', '\r'], " ")));
+        }
+        header.push_str(&format!("element vertex {}\n", cloud.len()));
+        let double = cloud.origin.iter().any(|&o| o.abs() > 1e4);
+        let ptype = if double { "double" } else { "float" };
+        for p in ["x", "y", "z"] {
+            header.push_str(&format!("property {ptype} {p}\n"));
+        }
+        for p in ["nx", "ny", "nz", "radius"] {
+            header.push_str(&format!("property float {p}\n"));
+        }
+        for p in ["red", "green", "blue"] {
+            header.push_str(&format!("property uchar {p}\n"));
+        }
+        if with_alpha {
+            header.push_str("property uchar alpha\n");
+        }
+        header.push_str("end_header\n");
+        w.write_all(header.as_bytes()).map_err(io)?;
+        let mut record = Vec::with_capacity(64);
+        for i in 0..cloud.len() {
+            record.clear();
+            let p = cloud.positions[i];
+            for (c, o) in p.to_array().iter().zip(cloud.origin) {
+                let v = *c as f64 + o;
+                if double {
+                    record.extend_from_slice(&v.to_le_bytes());
+                } else {
+                    record.extend_from_slice(&(v as f32).to_le_bytes());
+                }
+            }
+            for v in cloud.normals[i].to_array().into_iter().chain([cloud.radii[i]]) {
+                record.extend_from_slice(&v.to_le_bytes());
+            }
+            record.extend_from_slice(&cloud.colors[i]);
+            if with_alpha {
+                record.push((cloud.opacity[i] * 255.0).round() as u8);
+            }
+            w.write_all(&record).map_err(io)?;
+        }
+        w.flush().map_err(io)?;
+    }
+    make_readable(tmp.as_file()).map_err(|e| CloudError::io(path, e))?;
+    tmp.persist(path).map_err(|e| CloudError::io(path, e.error))?;
+    Ok(())
+}
+
+/// Gives a temporary file the usual permissions of an output file (rw-r--r--).
+pub fn make_readable(file: &std::fs::File) -> std::io::Result<()> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        file.set_permissions(std::fs::Permissions::from_mode(0o644))?;
+    }
+    #[cfg(not(unix))]
+    let _ = file;
+    Ok(())
+}

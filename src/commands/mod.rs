@@ -1,0 +1,7 @@
+//! One module per subcommand, plus the options they share.
+
+pub mod bench;
+pub mod convert;
+pub mod info;
+pub mod render;
+pub mod shared;

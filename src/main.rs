@@ -1,0 +1,66 @@
+//! The `pointblend` command line: info | render | convert | bench.
+//!
+//! With no subcommand it renders the bundled bunny to `pointblend.png`.
+
+mod commands;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "pointblend",
+    version,
+    about = "Point-based surface splatting: render, inspect and benchmark PLY scans"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Show what a PLY file holds and what loading it estimates or repairs.
+    Info(commands::info::Args),
+    /// Render a PLY file to a PNG image.
+    Render(commands::render::Args),
+    /// Convert a mesh or cloud into a splat cloud (binary PLY with normals, radii, colours).
+    Convert(commands::convert::Args),
+    /// Time loading and rendering (median over frames).
+    Bench(commands::bench::Args),
+}
+
+fn main() -> ExitCode {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn,pointblend=info"))
+        .format_timestamp(None)
+        .format_target(false)
+        .init();
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Some(Command::Info(args)) => commands::info::run(&args),
+        Some(Command::Render(args)) => commands::render::run(&args),
+        Some(Command::Convert(args)) => commands::convert::run(&args),
+        Some(Command::Bench(args)) => commands::bench::run(&args),
+        None => commands::render::run(&commands::render::Args::bundled_default()),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("error: {}", one_line(&error));
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The error and its causes on one line.
+fn one_line(error: &anyhow::Error) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    for cause in error.chain() {
+        let text = cause.to_string();
+        if !parts.iter().any(|p| p.contains(&text)) {
+            parts.push(text);
+        }
+    }
+    parts.join(": ").split_whitespace().collect::<Vec<_>>().join(" ")
+}

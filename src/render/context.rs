@@ -1,0 +1,113 @@
+//! The wgpu device: adapter choice, real limits, error capture.
+//!
+//! Vulkan is preferred (lavapipe on machines without a GPU); `WGPU_BACKEND`
+//! overrides. The device asks for the adapter's own limits, because wgpu's
+//! defaults allow too few colour bytes per sample for the accumulation
+//! targets, and installs an error handler so that a GPU error becomes a log
+//! line and a failed render instead of a panic.
+
+use std::sync::Arc;
+
+/// Errors from the GPU side.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    #[error(
+        "no GPU adapter found ({0}); install Mesa's Vulkan drivers (apt-get install mesa-vulkan-drivers libvulkan1) or set WGPU_BACKEND"
+    )]
+    NoAdapter(String),
+    #[error("could not open the GPU device: {0}")]
+    Device(String),
+    #[error("GPU validation error in {stage}: {message}")]
+    Validation { stage: String, message: String },
+    #[error("reading the image back from the GPU failed: {0}")]
+    Readback(String),
+    #[error("the image size {width}x{height} is not supported (1..={max} per side)")]
+    Size { width: u32, height: u32, max: u32 },
+}
+
+/// An open GPU device with its queue.
+pub struct GpuContext {
+    pub instance: wgpu::Instance,
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+}
+
+impl GpuContext {
+    /// Opens a device with no surface (headless rendering, tests, benchmarks).
+    pub fn headless() -> Result<Self, GpuError> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        if wgpu::Backends::from_env().is_none() {
+            desc.backends = wgpu::Backends::VULKAN;
+        }
+        let instance = wgpu::Instance::new(desc);
+        let options = wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            ..Default::default()
+        };
+        let adapter = match pollster::block_on(instance.request_adapter(&options)) {
+            Ok(adapter) => adapter,
+            Err(vulkan_error) if wgpu::Backends::from_env().is_none() => {
+                // No Vulkan: try every other backend before giving up.
+                let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+                desc.backends = wgpu::Backends::all();
+                let instance = wgpu::Instance::new(desc);
+                let adapter = pollster::block_on(instance.request_adapter(&options))
+                    .map_err(|e| GpuError::NoAdapter(format!("Vulkan: {vulkan_error}; others: {e}")))?;
+                return Self::open(instance, adapter);
+            }
+            Err(e) => return Err(GpuError::NoAdapter(e.to_string())),
+        };
+        Self::open(instance, adapter)
+    }
+
+    /// Opens the device of `adapter` with its full limits.
+    pub fn open(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Self, GpuError> {
+        let wanted = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::FLOAT32_BLENDABLE;
+        let desc = wgpu::DeviceDescriptor {
+            label: Some("GpuContext::device"),
+            required_features: adapter.features() & wanted,
+            required_limits: adapter.limits(),
+            ..Default::default()
+        };
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&desc)).map_err(|e| GpuError::Device(e.to_string()))?;
+        device.on_uncaptured_error(Arc::new(|error: wgpu::Error| {
+            log::error!("uncaptured GPU error: {error}");
+        }));
+        Ok(Self { instance, adapter, device, queue })
+    }
+
+    /// One line naming the adapter and its driver.
+    pub fn describe(&self) -> String {
+        let info = self.adapter.get_info();
+        format!("{} ({:?}, {} {})", info.name, info.backend, info.driver, info.driver_info)
+    }
+
+    /// Runs `work` inside a validation error scope and reports what it caught.
+    pub fn checked<T>(&self, stage: &str, work: impl FnOnce() -> T) -> Result<T, GpuError> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let value = work();
+        match pollster::block_on(scope.pop()) {
+            None => Ok(value),
+            Some(error) => Err(GpuError::Validation {
+                stage: stage.to_string(),
+                message: error.to_string().split_whitespace().collect::<Vec<_>>().join(" "),
+            }),
+        }
+    }
+
+    /// Blocks until the GPU has finished all submitted work.
+    pub fn wait_idle(&self) -> Result<(), GpuError> {
+        self.device.poll(wgpu::PollType::wait_indefinitely()).map(|_| ()).map_err(|e| GpuError::Device(e.to_string()))
+    }
+
+    /// Checks that an image of `width` x `height` can be rendered.
+    pub fn check_size(&self, width: u32, height: u32) -> Result<(), GpuError> {
+        let max = self.device.limits().max_texture_dimension_2d;
+        if width == 0 || height == 0 || width > max || height > max {
+            return Err(GpuError::Size { width, height, max });
+        }
+        Ok(())
+    }
+}

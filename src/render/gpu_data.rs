@@ -1,0 +1,59 @@
+//! Plain-old-data structs uploaded to the GPU, kept in sync with `shaders/`.
+//!
+//! Each struct names the WGSL struct it mirrors and asserts its size, so a
+//! change on one side that is not made on the other fails to compile.
+
+use bytemuck::{Pod, Zeroable};
+
+/// One splat, as a per-instance vertex attribute. Mirrors `SplatIn` in
+/// `shaders/splat.wgsl` (locations 0-3).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct SplatInstance {
+    pub position: [f32; 3],
+    pub radius: f32,
+    pub normal: [f32; 3],
+    /// RGBA8, read as unorm8x4.
+    pub color: [u8; 4],
+}
+const _: () = assert!(std::mem::size_of::<SplatInstance>() == 32);
+
+impl SplatInstance {
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![
+        0 => Float32x3,
+        1 => Float32,
+        2 => Float32x3,
+        3 => Unorm8x4,
+    ];
+
+    pub fn layout() -> wgpu::VertexBufferLayout<'static> {
+        wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<SplatInstance>() as u64,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &Self::ATTRIBUTES,
+        }
+    }
+}
+
+/// Per-frame constants. Mirrors `Frame` in `shaders/frame.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct FrameUniforms {
+    pub view: [[f32; 4]; 4],
+    pub proj: [[f32; 4]; 4],
+    /// width, height, 1/width, 1/height
+    pub viewport: [f32; 4],
+    /// near, far, ε (view-depth units), 1/(far - near)
+    pub depth: [f32; 4],
+    /// focal length in pixels (Eq. 1), Gaussian sharpness k (Eq. 3), min |n_z| (Eq. 2), back-face culling (0/1)
+    pub splat: [f32; 4],
+    /// direction to the light in eye space, shininess
+    pub light: [f32; 4],
+    /// ambient, diffuse, specular, unused
+    pub material: [f32; 4],
+    /// background colour, alpha
+    pub background: [f32; 4],
+    /// tan(fov_x/2), tan(fov_y/2), unused, unused
+    pub lens: [f32; 4],
+}
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 240);

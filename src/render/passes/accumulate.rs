@@ -1,0 +1,51 @@
+//! Pass 2 of `two-pass` (Botsch & Kobbelt 2003 §3.3): additive Σw·colour, Σw·normal, Σw
+//! for every fragment within ε of the visible surface.
+
+use super::super::targets::{ACCUM_FORMAT, FrameTargets};
+use super::{DepthTest, cleared, depth, record_splats, splat_pipeline};
+use crate::render::splat_buffers::GpuCloud;
+
+const ADDITIVE: wgpu::BlendComponent = wgpu::BlendComponent {
+    src_factor: wgpu::BlendFactor::One,
+    dst_factor: wgpu::BlendFactor::One,
+    operation: wgpu::BlendOperation::Add,
+};
+
+pub fn pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+) -> wgpu::RenderPipeline {
+    let additive = Some(wgpu::ColorTargetState {
+        format: ACCUM_FORMAT,
+        blend: Some(wgpu::BlendState { color: ADDITIVE, alpha: ADDITIVE }),
+        write_mask: wgpu::ColorWrites::ALL,
+    });
+    splat_pipeline(
+        device,
+        "Accumulate::pipeline",
+        layout,
+        module,
+        "fs_accumulate",
+        &[additive.clone(), additive],
+        DepthTest { write: false, compare: wgpu::CompareFunction::LessEqual },
+    )
+}
+
+pub fn record(
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::RenderPipeline,
+    frame: &wgpu::BindGroup,
+    targets: &FrameTargets,
+    cloud: &GpuCloud,
+) {
+    record_splats(
+        encoder,
+        "Accumulate::pass",
+        pipeline,
+        frame,
+        &[cleared(&targets.accum_color), cleared(&targets.accum_normal)],
+        depth(&targets.depth, false),
+        cloud,
+    );
+}

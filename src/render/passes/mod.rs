@@ -1,0 +1,97 @@
+//! One file per pass: each builds its pipeline and records its render pass.
+
+pub mod accumulate;
+pub mod nearest;
+pub mod normalize;
+pub mod visibility;
+
+use super::gpu_data::SplatInstance;
+use super::splat_buffers::GpuCloud;
+
+/// How a splat pass uses the depth buffer.
+pub(super) struct DepthTest {
+    pub write: bool,
+    pub compare: wgpu::CompareFunction,
+}
+
+/// A pipeline that draws every splat as an instanced 4-vertex strip.
+pub(super) fn splat_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    fragment_entry: &str,
+    targets: &[Option<wgpu::ColorTargetState>],
+    depth: DepthTest,
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_splat"),
+            compilation_options: Default::default(),
+            buffers: &[Some(SplatInstance::layout())],
+        },
+        primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleStrip, ..Default::default() },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: super::targets::DEPTH_FORMAT,
+            depth_write_enabled: Some(depth.write),
+            depth_compare: Some(depth.compare),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(fragment_entry),
+            compilation_options: Default::default(),
+            targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// Colour attachment of an intermediate target, cleared to zero.
+pub(super) fn cleared(view: &wgpu::TextureView) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+    })
+}
+
+/// Depth attachment that is either cleared to the far plane or kept.
+pub(super) fn depth(view: &wgpu::TextureView, clear: bool) -> Option<wgpu::RenderPassDepthStencilAttachment<'_>> {
+    Some(wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations {
+            load: if clear { wgpu::LoadOp::Clear(1.0) } else { wgpu::LoadOp::Load },
+            store: wgpu::StoreOp::Store,
+        }),
+        stencil_ops: None,
+    })
+}
+
+/// Records one render pass that draws every splat of `cloud` with `pipeline`.
+pub(super) fn record_splats(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    pipeline: &wgpu::RenderPipeline,
+    frame: &wgpu::BindGroup,
+    color_attachments: &[Option<wgpu::RenderPassColorAttachment<'_>>],
+    depth_attachment: Option<wgpu::RenderPassDepthStencilAttachment<'_>>,
+    cloud: &GpuCloud,
+) {
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments,
+        depth_stencil_attachment: depth_attachment,
+        ..Default::default()
+    });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, frame, &[]);
+    cloud.draw(&mut pass);
+}

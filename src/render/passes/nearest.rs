@@ -1,0 +1,42 @@
+//! The single geometry pass of the unfiltered quality level (Botsch & Kobbelt 2003 §5):
+//! elliptical splats with per-pixel depth, the nearest one wins, weight 1.
+
+use super::super::targets::{ACCUM_FORMAT, FrameTargets};
+use super::{DepthTest, cleared, depth, record_splats, splat_pipeline};
+use crate::render::splat_buffers::GpuCloud;
+
+pub fn pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+) -> wgpu::RenderPipeline {
+    let replace =
+        Some(wgpu::ColorTargetState { format: ACCUM_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL });
+    splat_pipeline(
+        device,
+        "NearestSplat::pipeline",
+        layout,
+        module,
+        "fs_unfiltered",
+        &[replace.clone(), replace],
+        DepthTest { write: true, compare: wgpu::CompareFunction::Less },
+    )
+}
+
+pub fn record(
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::RenderPipeline,
+    frame: &wgpu::BindGroup,
+    targets: &FrameTargets,
+    cloud: &GpuCloud,
+) {
+    record_splats(
+        encoder,
+        "NearestSplat::pass",
+        pipeline,
+        frame,
+        &[cleared(&targets.accum_color), cleared(&targets.accum_normal)],
+        depth(&targets.depth, true),
+        cloud,
+    );
+}

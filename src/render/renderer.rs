@@ -1,0 +1,164 @@
+//! The splat renderer: builds the pipelines once and runs a [`RenderPlan`] into any view.
+//!
+//! The window and the headless path both call [`SplatRenderer::render`]; only
+//! the output view differs.
+
+use std::collections::HashMap;
+
+use glam::Mat4;
+use wgpu::util::DeviceExt;
+
+use super::context::{GpuContext, GpuError};
+use super::gpu_data::FrameUniforms;
+use super::passes::{accumulate, nearest, normalize, visibility};
+use super::plan::{PassKind, RenderPlan};
+use super::settings::RenderSettings;
+use super::shaders;
+use super::splat_buffers::GpuCloud;
+use super::targets::FrameTargets;
+use crate::view::Camera;
+
+pub struct SplatRenderer {
+    frame_buffer: wgpu::Buffer,
+    frame_bind_group: wgpu::BindGroup,
+    normalize_layout: wgpu::BindGroupLayout,
+    normalize_pipeline_layout: wgpu::PipelineLayout,
+    normalize_module: wgpu::ShaderModule,
+    visibility: wgpu::RenderPipeline,
+    accumulate: wgpu::RenderPipeline,
+    nearest: wgpu::RenderPipeline,
+    normalize: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
+    targets: Option<FrameTargets>,
+}
+
+impl SplatRenderer {
+    pub fn new(ctx: &GpuContext) -> Result<Self, GpuError> {
+        ctx.checked("building the splat pipelines", || Self::build(&ctx.device))
+    }
+
+    fn build(device: &wgpu::Device) -> Self {
+        let module = |name: &'static str| {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(name),
+                source: wgpu::ShaderSource::Wgsl(shaders::source(name).into()),
+            })
+        };
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("Frame::layout"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("Frame::uniforms"),
+            contents: bytemuck::bytes_of(&FrameUniforms::zeroed()),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let frame_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("Frame::bind_group"),
+            layout: &frame_layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() }],
+        });
+        let splat_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("Splat::pipeline_layout"),
+            bind_group_layouts: &[Some(&frame_layout)],
+            immediate_size: 0,
+        });
+        let normalize_layout = normalize::inputs_layout(device);
+        let normalize_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("Normalize::pipeline_layout"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&normalize_layout)],
+            immediate_size: 0,
+        });
+        let visibility_module = module("visibility");
+        let accumulate_module = module("accumulate");
+        Self {
+            visibility: visibility::pipeline(device, &splat_layout, &visibility_module),
+            accumulate: accumulate::pipeline(device, &splat_layout, &accumulate_module),
+            nearest: nearest::pipeline(device, &splat_layout, &accumulate_module),
+            normalize_module: module("normalize"),
+            frame_buffer,
+            frame_bind_group,
+            normalize_layout,
+            normalize_pipeline_layout,
+            normalize: HashMap::new(),
+            targets: None,
+        }
+    }
+
+    /// Renders `cloud` into `output` (of `format`, `width` x `height`) and returns the plan it ran.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render(
+        &mut self,
+        ctx: &GpuContext,
+        cloud: &GpuCloud,
+        camera: &Camera,
+        settings: &RenderSettings,
+        output: &wgpu::TextureView,
+        format: wgpu::TextureFormat,
+        (width, height): (u32, u32),
+    ) -> Result<RenderPlan, GpuError> {
+        ctx.check_size(width, height)?;
+        let epsilon = settings.epsilon_scale * cloud.mean_radius;
+        let plan = RenderPlan::new(settings, width, height, cloud.len, epsilon);
+        let uniforms = frame_uniforms(camera, settings, width, height, epsilon);
+        ctx.checked("rendering", || {
+            let device = &ctx.device;
+            if self.targets.as_ref().is_none_or(|t| (t.width, t.height) != (width, height)) {
+                self.targets = Some(FrameTargets::new(device, width, height, &self.normalize_layout));
+            }
+            let normalize_pipeline = self.normalize.entry(format).or_insert_with(|| {
+                normalize::pipeline(device, &self.normalize_pipeline_layout, &self.normalize_module, format)
+            });
+            let Some(targets) = self.targets.as_ref() else { return };
+            ctx.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&uniforms));
+            let mut encoder = device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("SplatRenderer::encoder") });
+            let frame = &self.frame_bind_group;
+            for pass in &plan.passes {
+                match pass {
+                    PassKind::Visibility => visibility::record(&mut encoder, &self.visibility, frame, targets, cloud),
+                    PassKind::Accumulate => accumulate::record(&mut encoder, &self.accumulate, frame, targets, cloud),
+                    PassKind::NearestSplat => nearest::record(&mut encoder, &self.nearest, frame, targets, cloud),
+                    PassKind::Normalize => normalize::record(&mut encoder, normalize_pipeline, frame, targets, output),
+                }
+            }
+            ctx.queue.submit([encoder.finish()]);
+        })?;
+        Ok(plan)
+    }
+}
+
+use bytemuck::Zeroable;
+
+/// The uniforms of one frame.
+fn frame_uniforms(camera: &Camera, settings: &RenderSettings, width: u32, height: u32, epsilon: f32) -> FrameUniforms {
+    let aspect = width as f32 / height as f32;
+    let (near, far) = camera.near_far();
+    let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
+    let shading = &settings.shading;
+    let to_cols = |m: Mat4| m.to_cols_array_2d();
+    FrameUniforms {
+        view: to_cols(camera.view_matrix()),
+        proj: to_cols(camera.projection(aspect)),
+        viewport: [width as f32, height as f32, 1.0 / width as f32, 1.0 / height as f32],
+        depth: [near, far, epsilon, 1.0 / (far - near)],
+        splat: [
+            camera.focal_pixels(height),
+            settings.kernel.sharpness(),
+            settings.kernel.min_normal_z,
+            if settings.backface_culling { 1.0 } else { 0.0 },
+        ],
+        light: shading.light_dir_eye.extend(shading.shininess).to_array(),
+        material: [shading.ambient, shading.diffuse, shading.specular, 0.0],
+        background: shading.background.extend(1.0).to_array(),
+        lens: [tan_y * aspect, tan_y, 0.0, 0.0],
+    }
+}

@@ -1,0 +1,71 @@
+//! What a frame is rendered with: the mode, its quality level and parameters.
+
+use crate::view::{Shading, SplatKernel};
+
+/// The rendering algorithm.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RenderMode {
+    /// Botsch & Kobbelt's 2+1-pass pipeline: ε-offset visibility, accumulation, normalisation.
+    TwoPass,
+}
+
+impl RenderMode {
+    pub const ALL: [RenderMode; 1] = [RenderMode::TwoPass];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            RenderMode::TwoPass => "two-pass",
+        }
+    }
+}
+
+impl std::fmt::Display for RenderMode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for RenderMode {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        RenderMode::ALL.into_iter().find(|m| m.name() == s).ok_or_else(|| {
+            let names: Vec<_> = RenderMode::ALL.iter().map(|m| m.name()).collect();
+            format!("unknown mode '{s}'; available: {}", names.join(", "))
+        })
+    }
+}
+
+/// Botsch & Kobbelt §5's two quality levels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Quality {
+    /// Gaussian-weighted blending of splats within ε (2+1 passes).
+    #[default]
+    Filtered,
+    /// Elliptical splats, nearest wins, no blending (1+1 passes).
+    Unfiltered,
+}
+
+/// Everything besides the camera that decides a frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RenderSettings {
+    pub mode: RenderMode,
+    pub quality: Quality,
+    /// ε of the visibility pass, as a multiple of the cloud's mean splat radius.
+    pub epsilon_scale: f32,
+    pub backface_culling: bool,
+    pub kernel: SplatKernel,
+    pub shading: Shading,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            mode: RenderMode::TwoPass,
+            quality: Quality::Filtered,
+            epsilon_scale: 1.0,
+            backface_culling: true,
+            kernel: SplatKernel::default(),
+            shading: Shading::default(),
+        }
+    }
+}

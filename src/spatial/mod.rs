@@ -1,0 +1,3 @@
+//! Spatial queries over splat centres.
+
+pub mod knn;

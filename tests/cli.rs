@@ -1,0 +1,95 @@
+//! The command line: exit codes, one-line errors, atomic outputs, explain and info.
+
+mod common;
+
+use std::process::Command;
+
+fn pointblend() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_pointblend"))
+}
+
+#[test]
+fn render_writes_a_png_and_explains_its_passes() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("bunny.png");
+    let result = pointblend()
+        .args(["render", common::bundled_bunny().to_str().unwrap(), "--size", "160x128", "--explain", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&result.stdout);
+    assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
+    assert!(stdout.contains("2 geometry + 1 full-screen passes"), "{stdout}");
+    for pass in ["visibility", "accumulate", "normalize"] {
+        assert!(stdout.contains(pass), "--explain lacks {pass}: {stdout}");
+    }
+    let image = image::open(&out).unwrap();
+    assert_eq!((image.width(), image.height()), (160, 128));
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(leftovers.len(), 1, "only the PNG remains: {leftovers:?}");
+}
+
+#[test]
+fn a_broken_file_fails_with_one_line_naming_it_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("broken.ply");
+    std::fs::write(&bad, b"ply\nformat binary_little_endian 1.0\nelement vertex 1000\nproperty float x\nproperty float y\nproperty float z\nend_header\n\x01\x02").unwrap();
+    let out = dir.path().join("never.png");
+    let render = pointblend().arg("render").arg(&bad).arg("--out").arg(&out).output().unwrap();
+    let info = pointblend().arg("info").arg(&bad).output().unwrap();
+    for result in [render, info] {
+        assert!(!result.status.success());
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
+        assert_eq!(errors.len(), 1, "{stderr}");
+        assert!(errors[0].contains("broken.ply"), "{stderr}");
+        assert!(!stderr.contains("panicked"), "{stderr}");
+    }
+    assert!(!out.exists(), "no output for a failed render");
+}
+
+#[test]
+fn bad_options_are_refused_before_any_work() {
+    for args in [
+        vec!["render", "x.ply", "--size", "0x10"],
+        vec!["render", "x.ply", "--size", "big"],
+        vec!["render", "x.ply", "--mode", "nonsense"],
+        vec!["render", "x.ply", "--up", "w"],
+    ] {
+        let result = pointblend().args(&args).output().unwrap();
+        assert!(!result.status.success(), "{args:?} should fail");
+    }
+}
+
+#[test]
+fn info_says_what_was_estimated() {
+    let result = pointblend().arg("info").arg(common::data("bunny_range_scans_merged.ply")).output().unwrap();
+    assert!(result.status.success());
+    let stdout = String::from_utf8_lossy(&result.stdout);
+    assert!(stdout.contains("normals:     estimated from neighbours"), "{stdout}");
+    assert!(stdout.contains("radii:       estimated from neighbours"), "{stdout}");
+    assert!(stdout.contains("scan_index"), "{stdout}");
+}
+
+#[test]
+fn convert_samples_a_mesh_into_a_loadable_splat_cloud() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("sampled.ply");
+    let result = pointblend()
+        .arg("convert")
+        .arg(common::data("bun_zipper.ply"))
+        .arg(&out)
+        .args(["--points", "20000"])
+        .output()
+        .unwrap();
+    assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
+    let (cloud, report) = pointblend::cloud::load(&out).unwrap();
+    assert_eq!(cloud.len(), 20000);
+    assert_eq!(report.normals, pointblend::cloud::Provenance::FromFile);
+    assert_eq!(report.radii, pointblend::cloud::Provenance::FromFile);
+    let header = std::fs::read(&out).unwrap();
+    let header = String::from_utf8_lossy(&header[..400]);
+    for p in ["x", "y", "z", "nx", "ny", "nz", "radius", "red", "green", "blue"] {
+        assert!(header.contains(&format!(" {p}\n")), "{p} missing from {header}");
+    }
+}

@@ -1,0 +1,145 @@
+//! Helpers shared by the integration tests: data paths, tolerances, an
+//! independent PLY reader for the shared scans, a CPU silhouette rasteriser
+//! and one GPU renderer per test binary.
+#![allow(dead_code)]
+
+pub mod plywriter;
+pub mod tolerances;
+
+use std::path::PathBuf;
+use std::sync::{Mutex, MutexGuard, OnceLock};
+
+use glam::{DVec3, Mat4, Vec3};
+use pointblend::render::HeadlessRenderer;
+use pointblend::view::Camera;
+
+/// The shared scans: `POINTBLEND_DATA`, or `../shared/data`.
+pub fn data_dir() -> PathBuf {
+    std::env::var_os("POINTBLEND_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data"))
+}
+
+pub fn data(name: &str) -> PathBuf {
+    let path = data_dir().join(name);
+    assert!(path.exists(), "{} is missing: set POINTBLEND_DATA to the folder of the shared scans", path.display());
+    path
+}
+
+pub fn bundled_bunny() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/bunny.ply")
+}
+
+/// One renderer for the whole test binary; tests that render take turns.
+pub fn renderer() -> MutexGuard<'static, HeadlessRenderer> {
+    static RENDERER: OnceLock<Mutex<HeadlessRenderer>> = OnceLock::new();
+    RENDERER
+        .get_or_init(|| {
+            Mutex::new(HeadlessRenderer::new().expect("a Vulkan adapter (lavapipe) is needed for render tests"))
+        })
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// Vertices and triangles of an ASCII PLY mesh, read without the library
+/// (an independent check of the loader on real data).
+pub struct AsciiMesh {
+    pub vertices: Vec<DVec3>,
+    pub triangles: Vec<[usize; 3]>,
+}
+
+pub fn read_ascii_mesh(path: &std::path::Path) -> AsciiMesh {
+    let text = std::fs::read_to_string(path).expect("readable ASCII PLY");
+    let mut lines = text.lines();
+    let (mut vertex_count, mut face_count) = (0usize, 0usize);
+    for line in lines.by_ref() {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        match words.as_slice() {
+            ["element", "vertex", n] => vertex_count = n.parse().expect("count"),
+            ["element", "face", n] => face_count = n.parse().expect("count"),
+            ["end_header"] => break,
+            _ => {}
+        }
+    }
+    let vertices = lines
+        .by_ref()
+        .take(vertex_count)
+        .map(|l| {
+            let v: Vec<f64> = l.split_whitespace().take(3).map(|w| w.parse().expect("number")).collect();
+            DVec3::new(v[0], v[1], v[2])
+        })
+        .collect();
+    let triangles = lines
+        .take(face_count)
+        .map(|l| {
+            let v: Vec<usize> = l.split_whitespace().skip(1).take(3).map(|w| w.parse().expect("index")).collect();
+            [v[0], v[1], v[2]]
+        })
+        .collect();
+    AsciiMesh { vertices, triangles }
+}
+
+/// Rasterises triangles (world coordinates, already re-centred) into a
+/// coverage mask with the camera's matrices: pixel centres inside any triangle.
+pub fn silhouette(triangles: &[[Vec3; 3]], camera: &Camera, width: u32, height: u32) -> Vec<bool> {
+    let clip_from_world: Mat4 = camera.projection(width as f32 / height as f32) * camera.view_matrix();
+    let mut mask = vec![false; (width * height) as usize];
+    for tri in triangles {
+        let p = tri.map(|v| {
+            let c = clip_from_world * v.extend(1.0);
+            let ndc = c.truncate() / c.w;
+            glam::Vec2::new((ndc.x * 0.5 + 0.5) * width as f32, (0.5 - ndc.y * 0.5) * height as f32)
+        });
+        let lo = p[0].min(p[1]).min(p[2]).floor().max(glam::Vec2::ZERO);
+        let hi = p[0].max(p[1]).max(p[2]).ceil().min(glam::Vec2::new(width as f32 - 1.0, height as f32 - 1.0));
+        let edge = |a: glam::Vec2, b: glam::Vec2, q: glam::Vec2| (b - a).perp_dot(q - a);
+        let area = edge(p[0], p[1], p[2]);
+        if area.abs() < 1e-12 {
+            continue;
+        }
+        for y in lo.y as u32..=hi.y.max(0.0) as u32 {
+            for x in lo.x as u32..=hi.x.max(0.0) as u32 {
+                let q = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                let w = [edge(p[1], p[2], q), edge(p[2], p[0], q), edge(p[0], p[1], q)];
+                if w.iter().all(|&e| e * area >= 0.0) {
+                    mask[(y * width + x) as usize] = true;
+                }
+            }
+        }
+    }
+    mask
+}
+
+/// Pixels that differ from the background colour.
+pub fn foreground(image: &image::RgbaImage, background: [u8; 3]) -> Vec<bool> {
+    image.pixels().map(|p| p.0[..3] != background).collect()
+}
+
+/// The background colour as the renderer writes it.
+pub fn background_rgb() -> [u8; 3] {
+    let b = pointblend::view::Shading::default().background;
+    [b.x, b.y, b.z].map(|c| (c * 255.0).round() as u8)
+}
+
+/// Erodes (`grow` < 0) or dilates (`grow` > 0) a mask by |grow| pixels (square neighbourhood).
+pub fn morph(mask: &[bool], width: u32, height: u32, grow: i32) -> Vec<bool> {
+    let (w, h) = (width as i32, height as i32);
+    let r = grow.abs();
+    let dilate = grow > 0;
+    (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let mut any = false;
+            let mut all = true;
+            for dy in -r..=r {
+                for dx in -r..=r {
+                    let (nx, ny) = (x + dx, y + dy);
+                    let v = nx >= 0 && ny >= 0 && nx < w && ny < h && mask[(ny * w + nx) as usize];
+                    any |= v;
+                    all &= v;
+                }
+            }
+            if dilate { any } else { all }
+        })
+        .collect()
+}

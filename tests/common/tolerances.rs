@@ -1,0 +1,28 @@
+//! Every tolerance the image and loader tests use, in one place, each with
+//! the value measured when it was set (lavapipe, Mesa 22.3.6).
+
+/// Share of the mesh silhouette (eroded by 1 px) the splat render must cover.
+/// Measured: 1.0000 in all four test views.
+pub const MIN_SILHOUETTE_COVERAGE: f64 = 0.995;
+
+/// Share of the mesh silhouette's area that splats may add outside it (splats
+/// overhang the boundary by up to one radius). Measured: 0.022-0.029.
+pub const MAX_SILHOUETTE_SPILL: f64 = 0.04;
+
+/// Pixels at which coverage masks are eroded or dilated to ignore the boundary rim.
+pub const BOUNDARY_RIM_PIXELS: i32 = 2;
+
+/// Position error after the f64 re-centring, relative to the model size.
+pub const MAX_RELATIVE_POSITION_ERROR: f64 = 1e-6;
+
+/// Estimated (PCA, 16 neighbours) against the bunny's face normals: least
+/// mean |cos|, and least share oriented the same way. Measured: 0.9972 and 1.0000.
+pub const MIN_NORMAL_MEAN_ABS_COS: f64 = 0.99;
+pub const MIN_NORMAL_ORIENTED_SHARE: f64 = 0.999;
+
+/// Least share of the table scan's estimated normals that face its scanner. Measured: 1.0 (orientation is per point).
+pub const MIN_SCANNER_FACING_SHARE: f64 = 0.999;
+
+/// The unfiltered image must be this much rougher than the filtered one
+/// (mean absolute Laplacian inside the silhouette). Measured: 2.1-3.0.
+pub const MIN_SMOOTHING_RATIO: f64 = 1.5;
