@@ -15,7 +15,7 @@ struct SplatVarying {
     @builtin(position) clip: vec4<f32>,
     // (x, y) in [-1, 1]^2 over the square, in units of the radius.
     @location(0) corner: vec2<f32>,
-    // Eye-space normal with |n_z| bounded (bounded foreshortening).
+    // Eye-space unit normal.
     @location(1) @interpolate(flat) normal: vec3<f32>,
     // View depth of the centre, radius in eye units.
     @location(2) @interpolate(flat) depth_radius: vec2<f32>,
@@ -44,9 +44,8 @@ fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying 
     var clip = frame.proj * vec4<f32>(centre, 1.0);
     clip = vec4<f32>(clip.xy + corner * radius_pixels * 2.0 * frame.viewport.zw * clip.w, clip.zw);
     out.clip = clip;
-    // Bounded foreshortening: |n_z| >= min, keeping its sign.
-    let nz = select(-1.0, 1.0, normal.z >= 0.0) * max(abs(normal.z), frame.splat.z);
-    out.normal = vec3<f32>(normal.xy, nz);
+    let normal_length = length(normal);
+    out.normal = select(vec3<f32>(0.0, 0.0, 1.0), normal / normal_length, normal_length > 1e-20);
     out.depth_radius = vec2<f32>(view_depth, splat.radius);
     return out;
 }
@@ -61,8 +60,10 @@ struct SplatSample {
 // Discards pixels outside the ellipse or outside the depth range.
 fn splat_sample(v: SplatVarying) -> SplatSample {
     let n = v.normal;
+    // Bounded foreshortening: |n_z| >= min, keeping its sign.
+    let nz = select(-1.0, 1.0, n.z >= 0.0) * max(abs(n.z), frame.splat.z);
     // Eq. 2: depth offset of the splat plane at (x, y).
-    let dz = -(n.x * v.corner.x + n.y * v.corner.y) / n.z;
+    let dz = -(n.x * v.corner.x + n.y * v.corner.y) / nz;
     let rho2 = dot(v.corner, v.corner) + dz * dz;
     if rho2 >= 1.0 {
         discard;

@@ -5,8 +5,11 @@
 //! the shading model that every renderer (GPU or CPU) shares, and [`render`]
 //! draws splats with wgpu. Only [`render`] touches the GPU.
 
+pub mod bench;
 pub mod cloud;
+pub mod output;
 pub mod progress;
+pub mod reference;
 pub mod render;
 pub mod spatial;
 pub mod view;

@@ -64,19 +64,7 @@ pub fn write_ply(cloud: &PointCloud, path: &Path, comments: &[String]) -> Result
         }
         w.flush().map_err(io)?;
     }
-    make_readable(tmp.as_file()).map_err(|e| CloudError::io(path, e))?;
+    crate::output::make_readable(tmp.as_file()).map_err(|e| CloudError::io(path, e))?;
     tmp.persist(path).map_err(|e| CloudError::io(path, e.error))?;
-    Ok(())
-}
-
-/// Gives a temporary file the usual permissions of an output file (rw-r--r--).
-pub fn make_readable(file: &std::fs::File) -> std::io::Result<()> {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        file.set_permissions(std::fs::Permissions::from_mode(0o644))?;
-    }
-    #[cfg(not(unix))]
-    let _ = file;
     Ok(())
 }

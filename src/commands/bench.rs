@@ -1,17 +1,14 @@
-//! `pointblend bench FILE...`: load speed and per-frame time, as medians over repeats.
-//!
-//! Frames are timed as wall time from submission to the GPU going idle
-//! (`poll(wait)`), after warm-up frames; loads are repeated and the body
-//! decode speed reported in vertices per second.
+//! `pointblend bench FILE...`: error against run time for every mode, and load speed.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
+use pointblend::bench::{self, BenchConfig};
 use pointblend::cloud;
-use pointblend::render::{HeadlessRenderer, Quality};
+use pointblend::render::{HeadlessRenderer, Quality, RenderMode};
 
-use super::shared::ViewArgs;
+use super::shared::{QualityArg, ViewArgs};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -20,86 +17,76 @@ pub struct Args {
     pub files: Vec<PathBuf>,
     #[command(flatten)]
     pub view: ViewArgs,
-    /// Timed frames per quality level (after the warm-up frames).
+    /// Modes to run, comma-separated (reference is always rendered as the ruler).
+    #[arg(long, value_delimiter = ',', default_value = "two-pass,reference")]
+    pub modes: Vec<RenderMode>,
+    /// Quality levels of the GPU modes, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "filtered,unfiltered")]
+    pub qualities: Vec<QualityArg>,
+    /// Timed frames per mode and view.
     #[arg(long, default_value_t = 10)]
     pub frames: usize,
-    /// Timed loads per file.
+    /// Untimed frames before them (lavapipe compiles and warms up on the first frames).
     #[arg(long, default_value_t = 5)]
+    pub warm_up: usize,
+    /// Views per model: front, side, back-top, close-up, grazing (in this order).
+    #[arg(long, default_value_t = bench::views::MAX_VIEWS)]
+    pub views: usize,
+    /// Timed loads per file for the decode speed.
+    #[arg(long, default_value_t = 3)]
     pub loads: usize,
-}
-
-/// Untimed frames first: lavapipe compiles and warms its threads on the first frames.
-const WARM_UP_FRAMES: usize = 5;
-
-struct Stats {
-    median: f64,
-    min: f64,
-    max: f64,
-}
-
-fn stats(mut samples: Vec<f64>) -> Stats {
-    samples.sort_by(f64::total_cmp);
-    let n = samples.len();
-    let median = if n % 2 == 1 { samples[n / 2] } else { 0.5 * (samples[n / 2 - 1] + samples[n / 2]) };
-    Stats { median, min: samples[0], max: samples[n - 1] }
+    /// Output folder for bench.json, bench.md, error_vs_time.png, images and the reference cache.
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
 }
 
 pub fn run(args: &Args) -> Result<()> {
     if args.frames == 0 || args.loads == 0 {
         bail!("--frames and --loads must be at least 1");
     }
-    let mut renderer = HeadlessRenderer::new().context("opening the GPU")?;
-    let (width, height) = args.view.size;
-    println!("GPU: {}", renderer.ctx.describe());
-    println!(
-        "| model | splats | decode M vertices/s (median of {}) | full load s | quality | frame ms median (min-max) of {} |",
-        args.loads, args.frames
-    );
-    println!("|---|---:|---:|---:|---|---:|");
+    if args.views == 0 || args.views > bench::views::MAX_VIEWS {
+        bail!("--views must be 1..={}", bench::views::MAX_VIEWS);
+    }
     for file in &args.files {
-        let mut decode_rates = Vec::new();
-        let mut load_seconds = Vec::new();
-        let mut loaded = None;
+        let mut rates = Vec::new();
         for _ in 0..args.loads {
             let started = Instant::now();
-            let (c, report) = cloud::load(file)?;
-            load_seconds.push(started.elapsed().as_secs_f64());
-            decode_rates.push(report.vertices_in_file as f64 / report.decode_seconds.max(1e-9) / 1e6);
-            loaded = Some(c);
+            let (_, report) = cloud::load(file)?;
+            let total = started.elapsed().as_secs_f64();
+            rates.push((report.vertices_in_file as f64 / report.decode_seconds.max(1e-9) / 1e6, total));
         }
-        let Some(cloud) = loaded else { continue };
-        let camera = args.view.camera(&cloud)?;
-        let gpu_cloud = renderer.upload(&cloud);
-        let decode = stats(decode_rates);
-        let load = stats(load_seconds);
-        for quality in [Quality::Filtered, Quality::Unfiltered] {
-            let mut settings = args.view.settings()?;
-            settings.quality = quality;
-            let mut frame_ms = Vec::new();
-            for frame in 0..args.frames + WARM_UP_FRAMES {
-                let started = Instant::now();
-                renderer.render(&gpu_cloud, &camera, &settings, width, height)?;
-                renderer.ctx.wait_idle()?;
-                if frame >= WARM_UP_FRAMES {
-                    frame_ms.push(started.elapsed().as_secs_f64() * 1e3);
-                }
-            }
-            let f = stats(frame_ms);
-            println!(
-                "| {} | {} | {:.1} | {:.2} | {} {:?} {}x{} | {:.1} ({:.1}-{:.1}) |",
-                file.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
-                cloud.len(),
-                decode.median,
-                load.median,
-                settings.mode,
-                quality,
-                width,
-                height,
-                f.median,
-                f.min,
-                f.max
-            );
+        rates.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let (rate, total) = rates[rates.len() / 2];
+        println!(
+            "{}: body decode {rate:.1} M vertices/s, full load {total:.2} s (median of {})",
+            file.display(),
+            args.loads
+        );
+    }
+    let mut renderer = HeadlessRenderer::new().context("opening the GPU")?;
+    println!("GPU: {}", renderer.ctx.describe());
+    let qualities: Vec<Quality> = args.qualities.iter().map(|q| q.quality()).collect();
+    let mut modes = Vec::new();
+    for &mode in &args.modes {
+        if mode.is_gpu() {
+            modes.extend(qualities.iter().map(|&q| (mode, q)));
+        } else {
+            modes.push((mode, Quality::Filtered));
         }
     }
+    let config = BenchConfig {
+        modes,
+        settings: args.view.settings()?,
+        width: args.view.size.0,
+        height: args.view.size.1,
+        frames: args.frames,
+        warm_up: args.warm_up,
+        views: args.views,
+        out: args.out.clone(),
+        progress: true,
+    };
+    let rows = bench::run(&args.files, &config, &mut renderer)?;
+    print!("{}", bench::report::markdown(&rows));
+    println!("wrote {}/bench.json, bench.md, error_vs_time.png and the images", args.out.display());
     Ok(())
 }

@@ -4,7 +4,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use pointblend::render::HeadlessRenderer;
+use pointblend::reference::{self, ReferenceOptions};
+use pointblend::render::{HeadlessRenderer, RenderPlan};
 
 use super::shared::{self, ViewArgs};
 
@@ -20,6 +21,10 @@ pub struct Args {
     /// Print the passes and targets that will run.
     #[arg(long)]
     pub explain: bool,
+    /// Also render the exact reference, print the error against it and write
+    /// a false-colour difference image (amplified 8x) to this PNG.
+    #[arg(long)]
+    pub diff: Option<PathBuf>,
 }
 
 impl Args {
@@ -43,17 +48,37 @@ pub fn run(args: &Args) -> Result<()> {
     let (cloud, _report) = shared::load(&args.file)?;
     let load_seconds = started.elapsed().as_secs_f64();
     let camera = args.view.camera(&cloud)?;
-    let mut renderer = HeadlessRenderer::new().context("opening the GPU")?;
-    log::info!("GPU: {}", renderer.ctx.describe());
-    let gpu_cloud = renderer.upload(&cloud);
     let (width, height) = args.view.size;
+    let reference_options = ReferenceOptions { progress: true, ..ReferenceOptions::matching(&settings, &cloud) };
     let render_started = Instant::now();
-    let (image, plan) = renderer.render_image(&gpu_cloud, &camera, &settings, width, height)?;
+    let (image, plan) = if settings.mode.is_gpu() {
+        let mut renderer = HeadlessRenderer::new().context("opening the GPU")?;
+        log::info!("GPU: {}", renderer.ctx.describe());
+        let gpu_cloud = renderer.upload(&cloud);
+        renderer.render_image(&gpu_cloud, &camera, &settings, width, height)?
+    } else {
+        let plan = RenderPlan::new(&settings, width, height, cloud.len(), reference_options.epsilon);
+        (reference::render(&cloud, &camera, &reference_options, width, height), plan)
+    };
     let render_seconds = render_started.elapsed().as_secs_f64();
     if args.explain {
         println!("{plan}");
     }
     shared::write_png_atomically(&image, &args.out)?;
+    if let Some(diff_path) = &args.diff {
+        let exact = reference::render(&cloud, &camera, &reference_options, width, height);
+        let error = reference::compare(&image, &exact).context("image sizes differ")?;
+        let diff = reference::difference_image(&image, &exact, 8.0).context("image sizes differ")?;
+        shared::write_png_atomically(&diff, diff_path)?;
+        println!(
+            "error against the reference: ε {:.3}, PSNR {:.2} dB, {:.2}% pixels off by more than {}/255 -> {}",
+            error.eps,
+            error.psnr,
+            100.0 * error.bad_pixel_share,
+            reference::metrics::BAD_PIXEL_THRESHOLD,
+            diff_path.display()
+        );
+    }
     println!(
         "{}: {} splats, {} {}x{} in {:.0} ms (load {:.2} s) -> {}",
         args.file.display(),

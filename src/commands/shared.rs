@@ -1,6 +1,5 @@
 //! Options and helpers shared by several subcommands.
 
-use std::io::Write;
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
@@ -37,6 +36,15 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
 pub enum QualityArg {
     Filtered,
     Unfiltered,
+}
+
+impl QualityArg {
+    pub fn quality(self) -> Quality {
+        match self {
+            QualityArg::Filtered => Quality::Filtered,
+            QualityArg::Unfiltered => Quality::Unfiltered,
+        }
+    }
 }
 
 /// Camera and render options.
@@ -81,10 +89,7 @@ impl ViewArgs {
         }
         Ok(RenderSettings {
             mode: self.mode,
-            quality: match self.quality {
-                QualityArg::Filtered => Quality::Filtered,
-                QualityArg::Unfiltered => Quality::Unfiltered,
-            },
+            quality: self.quality.quality(),
             epsilon_scale: self.epsilon,
             backface_culling: !self.no_cull,
             ..Default::default()
@@ -126,15 +131,8 @@ impl ViewArgs {
 
 /// Writes `image` as PNG to `path` through a temporary file and a rename.
 pub fn write_png_atomically(image: &image::RgbaImage, path: &Path) -> Result<()> {
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create the folder", dir.display()))?;
-    let mut tmp =
-        tempfile::NamedTempFile::new_in(dir).with_context(|| format!("{}: cannot write here", dir.display()))?;
-    image
-        .write_to(&mut std::io::BufWriter::new(tmp.as_file_mut()), image::ImageFormat::Png)
-        .with_context(|| format!("{}: writing the PNG failed", path.display()))?;
-    tmp.as_file_mut().flush()?;
-    pointblend::cloud::write::make_readable(tmp.as_file())?;
-    tmp.persist(path).with_context(|| format!("{}: cannot write the file", path.display()))?;
-    Ok(())
+    if let Some(dir) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create the folder", dir.display()))?;
+    }
+    pointblend::output::save_png(image, path).with_context(|| format!("{}: cannot write the PNG", path.display()))
 }

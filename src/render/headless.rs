@@ -4,9 +4,9 @@ use super::context::{GpuContext, GpuError};
 use super::plan::RenderPlan;
 use super::readback;
 use super::renderer::SplatRenderer;
-use super::settings::RenderSettings;
 use super::splat_buffers::GpuCloud;
 use crate::view::Camera;
+use crate::view::settings::RenderSettings;
 
 /// Format of headless output images.
 pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;

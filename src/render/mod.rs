@@ -8,13 +8,13 @@ pub mod passes;
 pub mod plan;
 pub mod readback;
 pub mod renderer;
-pub mod settings;
 pub mod shaders;
 pub mod splat_buffers;
 pub mod targets;
+pub mod timer;
 
+pub use crate::view::{Quality, RenderMode, RenderSettings};
 pub use context::{GpuContext, GpuError};
 pub use headless::HeadlessRenderer;
 pub use plan::RenderPlan;
-pub use settings::{Quality, RenderMode, RenderSettings};
 pub use splat_buffers::GpuCloud;

@@ -3,7 +3,7 @@
 //! The renderer runs exactly the passes listed here, so `--explain` and the
 //! viewer show what really happens.
 
-use super::settings::{Quality, RenderMode, RenderSettings};
+use crate::view::settings::{Quality, RenderMode, RenderSettings};
 
 /// One pass of a frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -70,12 +70,19 @@ impl RenderPlan {
                 vec![PassKind::Visibility, PassKind::Accumulate, PassKind::Normalize]
             }
             (RenderMode::TwoPass, Quality::Unfiltered) => vec![PassKind::NearestSplat, PassKind::Normalize],
+            (RenderMode::Reference, _) => Vec::new(),
         };
-        let targets = vec![
-            PlannedTarget { name: "depth", format: "Depth32Float", bytes_per_pixel: 4 },
-            PlannedTarget { name: "accumulated colour (Σw·rgb, Σw)", format: "Rgba16Float", bytes_per_pixel: 8 },
-            PlannedTarget { name: "accumulated normal (Σw·n, Σw·α)", format: "Rgba16Float", bytes_per_pixel: 8 },
-        ];
+        let targets = if passes.is_empty() {
+            Vec::new()
+        } else {
+            vec![
+                PlannedTarget { name: "depth", format: "Depth32Float", bytes_per_pixel: 4 },
+                PlannedTarget { name: "accumulated colour (Σw·rgb, Σw)", format: "Rgba16Float", bytes_per_pixel: 8 },
+                PlannedTarget {
+                    name: "accumulated normal (Σw·n, Σw·α)", format: "Rgba16Float", bytes_per_pixel: 8
+                },
+            ]
+        };
         Self { mode: settings.mode, quality: settings.quality, width, height, splats, epsilon, passes, targets }
     }
 
@@ -93,6 +100,13 @@ impl RenderPlan {
 
 impl std::fmt::Display for RenderPlan {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.passes.is_empty() {
+            return write!(
+                f,
+                "mode {}: exact A-buffer ray casting on the CPU, {} splats, {}x{}, ε = {:.4e}; no GPU passes",
+                self.mode, self.splats, self.width, self.height, self.epsilon
+            );
+        }
         let full = self.passes.len() - self.geometry_passes();
         writeln!(
             f,

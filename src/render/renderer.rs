@@ -12,11 +12,12 @@ use super::context::{GpuContext, GpuError};
 use super::gpu_data::FrameUniforms;
 use super::passes::{accumulate, nearest, normalize, visibility};
 use super::plan::{PassKind, RenderPlan};
-use super::settings::RenderSettings;
 use super::shaders;
 use super::splat_buffers::GpuCloud;
 use super::targets::FrameTargets;
+use super::timer::PassTimer;
 use crate::view::Camera;
+use crate::view::settings::RenderSettings;
 
 pub struct SplatRenderer {
     frame_buffer: wgpu::Buffer,
@@ -29,6 +30,7 @@ pub struct SplatRenderer {
     nearest: wgpu::RenderPipeline,
     normalize: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
     targets: Option<FrameTargets>,
+    timer: Option<PassTimer>,
 }
 
 impl SplatRenderer {
@@ -90,7 +92,21 @@ impl SplatRenderer {
             normalize_pipeline_layout,
             normalize: HashMap::new(),
             targets: None,
+            timer: None,
         }
+    }
+
+    /// Turns per-pass GPU timestamps on; returns false when the adapter has none.
+    pub fn enable_pass_timing(&mut self, ctx: &GpuContext) -> bool {
+        if self.timer.is_none() {
+            self.timer = PassTimer::new(ctx);
+        }
+        self.timer.is_some()
+    }
+
+    /// Milliseconds per pass of the last frame (waits for it), if timing is on.
+    pub fn pass_times(&self, ctx: &GpuContext, plan: &RenderPlan) -> Result<Option<Vec<f64>>, GpuError> {
+        self.timer.as_ref().map(|t| t.read(ctx, plan.passes.len())).transpose()
     }
 
     /// Renders `cloud` into `output` (of `format`, `width` x `height`) and returns the plan it ran.
@@ -106,7 +122,10 @@ impl SplatRenderer {
         (width, height): (u32, u32),
     ) -> Result<RenderPlan, GpuError> {
         ctx.check_size(width, height)?;
-        let epsilon = settings.epsilon_scale * cloud.mean_radius;
+        if !settings.mode.is_gpu() {
+            return Err(GpuError::Device(format!("mode {} does not run on the GPU", settings.mode)));
+        }
+        let epsilon = settings.epsilon(cloud.mean_radius);
         let plan = RenderPlan::new(settings, width, height, cloud.len, epsilon);
         let uniforms = frame_uniforms(camera, settings, width, height, epsilon);
         ctx.checked("rendering", || {
@@ -122,13 +141,25 @@ impl SplatRenderer {
             let mut encoder = device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("SplatRenderer::encoder") });
             let frame = &self.frame_bind_group;
-            for pass in &plan.passes {
+            for (i, pass) in plan.passes.iter().enumerate() {
+                let stamps = self.timer.as_ref().and_then(|t| t.writes(i));
                 match pass {
-                    PassKind::Visibility => visibility::record(&mut encoder, &self.visibility, frame, targets, cloud),
-                    PassKind::Accumulate => accumulate::record(&mut encoder, &self.accumulate, frame, targets, cloud),
-                    PassKind::NearestSplat => nearest::record(&mut encoder, &self.nearest, frame, targets, cloud),
-                    PassKind::Normalize => normalize::record(&mut encoder, normalize_pipeline, frame, targets, output),
+                    PassKind::Visibility => {
+                        visibility::record(&mut encoder, &self.visibility, frame, targets, cloud, stamps)
+                    }
+                    PassKind::Accumulate => {
+                        accumulate::record(&mut encoder, &self.accumulate, frame, targets, cloud, stamps)
+                    }
+                    PassKind::NearestSplat => {
+                        nearest::record(&mut encoder, &self.nearest, frame, targets, cloud, stamps)
+                    }
+                    PassKind::Normalize => {
+                        normalize::record(&mut encoder, normalize_pipeline, frame, targets, output, stamps)
+                    }
                 }
+            }
+            if let Some(timer) = &self.timer {
+                timer.resolve(&mut encoder, plan.passes.len());
             }
             ctx.queue.submit([encoder.finish()]);
         })?;

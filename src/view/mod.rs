@@ -1,11 +1,13 @@
-//! What every renderer shares, GPU or CPU: the camera, the splat kernel and
-//! the shading model. Keeping them here (with no GPU types) lets the exact CPU
+//! What every renderer shares, GPU or CPU: the camera, the splat kernel, the
+//! shading model and the render settings. Keeping them here (with no GPU types) lets the exact CPU
 //! reference and the wgpu passes produce images that compare pixel for pixel.
 
 pub mod camera;
 pub mod kernel;
+pub mod settings;
 pub mod shading;
 
 pub use camera::{Camera, UpAxis};
 pub use kernel::SplatKernel;
+pub use settings::{Quality, RenderMode, RenderSettings};
 pub use shading::Shading;

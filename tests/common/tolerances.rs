@@ -26,3 +26,11 @@ pub const MIN_SCANNER_FACING_SHARE: f64 = 0.999;
 /// The unfiltered image must be this much rougher than the filtered one
 /// (mean absolute Laplacian inside the silhouette). Measured: 2.1-3.0.
 pub const MIN_SMOOTHING_RATIO: f64 = 1.5;
+
+/// two-pass against the exact reference on the bundled bunny at 256², three
+/// views. Measured: ε 1.730 / 0.892 / 1.923, bad pixels 1.05% / 0.58% / 0.99%.
+/// The gap comes from Botsch & Kobbelt's approximations: the splat footprint is
+/// the parallel projection of the disc scaled at its centre's depth (Eq. 1-2)
+/// and |n_z| is bounded, so silhouette pixels differ.
+pub const MAX_TWO_PASS_EPS: f64 = 2.1;
+pub const MAX_TWO_PASS_BAD_PIXELS: f64 = 0.012;

@@ -38,14 +38,14 @@ pub fn record(
     frame: &wgpu::BindGroup,
     targets: &FrameTargets,
     cloud: &GpuCloud,
+    timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) {
-    record_splats(
-        encoder,
-        "Accumulate::pass",
-        pipeline,
-        frame,
-        &[cleared(&targets.accum_color), cleared(&targets.accum_normal)],
-        depth(&targets.depth, false),
-        cloud,
-    );
+    let desc = wgpu::RenderPassDescriptor {
+        label: Some("Accumulate::pass"),
+        color_attachments: &[cleared(&targets.accum_color), cleared(&targets.accum_normal)],
+        depth_stencil_attachment: depth(&targets.depth, false),
+        timestamp_writes: timestamps,
+        ..Default::default()
+    };
+    record_splats(encoder, &desc, pipeline, frame, cloud);
 }

@@ -75,22 +75,15 @@ pub(super) fn depth(view: &wgpu::TextureView, clear: bool) -> Option<wgpu::Rende
     })
 }
 
-/// Records one render pass that draws every splat of `cloud` with `pipeline`.
+/// Records one render pass, described by `desc`, that draws every splat of `cloud` with `pipeline`.
 pub(super) fn record_splats(
     encoder: &mut wgpu::CommandEncoder,
-    label: &str,
+    desc: &wgpu::RenderPassDescriptor<'_>,
     pipeline: &wgpu::RenderPipeline,
     frame: &wgpu::BindGroup,
-    color_attachments: &[Option<wgpu::RenderPassColorAttachment<'_>>],
-    depth_attachment: Option<wgpu::RenderPassDepthStencilAttachment<'_>>,
     cloud: &GpuCloud,
 ) {
-    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(label),
-        color_attachments,
-        depth_stencil_attachment: depth_attachment,
-        ..Default::default()
-    });
+    let mut pass = encoder.begin_render_pass(desc);
     pass.set_pipeline(pipeline);
     pass.set_bind_group(0, frame, &[]);
     cloud.draw(&mut pass);

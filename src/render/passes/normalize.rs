@@ -59,6 +59,7 @@ pub fn record(
     frame: &wgpu::BindGroup,
     targets: &FrameTargets,
     output: &wgpu::TextureView,
+    timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) {
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("Normalize::pass"),
@@ -68,6 +69,7 @@ pub fn record(
             resolve_target: None,
             ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
         })],
+        timestamp_writes: timestamps,
         ..Default::default()
     });
     pass.set_pipeline(pipeline);

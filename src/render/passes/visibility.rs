@@ -26,6 +26,14 @@ pub fn record(
     frame: &wgpu::BindGroup,
     targets: &FrameTargets,
     cloud: &GpuCloud,
+    timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) {
-    record_splats(encoder, "Visibility::pass", pipeline, frame, &[], depth(&targets.depth, true), cloud);
+    let desc = wgpu::RenderPassDescriptor {
+        label: Some("Visibility::pass"),
+        color_attachments: &[],
+        depth_stencil_attachment: depth(&targets.depth, true),
+        timestamp_writes: timestamps,
+        ..Default::default()
+    };
+    record_splats(encoder, &desc, pipeline, frame, cloud);
 }

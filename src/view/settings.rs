@@ -1,21 +1,30 @@
 //! What a frame is rendered with: the mode, its quality level and parameters.
+//! Plain data, shared by the GPU modes and the CPU reference.
 
-use crate::view::{Shading, SplatKernel};
+use super::{Shading, SplatKernel};
 
 /// The rendering algorithm.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RenderMode {
     /// Botsch & Kobbelt's 2+1-pass pipeline: ε-offset visibility, accumulation, normalisation.
     TwoPass,
+    /// The exact A-buffer renderer on the CPU: the ground truth for error.
+    Reference,
 }
 
 impl RenderMode {
-    pub const ALL: [RenderMode; 1] = [RenderMode::TwoPass];
+    pub const ALL: [RenderMode; 2] = [RenderMode::TwoPass, RenderMode::Reference];
 
     pub fn name(self) -> &'static str {
         match self {
             RenderMode::TwoPass => "two-pass",
+            RenderMode::Reference => "reference",
         }
+    }
+
+    /// Whether the mode runs on the GPU.
+    pub fn is_gpu(self) -> bool {
+        !matches!(self, RenderMode::Reference)
     }
 }
 
@@ -55,6 +64,13 @@ pub struct RenderSettings {
     pub backface_culling: bool,
     pub kernel: SplatKernel,
     pub shading: Shading,
+}
+
+impl RenderSettings {
+    /// ε in view-depth units for a cloud whose mean splat radius is `mean_radius`.
+    pub fn epsilon(&self, mean_radius: f32) -> f32 {
+        self.epsilon_scale * mean_radius
+    }
 }
 
 impl Default for RenderSettings {

@@ -1,0 +1,48 @@
+//! The cache of reference images, keyed by everything that decides them.
+//!
+//! The key hashes (FNV-1a, stable across runs and builds) the model file's
+//! path, size and modification time, the camera, the image size and every
+//! render parameter; the image is stored as `cache/reference-KEY.png` with the
+//! time it took to render in `cache/reference-KEY.ms`.
+
+use std::path::{Path, PathBuf};
+
+use crate::view::{Camera, RenderSettings};
+
+/// A cache entry's files.
+pub struct CacheEntry {
+    pub image: PathBuf,
+    pub millis: PathBuf,
+}
+
+/// FNV-1a, 64 bits: tiny, and stable where `std`'s hasher is not.
+fn fnv1a(text: &str) -> u64 {
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
+}
+
+/// Where the reference image for these inputs is (or would be) cached.
+pub fn entry(dir: &Path, model: &Path, camera: &Camera, settings: &RenderSettings, size: (u32, u32)) -> CacheEntry {
+    let meta = std::fs::metadata(model).ok();
+    let stamp = meta.as_ref().and_then(|m| m.modified().ok()).map(|t| format!("{t:?}")).unwrap_or_default();
+    let file_len = meta.map(|m| m.len()).unwrap_or(0);
+    let key = format!(
+        "v1|{}|{file_len}|{stamp}|{camera:?}|{size:?}|{:?}|{:?}|{}|{}",
+        model.display(),
+        settings.kernel,
+        settings.shading,
+        settings.epsilon_scale,
+        settings.backface_culling
+    );
+    let name = format!("reference-{:016x}", fnv1a(&key));
+    let dir = dir.join("cache");
+    CacheEntry { image: dir.join(format!("{name}.png")), millis: dir.join(format!("{name}.ms")) }
+}
+
+impl CacheEntry {
+    /// The cached image and its render time, if both are there and readable.
+    pub fn load(&self) -> Option<(image::RgbaImage, f64)> {
+        let ms = std::fs::read_to_string(&self.millis).ok()?.trim().parse().ok()?;
+        let image = image::open(&self.image).ok()?.to_rgba8();
+        Some((image, ms))
+    }
+}

@@ -1,0 +1,19 @@
+//! Error against run time: every mode from several views, timed and compared
+//! with the exact reference.
+//!
+//! For each model and view, each GPU mode renders warm-up frames and then
+//! timed frames (wall time to `poll(wait)`, plus per-pass GPU timestamps when
+//! the adapter has them); its last image is compared with the `reference`
+//! image of the same view (ε of Zhang & Pajarola 2007 §6.3, PSNR, bad-pixel
+//! share). Reference images are cached in the output folder, keyed by file,
+//! view, size and parameters. [`report`] writes `bench.json` and `bench.md`,
+//! [`plot`] the error-against-time plot.
+
+pub mod cache;
+pub mod plot;
+pub mod report;
+pub mod run;
+pub mod views;
+
+pub use report::{BenchRow, PassTime};
+pub use run::{BenchConfig, BenchError, run};

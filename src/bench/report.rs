@@ -1,0 +1,77 @@
+//! Benchmark rows and the files they are written to: `bench.json`, `bench.md`.
+
+use std::path::Path;
+
+use serde::Serialize;
+
+/// Median and range of one pass's GPU time.
+#[derive(Debug, Clone, Serialize)]
+pub struct PassTime {
+    pub pass: String,
+    pub ms: f64,
+    pub ms_min: f64,
+    pub ms_max: f64,
+}
+
+/// One mode, seen from one view of one model.
+#[derive(Debug, Clone, Serialize)]
+pub struct BenchRow {
+    pub model: String,
+    pub mode: String,
+    pub quality: String,
+    pub view: String,
+    /// Wall time per frame, submission to `poll(wait)`, median over the timed frames.
+    pub frame_ms: f64,
+    pub frame_ms_min: f64,
+    pub frame_ms_max: f64,
+    /// Sum of the per-pass GPU timestamps (median), when the adapter has them.
+    pub gpu_ms: Option<f64>,
+    pub passes: Vec<PassTime>,
+    /// ε of Zhang & Pajarola §6.3 against the reference, 0..255 units.
+    pub eps: f64,
+    /// PSNR in dB; `null` for an image identical to the reference.
+    pub psnr: Option<f64>,
+    pub bad_pixel_share: f64,
+    pub geometry_passes: usize,
+    pub points: usize,
+    pub width: u32,
+    pub height: u32,
+    /// Seconds to load the model (decode and estimation), once per model.
+    pub load_s: f64,
+    /// Timed frames behind the medians.
+    pub frames: usize,
+}
+
+/// Writes `rows` as a JSON array, atomically.
+pub fn write_json(rows: &[BenchRow], path: &Path) -> std::io::Result<()> {
+    let text = serde_json::to_string_pretty(rows).map_err(std::io::Error::other)?;
+    crate::output::write_atomically(path, text.as_bytes())
+}
+
+/// The rows as a Markdown table.
+pub fn markdown(rows: &[BenchRow]) -> String {
+    let mut out = String::from(
+        "| model | view | mode | quality | points | size | geometry passes | frame ms median (min-max) | GPU ms | ε | PSNR dB | bad pixels |\n|---|---|---|---|---:|---|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for r in rows {
+        out.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {}x{} | {} | {:.1} ({:.1}-{:.1}) | {} | {:.3} | {} | {:.2}% |\n",
+            r.model,
+            r.view,
+            r.mode,
+            r.quality,
+            r.points,
+            r.width,
+            r.height,
+            r.geometry_passes,
+            r.frame_ms,
+            r.frame_ms_min,
+            r.frame_ms_max,
+            r.gpu_ms.map_or("-".into(), |g| format!("{g:.1}")),
+            r.eps,
+            r.psnr.map_or("∞".into(), |p| format!("{p:.2}")),
+            100.0 * r.bad_pixel_share
+        ));
+    }
+    out
+}

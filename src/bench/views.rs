@@ -1,0 +1,44 @@
+//! The standard benchmark views around a model.
+//!
+//! All start from the model's default camera: its front, a side view from
+//! above, the back from higher up, a close-up (0.45x the framing distance:
+//! large splats, crossing the image border) and a steep view from above in
+//! which most surfaces are seen at grazing angles.
+
+use crate::cloud::PointCloud;
+use crate::view::Camera;
+
+/// A named camera.
+#[derive(Debug, Clone)]
+pub struct NamedView {
+    pub name: &'static str,
+    pub camera: Camera,
+}
+
+/// (name, azimuth offset, elevation offset, distance factor)
+const VIEWS: [(&str, f32, f32, f32); 5] = [
+    ("front", 0.0, 10.0, 1.0),
+    ("side", 90.0, 25.0, 1.0),
+    ("back-top", 200.0, 40.0, 1.0),
+    ("close-up", 30.0, 15.0, 0.45),
+    ("grazing", 60.0, 78.0, 1.0),
+];
+
+/// The first `count` standard views (at most 5) of `cloud` for images of `aspect`.
+pub fn standard_views(cloud: &PointCloud, aspect: f32, count: usize) -> Vec<NamedView> {
+    let base = Camera::default_for(cloud, aspect);
+    VIEWS
+        .iter()
+        .take(count)
+        .map(|&(name, az, el, factor)| {
+            let mut camera = base;
+            camera.azimuth_deg += az;
+            camera.elevation_deg = (camera.elevation_deg + el).clamp(-89.0, 89.0);
+            camera.distance = camera.fit_distance(&cloud.positions, aspect) * factor;
+            NamedView { name, camera }
+        })
+        .collect()
+}
+
+/// Most views [`standard_views`] can give.
+pub const MAX_VIEWS: usize = VIEWS.len();

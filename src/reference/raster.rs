@@ -1,0 +1,185 @@
+//! Ray casting of splat discs per pixel, ε-layering and front-to-back compositing.
+
+use glam::{Vec2, Vec3};
+use rayon::prelude::*;
+
+use super::tiles::{self, EyeSplat, TILE};
+use crate::cloud::PointCloud;
+use crate::view::{Camera, Shading, SplatKernel};
+
+/// Parameters of a reference frame; the same values a GPU frame uses.
+#[derive(Debug, Clone, Copy)]
+pub struct ReferenceOptions {
+    /// Hits within this view-depth distance of a layer's front join the layer.
+    pub epsilon: f32,
+    pub backface_culling: bool,
+    pub kernel: SplatKernel,
+    pub shading: Shading,
+    /// Show a progress bar.
+    pub progress: bool,
+}
+
+impl ReferenceOptions {
+    /// The options that match a GPU frame rendered with `settings`.
+    pub fn matching(settings: &crate::view::RenderSettings, cloud: &PointCloud) -> Self {
+        Self {
+            epsilon: settings.epsilon(cloud.mean_radius()),
+            backface_culling: settings.backface_culling,
+            kernel: settings.kernel,
+            shading: settings.shading,
+            progress: false,
+        }
+    }
+}
+
+/// One ray-splat intersection.
+#[derive(Debug, Clone, Copy)]
+struct Hit {
+    depth: f32,
+    weight: f32,
+    splat: u32,
+}
+
+/// Renders `cloud` exactly, on the CPU, as the GPU modes would with the same camera.
+pub fn render(
+    cloud: &PointCloud,
+    camera: &Camera,
+    options: &ReferenceOptions,
+    width: u32,
+    height: u32,
+) -> image::RgbaImage {
+    let (width, height) = (width.max(1), height.max(1));
+    let aspect = width as f32 / height as f32;
+    let view = camera.view_matrix();
+    let proj = camera.projection(aspect);
+    let (near, far) = camera.near_far();
+    let splats: Vec<EyeSplat> = (0..cloud.len())
+        .into_par_iter()
+        .filter_map(|i| {
+            let centre = view.transform_point3(cloud.positions[i]);
+            let normal = view.transform_vector3(cloud.normals[i]).try_normalize().unwrap_or(Vec3::Z);
+            let depth = -centre.z;
+            let radius = cloud.radii[i];
+            let culled = options.backface_culling && normal.dot(centre) > 0.0;
+            let usable = depth > near && depth < far && radius > 0.0;
+            if culled || !usable {
+                return None;
+            }
+            let [r, g, b] = cloud.colors[i];
+            Some(EyeSplat {
+                centre,
+                normal,
+                radius,
+                color: Vec3::new(r as f32, g as f32, b as f32) / 255.0,
+                opacity: cloud.opacity[i].clamp(0.0, 1.0),
+            })
+        })
+        .collect();
+    let opaque = splats.iter().all(|s| s.opacity >= 1.0);
+    let bins = tiles::bin(&splats, &proj, width, height, near);
+    let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
+    let lens = Vec2::new(tan_y * aspect, tan_y);
+    let bar = options.progress.then(|| crate::progress::bar(bins.bins.len() as u64, "reference render"));
+    let tiles: Vec<(u32, Vec<[u8; 4]>)> = (0..bins.bins.len() as u32)
+        .into_par_iter()
+        .map(|tile| {
+            let (tx, ty) = (tile % bins.columns, tile / bins.columns);
+            let mut hits = Vec::new();
+            let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
+            for y in ty * TILE..((ty + 1) * TILE).min(height) {
+                for x in tx * TILE..((tx + 1) * TILE).min(width) {
+                    let ndc = Vec2::new(
+                        (x as f32 + 0.5) / width as f32 * 2.0 - 1.0,
+                        1.0 - (y as f32 + 0.5) / height as f32 * 2.0,
+                    );
+                    let ray = (ndc * lens).extend(-1.0);
+                    hits.clear();
+                    for &s in &bins.bins[tile as usize] {
+                        if let Some(hit) = intersect(&splats[s as usize], ray, &options.kernel, near, far) {
+                            hits.push(Hit { splat: s, ..hit });
+                        }
+                    }
+                    let colour = composite(&mut hits, &splats, ray, options, opaque);
+                    pixels.push(to_rgba8(colour));
+                }
+            }
+            if let Some(b) = &bar {
+                b.inc(1);
+            }
+            (tile, pixels)
+        })
+        .collect();
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    let mut image = image::RgbaImage::new(width, height);
+    for (tile, pixels) in tiles {
+        let (tx, ty) = (tile % bins.columns, tile / bins.columns);
+        let mut it = pixels.into_iter();
+        for y in ty * TILE..((ty + 1) * TILE).min(height) {
+            for x in tx * TILE..((tx + 1) * TILE).min(width) {
+                if let Some(p) = it.next() {
+                    image.put_pixel(x, y, image::Rgba(p));
+                }
+            }
+        }
+    }
+    image
+}
+
+/// Exact ray-disc intersection: the ray from the eye through `ray` (z = -1)
+/// meets the splat's plane at view depth t; inside the disc it gets the Gaussian weight.
+fn intersect(s: &EyeSplat, ray: Vec3, kernel: &SplatKernel, near: f32, far: f32) -> Option<Hit> {
+    let denom = s.normal.dot(ray);
+    if denom.abs() < 1e-12 {
+        return None;
+    }
+    let t = s.normal.dot(s.centre) / denom;
+    if !(t > near && t < far) {
+        return None;
+    }
+    let rho2 = (ray * t - s.centre).length_squared() / (s.radius * s.radius);
+    (rho2 < 1.0).then(|| Hit { depth: t, weight: kernel.weight(rho2), splat: 0 })
+}
+
+/// Sorts the hits, groups them into ε-layers, normalises and shades each
+/// layer, and composites the layers front to back over the background.
+fn composite(hits: &mut [Hit], splats: &[EyeSplat], ray: Vec3, options: &ReferenceOptions, opaque: bool) -> Vec3 {
+    let background = options.shading.background;
+    if hits.is_empty() {
+        return background;
+    }
+    hits.sort_unstable_by(|a, b| a.depth.total_cmp(&b.depth));
+    let to_eye = -ray.normalize();
+    let mut colour = Vec3::ZERO;
+    let mut transmittance = 1.0f32;
+    let mut start = 0;
+    while start < hits.len() && transmittance > 1e-4 {
+        let front = hits[start].depth;
+        let end = start + hits[start..].iter().take_while(|h| h.depth <= front + options.epsilon).count();
+        let (mut sum_w, mut sum_c, mut sum_n, mut sum_a) = (0.0f32, Vec3::ZERO, Vec3::ZERO, 0.0f32);
+        for h in &hits[start..end] {
+            let s = &splats[h.splat as usize];
+            sum_w += h.weight;
+            sum_c += s.color * h.weight;
+            sum_n += s.normal * h.weight;
+            sum_a += s.opacity * h.weight;
+        }
+        start = end;
+        if sum_w <= 0.0 || sum_w.is_nan() {
+            continue;
+        }
+        let normal = sum_n.try_normalize().unwrap_or(to_eye);
+        let shaded = options.shading.shade(sum_c / sum_w, normal, to_eye);
+        let alpha = if opaque { 1.0 } else { (sum_a / sum_w).clamp(0.0, 1.0) };
+        colour += transmittance * alpha * shaded;
+        transmittance *= 1.0 - alpha;
+    }
+    colour + transmittance * background
+}
+
+/// Quantises as the GPU's Rgba8Unorm target does (round to nearest).
+fn to_rgba8(c: Vec3) -> [u8; 4] {
+    let q = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+    [q(c.x), q(c.y), q(c.z), 255]
+}

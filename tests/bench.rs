@@ -1,0 +1,57 @@
+//! `pointblend bench`: its files, its JSON fields, and the reference cache.
+
+mod common;
+
+use std::process::Command;
+
+#[test]
+fn bench_writes_json_markdown_plot_and_images_and_reuses_the_reference_cache() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let run = || {
+        Command::new(env!("CARGO_BIN_EXE_pointblend"))
+            .arg("bench")
+            .arg(common::bundled_bunny())
+            .args(["--modes", "two-pass,reference", "--size", "128x128", "--frames", "2", "--warm-up", "1"])
+            .args(["--views", "2", "--loads", "1", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap()
+    };
+    let first = run();
+    assert!(first.status.success(), "{}", String::from_utf8_lossy(&first.stderr));
+    for file in
+        ["bench.json", "bench.md", "error_vs_time.png", "bunny-front-two-pass.png", "bunny-side-two-pass-diff.png"]
+    {
+        assert!(out.join(file).exists(), "{file} is missing");
+    }
+    let rows: Vec<serde_json::Value> = serde_json::from_slice(&std::fs::read(out.join("bench.json")).unwrap()).unwrap();
+    // 2 views x (reference + two-pass filtered + two-pass unfiltered).
+    assert_eq!(rows.len(), 6);
+    let fields = ["mode", "view", "frame_ms", "frame_ms_min", "frame_ms_max", "eps", "psnr", "bad_pixel_share"];
+    let more = ["geometry_passes", "points", "width", "height"];
+    for row in &rows {
+        for field in fields.iter().chain(&more) {
+            assert!(row.get(field).is_some(), "{field} missing in {row}");
+        }
+        let mode = row["mode"].as_str().unwrap();
+        let eps = row["eps"].as_f64().unwrap();
+        match mode {
+            "reference" => assert_eq!(eps, 0.0),
+            _ => {
+                assert!(eps > 0.0 && eps < 50.0, "{mode}: ε {eps}");
+                assert!(row["frame_ms_min"].as_f64() <= row["frame_ms"].as_f64());
+                assert!(row["frame_ms"].as_f64() <= row["frame_ms_max"].as_f64());
+            }
+        }
+    }
+    let cached: Vec<_> = std::fs::read_dir(out.join("cache")).unwrap().map(|e| e.unwrap().path()).collect();
+    assert_eq!(cached.iter().filter(|p| p.extension().is_some_and(|e| e == "png")).count(), 2);
+    let stamps: Vec<_> = cached.iter().map(|p| std::fs::metadata(p).unwrap().modified().unwrap()).collect();
+
+    // A second run takes the references from the cache instead of rendering them again.
+    let second = run();
+    assert!(second.status.success());
+    let again: Vec<_> = cached.iter().map(|p| std::fs::metadata(p).unwrap().modified().unwrap()).collect();
+    assert_eq!(stamps, again, "the cached references were rewritten");
+}
