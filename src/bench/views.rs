@@ -3,7 +3,9 @@
 //! All start from the model's default camera: its front, a side view from
 //! above, the back from higher up, a close-up (0.45x the framing distance:
 //! large splats, crossing the image border) and a steep view from above in
-//! which most surfaces are seen at grazing angles.
+//! which most surfaces are seen at grazing angles. A single-view scan is
+//! one-sided (its back faces are culled), so its views stay within 40° of the
+//! scanner's direction, the grazing one looking steeply down across it.
 
 use crate::cloud::PointCloud;
 use crate::view::Camera;
@@ -24,10 +26,20 @@ const VIEWS: [(&str, f32, f32, f32); 5] = [
     ("grazing", 60.0, 78.0, 1.0),
 ];
 
+/// The same for a single-view scan, around the scanner's direction.
+const SINGLE_VIEW_SCAN_VIEWS: [(&str, f32, f32, f32); 5] = [
+    ("front", 0.0, 0.0, 1.0),
+    ("side", 35.0, 10.0, 1.0),
+    ("above", -25.0, 30.0, 1.0),
+    ("close-up", 15.0, 5.0, 0.45),
+    ("grazing", 0.0, 55.0, 1.0),
+];
+
 /// The first `count` standard views (at most 5) of `cloud` for images of `aspect`.
 pub fn standard_views(cloud: &PointCloud, aspect: f32, count: usize) -> Vec<NamedView> {
     let base = Camera::default_for(cloud, aspect);
-    VIEWS
+    let table = if cloud.scanner_position.is_some() { &SINGLE_VIEW_SCAN_VIEWS } else { &VIEWS };
+    table
         .iter()
         .take(count)
         .map(|&(name, az, el, factor)| {
