@@ -7,6 +7,7 @@
 
 pub mod bench;
 pub mod cloud;
+pub mod grouping;
 pub mod output;
 pub mod progress;
 pub mod reference;

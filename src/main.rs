@@ -1,4 +1,4 @@
-//! The `pointblend` command line: info | render | convert | bench.
+//! The `pointblend` command line: info | render | convert | bench | group.
 //!
 //! With no subcommand it renders the bundled bunny to `pointblend.png`.
 
@@ -27,8 +27,10 @@ enum Command {
     Render(commands::render::Args),
     /// Convert a mesh or cloud into a splat cloud (binary PLY with normals, radii, colours).
     Convert(commands::convert::Args),
-    /// Time loading and rendering (median over frames).
+    /// Time every mode and measure its error against the exact reference.
     Bench(commands::bench::Args),
+    /// Split the splats into groups (MGC, WGC or hashing) and report their quality.
+    Group(commands::group::Args),
 }
 
 fn main() -> ExitCode {
@@ -42,6 +44,7 @@ fn main() -> ExitCode {
         Some(Command::Render(args)) => commands::render::run(&args),
         Some(Command::Convert(args)) => commands::convert::run(&args),
         Some(Command::Bench(args)) => commands::bench::run(&args),
+        Some(Command::Group(args)) => commands::group::run(&args),
         None => commands::render::run(&commands::render::Args::bundled_default()),
     };
     match result {

@@ -93,3 +93,42 @@ fn convert_samples_a_mesh_into_a_loadable_splat_cloud() {
         assert!(header.contains(&format!(" {p}\n")), "{p} missing from {header}");
     }
 }
+
+#[test]
+fn group_prints_the_required_json_for_every_shared_scan_and_caches_it() {
+    let cache = tempfile::tempdir().unwrap();
+    let keys = [
+        "k",
+        "group_sizes",
+        "max_degree",
+        "avg_degree",
+        "overlap_factor",
+        "violations",
+        "coverage",
+        "seconds",
+        "stage_seconds",
+    ];
+    for name in ["bun_zipper.ply", "bunny_range_scans_merged.ply", "table_scene_mug_stereo_textured.ply"] {
+        let run = || {
+            pointblend()
+                .env("POINTBLEND_CACHE", cache.path())
+                .arg("group")
+                .arg(common::data(name))
+                .args(["--algo", "mgc", "--c", "0.4", "--json"])
+                .output()
+                .unwrap()
+        };
+        let first = run();
+        assert!(first.status.success(), "{name}: {}", String::from_utf8_lossy(&first.stderr));
+        let json: serde_json::Value = serde_json::from_slice(&first.stdout).unwrap();
+        for key in keys {
+            assert!(json.get(key).is_some(), "{name}: {key} missing");
+        }
+        let sizes: u64 = json["group_sizes"].as_array().unwrap().iter().map(|s| s.as_u64().unwrap()).sum();
+        assert_eq!(sizes, json["points"].as_u64().unwrap(), "{name}: every splat in one group");
+        assert_eq!(json["from_cache"], false);
+        let second: serde_json::Value = serde_json::from_slice(&run().stdout).unwrap();
+        assert_eq!(second["from_cache"], true, "{name}: the second run reads the cache");
+        assert_eq!(second["group_sizes"], json["group_sizes"]);
+    }
+}

@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod convert;
+pub mod group;
 pub mod info;
 pub mod render;
 pub mod shared;

@@ -1,3 +1,6 @@
-//! Spatial queries over splat centres.
+//! Spatial queries over splat centres: k nearest neighbours (kiddo), a hashed
+//! uniform grid for fixed-radius queries, and the splat overlap graph.
 
+pub mod grid;
 pub mod knn;
+pub mod overlap;

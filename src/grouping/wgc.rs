@@ -1,0 +1,210 @@
+//! Weighted graph colouring with a given K (Zhang & Pajarola 2007 §4.2, Eq. 6-8).
+//!
+//! Edge weights are Eq. 7, w_ij = (A_ij + A_ji)·(1 - n_i·n_j), with A_ij from
+//! [`super::area`] (or the plain area sum). The two-step greedy method of §4.2:
+//! 1. edges in descending weight; an uncoloured endpoint takes the colour of
+//!    least overlap with its coloured neighbours (`MinimizeOverlap`);
+//! 2. vertices in a priority queue by their same-colour weight; each moves to
+//!    its best colour if that lowers the cost L (Eq. 6), and goes back into the
+//!    queue with its new priority until it is below the threshold.
+//!
+//! Ties go to the smallest group, so zero-weight regions are spread evenly.
+//! Every move strictly lowers L, and the number of queue pops is bounded, so
+//! the optimisation always ends.
+
+use std::collections::BinaryHeap;
+
+use rayon::prelude::*;
+
+use super::area::overlap_weight;
+use super::{Grouping, GroupingError, MAX_GROUPS};
+use crate::cloud::PointCloud;
+use crate::spatial::overlap::{OverlapGraph, OverlapOptions};
+
+#[derive(Debug, Clone, Copy)]
+pub struct WgcOptions {
+    pub k: usize,
+    /// Weights are the plain overlap area, without Eq. 7's (1 - n_i·n_j).
+    pub pure_area: bool,
+    pub overlap: OverlapOptions,
+    /// A vertex leaves the queue when its same-colour weight is at most this.
+    pub threshold: f32,
+    /// Record the cost after every move (for tests).
+    pub trace: bool,
+}
+
+impl Default for WgcOptions {
+    fn default() -> Self {
+        Self { k: 8, pure_area: false, overlap: OverlapOptions::default(), threshold: 0.0, trace: false }
+    }
+}
+
+/// What WGC did.
+#[derive(Debug, Clone, Default)]
+pub struct WgcReport {
+    pub initial_cost: f64,
+    pub final_cost: f64,
+    pub moves: usize,
+    /// Cost after every move, when traced.
+    pub cost_trace: Vec<f64>,
+    pub seconds_weights: f64,
+    pub seconds_initialise: f64,
+    pub seconds_optimise: f64,
+}
+
+/// A non-negative f32 as an order-preserving integer key.
+fn key(w: f32) -> u32 {
+    w.max(0.0).to_bits()
+}
+
+pub fn group(cloud: &PointCloud, options: &WgcOptions) -> Result<(Grouping, OverlapGraph, WgcReport), GroupingError> {
+    let k = options.k;
+    if k == 0 || k > MAX_GROUPS {
+        return Err(GroupingError::BadK { k, max: MAX_GROUPS });
+    }
+    if !(0.0..=1.0).contains(&options.overlap.c) {
+        return Err(GroupingError::BadC(options.overlap.c));
+    }
+    let graph = OverlapGraph::build(cloud, &options.overlap);
+    let n = graph.len();
+    let mut report = WgcReport::default();
+
+    let started = std::time::Instant::now();
+    let (p, nrm, r) = (&cloud.positions, &cloud.normals, &cloud.radii);
+    let weights: Vec<f32> = (0..n)
+        .into_par_iter()
+        .flat_map_iter(|i| {
+            graph.neighbours_of(i).iter().map(move |&j| {
+                overlap_weight(p[i], nrm[i], r[i], p[j as usize], nrm[j as usize], r[j as usize], options.pure_area)
+            })
+        })
+        .collect();
+    report.seconds_weights = started.elapsed().as_secs_f64();
+
+    let started = std::time::Instant::now();
+    let mut colours = vec![u32::MAX; n];
+    let mut sizes = vec![0usize; k];
+    let mut costs = vec![0f64; k];
+    // MinimizeOverlap: the colour of least same-colour weight, ties to the smallest group.
+    let best_colour = |v: usize, colours: &[u32], sizes: &[usize], costs: &mut [f64]| -> usize {
+        costs.iter_mut().for_each(|c| *c = 0.0);
+        let start = graph.offsets[v] as usize;
+        for (e, &j) in graph.neighbours_of(v).iter().enumerate() {
+            let c = colours[j as usize];
+            if c != u32::MAX {
+                costs[c as usize] += weights[start + e] as f64;
+            }
+        }
+        (0..k).min_by(|&a, &b| costs[a].total_cmp(&costs[b]).then(sizes[a].cmp(&sizes[b]))).unwrap_or(0)
+    };
+    let mut edges: Vec<(u32, u32, u32)> = Vec::with_capacity(graph.edge_count());
+    for i in 0..n {
+        let start = graph.offsets[i] as usize;
+        for (e, &j) in graph.neighbours_of(i).iter().enumerate() {
+            if (j as usize) > i {
+                edges.push((key(weights[start + e]), i as u32, j));
+            }
+        }
+    }
+    edges.par_sort_unstable_by(|a, b| b.0.cmp(&a.0));
+    for &(_, i, j) in &edges {
+        for v in [i as usize, j as usize] {
+            if colours[v] == u32::MAX {
+                let c = best_colour(v, &colours, &sizes, &mut costs);
+                colours[v] = c as u32;
+                sizes[c] += 1;
+            }
+        }
+    }
+    drop(edges);
+    // Splats without edges go to the smallest group.
+    for colour in colours.iter_mut().filter(|c| **c == u32::MAX) {
+        let c = (0..k).min_by_key(|&c| sizes[c]).unwrap_or(0);
+        *colour = c as u32;
+        sizes[c] += 1;
+    }
+    report.seconds_initialise = started.elapsed().as_secs_f64();
+
+    // Optimisation: a max-queue of vertices by same-colour weight.
+    let started = std::time::Instant::now();
+    let same_colour_weight = |v: usize, colours: &[u32]| -> f64 {
+        let start = graph.offsets[v] as usize;
+        graph
+            .neighbours_of(v)
+            .iter()
+            .enumerate()
+            .filter(|(_, j)| colours[**j as usize] == colours[v])
+            .map(|(e, _)| weights[start + e] as f64)
+            .sum()
+    };
+    let mut conflict: Vec<f64> = (0..n).map(|v| same_colour_weight(v, &colours)).collect();
+    let mut cost: f64 = conflict.iter().sum::<f64>() / 2.0;
+    report.initial_cost = cost;
+    let threshold = options.threshold.max(0.0) as f64;
+    let mut queue: BinaryHeap<(u32, u32)> =
+        (0..n).filter(|&v| conflict[v] > threshold).map(|v| (key(conflict[v] as f32), v as u32)).collect();
+    let max_pops = 50 * n + 1000;
+    let mut pops = 0;
+    while let Some((priority, v)) = queue.pop() {
+        pops += 1;
+        if pops > max_pops {
+            log::warn!("WGC optimisation stopped after {max_pops} queue pops");
+            break;
+        }
+        let v = v as usize;
+        if priority != key(conflict[v] as f32) || conflict[v] <= threshold {
+            continue; // stale entry
+        }
+        let old = colours[v] as usize;
+        let best = best_colour(v, &colours, &sizes, &mut costs);
+        let gain = costs[old] - costs[best];
+        if best == old || gain <= 1e-9 * costs[old].max(f64::MIN_POSITIVE) {
+            continue;
+        }
+        colours[v] = best as u32;
+        sizes[old] -= 1;
+        sizes[best] += 1;
+        cost -= gain;
+        report.moves += 1;
+        if options.trace {
+            report.cost_trace.push(cost);
+        }
+        let start = graph.offsets[v] as usize;
+        for (e, &j) in graph.neighbours_of(v).iter().enumerate() {
+            let j = j as usize;
+            let w = weights[start + e] as f64;
+            if colours[j] as usize == old {
+                conflict[j] = (conflict[j] - w).max(0.0);
+            } else if colours[j] as usize == best {
+                conflict[j] += w;
+                if conflict[j] > threshold {
+                    queue.push((key(conflict[j] as f32), j as u32));
+                }
+            }
+        }
+        conflict[v] = costs[best];
+        if conflict[v] > threshold {
+            queue.push((key(conflict[v] as f32), v as u32));
+        }
+    }
+    report.final_cost = cost;
+    report.seconds_optimise = started.elapsed().as_secs_f64();
+    Ok((Grouping::from_labels(&colours, k), graph, report))
+}
+
+/// Eq. 6 for a labelling: the total weight of same-colour edges.
+pub fn cost(graph: &OverlapGraph, weights: &[f32], labels: &[u32]) -> f64 {
+    (0..graph.len())
+        .map(|i| {
+            let start = graph.offsets[i] as usize;
+            graph
+                .neighbours_of(i)
+                .iter()
+                .enumerate()
+                .filter(|(_, j)| labels[**j as usize] == labels[i])
+                .map(|(e, _)| weights[start + e] as f64)
+                .sum::<f64>()
+        })
+        .sum::<f64>()
+        / 2.0
+}
