@@ -15,6 +15,8 @@ struct Frame {
     background: vec4<f32>,
     // tan(fov_x/2), tan(fov_y/2)
     lens: vec4<f32>,
+    // deferred: low-precision depth steps n (Eq. 10/14), Voronoi (0/1), group layers K, unused
+    deferred: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;

@@ -10,10 +10,12 @@
 //! [`plot`] the error-against-time plot.
 
 pub mod cache;
+pub mod modes;
 pub mod plot;
 pub mod report;
 pub mod run;
 pub mod views;
 
+pub use modes::ModeSpec;
 pub use report::{BenchRow, PassTime};
 pub use run::{BenchConfig, BenchError, run};

@@ -38,6 +38,10 @@ pub struct BenchRow {
     pub height: u32,
     /// Seconds to load the model (decode and estimation), once per model.
     pub load_s: f64,
+    /// Groups K of a deferred variant (1 otherwise).
+    pub k: usize,
+    /// Seconds to group the splats (set-up of deferred variants; 0 when cached).
+    pub group_s: Option<f64>,
     /// Timed frames behind the medians.
     pub frames: usize,
 }
@@ -51,15 +55,16 @@ pub fn write_json(rows: &[BenchRow], path: &Path) -> std::io::Result<()> {
 /// The rows as a Markdown table.
 pub fn markdown(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "| model | view | mode | quality | points | size | geometry passes | frame ms median (min-max) | GPU ms | ε | PSNR dB | bad pixels |\n|---|---|---|---|---:|---|---:|---:|---:|---:|---:|---:|\n",
+        "| model | view | mode | quality | K | points | size | geometry passes | frame ms median (min-max) | GPU ms | ε | PSNR dB | bad pixels |\n|---|---|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in rows {
         out.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {}x{} | {} | {:.1} ({:.1}-{:.1}) | {} | {:.3} | {} | {:.2}% |\n",
+            "| {} | {} | {} | {} | {} | {} | {}x{} | {} | {:.1} ({:.1}-{:.1}) | {} | {:.3} | {} | {:.2}% |\n",
             r.model,
             r.view,
             r.mode,
             r.quality,
+            r.k,
             r.points,
             r.width,
             r.height,

@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::cache;
+use super::modes::ModeSpec;
 use super::report::{BenchRow, PassTime};
 use super::views::standard_views;
 use crate::cloud::{self, CloudError, LoadOptions};
@@ -32,7 +33,7 @@ pub enum BenchError {
 #[derive(Debug, Clone)]
 pub struct BenchConfig {
     /// Modes with their quality level; `reference` is always rendered (it is the ruler).
-    pub modes: Vec<(RenderMode, Quality)>,
+    pub modes: Vec<(ModeSpec, Quality)>,
     /// ε, kernel, shading and culling shared by all modes.
     pub settings: RenderSettings,
     pub width: u32,
@@ -93,7 +94,7 @@ pub fn run(
     if !timing {
         log::info!("the adapter has no timestamp queries: wall time only");
     }
-    let gpu_modes: Vec<(RenderMode, Quality)> = config.modes.iter().copied().filter(|(m, _)| m.is_gpu()).collect();
+    let gpu_modes: Vec<&(ModeSpec, Quality)> = config.modes.iter().filter(|(m, _)| m.mode.is_gpu()).collect();
     let (w, h) = (config.width, config.height);
     let aspect = w as f32 / h as f32;
     let mut rows = Vec::new();
@@ -106,6 +107,17 @@ pub fn run(
         }
         let load_s = started.elapsed().as_secs_f64();
         let gpu_cloud = renderer.upload(&cloud);
+        // Each deferred variant groups the splats once (set-up, cached) and uploads them in group order.
+        let mut grouped = Vec::new();
+        for (spec, _) in &gpu_modes {
+            if let Some(g) = spec.grouping {
+                let t = Instant::now();
+                let (grouping, cached) =
+                    g.compute_cached(model, &cloud).map_err(|e| BenchError::Invalid(e.to_string()))?;
+                let seconds = if cached { 0.0 } else { t.elapsed().as_secs_f64() };
+                grouped.push((spec.name.clone(), renderer.upload_grouped(&cloud, &grouping), grouping.k(), seconds));
+            }
+        }
         let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
         let stem = file_stem(model);
         let views = standard_views(&cloud, aspect, config.views);
@@ -113,10 +125,10 @@ pub fn run(
             .progress
             .then(|| crate::progress::bar((views.len() * (gpu_modes.len() + 1)) as u64, &format!("bench {stem}")));
         for view in &views {
-            let base = |mode, quality| BenchRow {
+            let base = |mode: &str, gpu: bool, quality: Quality| BenchRow {
                 model: name.clone(),
-                mode: RenderMode::name(mode).to_string(),
-                quality: if mode.is_gpu() { format!("{quality:?}").to_lowercase() } else { "exact".into() },
+                mode: mode.to_string(),
+                quality: if gpu { format!("{quality:?}").to_lowercase() } else { "exact".into() },
                 view: view.name.to_string(),
                 frame_ms: 0.0,
                 frame_ms_min: 0.0,
@@ -131,6 +143,8 @@ pub fn run(
                 width: w,
                 height: h,
                 load_s,
+                k: 1,
+                group_s: None,
                 frames: config.frames,
             };
 
@@ -149,8 +163,8 @@ pub fn run(
                 }
             };
             save_png(&reference_image, &config.out.join(format!("{stem}-{}-reference.png", view.name)))?;
-            if config.modes.iter().any(|(m, _)| *m == RenderMode::Reference) {
-                let mut row = base(RenderMode::Reference, Quality::Filtered);
+            if config.modes.iter().any(|(m, _)| m.mode == RenderMode::Reference) {
+                let mut row = base("reference", false, Quality::Filtered);
                 (row.frame_ms, row.frame_ms_min, row.frame_ms_max, row.frames) =
                     (reference_ms, reference_ms, reference_ms, 1);
                 rows.push(row);
@@ -159,14 +173,20 @@ pub fn run(
                 b.inc(1);
             }
 
-            for &(mode, quality) in &gpu_modes {
-                let settings = RenderSettings { mode, quality, ..config.settings };
+            for &(spec, quality) in &gpu_modes {
+                let mode = spec.mode;
+                let quality = *quality;
+                let settings = RenderSettings { mode, quality, voronoi: spec.voronoi, ..config.settings };
+                let (gpu_cloud, k, group_s) = match grouped.iter().find(|g| g.0 == spec.name) {
+                    Some((_, c, k, s)) => (c, *k, Some(*s)),
+                    None => (&gpu_cloud, 1, None),
+                };
                 let mut wall = Vec::new();
                 let mut per_pass: Vec<Vec<f64>> = Vec::new();
                 let mut plan = None;
                 for frame in 0..config.warm_up + config.frames {
                     let t = Instant::now();
-                    let p = renderer.render(&gpu_cloud, &view.camera, &settings, w, h)?;
+                    let p = renderer.render(gpu_cloud, &view.camera, &settings, w, h)?;
                     renderer.ctx.wait_idle()?;
                     let ms = t.elapsed().as_secs_f64() * 1e3;
                     if frame >= config.warm_up {
@@ -180,13 +200,13 @@ pub fn run(
                     }
                     plan = Some(p);
                 }
-                let (image, _) = renderer.render_image(&gpu_cloud, &view.camera, &settings, w, h)?;
+                let (image, _) = renderer.render_image(gpu_cloud, &view.camera, &settings, w, h)?;
                 let Some(plan) = plan else { continue };
                 let error = reference::compare(&image, &reference_image)
                     .ok_or_else(|| BenchError::Invalid("image and reference sizes differ".into()))?;
                 let tag = match quality {
-                    Quality::Filtered => mode.name().to_string(),
-                    Quality::Unfiltered => format!("{}-unfiltered", mode.name()),
+                    Quality::Filtered => spec.name.clone(),
+                    Quality::Unfiltered => format!("{}-unfiltered", spec.name),
                 };
                 save_png(&image, &config.out.join(format!("{stem}-{}-{tag}.png", view.name)))?;
                 if let Some(diff) = reference::difference_image(&image, &reference_image, 8.0) {
@@ -202,7 +222,9 @@ pub fn run(
                         PassTime { pass: kind.label().to_string(), ms: s.median, ms_min: s.min, ms_max: s.max }
                     })
                     .collect();
-                let mut row = base(mode, quality);
+                let mut row = base(&spec.name, true, quality);
+                row.k = k;
+                row.group_s = group_s;
                 row.frame_ms = frame.median;
                 row.frame_ms_min = frame.min;
                 row.frame_ms_max = frame.max;

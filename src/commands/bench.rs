@@ -4,9 +4,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use pointblend::bench::{self, BenchConfig};
+use pointblend::bench::{self, BenchConfig, ModeSpec};
 use pointblend::cloud;
-use pointblend::render::{HeadlessRenderer, Quality, RenderMode};
+use pointblend::render::{HeadlessRenderer, Quality};
 
 use super::shared::{QualityArg, ViewArgs};
 
@@ -17,9 +17,10 @@ pub struct Args {
     pub files: Vec<PathBuf>,
     #[command(flatten)]
     pub view: ViewArgs,
-    /// Modes to run, comma-separated (reference is always rendered as the ruler).
-    #[arg(long, value_delimiter = ',', default_value = "two-pass,reference")]
-    pub modes: Vec<RenderMode>,
+    /// Modes to run, comma-separated: two-pass, reference, deferred[-mgc-cC|-wgc-kK|-hash-kK][-voronoi]
+    /// (reference is always rendered as the ruler).
+    #[arg(long, value_delimiter = ',', default_value = "two-pass,deferred,reference")]
+    pub modes: Vec<ModeSpec>,
     /// Quality levels of the GPU modes, comma-separated.
     #[arg(long, value_enum, value_delimiter = ',', default_value = "filtered,unfiltered")]
     pub qualities: Vec<QualityArg>,
@@ -67,11 +68,14 @@ pub fn run(args: &Args) -> Result<()> {
     println!("GPU: {}", renderer.ctx.describe());
     let qualities: Vec<Quality> = args.qualities.iter().map(|q| q.quality()).collect();
     let mut modes = Vec::new();
-    for &mode in &args.modes {
-        if mode.is_gpu() {
-            modes.extend(qualities.iter().map(|&q| (mode, q)));
+    for spec in &args.modes {
+        // Deferred blending always uses the Gaussian kernel: one row per variant.
+        if spec.mode == pointblend::render::RenderMode::Deferred {
+            modes.push((spec.clone(), Quality::Filtered));
+        } else if spec.mode.is_gpu() {
+            modes.extend(qualities.iter().map(|&q| (spec.clone(), q)));
         } else {
-            modes.push((mode, Quality::Filtered));
+            modes.push((spec.clone(), Quality::Filtered));
         }
     }
     let config = BenchConfig {

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use pointblend::reference::{self, ReferenceOptions};
-use pointblend::render::{HeadlessRenderer, RenderPlan};
+use pointblend::render::{HeadlessRenderer, RenderMode, RenderPlan};
 
 use super::shared::{self, ViewArgs};
 
@@ -54,10 +54,26 @@ pub fn run(args: &Args) -> Result<()> {
     let (image, plan) = if settings.mode.is_gpu() {
         let mut renderer = HeadlessRenderer::new().context("opening the GPU")?;
         log::info!("GPU: {}", renderer.ctx.describe());
-        let gpu_cloud = renderer.upload(&cloud);
-        renderer.render_image(&gpu_cloud, &camera, &settings, width, height)?
+        let gpu_cloud = if settings.mode == RenderMode::Deferred {
+            let t = Instant::now();
+            let (grouping, cached) = args.view.group.compute_cached(&args.file, &cloud)?;
+            log::info!(
+                "grouping {}: K = {} in {:.2} s{}",
+                args.view.group,
+                grouping.k(),
+                t.elapsed().as_secs_f64(),
+                if cached { " (from the cache)" } else { "" }
+            );
+            renderer.upload_grouped(&cloud, &grouping)
+        } else {
+            renderer.upload(&cloud)
+        };
+        let render_started = Instant::now();
+        let frame = renderer.render_image(&gpu_cloud, &camera, &settings, width, height)?;
+        log::info!("frame {:.0} ms", render_started.elapsed().as_secs_f64() * 1e3);
+        frame
     } else {
-        let plan = RenderPlan::new(&settings, width, height, cloud.len(), reference_options.epsilon);
+        let plan = RenderPlan::new(&settings, width, height, cloud.len(), reference_options.epsilon, 1);
         (reference::render(&cloud, &camera, &reference_options, width, height), plan)
     };
     let render_seconds = render_started.elapsed().as_secs_f64();

@@ -5,6 +5,7 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use pointblend::cloud::{self, LoadOptions, LoadReport, PointCloud};
+use pointblend::grouping::GroupingSpec;
 use pointblend::render::{Quality, RenderMode, RenderSettings};
 use pointblend::view::{Camera, UpAxis};
 
@@ -80,6 +81,12 @@ pub struct ViewArgs {
     /// Keep back-facing splats.
     #[arg(long)]
     pub no_cull: bool,
+    /// Grouping for the deferred mode: mgc-cC, wgc-kK or hash-kK.
+    #[arg(long, default_value = "mgc-c0.4")]
+    pub group: GroupingSpec,
+    /// Voronoi rasterisation in the deferred mode (Eq. 14).
+    #[arg(long)]
+    pub voronoi: bool,
 }
 
 impl ViewArgs {
@@ -92,6 +99,7 @@ impl ViewArgs {
             quality: self.quality.quality(),
             epsilon_scale: self.epsilon,
             backface_culling: !self.no_cull,
+            voronoi: self.voronoi,
             ..Default::default()
         })
     }

@@ -96,3 +96,85 @@ pub enum GroupingError {
 
 /// Largest K any algorithm accepts.
 pub const MAX_GROUPS: usize = 64;
+
+/// A grouping algorithm with its parameter, as the render modes name it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum GroupingSpec {
+    Mgc { c: f32 },
+    Wgc { k: usize },
+    Hash { k: usize },
+}
+
+impl Default for GroupingSpec {
+    /// The paper's setting for opaque rendering (§6.2): MGC at c = 0.4.
+    fn default() -> Self {
+        GroupingSpec::Mgc { c: 0.4 }
+    }
+}
+
+impl std::fmt::Display for GroupingSpec {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            GroupingSpec::Mgc { c } => write!(f, "mgc-c{c}"),
+            GroupingSpec::Wgc { k } => write!(f, "wgc-k{k}"),
+            GroupingSpec::Hash { k } => write!(f, "hash-k{k}"),
+        }
+    }
+}
+
+impl std::str::FromStr for GroupingSpec {
+    type Err = String;
+    /// `mgc-c0.4`, `wgc-k8`, `hash-k8`.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let bad = || format!("'{s}' is not a grouping; use mgc-cC, wgc-kK or hash-kK (e.g. mgc-c0.4, wgc-k8)");
+        let (algo, value) = s.split_once('-').ok_or_else(bad)?;
+        let number = |prefix: char| value.strip_prefix(prefix).ok_or_else(bad);
+        let spec = match algo {
+            "mgc" => GroupingSpec::Mgc { c: number('c')?.parse().map_err(|_| bad())? },
+            "wgc" => GroupingSpec::Wgc { k: number('k')?.parse().map_err(|_| bad())? },
+            "hash" => GroupingSpec::Hash { k: number('k')?.parse().map_err(|_| bad())? },
+            _ => return Err(bad()),
+        };
+        match spec {
+            GroupingSpec::Mgc { c } if !(0.0..=1.0).contains(&c) => Err(format!("c must be in 0..=1, not {c}")),
+            GroupingSpec::Wgc { k } | GroupingSpec::Hash { k } if k == 0 || k > MAX_GROUPS => {
+                Err(format!("K must be 1..={MAX_GROUPS}, not {k}"))
+            }
+            _ => Ok(spec),
+        }
+    }
+}
+
+impl GroupingSpec {
+    /// Groups `cloud`.
+    pub fn compute(&self, cloud: &crate::cloud::PointCloud) -> Result<Grouping, GroupingError> {
+        use crate::spatial::overlap::OverlapOptions;
+        Ok(match *self {
+            GroupingSpec::Mgc { c } => mgc::group(cloud, &OverlapOptions { c, ..Default::default() })?.0,
+            GroupingSpec::Wgc { k } => wgc::group(cloud, &wgc::WgcOptions { k, ..Default::default() })?.0,
+            GroupingSpec::Hash { k } => {
+                hash::group(cloud, &hash::HashOptions { k, collisions: hash::Collisions::All })?.0
+            }
+        })
+    }
+
+    /// Groups the cloud loaded from `model`, through the cache; returns the
+    /// grouping and whether it came from the cache.
+    pub fn compute_cached(
+        &self,
+        model: &std::path::Path,
+        cloud: &crate::cloud::PointCloud,
+    ) -> Result<(Grouping, bool), GroupingError> {
+        let path = cache::key(model, &format!("spec|{self}|v1")).ok().map(cache::path_for);
+        if let Some(g) = path.as_ref().and_then(|p| cache::load(p, cloud.len())) {
+            return Ok((g, true));
+        }
+        let g = self.compute(cloud)?;
+        if let Some(p) = &path {
+            if let Err(e) = cache::store(p, &g, cloud.len()) {
+                log::warn!("{e}");
+            }
+        }
+        Ok((g, false))
+    }
+}

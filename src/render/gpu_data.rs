@@ -55,5 +55,7 @@ pub struct FrameUniforms {
     pub background: [f32; 4],
     /// tan(fov_x/2), tan(fov_y/2), unused, unused
     pub lens: [f32; 4],
+    /// deferred: low-precision depth steps n (Eq. 10/14), Voronoi (0/1), group layers K, unused
+    pub deferred: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 240);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256);

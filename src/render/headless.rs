@@ -29,6 +29,11 @@ impl HeadlessRenderer {
         GpuCloud::upload(&self.ctx.device, cloud)
     }
 
+    /// Uploads `cloud` group by group for the deferred mode.
+    pub fn upload_grouped(&self, cloud: &crate::cloud::PointCloud, grouping: &crate::grouping::Grouping) -> GpuCloud {
+        GpuCloud::upload_grouped(&self.ctx.device, cloud, grouping)
+    }
+
     /// Renders one frame and submits it, without reading it back.
     pub fn render(
         &mut self,

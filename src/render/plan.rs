@@ -16,11 +16,15 @@ pub enum PassKind {
     NearestSplat,
     /// Full-screen divide by Σw and shade.
     Normalize,
+    /// One render pass per group k into layer k (deferred blending's single geometry traversal).
+    DeferredGeometry,
+    /// Full-screen ε-z compositing of the K group images, normalisation and shading.
+    DeferredComposite,
 }
 
 impl PassKind {
     pub fn draws_splats(self) -> bool {
-        !matches!(self, PassKind::Normalize)
+        !matches!(self, PassKind::Normalize | PassKind::DeferredComposite)
     }
 
     pub fn label(self) -> &'static str {
@@ -29,6 +33,8 @@ impl PassKind {
             PassKind::Accumulate => "accumulate",
             PassKind::NearestSplat => "nearest-splat",
             PassKind::Normalize => "normalize",
+            PassKind::DeferredGeometry => "group images",
+            PassKind::DeferredComposite => "composite",
         }
     }
 
@@ -38,6 +44,8 @@ impl PassKind {
             PassKind::Accumulate => "splats -> Σw·rgb,Σw + Σw·n (additive, ε depth test, no depth write)",
             PassKind::NearestSplat => "splats -> rgb,1 + n (depth test and write, no blending)",
             PassKind::Normalize => "full screen: divide by Σw, Phong shading -> output",
+            PassKind::DeferredGeometry => "splats of group k -> layer k: w·rgb,w + w·n + depth (z-test per group)",
+            PassKind::DeferredComposite => "full screen: d = min_k depth_k, sum layers within d+ε, normalise, shade",
         }
     }
 }
@@ -48,6 +56,10 @@ pub struct PlannedTarget {
     pub name: &'static str,
     pub format: &'static str,
     pub bytes_per_pixel: u32,
+    /// Array layers (1, or K for the group images).
+    pub layers: u32,
+    /// Why the frame needs it.
+    pub why: &'static str,
 }
 
 /// The passes and targets of one frame.
@@ -59,31 +71,77 @@ pub struct RenderPlan {
     pub height: u32,
     pub splats: usize,
     pub epsilon: f32,
+    /// Groups K (1 unless the mode draws groups).
+    pub groups: usize,
+    /// Render passes that draw splats (K for the group images).
+    pub geometry_render_passes: usize,
     pub passes: Vec<PassKind>,
     pub targets: Vec<PlannedTarget>,
 }
 
 impl RenderPlan {
-    pub fn new(settings: &RenderSettings, width: u32, height: u32, splats: usize, epsilon: f32) -> Self {
-        let passes = match (settings.mode, settings.quality) {
-            (RenderMode::TwoPass, Quality::Filtered) => {
-                vec![PassKind::Visibility, PassKind::Accumulate, PassKind::Normalize]
-            }
-            (RenderMode::TwoPass, Quality::Unfiltered) => vec![PassKind::NearestSplat, PassKind::Normalize],
-            (RenderMode::Reference, _) => Vec::new(),
-        };
-        let targets = if passes.is_empty() {
-            Vec::new()
-        } else {
+    pub fn new(settings: &RenderSettings, width: u32, height: u32, splats: usize, epsilon: f32, groups: usize) -> Self {
+        let target =
+            |name, format, bytes_per_pixel, layers, why| PlannedTarget { name, format, bytes_per_pixel, layers, why };
+        let two_pass_targets = || {
             vec![
-                PlannedTarget { name: "depth", format: "Depth32Float", bytes_per_pixel: 4 },
-                PlannedTarget { name: "accumulated colour (Σw·rgb, Σw)", format: "Rgba16Float", bytes_per_pixel: 8 },
-                PlannedTarget {
-                    name: "accumulated normal (Σw·n, Σw·α)", format: "Rgba16Float", bytes_per_pixel: 8
-                },
+                target("depth", "Depth32Float", 4, 1, "linear view depth for the ε test"),
+                target("accumulated colour (Σw·rgb, Σw)", "Rgba16Float", 8, 1, "additive blending target"),
+                target("accumulated normal (Σw·n, Σw·α)", "Rgba16Float", 8, 1, "normal for deferred shading"),
             ]
         };
-        Self { mode: settings.mode, quality: settings.quality, width, height, splats, epsilon, passes, targets }
+        let k = groups.max(1);
+        let (passes, targets, groups) = match (settings.mode, settings.quality) {
+            (RenderMode::TwoPass, Quality::Filtered) => {
+                (vec![PassKind::Visibility, PassKind::Accumulate, PassKind::Normalize], two_pass_targets(), 1)
+            }
+            (RenderMode::TwoPass, Quality::Unfiltered) => {
+                (vec![PassKind::NearestSplat, PassKind::Normalize], two_pass_targets(), 1)
+            }
+            (RenderMode::Deferred, _) => (
+                vec![PassKind::DeferredGeometry, PassKind::DeferredComposite],
+                vec![
+                    target(
+                        "group colour (w·rgb, w)",
+                        "Rgba16Float",
+                        8,
+                        k as u32,
+                        "Eq. 4: each group's weighted colour",
+                    ),
+                    target("group normal (w·n, w·α)", "Rgba16Float", 8, k as u32, "normal for deferred shading"),
+                    target("group depth", "R32Float", 4, k as u32, "true view depth for the ε-z test of Fig. 6"),
+                    target(
+                        "group z-buffer",
+                        "Depth32Float",
+                        4,
+                        k as u32,
+                        "z-test within each group (Voronoi depth if on)",
+                    ),
+                ],
+                k,
+            ),
+            (RenderMode::Reference, _) => (Vec::new(), Vec::new(), 1),
+        };
+        let geometry_render_passes = passes
+            .iter()
+            .map(|p| match p {
+                PassKind::DeferredGeometry => groups,
+                p if p.draws_splats() => 1,
+                _ => 0,
+            })
+            .sum();
+        Self {
+            mode: settings.mode,
+            quality: settings.quality,
+            width,
+            height,
+            splats,
+            epsilon,
+            groups,
+            geometry_render_passes,
+            passes,
+            targets,
+        }
     }
 
     /// Passes that draw the splats (the "2" of "2+1").
@@ -94,7 +152,7 @@ impl RenderPlan {
     /// Bytes of all intermediate targets.
     pub fn target_bytes(&self) -> u64 {
         let pixels = self.width as u64 * self.height as u64;
-        self.targets.iter().map(|t| t.bytes_per_pixel as u64 * pixels).sum()
+        self.targets.iter().map(|t| t.bytes_per_pixel as u64 * t.layers as u64 * pixels).sum()
     }
 }
 
@@ -120,11 +178,28 @@ impl std::fmt::Display for RenderPlan {
             self.height,
             self.epsilon
         )?;
+        writeln!(
+            f,
+            "  {} groups; each splat is drawn {} time(s) per frame in {} render pass(es) with {} draw range(s)",
+            self.groups,
+            self.geometry_passes(),
+            self.geometry_render_passes,
+            self.geometry_render_passes
+        )?;
         for (i, pass) in self.passes.iter().enumerate() {
             writeln!(f, "  pass {}: {:<14} {}", i + 1, pass.label(), pass.describe())?;
         }
+        let pixels = self.width as f64 * self.height as f64;
         for t in &self.targets {
-            writeln!(f, "  target: {:<34} {}", t.name, t.format)?;
+            writeln!(
+                f,
+                "  target: {:<34} {:<13} x{:<3} {:>7.1} MiB  ({})",
+                t.name,
+                t.format,
+                t.layers,
+                t.bytes_per_pixel as f64 * t.layers as f64 * pixels / (1u64 << 20) as f64,
+                t.why
+            )?;
         }
         write!(f, "  target memory: {:.1} MiB", self.target_bytes() as f64 / (1u64 << 20) as f64)
     }

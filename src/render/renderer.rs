@@ -10,11 +10,11 @@ use wgpu::util::DeviceExt;
 
 use super::context::{GpuContext, GpuError};
 use super::gpu_data::FrameUniforms;
-use super::passes::{accumulate, nearest, normalize, visibility};
+use super::passes::{accumulate, deferred_composite, deferred_geometry, nearest, normalize, visibility};
 use super::plan::{PassKind, RenderPlan};
 use super::shaders;
 use super::splat_buffers::GpuCloud;
-use super::targets::FrameTargets;
+use super::targets::{FrameTargets, GroupTargets};
 use super::timer::PassTimer;
 use crate::view::Camera;
 use crate::view::settings::RenderSettings;
@@ -30,6 +30,12 @@ pub struct SplatRenderer {
     nearest: wgpu::RenderPipeline,
     normalize: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
     targets: Option<FrameTargets>,
+    deferred_geometry: wgpu::RenderPipeline,
+    composite_layout: wgpu::BindGroupLayout,
+    composite_pipeline_layout: wgpu::PipelineLayout,
+    composite_module: wgpu::ShaderModule,
+    composite: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
+    group_targets: Option<GroupTargets>,
     timer: Option<PassTimer>,
 }
 
@@ -81,7 +87,19 @@ impl SplatRenderer {
         });
         let visibility_module = module("visibility");
         let accumulate_module = module("accumulate");
+        let composite_layout = deferred_composite::inputs_layout(device);
+        let composite_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("Composite::pipeline_layout"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&composite_layout)],
+            immediate_size: 0,
+        });
         Self {
+            deferred_geometry: deferred_geometry::pipeline(device, &splat_layout, &module("deferred_geometry")),
+            composite_module: module("deferred_composite"),
+            composite_layout,
+            composite_pipeline_layout,
+            composite: HashMap::new(),
+            group_targets: None,
             visibility: visibility::pipeline(device, &splat_layout, &visibility_module),
             accumulate: accumulate::pipeline(device, &splat_layout, &accumulate_module),
             nearest: nearest::pipeline(device, &splat_layout, &accumulate_module),
@@ -126,23 +144,70 @@ impl SplatRenderer {
             return Err(GpuError::Device(format!("mode {} does not run on the GPU", settings.mode)));
         }
         let epsilon = settings.epsilon(cloud.mean_radius);
-        let plan = RenderPlan::new(settings, width, height, cloud.len, epsilon);
-        let uniforms = frame_uniforms(camera, settings, width, height, epsilon);
+        let plan = RenderPlan::new(settings, width, height, cloud.len, epsilon, cloud.groups.len());
+        let mut uniforms = frame_uniforms(camera, settings, width, height, epsilon);
+        let (near, far) = camera.near_far();
+        // Eq. 10: n >= (d_max - d_min)/ε low-precision depth steps.
+        let steps = ((far - near) / epsilon.max(f32::MIN_POSITIVE)).ceil().clamp(1.0, 4_194_304.0);
+        uniforms.deferred = [steps, if settings.voronoi { 1.0 } else { 0.0 }, plan.groups as f32, 0.0];
         ctx.checked("rendering", || {
             let device = &ctx.device;
-            if self.targets.as_ref().is_none_or(|t| (t.width, t.height) != (width, height)) {
-                self.targets = Some(FrameTargets::new(device, width, height, &self.normalize_layout));
+            let deferred = plan.passes.contains(&PassKind::DeferredGeometry);
+            // Only the targets this plan uses are kept; the others are freed.
+            if deferred {
+                self.targets = None;
+                let layers = plan.groups as u32;
+                if self.group_targets.as_ref().is_none_or(|t| (t.width, t.height, t.layers) != (width, height, layers))
+                {
+                    drop(self.group_targets.take()); // free the old layers first
+                    self.group_targets = Some(GroupTargets::new(device, width, height, layers, &self.composite_layout));
+                }
+            } else {
+                self.group_targets = None;
+                if self.targets.as_ref().is_none_or(|t| (t.width, t.height) != (width, height)) {
+                    self.targets = Some(FrameTargets::new(device, width, height, &self.normalize_layout));
+                }
             }
             let normalize_pipeline = self.normalize.entry(format).or_insert_with(|| {
                 normalize::pipeline(device, &self.normalize_pipeline_layout, &self.normalize_module, format)
             });
-            let Some(targets) = self.targets.as_ref() else { return };
+            let composite_pipeline = self.composite.entry(format).or_insert_with(|| {
+                normalize::fullscreen_pipeline(
+                    device,
+                    "Composite::pipeline",
+                    &self.composite_pipeline_layout,
+                    &self.composite_module,
+                    "fs_composite",
+                    format,
+                )
+            });
             ctx.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&uniforms));
             let mut encoder = device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("SplatRenderer::encoder") });
             let frame = &self.frame_bind_group;
             for (i, pass) in plan.passes.iter().enumerate() {
                 let stamps = self.timer.as_ref().and_then(|t| t.writes(i));
+                if let (Some(groups), true) = (self.group_targets.as_ref(), deferred) {
+                    match pass {
+                        PassKind::DeferredGeometry => {
+                            let timer = self.timer.as_ref().map(|t| (t, i));
+                            deferred_geometry::record(
+                                &mut encoder,
+                                &self.deferred_geometry,
+                                frame,
+                                groups,
+                                cloud,
+                                timer,
+                            )
+                        }
+                        PassKind::DeferredComposite => {
+                            deferred_composite::record(&mut encoder, composite_pipeline, frame, groups, output, stamps)
+                        }
+                        _ => {}
+                    }
+                    continue;
+                }
+                let Some(targets) = self.targets.as_ref() else { continue };
                 match pass {
                     PassKind::Visibility => {
                         visibility::record(&mut encoder, &self.visibility, frame, targets, cloud, stamps)
@@ -156,6 +221,7 @@ impl SplatRenderer {
                     PassKind::Normalize => {
                         normalize::record(&mut encoder, normalize_pipeline, frame, targets, output, stamps)
                     }
+                    PassKind::DeferredGeometry | PassKind::DeferredComposite => {}
                 }
             }
             if let Some(timer) = &self.timer {
@@ -191,5 +257,6 @@ fn frame_uniforms(camera: &Camera, settings: &RenderSettings, width: u32, height
         material: [shading.ambient, shading.diffuse, shading.specular, 0.0],
         background: shading.background.extend(1.0).to_array(),
         lens: [tan_y * aspect, tan_y, 0.0, 0.0],
+        deferred: [0.0; 4],
     }
 }

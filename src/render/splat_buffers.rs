@@ -9,6 +9,7 @@ use wgpu::util::DeviceExt;
 
 use super::gpu_data::SplatInstance;
 use crate::cloud::PointCloud;
+use crate::grouping::Grouping;
 
 /// Largest vertex buffer made for one chunk of splats.
 pub const MAX_CHUNK_BYTES: usize = 32 << 20;
@@ -18,23 +19,51 @@ pub struct GpuCloud {
     pub chunks: Vec<(wgpu::Buffer, u32)>,
     pub len: usize,
     pub mean_radius: f32,
+    /// Instance ranges of the groups (one range over everything when ungrouped).
+    pub groups: Vec<std::ops::Range<u32>>,
 }
 
 impl GpuCloud {
     pub fn upload(device: &wgpu::Device, cloud: &PointCloud) -> Self {
+        let order: Vec<u32> = (0..cloud.len() as u32).collect();
+        let everything = std::iter::once(0..cloud.len() as u32).collect::<Vec<_>>();
+        Self::upload_in_order(device, cloud, &order, &[1.0], &everything)
+    }
+
+    /// Uploads the splats group by group, each group contiguous, with each
+    /// group's radius scale applied.
+    pub fn upload_grouped(device: &wgpu::Device, cloud: &PointCloud, grouping: &Grouping) -> Self {
+        Self::upload_in_order(device, cloud, &grouping.order, &grouping.radius_scale, &grouping.ranges)
+    }
+
+    fn upload_in_order(
+        device: &wgpu::Device,
+        cloud: &PointCloud,
+        order: &[u32],
+        scales: &[f32],
+        groups: &[std::ops::Range<u32>],
+    ) -> Self {
+        let mut scale_of = vec![1.0f32; order.len()];
+        for (g, range) in groups.iter().enumerate() {
+            let s = scales.get(g).copied().unwrap_or(1.0);
+            for slot in &mut scale_of[range.start as usize..range.end as usize] {
+                *slot = s;
+            }
+        }
         let per_chunk = (MAX_CHUNK_BYTES / std::mem::size_of::<SplatInstance>())
             .min(device.limits().max_buffer_size as usize / std::mem::size_of::<SplatInstance>())
             .max(1);
         let mut chunks = Vec::new();
         let mut start = 0;
-        while start < cloud.len() {
-            let end = (start + per_chunk).min(cloud.len());
+        while start < order.len() {
+            let end = (start + per_chunk).min(order.len());
             let instances: Vec<SplatInstance> = (start..end)
-                .map(|i| {
+                .map(|slot| {
+                    let i = order[slot] as usize;
                     let [r, g, b] = cloud.colors[i];
                     SplatInstance {
                         position: cloud.positions[i].to_array(),
-                        radius: cloud.radii[i],
+                        radius: cloud.radii[i] * scale_of[slot],
                         normal: cloud.normals[i].to_array(),
                         color: [r, g, b, (cloud.opacity[i].clamp(0.0, 1.0) * 255.0).round() as u8],
                     }
@@ -48,7 +77,7 @@ impl GpuCloud {
             chunks.push((buffer, (end - start) as u32));
             start = end;
         }
-        Self { chunks, len: cloud.len(), mean_radius: cloud.mean_radius() }
+        Self { chunks, len: order.len(), mean_radius: cloud.mean_radius(), groups: groups.to_vec() }
     }
 
     /// Draws every splat as a 4-vertex strip instance; the pipeline must be set.
@@ -56,6 +85,20 @@ impl GpuCloud {
         for (buffer, count) in &self.chunks {
             pass.set_vertex_buffer(0, buffer.slice(..));
             pass.draw(0..4, 0..*count);
+        }
+    }
+
+    /// Draws the instances `range` (global indices across chunks).
+    pub fn draw_range(&self, pass: &mut wgpu::RenderPass<'_>, range: std::ops::Range<u32>) {
+        let mut chunk_start = 0u32;
+        for (buffer, count) in &self.chunks {
+            let chunk_end = chunk_start + count;
+            let (from, to) = (range.start.max(chunk_start), range.end.min(chunk_end));
+            if from < to {
+                pass.set_vertex_buffer(0, buffer.slice(..));
+                pass.draw(0..4, from - chunk_start..to - chunk_start);
+            }
+            chunk_start = chunk_end;
         }
     }
 }

@@ -50,3 +50,80 @@ impl FrameTargets {
         Self { width, height, depth, accum_color, accum_normal, normalize_inputs }
     }
 }
+
+/// Format of the per-group depth image read by the compositing pass.
+pub const GROUP_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
+/// The K group images of deferred blending: 2D array textures with one layer
+/// per group (so K is not limited by the number of colour attachments), each
+/// layer with its own z-buffer layer.
+pub struct GroupTargets {
+    pub width: u32,
+    pub height: u32,
+    pub layers: u32,
+    /// Per layer: colour, normal, depth views and the z-buffer view.
+    pub layer_views: Vec<[wgpu::TextureView; 4]>,
+    /// Binds the three arrays for the compositing pass.
+    pub composite_inputs: wgpu::BindGroup,
+}
+
+impl GroupTargets {
+    pub fn new(
+        device: &wgpu::Device,
+        width: u32,
+        height: u32,
+        layers: u32,
+        composite_layout: &wgpu::BindGroupLayout,
+    ) -> Self {
+        let layers = layers.max(1);
+        let make = |label: &str, format| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d { width, height, depth_or_array_layers: layers },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+        };
+        let textures = [
+            make("GroupTargets::colour", ACCUM_FORMAT),
+            make("GroupTargets::normal", ACCUM_FORMAT),
+            make("GroupTargets::depth", GROUP_DEPTH_FORMAT),
+            make("GroupTargets::z_buffer", DEPTH_FORMAT),
+        ];
+        let layer_views = (0..layers)
+            .map(|k| {
+                [0, 1, 2, 3].map(|t| {
+                    textures[t].create_view(&wgpu::TextureViewDescriptor {
+                        label: Some("GroupTargets::layer"),
+                        dimension: Some(wgpu::TextureViewDimension::D2),
+                        base_array_layer: k,
+                        array_layer_count: Some(1),
+                        ..Default::default()
+                    })
+                })
+            })
+            .collect();
+        let array = |t: &wgpu::Texture| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                label: Some("GroupTargets::array"),
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            })
+        };
+        let (colour, normal, depth) = (array(&textures[0]), array(&textures[1]), array(&textures[2]));
+        let composite_inputs = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("Composite::inputs"),
+            layout: composite_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&colour) },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&normal) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&depth) },
+            ],
+        });
+        Self { width, height, layers, layer_views, composite_inputs }
+    }
+}

@@ -55,6 +55,20 @@ impl PassTimer {
         })
     }
 
+    /// Timestamp writes for pass `index` when it spans several render passes:
+    /// the first writes the start, the last the end.
+    pub fn writes_span(&self, index: usize, first: bool, last: bool) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let w = self.writes(index)?;
+        if !first && !last {
+            return None;
+        }
+        Some(wgpu::RenderPassTimestampWrites {
+            beginning_of_pass_write_index: if first { w.beginning_of_pass_write_index } else { None },
+            end_of_pass_write_index: if last { w.end_of_pass_write_index } else { None },
+            ..w
+        })
+    }
+
     /// Resolves the timestamps of `passes` passes into the readback buffer.
     pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, passes: usize) {
         let count = (2 * passes as u32).min(2 * MAX_PASSES);

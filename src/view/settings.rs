@@ -8,16 +8,20 @@ use super::{Shading, SplatKernel};
 pub enum RenderMode {
     /// Botsch & Kobbelt's 2+1-pass pipeline: ε-offset visibility, accumulation, normalisation.
     TwoPass,
+    /// Zhang & Pajarola's deferred blending: one geometry pass into K group
+    /// images, then ε-z compositing and deferred shading (1+1 passes).
+    Deferred,
     /// The exact A-buffer renderer on the CPU: the ground truth for error.
     Reference,
 }
 
 impl RenderMode {
-    pub const ALL: [RenderMode; 2] = [RenderMode::TwoPass, RenderMode::Reference];
+    pub const ALL: [RenderMode; 3] = [RenderMode::TwoPass, RenderMode::Deferred, RenderMode::Reference];
 
     pub fn name(self) -> &'static str {
         match self {
             RenderMode::TwoPass => "two-pass",
+            RenderMode::Deferred => "deferred",
             RenderMode::Reference => "reference",
         }
     }
@@ -62,6 +66,8 @@ pub struct RenderSettings {
     /// ε of the visibility pass, as a multiple of the cloud's mean splat radius.
     pub epsilon_scale: f32,
     pub backface_culling: bool,
+    /// Voronoi rasterisation in the deferred geometry pass (Zhang & Pajarola Eq. 14).
+    pub voronoi: bool,
     pub kernel: SplatKernel,
     pub shading: Shading,
 }
@@ -80,6 +86,7 @@ impl Default for RenderSettings {
             quality: Quality::Filtered,
             epsilon_scale: 1.0,
             backface_culling: true,
+            voronoi: false,
             kernel: SplatKernel::default(),
             shading: Shading::default(),
         }

@@ -47,5 +47,5 @@ pub fn record(
         timestamp_writes: timestamps,
         ..Default::default()
     };
-    record_splats(encoder, &desc, pipeline, frame, cloud);
+    record_splats(encoder, &desc, pipeline, frame, |pass| cloud.draw(pass));
 }

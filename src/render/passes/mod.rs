@@ -1,12 +1,13 @@
 //! One file per pass: each builds its pipeline and records its render pass.
 
 pub mod accumulate;
+pub mod deferred_composite;
+pub mod deferred_geometry;
 pub mod nearest;
 pub mod normalize;
 pub mod visibility;
 
 use super::gpu_data::SplatInstance;
-use super::splat_buffers::GpuCloud;
 
 /// How a splat pass uses the depth buffer.
 pub(super) struct DepthTest {
@@ -75,16 +76,16 @@ pub(super) fn depth(view: &wgpu::TextureView, clear: bool) -> Option<wgpu::Rende
     })
 }
 
-/// Records one render pass, described by `desc`, that draws every splat of `cloud` with `pipeline`.
+/// Records one render pass, described by `desc`, that draws splats with `pipeline`.
 pub(super) fn record_splats(
     encoder: &mut wgpu::CommandEncoder,
     desc: &wgpu::RenderPassDescriptor<'_>,
     pipeline: &wgpu::RenderPipeline,
     frame: &wgpu::BindGroup,
-    cloud: &GpuCloud,
+    draw: impl FnOnce(&mut wgpu::RenderPass<'_>),
 ) {
     let mut pass = encoder.begin_render_pass(desc);
     pass.set_pipeline(pipeline);
     pass.set_bind_group(0, frame, &[]);
-    cloud.draw(&mut pass);
+    draw(&mut pass);
 }

@@ -26,8 +26,20 @@ pub fn pipeline(
     module: &wgpu::ShaderModule,
     output: wgpu::TextureFormat,
 ) -> wgpu::RenderPipeline {
+    fullscreen_pipeline(device, "Normalize::pipeline", layout, module, "fs_normalize", output)
+}
+
+/// A full-screen triangle pipeline writing `output` (used by normalisation and compositing).
+pub fn fullscreen_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    fragment_entry: &str,
+    output: wgpu::TextureFormat,
+) -> wgpu::RenderPipeline {
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("Normalize::pipeline"),
+        label: Some(label),
         layout: Some(layout),
         vertex: wgpu::VertexState {
             module,
@@ -40,7 +52,7 @@ pub fn pipeline(
         multisample: Default::default(),
         fragment: Some(wgpu::FragmentState {
             module,
-            entry_point: Some("fs_normalize"),
+            entry_point: Some(fragment_entry),
             compilation_options: Default::default(),
             targets: &[Some(wgpu::ColorTargetState {
                 format: output,
@@ -61,8 +73,21 @@ pub fn record(
     output: &wgpu::TextureView,
     timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) {
+    record_fullscreen(encoder, "Normalize::pass", pipeline, frame, &targets.normalize_inputs, output, timestamps);
+}
+
+/// Records a full-screen pass reading `inputs` (bind group 1) into `output`.
+pub fn record_fullscreen(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    pipeline: &wgpu::RenderPipeline,
+    frame: &wgpu::BindGroup,
+    inputs: &wgpu::BindGroup,
+    output: &wgpu::TextureView,
+    timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+) {
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("Normalize::pass"),
+        label: Some(label),
         color_attachments: &[Some(wgpu::RenderPassColorAttachment {
             view: output,
             depth_slice: None,
@@ -74,6 +99,6 @@ pub fn record(
     });
     pass.set_pipeline(pipeline);
     pass.set_bind_group(0, frame, &[]);
-    pass.set_bind_group(1, &targets.normalize_inputs, &[]);
+    pass.set_bind_group(1, inputs, &[]);
     pass.draw(0..3, 0..1);
 }

@@ -1,0 +1,32 @@
+// The geometry pass of deferred blending (Zhang & Pajarola 2007 §3.2, Fig. 11):
+// group S_k is drawn into layer k with its own z-test, so in each pixel the
+// nearest splat of the group wins and writes its own weight (Eq. 4): w·rgb and
+// w, w·n, and the true linear view depth for the compositing pass.
+// With Voronoi rasterisation (§5.1, Eq. 14) the z-test uses
+// z = floor(depth01 · n)/n + (d_i/r_i)/n: the low-precision depth separates
+// surface layers, and within a layer the splat whose centre is nearest wins.
+
+struct GroupImage {
+    @location(0) color: vec4<f32>,
+    @location(1) normal: vec4<f32>,
+    @location(2) depth: f32,
+    @builtin(frag_depth) z: f32,
+}
+
+@fragment
+fn fs_group(v: SplatVarying) -> GroupImage {
+    let s = splat_sample(v);
+    let w = splat_weight(s.rho2);
+    var out: GroupImage;
+    out.color = vec4<f32>(v.color.rgb * w, w);
+    out.normal = vec4<f32>(v.normal * w, v.color.a * w);
+    out.depth = s.view_depth;
+    let depth01 = depth_to_buffer(s.view_depth);
+    let n = frame.deferred.x;
+    if frame.deferred.y > 0.5 {
+        out.z = min(floor(depth01 * n) / n + sqrt(s.rho2) / n, 1.0);
+    } else {
+        out.z = depth01;
+    }
+    return out;
+}
