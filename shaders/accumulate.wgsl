@@ -31,3 +31,22 @@ fn fs_unfiltered(v: SplatVarying) -> Accumulated {
     out.depth = depth_to_buffer(s.view_depth);
     return out;
 }
+
+// Without lighting the normal target is not allocated: colour and weight only.
+struct AccumulatedUnlit {
+    @location(0) color: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+}
+
+@fragment
+fn fs_accumulate_unlit(v: SplatVarying) -> AccumulatedUnlit {
+    let s = splat_sample(v);
+    let w = splat_weight(s.rho2);
+    return AccumulatedUnlit(vec4<f32>(v.color.rgb * w, w), depth_to_buffer(s.view_depth));
+}
+
+@fragment
+fn fs_unfiltered_unlit(v: SplatVarying) -> AccumulatedUnlit {
+    let s = splat_sample(v);
+    return AccumulatedUnlit(vec4<f32>(v.color.rgb, 1.0), depth_to_buffer(s.view_depth));
+}

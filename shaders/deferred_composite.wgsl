@@ -22,7 +22,9 @@ fn fs_composite(f: Fullscreen) -> @location(0) vec4<f32> {
         let color = textureLoad(group_color, pixel, k, 0);
         if color.a > 0.0 && textureLoad(group_depth, pixel, k, 0).r <= nearest + frame.depth.z {
             sums += color;
-            normal_sum += textureLoad(group_normal, pixel, k, 0).xyz;
+            if frame.material.w > 0.5 {
+                normal_sum += textureLoad(group_normal, pixel, k, 0).xyz;
+            }
         }
     }
     if !(sums.a > 1e-6) {

@@ -13,6 +13,16 @@ struct GroupImage {
     @builtin(frag_depth) z: f32,
 }
 
+// The depth of the z-test within a group: linear, or Voronoi-enhanced (Eq. 14).
+fn group_z(s: SplatSample) -> f32 {
+    let depth01 = depth_to_buffer(s.view_depth);
+    let n = frame.deferred.x;
+    if frame.deferred.y > 0.5 {
+        return min(floor(depth01 * n) / n + sqrt(s.rho2) / n, 1.0);
+    }
+    return depth01;
+}
+
 @fragment
 fn fs_group(v: SplatVarying) -> GroupImage {
     let s = splat_sample(v);
@@ -21,12 +31,20 @@ fn fs_group(v: SplatVarying) -> GroupImage {
     out.color = vec4<f32>(v.color.rgb * w, w);
     out.normal = vec4<f32>(v.normal * w, v.color.a * w);
     out.depth = s.view_depth;
-    let depth01 = depth_to_buffer(s.view_depth);
-    let n = frame.deferred.x;
-    if frame.deferred.y > 0.5 {
-        out.z = min(floor(depth01 * n) / n + sqrt(s.rho2) / n, 1.0);
-    } else {
-        out.z = depth01;
-    }
+    out.z = group_z(s);
     return out;
+}
+
+// Without lighting the normal layers are not allocated.
+struct GroupImageUnlit {
+    @location(0) color: vec4<f32>,
+    @location(1) depth: f32,
+    @builtin(frag_depth) z: f32,
+}
+
+@fragment
+fn fs_group_unlit(v: SplatVarying) -> GroupImageUnlit {
+    let s = splat_sample(v);
+    let w = splat_weight(s.rho2);
+    return GroupImageUnlit(vec4<f32>(v.color.rgb * w, w), s.view_depth, group_z(s));
 }

@@ -10,7 +10,7 @@ struct Frame {
     splat: vec4<f32>,
     // direction to the light (eye space), shininess
     light: vec4<f32>,
-    // ambient, diffuse, specular, unused
+    // ambient, diffuse, specular, lighting on (0/1)
     material: vec4<f32>,
     background: vec4<f32>,
     // tan(fov_x/2), tan(fov_y/2)

@@ -13,6 +13,9 @@ fn fs_normalize(f: Fullscreen) -> @location(0) vec4<f32> {
     if !(sums.a > 1e-6) {
         return vec4<f32>(frame.background.rgb, 1.0);
     }
-    let normal_sum = textureLoad(accumulated_normal, pixel, 0).xyz;
+    var normal_sum = vec3<f32>(0.0);
+    if frame.material.w > 0.5 {
+        normal_sum = textureLoad(accumulated_normal, pixel, 0).xyz;
+    }
     return vec4<f32>(shade_sums(f.position.xy, sums, normal_sum), 1.0);
 }

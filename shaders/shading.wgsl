@@ -25,9 +25,13 @@ fn shade(albedo: vec3<f32>, normal_in: vec3<f32>, to_eye: vec3<f32>) -> vec3<f32
     return clamp(lit, vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
-// Normalises (Σw·rgb, Σw) and Σw·n at pixel `position` and shades the result.
+// Normalises (Σw·rgb, Σw) and Σw·n at pixel `position` and shades the result
+// (or returns the normalised colour when lighting is off).
 fn shade_sums(position: vec2<f32>, sums: vec4<f32>, normal_sum: vec3<f32>) -> vec3<f32> {
     let albedo = sums.rgb / sums.a;
+    if frame.material.w < 0.5 {
+        return clamp(albedo, vec3<f32>(0.0), vec3<f32>(1.0));
+    }
     // Eye-space direction of this pixel's view ray.
     let ndc = vec2<f32>(position.x * frame.viewport.z * 2.0 - 1.0, 1.0 - position.y * frame.viewport.w * 2.0);
     let to_eye = normalize(vec3<f32>(-ndc * frame.lens.xy, 1.0));

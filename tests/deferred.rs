@@ -132,3 +132,30 @@ fn deferred_gives_sane_images_in_extreme_views() {
         }
     }
 }
+
+#[test]
+fn without_lighting_no_normal_target_is_planned_and_images_match_the_reference() {
+    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let grouping = GroupingSpec::Mgc { c: 1.0 }.compute(&cloud).unwrap();
+    let camera = Camera::default_for(&cloud, 1.0);
+    for mode in [RenderMode::TwoPass, RenderMode::Deferred] {
+        let settings = RenderSettings { mode, lighting: false, ..Default::default() };
+        let mut renderer = common::renderer();
+        let gpu = if mode == RenderMode::Deferred {
+            renderer.upload_grouped(&cloud, &grouping)
+        } else {
+            renderer.upload(&cloud)
+        };
+        let (image, plan) = renderer.render_image(&gpu, &camera, &settings, 128, 128).unwrap();
+        drop(renderer);
+        assert!(plan.targets.iter().all(|t| !t.name.contains("normal")), "{mode}: {plan}");
+        let lit = RenderSettings { mode, ..Default::default() };
+        let lit_plan = pointblend::render::RenderPlan::new(&lit, 128, 128, cloud.len(), 1.0, grouping.k());
+        assert!(plan.target_bytes() < lit_plan.target_bytes());
+        let exact =
+            reference::render(&cloud, &camera, &reference::ReferenceOptions::matching(&settings, &cloud), 128, 128);
+        let error = reference::compare(&image, &exact).unwrap();
+        println!("{mode} unlit: ε {:.3} against the unlit reference", error.eps);
+        assert!(error.eps <= MAX_UNLIT_EPS, "{mode}: ε {}", error.eps);
+    }
+}

@@ -22,6 +22,7 @@ fn options(epsilon: f32) -> ReferenceOptions {
         backface_culling: true,
         kernel: SplatKernel::default(),
         shading: flat(),
+        lighting: true,
         progress: false,
     }
 }

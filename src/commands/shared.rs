@@ -87,6 +87,9 @@ pub struct ViewArgs {
     /// Voronoi rasterisation in the deferred mode (Eq. 14).
     #[arg(long)]
     pub voronoi: bool,
+    /// No lighting: show the blended colours (no normal targets are used).
+    #[arg(long)]
+    pub unlit: bool,
 }
 
 impl ViewArgs {
@@ -100,6 +103,7 @@ impl ViewArgs {
             epsilon_scale: self.epsilon,
             backface_culling: !self.no_cull,
             voronoi: self.voronoi,
+            lighting: !self.unlit,
             ..Default::default()
         })
     }

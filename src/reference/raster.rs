@@ -15,6 +15,8 @@ pub struct ReferenceOptions {
     pub backface_culling: bool,
     pub kernel: SplatKernel,
     pub shading: Shading,
+    /// Phong lighting; without it layers show their normalised colour.
+    pub lighting: bool,
     /// Show a progress bar.
     pub progress: bool,
 }
@@ -27,6 +29,7 @@ impl ReferenceOptions {
             backface_culling: settings.backface_culling,
             kernel: settings.kernel,
             shading: settings.shading,
+            lighting: settings.lighting,
             progress: false,
         }
     }
@@ -170,7 +173,12 @@ fn composite(hits: &mut [Hit], splats: &[EyeSplat], ray: Vec3, options: &Referen
             continue;
         }
         let normal = sum_n.try_normalize().unwrap_or(to_eye);
-        let shaded = options.shading.shade(sum_c / sum_w, normal, to_eye);
+        let albedo = sum_c / sum_w;
+        let shaded = if options.lighting {
+            options.shading.shade(albedo, normal, to_eye)
+        } else {
+            albedo.clamp(Vec3::ZERO, Vec3::ONE)
+        };
         let alpha = if opaque { 1.0 } else { (sum_a / sum_w).clamp(0.0, 1.0) };
         colour += transmittance * alpha * shaded;
         transmittance *= 1.0 - alpha;

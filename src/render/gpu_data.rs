@@ -49,7 +49,7 @@ pub struct FrameUniforms {
     pub splat: [f32; 4],
     /// direction to the light in eye space, shininess
     pub light: [f32; 4],
-    /// ambient, diffuse, specular, unused
+    /// ambient, diffuse, specular, lighting on (0/1)
     pub material: [f32; 4],
     /// background colour, alpha
     pub background: [f32; 4],

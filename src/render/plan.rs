@@ -130,6 +130,12 @@ impl RenderPlan {
                 _ => 0,
             })
             .sum();
+        // Without lighting no normal is needed: its targets are not allocated.
+        let targets = if settings.lighting {
+            targets
+        } else {
+            targets.into_iter().filter(|t| !t.name.contains("normal")).collect()
+        };
         Self {
             mode: settings.mode,
             quality: settings.quality,

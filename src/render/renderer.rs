@@ -26,11 +26,12 @@ pub struct SplatRenderer {
     normalize_pipeline_layout: wgpu::PipelineLayout,
     normalize_module: wgpu::ShaderModule,
     visibility: wgpu::RenderPipeline,
-    accumulate: wgpu::RenderPipeline,
-    nearest: wgpu::RenderPipeline,
+    /// Indexed by lighting off/on: without lighting no normal target is written.
+    accumulate: [wgpu::RenderPipeline; 2],
+    nearest: [wgpu::RenderPipeline; 2],
     normalize: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
     targets: Option<FrameTargets>,
-    deferred_geometry: wgpu::RenderPipeline,
+    deferred_geometry: [wgpu::RenderPipeline; 2],
     composite_layout: wgpu::BindGroupLayout,
     composite_pipeline_layout: wgpu::PipelineLayout,
     composite_module: wgpu::ShaderModule,
@@ -94,15 +95,18 @@ impl SplatRenderer {
             immediate_size: 0,
         });
         Self {
-            deferred_geometry: deferred_geometry::pipeline(device, &splat_layout, &module("deferred_geometry")),
+            deferred_geometry: {
+                let m = module("deferred_geometry");
+                [false, true].map(|lit| deferred_geometry::pipeline(device, &splat_layout, &m, lit))
+            },
             composite_module: module("deferred_composite"),
             composite_layout,
             composite_pipeline_layout,
             composite: HashMap::new(),
             group_targets: None,
             visibility: visibility::pipeline(device, &splat_layout, &visibility_module),
-            accumulate: accumulate::pipeline(device, &splat_layout, &accumulate_module),
-            nearest: nearest::pipeline(device, &splat_layout, &accumulate_module),
+            accumulate: [false, true].map(|lit| accumulate::pipeline(device, &splat_layout, &accumulate_module, lit)),
+            nearest: [false, true].map(|lit| nearest::pipeline(device, &splat_layout, &accumulate_module, lit)),
             normalize_module: module("normalize"),
             frame_buffer,
             frame_bind_group,
@@ -157,15 +161,19 @@ impl SplatRenderer {
             if deferred {
                 self.targets = None;
                 let layers = plan.groups as u32;
-                if self.group_targets.as_ref().is_none_or(|t| (t.width, t.height, t.layers) != (width, height, layers))
-                {
+                let wanted = (width, height, layers, settings.lighting);
+                if self.group_targets.as_ref().is_none_or(|t| (t.width, t.height, t.layers, t.lit) != wanted) {
                     drop(self.group_targets.take()); // free the old layers first
-                    self.group_targets = Some(GroupTargets::new(device, width, height, layers, &self.composite_layout));
+                    let lit = settings.lighting;
+                    self.group_targets =
+                        Some(GroupTargets::new(device, width, height, layers, &self.composite_layout, lit));
                 }
             } else {
                 self.group_targets = None;
-                if self.targets.as_ref().is_none_or(|t| (t.width, t.height) != (width, height)) {
-                    self.targets = Some(FrameTargets::new(device, width, height, &self.normalize_layout));
+                let wanted = (width, height, settings.lighting);
+                if self.targets.as_ref().is_none_or(|t| (t.width, t.height, t.lit) != wanted) {
+                    self.targets =
+                        Some(FrameTargets::new(device, width, height, &self.normalize_layout, settings.lighting));
                 }
             }
             let normalize_pipeline = self.normalize.entry(format).or_insert_with(|| {
@@ -185,6 +193,7 @@ impl SplatRenderer {
             let mut encoder = device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("SplatRenderer::encoder") });
             let frame = &self.frame_bind_group;
+            let lit = settings.lighting as usize;
             for (i, pass) in plan.passes.iter().enumerate() {
                 let stamps = self.timer.as_ref().and_then(|t| t.writes(i));
                 if let (Some(groups), true) = (self.group_targets.as_ref(), deferred) {
@@ -193,7 +202,7 @@ impl SplatRenderer {
                             let timer = self.timer.as_ref().map(|t| (t, i));
                             deferred_geometry::record(
                                 &mut encoder,
-                                &self.deferred_geometry,
+                                &self.deferred_geometry[lit],
                                 frame,
                                 groups,
                                 cloud,
@@ -213,10 +222,10 @@ impl SplatRenderer {
                         visibility::record(&mut encoder, &self.visibility, frame, targets, cloud, stamps)
                     }
                     PassKind::Accumulate => {
-                        accumulate::record(&mut encoder, &self.accumulate, frame, targets, cloud, stamps)
+                        accumulate::record(&mut encoder, &self.accumulate[lit], frame, targets, cloud, stamps)
                     }
                     PassKind::NearestSplat => {
-                        nearest::record(&mut encoder, &self.nearest, frame, targets, cloud, stamps)
+                        nearest::record(&mut encoder, &self.nearest[lit], frame, targets, cloud, stamps)
                     }
                     PassKind::Normalize => {
                         normalize::record(&mut encoder, normalize_pipeline, frame, targets, output, stamps)
@@ -254,7 +263,7 @@ fn frame_uniforms(camera: &Camera, settings: &RenderSettings, width: u32, height
             if settings.backface_culling { 1.0 } else { 0.0 },
         ],
         light: shading.light_dir_eye.extend(shading.shininess).to_array(),
-        material: [shading.ambient, shading.diffuse, shading.specular, 0.0],
+        material: [shading.ambient, shading.diffuse, shading.specular, if settings.lighting { 1.0 } else { 0.0 }],
         background: shading.background.extend(1.0).to_array(),
         lens: [tan_y * aspect, tan_y, 0.0, 0.0],
         deferred: [0.0; 4],

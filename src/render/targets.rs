@@ -14,14 +14,23 @@ pub struct FrameTargets {
     pub height: u32,
     pub depth: wgpu::TextureView,
     pub accum_color: wgpu::TextureView,
+    /// The normal sums; a 1x1 placeholder when lighting is off.
     pub accum_normal: wgpu::TextureView,
     /// Binds the two accumulation targets for the normalisation pass.
     pub normalize_inputs: wgpu::BindGroup,
+    /// Whether the normal target is real (lighting on).
+    pub lit: bool,
 }
 
 impl FrameTargets {
-    pub fn new(device: &wgpu::Device, width: u32, height: u32, normalize_layout: &wgpu::BindGroupLayout) -> Self {
-        let make = |label: &str, format, usage| {
+    pub fn new(
+        device: &wgpu::Device,
+        width: u32,
+        height: u32,
+        normalize_layout: &wgpu::BindGroupLayout,
+        lit: bool,
+    ) -> Self {
+        let make_sized = |label: &str, format, usage, (width, height)| {
             device
                 .create_texture(&wgpu::TextureDescriptor {
                     label: Some(label),
@@ -35,10 +44,12 @@ impl FrameTargets {
                 })
                 .create_view(&wgpu::TextureViewDescriptor::default())
         };
+        let make = |label: &str, format, usage| make_sized(label, format, usage, (width, height));
         let attach_and_read = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         let depth = make("FrameTargets::depth", DEPTH_FORMAT, attach_and_read);
         let accum_color = make("FrameTargets::accumulated_color", ACCUM_FORMAT, attach_and_read);
-        let accum_normal = make("FrameTargets::accumulated_normal", ACCUM_FORMAT, attach_and_read);
+        let normal_size = if lit { (width, height) } else { (1, 1) };
+        let accum_normal = make_sized("FrameTargets::accumulated_normal", ACCUM_FORMAT, attach_and_read, normal_size);
         let normalize_inputs = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("Normalize::inputs"),
             layout: normalize_layout,
@@ -47,7 +58,7 @@ impl FrameTargets {
                 wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&accum_normal) },
             ],
         });
-        Self { width, height, depth, accum_color, accum_normal, normalize_inputs }
+        Self { width, height, depth, accum_color, accum_normal, normalize_inputs, lit }
     }
 }
 
@@ -61,6 +72,8 @@ pub struct GroupTargets {
     pub width: u32,
     pub height: u32,
     pub layers: u32,
+    /// Whether the normal layers are real (lighting on); else a 1x1 placeholder.
+    pub lit: bool,
     /// Per layer: colour, normal, depth views and the z-buffer view.
     pub layer_views: Vec<[wgpu::TextureView; 4]>,
     /// Binds the three arrays for the compositing pass.
@@ -74,9 +87,10 @@ impl GroupTargets {
         height: u32,
         layers: u32,
         composite_layout: &wgpu::BindGroupLayout,
+        lit: bool,
     ) -> Self {
         let layers = layers.max(1);
-        let make = |label: &str, format| {
+        let make_sized = |label: &str, format, (width, height, layers)| {
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
                 size: wgpu::Extent3d { width, height, depth_or_array_layers: layers },
@@ -88,19 +102,22 @@ impl GroupTargets {
                 view_formats: &[],
             })
         };
+        let make = |label: &str, format| make_sized(label, format, (width, height, layers));
+        let normal_size = if lit { (width, height, layers) } else { (1, 1, 1) };
         let textures = [
             make("GroupTargets::colour", ACCUM_FORMAT),
-            make("GroupTargets::normal", ACCUM_FORMAT),
+            make_sized("GroupTargets::normal", ACCUM_FORMAT, normal_size),
             make("GroupTargets::depth", GROUP_DEPTH_FORMAT),
             make("GroupTargets::z_buffer", DEPTH_FORMAT),
         ];
         let layer_views = (0..layers)
             .map(|k| {
                 [0, 1, 2, 3].map(|t| {
+                    let layer = if t == 1 && !lit { 0 } else { k };
                     textures[t].create_view(&wgpu::TextureViewDescriptor {
                         label: Some("GroupTargets::layer"),
                         dimension: Some(wgpu::TextureViewDimension::D2),
-                        base_array_layer: k,
+                        base_array_layer: layer,
                         array_layer_count: Some(1),
                         ..Default::default()
                     })
@@ -124,6 +141,6 @@ impl GroupTargets {
                 wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&depth) },
             ],
         });
-        Self { width, height, layers, layer_views, composite_inputs }
+        Self { width, height, layers, lit, layer_views, composite_inputs }
     }
 }

@@ -68,6 +68,9 @@ pub struct RenderSettings {
     pub backface_culling: bool,
     /// Voronoi rasterisation in the deferred geometry pass (Zhang & Pajarola Eq. 14).
     pub voronoi: bool,
+    /// Phong lighting; without it the normalised colour is shown and no
+    /// normal targets are allocated or written.
+    pub lighting: bool,
     pub kernel: SplatKernel,
     pub shading: Shading,
 }
@@ -87,6 +90,7 @@ impl Default for RenderSettings {
             epsilon_scale: 1.0,
             backface_culling: true,
             voronoi: false,
+            lighting: true,
             kernel: SplatKernel::default(),
             shading: Shading::default(),
         }

@@ -11,23 +11,27 @@ const ADDITIVE: wgpu::BlendComponent = wgpu::BlendComponent {
     operation: wgpu::BlendOperation::Add,
 };
 
+/// The accumulation pipeline; `lit` adds the normal target.
 pub fn pipeline(
     device: &wgpu::Device,
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
+    lit: bool,
 ) -> wgpu::RenderPipeline {
     let additive = Some(wgpu::ColorTargetState {
         format: ACCUM_FORMAT,
         blend: Some(wgpu::BlendState { color: ADDITIVE, alpha: ADDITIVE }),
         write_mask: wgpu::ColorWrites::ALL,
     });
+    let targets = [additive.clone(), additive];
+    let (entry, targets) = if lit { ("fs_accumulate", &targets[..]) } else { ("fs_accumulate_unlit", &targets[..1]) };
     splat_pipeline(
         device,
         "Accumulate::pipeline",
         layout,
         module,
-        "fs_accumulate",
-        &[additive.clone(), additive],
+        entry,
+        targets,
         DepthTest { write: false, compare: wgpu::CompareFunction::LessEqual },
     )
 }
@@ -40,9 +44,10 @@ pub fn record(
     cloud: &GpuCloud,
     timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) {
+    let colour = [cleared(&targets.accum_color), cleared(&targets.accum_normal)];
     let desc = wgpu::RenderPassDescriptor {
         label: Some("Accumulate::pass"),
-        color_attachments: &[cleared(&targets.accum_color), cleared(&targets.accum_normal)],
+        color_attachments: if targets.lit { &colour[..] } else { &colour[..1] },
         depth_stencil_attachment: depth(&targets.depth, false),
         timestamp_writes: timestamps,
         ..Default::default()

@@ -6,19 +6,24 @@ use super::{DepthTest, cleared, record_splats, splat_pipeline};
 use crate::render::splat_buffers::GpuCloud;
 use crate::render::timer::PassTimer;
 
+/// The group-image pipeline; `lit` adds the normal layer.
 pub fn pipeline(
     device: &wgpu::Device,
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
+    lit: bool,
 ) -> wgpu::RenderPipeline {
     let replace = |format| Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL });
+    let lit_targets = [replace(ACCUM_FORMAT), replace(ACCUM_FORMAT), replace(GROUP_DEPTH_FORMAT)];
+    let unlit_targets = [replace(ACCUM_FORMAT), replace(GROUP_DEPTH_FORMAT)];
+    let (entry, targets) = if lit { ("fs_group", &lit_targets[..]) } else { ("fs_group_unlit", &unlit_targets[..]) };
     splat_pipeline(
         device,
         "DeferredGeometry::pipeline",
         layout,
         module,
-        "fs_group",
-        &[replace(ACCUM_FORMAT), replace(ACCUM_FORMAT), replace(GROUP_DEPTH_FORMAT)],
+        entry,
+        targets,
         DepthTest { write: true, compare: wgpu::CompareFunction::Less },
     )
 }
@@ -35,9 +40,11 @@ pub fn record(
     let groups = cloud.groups.len().min(targets.layer_views.len());
     for (k, views) in targets.layer_views.iter().enumerate().take(groups.max(1)) {
         let stamps = timer.and_then(|(t, index)| t.writes_span(index, k == 0, k + 1 == groups.max(1)));
+        let lit = [cleared(&views[0]), cleared(&views[1]), cleared(&views[2])];
+        let unlit = [cleared(&views[0]), cleared(&views[2])];
         let desc = wgpu::RenderPassDescriptor {
             label: Some("DeferredGeometry::pass"),
-            color_attachments: &[cleared(&views[0]), cleared(&views[1]), cleared(&views[2])],
+            color_attachments: if targets.lit { &lit[..] } else { &unlit[..] },
             depth_stencil_attachment: super::depth(&views[3], true),
             timestamp_writes: stamps,
             ..Default::default()

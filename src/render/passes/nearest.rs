@@ -5,20 +5,24 @@ use super::super::targets::{ACCUM_FORMAT, FrameTargets};
 use super::{DepthTest, cleared, depth, record_splats, splat_pipeline};
 use crate::render::splat_buffers::GpuCloud;
 
+/// The nearest-splat pipeline; `lit` adds the normal target.
 pub fn pipeline(
     device: &wgpu::Device,
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
+    lit: bool,
 ) -> wgpu::RenderPipeline {
     let replace =
         Some(wgpu::ColorTargetState { format: ACCUM_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL });
+    let targets = [replace.clone(), replace];
+    let (entry, targets) = if lit { ("fs_unfiltered", &targets[..]) } else { ("fs_unfiltered_unlit", &targets[..1]) };
     splat_pipeline(
         device,
         "NearestSplat::pipeline",
         layout,
         module,
-        "fs_unfiltered",
-        &[replace.clone(), replace],
+        entry,
+        targets,
         DepthTest { write: true, compare: wgpu::CompareFunction::Less },
     )
 }
@@ -31,9 +35,10 @@ pub fn record(
     cloud: &GpuCloud,
     timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) {
+    let colour = [cleared(&targets.accum_color), cleared(&targets.accum_normal)];
     let desc = wgpu::RenderPassDescriptor {
         label: Some("NearestSplat::pass"),
-        color_attachments: &[cleared(&targets.accum_color), cleared(&targets.accum_normal)],
+        color_attachments: if targets.lit { &colour[..] } else { &colour[..1] },
         depth_stencil_attachment: depth(&targets.depth, true),
         timestamp_writes: timestamps,
         ..Default::default()
