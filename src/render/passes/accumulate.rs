@@ -2,7 +2,7 @@
 //! for every fragment within ε of the visible surface.
 
 use super::super::targets::{ACCUM_FORMAT, FrameTargets};
-use super::{DepthTest, cleared, depth, record_splats, splat_pipeline};
+use super::{DepthTest, cleared, depth, lighting_entry, lighting_slots, record_splats, splat_pipeline};
 use crate::render::splat_buffers::GpuCloud;
 
 const ADDITIVE: wgpu::BlendComponent = wgpu::BlendComponent {
@@ -23,15 +23,14 @@ pub fn pipeline(
         blend: Some(wgpu::BlendState { color: ADDITIVE, alpha: ADDITIVE }),
         write_mask: wgpu::ColorWrites::ALL,
     });
-    let targets = [additive.clone(), additive];
-    let (entry, targets) = if lit { ("fs_accumulate", &targets[..]) } else { ("fs_accumulate_unlit", &targets[..1]) };
+    let targets = lighting_slots(lit, &[additive.clone(), additive], 1);
     splat_pipeline(
         device,
         "Accumulate::pipeline",
         layout,
         module,
-        entry,
-        targets,
+        &lighting_entry(lit, "fs_accumulate"),
+        &targets,
         DepthTest { write: false, compare: wgpu::CompareFunction::LessEqual },
     )
 }
@@ -44,10 +43,10 @@ pub fn record(
     cloud: &GpuCloud,
     timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) {
-    let colour = [cleared(&targets.accum_color), cleared(&targets.accum_normal)];
+    let colour = lighting_slots(targets.lit, &[cleared(&targets.accum_color), cleared(&targets.accum_normal)], 1);
     let desc = wgpu::RenderPassDescriptor {
         label: Some("Accumulate::pass"),
-        color_attachments: if targets.lit { &colour[..] } else { &colour[..1] },
+        color_attachments: &colour,
         depth_stencil_attachment: depth(&targets.depth, false),
         timestamp_writes: timestamps,
         ..Default::default()

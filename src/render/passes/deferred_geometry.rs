@@ -2,7 +2,7 @@
 //! group k's splats, drawn once, into layer k with that layer's own z-test.
 
 use super::super::targets::{ACCUM_FORMAT, GROUP_DEPTH_FORMAT, GroupTargets};
-use super::{DepthTest, cleared, record_splats, splat_pipeline};
+use super::{DepthTest, cleared, lighting_entry, lighting_slots, record_splats, splat_pipeline};
 use crate::render::splat_buffers::GpuCloud;
 use crate::render::timer::PassTimer;
 
@@ -14,16 +14,14 @@ pub fn pipeline(
     lit: bool,
 ) -> wgpu::RenderPipeline {
     let replace = |format| Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL });
-    let lit_targets = [replace(ACCUM_FORMAT), replace(ACCUM_FORMAT), replace(GROUP_DEPTH_FORMAT)];
-    let unlit_targets = [replace(ACCUM_FORMAT), replace(GROUP_DEPTH_FORMAT)];
-    let (entry, targets) = if lit { ("fs_group", &lit_targets[..]) } else { ("fs_group_unlit", &unlit_targets[..]) };
+    let targets = lighting_slots(lit, &[replace(ACCUM_FORMAT), replace(ACCUM_FORMAT), replace(GROUP_DEPTH_FORMAT)], 1);
     splat_pipeline(
         device,
         "DeferredGeometry::pipeline",
         layout,
         module,
-        entry,
-        targets,
+        &lighting_entry(lit, "fs_group"),
+        &targets,
         DepthTest { write: true, compare: wgpu::CompareFunction::Less },
     )
 }
@@ -40,11 +38,10 @@ pub fn record(
     let groups = cloud.groups.len().min(targets.layer_views.len());
     for (k, views) in targets.layer_views.iter().enumerate().take(groups.max(1)) {
         let stamps = timer.and_then(|(t, index)| t.writes_span(index, k == 0, k + 1 == groups.max(1)));
-        let lit = [cleared(&views[0]), cleared(&views[1]), cleared(&views[2])];
-        let unlit = [cleared(&views[0]), cleared(&views[2])];
+        let colour = lighting_slots(targets.lit, &[cleared(&views[0]), cleared(&views[1]), cleared(&views[2])], 1);
         let desc = wgpu::RenderPassDescriptor {
             label: Some("DeferredGeometry::pass"),
-            color_attachments: if targets.lit { &lit[..] } else { &unlit[..] },
+            color_attachments: &colour,
             depth_stencil_attachment: super::depth(&views[3], true),
             timestamp_writes: stamps,
             ..Default::default()

@@ -89,3 +89,14 @@ pub(super) fn record_splats(
     pass.set_bind_group(0, frame, &[]);
     draw(&mut pass);
 }
+
+/// Drops the normal slot (`normal_slot`) of a pass's colour targets or
+/// attachments when lighting is off: without lighting no normal is written.
+pub(super) fn lighting_slots<T: Clone>(lit: bool, slots: &[T], normal_slot: usize) -> Vec<T> {
+    slots.iter().enumerate().filter(|(i, _)| lit || *i != normal_slot).map(|(_, t)| t.clone()).collect()
+}
+
+/// The fragment entry point for lighting on or off (`NAME` or `NAME_unlit`).
+pub(super) fn lighting_entry(lit: bool, entry: &str) -> String {
+    if lit { entry.to_string() } else { format!("{entry}_unlit") }
+}

@@ -2,7 +2,7 @@
 //! elliptical splats with per-pixel depth, the nearest one wins, weight 1.
 
 use super::super::targets::{ACCUM_FORMAT, FrameTargets};
-use super::{DepthTest, cleared, depth, record_splats, splat_pipeline};
+use super::{DepthTest, cleared, depth, lighting_entry, lighting_slots, record_splats, splat_pipeline};
 use crate::render::splat_buffers::GpuCloud;
 
 /// The nearest-splat pipeline; `lit` adds the normal target.
@@ -14,15 +14,14 @@ pub fn pipeline(
 ) -> wgpu::RenderPipeline {
     let replace =
         Some(wgpu::ColorTargetState { format: ACCUM_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL });
-    let targets = [replace.clone(), replace];
-    let (entry, targets) = if lit { ("fs_unfiltered", &targets[..]) } else { ("fs_unfiltered_unlit", &targets[..1]) };
+    let targets = lighting_slots(lit, &[replace.clone(), replace], 1);
     splat_pipeline(
         device,
         "NearestSplat::pipeline",
         layout,
         module,
-        entry,
-        targets,
+        &lighting_entry(lit, "fs_unfiltered"),
+        &targets,
         DepthTest { write: true, compare: wgpu::CompareFunction::Less },
     )
 }
@@ -35,10 +34,10 @@ pub fn record(
     cloud: &GpuCloud,
     timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) {
-    let colour = [cleared(&targets.accum_color), cleared(&targets.accum_normal)];
+    let colour = lighting_slots(targets.lit, &[cleared(&targets.accum_color), cleared(&targets.accum_normal)], 1);
     let desc = wgpu::RenderPassDescriptor {
         label: Some("NearestSplat::pass"),
-        color_attachments: if targets.lit { &colour[..] } else { &colour[..1] },
+        color_attachments: &colour,
         depth_stencil_attachment: depth(&targets.depth, true),
         timestamp_writes: timestamps,
         ..Default::default()
