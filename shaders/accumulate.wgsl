@@ -16,7 +16,7 @@ fn fs_accumulate(v: SplatVarying) -> Accumulated {
     let s = splat_sample(v);
     let w = splat_weight(s.rho2);
     var out: Accumulated;
-    out.color = vec4<f32>(v.color.rgb * w, w);
+    out.color = colour_output(v.color.rgb, w);
     out.normal = vec4<f32>(v.normal * w, v.color.a * w);
     out.depth = depth_to_buffer(s.view_depth);
     return out;
@@ -26,7 +26,7 @@ fn fs_accumulate(v: SplatVarying) -> Accumulated {
 fn fs_unfiltered(v: SplatVarying) -> Accumulated {
     let s = splat_sample(v);
     var out: Accumulated;
-    out.color = vec4<f32>(v.color.rgb, 1.0);
+    out.color = colour_output(v.color.rgb, 1.0);
     out.normal = vec4<f32>(v.normal, v.color.a);
     out.depth = depth_to_buffer(s.view_depth);
     return out;
@@ -42,11 +42,11 @@ struct AccumulatedUnlit {
 fn fs_accumulate_unlit(v: SplatVarying) -> AccumulatedUnlit {
     let s = splat_sample(v);
     let w = splat_weight(s.rho2);
-    return AccumulatedUnlit(vec4<f32>(v.color.rgb * w, w), depth_to_buffer(s.view_depth));
+    return AccumulatedUnlit(colour_output(v.color.rgb, w), depth_to_buffer(s.view_depth));
 }
 
 @fragment
 fn fs_unfiltered_unlit(v: SplatVarying) -> AccumulatedUnlit {
     let s = splat_sample(v);
-    return AccumulatedUnlit(vec4<f32>(v.color.rgb, 1.0), depth_to_buffer(s.view_depth));
+    return AccumulatedUnlit(colour_output(v.color.rgb, 1.0), depth_to_buffer(s.view_depth));
 }

@@ -12,14 +12,14 @@ fn fs_composite(f: Fullscreen) -> @location(0) vec4<f32> {
     let layers = i32(frame.deferred.z);
     var nearest = 3.0e38;
     for (var k = 0; k < layers; k++) {
-        if textureLoad(group_color, pixel, k, 0).a > 0.0 {
+        if colour_sums(textureLoad(group_color, pixel, k, 0)).a > 0.0 {
             nearest = min(nearest, textureLoad(group_depth, pixel, k, 0).r);
         }
     }
     var sums = vec4<f32>(0.0);
     var normal_sum = vec3<f32>(0.0);
     for (var k = 0; k < layers; k++) {
-        let color = textureLoad(group_color, pixel, k, 0);
+        let color = colour_sums(textureLoad(group_color, pixel, k, 0));
         if color.a > 0.0 && textureLoad(group_depth, pixel, k, 0).r <= nearest + frame.depth.z {
             sums += color;
             if frame.material.w > 0.5 {

@@ -28,7 +28,7 @@ fn fs_group(v: SplatVarying) -> GroupImage {
     let s = splat_sample(v);
     let w = splat_weight(s.rho2);
     var out: GroupImage;
-    out.color = vec4<f32>(v.color.rgb * w, w);
+    out.color = colour_output(v.color.rgb, w);
     out.normal = vec4<f32>(v.normal * w, v.color.a * w);
     out.depth = s.view_depth;
     out.z = group_z(s);
@@ -46,5 +46,5 @@ struct GroupImageUnlit {
 fn fs_group_unlit(v: SplatVarying) -> GroupImageUnlit {
     let s = splat_sample(v);
     let w = splat_weight(s.rho2);
-    return GroupImageUnlit(vec4<f32>(v.color.rgb * w, w), s.view_depth, group_z(s));
+    return GroupImageUnlit(colour_output(v.color.rgb, w), s.view_depth, group_z(s));
 }

@@ -17,6 +17,8 @@ struct Frame {
     lens: vec4<f32>,
     // deferred: low-precision depth steps n (Eq. 10/14), Voronoi (0/1), group layers K, unused
     deferred: vec4<f32>,
+    // the cloud's one colour (rgb) and 1 when colour targets hold only Σw, else 0
+    scene: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;

@@ -9,7 +9,7 @@
 @fragment
 fn fs_normalize(f: Fullscreen) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(f.position.xy);
-    let sums = textureLoad(accumulated_color, pixel, 0);
+    let sums = colour_sums(textureLoad(accumulated_color, pixel, 0));
     if !(sums.a > 1e-6) {
         return vec4<f32>(frame.background.rgb, 1.0);
     }

@@ -25,6 +25,15 @@ fn shade(albedo: vec3<f32>, normal_in: vec3<f32>, to_eye: vec3<f32>) -> vec3<f32
     return clamp(lit, vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
+// (Σw·rgb, Σw) from a colour target's texel: single-channel targets hold Σw
+// alone, and the cloud's one colour is applied here.
+fn colour_sums(texel: vec4<f32>) -> vec4<f32> {
+    if frame.scene.w > 0.5 {
+        return vec4<f32>(frame.scene.rgb * texel.r, texel.r);
+    }
+    return texel;
+}
+
 // Normalises (Σw·rgb, Σw) and Σw·n at pixel `position` and shades the result
 // (or returns the normalised colour when lighting is off).
 fn shade_sums(position: vec2<f32>, sums: vec4<f32>, normal_sum: vec3<f32>) -> vec3<f32> {

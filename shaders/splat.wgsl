@@ -75,6 +75,18 @@ fn splat_sample(v: SplatVarying) -> SplatSample {
     return SplatSample(rho2, view_depth);
 }
 
+// Set when the cloud has one colour: colour targets are single-channel and
+// hold only the weight (the colour is applied when normalising).
+override WEIGHT_ONLY: bool = false;
+
+// What a splat writes to its colour target: (w·rgb, w), or w alone.
+fn colour_output(rgb: vec3<f32>, w: f32) -> vec4<f32> {
+    if WEIGHT_ONLY {
+        return vec4<f32>(w, 0.0, 0.0, w);
+    }
+    return vec4<f32>(rgb * w, w);
+}
+
 // Eq. 3: Gaussian weight of the normalised distance.
 fn splat_weight(rho2: f32) -> f32 {
     return exp(-rho2 * frame.splat.y);

@@ -150,12 +150,42 @@ fn without_lighting_no_normal_target_is_planned_and_images_match_the_reference()
         drop(renderer);
         assert!(plan.targets.iter().all(|t| !t.name.contains("normal")), "{mode}: {plan}");
         let lit = RenderSettings { mode, ..Default::default() };
-        let lit_plan = pointblend::render::RenderPlan::new(&lit, 128, 128, cloud.len(), 1.0, grouping.k());
+        let lit_plan = pointblend::render::RenderPlan::new(&lit, 128, 128, cloud.len(), 1.0, grouping.k(), true);
         assert!(plan.target_bytes() < lit_plan.target_bytes());
         let exact =
             reference::render(&cloud, &camera, &reference::ReferenceOptions::matching(&settings, &cloud), 128, 128);
         let error = reference::compare(&image, &exact).unwrap();
         println!("{mode} unlit: ε {:.3} against the unlit reference", error.eps);
         assert!(error.eps <= MAX_UNLIT_EPS, "{mode}: ε {}", error.eps);
+    }
+}
+
+#[test]
+fn a_cloud_of_one_colour_writes_only_weights_and_looks_the_same() {
+    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let mut full_colour = cloud.clone();
+    full_colour.colors[0][0] ^= 1; // one splat one unit off: the full colour path
+    let grouping = GroupingSpec::Mgc { c: 0.4 }.compute(&cloud).unwrap();
+    let camera = Camera::default_for(&cloud, 1.0);
+    for mode in [RenderMode::TwoPass, RenderMode::Deferred] {
+        let settings = RenderSettings { mode, ..Default::default() };
+        let mut renderer = common::renderer();
+        let mut frame = |c: &PointCloud| {
+            let gpu =
+                if mode == RenderMode::Deferred { renderer.upload_grouped(c, &grouping) } else { renderer.upload(c) };
+            renderer.render_image(&gpu, &camera, &settings, 128, 128).unwrap()
+        };
+        let (weights, weight_plan) = frame(&cloud);
+        let (colours, colour_plan) = frame(&full_colour);
+        drop(renderer);
+        assert!(
+            weight_plan.targets.iter().any(|t| t.format == "R16Float" && t.name.contains("weight")),
+            "{weight_plan}"
+        );
+        assert!(colour_plan.targets.iter().all(|t| !t.name.contains("weight")), "{colour_plan}");
+        assert!(weight_plan.target_bytes() < colour_plan.target_bytes());
+        let error = reference::compare(&weights, &colours).unwrap();
+        println!("{mode}: weight-only against full colour: ε {:.4}", error.eps);
+        assert!(error.eps <= MAX_WEIGHT_ONLY_EPS, "{mode}: ε {}", error.eps);
     }
 }

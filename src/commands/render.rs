@@ -73,7 +73,7 @@ pub fn run(args: &Args) -> Result<()> {
         log::info!("frame {:.0} ms", render_started.elapsed().as_secs_f64() * 1e3);
         frame
     } else {
-        let plan = RenderPlan::new(&settings, width, height, cloud.len(), reference_options.epsilon, 1);
+        let plan = RenderPlan::new(&settings, width, height, cloud.len(), reference_options.epsilon, 1, false);
         (reference::render(&cloud, &camera, &reference_options, width, height), plan)
     };
     let render_seconds = render_started.elapsed().as_secs_f64();

@@ -57,5 +57,7 @@ pub struct FrameUniforms {
     pub lens: [f32; 4],
     /// deferred: low-precision depth steps n (Eq. 10/14), Voronoi (0/1), group layers K, unused
     pub deferred: [f32; 4],
+    /// the cloud's one colour (rgb, 0..1) and 1 when colour targets hold only Σw, else 0
+    pub scene: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 256);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 272);

@@ -80,13 +80,26 @@ pub struct RenderPlan {
 }
 
 impl RenderPlan {
-    pub fn new(settings: &RenderSettings, width: u32, height: u32, splats: usize, epsilon: f32, groups: usize) -> Self {
+    /// `weight_only`: the cloud has one colour, so colour targets hold only Σw.
+    pub fn new(
+        settings: &RenderSettings,
+        width: u32,
+        height: u32,
+        splats: usize,
+        epsilon: f32,
+        groups: usize,
+        weight_only: bool,
+    ) -> Self {
         let target =
             |name, format, bytes_per_pixel, layers, why| PlannedTarget { name, format, bytes_per_pixel, layers, why };
         let two_pass_targets = || {
             vec![
                 target("depth", "Depth32Float", 4, 1, "linear view depth for the ε test"),
-                target("accumulated colour (Σw·rgb, Σw)", "Rgba16Float", 8, 1, "additive blending target"),
+                if weight_only {
+                    target("accumulated weight (Σw)", "R16Float", 2, 1, "additive blending; the cloud has one colour")
+                } else {
+                    target("accumulated colour (Σw·rgb, Σw)", "Rgba16Float", 8, 1, "additive blending target")
+                },
                 target("accumulated normal (Σw·n, Σw·α)", "Rgba16Float", 8, 1, "normal for deferred shading"),
             ]
         };
@@ -101,13 +114,17 @@ impl RenderPlan {
             (RenderMode::Deferred, _) => (
                 vec![PassKind::DeferredGeometry, PassKind::DeferredComposite],
                 vec![
-                    target(
-                        "group colour (w·rgb, w)",
-                        "Rgba16Float",
-                        8,
-                        k as u32,
-                        "Eq. 4: each group's weighted colour",
-                    ),
+                    if weight_only {
+                        target("group weight (w)", "R16Float", 2, k as u32, "Eq. 4's weight; the cloud has one colour")
+                    } else {
+                        target(
+                            "group colour (w·rgb, w)",
+                            "Rgba16Float",
+                            8,
+                            k as u32,
+                            "Eq. 4: each group's weighted colour",
+                        )
+                    },
                     target("group normal (w·n, w·α)", "Rgba16Float", 8, k as u32, "normal for deferred shading"),
                     target("group depth", "R32Float", 4, k as u32, "true view depth for the ε-z test of Fig. 6"),
                     target(

@@ -26,12 +26,13 @@ pub struct SplatRenderer {
     normalize_pipeline_layout: wgpu::PipelineLayout,
     normalize_module: wgpu::ShaderModule,
     visibility: wgpu::RenderPipeline,
-    /// Indexed by lighting off/on: without lighting no normal target is written.
-    accumulate: [wgpu::RenderPipeline; 2],
-    nearest: [wgpu::RenderPipeline; 2],
+    /// Indexed [weight only][lit]: single-channel colour targets for clouds of
+    /// one colour, and no normal target without lighting.
+    accumulate: Variants,
+    nearest: Variants,
     normalize: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
     targets: Option<FrameTargets>,
-    deferred_geometry: [wgpu::RenderPipeline; 2],
+    deferred_geometry: Variants,
     composite_layout: wgpu::BindGroupLayout,
     composite_pipeline_layout: wgpu::PipelineLayout,
     composite_module: wgpu::ShaderModule,
@@ -97,7 +98,7 @@ impl SplatRenderer {
         Self {
             deferred_geometry: {
                 let m = module("deferred_geometry");
-                [false, true].map(|lit| deferred_geometry::pipeline(device, &splat_layout, &m, lit))
+                variants(|lit, weight_only| deferred_geometry::pipeline(device, &splat_layout, &m, lit, weight_only))
             },
             composite_module: module("deferred_composite"),
             composite_layout,
@@ -105,8 +106,8 @@ impl SplatRenderer {
             composite: HashMap::new(),
             group_targets: None,
             visibility: visibility::pipeline(device, &splat_layout, &visibility_module),
-            accumulate: [false, true].map(|lit| accumulate::pipeline(device, &splat_layout, &accumulate_module, lit)),
-            nearest: [false, true].map(|lit| nearest::pipeline(device, &splat_layout, &accumulate_module, lit)),
+            accumulate: variants(|lit, w| accumulate::pipeline(device, &splat_layout, &accumulate_module, lit, w)),
+            nearest: variants(|lit, w| nearest::pipeline(device, &splat_layout, &accumulate_module, lit, w)),
             normalize_module: module("normalize"),
             frame_buffer,
             frame_bind_group,
@@ -148,11 +149,15 @@ impl SplatRenderer {
             return Err(GpuError::Device(format!("mode {} does not run on the GPU", settings.mode)));
         }
         let epsilon = settings.epsilon(cloud.mean_radius);
-        let plan = RenderPlan::new(settings, width, height, cloud.len, epsilon, cloud.groups.len());
+        let weight_only = cloud.uniform_color.is_some();
+        let plan = RenderPlan::new(settings, width, height, cloud.len, epsilon, cloud.groups.len(), weight_only);
         let mut uniforms = frame_uniforms(camera, settings, width, height, epsilon);
         let (near, far) = camera.near_far();
         // Eq. 10: n >= (d_max - d_min)/ε low-precision depth steps.
         let steps = ((far - near) / epsilon.max(f32::MIN_POSITIVE)).ceil().clamp(1.0, 4_194_304.0);
+        if let Some([r, g, b]) = cloud.uniform_color {
+            uniforms.scene = [r as f32 / 255.0, g as f32 / 255.0, b as f32 / 255.0, 1.0];
+        }
         uniforms.deferred = [steps, if settings.voronoi { 1.0 } else { 0.0 }, plan.groups as f32, 0.0];
         ctx.checked("rendering", || {
             let device = &ctx.device;
@@ -161,19 +166,23 @@ impl SplatRenderer {
             if deferred {
                 self.targets = None;
                 let layers = plan.groups as u32;
-                let wanted = (width, height, layers, settings.lighting);
-                if self.group_targets.as_ref().is_none_or(|t| (t.width, t.height, t.layers, t.lit) != wanted) {
+                let wanted = (width, height, layers, settings.lighting, weight_only);
+                if self
+                    .group_targets
+                    .as_ref()
+                    .is_none_or(|t| (t.width, t.height, t.layers, t.lit, t.weight_only) != wanted)
+                {
                     drop(self.group_targets.take()); // free the old layers first
-                    let lit = settings.lighting;
+                    let (lit, layout) = (settings.lighting, &self.composite_layout);
                     self.group_targets =
-                        Some(GroupTargets::new(device, width, height, layers, &self.composite_layout, lit));
+                        Some(GroupTargets::new(device, (width, height, layers), layout, lit, weight_only));
                 }
             } else {
                 self.group_targets = None;
-                let wanted = (width, height, settings.lighting);
-                if self.targets.as_ref().is_none_or(|t| (t.width, t.height, t.lit) != wanted) {
-                    self.targets =
-                        Some(FrameTargets::new(device, width, height, &self.normalize_layout, settings.lighting));
+                let wanted = (width, height, settings.lighting, weight_only);
+                if self.targets.as_ref().is_none_or(|t| (t.width, t.height, t.lit, t.weight_only) != wanted) {
+                    let (lit, layout) = (settings.lighting, &self.normalize_layout);
+                    self.targets = Some(FrameTargets::new(device, (width, height), layout, lit, weight_only));
                 }
             }
             let normalize_pipeline = self.normalize.entry(format).or_insert_with(|| {
@@ -194,6 +203,7 @@ impl SplatRenderer {
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("SplatRenderer::encoder") });
             let frame = &self.frame_bind_group;
             let lit = settings.lighting as usize;
+            let weight_only = cloud.uniform_color.is_some() as usize;
             for (i, pass) in plan.passes.iter().enumerate() {
                 let stamps = self.timer.as_ref().and_then(|t| t.writes(i));
                 if let (Some(groups), true) = (self.group_targets.as_ref(), deferred) {
@@ -202,7 +212,7 @@ impl SplatRenderer {
                             let timer = self.timer.as_ref().map(|t| (t, i));
                             deferred_geometry::record(
                                 &mut encoder,
-                                &self.deferred_geometry[lit],
+                                &self.deferred_geometry[weight_only][lit],
                                 frame,
                                 groups,
                                 cloud,
@@ -221,11 +231,16 @@ impl SplatRenderer {
                     PassKind::Visibility => {
                         visibility::record(&mut encoder, &self.visibility, frame, targets, cloud, stamps)
                     }
-                    PassKind::Accumulate => {
-                        accumulate::record(&mut encoder, &self.accumulate[lit], frame, targets, cloud, stamps)
-                    }
+                    PassKind::Accumulate => accumulate::record(
+                        &mut encoder,
+                        &self.accumulate[weight_only][lit],
+                        frame,
+                        targets,
+                        cloud,
+                        stamps,
+                    ),
                     PassKind::NearestSplat => {
-                        nearest::record(&mut encoder, &self.nearest[lit], frame, targets, cloud, stamps)
+                        nearest::record(&mut encoder, &self.nearest[weight_only][lit], frame, targets, cloud, stamps)
                     }
                     PassKind::Normalize => {
                         normalize::record(&mut encoder, normalize_pipeline, frame, targets, output, stamps)
@@ -243,6 +258,13 @@ impl SplatRenderer {
 }
 
 use bytemuck::Zeroable;
+
+/// Pipelines for [weight only][lit].
+type Variants = [[wgpu::RenderPipeline; 2]; 2];
+
+fn variants(make: impl Fn(bool, bool) -> wgpu::RenderPipeline) -> Variants {
+    [false, true].map(|weight_only| [false, true].map(|lit| make(lit, weight_only)))
+}
 
 /// The uniforms of one frame.
 fn frame_uniforms(camera: &Camera, settings: &RenderSettings, width: u32, height: u32, epsilon: f32) -> FrameUniforms {
@@ -267,5 +289,6 @@ fn frame_uniforms(camera: &Camera, settings: &RenderSettings, width: u32, height
         background: shading.background.extend(1.0).to_array(),
         lens: [tan_y * aspect, tan_y, 0.0, 0.0],
         deferred: [0.0; 4],
+        scene: [0.0; 4],
     }
 }

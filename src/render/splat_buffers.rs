@@ -21,6 +21,9 @@ pub struct GpuCloud {
     pub mean_radius: f32,
     /// Instance ranges of the groups (one range over everything when ungrouped).
     pub groups: Vec<std::ops::Range<u32>>,
+    /// The colour of every splat, when they all have the same one: colour
+    /// targets then hold only the weights.
+    pub uniform_color: Option<[u8; 3]>,
 }
 
 impl GpuCloud {
@@ -77,7 +80,9 @@ impl GpuCloud {
             chunks.push((buffer, (end - start) as u32));
             start = end;
         }
-        Self { chunks, len: order.len(), mean_radius: cloud.mean_radius(), groups: groups.to_vec() }
+        let first = cloud.colors.first().copied();
+        let uniform_color = first.filter(|c| cloud.colors.iter().all(|x| x == c));
+        Self { chunks, len: order.len(), mean_radius: cloud.mean_radius(), groups: groups.to_vec(), uniform_color }
     }
 
     /// Draws every splat as a 4-vertex strip instance; the pipeline must be set.

@@ -7,6 +7,13 @@
 /// Formats of the intermediate targets.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 pub const ACCUM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Colour targets of a cloud of one colour hold only Σw.
+pub const WEIGHT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
+
+/// The colour target's format: (Σw·rgb, Σw), or Σw alone.
+pub fn colour_format(weight_only: bool) -> wgpu::TextureFormat {
+    if weight_only { WEIGHT_FORMAT } else { ACCUM_FORMAT }
+}
 
 /// Depth and accumulation textures for one output size.
 pub struct FrameTargets {
@@ -20,15 +27,17 @@ pub struct FrameTargets {
     pub normalize_inputs: wgpu::BindGroup,
     /// Whether the normal target is real (lighting on).
     pub lit: bool,
+    /// Whether the colour target holds only Σw (a cloud of one colour).
+    pub weight_only: bool,
 }
 
 impl FrameTargets {
     pub fn new(
         device: &wgpu::Device,
-        width: u32,
-        height: u32,
+        (width, height): (u32, u32),
         normalize_layout: &wgpu::BindGroupLayout,
         lit: bool,
+        weight_only: bool,
     ) -> Self {
         let make_sized = |label: &str, format, usage, (width, height)| {
             device
@@ -47,7 +56,7 @@ impl FrameTargets {
         let make = |label: &str, format, usage| make_sized(label, format, usage, (width, height));
         let attach_and_read = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         let depth = make("FrameTargets::depth", DEPTH_FORMAT, attach_and_read);
-        let accum_color = make("FrameTargets::accumulated_color", ACCUM_FORMAT, attach_and_read);
+        let accum_color = make("FrameTargets::accumulated_color", colour_format(weight_only), attach_and_read);
         let normal_size = if lit { (width, height) } else { (1, 1) };
         let accum_normal = make_sized("FrameTargets::accumulated_normal", ACCUM_FORMAT, attach_and_read, normal_size);
         let normalize_inputs = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -58,7 +67,7 @@ impl FrameTargets {
                 wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&accum_normal) },
             ],
         });
-        Self { width, height, depth, accum_color, accum_normal, normalize_inputs, lit }
+        Self { width, height, depth, accum_color, accum_normal, normalize_inputs, lit, weight_only }
     }
 }
 
@@ -74,6 +83,8 @@ pub struct GroupTargets {
     pub layers: u32,
     /// Whether the normal layers are real (lighting on); else a 1x1 placeholder.
     pub lit: bool,
+    /// Whether the colour layers hold only w (a cloud of one colour).
+    pub weight_only: bool,
     /// Per layer: colour, normal, depth views and the z-buffer view.
     pub layer_views: Vec<[wgpu::TextureView; 4]>,
     /// Binds the three arrays for the compositing pass.
@@ -83,11 +94,10 @@ pub struct GroupTargets {
 impl GroupTargets {
     pub fn new(
         device: &wgpu::Device,
-        width: u32,
-        height: u32,
-        layers: u32,
+        (width, height, layers): (u32, u32, u32),
         composite_layout: &wgpu::BindGroupLayout,
         lit: bool,
+        weight_only: bool,
     ) -> Self {
         let layers = layers.max(1);
         let make_sized = |label: &str, format, (width, height, layers)| {
@@ -105,7 +115,7 @@ impl GroupTargets {
         let make = |label: &str, format| make_sized(label, format, (width, height, layers));
         let normal_size = if lit { (width, height, layers) } else { (1, 1, 1) };
         let textures = [
-            make("GroupTargets::colour", ACCUM_FORMAT),
+            make("GroupTargets::colour", colour_format(weight_only)),
             make_sized("GroupTargets::normal", ACCUM_FORMAT, normal_size),
             make("GroupTargets::depth", GROUP_DEPTH_FORMAT),
             make("GroupTargets::z_buffer", DEPTH_FORMAT),
@@ -141,6 +151,6 @@ impl GroupTargets {
                 wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&depth) },
             ],
         });
-        Self { width, height, layers, lit, layer_views, composite_inputs }
+        Self { width, height, layers, lit, weight_only, layer_views, composite_inputs }
     }
 }

@@ -1,8 +1,8 @@
 //! Pass 2 of `two-pass` (Botsch & Kobbelt 2003 §3.3): additive Σw·colour, Σw·normal, Σw
 //! for every fragment within ε of the visible surface.
 
-use super::super::targets::{ACCUM_FORMAT, FrameTargets};
-use super::{DepthTest, cleared, depth, lighting_entry, lighting_slots, record_splats, splat_pipeline};
+use super::super::targets::{ACCUM_FORMAT, FrameTargets, colour_format};
+use super::{DepthTest, FragmentVariant, cleared, depth, lighting_slots, record_splats, splat_pipeline};
 use crate::render::splat_buffers::GpuCloud;
 
 const ADDITIVE: wgpu::BlendComponent = wgpu::BlendComponent {
@@ -11,25 +11,29 @@ const ADDITIVE: wgpu::BlendComponent = wgpu::BlendComponent {
     operation: wgpu::BlendOperation::Add,
 };
 
-/// The accumulation pipeline; `lit` adds the normal target.
+/// The accumulation pipeline; `lit` adds the normal target, `weight_only`
+/// makes the colour target a single Σw channel.
 pub fn pipeline(
     device: &wgpu::Device,
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
     lit: bool,
+    weight_only: bool,
 ) -> wgpu::RenderPipeline {
-    let additive = Some(wgpu::ColorTargetState {
-        format: ACCUM_FORMAT,
-        blend: Some(wgpu::BlendState { color: ADDITIVE, alpha: ADDITIVE }),
-        write_mask: wgpu::ColorWrites::ALL,
-    });
-    let targets = lighting_slots(lit, &[additive.clone(), additive], 1);
+    let additive = |format| {
+        Some(wgpu::ColorTargetState {
+            format,
+            blend: Some(wgpu::BlendState { color: ADDITIVE, alpha: ADDITIVE }),
+            write_mask: wgpu::ColorWrites::ALL,
+        })
+    };
+    let targets = lighting_slots(lit, &[additive(colour_format(weight_only)), additive(ACCUM_FORMAT)], 1);
     splat_pipeline(
         device,
         "Accumulate::pipeline",
         layout,
         module,
-        &lighting_entry(lit, "fs_accumulate"),
+        &FragmentVariant { entry: "fs_accumulate", lit, weight_only },
         &targets,
         DepthTest { write: false, compare: wgpu::CompareFunction::LessEqual },
     )

@@ -1,26 +1,29 @@
 //! The geometry pass of deferred blending (Zhang & Pajarola 2007 Fig. 11):
 //! group k's splats, drawn once, into layer k with that layer's own z-test.
 
-use super::super::targets::{ACCUM_FORMAT, GROUP_DEPTH_FORMAT, GroupTargets};
-use super::{DepthTest, cleared, lighting_entry, lighting_slots, record_splats, splat_pipeline};
+use super::super::targets::{ACCUM_FORMAT, GROUP_DEPTH_FORMAT, GroupTargets, colour_format};
+use super::{DepthTest, FragmentVariant, cleared, lighting_slots, record_splats, splat_pipeline};
 use crate::render::splat_buffers::GpuCloud;
 use crate::render::timer::PassTimer;
 
-/// The group-image pipeline; `lit` adds the normal layer.
+/// The group-image pipeline; `lit` adds the normal layer, `weight_only`
+/// makes the colour layer a single weight channel.
 pub fn pipeline(
     device: &wgpu::Device,
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
     lit: bool,
+    weight_only: bool,
 ) -> wgpu::RenderPipeline {
     let replace = |format| Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL });
-    let targets = lighting_slots(lit, &[replace(ACCUM_FORMAT), replace(ACCUM_FORMAT), replace(GROUP_DEPTH_FORMAT)], 1);
+    let slots = [replace(colour_format(weight_only)), replace(ACCUM_FORMAT), replace(GROUP_DEPTH_FORMAT)];
+    let targets = lighting_slots(lit, &slots, 1);
     splat_pipeline(
         device,
         "DeferredGeometry::pipeline",
         layout,
         module,
-        &lighting_entry(lit, "fs_group"),
+        &FragmentVariant { entry: "fs_group", lit, weight_only },
         &targets,
         DepthTest { write: true, compare: wgpu::CompareFunction::Less },
     )

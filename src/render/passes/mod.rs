@@ -15,16 +15,27 @@ pub(super) struct DepthTest {
     pub compare: wgpu::CompareFunction,
 }
 
+/// Which fragment stage a splat pipeline runs: the entry point, its unlit
+/// variant when lighting is off, and the single-channel weight-only output
+/// (the WGSL override `WEIGHT_ONLY`) for clouds of one colour.
+pub(super) struct FragmentVariant<'a> {
+    pub entry: &'a str,
+    pub lit: bool,
+    pub weight_only: bool,
+}
+
 /// A pipeline that draws every splat as an instanced 4-vertex strip.
 pub(super) fn splat_pipeline(
     device: &wgpu::Device,
     label: &str,
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
-    fragment_entry: &str,
+    fragment: &FragmentVariant<'_>,
     targets: &[Option<wgpu::ColorTargetState>],
     depth: DepthTest,
 ) -> wgpu::RenderPipeline {
+    let entry = lighting_entry(fragment.lit, fragment.entry);
+    let constants = [("WEIGHT_ONLY", if fragment.weight_only { 1.0 } else { 0.0 })];
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(layout),
@@ -45,8 +56,8 @@ pub(super) fn splat_pipeline(
         multisample: Default::default(),
         fragment: Some(wgpu::FragmentState {
             module,
-            entry_point: Some(fragment_entry),
-            compilation_options: Default::default(),
+            entry_point: Some(&entry),
+            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
             targets,
         }),
         multiview_mask: None,

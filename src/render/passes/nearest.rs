@@ -1,26 +1,27 @@
 //! The single geometry pass of the unfiltered quality level (Botsch & Kobbelt 2003 §5):
 //! elliptical splats with per-pixel depth, the nearest one wins, weight 1.
 
-use super::super::targets::{ACCUM_FORMAT, FrameTargets};
-use super::{DepthTest, cleared, depth, lighting_entry, lighting_slots, record_splats, splat_pipeline};
+use super::super::targets::{ACCUM_FORMAT, FrameTargets, colour_format};
+use super::{DepthTest, FragmentVariant, cleared, depth, lighting_slots, record_splats, splat_pipeline};
 use crate::render::splat_buffers::GpuCloud;
 
-/// The nearest-splat pipeline; `lit` adds the normal target.
+/// The nearest-splat pipeline; `lit` adds the normal target, `weight_only`
+/// makes the colour target a single weight channel.
 pub fn pipeline(
     device: &wgpu::Device,
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
     lit: bool,
+    weight_only: bool,
 ) -> wgpu::RenderPipeline {
-    let replace =
-        Some(wgpu::ColorTargetState { format: ACCUM_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL });
-    let targets = lighting_slots(lit, &[replace.clone(), replace], 1);
+    let replace = |format| Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL });
+    let targets = lighting_slots(lit, &[replace(colour_format(weight_only)), replace(ACCUM_FORMAT)], 1);
     splat_pipeline(
         device,
         "NearestSplat::pipeline",
         layout,
         module,
-        &lighting_entry(lit, "fs_unfiltered"),
+        &FragmentVariant { entry: "fs_unfiltered", lit, weight_only },
         &targets,
         DepthTest { write: true, compare: wgpu::CompareFunction::Less },
     )

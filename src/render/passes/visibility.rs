@@ -1,7 +1,7 @@
 //! Pass 1 of `two-pass` (Botsch & Kobbelt 2003 §3.3): splat depth plus ε into the depth buffer.
 
 use super::super::targets::FrameTargets;
-use super::{DepthTest, depth, record_splats, splat_pipeline};
+use super::{DepthTest, FragmentVariant, depth, record_splats, splat_pipeline};
 use crate::render::splat_buffers::GpuCloud;
 
 pub fn pipeline(
@@ -14,7 +14,7 @@ pub fn pipeline(
         "Visibility::pipeline",
         layout,
         module,
-        "fs_visibility",
+        &FragmentVariant { entry: "fs_visibility", lit: true, weight_only: false },
         &[],
         DepthTest { write: true, compare: wgpu::CompareFunction::Less },
     )
