@@ -85,8 +85,8 @@ pub fn group(cloud: &PointCloud, options: &WgcOptions) -> Result<(Grouping, Over
     let mut colours = vec![u32::MAX; n];
     let mut sizes = vec![0usize; k];
     let mut costs = vec![0f64; k];
-    // MinimizeOverlap: the colour of least same-colour weight, ties to the smallest group.
-    let best_colour = |v: usize, colours: &[u32], sizes: &[usize], costs: &mut [f64]| -> usize {
+    // The weight each colour's neighbours put on v (uncoloured ones count for none).
+    let colour_costs = |v: usize, colours: &[u32], costs: &mut [f64]| {
         costs.iter_mut().for_each(|c| *c = 0.0);
         let start = graph.offsets[v] as usize;
         for (e, &j) in graph.neighbours_of(v).iter().enumerate() {
@@ -95,6 +95,10 @@ pub fn group(cloud: &PointCloud, options: &WgcOptions) -> Result<(Grouping, Over
                 costs[c as usize] += weights[start + e] as f64;
             }
         }
+    };
+    // MinimizeOverlap: the colour of least same-colour weight, ties to the smallest group.
+    let best_colour = |v: usize, colours: &[u32], sizes: &[usize], costs: &mut [f64]| -> usize {
+        colour_costs(v, colours, costs);
         (0..k).min_by(|&a, &b| costs[a].total_cmp(&costs[b]).then(sizes[a].cmp(&sizes[b]))).unwrap_or(0)
     };
     let mut edges: Vec<(u32, u32, u32)> = Vec::with_capacity(graph.edge_count());
@@ -127,17 +131,11 @@ pub fn group(cloud: &PointCloud, options: &WgcOptions) -> Result<(Grouping, Over
 
     // Optimisation: a max-queue of vertices by same-colour weight.
     let started = std::time::Instant::now();
-    let same_colour_weight = |v: usize, colours: &[u32]| -> f64 {
-        let start = graph.offsets[v] as usize;
-        graph
-            .neighbours_of(v)
-            .iter()
-            .enumerate()
-            .filter(|(_, j)| colours[**j as usize] == colours[v])
-            .map(|(e, _)| weights[start + e] as f64)
-            .sum()
-    };
-    let mut conflict: Vec<f64> = (0..n).map(|v| same_colour_weight(v, &colours)).collect();
+    let mut conflict = vec![0f64; n];
+    for (v, slot) in conflict.iter_mut().enumerate() {
+        colour_costs(v, &colours, &mut costs);
+        *slot = costs[colours[v] as usize];
+    }
     let mut cost: f64 = conflict.iter().sum::<f64>() / 2.0;
     report.initial_cost = cost;
     let threshold = options.threshold.max(0.0) as f64;
@@ -190,21 +188,4 @@ pub fn group(cloud: &PointCloud, options: &WgcOptions) -> Result<(Grouping, Over
     report.final_cost = cost;
     report.seconds_optimise = started.elapsed().as_secs_f64();
     Ok((Grouping::from_labels(&colours, k), graph, report))
-}
-
-/// Eq. 6 for a labelling: the total weight of same-colour edges.
-pub fn cost(graph: &OverlapGraph, weights: &[f32], labels: &[u32]) -> f64 {
-    (0..graph.len())
-        .map(|i| {
-            let start = graph.offsets[i] as usize;
-            graph
-                .neighbours_of(i)
-                .iter()
-                .enumerate()
-                .filter(|(_, j)| labels[**j as usize] == labels[i])
-                .map(|(e, _)| weights[start + e] as f64)
-                .sum::<f64>()
-        })
-        .sum::<f64>()
-        / 2.0
 }

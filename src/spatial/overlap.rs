@@ -7,7 +7,6 @@
 //! itself in a [`HashGrid`]; the queries run in parallel with rayon, and the
 //! pairs are then made symmetric in compressed sparse rows.
 
-use glam::Vec3;
 use rayon::prelude::*;
 
 use super::grid::{HashGrid, typical_radius};
@@ -156,9 +155,4 @@ pub fn median_radius(radii: &[f32]) -> f32 {
     }
     let mid = r.len() / 2;
     *r.select_nth_unstable_by(mid, f32::total_cmp).1
-}
-
-/// Whether splats i and j overlap by Eq. 5 (no relaxation).
-pub fn overlaps(positions: &[Vec3], radii: &[f32], i: usize, j: usize) -> bool {
-    positions[i].distance(positions[j]) < radii[i] + radii[j]
 }

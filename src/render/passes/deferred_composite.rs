@@ -4,20 +4,7 @@
 use super::super::targets::GroupTargets;
 
 pub fn inputs_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let array = |binding| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: wgpu::TextureViewDimension::D2Array,
-            multisampled: false,
-        },
-        count: None,
-    };
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("Composite::inputs_layout"),
-        entries: &[array(0), array(1), array(2)],
-    })
+    super::normalize::texture_inputs_layout(device, "Composite::inputs_layout", wgpu::TextureViewDimension::D2Array, 3)
 }
 
 pub fn record(

@@ -4,20 +4,29 @@
 use super::super::targets::FrameTargets;
 
 pub fn inputs_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let texture = |binding| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    };
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("Normalize::inputs_layout"),
-        entries: &[texture(0), texture(1)],
-    })
+    texture_inputs_layout(device, "Normalize::inputs_layout", wgpu::TextureViewDimension::D2, 2)
+}
+
+/// A layout of `count` unfilterable float textures (bindings 0..count) read by a full-screen pass.
+pub fn texture_inputs_layout(
+    device: &wgpu::Device,
+    label: &str,
+    dimension: wgpu::TextureViewDimension,
+    count: u32,
+) -> wgpu::BindGroupLayout {
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..count)
+        .map(|binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: dimension,
+                multisampled: false,
+            },
+            count: None,
+        })
+        .collect();
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries: &entries })
 }
 
 pub fn pipeline(
