@@ -13,7 +13,7 @@ struct Frame {
     // ambient, diffuse, specular, lighting on (0/1)
     material: vec4<f32>,
     background: vec4<f32>,
-    // tan(fov_x/2), tan(fov_y/2)
+    // tan(fov_x/2), tan(fov_y/2), splat radius scale, unused
     lens: vec4<f32>,
     // deferred: low-precision depth steps n (Eq. 10/14), Voronoi (0/1), group layers K, unused
     deferred: vec4<f32>,

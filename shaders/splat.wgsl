@@ -35,18 +35,19 @@ fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying 
     let view_depth = -centre.z;
     // Back-face culling: the normal points away from the eye.
     let back_facing = dot(normal, centre) > 0.0 && frame.splat.w > 0.5;
-    if view_depth <= frame.depth.x || view_depth >= frame.depth.y || back_facing || !(splat.radius > 0.0) {
+    let radius = splat.radius * frame.lens.z;
+    if view_depth <= frame.depth.x || view_depth >= frame.depth.y || back_facing || !(radius > 0.0) {
         out.clip = CULLED;
         return out;
     }
     // Eq. 1: size_win = r * n / z_eye * h / (t - b) = r * focal_pixels / z_eye.
-    let radius_pixels = splat.radius * frame.splat.x / view_depth;
+    let radius_pixels = radius * frame.splat.x / view_depth;
     var clip = frame.proj * vec4<f32>(centre, 1.0);
     clip = vec4<f32>(clip.xy + corner * radius_pixels * 2.0 * frame.viewport.zw * clip.w, clip.zw);
     out.clip = clip;
     let normal_length = length(normal);
     out.normal = select(vec3<f32>(0.0, 0.0, 1.0), normal / normal_length, normal_length > 1e-20);
-    out.depth_radius = vec2<f32>(view_depth, splat.radius);
+    out.depth_radius = vec2<f32>(view_depth, radius);
     return out;
 }
 

@@ -1,6 +1,7 @@
-//! The `pointblend` command line: info | render | convert | bench | group.
+//! The `pointblend` command line: view | info | render | convert | bench | group.
 //!
-//! With no subcommand it renders the bundled bunny to `pointblend.png`.
+//! With no subcommand it opens the viewer on the bundled bunny (or, with no
+//! display, renders it in every mode to `./out/`).
 
 mod commands;
 
@@ -21,6 +22,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Open the interactive viewer (the default); headless, render every mode to ./out/.
+    View(commands::view::Args),
     /// Show what a PLY file holds and what loading it estimates or repairs.
     Info(commands::info::Args),
     /// Render a PLY file to a PNG image.
@@ -40,12 +43,17 @@ fn main() -> ExitCode {
         .init();
     let cli = Cli::parse();
     let result = match cli.command {
+        Some(Command::View(args)) => commands::view::run(&args),
         Some(Command::Info(args)) => commands::info::run(&args),
         Some(Command::Render(args)) => commands::render::run(&args),
         Some(Command::Convert(args)) => commands::convert::run(&args),
         Some(Command::Bench(args)) => commands::bench::run(&args),
         Some(Command::Group(args)) => commands::group::run(&args),
-        None => commands::render::run(&commands::render::Args::bundled_default()),
+        None => commands::view::run(&commands::view::Args {
+            screenshot_dir: "screenshots".into(),
+            out: "out".into(),
+            ..Default::default()
+        }),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

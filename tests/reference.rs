@@ -23,6 +23,7 @@ fn options(epsilon: f32) -> ReferenceOptions {
         kernel: SplatKernel::default(),
         shading: flat(),
         lighting: true,
+        radius_scale: 1.0,
         progress: false,
     }
 }

@@ -26,13 +26,14 @@ pub fn entry(dir: &Path, model: &Path, camera: &Camera, settings: &RenderSetting
     let stamp = meta.as_ref().and_then(|m| m.modified().ok()).map(|t| format!("{t:?}")).unwrap_or_default();
     let file_len = meta.map(|m| m.len()).unwrap_or(0);
     let key = format!(
-        "v1|{}|{file_len}|{stamp}|{camera:?}|{size:?}|{:?}|{:?}|{}|{}|{}",
+        "v1|{}|{file_len}|{stamp}|{camera:?}|{size:?}|{:?}|{:?}|{}|{}|{}|{}",
         model.display(),
         settings.kernel,
         settings.shading,
         settings.epsilon_scale,
         settings.backface_culling,
-        settings.lighting
+        settings.lighting,
+        settings.radius_scale
     );
     let name = format!("reference-{:016x}", fnv1a(&key));
     let dir = dir.join("cache");

@@ -121,9 +121,8 @@ pub fn run(
         let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
         let stem = file_stem(model);
         let views = standard_views(&cloud, aspect, config.views);
-        let bar = config
-            .progress
-            .then(|| crate::progress::bar((views.len() * (gpu_modes.len() + 1)) as u64, &format!("bench {stem}")));
+        let steps = (views.len() * (gpu_modes.len() + 1)) as u64;
+        let bar = crate::progress::bar(steps, &format!("bench {stem}"), config.progress);
         for view in &views {
             let base = |mode: &str, gpu: bool, quality: Quality| BenchRow {
                 model: name.clone(),
@@ -169,9 +168,7 @@ pub fn run(
                     (reference_ms, reference_ms, reference_ms, 1);
                 rows.push(row);
             }
-            if let Some(b) = &bar {
-                b.inc(1);
-            }
+            bar.inc(1);
 
             for &(spec, quality) in &gpu_modes {
                 let mode = spec.mode;
@@ -235,14 +232,10 @@ pub fn run(
                 row.bad_pixel_share = error.bad_pixel_share;
                 row.geometry_passes = plan.geometry_passes();
                 rows.push(row);
-                if let Some(b) = &bar {
-                    b.inc(1);
-                }
+                bar.inc(1);
             }
         }
-        if let Some(b) = bar {
-            b.finish_and_clear();
-        }
+        bar.finish();
     }
     let json = config.out.join("bench.json");
     super::report::write_json(&rows, &json).map_err(io_error(&json))?;

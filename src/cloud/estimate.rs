@@ -69,16 +69,10 @@ pub fn complete(
     let any_radius = needs_radius.iter().any(|&b| b);
     if any_normal || any_radius {
         let k = options.normal_neighbours.max(options.radius_neighbours).max(3);
-        let bar = progress.then(|| crate::progress::bar(cloud.len() as u64, "finding neighbours"));
-        let tick = |n: u64| {
-            if let Some(b) = &bar {
-                b.inc(n);
-            }
-        };
+        let bar = crate::progress::bar(cloud.len() as u64, "finding neighbours", progress);
+        let tick = |n: u64| bar.inc(n);
         let neighbours = knn::k_nearest(&cloud.positions, k, &tick);
-        if let Some(b) = bar {
-            b.finish_and_clear();
-        }
+        bar.finish();
         if any_normal {
             estimate_normals(cloud, &neighbours, needs_normal, options.normal_neighbours);
             orient_normals(cloud, &neighbours, needs_normal, file_origin);

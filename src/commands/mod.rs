@@ -6,3 +6,4 @@ pub mod group;
 pub mod info;
 pub mod render;
 pub mod shared;
+pub mod view;

@@ -6,6 +6,7 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use pointblend::reference::{self, ReferenceOptions};
 use pointblend::render::{HeadlessRenderer, RenderMode, RenderPlan};
+use pointblend::view::Sidecar;
 
 use super::shared::{self, ViewArgs};
 
@@ -25,30 +26,36 @@ pub struct Args {
     /// a false-colour difference image (amplified 8x) to this PNG.
     #[arg(long)]
     pub diff: Option<PathBuf>,
-}
-
-impl Args {
-    /// The no-subcommand default: the bundled bunny at 512x512.
-    pub fn bundled_default() -> Self {
-        use clap::Parser;
-        #[derive(clap::Parser)]
-        struct Wrapper {
-            #[command(flatten)]
-            args: Args,
-        }
-        let mut args = Wrapper::parse_from(["pointblend", shared::BUNDLED_MODEL]).args;
-        args.out = PathBuf::from("pointblend.png");
-        args
-    }
+    /// Reproduce a viewer screenshot: take the mode, parameters, grouping, camera
+    /// and size from its JSON sidecar (the other view options are ignored).
+    #[arg(long, value_name = "SIDECAR.json")]
+    pub camera: Option<PathBuf>,
 }
 
 pub fn run(args: &Args) -> Result<()> {
-    let settings = args.view.settings()?;
+    let sidecar = args.camera.as_deref().map(Sidecar::read).transpose()?;
+    let (settings, group, (width, height)) = match &sidecar {
+        Some(s) => (s.settings(), s.grouping().map_err(anyhow::Error::msg)?, (s.size[0], s.size[1])),
+        None => (args.view.settings()?, args.view.group, args.view.size),
+    };
     let started = Instant::now();
     let (cloud, _report) = shared::load(&args.file)?;
     let load_seconds = started.elapsed().as_secs_f64();
-    let camera = args.view.camera(&cloud)?;
-    let (width, height) = args.view.size;
+    let camera = match &sidecar {
+        Some(s) => {
+            let hash = pointblend::grouping::cache::key(&args.file, "").map(|h| format!("{h:016x}"));
+            if hash.as_deref().ok() != Some(s.model.hash.as_str()) {
+                log::warn!(
+                    "{}: this file is not the one the view was saved from ({}, hash {})",
+                    args.file.display(),
+                    s.model.name,
+                    s.model.hash
+                );
+            }
+            s.camera()
+        }
+        None => args.view.camera(&cloud)?,
+    };
     let reference_options = ReferenceOptions { progress: true, ..ReferenceOptions::matching(&settings, &cloud) };
     let render_started = Instant::now();
     let (image, plan) = if settings.mode.is_gpu() {
@@ -56,10 +63,10 @@ pub fn run(args: &Args) -> Result<()> {
         log::info!("GPU: {}", renderer.ctx.describe());
         let gpu_cloud = if settings.mode == RenderMode::Deferred {
             let t = Instant::now();
-            let (grouping, cached) = args.view.group.compute_cached(&args.file, &cloud)?;
+            let (grouping, cached) = group.compute_cached(&args.file, &cloud)?;
             log::info!(
                 "grouping {}: K = {} in {:.2} s{}",
-                args.view.group,
+                group,
                 grouping.k(),
                 t.elapsed().as_secs_f64(),
                 if cached { " (from the cache)" } else { "" }

@@ -9,9 +9,6 @@ use pointblend::grouping::GroupingSpec;
 use pointblend::render::{Quality, RenderMode, RenderSettings};
 use pointblend::view::{Camera, UpAxis};
 
-/// The model bundled with pointblend.
-pub const BUNDLED_MODEL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/bunny.ply");
-
 /// Loads a cloud with progress bars and logs its warnings.
 pub fn load(path: &Path) -> Result<(PointCloud, LoadReport)> {
     let options = LoadOptions { progress: true, ..Default::default() };

@@ -100,9 +100,18 @@ pub const MAX_GROUPS: usize = 64;
 /// A grouping algorithm with its parameter, as the render modes name it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum GroupingSpec {
-    Mgc { c: f32 },
-    Wgc { k: usize },
-    Hash { k: usize },
+    Mgc {
+        c: f32,
+    },
+    Wgc {
+        k: usize,
+    },
+    /// `resolve_collisions`: splats that overlap in a hash cell are moved to
+    /// another group (Fig. 9's collision handling), or left where they hash.
+    Hash {
+        k: usize,
+        resolve_collisions: bool,
+    },
 }
 
 impl Default for GroupingSpec {
@@ -117,27 +126,33 @@ impl std::fmt::Display for GroupingSpec {
         match self {
             GroupingSpec::Mgc { c } => write!(f, "mgc-c{c}"),
             GroupingSpec::Wgc { k } => write!(f, "wgc-k{k}"),
-            GroupingSpec::Hash { k } => write!(f, "hash-k{k}"),
+            GroupingSpec::Hash { k, resolve_collisions: true } => write!(f, "hash-k{k}"),
+            GroupingSpec::Hash { k, resolve_collisions: false } => write!(f, "hash-k{k}-kept"),
         }
     }
 }
 
 impl std::str::FromStr for GroupingSpec {
     type Err = String;
-    /// `mgc-c0.4`, `wgc-k8`, `hash-k8`.
+    /// `mgc-c0.4`, `wgc-k8`, `hash-k8`, and `hash-k8-kept` for hashing that keeps collisions.
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        let bad = || format!("'{s}' is not a grouping; use mgc-cC, wgc-kK or hash-kK (e.g. mgc-c0.4, wgc-k8)");
+        let bad =
+            || format!("'{s}' is not a grouping; use mgc-cC, wgc-kK, hash-kK or hash-kK-kept (e.g. mgc-c0.4, wgc-k8)");
         let (algo, value) = s.split_once('-').ok_or_else(bad)?;
+        let (value, resolve_collisions) = match value.strip_suffix("-kept") {
+            Some(v) if algo == "hash" => (v, false),
+            _ => (value, true),
+        };
         let number = |prefix: char| value.strip_prefix(prefix).ok_or_else(bad);
         let spec = match algo {
             "mgc" => GroupingSpec::Mgc { c: number('c')?.parse().map_err(|_| bad())? },
             "wgc" => GroupingSpec::Wgc { k: number('k')?.parse().map_err(|_| bad())? },
-            "hash" => GroupingSpec::Hash { k: number('k')?.parse().map_err(|_| bad())? },
+            "hash" => GroupingSpec::Hash { k: number('k')?.parse().map_err(|_| bad())?, resolve_collisions },
             _ => return Err(bad()),
         };
         match spec {
             GroupingSpec::Mgc { c } if !(0.0..=1.0).contains(&c) => Err(format!("c must be in 0..=1, not {c}")),
-            GroupingSpec::Wgc { k } | GroupingSpec::Hash { k } if k == 0 || k > MAX_GROUPS => {
+            GroupingSpec::Wgc { k } | GroupingSpec::Hash { k, .. } if k == 0 || k > MAX_GROUPS => {
                 Err(format!("K must be 1..={MAX_GROUPS}, not {k}"))
             }
             _ => Ok(spec),
@@ -149,11 +164,13 @@ impl GroupingSpec {
     /// Groups `cloud`.
     pub fn compute(&self, cloud: &crate::cloud::PointCloud) -> Result<Grouping, GroupingError> {
         use crate::spatial::overlap::OverlapOptions;
+        crate::progress::stage(&format!("grouping {self}"));
         Ok(match *self {
             GroupingSpec::Mgc { c } => mgc::group(cloud, &OverlapOptions { c, ..Default::default() })?.0,
             GroupingSpec::Wgc { k } => wgc::group(cloud, &wgc::WgcOptions { k, ..Default::default() })?.0,
-            GroupingSpec::Hash { k } => {
-                hash::group(cloud, &hash::HashOptions { k, collisions: hash::Collisions::All })?.0
+            GroupingSpec::Hash { k, resolve_collisions } => {
+                let collisions = if resolve_collisions { hash::Collisions::All } else { hash::Collisions::None };
+                hash::group(cloud, &hash::HashOptions { k, collisions })?.0
             }
         })
     }

@@ -17,6 +17,8 @@ pub struct ReferenceOptions {
     pub shading: Shading,
     /// Phong lighting; without it layers show their normalised colour.
     pub lighting: bool,
+    /// Every splat radius is multiplied by this.
+    pub radius_scale: f32,
     /// Show a progress bar.
     pub progress: bool,
 }
@@ -30,6 +32,7 @@ impl ReferenceOptions {
             kernel: settings.kernel,
             shading: settings.shading,
             lighting: settings.lighting,
+            radius_scale: settings.radius_scale,
             progress: false,
         }
     }
@@ -62,7 +65,7 @@ pub fn render(
             let centre = view.transform_point3(cloud.positions[i]);
             let normal = view.transform_vector3(cloud.normals[i]).try_normalize().unwrap_or(Vec3::Z);
             let depth = -centre.z;
-            let radius = cloud.radii[i];
+            let radius = cloud.radii[i] * options.radius_scale;
             let culled = options.backface_culling && normal.dot(centre) > 0.0;
             let usable = depth > near && depth < far && radius > 0.0;
             if culled || !usable {
@@ -82,10 +85,13 @@ pub fn render(
     let bins = tiles::bin(&splats, &proj, width, height, near);
     let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
     let lens = Vec2::new(tan_y * aspect, tan_y);
-    let bar = options.progress.then(|| crate::progress::bar(bins.bins.len() as u64, "reference render"));
+    let bar = crate::progress::bar(bins.bins.len() as u64, "reference render", options.progress);
     let tiles: Vec<(u32, Vec<[u8; 4]>)> = (0..bins.bins.len() as u32)
         .into_par_iter()
         .map(|tile| {
+            if bar.is_cancelled() {
+                return (tile, Vec::new()); // the caller drops a cancelled image
+            }
             let (tx, ty) = (tile % bins.columns, tile / bins.columns);
             let mut hits = Vec::new();
             let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
@@ -106,15 +112,11 @@ pub fn render(
                     pixels.push(to_rgba8(colour));
                 }
             }
-            if let Some(b) = &bar {
-                b.inc(1);
-            }
+            bar.inc(1);
             (tile, pixels)
         })
         .collect();
-    if let Some(b) = bar {
-        b.finish_and_clear();
-    }
+    bar.finish();
     let mut image = image::RgbaImage::new(width, height);
     for (tile, pixels) in tiles {
         let (tx, ty) = (tile % bins.columns, tile / bins.columns);

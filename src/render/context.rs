@@ -63,19 +63,25 @@ impl GpuContext {
 
     /// Opens the device of `adapter` with its full limits.
     pub fn open(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Self, GpuError> {
-        let wanted = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::FLOAT32_BLENDABLE;
-        let desc = wgpu::DeviceDescriptor {
-            label: Some("GpuContext::device"),
-            required_features: adapter.features() & wanted,
-            required_limits: adapter.limits(),
-            ..Default::default()
-        };
+        let desc = Self::device_descriptor(&adapter);
         let (device, queue) =
             pollster::block_on(adapter.request_device(&desc)).map_err(|e| GpuError::Device(e.to_string()))?;
         device.on_uncaptured_error(Arc::new(|error: wgpu::Error| {
             log::error!("uncaptured GPU error: {error}");
         }));
         Ok(Self { instance, adapter, device, queue })
+    }
+
+    /// What the renderer needs of a device: the adapter's own limits, timestamps
+    /// and float32 blending where the adapter has them.
+    pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
+        let wanted = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::FLOAT32_BLENDABLE;
+        wgpu::DeviceDescriptor {
+            label: Some("GpuContext::device"),
+            required_features: adapter.features() & wanted,
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }
     }
 
     /// One line naming the adapter and its driver.

@@ -53,7 +53,7 @@ pub struct FrameUniforms {
     pub material: [f32; 4],
     /// background colour, alpha
     pub background: [f32; 4],
-    /// tan(fov_x/2), tan(fov_y/2), unused, unused
+    /// tan(fov_x/2), tan(fov_y/2), splat radius scale, unused
     pub lens: [f32; 4],
     /// deferred: low-precision depth steps n (Eq. 10/14), Voronoi (0/1), group layers K, unused
     pub deferred: [f32; 4],

@@ -287,7 +287,7 @@ fn frame_uniforms(camera: &Camera, settings: &RenderSettings, width: u32, height
         light: shading.light_dir_eye.extend(shading.shininess).to_array(),
         material: [shading.ambient, shading.diffuse, shading.specular, if settings.lighting { 1.0 } else { 0.0 }],
         background: shading.background.extend(1.0).to_array(),
-        lens: [tan_y * aspect, tan_y, 0.0, 0.0],
+        lens: [tan_y * aspect, tan_y, settings.radius_scale, 0.0],
         deferred: [0.0; 4],
         scene: [0.0; 4],
     }

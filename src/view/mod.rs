@@ -4,10 +4,14 @@
 
 pub mod camera;
 pub mod kernel;
+pub mod parameters;
 pub mod settings;
 pub mod shading;
+pub mod sidecar;
 
 pub use camera::{Camera, UpAxis};
 pub use kernel::SplatKernel;
+pub use parameters::Parameter;
 pub use settings::{Quality, RenderMode, RenderSettings};
 pub use shading::Shading;
+pub use sidecar::Sidecar;

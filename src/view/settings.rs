@@ -66,6 +66,8 @@ pub struct RenderSettings {
     /// ε of the visibility pass, as a multiple of the cloud's mean splat radius.
     pub epsilon_scale: f32,
     pub backface_culling: bool,
+    /// Every splat radius is multiplied by this (1: as loaded).
+    pub radius_scale: f32,
     /// Voronoi rasterisation in the deferred geometry pass (Zhang & Pajarola Eq. 14).
     pub voronoi: bool,
     /// Phong lighting; without it the normalised colour is shown and no
@@ -89,6 +91,7 @@ impl Default for RenderSettings {
             quality: Quality::Filtered,
             epsilon_scale: 1.0,
             backface_culling: true,
+            radius_scale: 1.0,
             voronoi: false,
             lighting: true,
             kernel: SplatKernel::default(),

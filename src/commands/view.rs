@@ -1,0 +1,103 @@
+//! `pointblend view [FILE]`: the interactive viewer, and the main job.
+//!
+//! With no display (no `DISPLAY`/`WAYLAND_DISPLAY`) or when the window cannot
+//! open, it says why and does the headless main job instead: it renders the
+//! model in every mode to `./out/` and prints the error-against-time table.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use pointblend::bench::{self, BenchConfig, ModeSpec};
+use pointblend::render::{HeadlessRenderer, Quality, RenderMode};
+use pointblend::view::{RenderSettings, Sidecar};
+use pointblend::viewer::{self, ViewerError, ViewerOptions};
+
+#[derive(clap::Args, Debug, Default)]
+pub struct Args {
+    /// PLY file to open (default: the bundled bunny).
+    pub file: Option<PathBuf>,
+    /// Save a screenshot of the whole window (UI included) to this PNG once the
+    /// first full-quality frame is shown, then close (for documentation and tests).
+    #[arg(long)]
+    pub screenshot: Option<PathBuf>,
+    /// Close after this many frames once the view has settled.
+    #[arg(long)]
+    pub exit_after_frames: Option<u64>,
+    /// Start with the mode, parameters and camera of a screenshot's JSON sidecar.
+    #[arg(long)]
+    pub camera: Option<PathBuf>,
+    /// Mode to start in: two-pass, deferred or reference.
+    #[arg(long)]
+    pub mode: Option<RenderMode>,
+    /// Folder for screenshots saved with Ctrl+S.
+    #[arg(long, default_value = "screenshots")]
+    pub screenshot_dir: PathBuf,
+    /// Output folder of the headless main job (when no window can open).
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+}
+
+pub fn run(args: &Args) -> Result<()> {
+    let view = args.camera.as_deref().map(Sidecar::read).transpose()?;
+    if let Some(file) = &args.file {
+        // Fail early and on one line, before a window opens, when the file is not there.
+        std::fs::metadata(file).with_context(|| format!("{}: cannot open", file.display()))?;
+    }
+    let options = ViewerOptions {
+        file: args.file.clone(),
+        screenshot: args.screenshot.clone(),
+        exit_after_frames: args.exit_after_frames,
+        screenshot_dir: args.screenshot_dir.clone(),
+        view,
+        mode: args.mode,
+    };
+    match viewer::run_window(options) {
+        Ok(()) => Ok(()),
+        Err(e) => {
+            if args.screenshot.is_some() {
+                // A requested window screenshot cannot be faked by the headless job.
+                return Err(e).context("no window screenshot was taken");
+            }
+            match e {
+                ViewerError::NoDisplay => eprintln!("pointblend: no window: {e}; rendering headless instead"),
+                ViewerError::Window(_) => eprintln!("pointblend: {e}; rendering headless instead"),
+            }
+            headless_main_job(args)
+        }
+    }
+}
+
+/// Renders the model in every mode into `args.out` and prints the error-against-time table.
+fn headless_main_job(args: &Args) -> Result<()> {
+    let model = args.file.clone().unwrap_or_else(|| PathBuf::from(viewer::BUNDLED_MODEL));
+    let mut renderer = HeadlessRenderer::new().context("opening the GPU")?;
+    eprintln!("GPU: {}", renderer.ctx.describe());
+    let mut modes = Vec::new();
+    for mode in RenderMode::ALL {
+        let spec: ModeSpec = mode.name().parse().map_err(anyhow::Error::msg)?;
+        if mode.is_gpu() && !mode.needs_grouping() {
+            modes.push((spec.clone(), Quality::Filtered));
+            modes.push((spec, Quality::Unfiltered));
+        } else {
+            modes.push((spec, Quality::Filtered));
+        }
+    }
+    let config = BenchConfig {
+        modes,
+        settings: RenderSettings::default(),
+        width: 512,
+        height: 512,
+        frames: 5,
+        warm_up: 2,
+        views: 1,
+        out: args.out.clone(),
+        progress: true,
+    };
+    let rows = bench::run(&[model], &config, &mut renderer)?;
+    print!("{}", bench::report::markdown(&rows));
+    println!(
+        "wrote one image per mode, the difference images, bench.json and error_vs_time.png to {}/",
+        args.out.display()
+    );
+    Ok(())
+}

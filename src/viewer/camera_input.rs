@@ -1,0 +1,107 @@
+//! Mouse and keyboard to camera: orbit (left drag), pan (right or middle
+//! drag), zoom (wheel), re-centre on the surface point under a double-click.
+//!
+//! The orbit camera's near/far planes enclose a sphere around its target, so
+//! when the target moves the sphere grows to keep the whole scene inside.
+
+use glam::{Vec2, Vec3};
+use rayon::prelude::*;
+
+use crate::cloud::PointCloud;
+use crate::view::Camera;
+
+/// Degrees of orbit per point of drag.
+const ORBIT_DEG_PER_POINT: f32 = 0.4;
+/// Zoom factor per point of wheel scroll.
+const ZOOM_PER_POINT: f32 = 0.002;
+
+/// The scene a camera must keep inside its depth range.
+#[derive(Debug, Clone, Copy)]
+pub struct SceneSphere {
+    pub centre: Vec3,
+    pub radius: f32,
+}
+
+impl SceneSphere {
+    /// Moves the camera's target, keeping the scene within its depth range.
+    pub fn retarget(&self, camera: &mut Camera, target: Vec3) {
+        camera.target = target;
+        camera.scene_radius = self.radius + (target - self.centre).length();
+    }
+}
+
+pub fn orbit(camera: &mut Camera, drag: Vec2) {
+    camera.azimuth_deg = (camera.azimuth_deg - drag.x * ORBIT_DEG_PER_POINT).rem_euclid(360.0);
+    camera.elevation_deg = (camera.elevation_deg + drag.y * ORBIT_DEG_PER_POINT).clamp(-89.5, 89.5);
+}
+
+/// Moves the target with the drag, so the point under the cursor follows it
+/// (at the target's depth); `view_height` is the view's height in points.
+pub fn pan(camera: &mut Camera, scene: &SceneSphere, drag: Vec2, view_height: f32) {
+    let view = camera.view_matrix();
+    let right = view.row(0).truncate();
+    let up = view.row(1).truncate();
+    let units_per_point = 2.0 * camera.distance * (camera.fov_y_deg.to_radians() * 0.5).tan() / view_height.max(1.0);
+    let target = camera.target - right * drag.x * units_per_point + up * drag.y * units_per_point;
+    scene.retarget(camera, target);
+}
+
+pub fn zoom(camera: &mut Camera, scroll: f32) {
+    let factor = (-scroll * ZOOM_PER_POINT).exp();
+    camera.distance = (camera.distance * factor).clamp(camera.scene_radius * 1e-4, camera.scene_radius * 100.0);
+}
+
+/// The nearest splat surface point under normalised image position `uv`
+/// (0..1, y down) in a view of `aspect`, if any.
+pub fn pick(cloud: &PointCloud, camera: &Camera, uv: Vec2, aspect: f32) -> Option<Vec3> {
+    let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
+    let ndc = Vec2::new(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
+    let eye_ray = Vec3::new(ndc.x * tan_y * aspect, ndc.y * tan_y, -1.0);
+    let to_world = camera.view_matrix().inverse();
+    let origin = camera.eye();
+    let dir = to_world.transform_vector3(eye_ray).normalize();
+    (0..cloud.len())
+        .into_par_iter()
+        .filter_map(|i| {
+            let (p, n, r) = (cloud.positions[i], cloud.normals[i], cloud.radii[i]);
+            let facing = dir.dot(n);
+            if facing.abs() < 1e-6 {
+                return None;
+            }
+            let t = (p - origin).dot(n) / facing;
+            (t > 0.0 && (origin + dir * t - p).length_squared() <= r * r).then_some(t)
+        })
+        .min_by(f32::total_cmp)
+        .map(|t| origin + dir * t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_double_click_in_the_middle_picks_the_front_disc() {
+        let cloud = PointCloud {
+            positions: vec![Vec3::new(0.0, 0.0, 0.5), Vec3::new(0.0, 0.0, -0.5)],
+            normals: vec![Vec3::Z; 2],
+            radii: vec![0.2; 2],
+            colors: vec![[0; 3]; 2],
+            opacity: vec![1.0; 2],
+            ..Default::default()
+        };
+        let camera = Camera::framing(Vec3::ZERO, 1.0, 1.0);
+        let hit = pick(&cloud, &camera, Vec2::splat(0.5), 1.0).unwrap();
+        assert!((hit - Vec3::new(0.0, 0.0, 0.5)).length() < 1e-4, "{hit}");
+        assert!(pick(&cloud, &camera, Vec2::new(0.02, 0.02), 1.0).is_none());
+    }
+
+    #[test]
+    fn panning_keeps_the_scene_inside_the_depth_range() {
+        let scene = SceneSphere { centre: Vec3::ZERO, radius: 1.0 };
+        let mut camera = Camera::framing(Vec3::ZERO, 1.0, 1.0);
+        pan(&mut camera, &scene, Vec2::new(200.0, 0.0), 400.0);
+        let moved = camera.target.length();
+        assert!(moved > 0.1);
+        assert!((camera.scene_radius - (1.0 + moved)).abs() < 1e-5);
+    }
+}

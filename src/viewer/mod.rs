@@ -1,0 +1,61 @@
+//! The interactive viewer: `pointblend view [FILE]`, an eframe/egui window.
+//!
+//! The left panel holds the model, the mode (every entry of the mode registry,
+//! [`RenderMode::ALL`](crate::view::RenderMode::ALL), with the parameters it
+//! lists), live statistics, the error measurement and the screenshot export.
+//! The 3D view shows frames from a render thread that runs the same
+//! [`HeadlessRenderer`](crate::render::HeadlessRenderer) as `pointblend render`;
+//! loading, grouping and the reference render run on worker threads with
+//! progress and Cancel, so the window never waits on them.
+
+mod app;
+mod camera_input;
+mod jobs;
+mod model;
+mod panels;
+mod render_thread;
+mod stats;
+
+pub use app::{FrameKey, ScreenshotSize, ViewerApp, ViewerOptions};
+pub use model::{Model, PREVIEW_SPLATS, subsample};
+pub use render_thread::FrameStats;
+
+/// The model bundled with pointblend.
+pub const BUNDLED_MODEL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/bunny.ply");
+
+/// Errors opening the window.
+#[derive(Debug, thiserror::Error)]
+pub enum ViewerError {
+    #[error("no display: neither DISPLAY nor WAYLAND_DISPLAY is set")]
+    NoDisplay,
+    #[error("the window could not be opened: {0}")]
+    Window(String),
+}
+
+/// Why no window can open here, if that is known before trying.
+pub fn missing_display() -> Option<ViewerError> {
+    let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
+    (!set("DISPLAY") && !set("WAYLAND_DISPLAY")).then_some(ViewerError::NoDisplay)
+}
+
+/// Opens the window and runs until it is closed.
+pub fn run_window(options: ViewerOptions) -> Result<(), ViewerError> {
+    if let Some(e) = missing_display() {
+        return Err(e);
+    }
+    let title = match &options.file {
+        Some(f) => format!("pointblend: {}", f.display()),
+        None => "pointblend".to_string(),
+    };
+    let native = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title(title)
+            .with_inner_size([1280.0, 800.0])
+            .with_min_inner_size([1.0, 1.0])
+            .with_drag_and_drop(true),
+        renderer: eframe::Renderer::Wgpu,
+        ..Default::default()
+    };
+    eframe::run_native("pointblend", native, Box::new(move |cc| Ok(Box::new(ViewerApp::new(cc, options)))))
+        .map_err(|e| ViewerError::Window(e.to_string()))
+}

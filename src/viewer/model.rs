@@ -1,0 +1,111 @@
+//! A model as the viewer holds it: the loaded cloud, its file's name and
+//! content hash (for screenshot sidecars), its load warnings, and a
+//! subsampled preview cloud that large models draw while the camera moves.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use crate::cloud::{self, LoadOptions, PointCloud};
+use crate::grouping::{Grouping, GroupingSpec};
+
+/// Models with more splats than this get a preview cloud of this many.
+pub const PREVIEW_SPLATS: usize = 200_000;
+
+/// A loaded model.
+#[derive(Debug)]
+pub struct Model {
+    pub path: PathBuf,
+    pub name: String,
+    /// FNV-1a 64 of the file's bytes.
+    pub hash: u64,
+    pub cloud: Arc<PointCloud>,
+    /// A subsample with enlarged splats, for models above [`PREVIEW_SPLATS`].
+    pub preview: Option<Arc<PointCloud>>,
+    pub warnings: Vec<String>,
+    /// Tells models apart, also two loads of the same file.
+    pub generation: u64,
+}
+
+/// A model's grouping for the deferred mode.
+#[derive(Debug)]
+pub struct GroupedModel {
+    pub generation: u64,
+    pub spec: GroupingSpec,
+    pub grouping: Grouping,
+    pub seconds: f64,
+    pub cached: bool,
+}
+
+impl Model {
+    /// Loads `path` (on a worker thread: this decodes, estimates and hashes).
+    pub fn load(path: &Path, generation: u64) -> Result<Model, String> {
+        crate::progress::stage("reading the file");
+        let (cloud, report) = cloud::load_with(path, &LoadOptions::default()).map_err(|e| e.to_string())?;
+        if cloud.is_empty() {
+            return Err(format!("{}: the file holds no usable splats", path.display()));
+        }
+        crate::progress::stage("hashing the file");
+        let hash = crate::grouping::cache::key(path, "").map_err(|e| format!("{}: {e}", path.display()))?;
+        crate::progress::stage("building the preview");
+        let preview = (cloud.len() > PREVIEW_SPLATS).then(|| Arc::new(subsample(&cloud, PREVIEW_SPLATS)));
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());
+        Ok(Model {
+            path: path.to_path_buf(),
+            name,
+            hash,
+            cloud: Arc::new(cloud),
+            preview,
+            warnings: report.warnings,
+            generation,
+        })
+    }
+
+    pub fn hash_hex(&self) -> String {
+        format!("{:016x}", self.hash)
+    }
+}
+
+/// Every (n/count)-th splat, with radii grown by sqrt(n/count) so that the
+/// subsample still covers the surface.
+pub fn subsample(cloud: &PointCloud, count: usize) -> PointCloud {
+    let n = cloud.len();
+    let count = count.clamp(1, n.max(1));
+    let picks: Vec<usize> = (0..count).map(|i| i * n / count).collect();
+    let grow = (n as f32 / count as f32).sqrt();
+    PointCloud {
+        positions: picks.iter().map(|&i| cloud.positions[i]).collect(),
+        normals: picks.iter().map(|&i| cloud.normals[i]).collect(),
+        radii: picks.iter().map(|&i| cloud.radii[i] * grow).collect(),
+        colors: picks.iter().map(|&i| cloud.colors[i]).collect(),
+        opacity: picks.iter().map(|&i| cloud.opacity[i]).collect(),
+        material: cloud.material,
+        origin: cloud.origin,
+        scanner_position: cloud.scanner_position,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    #[test]
+    fn a_subsample_keeps_the_coverage_of_the_surface() {
+        let n = 10_000;
+        let cloud = PointCloud {
+            positions: (0..n).map(|i| Vec3::new(i as f32, 0.0, 0.0)).collect(),
+            normals: vec![Vec3::Z; n],
+            radii: vec![1.0; n],
+            colors: vec![[1, 2, 3]; n],
+            opacity: vec![1.0; n],
+            ..Default::default()
+        };
+        let sub = subsample(&cloud, 2_500);
+        assert_eq!(sub.len(), 2_500);
+        assert!(sub.is_consistent());
+        // Total disc area (Σ r²) is preserved.
+        let area = |c: &PointCloud| c.radii.iter().map(|r| r * r).sum::<f32>();
+        assert!((area(&sub) / area(&cloud) - 1.0).abs() < 1e-3);
+        assert_eq!(sub.positions[1].x, 4.0);
+    }
+}

@@ -1,0 +1,249 @@
+//! The 3D view's renderer: a thread with its own headless GPU device that runs
+//! the same [`HeadlessRenderer`] as `pointblend render`, reads each frame back
+//! and hands it to the window as an image.
+//!
+//! Why a separate device and not the window's: on a software rasteriser
+//! (lavapipe) a frame of a few million splats executes for seconds inside the
+//! queue submission, and the window's own drawing would wait behind it on a
+//! shared queue. With its own device the window stays responsive whatever the
+//! frame costs; the price is one read-back and upload per frame (a few ms).
+//!
+//! Requests are coalesced: when several view requests queue up while a frame
+//! renders, only the newest is drawn. Screenshot requests are never dropped.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::mpsc::{self, Receiver, Sender};
+use std::time::Instant;
+
+use crate::cloud::PointCloud;
+use crate::progress::{self, Tracker};
+use crate::reference::{self, ReferenceOptions};
+use crate::render::{GpuCloud, HeadlessRenderer, RenderMode, RenderPlan};
+use crate::view::{Camera, RenderSettings, Sidecar};
+
+use super::model::{GroupedModel, Model};
+
+/// What a frame is for.
+#[derive(Debug, Clone)]
+pub enum Purpose {
+    /// The 3D view.
+    Display,
+    /// A PNG and its sidecar, written atomically.
+    Screenshot { png: PathBuf, sidecar: Box<Sidecar> },
+}
+
+/// One frame to draw.
+#[derive(Debug, Clone)]
+pub struct FrameRequest {
+    pub id: u64,
+    pub model: Arc<Model>,
+    /// Present for the deferred mode.
+    pub grouping: Option<Arc<GroupedModel>>,
+    pub camera: Camera,
+    pub settings: RenderSettings,
+    pub size: (u32, u32),
+    /// Draw the preview cloud with `two-pass` (while the camera moves).
+    pub preview: bool,
+    pub purpose: Purpose,
+}
+
+/// What a frame cost and drew.
+#[derive(Debug, Clone, Default)]
+pub struct FrameStats {
+    /// Wall time from the start of the frame to its pixels on the CPU.
+    pub frame_ms: f64,
+    /// GPU time per pass, where the adapter has timestamps.
+    pub pass_ms: Vec<(String, f64)>,
+    pub splats_drawn: usize,
+    pub preview: bool,
+    pub plan: Option<String>,
+    pub plan_bytes: u64,
+    pub geometry_passes: usize,
+}
+
+/// A drawn frame, or why it failed.
+pub struct FrameResult {
+    pub id: u64,
+    pub purpose: Purpose,
+    pub image: Result<Arc<image::RgbaImage>, String>,
+    pub stats: FrameStats,
+}
+
+/// The handle the window keeps.
+pub struct RenderThread {
+    requests: Sender<FrameRequest>,
+    results: Receiver<FrameResult>,
+    /// Progress of a reference frame (the only slow mode).
+    pub tracker: Arc<Tracker>,
+}
+
+impl RenderThread {
+    /// Starts the thread; `repaint` is woken after each frame.
+    pub fn start(repaint: egui::Context) -> Self {
+        let (requests, inbox) = mpsc::channel::<FrameRequest>();
+        let (outbox, results) = mpsc::channel::<FrameResult>();
+        let tracker = Tracker::new();
+        let thread_tracker = Arc::clone(&tracker);
+        let spawned = std::thread::Builder::new()
+            .name("pointblend renderer".into())
+            .spawn(move || progress::track(thread_tracker, || serve(inbox, outbox, repaint)));
+        if let Err(e) = spawned {
+            log::error!("could not start the render thread: {e}");
+        }
+        Self { requests, results, tracker }
+    }
+
+    pub fn request(&self, request: FrameRequest) {
+        if self.requests.send(request).is_err() {
+            log::error!("the render thread has stopped");
+        }
+    }
+
+    /// Frames finished since the last call.
+    pub fn finished(&self) -> Vec<FrameResult> {
+        self.results.try_iter().collect()
+    }
+}
+
+/// GPU copies of clouds, kept while the model and grouping stay the same.
+#[derive(Default)]
+struct Uploads {
+    full: Option<(u64, GpuCloud)>,
+    preview: Option<(u64, GpuCloud)>,
+    grouped: Option<(u64, String, GpuCloud)>,
+}
+
+fn serve(inbox: Receiver<FrameRequest>, outbox: Sender<FrameResult>, repaint: egui::Context) {
+    let mut renderer = HeadlessRenderer::new().map_err(|e| format!("opening the GPU: {e}"));
+    if let Ok(r) = &mut renderer {
+        log::info!("viewer GPU: {}", r.ctx.describe());
+        r.renderer.enable_pass_timing(&r.ctx);
+    }
+    let mut uploads = Uploads::default();
+    while let Ok(first) = inbox.recv() {
+        let mut pending = vec![first];
+        pending.extend(inbox.try_iter());
+        // Keep every screenshot and only the newest view frame.
+        let newest_display = pending.iter().rposition(|r| matches!(r.purpose, Purpose::Display));
+        for (i, request) in pending.into_iter().enumerate() {
+            if matches!(request.purpose, Purpose::Display) && Some(i) != newest_display {
+                continue;
+            }
+            let result = match &mut renderer {
+                Ok(r) => draw(r, &mut uploads, &request),
+                Err(e) => FrameResult {
+                    id: request.id,
+                    purpose: request.purpose.clone(),
+                    image: Err(e.clone()),
+                    stats: FrameStats::default(),
+                },
+            };
+            let result = finish(result);
+            if outbox.send(result).is_err() {
+                return;
+            }
+            repaint.request_repaint();
+        }
+    }
+}
+
+/// Writes a screenshot's files; the result says where, or why not.
+fn finish(mut result: FrameResult) -> FrameResult {
+    if let (Purpose::Screenshot { png, sidecar }, Ok(image)) = (&result.purpose, &result.image) {
+        let json = png.with_extension("json");
+        let written = crate::output::save_png(image, png)
+            .map_err(|e| format!("{}: {e}", png.display()))
+            .and_then(|_| sidecar.write(&json).map_err(|e| format!("{}: {e}", json.display())));
+        if let Err(e) = written {
+            result.image = Err(e);
+        }
+    }
+    result
+}
+
+fn draw(r: &mut HeadlessRenderer, uploads: &mut Uploads, request: &FrameRequest) -> FrameResult {
+    let started = Instant::now();
+    let (width, height) = request.size;
+    let model = &request.model;
+    let mut stats = FrameStats { preview: request.preview, ..Default::default() };
+    let mut settings = request.settings;
+    let image = if request.preview || settings.mode != RenderMode::Reference {
+        let cloud = gpu_cloud(r, uploads, request, &mut settings);
+        stats.splats_drawn = cloud.as_ref().map(|c| c.len).unwrap_or(0);
+        match cloud {
+            None => Err("the deferred mode has no grouping yet".to_string()),
+            Some(cloud) => {
+                let frame = r.render_image(cloud, &request.camera, &settings, width, height);
+                frame.map_err(|e| e.to_string()).map(|(image, plan)| {
+                    stats.pass_ms = pass_times(r, &plan);
+                    describe_plan(&mut stats, &plan);
+                    image
+                })
+            }
+        }
+    } else {
+        stats.splats_drawn = model.cloud.len();
+        reference_frame(&model.cloud, request)
+    };
+    stats.frame_ms = started.elapsed().as_secs_f64() * 1e3;
+    FrameResult { id: request.id, purpose: request.purpose.clone(), image: image.map(Arc::new), stats }
+}
+
+/// The GPU cloud this request draws (uploading it if needed); a preview
+/// request switches `settings` to `two-pass`.
+fn gpu_cloud<'a>(
+    r: &HeadlessRenderer,
+    uploads: &'a mut Uploads,
+    request: &FrameRequest,
+    settings: &mut RenderSettings,
+) -> Option<&'a GpuCloud> {
+    let model = &request.model;
+    let generation = model.generation;
+    if request.preview {
+        settings.mode = RenderMode::TwoPass;
+        let cloud = model.preview.as_ref().unwrap_or(&model.cloud);
+        if uploads.preview.as_ref().is_none_or(|(g, _)| *g != generation) {
+            uploads.preview = None;
+            uploads.preview = Some((generation, r.upload(cloud)));
+        }
+        return uploads.preview.as_ref().map(|(_, c)| c);
+    }
+    if settings.mode == RenderMode::Deferred {
+        let grouped = request.grouping.as_ref().filter(|g| g.generation == generation)?;
+        let key = grouped.spec.to_string();
+        if uploads.grouped.as_ref().is_none_or(|(g, k, _)| *g != generation || *k != key) {
+            uploads.grouped = None; // free the old copy first
+            uploads.grouped = Some((generation, key, r.upload_grouped(&model.cloud, &grouped.grouping)));
+        }
+        return uploads.grouped.as_ref().map(|(_, _, c)| c);
+    }
+    if uploads.full.as_ref().is_none_or(|(g, _)| *g != generation) {
+        uploads.full = None;
+        uploads.full = Some((generation, r.upload(&model.cloud)));
+    }
+    uploads.full.as_ref().map(|(_, c)| c)
+}
+
+fn pass_times(r: &HeadlessRenderer, plan: &RenderPlan) -> Vec<(String, f64)> {
+    match r.renderer.pass_times(&r.ctx, plan) {
+        Ok(Some(times)) => plan.passes.iter().zip(times).map(|(p, ms)| (p.label().to_string(), ms)).collect(),
+        Ok(None) => Vec::new(),
+        Err(e) => {
+            log::warn!("pass timing: {e}");
+            Vec::new()
+        }
+    }
+}
+
+fn describe_plan(stats: &mut FrameStats, plan: &RenderPlan) {
+    stats.plan = Some(plan.to_string());
+    stats.plan_bytes = plan.target_bytes();
+    stats.geometry_passes = plan.geometry_passes();
+}
+
+fn reference_frame(cloud: &PointCloud, request: &FrameRequest) -> Result<image::RgbaImage, String> {
+    let options = ReferenceOptions::matching(&request.settings, cloud);
+    let (w, h) = request.size;
+    Ok(reference::render(cloud, &request.camera, &options, w, h))
+}

@@ -1,0 +1,152 @@
+//! The viewer's panels, driven with egui_kittest (rendered with wgpu on
+//! lavapipe): switching modes, a bad file, and a screenshot whose sidecar
+//! reproduces it through `pointblend render --camera`.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use pointblend::render::RenderMode;
+use pointblend::viewer::{ViewerApp, ViewerOptions};
+
+/// Frames of the 3D view come from a render thread: generous for lavapipe on a busy machine.
+const PATIENCE: Duration = Duration::from_secs(180);
+
+fn harness(options: ViewerOptions) -> Harness<'static, ViewerApp> {
+    Harness::builder().with_size([900.0, 600.0]).wgpu().build_eframe(move |cc| ViewerApp::new(cc, options))
+}
+
+fn options(dir: &Path) -> ViewerOptions {
+    ViewerOptions { screenshot_dir: dir.to_path_buf(), ..Default::default() }
+}
+
+/// Steps the UI until `done` holds.
+fn wait_for(harness: &mut Harness<'_, ViewerApp>, what: &str, done: impl Fn(&ViewerApp) -> bool) {
+    let started = Instant::now();
+    while !done(harness.state()) {
+        assert!(started.elapsed() < PATIENCE, "timed out waiting for {what}");
+        harness.step();
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn settled_in(mode: RenderMode) -> impl Fn(&ViewerApp) -> bool {
+    move |app| app.is_settled() && app.shown_frame().is_some_and(|(_, key)| key.settings.mode == mode)
+}
+
+#[derive(Debug)]
+struct Dropped(PathBuf);
+
+impl egui::DroppedFile for Dropped {
+    fn path(&self) -> &Path {
+        &self.0
+    }
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}
+
+/// Share of pixels whose largest channel differs by more than 8/255.
+fn changed_share(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
+    assert_eq!(a.dimensions(), b.dimensions());
+    let changed = a.pixels().zip(b.pixels()).filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 8)).count();
+    changed as f64 / (a.width() * a.height()) as f64
+}
+
+#[test]
+fn switching_the_mode_changes_the_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(options(dir.path()));
+    wait_for(&mut h, "the bunny in two-pass", settled_in(RenderMode::TwoPass));
+    let two_pass = h.state().shown_frame().unwrap().0.clone();
+    let window = h.render().expect("the window renders with wgpu");
+    assert_eq!(window.width(), 900);
+
+    // Unfiltered two-pass draws hard-edged splats: a visible change.
+    h.get_by_label("unfiltered").click();
+    wait_for(&mut h, "unfiltered two-pass", |app| {
+        app.is_settled()
+            && app.shown_frame().is_some_and(|(_, k)| k.settings.quality == pointblend::view::Quality::Unfiltered)
+    });
+    let unfiltered = h.state().shown_frame().unwrap().0.clone();
+    let share = changed_share(&two_pass, &unfiltered);
+    assert!(share > 0.01, "unfiltered changed only {:.3}% of the pixels", 100.0 * share);
+
+    h.get_by_label("reference").click();
+    wait_for(&mut h, "the reference", settled_in(RenderMode::Reference));
+    let reference = h.state().shown_frame().unwrap().0.clone();
+    assert!(changed_share(&unfiltered, &reference) > 0.01);
+
+    // The mode's parameters follow the registry: deferred shows its grouping.
+    h.get_by_label("deferred").click();
+    h.step();
+    assert!(h.query_by_label("Voronoi rasterisation (Eq. 14)").is_some());
+    assert!(h.query_by_label("unfiltered").is_none(), "two-pass's quality radio belongs to two-pass only");
+    wait_for(&mut h, "the deferred frame", settled_in(RenderMode::Deferred));
+    let deferred = h.state().shown_frame().unwrap().0.clone();
+    let share = changed_share(&reference, &deferred);
+    assert!(share > 0.0005, "deferred equals the reference on all but {:.4}% of the pixels", 100.0 * share);
+}
+
+#[test]
+fn a_bad_file_shows_its_error_and_keeps_the_model() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("broken.ply");
+    std::fs::write(
+        &bad,
+        b"ply\nformat binary_little_endian 1.0\nelement vertex 1000\nproperty float x\nend_header\n\0\0",
+    )
+    .unwrap();
+    let mut h = harness(options(dir.path()));
+    wait_for(&mut h, "the bunny", settled_in(RenderMode::TwoPass));
+    let before = h.state().shown_frame().unwrap().0.clone();
+    h.input_mut().dropped_files.push(Arc::new(Dropped(bad.clone())));
+    h.step();
+    wait_for(&mut h, "the load to fail", |app| !app.is_loading());
+    let app = h.state();
+    let error = app.load_error().expect("an error for the broken file");
+    assert!(error.contains("broken.ply"), "the error names the file: {error}");
+    assert_eq!(app.model().map(|m| m.name.as_str()), Some("bunny.ply"), "the old model stays");
+    assert!(h.query_by_label_contains("Could not open").is_some(), "the error is shown in the window");
+    h.step();
+    assert_eq!(h.state().shown_frame().unwrap().0, &before, "the old image stays");
+}
+
+#[test]
+fn a_screenshot_and_its_sidecar_reproduce_the_image_through_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let shots = dir.path().join("shots");
+    let mut h = harness(ViewerOptions { mode: Some(RenderMode::Deferred), ..options(&shots) });
+    wait_for(&mut h, "the deferred bunny", settled_in(RenderMode::Deferred));
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
+    wait_for(&mut h, "the screenshot", |app| app.status().is_some_and(|s| s.starts_with("saved")));
+    let png = std::fs::read_dir(&shots)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "png"))
+        .expect("a PNG in the screenshot folder");
+    let sidecar = png.with_extension("json");
+    assert!(sidecar.exists(), "{} has no sidecar", png.display());
+    let shot = image::open(&png).unwrap().to_rgba8();
+    assert_eq!(Some(shot.dimensions()), h.state().shown_frame().map(|(i, _)| i.dimensions()));
+
+    let again = dir.path().join("again.png");
+    let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .args(["render", common::bundled_bunny().to_str().unwrap(), "--camera"])
+        .arg(&sidecar)
+        .arg("--out")
+        .arg(&again)
+        .env("POINTBLEND_CACHE", dir.path().join("cache"))
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let rendered = image::open(&again).unwrap().to_rgba8();
+    assert_eq!(rendered.dimensions(), shot.dimensions());
+    let differing = rendered.pixels().zip(shot.pixels()).filter(|(a, b)| a != b).count();
+    assert_eq!(differing, 0, "{differing} pixels differ between the screenshot and its re-render");
+}

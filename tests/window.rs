@@ -1,0 +1,30 @@
+//! A real window: `pointblend view --screenshot` opens the viewer, waits for
+//! the first full frame, saves the whole window and exits. It needs a display,
+//! so it is ignored by default; `scripts/test` runs it under Xvfb.
+
+mod common;
+
+use std::process::Command;
+
+#[test]
+#[ignore = "needs a display: scripts/test runs it under xvfb-run"]
+fn the_viewer_window_opens_draws_the_bunny_and_saves_itself() {
+    let dir = tempfile::tempdir().unwrap();
+    let shot = dir.path().join("window.png");
+    let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .args(["view", "--exit-after-frames", "3", "--screenshot"])
+        .arg(&shot)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(!stderr.contains("panicked"), "a thread panicked: {stderr}");
+    let window = image::open(&shot).expect("the window screenshot is a PNG").to_rgba8();
+    assert!(window.width() >= 640 && window.height() >= 400, "{:?}", window.dimensions());
+    // The right half is the 3D view: the bunny's light clay colour covers much of it.
+    let (w, h) = window.dimensions();
+    let view: Vec<_> = (0..h).flat_map(|y| (w / 2..w).map(move |x| (x, y))).collect();
+    let clay = view.iter().filter(|&&(x, y)| window.get_pixel(x, y)[0] > 120).count();
+    let share = clay as f64 / view.len() as f64;
+    assert!(share > 0.15, "only {:.1}% of the view is lit surface", 100.0 * share);
+}
