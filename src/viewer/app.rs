@@ -138,6 +138,8 @@ pub struct ViewerApp {
     pub(super) screenshot_size: ScreenshotSize,
     pub(super) status: Option<String>,
     pub(super) ui_fps: f32,
+    /// UI frame intervals of the last two seconds, for the slowest one.
+    recent_ui_frames: std::collections::VecDeque<(Instant, f32)>,
     last_ui_frame: Option<Instant>,
     frames_since_ready: u64,
     window_shot_requested: bool,
@@ -186,6 +188,7 @@ impl ViewerApp {
             screenshot_size: ScreenshotSize::Window,
             status: None,
             ui_fps: 0.0,
+            recent_ui_frames: Default::default(),
             last_ui_frame: None,
             frames_since_ready: 0,
             window_shot_requested: false,
@@ -263,6 +266,11 @@ impl ViewerApp {
         (key.settings.mode == RenderMode::Reference && !key.preview).then(|| self.renderer.tracker.snapshot())
     }
 
+    /// The slowest UI frame of the last two seconds, in ms.
+    pub fn slowest_ui_frame_ms(&self) -> f32 {
+        self.recent_ui_frames.iter().map(|(_, ms)| *ms).fold(0.0, f32::max)
+    }
+
     pub(super) fn camera_moved(&mut self) {
         self.last_camera_move = Some(Instant::now());
     }
@@ -307,6 +315,14 @@ impl ViewerApp {
             match (result.purpose, result.image) {
                 (Purpose::Display, Ok(image)) => {
                     self.frame_error = None;
+                    log::debug!(
+                        "view frame {}x{} in {:.0} ms ({} splats{})",
+                        image.width(),
+                        image.height(),
+                        result.stats.frame_ms,
+                        result.stats.splats_drawn,
+                        if result.stats.preview { ", preview" } else { "" }
+                    );
                     let Some(at) = self.in_flight.iter().position(|(id, _)| *id == result.id) else { continue };
                     // Requests before this one were skipped by the renderer.
                     let key = self.in_flight[at].1.clone();
@@ -575,8 +591,14 @@ impl ViewerApp {
     pub(super) fn count_ui_frame(&mut self) {
         let now = Instant::now();
         if let Some(last) = self.last_ui_frame {
-            let fps = 1.0 / now.duration_since(last).as_secs_f32().max(1e-4);
+            let seconds = now.duration_since(last).as_secs_f32().max(1e-4);
+            let fps = 1.0 / seconds;
             self.ui_fps = if self.ui_fps == 0.0 { fps } else { 0.9 * self.ui_fps + 0.1 * fps };
+            self.recent_ui_frames.push_back((now, seconds * 1e3));
+            while self.recent_ui_frames.front().is_some_and(|(t, _)| now.duration_since(*t) > Duration::from_secs(2)) {
+                self.recent_ui_frames.pop_front();
+            }
+            log::debug!("UI frame {:.1} ms", seconds * 1e3);
         }
         self.last_ui_frame = Some(now);
     }

@@ -8,7 +8,7 @@ use super::panels::{job_row, thousands};
 
 pub(super) fn stats_section(app: &mut ViewerApp, ui: &mut Ui) {
     ui.heading("Statistics");
-    ui.label(format!("window: {:.0} fps", app.ui_fps));
+    ui.label(format!("window: {:.0} fps, slowest frame {:.0} ms (last 2 s)", app.ui_fps, app.slowest_ui_frame_ms()));
     let Some(shown) = &app.shown else {
         ui.label("no frame yet");
         return;
