@@ -150,3 +150,19 @@ fn a_screenshot_and_its_sidecar_reproduce_the_image_through_render() {
     let differing = rendered.pixels().zip(shot.pixels()).filter(|(a, b)| a != b).count();
     assert_eq!(differing, 0, "{differing} pixels differ between the screenshot and its re-render");
 }
+
+#[test]
+fn resizing_down_to_one_pixel_and_back_keeps_drawing() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(options(dir.path()));
+    wait_for(&mut h, "the bunny", settled_in(RenderMode::TwoPass));
+    for size in [[1.0, 1.0], [0.0, 0.0], [320.0, 1.0], [1.0, 240.0], [640.0, 360.0]] {
+        h.set_size(egui::vec2(size[0], size[1]));
+        h.step();
+        wait_for(&mut h, "a frame at the new size", |app| app.is_settled());
+        let (image, key) = h.state().shown_frame().unwrap();
+        assert!(image.width() >= 1 && image.height() >= 1 && image.dimensions() == key.size, "{size:?}");
+    }
+    let (image, _) = h.state().shown_frame().unwrap();
+    assert!(image.width() > 100, "the view grows back: {:?}", image.dimensions());
+}
