@@ -15,6 +15,15 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     Ok(())
 }
 
+/// The file stem of `path` made safe for output file names (`[A-Za-z0-9-_]`), or `model`.
+pub fn safe_stem(path: &Path) -> String {
+    path.file_stem()
+        .map(|s| {
+            s.to_string_lossy().chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' }).collect()
+        })
+        .unwrap_or_else(|| "model".into())
+}
+
 /// Encodes `image` as PNG and writes it to `path` atomically.
 pub fn save_png(image: &image::RgbaImage, path: &Path) -> std::io::Result<()> {
     let mut png = Vec::new();

@@ -15,10 +15,7 @@ pub struct CacheEntry {
     pub millis: PathBuf,
 }
 
-/// FNV-1a, 64 bits: tiny, and stable where `std`'s hasher is not.
-fn fnv1a(text: &str) -> u64 {
-    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
-}
+use crate::grouping::cache::{FNV_OFFSET, fnv1a};
 
 /// Where the reference image for these inputs is (or would be) cached.
 pub fn entry(dir: &Path, model: &Path, camera: &Camera, settings: &RenderSettings, size: (u32, u32)) -> CacheEntry {
@@ -35,7 +32,7 @@ pub fn entry(dir: &Path, model: &Path, camera: &Camera, settings: &RenderSetting
         settings.lighting,
         settings.radius_scale
     );
-    let name = format!("reference-{:016x}", fnv1a(&key));
+    let name = format!("reference-{:016x}", fnv1a(FNV_OFFSET, key.as_bytes()));
     let dir = dir.join("cache");
     CacheEntry { image: dir.join(format!("{name}.png")), millis: dir.join(format!("{name}.ms")) }
 }

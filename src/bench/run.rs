@@ -71,14 +71,6 @@ fn spread(values: &[f64]) -> Spread {
     Spread { median, min: v[0], max: v[n - 1] }
 }
 
-fn file_stem(path: &Path) -> String {
-    path.file_stem()
-        .map(|s| {
-            s.to_string_lossy().chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' }).collect()
-        })
-        .unwrap_or_else(|| "model".into())
-}
-
 /// Runs the benchmark over `models` and writes images, `bench.json`, `bench.md`
 /// and `error_vs_time.png` into `config.out`. Returns the rows.
 pub fn run(
@@ -119,7 +111,7 @@ pub fn run(
             }
         }
         let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        let stem = file_stem(model);
+        let stem = crate::output::safe_stem(model);
         let views = standard_views(&cloud, aspect, config.views);
         let steps = (views.len() * (gpu_modes.len() + 1)) as u64;
         let bar = crate::progress::bar(steps, &format!("bench {stem}"), config.progress);

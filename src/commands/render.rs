@@ -43,7 +43,7 @@ pub fn run(args: &Args) -> Result<()> {
     let load_seconds = started.elapsed().as_secs_f64();
     let camera = match &sidecar {
         Some(s) => {
-            let hash = pointblend::grouping::cache::key(&args.file, "").map(|h| format!("{h:016x}"));
+            let hash = pointblend::grouping::cache::file_hash(&args.file).map(|h| format!("{h:016x}"));
             if hash.as_deref().ok() != Some(s.model.hash.as_str()) {
                 log::warn!(
                     "{}: this file is not the one the view was saved from ({}, hash {})",

@@ -182,15 +182,25 @@ impl GroupingSpec {
         model: &std::path::Path,
         cloud: &crate::cloud::PointCloud,
     ) -> Result<(Grouping, bool), GroupingError> {
-        let path = cache::key(model, &format!("spec|{self}|v1")).ok().map(cache::path_for);
-        if let Some(g) = path.as_ref().and_then(|p| cache::load(p, cloud.len())) {
+        match cache::file_hash(model) {
+            Ok(hash) => self.compute_cached_for_hash(hash, cloud),
+            Err(_) => Ok((self.compute(cloud)?, false)), // unreadable: no cache
+        }
+    }
+
+    /// [`Self::compute_cached`] for a model whose [`cache::file_hash`] is known.
+    pub fn compute_cached_for_hash(
+        &self,
+        file_hash: u64,
+        cloud: &crate::cloud::PointCloud,
+    ) -> Result<(Grouping, bool), GroupingError> {
+        let path = cache::path_for(cache::key_for_hash(file_hash, &format!("spec|{self}|v1")));
+        if let Some(g) = cache::load(&path, cloud.len()) {
             return Ok((g, true));
         }
         let g = self.compute(cloud)?;
-        if let Some(p) = &path {
-            if let Err(e) = cache::store(p, &g, cloud.len()) {
-                log::warn!("{e}");
-            }
+        if let Err(e) = cache::store(&path, &g, cloud.len()) {
+            log::warn!("{e}");
         }
         Ok((g, false))
     }

@@ -229,10 +229,6 @@ impl ViewerApp {
         self.shown.as_ref().map(|s| (s.image.as_ref(), &s.key))
     }
 
-    pub fn settings(&self) -> &RenderSettings {
-        &self.settings
-    }
-
     pub fn status(&self) -> Option<&str> {
         self.status.as_deref()
     }
@@ -385,7 +381,8 @@ impl ViewerApp {
         let generation = model.generation;
         let job = Job::spawn(format!("grouping {spec}"), ctx.clone(), move || {
             let started = Instant::now();
-            let (grouping, cached) = spec.compute_cached(&model.path, &model.cloud).map_err(|e| e.to_string())?;
+            let (grouping, cached) =
+                spec.compute_cached_for_hash(model.hash, &model.cloud).map_err(|e| e.to_string())?;
             Ok(GroupedModel { generation, spec, grouping, seconds: started.elapsed().as_secs_f64(), cached })
         });
         self.grouping_job = Some((spec, job));
@@ -632,9 +629,7 @@ fn color_image(image: &image::RgbaImage) -> egui::ColorImage {
 
 /// `DIR/pointblend-MODEL-MODE-NNN.png`, the first that does not exist.
 fn next_free_path(dir: &Path, model: &str, mode: RenderMode) -> PathBuf {
-    let stem: String =
-        Path::new(model).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());
-    let stem: String = stem.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' }).collect();
+    let stem = crate::output::safe_stem(Path::new(model));
     (1..)
         .map(|n| dir.join(format!("pointblend-{stem}-{mode}-{n:03}.png")))
         .find(|p| !p.exists() && !p.with_extension("json").exists())

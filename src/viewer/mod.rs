@@ -17,8 +17,7 @@ mod render_thread;
 mod stats;
 
 pub use app::{FrameKey, ScreenshotSize, ViewerApp, ViewerOptions};
-pub use model::{Model, PREVIEW_SPLATS, subsample};
-pub use render_thread::FrameStats;
+pub use model::Model;
 
 /// The model bundled with pointblend.
 pub const BUNDLED_MODEL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/bunny.ply");

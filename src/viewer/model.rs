@@ -45,7 +45,7 @@ impl Model {
             return Err(format!("{}: the file holds no usable splats", path.display()));
         }
         crate::progress::stage("hashing the file");
-        let hash = crate::grouping::cache::key(path, "").map_err(|e| format!("{}: {e}", path.display()))?;
+        let hash = crate::grouping::cache::file_hash(path).map_err(|e| format!("{}: {e}", path.display()))?;
         crate::progress::stage("building the preview");
         let preview = (cloud.len() > PREVIEW_SPLATS).then(|| Arc::new(subsample(&cloud, PREVIEW_SPLATS)));
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());

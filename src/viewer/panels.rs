@@ -169,8 +169,7 @@ fn grouping_widget(app: &mut ViewerApp, ui: &mut Ui) {
         GroupingSpec::Hash { .. } => "hashing (K groups)",
     };
     ui.horizontal(|ui| {
-        ui.label("grouping");
-        egui::ComboBox::from_id_salt("grouping").selected_text(name(spec)).show_ui(ui, |ui| {
+        egui::ComboBox::new("grouping", "grouping").selected_text(name(spec)).show_ui(ui, |ui| {
             for choice in [
                 GroupingSpec::Mgc { c: 0.4 },
                 GroupingSpec::Wgc { k: 8 },
@@ -236,7 +235,7 @@ fn camera_section(app: &mut ViewerApp, ui: &mut Ui) {
 fn screenshot_section(app: &mut ViewerApp, ui: &mut Ui) {
     ui.heading("Screenshot");
     ui.horizontal(|ui| {
-        egui::ComboBox::from_id_salt("shot size").selected_text(app.screenshot_size.label()).show_ui(ui, |ui| {
+        egui::ComboBox::new("shot size", "size").selected_text(app.screenshot_size.label()).show_ui(ui, |ui| {
             for choice in ScreenshotSize::CHOICES {
                 ui.selectable_value(&mut app.screenshot_size, choice, choice.label());
             }
