@@ -1,8 +1,23 @@
-// Splat geometry (Botsch & Kobbelt 2003, Sec. 3.1-3.3), shared by the splat passes.
-// Each splat is an instanced screen-aligned square (a 4-vertex strip) whose
-// half-size is the projected radius (Eq. 1). The fragment stage trims it to
-// the projected ellipse with the depth offset of Eq. 2 and corrects the depth
-// per pixel (Eq. 4, written as linear view depth).
+// Splat geometry, shared by the splat passes: perspective-correct splat
+// rasterisation by ray casting (Guennebaud, "Approximate depth peeling",
+// SPBG'06 slides: "perspectively correct splat rasterization", the ray-casting
+// class of [Botsch et al.]), with Botsch & Kobbelt 2003's Gaussian weight
+// (Eq. 3), per-pixel depth (Eq. 4) and bounded foreshortening.
+//
+// Splat setup (vertex stage): each splat is an instanced 4-vertex strip, the
+// square that circumscribes its disc in the disc's own plane. Its corners are
+// projected like any geometry, so the square is exact under perspective and
+// the hardware clips it at the near plane: a splat crossing the near plane
+// keeps the part in front of it, and none is dropped whole. Rasterisation
+// (fragment stage): the pixel's view ray meets the splat plane at view depth
+// t = (c·n)/(q·n); ρ² = |t·q - c|²/r² decides coverage (ρ² < 1) and the
+// weight, and t is the fragment's exact depth. The CPU reference intersects
+// the same rays with the same discs (src/reference/raster.rs).
+//
+// Bounded foreshortening: a disc seen at a grazing angle is drawn in a plane
+// tilted towards the viewer until |n·v| >= min (the B&K bound on |n_z|, here
+// relative to the ray to the centre), so edge-on splats stay slivers instead
+// of vanishing; src/view/kernel.rs applies the same tilt for the reference.
 
 struct SplatIn {
     @location(0) position: vec3<f32>,
@@ -13,67 +28,84 @@ struct SplatIn {
 
 struct SplatVarying {
     @builtin(position) clip: vec4<f32>,
-    // (x, y) in [-1, 1]^2 over the square, in units of the radius.
-    @location(0) corner: vec2<f32>,
-    // Eye-space unit normal.
+    // Eye-space centre of the disc.
+    @location(0) @interpolate(flat) centre: vec3<f32>,
+    // Eye-space unit normal (for shading).
     @location(1) @interpolate(flat) normal: vec3<f32>,
-    // View depth of the centre, radius in eye units.
-    @location(2) @interpolate(flat) depth_radius: vec2<f32>,
+    // Unit normal of the plane the footprint is cast on (tilted if grazing), and 1/r².
+    @location(2) @interpolate(flat) plane: vec4<f32>,
     @location(3) @interpolate(flat) color: vec4<f32>,
 }
 
 const CULLED: vec4<f32> = vec4<f32>(2.0, 2.0, 2.0, 1.0);
 
+// The normal of the plane a disc is rasterised in: `n` tilted towards the
+// view ray `v` (unit, eye to centre) until |n·v| >= min_cos, keeping its side.
+fn footprint_normal(n: vec3<f32>, v: vec3<f32>, min_cos: f32) -> vec3<f32> {
+    let k = dot(n, v);
+    if abs(k) >= min_cos {
+        return n;
+    }
+    let side = select(1.0, -1.0, k < 0.0);
+    let across = normalize(n - k * v);
+    return across * sqrt(1.0 - min_cos * min_cos) + v * (side * min_cos);
+}
+
 @vertex
 fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying {
     var out: SplatVarying;
     let corner = vec2<f32>(f32(vertex & 1u) * 2.0 - 1.0, f32(vertex >> 1u) * 2.0 - 1.0);
-    out.corner = corner;
     out.color = splat.color;
     let centre = (frame.view * vec4<f32>(splat.position, 1.0)).xyz;
-    let normal = (frame.view * vec4<f32>(splat.normal, 0.0)).xyz;
-    let view_depth = -centre.z;
+    let normal_eye = (frame.view * vec4<f32>(splat.normal, 0.0)).xyz;
+    let normal_length = length(normal_eye);
+    let normal = select(vec3<f32>(0.0, 0.0, 1.0), normal_eye / normal_length, normal_length > 1e-20);
+    let distance = length(centre);
     // Back-face culling: the normal points away from the eye.
     let back_facing = dot(normal, centre) > 0.0 && frame.splat.w > 0.5;
     let radius = splat.radius * frame.lens.z;
-    if view_depth <= frame.depth.x || view_depth >= frame.depth.y || back_facing || !(radius > 0.0) {
+    if back_facing || !(radius > 0.0) || !(distance > 0.0) || -centre.z - radius >= frame.depth.y {
         out.clip = CULLED;
         return out;
     }
-    // Eq. 1: size_win = r * n / z_eye * h / (t - b) = r * focal_pixels / z_eye.
-    let radius_pixels = radius * frame.splat.x / view_depth;
-    var clip = frame.proj * vec4<f32>(centre, 1.0);
-    clip = vec4<f32>(clip.xy + corner * radius_pixels * 2.0 * frame.viewport.zw * clip.w, clip.zw);
-    out.clip = clip;
-    let normal_length = length(normal);
-    out.normal = select(vec3<f32>(0.0, 0.0, 1.0), normal / normal_length, normal_length > 1e-20);
-    out.depth_radius = vec2<f32>(view_depth, radius);
+    let plane = footprint_normal(normal, centre / distance, frame.splat.z);
+    // Two unit tangents of the footprint plane.
+    let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(plane.x) > 0.9);
+    let s = normalize(cross(plane, helper));
+    let t = cross(plane, s);
+    let corner_eye = centre + (s * corner.x + t * corner.y) * radius;
+    out.clip = frame.proj * vec4<f32>(corner_eye, 1.0);
+    out.centre = centre;
+    out.normal = normal;
+    out.plane = vec4<f32>(plane, 1.0 / (radius * radius));
     return out;
 }
 
 struct SplatSample {
-    // Squared distance from the centre in units of the radius, Eq. 2.
+    // Squared distance from the centre in units of the radius.
     rho2: f32,
-    // Per-pixel corrected view depth (Eq. 4).
+    // Exact view depth of the ray-plane intersection (Eq. 4).
     view_depth: f32,
 }
 
-// Discards pixels outside the ellipse or outside the depth range.
+// The eye-space direction of the view ray through pixel `position`, scaled to view depth 1.
+fn pixel_ray(position: vec2<f32>) -> vec3<f32> {
+    let ndc = vec2<f32>(position.x * frame.viewport.z * 2.0 - 1.0, 1.0 - position.y * frame.viewport.w * 2.0);
+    return vec3<f32>(ndc * frame.lens.xy, -1.0);
+}
+
+// Casts the pixel's ray on the splat; discards pixels outside the disc or the depth range.
 fn splat_sample(v: SplatVarying) -> SplatSample {
-    let n = v.normal;
-    // Bounded foreshortening: |n_z| >= min, keeping its sign.
-    let nz = select(-1.0, 1.0, n.z >= 0.0) * max(abs(n.z), frame.splat.z);
-    // Eq. 2: depth offset of the splat plane at (x, y).
-    let dz = -(n.x * v.corner.x + n.y * v.corner.y) / nz;
-    let rho2 = dot(v.corner, v.corner) + dz * dz;
-    if rho2 >= 1.0 {
+    let ray = pixel_ray(v.clip.xy);
+    let n = v.plane.xyz;
+    let facing = dot(ray, n);
+    let t = dot(v.centre, n) / facing;
+    let offset = ray * t - v.centre;
+    let rho2 = dot(offset, offset) * v.plane.w;
+    if !(rho2 < 1.0) || !(t > frame.depth.x && t < frame.depth.y) {
         discard;
     }
-    let view_depth = v.depth_radius.x - dz * v.depth_radius.y;
-    if view_depth <= frame.depth.x || view_depth >= frame.depth.y {
-        discard;
-    }
-    return SplatSample(rho2, view_depth);
+    return SplatSample(rho2, t);
 }
 
 // Set when the cloud has one colour: colour targets are single-channel and

@@ -9,6 +9,7 @@
 pub mod bench;
 pub mod cloud;
 pub mod grouping;
+pub mod memory;
 pub mod output;
 pub mod progress;
 pub mod reference;

@@ -1,17 +1,68 @@
-//! Writing output files atomically: to a temporary file beside the target,
-//! then a rename, so a failed or interrupted run never leaves a partial file.
+//! Writing output files safely: checked before any work starts, written to a
+//! temporary file beside the target, then renamed over it, so a failed or
+//! interrupted run never leaves a partial file.
+//!
+//! The rename replaces only regular files. A symbolic link is followed to
+//! the file it names (the link stays a link); a device, FIFO, socket or
+//! folder at the path is refused, so `--out /dev/full` is an error and not a
+//! PNG where the device was. Missing parent folders are created.
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-/// Writes `bytes` to `path` atomically.
+/// Most symbolic links followed before a path is called a loop.
+const MAX_LINKS: usize = 40;
+
+/// Where writing to `path` really goes: symbolic links followed, the target
+/// checked to be a regular file or absent, its folder created. Errors name
+/// the problem; the caller adds the path.
+pub fn prepare(path: &Path) -> std::io::Result<PathBuf> {
+    let mut target = path.to_path_buf();
+    for _ in 0..MAX_LINKS {
+        match std::fs::symlink_metadata(&target) {
+            Ok(meta) if meta.file_type().is_symlink() => {
+                let link = std::fs::read_link(&target)?;
+                target = match target.parent() {
+                    Some(dir) if link.is_relative() => dir.join(link),
+                    _ => link,
+                };
+            }
+            Ok(meta) if meta.is_file() => return ensure_writable_folder(target),
+            Ok(meta) => {
+                let what = if meta.is_dir() { "a folder" } else { "a device, FIFO or socket, not a regular file" };
+                return Err(std::io::Error::other(format!("it is {what}; refusing to replace it")));
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return ensure_writable_folder(target),
+            Err(e) => return Err(e),
+        }
+    }
+    Err(std::io::Error::other("too many levels of symbolic links"))
+}
+
+/// Creates the folder of `target` and checks that a file can be made in it.
+fn ensure_writable_folder(target: PathBuf) -> std::io::Result<PathBuf> {
+    let dir = folder_of(&target);
+    std::fs::create_dir_all(dir)?;
+    // The temporary file's own name means nothing to the user: say only where and why.
+    tempfile::NamedTempFile::new_in(dir).map_err(|e| {
+        std::io::Error::new(e.kind(), format!("cannot create a file in {}: {}", dir.display(), e.kind()))
+    })?;
+    Ok(target)
+}
+
+/// The folder a file at `path` lives in (`.` for a bare name).
+pub fn folder_of(path: &Path) -> &Path {
+    path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."))
+}
+
+/// Writes `bytes` to `path` atomically (see the module doc).
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let mut tmp = tempfile::NamedTempFile::new_in(dir)?;
+    let target = prepare(path)?;
+    let mut tmp = tempfile::NamedTempFile::new_in(folder_of(&target))?;
     tmp.write_all(bytes)?;
     tmp.flush()?;
     make_readable(tmp.as_file())?;
-    tmp.persist(path).map_err(|e| e.error)?;
+    tmp.persist(&target).map_err(|e| e.error)?;
     Ok(())
 }
 
@@ -22,6 +73,44 @@ pub fn safe_stem(path: &Path) -> String {
             s.to_string_lossy().chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' }).collect()
         })
         .unwrap_or_else(|| "model".into())
+}
+
+/// Image formats an output path may name, by its extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImageFormat {
+    Png,
+    Jpeg,
+}
+
+impl ImageFormat {
+    /// The format `path`'s extension asks for (case-insensitive), or an error
+    /// naming the extensions that are written.
+    pub fn of(path: &Path) -> Result<Self, String> {
+        let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+        match ext.as_str() {
+            "png" => Ok(ImageFormat::Png),
+            "jpg" | "jpeg" => Ok(ImageFormat::Jpeg),
+            "" => Err("images are written as .png or .jpg, and this name has no extension".into()),
+            _ => Err(format!("images are written as .png or .jpg, not '.{ext}'")),
+        }
+    }
+}
+
+/// Encodes `image` as its path's extension says (PNG, or JPEG at quality 95)
+/// and writes it atomically.
+pub fn save_image(image: &image::RgbaImage, path: &Path) -> std::io::Result<()> {
+    let format = ImageFormat::of(path).map_err(std::io::Error::other)?;
+    let mut bytes = Vec::new();
+    let mut cursor = std::io::Cursor::new(&mut bytes);
+    match format {
+        ImageFormat::Png => image.write_to(&mut cursor, image::ImageFormat::Png),
+        ImageFormat::Jpeg => {
+            let rgb = image::DynamicImage::ImageRgba8(image.clone()).to_rgb8();
+            image::codecs::jpeg::JpegEncoder::new_with_quality(&mut cursor, 95).encode_image(&rgb)
+        }
+    }
+    .map_err(std::io::Error::other)?;
+    write_atomically(path, &bytes)
 }
 
 /// Encodes `image` as PNG and writes it to `path` atomically.
@@ -41,4 +130,28 @@ pub fn make_readable(file: &std::fs::File) -> std::io::Result<()> {
     #[cfg(not(unix))]
     let _ = file;
     Ok(())
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::*;
+    use std::os::unix::fs::FileTypeExt;
+
+    #[test]
+    fn devices_and_folders_are_refused_and_links_are_followed() {
+        let dir = tempfile::tempdir().unwrap();
+        assert!(write_atomically(Path::new("/dev/null"), b"x").is_err());
+        assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device(), "/dev/null is left alone");
+        assert!(write_atomically(dir.path(), b"x").is_err());
+        let real = dir.path().join("real.txt");
+        std::fs::write(&real, b"old").unwrap();
+        let link = dir.path().join("link.txt");
+        std::os::unix::fs::symlink("real.txt", &link).unwrap();
+        write_atomically(&link, b"new").unwrap();
+        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink(), "the link stays a link");
+        assert_eq!(std::fs::read(&real).unwrap(), b"new");
+        let nested = dir.path().join("a/b/c.txt");
+        write_atomically(&nested, b"made").unwrap();
+        assert_eq!(std::fs::read(&nested).unwrap(), b"made");
+    }
 }

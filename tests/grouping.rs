@@ -5,6 +5,7 @@ mod common;
 
 use glam::Vec3;
 use pointblend::cloud::{self, PointCloud};
+use pointblend::grouping::area::overlap_weight;
 use pointblend::grouping::{Grouping, cache, extend, hash, metrics, mgc, wgc};
 use pointblend::spatial::overlap::{OverlapGraph, OverlapOptions};
 
@@ -84,7 +85,7 @@ fn wgc_cost_never_rises_during_optimisation() {
     let (bunny, _) = cloud::load(&common::bundled_bunny()).unwrap();
     for (cloud, pure_area) in [(random_cloud(3, 4000, true), false), (bunny.clone(), false), (bunny, true)] {
         let options = wgc::WgcOptions { k: 6, pure_area, trace: true, ..Default::default() };
-        let (grouping, _, report) = wgc::group(&cloud, &options).unwrap();
+        let (grouping, graph, report) = wgc::group(&cloud, &options).unwrap();
         assert_valid(&grouping, cloud.len(), "wgc");
         assert_eq!(grouping.k(), 6);
         assert!(report.moves > 0, "the optimisation moved vertices");
@@ -94,6 +95,21 @@ fn wgc_cost_never_rises_during_optimisation() {
             previous = cost;
         }
         assert!(report.final_cost < report.initial_cost);
+        // Eq. 6 recomputed from the final labels alone: the weight of every edge whose ends share a group.
+        let labels = grouping.labels(cloud.len());
+        let (p, n, r) = (&cloud.positions, &cloud.normals, &cloud.radii);
+        let mut recomputed = 0.0f64;
+        for i in 0..graph.len() {
+            for &j in graph.neighbours_of(i) {
+                let j = j as usize;
+                if i < j && labels[i] == labels[j] {
+                    recomputed += overlap_weight(p[i], n[i], r[i], p[j], n[j], r[j], pure_area) as f64;
+                }
+            }
+        }
+        let drift = (recomputed - report.final_cost).abs() / recomputed.max(1e-12);
+        println!("pure area {pure_area}: Eq. 6 cost {recomputed:.6e}, reported {:.6e}", report.final_cost);
+        assert!(drift < 1e-3, "the reported cost {} is not Eq. 6 of the labels ({recomputed})", report.final_cost);
     }
 }
 
@@ -248,4 +264,34 @@ fn a_grouping_survives_the_cache() {
     assert_eq!(cache::load(&path, cloud.len() + 1), None, "a different model does not match");
     std::fs::write(&path, b"PBGROUP1garbage").unwrap();
     assert_eq!(cache::load(&path, cloud.len()), None);
+}
+
+#[test]
+fn a_corrupt_cache_entry_is_recomputed_not_used() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = cache::Cache::in_dir(dir.path());
+    let cloud = random_cloud(5, 800, true);
+    let spec = pointblend::grouping::GroupingSpec::Hash { k: 4, resolve_collisions: true };
+    let (fresh, cached) = spec.compute_cached_for_hash(&cache, 42, &cloud).unwrap();
+    assert!(!cached);
+    let entry = std::fs::read_dir(dir.path()).unwrap().next().unwrap().unwrap().path();
+    let good = std::fs::read(&entry).unwrap();
+    // Word offsets after the 8-byte magic: n, K, K ranges, K scales, the order's length, the order.
+    let scale_at = 8 + 4 * (2 + 2 * 4);
+    let order_at = 8 + 4 * (2 + 3 * 4 + 1);
+    for (what, at, word) in [
+        ("NaN scale", scale_at, f32::NAN.to_bits()),
+        ("negative scale", scale_at, (-2.0f32).to_bits()),
+        ("bogus index", order_at, 9_999_999),
+    ] {
+        let mut bad = good.clone();
+        bad[at..at + 4].copy_from_slice(&word.to_le_bytes());
+        std::fs::write(&entry, &bad).unwrap();
+        let (again, cached) = spec.compute_cached_for_hash(&cache, 42, &cloud).unwrap();
+        assert!(!cached, "{what}: the corrupt entry was used");
+        assert_eq!(again, fresh, "{what}");
+        assert_eq!(std::fs::read(&entry).unwrap(), good, "{what}: the entry is rewritten");
+    }
+    let (_, cached) = spec.compute_cached_for_hash(&cache, 42, &cloud).unwrap();
+    assert!(cached, "the rewritten entry is used");
 }

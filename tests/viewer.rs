@@ -11,6 +11,7 @@ use std::time::{Duration, Instant};
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
+use pointblend::grouping::cache::Cache;
 use pointblend::render::RenderMode;
 use pointblend::viewer::{ViewerApp, ViewerOptions};
 
@@ -21,8 +22,10 @@ fn harness(options: ViewerOptions) -> Harness<'static, ViewerApp> {
     Harness::builder().with_size([900.0, 600.0]).wgpu().build_eframe(move |cc| ViewerApp::new(cc, options))
 }
 
+/// Screenshots into `dir`, and groupings cached beside them, not in the user's cache.
 fn options(dir: &Path) -> ViewerOptions {
-    ViewerOptions { screenshot_dir: dir.to_path_buf(), ..Default::default() }
+    let cache = Some(Cache::in_dir(dir.join("grouping-cache")));
+    ViewerOptions { screenshot_dir: dir.to_path_buf(), cache, ..Default::default() }
 }
 
 /// Steps the UI until `done` holds.

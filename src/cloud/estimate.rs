@@ -50,6 +50,8 @@ pub struct Estimated {
     pub isolated_points: usize,
     pub clamped_radii: usize,
     pub scanner_position: Option<Vec3>,
+    /// Set when the points lie on a line: the normal every estimated splat got.
+    pub line_normal: Option<Vec3>,
 }
 
 /// Fills the normals and radii marked as needed, in place.
@@ -74,8 +76,20 @@ pub fn complete(
         let neighbours = knn::k_nearest(&cloud.positions, k, &tick);
         bar.finish();
         if any_normal {
-            estimate_normals(cloud, &neighbours, needs_normal, options.normal_neighbours);
-            orient_normals(cloud, &neighbours, needs_normal, file_origin);
+            match line_direction(&cloud.positions) {
+                // A line has no surface normal: face the splats across the line, towards the front view (+z).
+                Some(direction) => {
+                    let normal = across(direction, Vec3::Z).or_else(|| across(direction, Vec3::X)).unwrap_or(Vec3::Z);
+                    for (n, _) in cloud.normals.iter_mut().zip(needs_normal).filter(|(_, needed)| **needed) {
+                        *n = normal;
+                    }
+                    out.line_normal = Some(normal);
+                }
+                None => {
+                    estimate_normals(cloud, &neighbours, needs_normal, options.normal_neighbours);
+                    orient_normals(cloud, &neighbours, needs_normal, file_origin);
+                }
+            }
         }
         if any_radius {
             let (isolated, clamped) = estimate_radii(cloud, &neighbours, needs_radius, options);
@@ -85,6 +99,22 @@ pub fn complete(
     }
     out.scanner_position = scanner_position(cloud, file_origin);
     out
+}
+
+/// The direction of the line all `points` lie on (within 1e-6 of their
+/// extent), or `None` when they span a surface or a volume (or coincide).
+pub fn line_direction(points: &[Vec3]) -> Option<Vec3> {
+    let first = *points.first()?;
+    let far = points.iter().copied().max_by(|a, b| a.distance_squared(first).total_cmp(&b.distance_squared(first)))?;
+    let length = far.distance(first);
+    let direction = (far - first).try_normalize()?;
+    let off_line = points.iter().map(|p| (*p - first).reject_from_normalized(direction).length()).fold(0.0, f32::max);
+    (off_line <= 1e-6 * length).then_some(direction)
+}
+
+/// The unit part of `towards` perpendicular to unit `direction`, if any.
+fn across(direction: Vec3, towards: Vec3) -> Option<Vec3> {
+    (towards - direction * direction.dot(towards)).try_normalize().filter(|n| n.dot(towards) > 1e-3)
 }
 
 fn estimate_normals(cloud: &mut PointCloud, nb: &Neighbours, needed: &[bool], k: usize) {
@@ -278,7 +308,7 @@ fn estimate_radii(
         .into_par_iter()
         .map(|i| {
             let d = &nb.distances_of(i)[..k];
-            let positive: Vec<f32> = d.iter().copied().filter(|&x| x > 0.0).collect();
+            let positive: Vec<f32> = d.iter().copied().filter(|&x| x > 0.0 && x.is_finite()).collect();
             if positive.is_empty() {
                 0.0
             } else {
@@ -286,7 +316,7 @@ fn estimate_radii(
             }
         })
         .collect();
-    let mut sorted: Vec<f32> = raw.iter().copied().filter(|&r| r > 0.0).collect();
+    let mut sorted: Vec<f32> = raw.iter().copied().filter(|&r| r > 0.0 && r.is_finite()).collect();
     if sorted.is_empty() {
         // Every point coincides: give them a radius that is visible.
         sorted.push(1.0);
@@ -298,7 +328,7 @@ fn estimate_radii(
         if !needed[i] {
             continue;
         }
-        cloud.radii[i] = if r <= 0.0 {
+        cloud.radii[i] = if !(r > 0.0 && r.is_finite()) {
             isolated += 1;
             median
         } else if r > MAX_RADIUS_OVER_MEDIAN * median {

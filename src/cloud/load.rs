@@ -10,20 +10,15 @@
 use std::path::Path;
 use std::time::Instant;
 
-use glam::{DVec3, Quat, Vec3};
+use glam::{DVec3, Vec3};
 
 use super::estimate::{self, EstimateOptions};
+use super::gaussians;
 use super::ply::{self, PlyData, Scalar};
 use super::{CloudError, LoadReport, PointCloud, Provenance};
 
 /// Colour used when a file has none (a light clay tone).
 pub const DEFAULT_COLOR: [u8; 3] = [200, 190, 170];
-
-/// Zeroth-order spherical-harmonic constant used by 3D Gaussian splatting.
-const SH_C0: f64 = 0.282_094_791_773_878_14;
-
-/// How many Gaussian standard deviations a splat disc spans (our kernel has σ = 0.4 r).
-const GAUSSIAN_SIGMAS_PER_RADIUS: f32 = 2.5;
 
 /// Options for [`load_with`].
 #[derive(Debug, Clone, Default)]
@@ -42,15 +37,13 @@ const NORMAL_NAMES: [[&str; 3]; 2] = [["nx", "ny", "nz"], ["normal_x", "normal_y
 const COLOR_NAMES: [[&str; 3]; 3] =
     [["red", "green", "blue"], ["r", "g", "b"], ["diffuse_red", "diffuse_green", "diffuse_blue"]];
 const ALPHA_NAMES: [&str; 2] = ["alpha", "diffuse_alpha"];
-const GAUSSIAN_NAMES: [&str; 11] =
-    ["f_dc_0", "f_dc_1", "f_dc_2", "opacity", "scale_0", "scale_1", "scale_2", "rot_0", "rot_1", "rot_2", "rot_3"];
 
 fn is_wanted(name: &str) -> bool {
     matches!(name, "x" | "y" | "z" | "radius")
         || NORMAL_NAMES.iter().flatten().any(|n| *n == name)
         || COLOR_NAMES.iter().flatten().any(|n| *n == name)
         || ALPHA_NAMES.contains(&name)
-        || GAUSSIAN_NAMES.contains(&name)
+        || gaussians::PROPERTIES.contains(&name)
 }
 
 /// Loads `path`, estimating and repairing as `options` say.
@@ -80,15 +73,11 @@ pub fn load_surface_samples(
     }
     let xyz = columns(&data, &["x", "y", "z"]).ok_or_else(|| CloudError::content(path, "vertices have no x/y/z"))?;
     let vertices: Vec<DVec3> = (0..data.vertex_count).map(|i| DVec3::new(xyz[0][i], xyz[1][i], xyz[2][i])).collect();
-    if vertices.iter().any(|v| !v.is_finite()) {
-        return Err(CloudError::content(
-            path,
-            "a mesh vertex has NaN or infinite coordinates; cannot sample its faces",
-        ));
-    }
-    let (points, normals) = super::mesh::sample_surface(&vertices, &data.triangles, count);
+    let bad_faces = data.triangles.iter().filter(|t| t.iter().any(|&i| !vertices[i as usize].is_finite())).count();
+    let (points, normals) = super::mesh::sample_surface(&vertices, &data.triangles, count)
+        .map_err(|bytes| CloudError::content(path, format!("cannot allocate {bytes} bytes for {count} samples")))?;
     if points.is_empty() {
-        return Err(CloudError::content(path, "every face has zero area"));
+        return Err(CloudError::content(path, "every face has zero area or a vertex that is not finite"));
     }
     let sampled = points.len();
     data.vertex_columns.clear();
@@ -102,6 +91,9 @@ pub fn load_surface_samples(
     data.triangles.clear();
     let (cloud, mut report) = build(path, data, decode_seconds, options)?;
     report.normals = Provenance::FromFaces;
+    if bad_faces > 0 {
+        report.warnings.push(format!("{bad_faces} faces with a NaN or infinite vertex were not sampled"));
+    }
     Ok((cloud, report))
 }
 
@@ -120,10 +112,31 @@ fn build(
     let mut warnings = Vec::new();
     let xyz = columns(&data, &["x", "y", "z"]).ok_or_else(|| CloudError::content(path, "vertices have no x/y/z"))?;
     let positions: Vec<DVec3> = (0..n).map(|i| DVec3::new(xyz[0][i], xyz[1][i], xyz[2][i])).collect();
-    let mut keep: Vec<bool> = positions.iter().map(|p| p.is_finite()).collect();
-    let non_finite = keep.iter().filter(|k| !**k).count();
+    let mut malformed = vec![false; n];
+    for &i in &data.malformed_vertices {
+        if let Some(m) = malformed.get_mut(i) {
+            *m = true;
+        }
+    }
+    let mut keep: Vec<bool> = positions.iter().zip(&malformed).map(|(p, m)| p.is_finite() && !m).collect();
+    let non_finite = positions.iter().zip(&malformed).filter(|(p, m)| !p.is_finite() && !**m).count();
     if non_finite > 0 {
         warnings.push(format!("{non_finite} vertices with NaN or infinite coordinates were skipped"));
+    }
+    if !data.malformed_vertices.is_empty() {
+        warnings.push(format!(
+            "{} vertex lines could not be read (a wrong number of values, or text that is not a number) and were skipped",
+            data.malformed_vertices.len()
+        ));
+    }
+    if data.malformed_records > 0 {
+        warnings.push(format!("{} face or other lines could not be read and were skipped", data.malformed_records));
+    }
+    if data.faces_out_of_range > 0 {
+        warnings.push(format!(
+            "{} faces that refer to vertices the file does not have were skipped",
+            data.faces_out_of_range
+        ));
     }
 
     // Mesh faces: area-weighted vertex normals, and unused vertices are dropped.
@@ -147,29 +160,65 @@ fn build(
         return Err(CloudError::content(path, "the file has no vertex with finite coordinates"));
     }
 
-    // Re-centre in f64 on the bounding-box centre.
+    // Re-centre in f64 on the bounding-box centre, and rescale models whose
+    // size f32 cannot square (or resolve).
     let (lo, hi) = kept
         .iter()
         .fold((positions[kept[0]], positions[kept[0]]), |(lo, hi), &i| (lo.min(positions[i]), hi.max(positions[i])));
     let origin = (lo + hi) * 0.5;
+    let extent = (hi - lo).max_element();
+    let scale_exponent = unit_exponent(extent);
+    let unit = 10f64.powi(scale_exponent);
+    if scale_exponent != 0 {
+        warnings.push(format!(
+            "the model spans {extent:.3e} units, beyond what f32 rendering handles; coordinates and radii are in units of 1e{scale_exponent}"
+        ));
+    }
     let mut cloud = PointCloud {
-        positions: kept.iter().map(|&i| (positions[i] - origin).as_vec3()).collect(),
+        positions: kept.iter().map(|&i| ((positions[i] - origin) / unit).as_vec3()).collect(),
         origin: origin.to_array(),
+        scale_exponent,
         ..Default::default()
     };
-    let extent = (hi - lo).max_element();
     if extent > 0.0 && extent / (hi.abs().max(lo.abs()).max_element().max(1e-300)) < 1e-6 {
         warnings.push("the coordinates span less than a millionth of their magnitude; precision may be lost".into());
     }
 
-    let gaussians = GAUSSIAN_NAMES.iter().all(|g| data.vertex_columns.contains_key(*g));
+    let gaussians = gaussians::PROPERTIES.iter().all(|g| data.vertex_columns.contains_key(*g));
     let gather = |col: &Vec<f64>| -> Vec<f64> { kept.iter().map(|&i| col[i]).collect() };
-
-    // Normals.
-    let mut needs_normal = vec![true; kept.len()];
-    let mut normals_from = Provenance::Estimated;
     cloud.normals = vec![Vec3::ZERO; kept.len()];
-    if let Some(cols) = NORMAL_NAMES.iter().find_map(|names| columns(&data, names)) {
+    cloud.radii = vec![0.0; kept.len()];
+    let mut needs_normal = vec![true; kept.len()];
+    let mut needs_radius = vec![true; kept.len()];
+
+    // Normals (and, for Gaussians, radii): the Gaussian's own axes first,
+    // then the file's normals, then the faces'.
+    let mut normals_from = Provenance::Estimated;
+    let mut radii_from = Provenance::Estimated;
+    if gaussians {
+        normals_from = Provenance::FromGaussians;
+        radii_from = Provenance::FromGaussians;
+        let c = &data.vertex_columns;
+        let mut bad = 0;
+        for (k, &i) in kept.iter().enumerate() {
+            let scales = [c["scale_0"][i], c["scale_1"][i], c["scale_2"][i]];
+            let rotation = [c["rot_0"][i], c["rot_1"][i], c["rot_2"][i], c["rot_3"][i]];
+            match gaussians::disc(scales, rotation) {
+                Some((normal, radius)) if ((radius as f64) / unit).is_finite() => {
+                    cloud.normals[k] = normal;
+                    cloud.radii[k] = (radius as f64 / unit) as f32;
+                    needs_normal[k] = false;
+                    needs_radius[k] = false;
+                }
+                _ => bad += 1,
+            }
+        }
+        if bad > 0 {
+            warnings.push(format!(
+                "{bad} Gaussians with degenerate scales or rotation got normals and radii from their neighbours"
+            ));
+        }
+    } else if let Some(cols) = NORMAL_NAMES.iter().find_map(|names| columns(&data, names)) {
         normals_from = Provenance::FromFile;
         let mut bad = 0;
         for (k, &i) in kept.iter().enumerate() {
@@ -217,9 +266,9 @@ fn build(
         }
     } else if gaussians {
         colors_from = Provenance::FromGaussians;
-        let dc = columns(&data, &["f_dc_0", "f_dc_1", "f_dc_2"]).expect("checked above");
+        let c = &data.vertex_columns;
         for (k, &i) in kept.iter().enumerate() {
-            cloud.colors[k] = [0, 1, 2].map(|c| to_u8((0.5 + SH_C0 * dc[c][i]) * 255.0));
+            cloud.colors[k] = gaussians::colour([c["f_dc_0"][i], c["f_dc_1"][i], c["f_dc_2"][i]]);
         }
     }
 
@@ -244,9 +293,7 @@ fn build(
     } else if gaussians {
         opacity_from = Provenance::FromGaussians;
         for (a, &i) in cloud.opacity.iter_mut().zip(&kept) {
-            let logit = data.vertex_columns["opacity"][i];
-            let s = 1.0 / (1.0 + (-logit).exp());
-            *a = if s.is_finite() { s as f32 } else { 1.0 };
+            *a = gaussians::opacity(data.vertex_columns["opacity"][i]);
         }
     }
     if cloud.opacity.iter().all(|&a| a <= 0.0) {
@@ -254,15 +301,12 @@ fn build(
         cloud.opacity.iter_mut().for_each(|a| *a = 1.0);
     }
 
-    // Radii.
-    let mut needs_radius = vec![true; kept.len()];
-    let mut radii_from = Provenance::Estimated;
-    cloud.radii = vec![0.0; kept.len()];
-    if let Some(col) = data.vertex_columns.get("radius") {
+    // Radii from the file (Gaussians have theirs already).
+    if let (Some(col), false) = (data.vertex_columns.get("radius"), gaussians) {
         radii_from = Provenance::FromFile;
         let mut bad = 0;
         for (k, &i) in kept.iter().enumerate() {
-            let r = col[i] as f32;
+            let r = (col[i] / unit) as f32;
             if r.is_finite() && r > 0.0 {
                 cloud.radii[k] = r;
                 needs_radius[k] = false;
@@ -273,28 +317,18 @@ fn build(
         if bad > 0 {
             warnings.push(format!("{bad} radii that were zero, negative or not finite were re-estimated"));
         }
-    } else if gaussians {
-        radii_from = Provenance::FromGaussians;
-        normals_from = Provenance::FromGaussians;
-        let c = &data.vertex_columns;
-        for (k, &i) in kept.iter().enumerate() {
-            let scales = [c["scale_0"][i], c["scale_1"][i], c["scale_2"][i]].map(|s| s.exp() as f32);
-            let q =
-                Quat::from_xyzw(c["rot_1"][i] as f32, c["rot_2"][i] as f32, c["rot_3"][i] as f32, c["rot_0"][i] as f32);
-            let (thin, a, b) = thinnest_axis(scales);
-            let r = GAUSSIAN_SIGMAS_PER_RADIUS * (scales[a] * scales[b]).sqrt();
-            let q_len = q.length();
-            if r.is_finite() && r > 0.0 && q_len.is_finite() && q_len > 1e-12 {
-                cloud.radii[k] = r;
-                needs_radius[k] = false;
-                cloud.normals[k] = (q / q_len) * Vec3::AXES[thin];
-                needs_normal[k] = false;
-            }
-        }
+    }
+    let diagonal = ((hi - lo) / unit).length() as f32;
+    // A splat larger than a quarter of the model is no surface sample.
+    let (clamped, limit) = clamp_given_radii(&mut cloud.radii, &needs_radius, diagonal);
+    if clamped > 0 {
+        warnings.push(format!(
+            "{clamped} radii larger than {limit:.4e} ({FILE_RADIUS_OVER_MEDIAN}x the median radius, at most a quarter of the model's size) were clamped to it; such outliers would cover the view"
+        ));
     }
 
     let estimate_started = Instant::now();
-    let scanner = (-origin).as_vec3();
+    let scanner = (-origin / unit).as_vec3();
     let estimated =
         estimate::complete(&mut cloud, &needs_normal, &needs_radius, scanner, &options.estimate, options.progress);
     if estimated.isolated_points > 0 {
@@ -308,6 +342,12 @@ fn build(
             "{} outlier radii were clamped to {}x the median",
             estimated.clamped_radii,
             estimate::MAX_RADIUS_OVER_MEDIAN
+        ));
+    }
+    if let Some(normal) = estimated.line_normal {
+        warnings.push(format!(
+            "the points lie on a line, so their normals are undefined; they were set to ({:.2}, {:.2}, {:.2}), across the line and towards the front view",
+            normal.x, normal.y, normal.z
         ));
     }
     cloud.scanner_position = estimated.scanner_position;
@@ -325,7 +365,7 @@ fn build(
             .map(|e| (e.name.clone(), e.count, e.properties.iter().map(|p| p.name.clone()).collect()))
             .collect(),
         vertices_in_file: n,
-        faces_in_file: data.face_count,
+        faces_in_file: data.face_count + data.strip_triangles,
         normals: normals_from,
         radii: radii_from,
         colors: colors_from,
@@ -338,19 +378,48 @@ fn build(
     Ok((cloud, report))
 }
 
-fn to_u8(v: f64) -> u8 {
-    if v.is_finite() { v.round().clamp(0.0, 255.0) as u8 } else { 0 }
+/// Radii read from a file are clamped to this multiple of their median: one
+/// absurd radius would otherwise cover the view and push the framing away.
+pub const FILE_RADIUS_OVER_MEDIAN: f32 = 100.0;
+
+/// Clamps the radii that were given (not `needed`) to
+/// [`FILE_RADIUS_OVER_MEDIAN`] times their median, and to a quarter of the
+/// model's `diagonal` when it has one; returns how many were clamped, and the limit.
+fn clamp_given_radii(radii: &mut [f32], needed: &[bool], diagonal: f32) -> (usize, f32) {
+    let mut given: Vec<f32> = radii.iter().zip(needed).filter(|(_, n)| !**n).map(|(r, _)| *r).collect();
+    if given.is_empty() {
+        return (0, 0.0);
+    }
+    let mid = given.len() / 2;
+    let mut limit = *given.select_nth_unstable_by(mid, f32::total_cmp).1 * FILE_RADIUS_OVER_MEDIAN;
+    if diagonal > 0.0 {
+        limit = limit.min(0.25 * diagonal);
+    }
+    let mut clamped = 0;
+    for (r, _) in radii.iter_mut().zip(needed).filter(|(r, n)| !**n && **r > limit) {
+        *r = limit;
+        clamped += 1;
+    }
+    (clamped, limit)
 }
 
-/// Index of the smallest scale and of the other two.
-fn thinnest_axis(s: [f32; 3]) -> (usize, usize, usize) {
-    if s[0] <= s[1] && s[0] <= s[2] {
-        (0, 1, 2)
-    } else if s[1] <= s[2] {
-        (1, 0, 2)
+/// Models larger than this (or smaller than [`SMALLEST_EXTENT`]) are rescaled
+/// by a power of ten: f32 squared distances overflow near 1e19, and f32
+/// products of tiny lengths lose their precision near 1e-19.
+const LARGEST_EXTENT: f64 = 1e12;
+const SMALLEST_EXTENT: f64 = 1e-9;
+
+/// The power of ten the coordinates of a model of `extent` are divided by (0: none).
+fn unit_exponent(extent: f64) -> i32 {
+    if extent.is_finite() && (extent > LARGEST_EXTENT || (extent > 0.0 && extent < SMALLEST_EXTENT)) {
+        extent.log10().floor() as i32
     } else {
-        (2, 0, 1)
+        0
     }
+}
+
+pub(super) fn to_u8(v: f64) -> u8 {
+    if v.is_finite() { v.round().clamp(0.0, 255.0) as u8 } else { 0 }
 }
 
 /// Area-weighted vertex normals of a triangle mesh, and which vertices faces use.

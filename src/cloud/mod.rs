@@ -8,6 +8,7 @@
 
 mod error;
 pub mod estimate;
+pub mod gaussians;
 pub mod load;
 pub mod mesh;
 pub mod ply;
@@ -44,6 +45,10 @@ pub struct PointCloud {
     pub material: Option<Material>,
     /// The f64 offset subtracted from the file's coordinates on load.
     pub origin: [f64; 3],
+    /// Positions and radii are in units of 10^this of the file's units (0
+    /// unless the model was too large or too small for f32):
+    /// file coordinates = position · 10^scale_exponent + origin.
+    pub scale_exponent: i32,
     /// Where a single-view scan was taken from (file origin, re-centred), if
     /// the normals show that every point faces it.
     pub scanner_position: Option<Vec3>,
@@ -89,6 +94,11 @@ impl PointCloud {
             return 0.0;
         }
         (self.radii.iter().map(|&r| r as f64).sum::<f64>() / self.radii.len() as f64) as f32
+    }
+
+    /// The length of one unit of the cloud in the file's units.
+    pub fn unit(&self) -> f64 {
+        10f64.powi(self.scale_exponent)
     }
 
     /// True when any splat is not fully opaque.

@@ -15,7 +15,8 @@ use super::{CloudError, PointCloud};
 /// splat is not opaque.
 pub fn write_ply(cloud: &PointCloud, path: &Path, comments: &[String]) -> Result<(), CloudError> {
     let with_alpha = cloud.has_transparency();
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let target = crate::output::prepare(path).map_err(|e| CloudError::io(path, e))?;
+    let dir = crate::output::folder_of(&target);
     let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(|e| CloudError::io(path, e))?;
     {
         let mut w = BufWriter::new(tmp.as_file_mut());
@@ -25,14 +26,16 @@ pub fn write_ply(cloud: &PointCloud, path: &Path, comments: &[String]) -> Result
             header.push_str(&format!("comment {}\n", c.replace(['\n', '\r'], " ")));
         }
         header.push_str(&format!("element vertex {}\n", cloud.len()));
-        let double = cloud.origin.iter().any(|&o| o.abs() > 1e4);
+        let unit = cloud.unit();
+        let double = cloud.origin.iter().any(|&o| o.abs() > 1e4) || cloud.scale_exponent != 0;
         let ptype = if double { "double" } else { "float" };
         for p in ["x", "y", "z"] {
             header.push_str(&format!("property {ptype} {p}\n"));
         }
-        for p in ["nx", "ny", "nz", "radius"] {
+        for p in ["nx", "ny", "nz"] {
             header.push_str(&format!("property float {p}\n"));
         }
+        header.push_str(&format!("property {ptype} radius\n"));
         for p in ["red", "green", "blue"] {
             header.push_str(&format!("property uchar {p}\n"));
         }
@@ -46,15 +49,21 @@ pub fn write_ply(cloud: &PointCloud, path: &Path, comments: &[String]) -> Result
             record.clear();
             let p = cloud.positions[i];
             for (c, o) in p.to_array().iter().zip(cloud.origin) {
-                let v = *c as f64 + o;
+                let v = *c as f64 * unit + o;
                 if double {
                     record.extend_from_slice(&v.to_le_bytes());
                 } else {
                     record.extend_from_slice(&(v as f32).to_le_bytes());
                 }
             }
-            for v in cloud.normals[i].to_array().into_iter().chain([cloud.radii[i]]) {
+            for v in cloud.normals[i].to_array() {
                 record.extend_from_slice(&v.to_le_bytes());
+            }
+            let radius = cloud.radii[i] as f64 * unit;
+            if double {
+                record.extend_from_slice(&radius.to_le_bytes());
+            } else {
+                record.extend_from_slice(&(radius as f32).to_le_bytes());
             }
             record.extend_from_slice(&cloud.colors[i]);
             if with_alpha {
@@ -65,6 +74,6 @@ pub fn write_ply(cloud: &PointCloud, path: &Path, comments: &[String]) -> Result
         w.flush().map_err(io)?;
     }
     crate::output::make_readable(tmp.as_file()).map_err(|e| CloudError::io(path, e))?;
-    tmp.persist(path).map_err(|e| CloudError::io(path, e.error))?;
+    tmp.persist(&target).map_err(|e| CloudError::io(path, e.error))?;
     Ok(())
 }

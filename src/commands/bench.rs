@@ -7,6 +7,7 @@ use anyhow::{Context, Result, bail};
 use pointblend::bench::{self, BenchConfig, ModeSpec};
 use pointblend::cloud;
 use pointblend::render::{HeadlessRenderer, Quality};
+use pointblend::view::Parameter;
 
 use super::shared::{QualityArg, ViewArgs};
 
@@ -17,7 +18,7 @@ pub struct Args {
     pub files: Vec<PathBuf>,
     #[command(flatten)]
     pub view: ViewArgs,
-    /// Modes to run, comma-separated: two-pass, reference, deferred[-mgc-cC|-wgc-kK|-hash-kK][-voronoi]
+    /// Modes to run, comma-separated: two-pass, reference, deferred[-mgc-cC|-wgc-kK|-hash-kK][-no-voronoi]
     /// (reference is always rendered as the ruler).
     #[arg(long, value_delimiter = ',', default_value = "two-pass,deferred,reference")]
     pub modes: Vec<ModeSpec>,
@@ -52,9 +53,13 @@ pub fn run(args: &Args) -> Result<()> {
         let mut rates = Vec::new();
         for _ in 0..args.loads {
             let started = Instant::now();
-            let (_, report) = cloud::load(file)?;
+            // A file that does not load is reported (and skipped) by the benchmark itself.
+            let Ok((_, report)) = cloud::load(file) else { break };
             let total = started.elapsed().as_secs_f64();
             rates.push((report.vertices_in_file as f64 / report.decode_seconds.max(1e-9) / 1e6, total));
+        }
+        if rates.is_empty() {
+            continue;
         }
         rates.sort_by(|a, b| a.0.total_cmp(&b.0));
         let (rate, total) = rates[rates.len() / 2];
@@ -69,14 +74,15 @@ pub fn run(args: &Args) -> Result<()> {
     let qualities: Vec<Quality> = args.qualities.iter().map(|q| q.quality()).collect();
     let mut modes = Vec::new();
     for spec in &args.modes {
-        // Deferred blending always uses the Gaussian kernel: one row per variant.
-        if spec.mode == pointblend::render::RenderMode::Deferred {
-            modes.push((spec.clone(), Quality::Filtered));
-        } else if spec.mode.is_gpu() {
+        // One row per quality level for the modes that have levels, one row for the others.
+        if spec.mode.parameters().contains(&Parameter::Quality) {
             modes.extend(qualities.iter().map(|&q| (spec.clone(), q)));
         } else {
             modes.push((spec.clone(), Quality::Filtered));
         }
+    }
+    if args.view.group.is_some() {
+        log::warn!("--group is ignored by bench: name the grouping in the mode, e.g. --modes deferred-wgc-k8");
     }
     let config = BenchConfig {
         modes,
@@ -89,8 +95,16 @@ pub fn run(args: &Args) -> Result<()> {
         out: args.out.clone(),
         progress: true,
     };
-    let rows = bench::run(&args.files, &config, &mut renderer)?;
-    print!("{}", bench::report::markdown(&rows));
+    let outcome = bench::run(&args.files, &config, &mut renderer)?;
+    print!("{}", bench::report::markdown(&outcome.rows));
     println!("wrote {}/bench.json, bench.md, error_vs_time.png and the images", args.out.display());
+    if !outcome.skipped.is_empty() {
+        bail!(
+            "{} of {} files could not be benchmarked and have no rows ({})",
+            outcome.skipped.len(),
+            args.files.len(),
+            outcome.skipped.join("; ")
+        );
+    }
     Ok(())
 }

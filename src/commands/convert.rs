@@ -23,6 +23,7 @@ pub fn run(args: &Args) -> Result<()> {
     let (cloud, report) = match args.points {
         Some(0) => bail!("--points must be at least 1"),
         Some(n) => {
+            check_sample_count(n)?;
             let options = LoadOptions { progress: true, ..Default::default() };
             let (cloud, report) = cloud::load_surface_samples(&args.input, n, &options)?;
             for w in &report.warnings {
@@ -32,6 +33,7 @@ pub fn run(args: &Args) -> Result<()> {
         }
         None => super::shared::load(&args.input)?,
     };
+    super::shared::prepare_output(&args.output)?;
     let source = args.input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let mut comments = vec![format!("pointblend convert from {source}")];
     comments.push(format!("normals {}, radii {}, colours {}", report.normals, report.radii, report.colors));
@@ -45,5 +47,25 @@ pub fn run(args: &Args) -> Result<()> {
         report.radii,
         cloud.mean_radius()
     );
+    Ok(())
+}
+
+/// Refuses a sample count that the splat indices (u32) or the machine's
+/// memory cannot hold, before any work starts.
+fn check_sample_count(n: usize) -> Result<()> {
+    if n > u32::MAX as usize {
+        bail!("--points {n}: at most {} splats can be rendered (32-bit indices)", u32::MAX);
+    }
+    let needed = (n as u64).saturating_mul(pointblend::cloud::mesh::BYTES_PER_SAMPLE);
+    if let Some(available) = pointblend::memory::available_bytes() {
+        if needed > available {
+            let most = available / pointblend::cloud::mesh::BYTES_PER_SAMPLE;
+            bail!(
+                "--points {n}: sampling needs about {} but only {} of memory is available; use at most about {most}",
+                pointblend::memory::gib(needed),
+                pointblend::memory::gib(available)
+            );
+        }
+    }
     Ok(())
 }

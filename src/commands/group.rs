@@ -40,8 +40,9 @@ pub struct Args {
     /// Number of groups (wgc, hash; for mgc: the largest c with at most K groups is searched).
     #[arg(long)]
     pub k: Option<usize>,
-    /// Overlap relaxation c in 0..=1: edges join splats closer than c·(r_i + r_j).
-    #[arg(long, default_value_t = 1.0)]
+    /// Overlap relaxation c in 0..=1: edges join splats closer than c·(r_i + r_j)
+    /// (0.4 is the paper's opaque setting, and `--group`'s default).
+    #[arg(long, default_value_t = 0.4)]
     pub c: f32,
     /// Relaxation (2): no edge between splats whose normals point in opposite directions.
     #[arg(long)]
@@ -88,12 +89,13 @@ pub fn run(args: &Args) -> Result<()> {
         "{:?}|{:?}|{:?}|{}|{:?}|{:?}|v1",
         args.algo, args.k, overlap, args.pure_area, args.collisions, args.extend
     );
-    let cache_path = if args.no_cache { None } else { cache::key(&args.file, &parameters).ok().map(cache::path_for) };
+    let cache = cache::Cache::from_env();
+    let cache_key = if args.no_cache { None } else { cache::key(&args.file, &parameters).ok() };
 
     let started = Instant::now();
     let mut degrees = None;
     let mut notes: Vec<String> = Vec::new();
-    let cached = cache_path.as_ref().and_then(|p| cache::load(p, cloud.len()));
+    let cached = cache_key.and_then(|key| cache.load(key, cloud.len()));
     let from_cache = cached.is_some();
     let result: Grouping = match cached {
         Some(g) => {
@@ -178,8 +180,8 @@ pub fn run(args: &Args) -> Result<()> {
                     g
                 }
             };
-            if let Some(path) = &cache_path {
-                if let Err(e) = cache::store(path, &extended, cloud.len()) {
+            if let Some(key) = cache_key {
+                if let Err(e) = cache.store(key, &extended, cloud.len()) {
                     log::warn!("{e}");
                 }
             }
@@ -243,8 +245,8 @@ pub fn run(args: &Args) -> Result<()> {
     for (stage, seconds) in &stages {
         println!("  {stage:<22} {seconds:.3} s");
     }
-    if let Some(path) = &cache_path {
-        println!("cache:           {}", path.display());
+    if let Some(key) = cache_key {
+        println!("cache:           {}", cache.path_for(key).display());
     }
     Ok(())
 }

@@ -27,16 +27,19 @@ pub fn run(args: &Args) -> Result<()> {
         println!("faces:       {}", report.faces_in_file);
     }
     if let Some(b) = cloud.bounds() {
-        let o = cloud.origin;
-        let lo = [b.min.x as f64 + o[0], b.min.y as f64 + o[1], b.min.z as f64 + o[2]];
-        let hi = [b.max.x as f64 + o[0], b.max.y as f64 + o[1], b.max.z as f64 + o[2]];
+        let (o, unit) = (cloud.origin, cloud.unit());
+        let file = |v: glam::Vec3| [0, 1, 2].map(|a| v[a] as f64 * unit + o[a]);
+        let (lo, hi) = (file(b.min), file(b.max));
         println!(
             "bounds:      [{:.6}, {:.6}, {:.6}] .. [{:.6}, {:.6}, {:.6}]",
             lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]
         );
-        let size = b.max - b.min;
+        let size = (b.max - b.min).as_dvec3() * unit;
         println!("size:        {:.6} x {:.6} x {:.6}", size.x, size.y, size.z);
         println!("re-centred:  by ({:.6}, {:.6}, {:.6})", o[0], o[1], o[2]);
+        if cloud.scale_exponent != 0 {
+            println!("rescaled:    positions and radii are in units of 1e{}", cloud.scale_exponent);
+        }
     }
     println!("normals:     {}", report.normals);
     println!("radii:       {} (mean {:.6})", report.radii, cloud.mean_radius());

@@ -16,7 +16,7 @@ pub struct Args {
     pub file: PathBuf,
     #[command(flatten)]
     pub view: ViewArgs,
-    /// Output PNG.
+    /// Output image (.png or .jpg).
     #[arg(long, default_value = "pointblend.png")]
     pub out: PathBuf,
     /// Print the passes and targets that will run.
@@ -36,8 +36,13 @@ pub fn run(args: &Args) -> Result<()> {
     let sidecar = args.camera.as_deref().map(Sidecar::read).transpose()?;
     let (settings, group, (width, height)) = match &sidecar {
         Some(s) => (s.settings(), s.grouping().map_err(anyhow::Error::msg)?, (s.size[0], s.size[1])),
-        None => (args.view.settings()?, args.view.group, args.view.size),
+        None => (args.view.settings()?, args.view.grouping(), args.view.size),
     };
+    // Every output is checked before the work starts, so none is written when another cannot be.
+    shared::prepare_image_output(&args.out)?;
+    if let Some(diff) = &args.diff {
+        shared::prepare_image_output(diff)?;
+    }
     let started = Instant::now();
     let (cloud, _report) = shared::load(&args.file)?;
     let load_seconds = started.elapsed().as_secs_f64();
@@ -63,7 +68,8 @@ pub fn run(args: &Args) -> Result<()> {
         log::info!("GPU: {}", renderer.ctx.describe());
         let gpu_cloud = if settings.mode == RenderMode::Deferred {
             let t = Instant::now();
-            let (grouping, cached) = group.compute_cached(&args.file, &cloud)?;
+            let cache = pointblend::grouping::cache::Cache::from_env();
+            let (grouping, cached) = group.compute_cached(&cache, &args.file, &cloud)?;
             log::info!(
                 "grouping {}: K = {} in {:.2} s{}",
                 group,
@@ -87,12 +93,12 @@ pub fn run(args: &Args) -> Result<()> {
     if args.explain {
         println!("{plan}");
     }
-    shared::write_png_atomically(&image, &args.out)?;
+    shared::write_image(&image, &args.out)?;
     if let Some(diff_path) = &args.diff {
         let exact = reference::render(&cloud, &camera, &reference_options, width, height);
         let error = reference::compare(&image, &exact).context("image sizes differ")?;
         let diff = reference::difference_image(&image, &exact, 8.0).context("image sizes differ")?;
-        shared::write_png_atomically(&diff, diff_path)?;
+        shared::write_image(&diff, diff_path)?;
         println!(
             "error against the reference: ε {:.3}, PSNR {:.2} dB, {:.2}% pixels off by more than {}/255 -> {}",
             error.eps,

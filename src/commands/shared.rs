@@ -6,8 +6,9 @@ use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use pointblend::cloud::{self, LoadOptions, LoadReport, PointCloud};
 use pointblend::grouping::GroupingSpec;
+use pointblend::output::ImageFormat;
 use pointblend::render::{Quality, RenderMode, RenderSettings};
-use pointblend::view::{Camera, UpAxis};
+use pointblend::view::{Camera, Parameter, UpAxis};
 
 /// Loads a cloud with progress bars and logs its warnings.
 pub fn load(path: &Path) -> Result<(PointCloud, LoadReport)> {
@@ -45,45 +46,52 @@ impl QualityArg {
     }
 }
 
+/// `--mode`: one of the registry's names, listed with their descriptions in `--help`.
+fn mode_parser() -> impl clap::builder::TypedValueParser<Value = RenderMode> {
+    use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+    let values = RenderMode::ALL.map(|m| PossibleValue::new(m.name()).help(m.description()));
+    PossibleValuesParser::new(values).try_map(|name| name.parse::<RenderMode>())
+}
+
 /// Camera and render options.
 #[derive(clap::Args, Debug, Clone)]
 pub struct ViewArgs {
     /// Rendering mode.
-    #[arg(long, default_value = "two-pass")]
+    #[arg(long, default_value = "two-pass", value_parser = mode_parser())]
     pub mode: RenderMode,
-    /// Quality level: Gaussian-filtered blending, or unfiltered nearest splat.
-    #[arg(long, value_enum, default_value = "filtered")]
-    pub quality: QualityArg,
+    /// Quality level of two-pass: Gaussian-filtered blending, or unfiltered nearest splat [default: filtered].
+    #[arg(long, value_enum)]
+    pub quality: Option<QualityArg>,
     /// Image size.
     #[arg(long, default_value = "512x512", value_parser = parse_size)]
     pub size: (u32, u32),
     /// Degrees around the up axis (default: front, or the scanner's side for a single-view scan).
     #[arg(long, allow_negative_numbers = true)]
     pub azimuth: Option<f32>,
-    /// Degrees above the horizon.
+    /// Degrees above the horizon, -90..90.
     #[arg(long, allow_negative_numbers = true)]
     pub elevation: Option<f32>,
     /// Distance from the model's centre (default: the bounding sphere fills the view).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub distance: Option<f32>,
-    /// Vertical field of view in degrees.
-    #[arg(long)]
+    /// Vertical field of view in degrees, 0.5..170 [default: 35].
+    #[arg(long, allow_negative_numbers = true)]
     pub fov: Option<f32>,
     /// Axis that points up: x, -x, y, -y, z or -z (default y; -y for single-view scans).
     #[arg(long, allow_hyphen_values = true)]
     pub up: Option<UpAxis>,
-    /// ε of the visibility pass, in multiples of the mean splat radius.
-    #[arg(long, default_value_t = 1.0)]
+    /// ε of the depth test that decides which splats blend, in multiples of the mean splat radius (> 0).
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub epsilon: f32,
     /// Keep back-facing splats.
     #[arg(long)]
     pub no_cull: bool,
-    /// Grouping for the deferred mode: mgc-cC, wgc-kK or hash-kK.
-    #[arg(long, default_value = "mgc-c0.4")]
-    pub group: GroupingSpec,
-    /// Voronoi rasterisation in the deferred mode (Eq. 14).
+    /// Grouping of the deferred mode: mgc-cC, wgc-kK, hash-kK or hash-kK-kept [default: mgc-c0.4].
     #[arg(long)]
-    pub voronoi: bool,
+    pub group: Option<GroupingSpec>,
+    /// Turn off Voronoi rasterisation (Eq. 14) in the deferred mode's group images.
+    #[arg(long)]
+    pub no_voronoi: bool,
     /// No lighting: show the blended colours (no normal targets are used).
     #[arg(long)]
     pub unlit: bool,
@@ -91,18 +99,42 @@ pub struct ViewArgs {
 
 impl ViewArgs {
     pub fn settings(&self) -> Result<RenderSettings> {
-        if !(self.epsilon.is_finite() && self.epsilon >= 0.0) {
-            bail!("--epsilon must be a finite number >= 0, not {}", self.epsilon);
+        if !(self.epsilon.is_finite() && self.epsilon > 0.0) {
+            bail!(
+                "--epsilon must be a positive multiple of the mean splat radius, not {} (at 0 no two splats would blend)",
+                self.epsilon
+            );
         }
+        self.warn_ignored();
         Ok(RenderSettings {
             mode: self.mode,
-            quality: self.quality.quality(),
+            quality: self.quality.map_or(Quality::Filtered, QualityArg::quality),
             epsilon_scale: self.epsilon,
             backface_culling: !self.no_cull,
-            voronoi: self.voronoi,
+            voronoi: !self.no_voronoi,
             lighting: !self.unlit,
             ..Default::default()
         })
+    }
+
+    /// The grouping of the deferred mode.
+    pub fn grouping(&self) -> GroupingSpec {
+        self.group.unwrap_or_default()
+    }
+
+    /// Says which given options the chosen mode does not read.
+    fn warn_ignored(&self) {
+        let reads = self.mode.parameters();
+        let given = [
+            ("--quality", self.quality.is_some(), Parameter::Quality),
+            ("--group", self.group.is_some(), Parameter::Grouping),
+            ("--no-voronoi", self.no_voronoi, Parameter::Voronoi),
+        ];
+        for (option, is_given, parameter) in given {
+            if is_given && !reads.contains(&parameter) {
+                log::warn!("{option} is ignored: mode {} does not use it", self.mode);
+            }
+        }
     }
 
     pub fn camera(&self, cloud: &PointCloud) -> Result<Camera> {
@@ -122,9 +154,15 @@ impl ViewArgs {
             camera.fov_y_deg = fov;
         }
         if let Some(a) = self.azimuth {
+            if !a.is_finite() {
+                bail!("--azimuth must be a finite number of degrees, not {a}");
+            }
             camera.azimuth_deg = a;
         }
         if let Some(e) = self.elevation {
+            if !e.is_finite() {
+                bail!("--elevation must be a finite number of degrees, not {e}");
+            }
             camera.elevation_deg = e.clamp(-90.0, 90.0);
         }
         camera.distance = camera.fit_distance(&cloud.positions, aspect);
@@ -138,10 +176,21 @@ impl ViewArgs {
     }
 }
 
-/// Writes `image` as PNG to `path` through a temporary file and a rename.
-pub fn write_png_atomically(image: &image::RgbaImage, path: &Path) -> Result<()> {
-    if let Some(dir) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create the folder", dir.display()))?;
-    }
-    pointblend::output::save_png(image, path).with_context(|| format!("{}: cannot write the PNG", path.display()))
+/// Checks, before any work, that `path` can be written as an output file
+/// (see [`pointblend::output::prepare`]); creates its folder.
+pub fn prepare_output(path: &Path) -> Result<()> {
+    pointblend::output::prepare(path).with_context(|| format!("{}: cannot write the output here", path.display()))?;
+    Ok(())
+}
+
+/// [`prepare_output`] for an image, whose extension must be one we encode.
+pub fn prepare_image_output(path: &Path) -> Result<()> {
+    prepare_output(path)?;
+    ImageFormat::of(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    Ok(())
+}
+
+/// Writes `image` to `path` (PNG or JPEG by extension) through a temporary file and a rename.
+pub fn write_image(image: &image::RgbaImage, path: &Path) -> Result<()> {
+    pointblend::output::save_image(image, path).with_context(|| format!("{}: cannot write the image", path.display()))
 }

@@ -50,6 +50,7 @@ pub fn run(args: &Args) -> Result<()> {
         screenshot_dir: args.screenshot_dir.clone(),
         view,
         mode: args.mode,
+        cache: None,
     };
     match viewer::run_window(options) {
         Ok(()) => Ok(()),
@@ -93,8 +94,8 @@ fn headless_main_job(args: &Args) -> Result<()> {
         out: args.out.clone(),
         progress: true,
     };
-    let rows = bench::run(&[model], &config, &mut renderer)?;
-    print!("{}", bench::report::markdown(&rows));
+    let outcome = bench::run(&[model], &config, &mut renderer)?;
+    print!("{}", bench::report::markdown(&outcome.rows));
     println!(
         "wrote one image per mode, the difference images, bench.json and error_vs_time.png to {}/",
         args.out.display()

@@ -175,15 +175,16 @@ impl GroupingSpec {
         })
     }
 
-    /// Groups the cloud loaded from `model`, through the cache; returns the
+    /// Groups the cloud loaded from `model`, through `cache`; returns the
     /// grouping and whether it came from the cache.
     pub fn compute_cached(
         &self,
+        cache: &cache::Cache,
         model: &std::path::Path,
         cloud: &crate::cloud::PointCloud,
     ) -> Result<(Grouping, bool), GroupingError> {
         match cache::file_hash(model) {
-            Ok(hash) => self.compute_cached_for_hash(hash, cloud),
+            Ok(hash) => self.compute_cached_for_hash(cache, hash, cloud),
             Err(_) => Ok((self.compute(cloud)?, false)), // unreadable: no cache
         }
     }
@@ -191,15 +192,16 @@ impl GroupingSpec {
     /// [`Self::compute_cached`] for a model whose [`cache::file_hash`] is known.
     pub fn compute_cached_for_hash(
         &self,
+        cache: &cache::Cache,
         file_hash: u64,
         cloud: &crate::cloud::PointCloud,
     ) -> Result<(Grouping, bool), GroupingError> {
-        let path = cache::path_for(cache::key_for_hash(file_hash, &format!("spec|{self}|v1")));
-        if let Some(g) = cache::load(&path, cloud.len()) {
+        let key = cache::key_for_hash(file_hash, &format!("spec|{self}|v1"));
+        if let Some(g) = cache.load(key, cloud.len()) {
             return Ok((g, true));
         }
         let g = self.compute(cloud)?;
-        if let Err(e) = cache::store(&path, &g, cloud.len()) {
+        if let Err(e) = cache.store(key, &g, cloud.len()) {
             log::warn!("{e}");
         }
         Ok((g, false))

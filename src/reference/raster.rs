@@ -67,7 +67,8 @@ pub fn render(
             let depth = -centre.z;
             let radius = cloud.radii[i] * options.radius_scale;
             let culled = options.backface_culling && normal.dot(centre) > 0.0;
-            let usable = depth > near && depth < far && radius > 0.0;
+            // Discs that cross the near or far plane keep the part between them (the per-hit test).
+            let usable = depth - radius < far && depth + radius > near && radius > 0.0;
             if culled || !usable {
                 return None;
             }
@@ -75,6 +76,7 @@ pub fn render(
             Some(EyeSplat {
                 centre,
                 normal,
+                plane: options.kernel.footprint_normal(normal, centre.normalize_or_zero()),
                 radius,
                 color: Vec3::new(r as f32, g as f32, b as f32) / 255.0,
                 opacity: cloud.opacity[i].clamp(0.0, 1.0),
@@ -133,13 +135,14 @@ pub fn render(
 }
 
 /// Exact ray-disc intersection: the ray from the eye through `ray` (z = -1)
-/// meets the splat's plane at view depth t; inside the disc it gets the Gaussian weight.
+/// meets the splat's footprint plane (see `SplatKernel::footprint_normal`) at
+/// view depth t; inside the disc it gets the Gaussian weight.
 fn intersect(s: &EyeSplat, ray: Vec3, kernel: &SplatKernel, near: f32, far: f32) -> Option<Hit> {
-    let denom = s.normal.dot(ray);
+    let denom = s.plane.dot(ray);
     if denom.abs() < 1e-12 {
         return None;
     }
-    let t = s.normal.dot(s.centre) / denom;
+    let t = s.plane.dot(s.centre) / denom;
     if !(t > near && t < far) {
         return None;
     }

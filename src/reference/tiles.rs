@@ -13,7 +13,10 @@ pub const TILE: u32 = 16;
 #[derive(Debug, Clone, Copy)]
 pub struct EyeSplat {
     pub centre: Vec3,
+    /// Unit normal, for shading.
     pub normal: Vec3,
+    /// Unit normal of the plane the footprint is cast on (tilted when grazing).
+    pub plane: Vec3,
     pub radius: f32,
     pub color: Vec3,
     pub opacity: f32,
@@ -27,12 +30,12 @@ pub struct TileBins {
 
 /// Screen-space pixel bounds of a splat, or `None` if it is off screen.
 fn pixel_bounds(s: &EyeSplat, proj: &Mat4, width: u32, height: u32, near: f32) -> Option<(u32, u32, u32, u32)> {
-    let n = s.normal;
+    let n = s.plane;
     let half = Vec3::new(1.0 - n.x * n.x, 1.0 - n.y * n.y, 1.0 - n.z * n.z).max(Vec3::ZERO).to_array().map(f32::sqrt);
     let half = Vec3::from_array(half) * s.radius;
     let (lo, hi) = (s.centre - half, s.centre + half);
-    if lo.z >= -near {
-        // The box reaches the near plane: the splat may cover anything.
+    if hi.z >= -near {
+        // The box reaches the near plane: its corners do not project, and the splat may cover anything.
         return Some((0, 0, width - 1, height - 1));
     }
     let mut min = glam::Vec2::splat(f32::INFINITY);

@@ -23,7 +23,15 @@ pub enum GpuError {
     Readback(String),
     #[error("the image size {width}x{height} is not supported (1..={max} per side)")]
     Size { width: u32, height: u32, max: u32 },
+    #[error("{0}")]
+    TooLarge(String),
+    #[error("the GPU ran out of memory {stage}: {message}")]
+    OutOfMemory { stage: String, message: String },
 }
+
+/// Target memory a frame may use on a GPU whose free memory is unknown:
+/// 4 GiB, within any current discrete GPU's memory.
+pub const DEFAULT_GPU_TARGET_BUDGET: u64 = 4 << 30;
 
 /// An open GPU device with its queue.
 pub struct GpuContext {
@@ -88,6 +96,31 @@ impl GpuContext {
     pub fn describe(&self) -> String {
         let info = self.adapter.get_info();
         format!("{} ({:?}, {} {})", info.name, info.backend, info.driver, info.driver_info)
+    }
+
+    /// Bytes of render targets a frame may allocate: `$POINTBLEND_GPU_MEMORY_MB`
+    /// if set; on a software adapter (lavapipe, whose textures live in system
+    /// memory) three quarters of the memory available now; on a GPU, whose
+    /// free memory wgpu cannot tell, [`DEFAULT_GPU_TARGET_BUDGET`].
+    pub fn target_budget(&self) -> u64 {
+        if let Some(mb) = std::env::var("POINTBLEND_GPU_MEMORY_MB").ok().and_then(|v| v.parse::<u64>().ok()) {
+            return mb.saturating_mul(1 << 20);
+        }
+        match self.adapter.get_info().device_type {
+            wgpu::DeviceType::Cpu => crate::memory::available_bytes().map_or(DEFAULT_GPU_TARGET_BUDGET, |b| b / 4 * 3),
+            _ => DEFAULT_GPU_TARGET_BUDGET,
+        }
+    }
+
+    /// Runs `allocate` inside an out-of-memory error scope, so that running
+    /// out gives one error instead of a cascade.
+    pub fn allocating<T>(&self, stage: &str, allocate: impl FnOnce() -> T) -> Result<T, GpuError> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let value = allocate();
+        match pollster::block_on(scope.pop()) {
+            None => Ok(value),
+            Some(error) => Err(GpuError::OutOfMemory { stage: stage.to_string(), message: error.to_string() }),
+        }
     }
 
     /// Runs `work` inside a validation error scope and reports what it caught.

@@ -172,6 +172,33 @@ impl RenderPlan {
         self.passes.iter().filter(|p| p.draws_splats()).count()
     }
 
+    /// Checks that this device can hold the plan's targets: array layers
+    /// within its limit, bytes within `budget` (see `GpuContext::target_budget`).
+    pub fn check_fits(&self, limits: &wgpu::Limits, budget: u64) -> Result<(), super::GpuError> {
+        let hint = "use a grouping with a fixed, small K (--group hash-k8 or wgc-k8)";
+        let layers = self.targets.iter().map(|t| t.layers).max().unwrap_or(1);
+        if layers > limits.max_texture_array_layers {
+            return Err(super::GpuError::TooLarge(format!(
+                "{} needs {layers} group layers, more than the {} texture layers this GPU allows; {hint}",
+                self.mode, limits.max_texture_array_layers
+            )));
+        }
+        let hint = format!("{hint} or a smaller --size");
+        let bytes = self.target_bytes();
+        if bytes > budget {
+            return Err(super::GpuError::TooLarge(format!(
+                "{} with K = {} at {}x{} needs {} of render targets, more than the {} this GPU can give (POINTBLEND_GPU_MEMORY_MB sets it); {hint}",
+                self.mode,
+                self.groups,
+                self.width,
+                self.height,
+                crate::memory::gib(bytes),
+                crate::memory::gib(budget)
+            )));
+        }
+        Ok(())
+    }
+
     /// Bytes of all intermediate targets.
     pub fn target_bytes(&self) -> u64 {
         let pixels = self.width as u64 * self.height as u64;

@@ -159,9 +159,10 @@ impl SplatRenderer {
             uniforms.scene = [r as f32 / 255.0, g as f32 / 255.0, b as f32 / 255.0, 1.0];
         }
         uniforms.deferred = [steps, if settings.voronoi { 1.0 } else { 0.0 }, plan.groups as f32, 0.0];
-        ctx.checked("rendering", || {
+        plan.check_fits(&ctx.device.limits(), ctx.target_budget())?;
+        let deferred = plan.passes.contains(&PassKind::DeferredGeometry);
+        ctx.allocating("allocating the render targets", || {
             let device = &ctx.device;
-            let deferred = plan.passes.contains(&PassKind::DeferredGeometry);
             // Only the targets this plan uses are kept; the others are freed.
             if deferred {
                 self.targets = None;
@@ -185,6 +186,9 @@ impl SplatRenderer {
                     self.targets = Some(FrameTargets::new(device, (width, height), layout, lit, weight_only));
                 }
             }
+        })?;
+        ctx.checked("rendering", || {
+            let device = &ctx.device;
             let normalize_pipeline = self.normalize.entry(format).or_insert_with(|| {
                 normalize::pipeline(device, &self.normalize_pipeline_layout, &self.normalize_module, format)
             });

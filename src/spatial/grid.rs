@@ -74,10 +74,22 @@ impl HashGrid {
     /// Calls `visit` with every point index whose cell lies within `reach`
     /// cells of `p`'s cell (a superset of the points within `reach * cell`).
     /// Each point is visited once: entries of a bucket that belong to another
-    /// cell are skipped.
+    /// cell are skipped. When the block of cells to scan is larger than the
+    /// number of points (a splat far larger than the typical one), every
+    /// point is tested instead, so a query never costs more than O(n).
     pub fn for_each_near(&self, p: Vec3, reach: i32, mut visit: impl FnMut(u32)) {
         let c = self.cell_of(p);
-        let reach = reach.clamp(0, 64);
+        let reach = reach.max(0);
+        let side = 2 * reach as u64 + 1;
+        if side.saturating_mul(side).saturating_mul(side) > self.items.len() as u64 {
+            for (&i, item_cell) in self.items.iter().zip(&self.cells) {
+                let d = (*item_cell - c).abs();
+                if d.x <= reach && d.y <= reach && d.z <= reach {
+                    visit(i);
+                }
+            }
+            return;
+        }
         for dz in -reach..=reach {
             for dy in -reach..=reach {
                 for dx in -reach..=reach {

@@ -92,7 +92,7 @@ impl Default for RenderSettings {
             epsilon_scale: 1.0,
             backface_culling: true,
             radius_scale: 1.0,
-            voronoi: false,
+            voronoi: true,
             lighting: true,
             kernel: SplatKernel::default(),
             shading: Shading::default(),

@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 use glam::Vec2;
 
 use crate::grouping::GroupingSpec;
+use crate::grouping::cache::Cache;
 use crate::reference::{self, ImageError, ReferenceOptions};
 use crate::view::sidecar::SidecarModel;
 use crate::view::{Camera, RenderMode, RenderSettings, Sidecar};
@@ -37,6 +38,8 @@ pub struct ViewerOptions {
     pub view: Option<Sidecar>,
     /// The mode to start in (overrides the sidecar's).
     pub mode: Option<RenderMode>,
+    /// Where groupings are cached (default: the user's cache, see [`Cache::from_env`]).
+    pub cache: Option<Cache>,
 }
 
 /// The size of an exported screenshot.
@@ -150,8 +153,8 @@ impl ViewerApp {
         let ctx = cc.egui_ctx.clone();
         let mut settings = match &options.view {
             Some(view) => view.settings(),
-            // Deferred starts in the paper's opaque setting (MGC c = 0.4 with Voronoi), as in `bench`.
-            None => RenderSettings { voronoi: true, ..Default::default() },
+            // Deferred starts in the paper's opaque setting (MGC c = 0.4 with Voronoi), as everywhere.
+            None => RenderSettings::default(),
         };
         if let Some(mode) = options.mode {
             settings.mode = mode;
@@ -379,10 +382,11 @@ impl ViewerApp {
             old.cancel();
         }
         let generation = model.generation;
+        let cache = self.options.cache.clone().unwrap_or_else(Cache::from_env);
         let job = Job::spawn(format!("grouping {spec}"), ctx.clone(), move || {
             let started = Instant::now();
             let (grouping, cached) =
-                spec.compute_cached_for_hash(model.hash, &model.cloud).map_err(|e| e.to_string())?;
+                spec.compute_cached_for_hash(&cache, model.hash, &model.cloud).map_err(|e| e.to_string())?;
             Ok(GroupedModel { generation, spec, grouping, seconds: started.elapsed().as_secs_f64(), cached })
         });
         self.grouping_job = Some((spec, job));

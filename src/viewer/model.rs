@@ -80,6 +80,7 @@ pub fn subsample(cloud: &PointCloud, count: usize) -> PointCloud {
         opacity: picks.iter().map(|&i| cloud.opacity[i]).collect(),
         material: cloud.material,
         origin: cloud.origin,
+        scale_exponent: cloud.scale_exponent,
         scanner_position: cloud.scanner_position,
     }
 }

@@ -131,7 +131,7 @@ fn parameter_widget(app: &mut ViewerApp, ui: &mut Ui, parameter: Parameter) {
             });
         }
         Parameter::Epsilon => {
-            ui.add(egui::Slider::new(&mut s.epsilon_scale, 0.0..=5.0).text("ε (× mean radius)"));
+            ui.add(egui::Slider::new(&mut s.epsilon_scale, 0.05..=5.0).text("ε (× mean radius)"));
         }
         Parameter::RadiusScale => {
             ui.add(egui::Slider::new(&mut s.radius_scale, 0.25..=3.0).text("splat radius scale"));

@@ -143,3 +143,48 @@ pub fn morph(mask: &[bool], width: u32, height: u32, grow: i32) -> Vec<bool> {
         })
         .collect()
 }
+
+/// A floor of splats (y = 0, 2 x 2 units, a checkerboard of two colours) and
+/// a camera 0.5 mm above it looking 10° down, so that the splats under and
+/// just ahead of the eye cross the near plane (near ≈ 2e-5).
+pub fn floor_crossing_the_near_plane() -> (pointblend::cloud::PointCloud, Camera) {
+    let n = 200;
+    let mut cloud = pointblend::cloud::PointCloud::default();
+    for i in 0..n {
+        for j in 0..n {
+            let (x, z) = (-1.0 + 2.0 * (i as f32 + 0.5) / n as f32, -1.0 + 2.0 * (j as f32 + 0.5) / n as f32);
+            cloud.positions.push(Vec3::new(x, 0.0, z));
+            cloud.normals.push(Vec3::Y);
+            cloud.radii.push(0.012);
+            cloud.colors.push(if (i / 10 + j / 10) % 2 == 0 { [200, 80, 80] } else { [80, 200, 80] });
+            cloud.opacity.push(1.0);
+        }
+    }
+    let (height, down) = (0.0005f32, 10f32.to_radians());
+    let camera = Camera {
+        target: Vec3::new(0.0, height - 0.5 * down.sin(), -0.5 * down.cos()),
+        distance: 0.5,
+        azimuth_deg: 0.0,
+        elevation_deg: 10.0,
+        fov_y_deg: 60.0,
+        up: pointblend::view::UpAxis::PosY,
+        scene_radius: 1.5,
+    };
+    (cloud, camera)
+}
+
+/// How many splats of `cloud` cross the near plane of `camera`: their disc
+/// reaches both sides of it.
+pub fn splats_crossing_the_near_plane(cloud: &pointblend::cloud::PointCloud, camera: &Camera) -> usize {
+    let (near, _) = camera.near_far();
+    let view = camera.view_matrix();
+    (0..cloud.len())
+        .filter(|&i| {
+            let depth = -view.transform_point3(cloud.positions[i]).z;
+            let normal = view.transform_vector3(cloud.normals[i]);
+            // The disc's depth extent: r · sqrt(1 - n_z²).
+            let reach = cloud.radii[i] * (1.0 - normal.z * normal.z).max(0.0).sqrt();
+            depth - reach < near && depth + reach > near
+        })
+        .count()
+}

@@ -120,7 +120,7 @@ fn decode_variable(
                     if kept[pi] {
                         polygon.clear();
                         polygon.extend(items.chunks_exact(item.size()).map(|b| item.read(b, big_endian) as i64));
-                        sink.push_face(&polygon);
+                        sink.push_list(&element.name, &polygon);
                     }
                     at += len;
                 }

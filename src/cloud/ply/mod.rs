@@ -1,75 +1,25 @@
-//! PLY reading: the header through `ply-rs-bw`, the body into typed columns.
+//! PLY reading: the header ([`header`]), then the body into typed columns.
 //!
 //! Only the columns a caller asks for are kept (as f64, so doubles and UTM
 //! coordinates survive until re-centring); every other property is skipped.
-//! Faces become triangles by fan triangulation. Binary bodies go through a
-//! hand-written decoder ([`binary`]) because a generic per-property element
-//! map costs ~50x more per vertex; ASCII bodies use `ply-rs-bw` ([`ascii`]).
-//! Every count in the header is checked against the bytes that follow before
-//! anything is allocated, so a lying header gives an error, not an OOM.
+//! Faces become triangles by fan triangulation, and `tristrips` elements
+//! (Stanford's strips, `-1` restarts, alternating winding) become triangles
+//! too. Binary bodies go through [`binary`], ASCII bodies through [`ascii`];
+//! both are hand-written (see their module docs for why). Every count in the
+//! header is checked against the bytes that follow before anything is
+//! allocated, so a lying header gives an error, not an OOM.
 
 mod ascii;
 mod binary;
+pub mod header;
 mod scalar;
 
 use std::collections::HashMap;
-use std::io::Cursor;
 use std::path::Path;
 
-use ply_rs_bw::parser::{Parser, Reader};
-use ply_rs_bw::ply::{DefaultElement, Encoding, PropertyType};
-
 use super::CloudError;
+pub use header::{ElementSpec, Encoding, PropertyKind, PropertySpec};
 pub use scalar::Scalar;
-
-/// A property of an element, as declared in the header.
-#[derive(Debug, Clone)]
-pub struct PropertySpec {
-    pub name: String,
-    pub kind: PropertyKind,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PropertyKind {
-    Scalar(Scalar),
-    List { count: Scalar, item: Scalar },
-}
-
-/// An element of the header (`vertex`, `face`, `range_grid`, ...).
-#[derive(Debug, Clone)]
-pub struct ElementSpec {
-    pub name: String,
-    pub count: usize,
-    pub properties: Vec<PropertySpec>,
-}
-
-impl ElementSpec {
-    fn property(&self, name: &str) -> Option<&PropertySpec> {
-        self.properties.iter().find(|p| p.name == name)
-    }
-
-    /// Smallest size in bytes one binary record can have.
-    fn min_record_bytes(&self) -> usize {
-        self.properties
-            .iter()
-            .map(|p| match p.kind {
-                PropertyKind::Scalar(s) => s.size(),
-                PropertyKind::List { count, .. } => count.size(),
-            })
-            .sum()
-    }
-
-    /// Byte size of every record when the element has no lists.
-    fn fixed_record_bytes(&self) -> Option<usize> {
-        self.properties
-            .iter()
-            .map(|p| match p.kind {
-                PropertyKind::Scalar(s) => Some(s.size()),
-                PropertyKind::List { .. } => None,
-            })
-            .sum()
-    }
-}
 
 /// The decoded content of a PLY file.
 #[derive(Debug, Default)]
@@ -87,50 +37,25 @@ pub struct PlyData {
     pub face_count: usize,
     /// Faces with fewer than three indices, skipped.
     pub degenerate_faces: usize,
+    /// Triangles read from `tristrips` elements.
+    pub strip_triangles: usize,
+    /// Faces or strips that name a vertex that does not exist, skipped.
+    pub faces_out_of_range: usize,
+    /// Vertex records (ASCII) that could not be read; their values are NaN.
+    pub malformed_vertices: Vec<usize>,
+    /// Other records (ASCII) that could not be read, skipped.
+    pub malformed_records: usize,
 }
 
-/// Names of the face element's index list, in order of preference.
+/// Names of the index list of `face` and `tristrips` elements, in order of preference.
 const FACE_LIST_NAMES: [&str; 2] = ["vertex_indices", "vertex_index"];
 
 /// Reads `bytes` (the whole file at `path`), keeping the vertex properties
 /// for which `wanted` returns true.
 pub fn parse(path: &Path, bytes: &[u8], wanted: &dyn Fn(&str) -> bool) -> Result<PlyData, CloudError> {
-    if !bytes.starts_with(b"ply") {
-        return Err(CloudError::format(path, "the file does not start with 'ply'"));
-    }
-    let mut reader = Reader::new(Cursor::new(bytes));
-    let parser = Parser::<DefaultElement>::new();
-    let header = parser.read_header(&mut reader).map_err(|e| CloudError::format(path, format!("bad header: {e}")))?;
-    let body_start = reader.into_inner().position() as usize;
-    let body = &bytes[body_start.min(bytes.len())..];
-
-    let encoding = match header.encoding {
-        Encoding::Ascii => "ascii",
-        Encoding::BinaryLittleEndian => "binary_little_endian",
-        Encoding::BinaryBigEndian => "binary_big_endian",
-    };
-    let mut elements = Vec::new();
-    for (name, def) in &header.elements {
-        let mut properties = Vec::new();
-        for (pname, pdef) in &def.properties {
-            let kind = match &pdef.data_type {
-                PropertyType::Scalar(s) => PropertyKind::Scalar(Scalar::from_ply(s)),
-                PropertyType::List(c, i) => {
-                    let count = Scalar::from_ply(c);
-                    if count.is_float() {
-                        return Err(CloudError::format(
-                            path,
-                            format!("element '{name}' list '{pname}' has a floating-point count type"),
-                        ));
-                    }
-                    PropertyKind::List { count, item: Scalar::from_ply(i) }
-                }
-            };
-            properties.push(PropertySpec { name: pname.clone(), kind });
-        }
-        elements.push(ElementSpec { name: name.clone(), count: def.count, properties });
-    }
-
+    let header = header::parse(bytes).map_err(|e| CloudError::format(path, e))?;
+    let body = &bytes[header.body_start.min(bytes.len())..];
+    let elements = header.elements;
     let vertex = elements
         .iter()
         .find(|e| e.name == "vertex")
@@ -148,8 +73,8 @@ pub fn parse(path: &Path, bytes: &[u8], wanted: &dyn Fn(&str) -> bool) -> Result
     }
 
     let mut data = PlyData {
-        encoding: encoding.to_string(),
-        comments: header.comments.clone(),
+        encoding: header.encoding.name().to_string(),
+        comments: header.comments,
         vertex_count: vertex.count,
         ..Default::default()
     };
@@ -158,36 +83,35 @@ pub fn parse(path: &Path, bytes: &[u8], wanted: &dyn Fn(&str) -> bool) -> Result
             data.vertex_types.insert(p.name.clone(), s);
         }
     }
+    // The first index list of a face or strip element is its polygon.
+    let polygon_list = |element: &ElementSpec| {
+        FACE_LIST_NAMES.iter().find(|n| matches!(element.property(n).map(|p| p.kind), Some(PropertyKind::List { .. })))
+    };
     let keep = |element: &ElementSpec, property: &PropertySpec| -> bool {
         match element.name.as_str() {
             "vertex" => matches!(property.kind, PropertyKind::Scalar(_)) && wanted(&property.name),
-            "face" => {
-                matches!(property.kind, PropertyKind::List { .. }) && FACE_LIST_NAMES.contains(&property.name.as_str())
-            }
+            "face" | "tristrips" => polygon_list(element) == Some(&property.name.as_str()),
             _ => false,
         }
     };
 
     let mut sink = ColumnSink::default();
     match header.encoding {
-        Encoding::Ascii => ascii::decode(path, body, &header, &elements, &keep, &mut sink)?,
+        Encoding::Ascii => ascii::decode(path, body, &elements, &keep, &mut sink)?,
         Encoding::BinaryLittleEndian => binary::decode(path, body, false, &elements, &keep, &mut sink)?,
         Encoding::BinaryBigEndian => binary::decode(path, body, true, &elements, &keep, &mut sink)?,
     }
 
     data.vertex_columns = sink.vertex_columns;
     data.face_count = elements.iter().find(|e| e.name == "face").map_or(0, |e| e.count);
+    data.strip_triangles = sink.strip_triangles;
     data.degenerate_faces = sink.degenerate_faces;
+    data.malformed_vertices = sink.malformed_vertices;
+    data.malformed_records = sink.malformed_records;
     let n = data.vertex_count as u64;
-    if let Some(bad) = sink.triangles.iter().flatten().find(|&&i| i as u64 >= n) {
-        return Err(CloudError::content(
-            path,
-            format!("a face refers to vertex {bad}, but there are only {n} vertices"),
-        ));
-    }
-    if sink.negative_index {
-        return Err(CloudError::content(path, "a face has a negative vertex index"));
-    }
+    let before = sink.triangles.len();
+    sink.triangles.retain(|t| t.iter().all(|&i| (i as u64) < n));
+    data.faces_out_of_range = sink.faces_out_of_range + (before - sink.triangles.len());
     data.triangles = sink.triangles;
     data.elements = elements;
     Ok(data)
@@ -199,23 +123,58 @@ struct ColumnSink {
     vertex_columns: HashMap<String, Vec<f64>>,
     triangles: Vec<[u32; 3]>,
     degenerate_faces: usize,
-    negative_index: bool,
+    /// Faces or strips with a negative index (other than a strip's -1 restart).
+    faces_out_of_range: usize,
+    strip_triangles: usize,
+    /// Vertex records (ASCII) whose line could not be read.
+    malformed_vertices: Vec<usize>,
+    /// Other records (ASCII) whose line could not be read.
+    malformed_records: usize,
 }
 
 impl ColumnSink {
-    /// Adds one face given as a polygon of vertex indices.
+    /// Adds the polygon list of one record of `element` (`face` or `tristrips`).
+    fn push_list(&mut self, element: &str, indices: &[i64]) {
+        if element == "tristrips" {
+            self.push_strips(indices);
+        } else {
+            self.push_face(indices);
+        }
+    }
+
+    /// Adds one face given as a polygon of vertex indices (fan triangulation).
     fn push_face(&mut self, indices: &[i64]) {
         if indices.len() < 3 {
             self.degenerate_faces += 1;
             return;
         }
-        if indices.iter().any(|&i| i < 0) {
-            self.negative_index = true;
+        if indices.iter().any(|&i| i < 0 || i > u32::MAX as i64) {
+            self.faces_out_of_range += 1;
             return;
         }
-        let clamp = |i: i64| u32::try_from(i).unwrap_or(u32::MAX);
         for k in 1..indices.len() - 1 {
-            self.triangles.push([clamp(indices[0]), clamp(indices[k]), clamp(indices[k + 1])]);
+            self.triangles.push([indices[0] as u32, indices[k] as u32, indices[k + 1] as u32]);
+        }
+    }
+
+    /// Adds triangle strips separated by -1: triangle i of a strip is
+    /// (v_i, v_i+1, v_i+2), with the first two swapped for odd i so that every
+    /// triangle keeps the strip's winding. Triangles with a repeated vertex
+    /// (strips use them to turn corners) are dropped.
+    fn push_strips(&mut self, indices: &[i64]) {
+        for strip in indices.split(|&i| i == -1) {
+            if strip.iter().any(|&i| i < 0 || i > u32::MAX as i64) {
+                self.faces_out_of_range += 1;
+                continue;
+            }
+            for (k, w) in strip.windows(3).enumerate() {
+                let [a, b, c] = [w[0] as u32, w[1] as u32, w[2] as u32];
+                if a == b || b == c || a == c {
+                    continue;
+                }
+                self.triangles.push(if k % 2 == 0 { [a, b, c] } else { [b, a, c] });
+                self.strip_triangles += 1;
+            }
         }
     }
 }
@@ -228,10 +187,10 @@ fn check_fits(path: &Path, element: &ElementSpec, min_bytes: usize, available: u
         _ => Err(CloudError::format(
             path,
             format!(
-                "header declares {} '{}' records (at least {} bytes) but only {} bytes follow; the file is truncated or the header is wrong",
+                "the header declares {} '{}' records, which need {} bytes, but only {} bytes follow; the file is truncated or the header is wrong",
                 element.count,
                 element.name,
-                needed.map_or("more than 2^64".to_string(), |n| n.to_string()),
+                needed.map_or("more than 2^64".to_string(), |n| format!("at least {n}")),
                 available
             ),
         )),

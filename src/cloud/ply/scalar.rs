@@ -1,7 +1,5 @@
 //! PLY scalar types and their byte decoding.
 
-use ply_rs_bw::ply::ScalarType;
-
 /// A PLY scalar type (`char` ... `double`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Scalar {
@@ -16,19 +14,6 @@ pub enum Scalar {
 }
 
 impl Scalar {
-    pub(super) fn from_ply(t: &ScalarType) -> Self {
-        match t {
-            ScalarType::Char => Scalar::I8,
-            ScalarType::UChar => Scalar::U8,
-            ScalarType::Short => Scalar::I16,
-            ScalarType::UShort => Scalar::U16,
-            ScalarType::Int => Scalar::I32,
-            ScalarType::UInt => Scalar::U32,
-            ScalarType::Float => Scalar::F32,
-            ScalarType::Double => Scalar::F64,
-        }
-    }
-
     pub fn size(self) -> usize {
         match self {
             Scalar::I8 | Scalar::U8 => 1,

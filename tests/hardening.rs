@@ -1,0 +1,379 @@
+//! What a new user hits first, through the command line: extreme input and
+//! options give one clear error line naming the file or option and a non-zero
+//! exit (never a panic, a hang or a half-written file), and odd but valid
+//! input gives a sane image with a warning.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use common::plywriter::{Element, Encoding, ply, temp_file};
+
+fn pointblend(dir: &Path) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_pointblend"));
+    command.env("POINTBLEND_CACHE", dir.join("cache")).env("XDG_RUNTIME_DIR", std::env::temp_dir());
+    command
+}
+
+/// The `error:` lines of a failed run; asserts there is exactly one and no panic.
+fn one_error(output: &Output, what: &str) -> String {
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success(), "{what} should fail: {stderr}");
+    assert!(!stderr.contains("panicked"), "{what}: {stderr}");
+    let errors: Vec<&str> =
+        stderr.lines().filter(|l| l.starts_with("error: ") && !l.contains("XDG_RUNTIME_DIR")).collect();
+    assert_eq!(errors.len(), 1, "{what}: {stderr}");
+    for debug_dump in ["ParseError", "LineCol", "PropertyDef", "{ kind", ".tmp"] {
+        assert!(!errors[0].contains(debug_dump), "{what}: the error shows '{debug_dump}': {}", errors[0]);
+    }
+    errors[0].to_string()
+}
+
+fn ok(output: &Output, what: &str) -> String {
+    let stderr = String::from_utf8_lossy(&output.stderr).to_string();
+    assert!(output.status.success(), "{what}: {stderr}");
+    stderr
+}
+
+/// A scratch folder whose name cannot be mistaken for a leaked temporary file (`.tmpXXXX`).
+fn test_dir() -> tempfile::TempDir {
+    tempfile::Builder::new().prefix("pointblend-test-").tempdir().unwrap()
+}
+
+fn bunny() -> PathBuf {
+    common::bundled_bunny()
+}
+
+/// A binary cloud of `points` with the given extra per-vertex columns.
+fn cloud_file(dir: &tempfile::TempDir, name: &str, points: &[[f64; 3]], extra: &[(&str, Vec<f64>)]) -> PathBuf {
+    let mut properties = vec![("float", "x"), ("float", "y"), ("float", "z")];
+    properties.extend(extra.iter().map(|(n, _)| ("float", *n)));
+    let rows = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let mut row = p.to_vec();
+            row.extend(extra.iter().map(|(_, c)| c[i]));
+            row
+        })
+        .collect();
+    temp_file(dir, name, &ply(Encoding::Little, &[Element { name: "vertex", properties, rows }], &[], false))
+}
+
+/// Points on a unit sphere (Fibonacci lattice).
+fn sphere(n: usize, radius: f64) -> Vec<[f64; 3]> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..n)
+        .map(|i| {
+            let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+            let r = (1.0 - y * y).sqrt();
+            [r * (golden * i as f64).cos() * radius, y * radius, r * (golden * i as f64).sin() * radius]
+        })
+        .collect()
+}
+
+fn foreground_share(path: &Path) -> f64 {
+    let image = image::open(path).unwrap().to_rgba8();
+    let bg = common::background_rgb();
+    image.pixels().filter(|p| p.0[..3] != bg).count() as f64 / (image.width() * image.height()) as f64
+}
+
+#[test]
+fn bad_options_on_a_real_file_name_the_option() {
+    let dir = test_dir();
+    let out = dir.path().join("never.png");
+    for (args, option) in [
+        (vec!["--size", "0x10"], "--size"),
+        (vec!["--size", "big"], "--size"),
+        (vec!["--mode", "nonsense"], "--mode"),
+        (vec!["--up", "w"], "--up"),
+        (vec!["--fov", "-10"], "--fov"),
+        (vec!["--azimuth", "nan"], "--azimuth"),
+        (vec!["--elevation", "inf"], "--elevation"),
+        (vec!["--distance", "-1"], "--distance"),
+        (vec!["--epsilon", "0"], "--epsilon"),
+        (vec!["--group", "mgc-c7"], "--group"),
+    ] {
+        let result =
+            pointblend(dir.path()).arg("render").arg(bunny()).args(&args).arg("--out").arg(&out).output().unwrap();
+        let error = one_error(&result, &format!("{args:?}"));
+        assert!(error.contains(option), "{args:?}: the error does not name {option}: {error}");
+        assert!(!out.exists(), "{args:?} wrote an image");
+    }
+}
+
+#[test]
+fn help_lists_the_modes() {
+    let dir = test_dir();
+    let help = pointblend(dir.path()).args(["render", "--help"]).output().unwrap();
+    let text = String::from_utf8_lossy(&help.stdout);
+    for mode in pointblend::view::RenderMode::ALL {
+        assert!(text.contains(mode.name()), "--help does not list {mode}: {text}");
+    }
+}
+
+#[test]
+fn options_a_mode_does_not_read_are_reported() {
+    let dir = test_dir();
+    let out = dir.path().join("a.png");
+    let run = pointblend(dir.path())
+        .arg("render")
+        .arg(bunny())
+        .args(["--mode", "deferred", "--quality", "unfiltered", "--size", "64x64", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(ok(&run, "deferred with --quality").contains("--quality is ignored"));
+    let run = pointblend(dir.path())
+        .arg("render")
+        .arg(bunny())
+        .args(["--group", "wgc-k8", "--no-voronoi", "--size", "64x64", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = ok(&run, "two-pass with --group");
+    assert!(stderr.contains("--group is ignored") && stderr.contains("--no-voronoi is ignored"), "{stderr}");
+}
+
+#[test]
+fn a_huge_sample_count_is_refused_before_any_allocation() {
+    let dir = test_dir();
+    let out = dir.path().join("big.ply");
+    for n in ["18446744073709551615", "4294967296", "100000000000"] {
+        let result = pointblend(dir.path())
+            .arg("convert")
+            .arg(common::data("bun_zipper.ply"))
+            .arg(&out)
+            .args(["--points", n])
+            .output()
+            .unwrap();
+        let error = one_error(&result, n);
+        assert!(error.contains("--points"), "{n}: {error}");
+        assert!(!out.exists());
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn outputs_never_replace_devices_fifos_or_links() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = test_dir();
+    let render = |out: &Path| {
+        pointblend(dir.path()).arg("render").arg(bunny()).args(["--size", "64x64", "--out"]).arg(out).output().unwrap()
+    };
+    let error = one_error(&render(Path::new("/dev/full")), "/dev/full");
+    assert!(error.contains("/dev/full") && error.contains("not a regular file"), "{error}");
+    assert!(std::fs::metadata("/dev/full").unwrap().file_type().is_char_device());
+
+    let fifo = dir.path().join("pipe.png");
+    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    one_error(&render(&fifo), "a FIFO");
+    assert!(std::fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo(), "the FIFO is still there");
+
+    let real = dir.path().join("real.png");
+    let link = dir.path().join("link.png");
+    std::os::unix::fs::symlink(&real, &link).unwrap();
+    ok(&render(&link), "a link to a new file");
+    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink(), "the link stays a link");
+    assert!(image::open(&real).is_ok(), "the image went where the link points");
+}
+
+#[test]
+fn images_are_encoded_as_their_extension_says_and_other_extensions_are_refused() {
+    let dir = test_dir();
+    let jpg = dir.path().join("shot.jpg");
+    let run = pointblend(dir.path()).arg("render").arg(bunny()).args(["--size", "64x64", "--out"]).arg(&jpg).output();
+    ok(&run.unwrap(), "jpg");
+    assert_eq!(&std::fs::read(&jpg).unwrap()[..2], &[0xFF, 0xD8], "a JPEG starts with FFD8");
+    let tif = dir.path().join("shot.tif");
+    let run = pointblend(dir.path()).arg("render").arg(bunny()).args(["--size", "64x64", "--out"]).arg(&tif).output();
+    assert!(one_error(&run.unwrap(), "tif").contains(".png or .jpg"));
+    assert!(!tif.exists());
+}
+
+#[test]
+fn an_unwritable_second_output_stops_the_run_before_the_first_is_written() {
+    let dir = test_dir();
+    let out = dir.path().join("main.png");
+    let blocker = dir.path().join("file");
+    std::fs::write(&blocker, b"not a folder").unwrap();
+    let run = pointblend(dir.path())
+        .arg("render")
+        .arg(bunny())
+        .args(["--size", "64x64", "--out"])
+        .arg(&out)
+        .arg("--diff")
+        .arg(blocker.join("diff.png"))
+        .output()
+        .unwrap();
+    assert!(one_error(&run, "--diff under a file").contains("diff.png"));
+    assert!(!out.exists(), "the main image was written although the run failed");
+}
+
+#[test]
+fn convert_and_render_both_create_a_missing_output_folder() {
+    let dir = test_dir();
+    let ply = dir.path().join("new/folder/splats.ply");
+    ok(&pointblend(dir.path()).arg("convert").arg(bunny()).arg(&ply).output().unwrap(), "convert");
+    assert!(pointblend::cloud::load(&ply).is_ok());
+    let png = dir.path().join("other/new/folder/a.png");
+    let run = pointblend(dir.path()).arg("render").arg(&ply).args(["--size", "64x64", "--out"]).arg(&png).output();
+    ok(&run.unwrap(), "render");
+    assert!(png.exists());
+}
+
+#[test]
+fn more_groups_than_the_device_allows_give_a_hint_instead_of_a_validation_error() {
+    let dir = test_dir();
+    // 3,000 coincident points overlap each other, so MGC needs one group each.
+    let mut points = sphere(2000, 1.0);
+    points.extend(std::iter::repeat_n([0.0, 0.0, 1.0], 3000));
+    let file = cloud_file(&dir, "clique.ply", &points, &[]);
+    let out = dir.path().join("clique.png");
+    let run = pointblend(dir.path())
+        .arg("render")
+        .arg(&file)
+        .args(["--mode", "deferred", "--size", "64x64", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let error = one_error(&run, "K = 3001");
+    assert!(error.contains("layers") && error.contains("--group hash-k8"), "{error}");
+    assert!(!out.exists());
+    // Within the layer limit but over the memory budget: refused with the size in the message.
+    let run = pointblend(dir.path())
+        .env("POINTBLEND_GPU_MEMORY_MB", "16")
+        .arg("render")
+        .arg(bunny())
+        .args(["--mode", "deferred", "--group", "mgc-c1", "--size", "512x512", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let error = one_error(&run, "over budget");
+    assert!(error.contains("GiB of render targets") && error.contains("--size"), "{error}");
+}
+
+#[test]
+fn an_absurd_radius_is_clamped_and_the_model_stays_in_view() {
+    let dir = test_dir();
+    let points = sphere(4000, 1.0);
+    let mut radii = vec![0.06; points.len()];
+    radii[17] = 2e6;
+    let normals: Vec<Vec<f64>> = (0..3).map(|a| points.iter().map(|p| p[a]).collect()).collect();
+    let extra = [("nx", normals[0].clone()), ("ny", normals[1].clone()), ("nz", normals[2].clone()), ("radius", radii)];
+    let file = cloud_file(&dir, "absurd.ply", &points, &extra);
+    let out = dir.path().join("absurd.png");
+    let run = pointblend(dir.path()).arg("render").arg(&file).args(["--size", "96x96", "--out"]).arg(&out).output();
+    assert!(ok(&run.unwrap(), "absurd radius").contains("1 radii larger than"));
+    let share = foreground_share(&out);
+    assert!(share > 0.1 && share < 0.9, "the sphere is framed, not hidden or covering the view: {share}");
+}
+
+#[test]
+fn coordinates_too_large_or_small_for_f32_are_rescaled() {
+    let dir = test_dir();
+    for scale in [1e19, 1e22, 1e-12] {
+        let points: Vec<[f64; 3]> = sphere(3000, scale).into_iter().map(|p| [p[0] + 5.0 * scale, p[1], p[2]]).collect();
+        let file = cloud_file(&dir, "far.ply", &points, &[]);
+        let out = dir.path().join("far.png");
+        let run = pointblend(dir.path()).arg("render").arg(&file).args(["--size", "96x96", "--out"]).arg(&out).output();
+        assert!(ok(&run.unwrap(), "rescaled").contains("coordinates and radii are in units of 1e"), "{scale}");
+        let share = foreground_share(&out);
+        assert!(share > 0.2, "scale {scale}: the sphere is not drawn ({share})");
+        let group = pointblend(dir.path()).arg("group").arg(&file).args(["--json", "--no-cache"]).output().unwrap();
+        ok(&group, "group");
+        let json: serde_json::Value = serde_json::from_slice(&group.stdout).unwrap();
+        assert!(json["k"].as_u64().unwrap() < 50, "scale {scale}: K {}", json["k"]);
+        let converted = dir.path().join("far-again.ply");
+        ok(&pointblend(dir.path()).arg("convert").arg(&file).arg(&converted).output().unwrap(), "convert");
+        let (back, _) = pointblend::cloud::load(&converted).unwrap();
+        let x = back.positions[0].x as f64 * back.unit() + back.origin[0];
+        assert!((x - points[0][0]).abs() <= 1e-5 * scale, "scale {scale}: {x} against {}", points[0][0]);
+    }
+}
+
+#[test]
+fn duplicate_names_in_a_header_are_refused_with_the_line() {
+    let dir = test_dir();
+    let file = temp_file(
+        &dir,
+        "dup.ply",
+        b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float x\nproperty float z\nend_header\n1 2 3 4\n",
+    );
+    let error = one_error(&pointblend(dir.path()).arg("info").arg(&file).output().unwrap(), "duplicate");
+    assert!(error.contains("dup.ply") && error.contains("line 6") && error.contains("declared twice"), "{error}");
+}
+
+#[test]
+fn bench_skips_a_bad_file_keeps_the_others_and_says_so() {
+    let dir = test_dir();
+    let bad = temp_file(&dir, "broken.ply", b"ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nend_header\n");
+    let out = dir.path().join("bench");
+    let run = pointblend(dir.path())
+        .arg("bench")
+        .arg(&bad)
+        .arg(bunny())
+        .args(["--modes", "two-pass", "--qualities", "filtered", "--size", "64x64", "--frames", "1", "--warm-up", "0"])
+        .args(["--views", "1", "--loads", "1", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let error = one_error(&run, "bench with a broken file");
+    assert!(error.contains("broken.ply") && error.contains("1 of 2 files"), "{error}");
+    let rows: Vec<serde_json::Value> = serde_json::from_slice(&std::fs::read(out.join("bench.json")).unwrap()).unwrap();
+    assert_eq!(rows.len(), 1, "the bunny's row is kept");
+    assert_eq!(rows[0]["model"], "bunny.ply");
+}
+
+#[test]
+fn gaussian_splats_with_zero_normals_take_their_normals_from_the_gaussians_only() {
+    let dir = test_dir();
+    let points = sphere(500, 1.0);
+    let n = points.len();
+    let column = |v: f64| vec![v; n];
+    let extra: Vec<(&str, Vec<f64>)> = vec![
+        ("nx", column(0.0)),
+        ("ny", column(0.0)),
+        ("nz", column(0.0)),
+        ("f_dc_0", column(0.5)),
+        ("f_dc_1", column(0.1)),
+        ("f_dc_2", column(-0.3)),
+        ("opacity", column(4.0)),
+        ("scale_0", column(-3.0)),
+        ("scale_1", column(-3.0)),
+        ("scale_2", column(-7.0)),
+        ("rot_0", column(1.0)),
+        ("rot_1", column(0.0)),
+        ("rot_2", column(0.0)),
+        ("rot_3", column(0.0)),
+    ];
+    let file = cloud_file(&dir, "gaussians.ply", &points, &extra);
+    let info = pointblend(dir.path()).arg("info").arg(&file).output().unwrap();
+    let stdout = String::from_utf8_lossy(&info.stdout);
+    assert!(stdout.contains("normals:     from 3D Gaussian parameters"), "{stdout}");
+    assert!(!stdout.contains("re-estimated"), "{stdout}");
+}
+
+#[test]
+fn points_on_a_line_are_drawn_facing_the_viewer_with_a_warning() {
+    let dir = test_dir();
+    let points: Vec<[f64; 3]> = (0..300).map(|i| [i as f64 * 0.01, i as f64 * 0.005, 0.0]).collect();
+    let file = cloud_file(&dir, "line.ply", &points, &[]);
+    let out = dir.path().join("line.png");
+    let run = pointblend(dir.path()).arg("render").arg(&file).args(["--size", "128x128", "--out"]).arg(&out).output();
+    assert!(ok(&run.unwrap(), "line").contains("the points lie on a line"));
+    assert!(foreground_share(&out) > 0.005, "the line of splats is visible");
+}
+
+#[test]
+fn group_and_render_share_the_default_grouping() {
+    let dir = test_dir();
+    let run = pointblend(dir.path()).arg("group").arg(bunny()).args(["--json", "--no-cache"]).output().unwrap();
+    ok(&run, "group");
+    let json: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    let c = json["c"].as_f64().unwrap();
+    assert!((c - 0.4).abs() < 1e-6, "group's default c is {c}, --group's is mgc-c0.4");
+    assert_eq!(pointblend::grouping::GroupingSpec::default().to_string(), "mgc-c0.4");
+    assert!(pointblend::view::RenderSettings::default().voronoi, "deferred defaults to Voronoi depth everywhere");
+}
