@@ -12,7 +12,10 @@ use plotters::prelude::*;
 use super::report::BenchRow;
 
 const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+/// Width and least height of the plot; it grows to give every legend entry its line.
 const SIZE: (u32, u32) = (1300, 600);
+/// Height of one legend line.
+const LEGEND_LINE: u32 = 24;
 /// Width of the chart; the legend takes the rest.
 const CHART_WIDTH: u32 = 760;
 
@@ -67,9 +70,10 @@ pub fn write(rows: &[BenchRow], title: &str, path: &Path) -> Result<(), String> 
     if points.is_empty() {
         return Err("nothing to plot".into());
     }
-    let mut buffer = vec![255u8; (SIZE.0 * SIZE.1 * 3) as usize];
+    let size = (SIZE.0, SIZE.1.max(80 + LEGEND_LINE * points.len() as u32));
+    let mut buffer = vec![255u8; (size.0 * size.1 * 3) as usize];
     {
-        let root = BitMapBackend::with_buffer(&mut buffer, SIZE).into_drawing_area();
+        let root = BitMapBackend::with_buffer(&mut buffer, size).into_drawing_area();
         root.fill(&WHITE).map_err(|e| e.to_string())?;
         let (plot_area, legend_area) = root.split_horizontally(CHART_WIDTH);
         let max_ms = points.iter().map(|p| p.frame_ms).fold(1e-3, f64::max) * 2.0;
@@ -94,7 +98,7 @@ pub fn write(rows: &[BenchRow], title: &str, path: &Path) -> Result<(), String> 
             chart
                 .draw_series(std::iter::once(Circle::new((p.frame_ms, p.eps), 7, colour.filled())))
                 .map_err(|e| e.to_string())?;
-            let y = 60 + 24 * i as i32;
+            let y = 60 + (LEGEND_LINE * i as u32) as i32;
             legend_area.draw(&Circle::new((12, y), 6, colour.filled())).map_err(|e| e.to_string())?;
             let text = format!("{}: {:.1} ms, ε {:.2}", p.label, p.frame_ms, p.eps);
             legend_area
@@ -103,7 +107,7 @@ pub fn write(rows: &[BenchRow], title: &str, path: &Path) -> Result<(), String> 
         }
         root.present().map_err(|e| e.to_string())?;
     }
-    let rgb = image::RgbImage::from_raw(SIZE.0, SIZE.1, buffer).ok_or("plot buffer size")?;
+    let rgb = image::RgbImage::from_raw(size.0, size.1, buffer).ok_or("plot buffer size")?;
     let rgba = image::DynamicImage::ImageRgb8(rgb).to_rgba8();
     crate::output::save_png(&rgba, path).map_err(|e| format!("{}: {e}", path.display()))
 }

@@ -1,0 +1,95 @@
+//! The README is the first thing a user reads: its quick start must hold
+//! exactly the two commands that really set up, run and test pointblend, and
+//! every picture it shows must exist. This keeps it from silently going empty
+//! or out of date.
+
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn read(path: &str) -> String {
+    std::fs::read_to_string(root().join(path)).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+/// The command lines (comments and blank lines dropped) of the first code
+/// block after the `## Quick start` heading.
+fn quick_start_commands(readme: &str) -> Vec<String> {
+    let section = readme.split("\n## Quick start").nth(1).expect("README has a '## Quick start' section");
+    let block = section.split("```").nth(1).expect("the quick start has a code block");
+    block
+        .lines()
+        .skip(1) // the language tag
+        .map(|l| l.split('#').next().unwrap_or("").trim().to_string())
+        .filter(|l| !l.is_empty())
+        .collect()
+}
+
+/// Every `![alt](path)` image target of a Markdown text.
+fn image_links(markdown: &str) -> Vec<String> {
+    markdown.split("![").skip(1).filter_map(|s| Some(s.split_once("](")?.1.split(')').next()?.to_string())).collect()
+}
+
+#[cfg(unix)]
+fn is_executable(path: &Path) -> bool {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::metadata(path).is_ok_and(|m| m.permissions().mode() & 0o111 != 0)
+}
+
+#[cfg(not(unix))]
+fn is_executable(path: &Path) -> bool {
+    path.exists()
+}
+
+#[test]
+fn the_quick_start_is_the_two_commands_that_ci_and_users_run() {
+    let readme = read("README.md");
+    let commands = quick_start_commands(&readme);
+    assert_eq!(commands, ["scripts/run", "scripts/test"], "the quick start must hold exactly these two commands");
+    for script in &commands {
+        assert!(is_executable(&root().join(script)), "{script} is missing or not executable");
+    }
+    let ci = read(".ci/run");
+    assert!(
+        ci.lines().any(|l| l.trim() == "scripts/test"),
+        ".ci/run must run the README's test command, scripts/test:\n{ci}"
+    );
+    let test_script = read("scripts/test");
+    assert!(test_script.contains("cargo test"), "scripts/test runs the test suite");
+    let run_script = read("scripts/run");
+    assert!(run_script.contains("cargo run"), "scripts/run runs pointblend");
+}
+
+#[test]
+fn every_picture_the_docs_show_exists_and_every_picture_is_shown() {
+    let docs = ["README.md", "docs/BENCHMARKS.md"];
+    let mut shown = Vec::new();
+    for doc in docs {
+        let text = read(doc);
+        let base = root().join(doc).parent().unwrap().to_path_buf();
+        for link in image_links(&text) {
+            let path = base.join(&link);
+            assert!(path.is_file(), "{doc} shows {link}, which does not exist");
+            shown.push(path.canonicalize().unwrap());
+        }
+    }
+    for entry in std::fs::read_dir(root().join("docs/images")).unwrap() {
+        let path = entry.unwrap().path().canonicalize().unwrap();
+        assert!(shown.contains(&path), "{} is shown by no document", path.display());
+    }
+    let readme = read("README.md");
+    assert!(image_links(&readme).len() >= 4, "the README shows renders and the viewer");
+    assert!(readme.lines().count() > 60, "the README has been cut short");
+}
+
+#[test]
+fn the_readme_names_every_mode_and_subcommand() {
+    let readme = read("README.md");
+    for mode in pointblend::view::RenderMode::ALL {
+        assert!(readme.contains(&format!("`{}`", mode.name())), "the README does not describe mode {mode}");
+    }
+    for command in ["view", "render", "info", "convert", "bench", "group"] {
+        assert!(readme.contains(&format!("pointblend {command}")), "the README has no example of {command}");
+    }
+}
