@@ -1,23 +1,29 @@
+#include "splat.wgsl"
+
 // The geometry pass of deferred blending (Zhang & Pajarola 2007 §3.2, Fig. 11):
 // group S_k is drawn into layer k with its own z-test, so in each pixel the
 // nearest splat of the group wins and writes its own weight (Eq. 4): w·rgb and
-// w, w·n, and the true linear view depth for the compositing pass.
+// w, w·n (LIT variant), and the true linear view depth for the compositing pass.
 // With Voronoi rasterisation (§5.1, Eq. 14) the z-test uses
 // z = floor(depth01 · n)/n + (d_i/r_i)/n: the low-precision depth separates
 // surface layers, and within a layer the splat whose centre is nearest wins.
 
 struct GroupImage {
     @location(0) color: vec4<f32>,
+#ifdef LIT
     @location(1) normal: vec4<f32>,
     @location(2) depth: f32,
+#else
+    @location(1) depth: f32,
+#endif
     @builtin(frag_depth) z: f32,
 }
 
 // The depth of the z-test within a group: linear, or Voronoi-enhanced (Eq. 14).
 fn group_z(s: SplatSample) -> f32 {
     let depth01 = depth_to_buffer(s.view_depth);
-    let n = frame.deferred.x;
-    if frame.deferred.y > 0.5 {
+    let n = this_pass.depth.y;
+    if this_pass.layers.z == 1u {
         return min(floor(depth01 * n) / n + sqrt(s.rho2) / n, 1.0);
     }
     return depth01;
@@ -29,22 +35,10 @@ fn fs_group(v: SplatVarying) -> GroupImage {
     let w = splat_weight(s.rho2);
     var out: GroupImage;
     out.color = colour_output(v.color.rgb, w);
+#ifdef LIT
     out.normal = vec4<f32>(v.normal * w, v.color.a * w);
+#endif
     out.depth = s.view_depth;
     out.z = group_z(s);
     return out;
-}
-
-// Without lighting the normal layers are not allocated.
-struct GroupImageUnlit {
-    @location(0) color: vec4<f32>,
-    @location(1) depth: f32,
-    @builtin(frag_depth) z: f32,
-}
-
-@fragment
-fn fs_group_unlit(v: SplatVarying) -> GroupImageUnlit {
-    let s = splat_sample(v);
-    let w = splat_weight(s.rho2);
-    return GroupImageUnlit(colour_output(v.color.rgb, w), s.view_depth, group_z(s));
 }

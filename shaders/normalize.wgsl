@@ -1,10 +1,14 @@
+#include "shading.wgsl"
+
 // Pass 3 of the 2+1-pass pipeline (Botsch & Kobbelt 2003, Sec. 3.4): one
 // full-screen triangle divides the accumulated sums by the weight and shades
 // the normalised normal with Phong lighting (src/view/shading.rs has the same
 // formula for the CPU). Pixels with no weight show the background.
 
 @group(1) @binding(0) var accumulated_color: texture_2d<f32>;
+#ifdef LIT
 @group(1) @binding(1) var accumulated_normal: texture_2d<f32>;
+#endif
 
 @fragment
 fn fs_normalize(f: Fullscreen) -> @location(0) vec4<f32> {
@@ -14,8 +18,8 @@ fn fs_normalize(f: Fullscreen) -> @location(0) vec4<f32> {
         return vec4<f32>(frame.background.rgb, 1.0);
     }
     var normal_sum = vec3<f32>(0.0);
-    if frame.material.w > 0.5 {
-        normal_sum = textureLoad(accumulated_normal, pixel, 0).xyz;
-    }
+#ifdef LIT
+    normal_sum = textureLoad(accumulated_normal, pixel, 0).xyz;
+#endif
     return vec4<f32>(shade_sums(f.position.xy, sums, normal_sum), 1.0);
 }

@@ -1,3 +1,5 @@
+#include "frame.wgsl"
+
 // Full-screen triangle and deferred Phong shading, shared by the passes that
 // normalise accumulated sums (normalize.wgsl, deferred_composite.wgsl).
 // src/view/shading.rs has the same formula for the CPU reference.
@@ -25,26 +27,28 @@ fn shade(albedo: vec3<f32>, normal_in: vec3<f32>, to_eye: vec3<f32>) -> vec3<f32
     return clamp(lit, vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
-// (Σw·rgb, Σw) from a colour target's texel: single-channel targets hold Σw
-// alone, and the cloud's one colour is applied here.
+// (Σw·rgb, Σw) from a colour target's texel: in the WEIGHT_ONLY variant the
+// single-channel targets hold Σw alone, and the cloud's one colour is applied here.
 fn colour_sums(texel: vec4<f32>) -> vec4<f32> {
-    if frame.scene.w > 0.5 {
-        return vec4<f32>(frame.scene.rgb * texel.r, texel.r);
-    }
+#ifdef WEIGHT_ONLY
+    return vec4<f32>(this_pass.uniform_colour.rgb * texel.r, texel.r);
+#else
     return texel;
+#endif
 }
 
 // Normalises (Σw·rgb, Σw) and Σw·n at pixel `position` and shades the result
 // (or returns the normalised colour when lighting is off).
 fn shade_sums(position: vec2<f32>, sums: vec4<f32>, normal_sum: vec3<f32>) -> vec3<f32> {
     let albedo = sums.rgb / sums.a;
-    if frame.material.w < 0.5 {
-        return clamp(albedo, vec3<f32>(0.0), vec3<f32>(1.0));
-    }
+#ifdef LIT
     // Eye-space direction of this pixel's view ray.
     let ndc = vec2<f32>(position.x * frame.viewport.z * 2.0 - 1.0, 1.0 - position.y * frame.viewport.w * 2.0);
     let to_eye = normalize(vec3<f32>(-ndc * frame.lens.xy, 1.0));
     let length_sq = dot(normal_sum, normal_sum);
     let normal = select(to_eye, normal_sum * inverseSqrt(length_sq), length_sq > 1e-20);
     return shade(albedo, normal, to_eye);
+#else
+    return clamp(albedo, vec3<f32>(0.0), vec3<f32>(1.0));
+#endif
 }

@@ -1,3 +1,5 @@
+#include "frame.wgsl"
+
 // Splat geometry, shared by the splat passes: perspective-correct splat
 // rasterisation by ray casting (Guennebaud, "Approximate depth peeling",
 // SPBG'06 slides: "perspectively correct splat rasterization", the ray-casting
@@ -108,16 +110,15 @@ fn splat_sample(v: SplatVarying) -> SplatSample {
     return SplatSample(rho2, t);
 }
 
-// Set when the cloud has one colour: colour targets are single-channel and
-// hold only the weight (the colour is applied when normalising).
-override WEIGHT_ONLY: bool = false;
-
-// What a splat writes to its colour target: (w·rgb, w), or w alone.
+// What a splat writes to its colour target: (w·rgb, w), or, in the
+// WEIGHT_ONLY variant (a cloud of one colour, single-channel targets), w alone;
+// the colour is applied when normalising.
 fn colour_output(rgb: vec3<f32>, w: f32) -> vec4<f32> {
-    if WEIGHT_ONLY {
-        return vec4<f32>(w, 0.0, 0.0, w);
-    }
+#ifdef WEIGHT_ONLY
+    return vec4<f32>(w, 0.0, 0.0, w);
+#else
     return vec4<f32>(rgb * w, w);
+#endif
 }
 
 // Eq. 3: Gaussian weight of the normalised distance.

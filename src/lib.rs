@@ -1,10 +1,13 @@
 //! pointblend: point-based surface splatting on wgpu.
 //!
 //! The crate is layered from the ground up: [`cloud`] loads and repairs point
-//! clouds, [`spatial`] answers neighbour queries, [`view`] holds the camera and
-//! the shading model that every renderer (GPU or CPU) shares, and [`render`]
-//! draws splats with wgpu. Only [`render`] touches the GPU. [`viewer`] is the
-//! interactive window on top of them.
+//! clouds, [`scene`] places clouds with transforms and materials, [`spatial`]
+//! answers neighbour queries, [`grouping`] splits splats into groups,
+//! [`reference`] renders exactly on the CPU, [`view`] holds the camera, the
+//! shading model and the mode registry that every renderer (GPU or CPU)
+//! shares, and [`render`] draws splats with wgpu. Only [`render`] and
+//! [`viewer`] touch the GPU (a test checks it). [`bench`] measures the modes
+//! against the reference; [`viewer`] is the interactive window on top of them.
 
 pub mod bench;
 pub mod cloud;
@@ -14,6 +17,7 @@ pub mod output;
 pub mod progress;
 pub mod reference;
 pub mod render;
+pub mod scene;
 pub mod spatial;
 pub mod view;
 pub mod viewer;

@@ -9,6 +9,7 @@ use pointblend::cloud::{self, PointCloud};
 use pointblend::grouping::{Grouping, GroupingSpec};
 use pointblend::reference;
 use pointblend::render::{RenderMode, RenderSettings};
+use pointblend::scene::Scene;
 use pointblend::view::Camera;
 
 fn render(
@@ -19,8 +20,8 @@ fn render(
 ) -> image::RgbaImage {
     let mut renderer = common::renderer();
     let gpu = match grouping {
-        Some(g) => renderer.upload_grouped(cloud, g),
-        None => renderer.upload(cloud),
+        Some(g) => renderer.upload_cloud(cloud, Some(g)),
+        None => renderer.upload_cloud(cloud, None),
     };
     renderer.render_image(&gpu, camera, settings, 128, 128).expect("render").0
 }
@@ -145,19 +146,16 @@ fn without_lighting_no_normal_target_is_planned_and_images_match_the_reference()
     for mode in [RenderMode::TwoPass, RenderMode::Deferred] {
         let settings = RenderSettings { mode, lighting: false, ..Default::default() };
         let mut renderer = common::renderer();
-        let gpu = if mode == RenderMode::Deferred {
-            renderer.upload_grouped(&cloud, &grouping)
-        } else {
-            renderer.upload(&cloud)
-        };
+        let gpu = renderer.upload_cloud(&cloud, mode.needs_grouping().then_some(&grouping));
         let (image, plan) = renderer.render_image(&gpu, &camera, &settings, 128, 128).unwrap();
         drop(renderer);
-        assert!(plan.targets.iter().all(|t| !t.name.contains("normal")), "{mode}: {plan}");
+        assert!(plan.targets.iter().all(|t| !t.id.0.contains("normal")), "{mode}: {plan}");
         let lit = RenderSettings { mode, ..Default::default() };
-        let lit_plan = pointblend::render::RenderPlan::new(&lit, 128, 128, cloud.len(), 1.0, grouping.k(), true);
+        let lit_plan = pointblend::render::Renderer::plan(&gpu, &camera, &lit, (128, 128)).unwrap();
         assert!(plan.target_bytes() < lit_plan.target_bytes());
+        let scene = Scene::from(cloud.clone());
         let exact =
-            reference::render(&cloud, &camera, &reference::ReferenceOptions::matching(&settings, &cloud), 128, 128);
+            reference::render(&scene, &camera, &reference::ReferenceOptions::matching(&settings, &scene), 128, 128);
         let error = reference::compare(&image, &exact).unwrap();
         println!("{mode} unlit: ε {:.3} against the unlit reference", error.eps);
         assert!(error.eps <= MAX_UNLIT_EPS, "{mode}: ε {}", error.eps);
@@ -175,18 +173,17 @@ fn a_cloud_of_one_colour_writes_only_weights_and_looks_the_same() {
         let settings = RenderSettings { mode, ..Default::default() };
         let mut renderer = common::renderer();
         let mut frame = |c: &PointCloud| {
-            let gpu =
-                if mode == RenderMode::Deferred { renderer.upload_grouped(c, &grouping) } else { renderer.upload(c) };
+            let gpu = renderer.upload_cloud(c, mode.needs_grouping().then_some(&grouping));
             renderer.render_image(&gpu, &camera, &settings, 128, 128).unwrap()
         };
         let (weights, weight_plan) = frame(&cloud);
         let (colours, colour_plan) = frame(&full_colour);
         drop(renderer);
         assert!(
-            weight_plan.targets.iter().any(|t| t.format == "R16Float" && t.name.contains("weight")),
+            weight_plan.targets.iter().any(|t| t.format == wgpu::TextureFormat::R16Float && t.id.0.contains("weight")),
             "{weight_plan}"
         );
-        assert!(colour_plan.targets.iter().all(|t| !t.name.contains("weight")), "{colour_plan}");
+        assert!(colour_plan.targets.iter().all(|t| !t.id.0.contains("weight")), "{colour_plan}");
         assert!(weight_plan.target_bytes() < colour_plan.target_bytes());
         let error = reference::compare(&weights, &colours).unwrap();
         println!("{mode}: weight-only against full colour: ε {:.4}", error.eps);
@@ -208,8 +205,9 @@ fn deferred_in_the_papers_opaque_setting_stays_close_to_the_reference() {
         camera.azimuth_deg = az;
         camera.distance = camera.fit_distance(&cloud.positions, 1.0);
         let image = render(&cloud, Some(&grouping), &camera, &settings);
-        let options = reference::ReferenceOptions::matching(&settings, &cloud);
-        let exact = reference::render(&cloud, &camera, &options, 128, 128);
+        let scene = Scene::from(cloud.clone());
+        let options = reference::ReferenceOptions::matching(&settings, &scene);
+        let exact = reference::render(&scene, &camera, &options, 128, 128);
         let error = reference::compare(&image, &exact).unwrap();
         println!("az {az}: K {}, ε {:.3}, bad {:.2}%", grouping.k(), error.eps, 100.0 * error.bad_pixel_share);
         assert!(error.eps <= MAX_MGC_04_DEFERRED_EPS, "az {az}: ε {}", error.eps);

@@ -314,7 +314,7 @@ fn bench_skips_a_bad_file_keeps_the_others_and_says_so() {
         .arg("bench")
         .arg(&bad)
         .arg(bunny())
-        .args(["--modes", "two-pass", "--qualities", "filtered", "--size", "64x64", "--frames", "1", "--warm-up", "0"])
+        .args(["--modes", "two-pass:quality=filtered", "--size", "64x64", "--frames", "1", "--warm-up", "0"])
         .args(["--views", "1", "--loads", "1", "--out"])
         .arg(&out)
         .output()

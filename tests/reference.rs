@@ -6,6 +6,7 @@ use common::tolerances::*;
 use glam::{Vec2, Vec3};
 use pointblend::cloud::{self, PointCloud};
 use pointblend::reference::{self, ReferenceOptions};
+use pointblend::scene::Scene;
 use pointblend::view::{Camera, RenderSettings, Shading, SplatKernel, UpAxis};
 
 const SIZE: u32 = 128;
@@ -42,15 +43,15 @@ fn camera() -> Camera {
 }
 
 /// Discs given as (centre, normal, radius, colour).
-fn discs(list: &[(Vec3, Vec3, f32, [u8; 3])]) -> PointCloud {
-    PointCloud {
+fn discs(list: &[(Vec3, Vec3, f32, [u8; 3])]) -> Scene {
+    Scene::from(PointCloud {
         positions: list.iter().map(|d| d.0).collect(),
         normals: list.iter().map(|d| d.1.normalize()).collect(),
         radii: list.iter().map(|d| d.2).collect(),
         colors: list.iter().map(|d| d.3).collect(),
         opacity: vec![1.0; list.len()],
         ..Default::default()
-    }
+    })
 }
 
 /// Where the ray of pixel (x, y) meets the plane z = `z` (world = eye space shifted by DISTANCE).
@@ -157,14 +158,15 @@ fn two_pass_matches_the_reference_on_the_bunny() {
     let settings = RenderSettings::default();
     let size = 256;
     let mut renderer = common::renderer();
-    let gpu = renderer.upload(&cloud);
+    let gpu = renderer.upload_cloud(&cloud, None);
+    let scene = Scene::from(cloud.clone());
     for (az, el) in [(0.0, 10.0), (90.0, 25.0), (200.0, 40.0)] {
         let mut camera = Camera::default_for(&cloud, 1.0);
         camera.azimuth_deg = az;
         camera.elevation_deg = el;
         camera.distance = camera.fit_distance(&cloud.positions, 1.0);
         let (image, _) = renderer.render_image(&gpu, &camera, &settings, size, size).unwrap();
-        let exact = reference::render(&cloud, &camera, &ReferenceOptions::matching(&settings, &cloud), size, size);
+        let exact = reference::render(&scene, &camera, &ReferenceOptions::matching(&settings, &scene), size, size);
         let error = reference::compare(&image, &exact).unwrap();
         println!(
             "az {az}: ε {:.3}, PSNR {:.2} dB, bad pixels {:.2}%",

@@ -12,7 +12,7 @@ const SIZE: u32 = 192;
 
 fn render(cloud: &PointCloud, camera: &Camera, settings: &RenderSettings, size: u32) -> image::RgbaImage {
     let mut renderer = common::renderer();
-    let gpu = renderer.upload(cloud);
+    let gpu = renderer.upload_cloud(cloud, None);
     renderer.render_image(&gpu, camera, settings, size, size).expect("render").0
 }
 
@@ -209,8 +209,9 @@ fn splats_crossing_the_near_plane_render_without_cracks() {
     let bottom_gaps = (0..size).filter(|&x| image.get_pixel(x, size - 1).0[..3] == bg).count();
     assert_eq!(bottom_gaps, 0, "{bottom_gaps} background pixels in the bottom row");
     // And it agrees with the exact reference, which casts the same rays.
-    let options = pointblend::reference::ReferenceOptions::matching(&settings, &floor);
-    let exact = pointblend::reference::render(&floor, &camera, &options, size, size);
+    let scene = pointblend::scene::Scene::from(floor);
+    let options = pointblend::reference::ReferenceOptions::matching(&settings, &scene);
+    let exact = pointblend::reference::render(&scene, &camera, &options, size, size);
     let bottom_gaps = (0..size).filter(|&x| exact.get_pixel(x, size - 1).0[..3] == bg).count();
     assert_eq!(bottom_gaps, 0, "the reference has {bottom_gaps} background pixels in the bottom row");
     let error = pointblend::reference::compare(&image, &exact).unwrap();

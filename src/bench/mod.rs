@@ -1,7 +1,7 @@
 //! Error against run time: every mode from several views, timed and compared
 //! with the exact reference.
 //!
-//! For each model and view, each GPU mode renders warm-up frames and then
+//! For each model and view, each GPU mode variant renders warm-up frames and then
 //! timed frames (wall time to `poll(wait)`, plus per-pass GPU timestamps when
 //! the adapter has them); its last image is compared with the `reference`
 //! image of the same view (ε of Zhang & Pajarola 2007 §6.3, PSNR, bad-pixel
@@ -10,12 +10,10 @@
 //! [`plot`] the error-against-time plot.
 
 pub mod cache;
-pub mod modes;
 pub mod plot;
 pub mod report;
 pub mod run;
 pub mod views;
 
-pub use modes::ModeSpec;
 pub use report::{BenchRow, PassTime};
-pub use run::{BenchConfig, BenchError, run};
+pub use run::{BenchConfig, BenchError, BenchOutcome, run};

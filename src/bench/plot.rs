@@ -19,7 +19,7 @@ const LEGEND_LINE: u32 = 24;
 /// Width of the chart; the legend takes the rest.
 const CHART_WIDTH: u32 = 760;
 
-/// One point of the plot: a mode (with its quality) averaged over views.
+/// One point of the plot: a mode variant averaged over views.
 #[derive(Debug, Clone)]
 pub struct ModePoint {
     pub label: String,
@@ -29,12 +29,11 @@ pub struct ModePoint {
     pub eps: f64,
 }
 
-/// Averages `rows` over views per mode and quality (and per model, when there are several).
+/// Averages `rows` over views per variant (and per model, when there are several).
 pub fn mode_points(rows: &[BenchRow]) -> Vec<ModePoint> {
     let several_models = rows.iter().any(|r| r.model != rows[0].model);
     let label = |r: &BenchRow| {
-        let mode = if r.mode == "reference" { r.mode.clone() } else { format!("{} ({})", r.mode, r.quality) };
-        if several_models { format!("{}, {mode}", r.model.trim_end_matches(".ply")) } else { mode }
+        if several_models { format!("{}, {}", r.model.trim_end_matches(".ply"), r.variant) } else { r.variant.clone() }
     };
     let mut labels: Vec<String> = Vec::new();
     for r in rows {

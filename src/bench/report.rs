@@ -13,12 +13,14 @@ pub struct PassTime {
     pub ms_max: f64,
 }
 
-/// One mode, seen from one view of one model.
+/// One mode variant, seen from one view of one model.
 #[derive(Debug, Clone, Serialize)]
 pub struct BenchRow {
     pub model: String,
+    /// The registry's mode name.
     pub mode: String,
-    pub quality: String,
+    /// The mode with the settings that differ (`deferred:group=wgc-k8`), as `--modes` takes it.
+    pub variant: String,
     pub view: String,
     /// Wall time per frame, submission to `poll(wait)`, median over the timed frames.
     pub frame_ms: f64,
@@ -55,15 +57,14 @@ pub fn write_json(rows: &[BenchRow], path: &Path) -> std::io::Result<()> {
 /// The rows as a Markdown table.
 pub fn markdown(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "| model | view | mode | quality | K | points | size | geometry passes | frame ms median (min-max) | GPU ms | ε | PSNR dB | bad pixels |\n|---|---|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|\n",
+        "| model | view | variant | K | points | size | geometry passes | frame ms median (min-max) | GPU ms | ε | PSNR dB | bad pixels |\n|---|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in rows {
         out.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {} | {}x{} | {} | {:.1} ({:.1}-{:.1}) | {} | {:.3} | {} | {:.2}% |\n",
+            "| {} | {} | {} | {} | {} | {}x{} | {} | {:.1} ({:.1}-{:.1}) | {} | {:.3} | {} | {:.2}% |\n",
             r.model,
             r.view,
-            r.mode,
-            r.quality,
+            r.variant,
             r.k,
             r.points,
             r.width,

@@ -1,18 +1,18 @@
-//! The benchmark loop: models x views x modes.
+//! The benchmark loop: scenes x views x mode variants.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::cache;
-use super::modes::ModeSpec;
 use super::report::{BenchRow, PassTime};
 use super::views::standard_views;
-use crate::cloud::{self, CloudError, LoadOptions};
+use crate::cloud::{CloudError, LoadOptions};
 use crate::grouping::cache::Cache as GroupCache;
 use crate::output::write_atomically;
 use crate::reference::{self, ReferenceOptions};
-use crate::render::{GpuError, HeadlessRenderer};
-use crate::view::{Quality, RenderMode, RenderSettings};
+use crate::render::{GpuError, GpuScene, HeadlessRenderer, RenderPlan};
+use crate::scene::Scene;
+use crate::view::{Camera, ModeVariant, RenderMode, RenderSettings};
 
 #[derive(Debug, thiserror::Error)]
 pub enum BenchError {
@@ -33,9 +33,10 @@ pub enum BenchError {
 /// What to run.
 #[derive(Debug, Clone)]
 pub struct BenchConfig {
-    /// Modes with their quality level; `reference` is always rendered (it is the ruler).
-    pub modes: Vec<(ModeSpec, Quality)>,
-    /// ε, kernel, shading and culling shared by all modes.
+    /// The mode variants, one row each per view; the reference is always
+    /// rendered (it is the ruler) and gets a row when listed.
+    pub variants: Vec<ModeVariant>,
+    /// The settings every variant starts from (ε, kernel, shading, culling...).
     pub settings: RenderSettings,
     pub width: u32,
     pub height: u32,
@@ -123,45 +124,64 @@ pub fn run(
     Ok(outcome)
 }
 
-/// Every view and mode of one model.
+/// A GPU variant ready to run: its settings, its upload and its grouping's K and time.
+struct Prepared {
+    variant: ModeVariant,
+    settings: RenderSettings,
+    scene: usize,
+    k: usize,
+    group_s: Option<f64>,
+}
+
+/// Every view and variant of one model.
 fn bench_model(
     model: &Path,
     config: &BenchConfig,
     renderer: &mut HeadlessRenderer,
 ) -> Result<Vec<BenchRow>, BenchError> {
-    let gpu_modes: Vec<&(ModeSpec, Quality)> = config.modes.iter().filter(|(m, _)| m.mode.is_gpu()).collect();
     let (w, h) = (config.width, config.height);
-    let aspect = w as f32 / h as f32;
-    let mut rows = Vec::new();
     let started = Instant::now();
-    let (cloud, report) = cloud::load_with(model, &LoadOptions { progress: config.progress, ..Default::default() })?;
+    let (scene, report) = Scene::load(model, &LoadOptions { progress: config.progress, ..Default::default() })?;
     for warning in &report.warnings {
         log::warn!("{}: {warning}", model.display());
     }
     let load_s = started.elapsed().as_secs_f64();
-    let gpu_cloud = renderer.upload(&cloud);
-    // Each deferred variant groups the splats once (set-up, cached) and uploads them in group order.
-    let mut grouped = Vec::new();
-    for (spec, _) in &gpu_modes {
-        if let Some(g) = spec.grouping {
+    let flat = scene.flatten();
+    // One upload for the ungrouped variants, one per grouping (set-up, cached).
+    let mut uploads: Vec<(Option<crate::grouping::GroupingSpec>, GpuScene)> = Vec::new();
+    let mut prepared = Vec::new();
+    for variant in config.variants.iter().filter(|v| v.mode.is_gpu()) {
+        let settings = variant.apply(&config.settings).map_err(BenchError::Invalid)?;
+        let spec = variant.mode.needs_grouping().then_some(settings.grouping);
+        let (mut k, mut group_s) = (1, None);
+        if let Some(spec) = spec {
             let t = Instant::now();
-            let (grouping, cached) = g
-                .compute_cached(&GroupCache::from_env(), model, &cloud)
+            let cache = GroupCache::from_env();
+            let (grouping, cached) = spec
+                .compute_cached_for_hash(&cache, scene.content_hash(), &flat.cloud)
                 .map_err(|e| BenchError::Invalid(e.to_string()))?;
-            let seconds = if cached { 0.0 } else { t.elapsed().as_secs_f64() };
-            grouped.push((spec.name.clone(), renderer.upload_grouped(&cloud, &grouping), grouping.k(), seconds));
+            k = grouping.k();
+            group_s = Some(if cached { 0.0 } else { t.elapsed().as_secs_f64() });
+            if !uploads.iter().any(|(s, _)| *s == Some(spec)) {
+                uploads.push((Some(spec), GpuScene::upload_cloud(&renderer.ctx.device, &flat.cloud, Some(&grouping))));
+            }
+        } else if !uploads.iter().any(|(s, _)| s.is_none()) {
+            uploads.push((None, GpuScene::upload_cloud(&renderer.ctx.device, &flat.cloud, None)));
         }
+        let scene = uploads.iter().position(|(s, _)| *s == spec).unwrap_or(0);
+        prepared.push(Prepared { variant: variant.clone(), settings, scene, k, group_s });
     }
     let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let stem = crate::output::safe_stem(model);
-    let views = standard_views(&cloud, aspect, config.views);
-    let steps = (views.len() * (gpu_modes.len() + 1)) as u64;
-    let bar = crate::progress::bar(steps, &format!("bench {stem}"), config.progress);
+    let views = standard_views(&flat.cloud, w as f32 / h as f32, config.views);
+    let bar =
+        crate::progress::bar((views.len() * (prepared.len() + 1)) as u64, &format!("bench {stem}"), config.progress);
+    let mut rows = Vec::new();
     for view in &views {
-        let base = |mode: &str, gpu: bool, quality: Quality| BenchRow {
+        let base = |variant: &str, mode: RenderMode| BenchRow {
             model: name.clone(),
-            mode: mode.to_string(),
-            quality: if gpu { format!("{quality:?}").to_lowercase() } else { "exact".into() },
+            mode: mode.name().to_string(),
+            variant: variant.to_string(),
             view: view.name.to_string(),
             frame_ms: 0.0,
             frame_ms_min: 0.0,
@@ -172,7 +192,7 @@ fn bench_model(
             psnr: None,
             bad_pixel_share: 0.0,
             geometry_passes: 0,
-            points: cloud.len(),
+            points: scene.len(),
             width: w,
             height: h,
             load_s,
@@ -186,63 +206,32 @@ fn bench_model(
         let (reference_image, reference_ms) = match entry.load() {
             Some(cached) => cached,
             None => {
-                let options = ReferenceOptions::matching(&config.settings, &cloud);
+                let options = ReferenceOptions::matching(&config.settings, &scene);
                 let t = Instant::now();
-                let image = reference::render(&cloud, &view.camera, &options, w, h);
+                let image = reference::render(&scene, &view.camera, &options, w, h);
                 let ms = t.elapsed().as_secs_f64() * 1e3;
                 save_png(&image, &entry.image)?;
                 write_atomically(&entry.millis, format!("{ms}").as_bytes()).map_err(io_error(&entry.millis))?;
                 (image, ms)
             }
         };
-        save_png(&reference_image, &config.out.join(format!("{stem}-{}-reference.png", view.name)))?;
-        if config.modes.iter().any(|(m, _)| m.mode == RenderMode::Reference) {
-            let mut row = base("reference", false, Quality::Filtered);
+        let ruler = RenderMode::RULER.name();
+        save_png(&reference_image, &config.out.join(format!("{stem}-{}-{ruler}.png", view.name)))?;
+        for variant in config.variants.iter().filter(|v| !v.mode.is_gpu()) {
+            let mut row = base(&variant.label(), variant.mode);
             (row.frame_ms, row.frame_ms_min, row.frame_ms_max, row.frames) =
                 (reference_ms, reference_ms, reference_ms, 1);
             rows.push(row);
         }
         bar.inc(1);
 
-        for &(spec, quality) in &gpu_modes {
-            let mode = spec.mode;
-            let quality = *quality;
-            let settings = RenderSettings { mode, quality, voronoi: spec.voronoi, ..config.settings };
-            let (gpu_cloud, k, group_s) = match grouped.iter().find(|g| g.0 == spec.name) {
-                Some((_, c, k, s)) => (c, *k, Some(*s)),
-                None => (&gpu_cloud, 1, None),
-            };
-            let mut wall = Vec::new();
-            let mut per_pass: Vec<Vec<f64>> = Vec::new();
-            let mut plan = None;
-            for frame in 0..config.warm_up + config.frames {
-                let t = Instant::now();
-                let p = renderer
-                    .render(gpu_cloud, &view.camera, &settings, w, h)
-                    .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", spec.name, view.name)))?;
-                renderer.ctx.wait_idle()?;
-                let ms = t.elapsed().as_secs_f64() * 1e3;
-                if frame >= config.warm_up {
-                    wall.push(ms);
-                    if let Some(times) = renderer.renderer.pass_times(&renderer.ctx, &p)? {
-                        per_pass.resize(times.len(), Vec::new());
-                        for (i, t) in times.into_iter().enumerate() {
-                            per_pass[i].push(t);
-                        }
-                    }
-                }
-                plan = Some(p);
-            }
-            let (image, _) = renderer
-                .render_image(gpu_cloud, &view.camera, &settings, w, h)
-                .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", spec.name, view.name)))?;
-            let Some(plan) = plan else { continue };
+        for p in &prepared {
+            let gpu_scene = &uploads[p.scene].1;
+            let (image, plan, wall, per_pass) = time_frames(renderer, gpu_scene, &view.camera, p, config)
+                .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?;
             let error = reference::compare(&image, &reference_image)
                 .ok_or_else(|| BenchError::Invalid("image and reference sizes differ".into()))?;
-            let tag = match quality {
-                Quality::Filtered => spec.name.clone(),
-                Quality::Unfiltered => format!("{}-unfiltered", spec.name),
-            };
+            let tag = p.variant.file_tag();
             save_png(&image, &config.out.join(format!("{stem}-{}-{tag}.png", view.name)))?;
             if let Some(diff) = reference::difference_image(&image, &reference_image, 8.0) {
                 save_png(&diff, &config.out.join(format!("{stem}-{}-{tag}-diff.png", view.name)))?;
@@ -252,14 +241,14 @@ fn bench_model(
                 .passes
                 .iter()
                 .zip(&per_pass)
-                .map(|(kind, times)| {
+                .map(|(pass, times)| {
                     let s = spread(times);
-                    PassTime { pass: kind.label().to_string(), ms: s.median, ms_min: s.min, ms_max: s.max }
+                    PassTime { pass: pass.name.to_string(), ms: s.median, ms_min: s.min, ms_max: s.max }
                 })
                 .collect();
-            let mut row = base(&spec.name, true, quality);
-            row.k = k;
-            row.group_s = group_s;
+            let mut row = base(&p.variant.label(), p.variant.mode);
+            row.k = p.k;
+            row.group_s = p.group_s;
             row.frame_ms = frame.median;
             row.frame_ms_min = frame.min;
             row.frame_ms_max = frame.max;
@@ -275,4 +264,36 @@ fn bench_model(
     }
     bar.finish();
     Ok(rows)
+}
+
+/// Warm-up and timed frames of one variant from one view: the last image,
+/// the plan, wall times and GPU times per plan pass.
+#[allow(clippy::type_complexity)]
+fn time_frames(
+    renderer: &mut HeadlessRenderer,
+    scene: &GpuScene,
+    camera: &Camera,
+    p: &Prepared,
+    config: &BenchConfig,
+) -> Result<(image::RgbaImage, RenderPlan, Vec<f64>, Vec<Vec<f64>>), GpuError> {
+    let (w, h) = (config.width, config.height);
+    let mut wall = Vec::new();
+    let mut per_pass: Vec<Vec<f64>> = Vec::new();
+    for frame in 0..config.warm_up + config.frames {
+        let t = Instant::now();
+        let plan = renderer.render(scene, camera, &p.settings, w, h)?;
+        renderer.ctx.wait_idle()?;
+        let ms = t.elapsed().as_secs_f64() * 1e3;
+        if frame >= config.warm_up {
+            wall.push(ms);
+            if let Some(times) = renderer.renderer.pass_times(&renderer.ctx, &plan)? {
+                per_pass.resize(times.len(), Vec::new());
+                for (i, t) in times.into_iter().enumerate() {
+                    per_pass[i].push(t);
+                }
+            }
+        }
+    }
+    let (image, plan) = renderer.render_image(scene, camera, &p.settings, w, h)?;
+    Ok((image, plan, wall, per_pass))
 }

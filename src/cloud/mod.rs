@@ -19,15 +19,6 @@ pub use load::{LoadOptions, load, load_surface_samples, load_with};
 
 use glam::Vec3;
 
-/// Optical material for transparent rendering modes.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Material {
-    /// Index of refraction (1.0 = air).
-    pub refractive_index: f32,
-    /// Absorption coefficient per unit length (Beer's law).
-    pub absorption: f32,
-}
-
 /// A set of surface splats, stored as a structure of arrays.
 #[derive(Debug, Clone, Default)]
 pub struct PointCloud {
@@ -41,8 +32,6 @@ pub struct PointCloud {
     pub colors: Vec<[u8; 3]>,
     /// Opacity in 0..=1 (1 = opaque).
     pub opacity: Vec<f32>,
-    /// Optional material for transparent modes.
-    pub material: Option<Material>,
     /// The f64 offset subtracted from the file's coordinates on load.
     pub origin: [f64; 3],
     /// Positions and radii are in units of 10^this of the file's units (0

@@ -1,15 +1,15 @@
-//! `pointblend bench FILE...`: error against run time for every mode, and load speed.
+//! `pointblend bench FILE...`: error against run time for every mode variant, and load speed.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use pointblend::bench::{self, BenchConfig, ModeSpec};
+use pointblend::bench::{self, BenchConfig};
 use pointblend::cloud;
-use pointblend::render::{HeadlessRenderer, Quality};
-use pointblend::view::Parameter;
+use pointblend::render::HeadlessRenderer;
+use pointblend::view::ModeVariant;
 
-use super::shared::{QualityArg, ViewArgs};
+use super::shared::ViewArgs;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -18,13 +18,12 @@ pub struct Args {
     pub files: Vec<PathBuf>,
     #[command(flatten)]
     pub view: ViewArgs,
-    /// Modes to run, comma-separated: two-pass, reference, deferred[-mgc-cC|-wgc-kK|-hash-kK][-no-voronoi]
-    /// (reference is always rendered as the ruler).
+    /// Mode variants to run, comma-separated: a mode name runs the variants its
+    /// registry entry lists (two-pass: filtered and unfiltered); MODE:KEY=VALUE...
+    /// runs one, e.g. deferred:group=wgc-k8:voronoi=off, two-pass:quality=unfiltered.
+    /// The reference is always rendered (it is the ruler).
     #[arg(long, value_delimiter = ',', default_value = "two-pass,deferred,reference")]
-    pub modes: Vec<ModeSpec>,
-    /// Quality levels of the GPU modes, comma-separated.
-    #[arg(long, value_enum, value_delimiter = ',', default_value = "filtered,unfiltered")]
-    pub qualities: Vec<QualityArg>,
+    pub modes: Vec<String>,
     /// Timed frames per mode and view.
     #[arg(long, default_value_t = 10)]
     pub frames: usize,
@@ -49,6 +48,10 @@ pub fn run(args: &Args) -> Result<()> {
     if args.views == 0 || args.views > bench::views::MAX_VIEWS {
         bail!("--views must be 1..={}", bench::views::MAX_VIEWS);
     }
+    let mut variants = Vec::new();
+    for text in &args.modes {
+        variants.extend(ModeVariant::expand(text).map_err(|e| anyhow::anyhow!("--modes: {e}"))?);
+    }
     for file in &args.files {
         let mut rates = Vec::new();
         for _ in 0..args.loads {
@@ -71,22 +74,9 @@ pub fn run(args: &Args) -> Result<()> {
     }
     let mut renderer = HeadlessRenderer::new().context("opening the GPU")?;
     println!("GPU: {}", renderer.ctx.describe());
-    let qualities: Vec<Quality> = args.qualities.iter().map(|q| q.quality()).collect();
-    let mut modes = Vec::new();
-    for spec in &args.modes {
-        // One row per quality level for the modes that have levels, one row for the others.
-        if spec.mode.parameters().contains(&Parameter::Quality) {
-            modes.extend(qualities.iter().map(|&q| (spec.clone(), q)));
-        } else {
-            modes.push((spec.clone(), Quality::Filtered));
-        }
-    }
-    if args.view.group.is_some() {
-        log::warn!("--group is ignored by bench: name the grouping in the mode, e.g. --modes deferred-wgc-k8");
-    }
     let config = BenchConfig {
-        modes,
-        settings: args.view.settings()?,
+        variants,
+        settings: args.view.base_settings()?,
         width: args.view.size.0,
         height: args.view.size.1,
         frames: args.frames,

@@ -1,11 +1,12 @@
-//! `pointblend render FILE`: one frame to a PNG, written atomically.
+//! `pointblend render FILE`: one frame to an image, written atomically.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
+use pointblend::grouping::cache::Cache;
 use pointblend::reference::{self, ReferenceOptions};
-use pointblend::render::{HeadlessRenderer, RenderMode, RenderPlan};
+use pointblend::render::{HeadlessRenderer, RenderPlan};
 use pointblend::view::Sidecar;
 
 use super::shared::{self, ViewArgs};
@@ -23,7 +24,7 @@ pub struct Args {
     #[arg(long)]
     pub explain: bool,
     /// Also render the exact reference, print the error against it and write
-    /// a false-colour difference image (amplified 8x) to this PNG.
+    /// a false-colour difference image (amplified 8x) to this image.
     #[arg(long)]
     pub diff: Option<PathBuf>,
     /// Reproduce a viewer screenshot: take the mode, parameters, grouping, camera
@@ -34,9 +35,9 @@ pub struct Args {
 
 pub fn run(args: &Args) -> Result<()> {
     let sidecar = args.camera.as_deref().map(Sidecar::read).transpose()?;
-    let (settings, group, (width, height)) = match &sidecar {
-        Some(s) => (s.settings(), s.grouping().map_err(anyhow::Error::msg)?, (s.size[0], s.size[1])),
-        None => (args.view.settings()?, args.view.grouping(), args.view.size),
+    let (settings, (width, height)) = match &sidecar {
+        Some(s) => (s.settings().map_err(anyhow::Error::msg)?, (s.size[0], s.size[1])),
+        None => (args.view.settings()?, args.view.size),
     };
     // Every output is checked before the work starts, so none is written when another cannot be.
     shared::prepare_image_output(&args.out)?;
@@ -44,12 +45,12 @@ pub fn run(args: &Args) -> Result<()> {
         shared::prepare_image_output(diff)?;
     }
     let started = Instant::now();
-    let (cloud, _report) = shared::load(&args.file)?;
+    let scene = shared::load_scene(&args.file)?;
     let load_seconds = started.elapsed().as_secs_f64();
     let camera = match &sidecar {
         Some(s) => {
-            let hash = pointblend::grouping::cache::file_hash(&args.file).map(|h| format!("{h:016x}"));
-            if hash.as_deref().ok() != Some(s.model.hash.as_str()) {
+            let hash = format!("{:016x}", scene.content_hash());
+            if hash != s.model.hash {
                 log::warn!(
                     "{}: this file is not the one the view was saved from ({}, hash {})",
                     args.file.display(),
@@ -59,35 +60,37 @@ pub fn run(args: &Args) -> Result<()> {
             }
             s.camera()
         }
-        None => args.view.camera(&cloud)?,
+        None => args.view.camera(&scene)?,
     };
-    let reference_options = ReferenceOptions { progress: true, ..ReferenceOptions::matching(&settings, &cloud) };
+    let reference_options = ReferenceOptions { progress: true, ..ReferenceOptions::matching(&settings, &scene) };
     let render_started = Instant::now();
     let (image, plan) = if settings.mode.is_gpu() {
         let mut renderer = HeadlessRenderer::new().context("opening the GPU")?;
         log::info!("GPU: {}", renderer.ctx.describe());
-        let gpu_cloud = if settings.mode == RenderMode::Deferred {
+        let grouping = if settings.mode.needs_grouping() {
             let t = Instant::now();
-            let cache = pointblend::grouping::cache::Cache::from_env();
-            let (grouping, cached) = group.compute_cached(&cache, &args.file, &cloud)?;
+            let flat = scene.flatten();
+            let (grouping, cached) =
+                settings.grouping.compute_cached_for_hash(&Cache::from_env(), scene.content_hash(), &flat.cloud)?;
             log::info!(
                 "grouping {}: K = {} in {:.2} s{}",
-                group,
+                settings.grouping,
                 grouping.k(),
                 t.elapsed().as_secs_f64(),
                 if cached { " (from the cache)" } else { "" }
             );
-            renderer.upload_grouped(&cloud, &grouping)
+            Some(grouping)
         } else {
-            renderer.upload(&cloud)
+            None
         };
+        let gpu_scene = renderer.upload(&scene, grouping.as_ref());
         let render_started = Instant::now();
-        let frame = renderer.render_image(&gpu_cloud, &camera, &settings, width, height)?;
+        let frame = renderer.render_image(&gpu_scene, &camera, &settings, width, height)?;
         log::info!("frame {:.0} ms", render_started.elapsed().as_secs_f64() * 1e3);
         frame
     } else {
-        let plan = RenderPlan::new(&settings, width, height, cloud.len(), reference_options.epsilon, 1, false);
-        (reference::render(&cloud, &camera, &reference_options, width, height), plan)
+        let plan = RenderPlan::cpu(settings.mode, width, height, scene.len(), reference_options.epsilon);
+        (reference::render(&scene, &camera, &reference_options, width, height), plan)
     };
     let render_seconds = render_started.elapsed().as_secs_f64();
     if args.explain {
@@ -95,7 +98,7 @@ pub fn run(args: &Args) -> Result<()> {
     }
     shared::write_image(&image, &args.out)?;
     if let Some(diff_path) = &args.diff {
-        let exact = reference::render(&cloud, &camera, &reference_options, width, height);
+        let exact = reference::render(&scene, &camera, &reference_options, width, height);
         let error = reference::compare(&image, &exact).context("image sizes differ")?;
         let diff = reference::difference_image(&image, &exact, 8.0).context("image sizes differ")?;
         shared::write_image(&diff, diff_path)?;
@@ -111,7 +114,7 @@ pub fn run(args: &Args) -> Result<()> {
     println!(
         "{}: {} splats, {} {}x{} in {:.0} ms (load {:.2} s) -> {}",
         args.file.display(),
-        cloud.len(),
+        scene.len(),
         plan.mode,
         width,
         height,

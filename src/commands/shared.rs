@@ -8,6 +8,7 @@ use pointblend::cloud::{self, LoadOptions, LoadReport, PointCloud};
 use pointblend::grouping::GroupingSpec;
 use pointblend::output::ImageFormat;
 use pointblend::render::{Quality, RenderMode, RenderSettings};
+use pointblend::scene::Scene;
 use pointblend::view::{Camera, Parameter, UpAxis};
 
 /// Loads a cloud with progress bars and logs its warnings.
@@ -18,6 +19,16 @@ pub fn load(path: &Path) -> Result<(PointCloud, LoadReport)> {
         log::warn!("{}: {warning}", path.display());
     }
     Ok((cloud, report))
+}
+
+/// Loads a PLY file as a scene of one object, with progress bars, and logs its warnings.
+pub fn load_scene(path: &Path) -> Result<Scene> {
+    let options = LoadOptions { progress: true, ..Default::default() };
+    let (scene, report) = Scene::load(path, &options)?;
+    for warning in &report.warnings {
+        log::warn!("{}: {warning}", path.display());
+    }
+    Ok(scene)
 }
 
 /// `WxH`, e.g. `512x512`.
@@ -56,8 +67,8 @@ fn mode_parser() -> impl clap::builder::TypedValueParser<Value = RenderMode> {
 /// Camera and render options.
 #[derive(clap::Args, Debug, Clone)]
 pub struct ViewArgs {
-    /// Rendering mode.
-    #[arg(long, default_value = "two-pass", value_parser = mode_parser())]
+    /// Rendering mode [default: two-pass].
+    #[arg(long, default_value_t = RenderMode::DEFAULT, value_parser = mode_parser())]
     pub mode: RenderMode,
     /// Quality level of two-pass: Gaussian-filtered blending, or unfiltered nearest splat [default: filtered].
     #[arg(long, value_enum)]
@@ -98,28 +109,31 @@ pub struct ViewArgs {
 }
 
 impl ViewArgs {
+    /// The settings of `--mode`, saying which given options it does not read.
     pub fn settings(&self) -> Result<RenderSettings> {
+        let settings = self.base_settings()?;
+        self.warn_ignored();
+        Ok(settings)
+    }
+
+    /// The settings, without checking them against `--mode` (bench's base for every variant).
+    pub fn base_settings(&self) -> Result<RenderSettings> {
         if !(self.epsilon.is_finite() && self.epsilon > 0.0) {
             bail!(
                 "--epsilon must be a positive multiple of the mean splat radius, not {} (at 0 no two splats would blend)",
                 self.epsilon
             );
         }
-        self.warn_ignored();
         Ok(RenderSettings {
             mode: self.mode,
             quality: self.quality.map_or(Quality::Filtered, QualityArg::quality),
             epsilon_scale: self.epsilon,
             backface_culling: !self.no_cull,
+            grouping: self.group.unwrap_or_default(),
             voronoi: !self.no_voronoi,
             lighting: !self.unlit,
             ..Default::default()
         })
-    }
-
-    /// The grouping of the deferred mode.
-    pub fn grouping(&self) -> GroupingSpec {
-        self.group.unwrap_or_default()
     }
 
     /// Says which given options the chosen mode does not read.
@@ -137,7 +151,9 @@ impl ViewArgs {
         }
     }
 
-    pub fn camera(&self, cloud: &PointCloud) -> Result<Camera> {
+    pub fn camera(&self, scene: &Scene) -> Result<Camera> {
+        let flat = scene.flatten();
+        let cloud = flat.cloud.as_ref();
         let aspect = self.size.0 as f32 / self.size.1 as f32;
         let mut camera = Camera::default_for(cloud, aspect);
         if let Some(up) = self.up {

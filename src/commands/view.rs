@@ -7,8 +7,9 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use pointblend::bench::{self, BenchConfig, ModeSpec};
-use pointblend::render::{HeadlessRenderer, Quality, RenderMode};
+use pointblend::bench::{self, BenchConfig};
+use pointblend::render::{HeadlessRenderer, RenderMode};
+use pointblend::view::ModeVariant;
 use pointblend::view::{RenderSettings, Sidecar};
 use pointblend::viewer::{self, ViewerError, ViewerOptions};
 
@@ -26,7 +27,7 @@ pub struct Args {
     /// Start with the mode, parameters and camera of a screenshot's JSON sidecar.
     #[arg(long)]
     pub camera: Option<PathBuf>,
-    /// Mode to start in: two-pass, deferred or reference.
+    /// Mode to start in (see `render --help` for the list).
     #[arg(long)]
     pub mode: Option<RenderMode>,
     /// Folder for screenshots saved with Ctrl+S.
@@ -73,18 +74,12 @@ fn headless_main_job(args: &Args) -> Result<()> {
     let model = args.file.clone().unwrap_or_else(|| PathBuf::from(viewer::BUNDLED_MODEL));
     let mut renderer = HeadlessRenderer::new().context("opening the GPU")?;
     eprintln!("GPU: {}", renderer.ctx.describe());
-    let mut modes = Vec::new();
+    let mut variants = Vec::new();
     for mode in RenderMode::ALL {
-        let spec: ModeSpec = mode.name().parse().map_err(anyhow::Error::msg)?;
-        if mode.is_gpu() && !mode.needs_grouping() {
-            modes.push((spec.clone(), Quality::Filtered));
-            modes.push((spec, Quality::Unfiltered));
-        } else {
-            modes.push((spec, Quality::Filtered));
-        }
+        variants.extend(ModeVariant::expand(mode.name()).map_err(anyhow::Error::msg)?);
     }
     let config = BenchConfig {
-        modes,
+        variants,
         settings: RenderSettings::default(),
         width: 512,
         height: 512,

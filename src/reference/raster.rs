@@ -4,7 +4,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use super::tiles::{self, EyeSplat, TILE};
-use crate::cloud::PointCloud;
+use crate::scene::Scene;
 use crate::view::{Camera, Shading, SplatKernel};
 
 /// Parameters of a reference frame; the same values a GPU frame uses.
@@ -24,10 +24,10 @@ pub struct ReferenceOptions {
 }
 
 impl ReferenceOptions {
-    /// The options that match a GPU frame rendered with `settings`.
-    pub fn matching(settings: &crate::view::RenderSettings, cloud: &PointCloud) -> Self {
+    /// The options that match a GPU frame of `scene` rendered with `settings`.
+    pub fn matching(settings: &crate::view::RenderSettings, scene: &Scene) -> Self {
         Self {
-            epsilon: settings.epsilon(cloud.mean_radius()),
+            epsilon: settings.epsilon(scene.flatten().cloud.mean_radius()),
             backface_culling: settings.backface_culling,
             kernel: settings.kernel,
             shading: settings.shading,
@@ -46,14 +46,10 @@ struct Hit {
     splat: u32,
 }
 
-/// Renders `cloud` exactly, on the CPU, as the GPU modes would with the same camera.
-pub fn render(
-    cloud: &PointCloud,
-    camera: &Camera,
-    options: &ReferenceOptions,
-    width: u32,
-    height: u32,
-) -> image::RgbaImage {
+/// Renders `scene` exactly, on the CPU, as the GPU modes would with the same camera.
+pub fn render(scene: &Scene, camera: &Camera, options: &ReferenceOptions, width: u32, height: u32) -> image::RgbaImage {
+    let flat = scene.flatten();
+    let cloud = flat.cloud.as_ref();
     let (width, height) = (width.max(1), height.max(1));
     let aspect = width as f32 / height as f32;
     let view = camera.view_matrix();

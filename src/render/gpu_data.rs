@@ -43,21 +43,34 @@ pub struct FrameUniforms {
     pub proj: [[f32; 4]; 4],
     /// width, height, 1/width, 1/height
     pub viewport: [f32; 4],
-    /// near, far, ε (view-depth units), 1/(far - near)
+    /// near, far, unused, 1/(far - near)
     pub depth: [f32; 4],
-    /// focal length in pixels (Eq. 1), Gaussian sharpness k (Eq. 3), min |n_z| (Eq. 2), back-face culling (0/1)
+    /// unused, Gaussian sharpness k (Eq. 3), min |cos| of a footprint, back-face culling (0/1)
     pub splat: [f32; 4],
     /// direction to the light in eye space, shininess
     pub light: [f32; 4],
-    /// ambient, diffuse, specular, lighting on (0/1)
+    /// ambient, diffuse, specular, unused
     pub material: [f32; 4],
     /// background colour, alpha
     pub background: [f32; 4],
     /// tan(fov_x/2), tan(fov_y/2), splat radius scale, unused
     pub lens: [f32; 4],
-    /// deferred: low-precision depth steps n (Eq. 10/14), Voronoi (0/1), group layers K, unused
-    pub deferred: [f32; 4],
-    /// the cloud's one colour (rgb, 0..1) and 1 when colour targets hold only Σw, else 0
-    pub scene: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 272);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 240);
+
+/// The constants of one pass, in its own slot of a buffer bound with a
+/// dynamic offset. Mirrors `Pass` in `shaders/frame.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct PassUniforms {
+    /// The cloud's one colour (rgb, 0..1) for single-channel weight targets.
+    pub uniform_colour: [f32; 4],
+    /// ε (view-depth units), low-precision depth steps n (Eq. 10/14), unused, unused
+    pub depth: [f32; 4],
+    /// this pass's layer, layer count K, Voronoi depth (0/1), unused
+    pub layers: [u32; 4],
+}
+const _: () = assert!(std::mem::size_of::<PassUniforms>() == 48);
+
+/// Bytes between two pass slots: the largest dynamic-offset alignment wgpu allows a device to ask.
+pub const PASS_SLOT_BYTES: u64 = 256;

@@ -1,10 +1,12 @@
 //! Rendering to an image without a window (CLI `render`, tests, benchmarks).
 
 use super::context::{GpuContext, GpuError};
+use super::gpu_scene::GpuScene;
 use super::plan::RenderPlan;
 use super::readback;
-use super::renderer::SplatRenderer;
-use super::splat_buffers::GpuCloud;
+use super::renderer::Renderer;
+use crate::grouping::Grouping;
+use crate::scene::Scene;
 use crate::view::Camera;
 use crate::view::settings::RenderSettings;
 
@@ -14,30 +16,31 @@ pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 /// A GPU context, a renderer and an output texture.
 pub struct HeadlessRenderer {
     pub ctx: GpuContext,
-    pub renderer: SplatRenderer,
+    pub renderer: Renderer,
     output: Option<wgpu::Texture>,
 }
 
 impl HeadlessRenderer {
     pub fn new() -> Result<Self, GpuError> {
         let ctx = GpuContext::headless()?;
-        let renderer = SplatRenderer::new(&ctx)?;
+        let renderer = Renderer::new(&ctx)?;
         Ok(Self { ctx, renderer, output: None })
     }
 
-    pub fn upload(&self, cloud: &crate::cloud::PointCloud) -> GpuCloud {
-        GpuCloud::upload(&self.ctx.device, cloud)
+    /// Uploads `scene`, group by group when a grouping of it is given.
+    pub fn upload(&self, scene: &Scene, grouping: Option<&Grouping>) -> GpuScene {
+        GpuScene::upload(&self.ctx.device, scene, grouping)
     }
 
-    /// Uploads `cloud` group by group for the deferred mode.
-    pub fn upload_grouped(&self, cloud: &crate::cloud::PointCloud, grouping: &crate::grouping::Grouping) -> GpuCloud {
-        GpuCloud::upload_grouped(&self.ctx.device, cloud, grouping)
+    /// Uploads a cloud already in world space (a scene's flattened splats).
+    pub fn upload_cloud(&self, cloud: &crate::cloud::PointCloud, grouping: Option<&Grouping>) -> GpuScene {
+        GpuScene::upload_cloud(&self.ctx.device, cloud, grouping)
     }
 
     /// Renders one frame and submits it, without reading it back.
     pub fn render(
         &mut self,
-        cloud: &GpuCloud,
+        scene: &GpuScene,
         camera: &Camera,
         settings: &RenderSettings,
         width: u32,
@@ -57,19 +60,19 @@ impl HeadlessRenderer {
             }));
         }
         let view = self.output_texture()?.create_view(&Default::default());
-        self.renderer.render(&self.ctx, cloud, camera, settings, &view, OUTPUT_FORMAT, (width, height))
+        self.renderer.render(&self.ctx, scene, camera, settings, &view, OUTPUT_FORMAT, (width, height))
     }
 
     /// Renders one frame and reads it back.
     pub fn render_image(
         &mut self,
-        cloud: &GpuCloud,
+        scene: &GpuScene,
         camera: &Camera,
         settings: &RenderSettings,
         width: u32,
         height: u32,
     ) -> Result<(image::RgbaImage, RenderPlan), GpuError> {
-        let plan = self.render(cloud, camera, settings, width, height)?;
+        let plan = self.render(scene, camera, settings, width, height)?;
         Ok((readback::read_rgba8(&self.ctx, self.output_texture()?)?, plan))
     }
 

@@ -1,193 +1,147 @@
-//! The render plan: which passes and targets a frame needs, and nothing more.
+//! The render plan: the passes and targets a frame needs, and nothing more.
 //!
-//! The renderer runs exactly the passes listed here, so `--explain` and the
-//! viewer show what really happens.
+//! A mode's `plan` lists its passes, each with the targets it reads and
+//! writes, and every target with its format, size, layers and the reason it
+//! exists ([`TargetDesc`]). The target pool allocates exactly these
+//! descriptions, `--explain` prints them and the viewer's plan panel shows
+//! them, so the three cannot disagree.
 
-use crate::view::settings::{Quality, RenderMode, RenderSettings};
+use std::fmt;
 
-/// One pass of a frame.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PassKind {
-    /// Depth only, pushed back by ε.
-    Visibility,
-    /// Additive Σw·colour, Σw·normal, Σw for fragments within ε of the front.
-    Accumulate,
-    /// Nearest elliptical splat wins (unfiltered quality).
-    NearestSplat,
-    /// Full-screen divide by Σw and shade.
-    Normalize,
-    /// One render pass per group k into layer k (deferred blending's single geometry traversal).
-    DeferredGeometry,
-    /// Full-screen ε-z compositing of the K group images, normalisation and shading.
-    DeferredComposite,
-}
+use crate::view::RenderMode;
 
-impl PassKind {
-    pub fn draws_splats(self) -> bool {
-        !matches!(self, PassKind::Normalize | PassKind::DeferredComposite)
-    }
+/// A target, named for what it holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct TargetId(pub &'static str);
 
-    pub fn label(self) -> &'static str {
-        match self {
-            PassKind::Visibility => "visibility",
-            PassKind::Accumulate => "accumulate",
-            PassKind::NearestSplat => "nearest-splat",
-            PassKind::Normalize => "normalize",
-            PassKind::DeferredGeometry => "group images",
-            PassKind::DeferredComposite => "composite",
-        }
-    }
-
-    fn describe(self) -> &'static str {
-        match self {
-            PassKind::Visibility => "splats -> depth (linear f32, +ε)",
-            PassKind::Accumulate => "splats -> Σw·rgb,Σw + Σw·n (additive, ε depth test, no depth write)",
-            PassKind::NearestSplat => "splats -> rgb,1 + n (depth test and write, no blending)",
-            PassKind::Normalize => "full screen: divide by Σw, Phong shading -> output",
-            PassKind::DeferredGeometry => "splats of group k -> layer k: w·rgb,w + w·n + depth (z-test per group)",
-            PassKind::DeferredComposite => "full screen: d = min_k depth_k, sum layers within d+ε, normalise, shade",
-        }
-    }
+/// Whether a target is read as one image or as an array of layers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Layout {
+    /// One image.
+    Single,
+    /// `layers` images (K group images), each a render target of its own.
+    Array { layers: u32 },
 }
 
 /// A texture a frame allocates.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct PlannedTarget {
-    pub name: &'static str,
-    pub format: &'static str,
-    pub bytes_per_pixel: u32,
-    /// Array layers (1, or K for the group images).
-    pub layers: u32,
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct TargetDesc {
+    pub id: TargetId,
+    pub format: wgpu::TextureFormat,
+    pub width: u32,
+    pub height: u32,
+    pub layout: Layout,
     /// Why the frame needs it.
     pub why: &'static str,
+}
+
+impl TargetDesc {
+    pub fn layers(&self) -> u32 {
+        match self.layout {
+            Layout::Single => 1,
+            Layout::Array { layers } => layers,
+        }
+    }
+
+    /// Bytes one pixel of one layer takes.
+    pub fn bytes_per_pixel(&self) -> u32 {
+        self.format
+            .block_copy_size(None)
+            .or_else(|| self.format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)))
+            .unwrap_or(4)
+    }
+
+    /// Bytes of the whole texture.
+    pub fn bytes(&self) -> u64 {
+        self.bytes_per_pixel() as u64 * self.width as u64 * self.height as u64 * self.layers() as u64
+    }
+}
+
+/// One pass of a frame, as `--explain` and the pass timer see it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlannedPass {
+    /// Short name ("visibility", "group images"), also the timer's label.
+    pub name: &'static str,
+    /// What it does, in one line.
+    pub what: String,
+    pub reads: Vec<TargetId>,
+    pub writes: Vec<TargetId>,
+    /// Whether it draws the splats (a geometry pass) or the full screen.
+    pub draws_splats: bool,
+    /// wgpu render passes it takes (K for the group images).
+    pub render_passes: usize,
 }
 
 /// The passes and targets of one frame.
 #[derive(Debug, Clone)]
 pub struct RenderPlan {
     pub mode: RenderMode,
-    pub quality: Quality,
+    /// The variant in words ("filtered, lit", ...).
+    pub variant: String,
     pub width: u32,
     pub height: u32,
     pub splats: usize,
+    /// ε in view-depth units.
     pub epsilon: f32,
     /// Groups K (1 unless the mode draws groups).
     pub groups: usize,
-    /// Render passes that draw splats (K for the group images).
-    pub geometry_render_passes: usize,
-    pub passes: Vec<PassKind>,
-    pub targets: Vec<PlannedTarget>,
+    pub passes: Vec<PlannedPass>,
+    pub targets: Vec<TargetDesc>,
+    /// Remarks on the choices the plan made.
+    pub notes: Vec<String>,
 }
 
 impl RenderPlan {
-    /// `weight_only`: the cloud has one colour, so colour targets hold only Σw.
-    pub fn new(
-        settings: &RenderSettings,
-        width: u32,
-        height: u32,
-        splats: usize,
-        epsilon: f32,
-        groups: usize,
-        weight_only: bool,
-    ) -> Self {
-        let target =
-            |name, format, bytes_per_pixel, layers, why| PlannedTarget { name, format, bytes_per_pixel, layers, why };
-        let two_pass_targets = || {
-            vec![
-                target("depth", "Depth32Float", 4, 1, "linear view depth for the ε test"),
-                if weight_only {
-                    target("accumulated weight (Σw)", "R16Float", 2, 1, "additive blending; the cloud has one colour")
-                } else {
-                    target("accumulated colour (Σw·rgb, Σw)", "Rgba16Float", 8, 1, "additive blending target")
-                },
-                target("accumulated normal (Σw·n, Σw·α)", "Rgba16Float", 8, 1, "normal for deferred shading"),
-            ]
-        };
-        let k = groups.max(1);
-        let (passes, targets, groups) = match (settings.mode, settings.quality) {
-            (RenderMode::TwoPass, Quality::Filtered) => {
-                (vec![PassKind::Visibility, PassKind::Accumulate, PassKind::Normalize], two_pass_targets(), 1)
-            }
-            (RenderMode::TwoPass, Quality::Unfiltered) => {
-                (vec![PassKind::NearestSplat, PassKind::Normalize], two_pass_targets(), 1)
-            }
-            (RenderMode::Deferred, _) => (
-                vec![PassKind::DeferredGeometry, PassKind::DeferredComposite],
-                vec![
-                    if weight_only {
-                        target("group weight (w)", "R16Float", 2, k as u32, "Eq. 4's weight; the cloud has one colour")
-                    } else {
-                        target(
-                            "group colour (w·rgb, w)",
-                            "Rgba16Float",
-                            8,
-                            k as u32,
-                            "Eq. 4: each group's weighted colour",
-                        )
-                    },
-                    target("group normal (w·n, w·α)", "Rgba16Float", 8, k as u32, "normal for deferred shading"),
-                    target("group depth", "R32Float", 4, k as u32, "true view depth for the ε-z test of Fig. 6"),
-                    target(
-                        "group z-buffer",
-                        "Depth32Float",
-                        4,
-                        k as u32,
-                        "z-test within each group (Voronoi depth if on)",
-                    ),
-                ],
-                k,
-            ),
-            (RenderMode::Reference, _) => (Vec::new(), Vec::new(), 1),
-        };
-        let geometry_render_passes = passes
-            .iter()
-            .map(|p| match p {
-                PassKind::DeferredGeometry => groups,
-                p if p.draws_splats() => 1,
-                _ => 0,
-            })
-            .sum();
-        // Without lighting no normal is needed: its targets are not allocated.
-        let targets = if settings.lighting {
-            targets
-        } else {
-            targets.into_iter().filter(|t| !t.name.contains("normal")).collect()
-        };
-        Self {
-            mode: settings.mode,
-            quality: settings.quality,
+    /// The plan of a mode that runs no GPU pass (the CPU reference).
+    pub fn cpu(mode: RenderMode, width: u32, height: u32, splats: usize, epsilon: f32) -> Self {
+        RenderPlan {
+            mode,
+            variant: "exact A-buffer ray casting on the CPU".into(),
             width,
             height,
             splats,
             epsilon,
-            groups,
-            geometry_render_passes,
-            passes,
-            targets,
+            groups: 1,
+            passes: Vec::new(),
+            targets: Vec::new(),
+            notes: Vec::new(),
         }
     }
 
     /// Passes that draw the splats (the "2" of "2+1").
     pub fn geometry_passes(&self) -> usize {
-        self.passes.iter().filter(|p| p.draws_splats()).count()
+        self.passes.iter().filter(|p| p.draws_splats).count()
+    }
+
+    /// wgpu render passes that draw splats (K for the group images).
+    pub fn geometry_render_passes(&self) -> usize {
+        self.passes.iter().filter(|p| p.draws_splats).map(|p| p.render_passes).sum()
+    }
+
+    /// Bytes of all targets.
+    pub fn target_bytes(&self) -> u64 {
+        self.targets.iter().map(TargetDesc::bytes).sum()
+    }
+
+    pub fn target(&self, id: TargetId) -> Option<&TargetDesc> {
+        self.targets.iter().find(|t| t.id == id)
     }
 
     /// Checks that this device can hold the plan's targets: array layers
     /// within its limit, bytes within `budget` (see `GpuContext::target_budget`).
     pub fn check_fits(&self, limits: &wgpu::Limits, budget: u64) -> Result<(), super::GpuError> {
         let hint = "use a grouping with a fixed, small K (--group hash-k8 or wgc-k8)";
-        let layers = self.targets.iter().map(|t| t.layers).max().unwrap_or(1);
+        let layers = self.targets.iter().map(TargetDesc::layers).max().unwrap_or(1);
         if layers > limits.max_texture_array_layers {
             return Err(super::GpuError::TooLarge(format!(
                 "{} needs {layers} group layers, more than the {} texture layers this GPU allows; {hint}",
                 self.mode, limits.max_texture_array_layers
             )));
         }
-        let hint = format!("{hint} or a smaller --size");
         let bytes = self.target_bytes();
         if bytes > budget {
             return Err(super::GpuError::TooLarge(format!(
-                "{} with K = {} at {}x{} needs {} of render targets, more than the {} this GPU can give (POINTBLEND_GPU_MEMORY_MB sets it); {hint}",
+                "{} with K = {} at {}x{} needs {} of render targets, more than the {} this GPU can give (POINTBLEND_GPU_MEMORY_MB sets it); {hint} or a smaller --size",
                 self.mode,
                 self.groups,
                 self.width,
@@ -198,31 +152,33 @@ impl RenderPlan {
         }
         Ok(())
     }
-
-    /// Bytes of all intermediate targets.
-    pub fn target_bytes(&self) -> u64 {
-        let pixels = self.width as u64 * self.height as u64;
-        self.targets.iter().map(|t| t.bytes_per_pixel as u64 * t.layers as u64 * pixels).sum()
-    }
 }
 
-impl std::fmt::Display for RenderPlan {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+fn mib(bytes: u64) -> f64 {
+    bytes as f64 / (1u64 << 20) as f64
+}
+
+fn names(ids: &[TargetId]) -> String {
+    if ids.is_empty() { "-".into() } else { ids.iter().map(|t| t.0).collect::<Vec<_>>().join(", ") }
+}
+
+impl fmt::Display for RenderPlan {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.passes.is_empty() {
             return write!(
                 f,
-                "mode {}: exact A-buffer ray casting on the CPU, {} splats, {}x{}, ε = {:.4e}; no GPU passes",
-                self.mode, self.splats, self.width, self.height, self.epsilon
+                "mode {}: {}, {} splats, {}x{}, ε = {:.4e}; no GPU passes, no targets",
+                self.mode, self.variant, self.splats, self.width, self.height, self.epsilon
             );
         }
-        let full = self.passes.len() - self.geometry_passes();
+        let geometry = self.geometry_passes();
         writeln!(
             f,
-            "mode {} ({:?}): {} geometry + {} full-screen passes, {} splats, {}x{}, ε = {:.4e}",
+            "mode {} ({}): {} geometry + {} full-screen passes, {} splats, {}x{}, ε = {:.4e}",
             self.mode,
-            self.quality,
-            self.geometry_passes(),
-            full,
+            self.variant,
+            geometry,
+            self.passes.len() - geometry,
             self.splats,
             self.width,
             self.height,
@@ -230,27 +186,30 @@ impl std::fmt::Display for RenderPlan {
         )?;
         writeln!(
             f,
-            "  {} groups; each splat is drawn {} time(s) per frame in {} render pass(es) with {} draw range(s)",
+            "  {} groups; each splat is drawn {} time(s) per frame in {} render pass(es)",
             self.groups,
-            self.geometry_passes(),
-            self.geometry_render_passes,
-            self.geometry_render_passes
+            geometry,
+            self.geometry_render_passes()
         )?;
-        for (i, pass) in self.passes.iter().enumerate() {
-            writeln!(f, "  pass {}: {:<14} {}", i + 1, pass.label(), pass.describe())?;
+        for note in &self.notes {
+            writeln!(f, "  note: {note}")?;
         }
-        let pixels = self.width as f64 * self.height as f64;
+        for (i, pass) in self.passes.iter().enumerate() {
+            writeln!(f, "  pass {}: {:<13} {}", i + 1, pass.name, pass.what)?;
+            writeln!(f, "          reads {}; writes {}", names(&pass.reads), names(&pass.writes))?;
+        }
         for t in &self.targets {
             writeln!(
                 f,
-                "  target: {:<34} {:<13} x{:<3} {:>7.1} MiB  ({})",
-                t.name,
-                t.format,
-                t.layers,
-                t.bytes_per_pixel as f64 * t.layers as f64 * pixels / (1u64 << 20) as f64,
+                "  target: {:<26} {:<13} x{:<3} {:>7.1} MiB ({} bytes)  ({})",
+                t.id.0,
+                format!("{:?}", t.format),
+                t.layers(),
+                mib(t.bytes()),
+                t.bytes(),
                 t.why
             )?;
         }
-        write!(f, "  target memory: {:.1} MiB", self.target_bytes() as f64 / (1u64 << 20) as f64)
+        write!(f, "  target memory: {:.1} MiB ({} bytes)", mib(self.target_bytes()), self.target_bytes())
     }
 }

@@ -1,277 +1,315 @@
-//! The splat renderer: builds the pipelines once and runs a [`RenderPlan`] into any view.
+//! The renderer: runs a mode's plan into any view.
 //!
-//! The window and the headless path both call [`SplatRenderer::render`]; only
-//! the output view differs.
-
-use std::collections::HashMap;
+//! A frame flows scene → plan → passes → image. The scene is uploaded once
+//! ([`GpuScene`]); for each frame the mode of the registry plans its passes and
+//! targets ([`RenderPlan`]) and records them as commands; the renderer
+//! allocates exactly the plan's targets ([`TargetPool`]), writes the frame's
+//! uniforms and one uniform slot per pass, takes each pass's pipeline from the
+//! cache ([`PipelineCache`]) and encodes the passes, timed per plan pass when
+//! timing is on. The window, the headless path, `bench` and the tests all call
+//! [`Renderer::render`]; only the output view differs.
 
 use glam::Mat4;
 use wgpu::util::DeviceExt;
 
 use super::context::{GpuContext, GpuError};
-use super::gpu_data::FrameUniforms;
-use super::passes::{accumulate, deferred_composite, deferred_geometry, nearest, normalize, visibility};
-use super::plan::{PassKind, RenderPlan};
-use super::shaders;
-use super::splat_buffers::GpuCloud;
-use super::targets::{FrameTargets, GroupTargets};
+use super::gpu_data::{FrameUniforms, PASS_SLOT_BYTES, PassUniforms};
+use super::gpu_scene::GpuScene;
+use super::modes::{FrameDesc, gpu_mode};
+use super::passes::{Command, Output, PipelineKey, PipelineKind, Recorded, fullscreen, splat};
+use super::pipelines::PipelineCache;
+use super::plan::{Layout, RenderPlan, TargetDesc};
+use super::targets::TargetPool;
 use super::timer::PassTimer;
-use crate::view::Camera;
-use crate::view::settings::RenderSettings;
+use crate::view::{Camera, RenderSettings};
 
-pub struct SplatRenderer {
+pub struct Renderer {
+    cache: PipelineCache,
+    pool: TargetPool,
     frame_buffer: wgpu::Buffer,
+    /// One [`PASS_SLOT_BYTES`] slot of [`PassUniforms`] per render pass of a frame.
+    pass_buffer: wgpu::Buffer,
+    pass_slots: u64,
+    /// Group 0: the frame's uniforms and, at a dynamic offset, one pass slot's.
     frame_bind_group: wgpu::BindGroup,
-    normalize_layout: wgpu::BindGroupLayout,
-    normalize_pipeline_layout: wgpu::PipelineLayout,
-    normalize_module: wgpu::ShaderModule,
-    visibility: wgpu::RenderPipeline,
-    /// Indexed [weight only][lit]: single-channel colour targets for clouds of
-    /// one colour, and no normal target without lighting.
-    accumulate: Variants,
-    nearest: Variants,
-    normalize: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
-    targets: Option<FrameTargets>,
-    deferred_geometry: Variants,
-    composite_layout: wgpu::BindGroupLayout,
-    composite_pipeline_layout: wgpu::PipelineLayout,
-    composite_module: wgpu::ShaderModule,
-    composite: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
-    group_targets: Option<GroupTargets>,
     timer: Option<PassTimer>,
+    timing: bool,
 }
 
-impl SplatRenderer {
+impl Renderer {
     pub fn new(ctx: &GpuContext) -> Result<Self, GpuError> {
-        ctx.checked("building the splat pipelines", || Self::build(&ctx.device))
-    }
-
-    fn build(device: &wgpu::Device) -> Self {
-        let module = |name: &'static str| {
-            device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(name),
-                source: wgpu::ShaderSource::Wgsl(shaders::source(name).into()),
-            })
-        };
-        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("Frame::layout"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }],
-        });
-        let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("Frame::uniforms"),
-            contents: bytemuck::bytes_of(&FrameUniforms::zeroed()),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        });
-        let frame_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("Frame::bind_group"),
-            layout: &frame_layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() }],
-        });
-        let splat_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("Splat::pipeline_layout"),
-            bind_group_layouts: &[Some(&frame_layout)],
-            immediate_size: 0,
-        });
-        let normalize_layout = normalize::inputs_layout(device);
-        let normalize_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("Normalize::pipeline_layout"),
-            bind_group_layouts: &[Some(&frame_layout), Some(&normalize_layout)],
-            immediate_size: 0,
-        });
-        let visibility_module = module("visibility");
-        let accumulate_module = module("accumulate");
-        let composite_layout = deferred_composite::inputs_layout(device);
-        let composite_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("Composite::pipeline_layout"),
-            bind_group_layouts: &[Some(&frame_layout), Some(&composite_layout)],
-            immediate_size: 0,
-        });
-        Self {
-            deferred_geometry: {
-                let m = module("deferred_geometry");
-                variants(|lit, weight_only| deferred_geometry::pipeline(device, &splat_layout, &m, lit, weight_only))
-            },
-            composite_module: module("deferred_composite"),
-            composite_layout,
-            composite_pipeline_layout,
-            composite: HashMap::new(),
-            group_targets: None,
-            visibility: visibility::pipeline(device, &splat_layout, &visibility_module),
-            accumulate: variants(|lit, w| accumulate::pipeline(device, &splat_layout, &accumulate_module, lit, w)),
-            nearest: variants(|lit, w| nearest::pipeline(device, &splat_layout, &accumulate_module, lit, w)),
-            normalize_module: module("normalize"),
-            frame_buffer,
-            frame_bind_group,
-            normalize_layout,
-            normalize_pipeline_layout,
-            normalize: HashMap::new(),
-            targets: None,
-            timer: None,
-        }
+        ctx.checked("building the renderer", || {
+            let device = &ctx.device;
+            let cache = PipelineCache::new(device);
+            let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("Frame::uniforms"),
+                contents: bytemuck::bytes_of(&FrameUniforms::zeroed()),
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            });
+            let slots = 8;
+            let pass_buffer = pass_buffer(device, slots);
+            let frame_bind_group = frame_bind_group(device, &cache, &frame_buffer, &pass_buffer);
+            Self {
+                cache,
+                pool: TargetPool::default(),
+                frame_buffer,
+                pass_buffer,
+                pass_slots: slots,
+                frame_bind_group,
+                timer: None,
+                timing: false,
+            }
+        })
     }
 
     /// Turns per-pass GPU timestamps on; returns false when the adapter has none.
     pub fn enable_pass_timing(&mut self, ctx: &GpuContext) -> bool {
-        if self.timer.is_none() {
-            self.timer = PassTimer::new(ctx);
-        }
-        self.timer.is_some()
+        self.timing = ctx.device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        self.timing
     }
 
-    /// Milliseconds per pass of the last frame (waits for it), if timing is on.
+    /// Milliseconds per plan pass of the last frame (waits for it), if timing is on.
     pub fn pass_times(&self, ctx: &GpuContext, plan: &RenderPlan) -> Result<Option<Vec<f64>>, GpuError> {
-        self.timer.as_ref().map(|t| t.read(ctx, plan.passes.len())).transpose()
+        self.timer.as_ref().filter(|_| self.timing).map(|t| t.read(ctx, plan.passes.len())).transpose()
     }
 
-    /// Renders `cloud` into `output` (of `format`, `width` x `height`) and returns the plan it ran.
+    /// The targets the pool holds now (those of the last frame's plan).
+    pub fn allocated_targets(&self) -> Vec<TargetDesc> {
+        self.pool.descs()
+    }
+
+    /// Bytes of the targets the pool holds now.
+    pub fn allocated_bytes(&self) -> u64 {
+        self.pool.bytes()
+    }
+
+    /// Pipelines built so far.
+    pub fn pipelines_built(&self) -> usize {
+        self.cache.len()
+    }
+
+    /// What the frame's mode needs to know: settings, size and the scene.
+    fn frame_desc<'a>(
+        scene: &'a GpuScene,
+        camera: &Camera,
+        settings: &'a RenderSettings,
+        (width, height): (u32, u32),
+    ) -> FrameDesc<'a> {
+        let epsilon = settings.epsilon(scene.mean_radius);
+        let (near, far) = camera.near_far();
+        // Eq. 10: n >= (d_max - d_min)/ε low-precision depth steps.
+        let depth_steps = ((far - near) / epsilon.max(f32::MIN_POSITIVE)).ceil().clamp(1.0, 4_194_304.0);
+        FrameDesc {
+            settings,
+            width,
+            height,
+            splats: scene.len,
+            groups: &scene.groups,
+            uniform_colour: scene.uniform_color,
+            epsilon,
+            depth_steps,
+        }
+    }
+
+    /// The plan a frame of `settings` would run, without running it.
+    pub fn plan(
+        scene: &GpuScene,
+        camera: &Camera,
+        settings: &RenderSettings,
+        size: (u32, u32),
+    ) -> Result<RenderPlan, GpuError> {
+        let mode = gpu_mode(settings.mode)
+            .ok_or_else(|| GpuError::Device(format!("mode {} does not run on the GPU", settings.mode)))?;
+        Ok(mode.plan(&Self::frame_desc(scene, camera, settings, size)))
+    }
+
+    /// Renders `scene` into `output` (of `format`, `width` x `height`) and returns the plan it ran.
     #[allow(clippy::too_many_arguments)]
     pub fn render(
         &mut self,
         ctx: &GpuContext,
-        cloud: &GpuCloud,
+        scene: &GpuScene,
         camera: &Camera,
         settings: &RenderSettings,
         output: &wgpu::TextureView,
         format: wgpu::TextureFormat,
-        (width, height): (u32, u32),
+        size: (u32, u32),
     ) -> Result<RenderPlan, GpuError> {
-        ctx.check_size(width, height)?;
-        if !settings.mode.is_gpu() {
-            return Err(GpuError::Device(format!("mode {} does not run on the GPU", settings.mode)));
-        }
-        let epsilon = settings.epsilon(cloud.mean_radius);
-        let weight_only = cloud.uniform_color.is_some();
-        let plan = RenderPlan::new(settings, width, height, cloud.len, epsilon, cloud.groups.len(), weight_only);
-        let mut uniforms = frame_uniforms(camera, settings, width, height, epsilon);
-        let (near, far) = camera.near_far();
-        // Eq. 10: n >= (d_max - d_min)/ε low-precision depth steps.
-        let steps = ((far - near) / epsilon.max(f32::MIN_POSITIVE)).ceil().clamp(1.0, 4_194_304.0);
-        if let Some([r, g, b]) = cloud.uniform_color {
-            uniforms.scene = [r as f32 / 255.0, g as f32 / 255.0, b as f32 / 255.0, 1.0];
-        }
-        uniforms.deferred = [steps, if settings.voronoi { 1.0 } else { 0.0 }, plan.groups as f32, 0.0];
+        ctx.check_size(size.0, size.1)?;
+        let mode = gpu_mode(settings.mode)
+            .ok_or_else(|| GpuError::Device(format!("mode {} does not run on the GPU", settings.mode)))?;
+        let frame = Self::frame_desc(scene, camera, settings, size);
+        let plan = mode.plan(&frame);
         plan.check_fits(&ctx.device.limits(), ctx.target_budget())?;
-        let deferred = plan.passes.contains(&PassKind::DeferredGeometry);
-        ctx.allocating("allocating the render targets", || {
-            let device = &ctx.device;
-            // Only the targets this plan uses are kept; the others are freed.
-            if deferred {
-                self.targets = None;
-                let layers = plan.groups as u32;
-                let wanted = (width, height, layers, settings.lighting, weight_only);
-                if self
-                    .group_targets
-                    .as_ref()
-                    .is_none_or(|t| (t.width, t.height, t.layers, t.lit, t.weight_only) != wanted)
-                {
-                    drop(self.group_targets.take()); // free the old layers first
-                    let (lit, layout) = (settings.lighting, &self.composite_layout);
-                    self.group_targets =
-                        Some(GroupTargets::new(device, (width, height, layers), layout, lit, weight_only));
-                }
-            } else {
-                self.group_targets = None;
-                let wanted = (width, height, settings.lighting, weight_only);
-                if self.targets.as_ref().is_none_or(|t| (t.width, t.height, t.lit, t.weight_only) != wanted) {
-                    let (lit, layout) = (settings.lighting, &self.normalize_layout);
-                    self.targets = Some(FrameTargets::new(device, (width, height), layout, lit, weight_only));
-                }
-            }
-        })?;
-        ctx.checked("rendering", || {
-            let device = &ctx.device;
-            let normalize_pipeline = self.normalize.entry(format).or_insert_with(|| {
-                normalize::pipeline(device, &self.normalize_pipeline_layout, &self.normalize_module, format)
-            });
-            let composite_pipeline = self.composite.entry(format).or_insert_with(|| {
-                normalize::fullscreen_pipeline(
-                    device,
-                    "Composite::pipeline",
-                    &self.composite_pipeline_layout,
-                    &self.composite_module,
-                    "fs_composite",
-                    format,
-                )
-            });
-            ctx.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&uniforms));
-            let mut encoder = device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("SplatRenderer::encoder") });
-            let frame = &self.frame_bind_group;
-            let lit = settings.lighting as usize;
-            let weight_only = cloud.uniform_color.is_some() as usize;
-            for (i, pass) in plan.passes.iter().enumerate() {
-                let stamps = self.timer.as_ref().and_then(|t| t.writes(i));
-                if let (Some(groups), true) = (self.group_targets.as_ref(), deferred) {
-                    match pass {
-                        PassKind::DeferredGeometry => {
-                            let timer = self.timer.as_ref().map(|t| (t, i));
-                            deferred_geometry::record(
-                                &mut encoder,
-                                &self.deferred_geometry[weight_only][lit],
-                                frame,
-                                groups,
-                                cloud,
-                                timer,
-                            )
-                        }
-                        PassKind::DeferredComposite => {
-                            deferred_composite::record(&mut encoder, composite_pipeline, frame, groups, output, stamps)
-                        }
-                        _ => {}
-                    }
-                    continue;
-                }
-                let Some(targets) = self.targets.as_ref() else { continue };
-                match pass {
-                    PassKind::Visibility => {
-                        visibility::record(&mut encoder, &self.visibility, frame, targets, cloud, stamps)
-                    }
-                    PassKind::Accumulate => accumulate::record(
-                        &mut encoder,
-                        &self.accumulate[weight_only][lit],
-                        frame,
-                        targets,
-                        cloud,
-                        stamps,
-                    ),
-                    PassKind::NearestSplat => {
-                        nearest::record(&mut encoder, &self.nearest[weight_only][lit], frame, targets, cloud, stamps)
-                    }
-                    PassKind::Normalize => {
-                        normalize::record(&mut encoder, normalize_pipeline, frame, targets, output, stamps)
-                    }
-                    PassKind::DeferredGeometry | PassKind::DeferredComposite => {}
-                }
-            }
-            if let Some(timer) = &self.timer {
-                timer.resolve(&mut encoder, plan.passes.len());
-            }
-            ctx.queue.submit([encoder.finish()]);
-        })?;
+        let commands = mode.record(&frame, &plan);
+        let allocated =
+            ctx.allocating("allocating the render targets", || self.pool.prepare(&ctx.device, &plan.targets));
+        if let Err(e) = allocated {
+            self.pool.clear(); // do not keep textures whose allocation failed
+            return Err(e);
+        }
+        self.ensure_pass_slots(ctx, commands.len() as u64);
+        if self.timing && self.timer.as_ref().is_none_or(|t| t.capacity() < plan.passes.len()) {
+            self.timer = PassTimer::new(ctx, plan.passes.len());
+        }
+        ctx.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame_uniforms(camera, settings, size)));
+        let mut slots = vec![0u8; commands.len() * PASS_SLOT_BYTES as usize];
+        for (i, recorded) in commands.iter().enumerate() {
+            let uniforms = match &recorded.command {
+                Command::Splats(pass) => &pass.uniforms,
+                Command::Fullscreen(pass) => &pass.uniforms,
+            };
+            let at = i * PASS_SLOT_BYTES as usize;
+            slots[at..at + std::mem::size_of::<PassUniforms>()].copy_from_slice(bytemuck::bytes_of(uniforms));
+        }
+        ctx.queue.write_buffer(&self.pass_buffer, 0, &slots);
+        ctx.checked("rendering", || self.encode(ctx, scene, &plan, &commands, output, format))??;
         Ok(plan)
+    }
+
+    /// Grows the pass uniform buffer to at least `slots` slots.
+    fn ensure_pass_slots(&mut self, ctx: &GpuContext, slots: u64) {
+        if slots > self.pass_slots {
+            self.pass_slots = slots.next_power_of_two();
+            self.pass_buffer = pass_buffer(&ctx.device, self.pass_slots);
+            self.frame_bind_group = frame_bind_group(&ctx.device, &self.cache, &self.frame_buffer, &self.pass_buffer);
+        }
+    }
+
+    /// Encodes and submits the recorded passes.
+    fn encode(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &GpuScene,
+        plan: &RenderPlan,
+        commands: &[Recorded],
+        output: &wgpu::TextureView,
+        output_format: wgpu::TextureFormat,
+    ) -> Result<(), GpuError> {
+        let device = &ctx.device;
+        let missing = |what: &str| GpuError::Device(format!("the plan has no target '{what}'"));
+        let desc = |id: super::plan::TargetId| plan.target(id).ok_or_else(|| missing(id.0));
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("Renderer::encoder") });
+        let timer = self.timer.as_ref().filter(|_| self.timing);
+        for (i, recorded) in commands.iter().enumerate() {
+            let first = i == 0 || commands[i - 1].pass != recorded.pass;
+            let last = i + 1 == commands.len() || commands[i + 1].pass != recorded.pass;
+            let stamps = timer.and_then(|t| t.writes_span(recorded.pass, first, last));
+            let (frame, offset) = (&self.frame_bind_group, (i as u64 * PASS_SLOT_BYTES) as u32);
+            match &recorded.command {
+                Command::Splats(pass) => {
+                    let colour = pass.colour.iter().map(|c| Ok((desc(c.target)?.format, c.blend))).collect::<Result<
+                        _,
+                        GpuError,
+                    >>(
+                    )?;
+                    let depth = match pass.depth {
+                        Some((id, test)) => Some((desc(id)?.format, test.write, test.compare)),
+                        None => None,
+                    };
+                    let key = PipelineKey {
+                        shader: pass.shader,
+                        entry: pass.entry,
+                        variant: pass.variant,
+                        kind: PipelineKind::Splats { colour, depth },
+                    };
+                    let pipeline = self.cache.pipeline(device, &key)?;
+                    let layer_view = |id| self.pool.layer_view(id, pass.layer).ok_or_else(|| missing(id.0));
+                    let attachments = splat::Attachments {
+                        colour: pass.colour.iter().map(|c| layer_view(c.target)).collect::<Result<_, _>>()?,
+                        depth: pass.depth.map(|(id, _)| layer_view(id)).transpose()?,
+                    };
+                    splat::record(&mut encoder, pass, pipeline, frame, offset, &attachments, scene, stamps);
+                }
+                Command::Fullscreen(pass) => {
+                    let dims: Vec<wgpu::TextureViewDimension> = pass
+                        .inputs
+                        .iter()
+                        .map(|&id| {
+                            Ok(match desc(id)?.layout {
+                                Layout::Single => wgpu::TextureViewDimension::D2,
+                                Layout::Array { .. } => wgpu::TextureViewDimension::D2Array,
+                            })
+                        })
+                        .collect::<Result<_, GpuError>>()?;
+                    let (target_view, target_format) = match pass.output {
+                        Output::Frame => (output, output_format),
+                        Output::Target(id) => (self.pool.view(id).ok_or_else(|| missing(id.0))?, desc(id)?.format),
+                    };
+                    let views = pass
+                        .inputs
+                        .iter()
+                        .map(|&id| self.pool.view(id).ok_or_else(|| missing(id.0)))
+                        .collect::<Result<Vec<_>, _>>()?;
+                    let entries: Vec<wgpu::BindGroupEntry<'_>> = views
+                        .iter()
+                        .enumerate()
+                        .map(|(binding, view)| wgpu::BindGroupEntry {
+                            binding: binding as u32,
+                            resource: wgpu::BindingResource::TextureView(view),
+                        })
+                        .collect();
+                    let inputs = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("Fullscreen::inputs"),
+                        layout: self.cache.inputs_layout(device, &dims),
+                        entries: &entries,
+                    });
+                    let key = PipelineKey {
+                        shader: pass.shader,
+                        entry: pass.entry,
+                        variant: pass.variant,
+                        kind: PipelineKind::Fullscreen { inputs: dims, output: target_format },
+                    };
+                    let pipeline = self.cache.pipeline(device, &key)?;
+                    fullscreen::record(&mut encoder, pass, pipeline, frame, offset, &inputs, target_view, stamps);
+                }
+            }
+        }
+        if let Some(timer) = timer {
+            timer.resolve(&mut encoder, plan.passes.len());
+        }
+        ctx.queue.submit([encoder.finish()]);
+        Ok(())
     }
 }
 
 use bytemuck::Zeroable;
 
-/// Pipelines for [weight only][lit].
-type Variants = [[wgpu::RenderPipeline; 2]; 2];
+fn pass_buffer(device: &wgpu::Device, slots: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("Pass::uniforms"),
+        size: slots * PASS_SLOT_BYTES,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
 
-fn variants(make: impl Fn(bool, bool) -> wgpu::RenderPipeline) -> Variants {
-    [false, true].map(|weight_only| [false, true].map(|lit| make(lit, weight_only)))
+fn frame_bind_group(
+    device: &wgpu::Device,
+    cache: &PipelineCache,
+    frame: &wgpu::Buffer,
+    passes: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("Frame::bind_group"),
+        layout: cache.frame_layout(),
+        entries: &[
+            wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: passes,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(std::mem::size_of::<PassUniforms>() as u64),
+                }),
+            },
+        ],
+    })
 }
 
 /// The uniforms of one frame.
-fn frame_uniforms(camera: &Camera, settings: &RenderSettings, width: u32, height: u32, epsilon: f32) -> FrameUniforms {
+fn frame_uniforms(camera: &Camera, settings: &RenderSettings, (width, height): (u32, u32)) -> FrameUniforms {
     let aspect = width as f32 / height as f32;
     let (near, far) = camera.near_far();
     let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
@@ -281,18 +319,16 @@ fn frame_uniforms(camera: &Camera, settings: &RenderSettings, width: u32, height
         view: to_cols(camera.view_matrix()),
         proj: to_cols(camera.projection(aspect)),
         viewport: [width as f32, height as f32, 1.0 / width as f32, 1.0 / height as f32],
-        depth: [near, far, epsilon, 1.0 / (far - near)],
+        depth: [near, far, 0.0, 1.0 / (far - near)],
         splat: [
-            camera.focal_pixels(height),
+            0.0,
             settings.kernel.sharpness(),
             settings.kernel.min_normal_z,
             if settings.backface_culling { 1.0 } else { 0.0 },
         ],
         light: shading.light_dir_eye.extend(shading.shininess).to_array(),
-        material: [shading.ambient, shading.diffuse, shading.specular, if settings.lighting { 1.0 } else { 0.0 }],
+        material: [shading.ambient, shading.diffuse, shading.specular, 0.0],
         background: shading.background.extend(1.0).to_array(),
         lens: [tan_y * aspect, tan_y, settings.radius_scale, 0.0],
-        deferred: [0.0; 4],
-        scene: [0.0; 4],
     }
 }

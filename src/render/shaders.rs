@@ -1,36 +1,137 @@
-//! WGSL sources, embedded at build time and composed into shader modules.
+//! WGSL sources, embedded at build time, and their variants.
 //!
-//! WGSL has no includes: each pass module is the shared `frame.wgsl`, the
-//! shared `splat.wgsl` where the pass draws splats (or `shading.wgsl` where it
-//! shades full screen), and the pass's own file.
+//! Shader variants come from one mechanism: a small preprocessor with
+//! `#include "file.wgsl"` (each file included once), `#ifdef NAME`,
+//! `#ifndef NAME`, `#else` and `#endif`. A [`Variant`] is a set of names
+//! (`LIT`, `WEIGHT_ONLY`; transparency and environment lookups add theirs).
+//! Chosen over WGSL `override` constants, which cannot remove a binding, a
+//! fragment output or a struct field (an unlit pass must neither declare nor
+//! write a normal target), and over `naga_oil`, which composes into naga IR
+//! pinned to its own naga release and brings far more than these dozen
+//! directives need. `cargo test` composes every root file in every variant
+//! and validates it with naga (`tests/shaders.rs`).
 
-pub const FRAME: &str = include_str!("../../shaders/frame.wgsl");
-pub const SPLAT: &str = include_str!("../../shaders/splat.wgsl");
-pub const VISIBILITY: &str = include_str!("../../shaders/visibility.wgsl");
-pub const ACCUMULATE: &str = include_str!("../../shaders/accumulate.wgsl");
-pub const NORMALIZE: &str = include_str!("../../shaders/normalize.wgsl");
-pub const SHADING: &str = include_str!("../../shaders/shading.wgsl");
-pub const DEFERRED_GEOMETRY: &str = include_str!("../../shaders/deferred_geometry.wgsl");
-pub const DEFERRED_COMPOSITE: &str = include_str!("../../shaders/deferred_composite.wgsl");
+/// Every WGSL file, by name.
+const FILES: [(&str, &str); 8] = [
+    ("frame.wgsl", include_str!("../../shaders/frame.wgsl")),
+    ("splat.wgsl", include_str!("../../shaders/splat.wgsl")),
+    ("shading.wgsl", include_str!("../../shaders/shading.wgsl")),
+    ("visibility.wgsl", include_str!("../../shaders/visibility.wgsl")),
+    ("accumulate.wgsl", include_str!("../../shaders/accumulate.wgsl")),
+    ("normalize.wgsl", include_str!("../../shaders/normalize.wgsl")),
+    ("deferred_geometry.wgsl", include_str!("../../shaders/deferred_geometry.wgsl")),
+    ("deferred_composite.wgsl", include_str!("../../shaders/deferred_composite.wgsl")),
+];
 
-/// A shader module's name and its composed source.
-pub struct ComposedShader {
-    pub name: &'static str,
-    pub source: String,
+/// The files passes build modules from; the others are only included.
+pub const ROOTS: [&str; 5] =
+    ["visibility.wgsl", "accumulate.wgsl", "normalize.wgsl", "deferred_geometry.wgsl", "deferred_composite.wgsl"];
+
+/// A set of preprocessor names a shader module is built with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Variant(u32);
+
+impl Variant {
+    /// Lighting: normal targets are written and read, and the result is shaded.
+    pub const LIT: Variant = Variant(1);
+    /// A cloud of one colour: colour targets hold only the weight.
+    pub const WEIGHT_ONLY: Variant = Variant(2);
+
+    /// Every name, by bit.
+    const NAMES: [&'static str; 2] = ["LIT", "WEIGHT_ONLY"];
+
+    pub const NONE: Variant = Variant(0);
+
+    /// This variant with `flag` set when `on`.
+    pub fn with(self, flag: Variant, on: bool) -> Variant {
+        if on { Variant(self.0 | flag.0) } else { Variant(self.0 & !flag.0) }
+    }
+
+    pub fn has(self, flag: Variant) -> bool {
+        self.0 & flag.0 == flag.0
+    }
+
+    /// The preprocessor names that are defined.
+    pub fn defines(self) -> Vec<&'static str> {
+        Self::NAMES.iter().enumerate().filter(|(bit, _)| self.0 & (1 << bit) != 0).map(|(_, n)| *n).collect()
+    }
+
+    /// Every variant there is.
+    pub fn all() -> impl Iterator<Item = Variant> {
+        (0..1u32 << Self::NAMES.len()).map(Variant)
+    }
 }
 
-/// Every shader module the renderer builds, composed.
-pub fn all() -> Vec<ComposedShader> {
-    vec![
-        ComposedShader { name: "visibility", source: [FRAME, SPLAT, VISIBILITY].concat() },
-        ComposedShader { name: "accumulate", source: [FRAME, SPLAT, ACCUMULATE].concat() },
-        ComposedShader { name: "normalize", source: [FRAME, SHADING, NORMALIZE].concat() },
-        ComposedShader { name: "deferred_geometry", source: [FRAME, SPLAT, DEFERRED_GEOMETRY].concat() },
-        ComposedShader { name: "deferred_composite", source: [FRAME, SHADING, DEFERRED_COMPOSITE].concat() },
-    ]
+impl std::fmt::Display for Variant {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let defines = self.defines();
+        if defines.is_empty() { f.write_str("plain") } else { f.write_str(&defines.join("+")) }
+    }
 }
 
-/// The composed source of the module called `name`.
-pub fn source(name: &str) -> String {
-    all().into_iter().find(|s| s.name == name).map(|s| s.source).unwrap_or_default()
+/// The source of `root` with its includes resolved for `variant`.
+pub fn compose(root: &str, variant: Variant) -> Result<String, String> {
+    let mut out = String::new();
+    let mut included = Vec::new();
+    include(root, &variant.defines(), &mut included, &mut out)?;
+    Ok(out)
+}
+
+fn include(name: &str, defines: &[&str], included: &mut Vec<String>, out: &mut String) -> Result<(), String> {
+    if included.iter().any(|n| n == name) {
+        return Ok(());
+    }
+    included.push(name.to_string());
+    let source = FILES.iter().find(|(n, _)| *n == name).map(|(_, s)| *s).ok_or(format!("no shader file {name}"))?;
+    // One entry per open #if: (this branch is taken, the enclosing ones are).
+    let mut stack: Vec<(bool, bool)> = Vec::new();
+    let active = |stack: &[(bool, bool)]| stack.last().is_none_or(|&(taken, outer)| taken && outer);
+    for (number, line) in source.lines().enumerate() {
+        let at = |what: &str| format!("{name}:{}: {what}", number + 1);
+        let words: Vec<&str> = line.split_whitespace().collect();
+        match words.as_slice() {
+            ["#include", file] if active(&stack) => include(file.trim_matches('"'), defines, included, out)?,
+            ["#include", _] => {}
+            ["#ifdef", flag] | ["#ifndef", flag] => {
+                let defined = defines.contains(flag);
+                let taken = if words[0] == "#ifdef" { defined } else { !defined };
+                stack.push((taken, active(&stack)));
+            }
+            ["#else"] => {
+                let top = stack.last_mut().ok_or_else(|| at("#else without #ifdef"))?;
+                top.0 = !top.0;
+            }
+            ["#endif"] => {
+                stack.pop().ok_or_else(|| at("#endif without #ifdef"))?;
+            }
+            [directive, ..] if directive.starts_with('#') => return Err(at(&format!("unknown directive {directive}"))),
+            _ if active(&stack) => {
+                out.push_str(line);
+                out.push('\n');
+            }
+            _ => {}
+        }
+    }
+    if stack.is_empty() { Ok(()) } else { Err(format!("{name}: #ifdef without #endif")) }
+}
+
+/// Every WGSL file name, for the check that each is used.
+pub fn file_names() -> impl Iterator<Item = &'static str> {
+    FILES.iter().map(|(n, _)| *n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn variants_select_their_branches_and_includes_come_once() {
+        let lit = compose("accumulate.wgsl", Variant::LIT).unwrap();
+        let unlit = compose("accumulate.wgsl", Variant::NONE).unwrap();
+        assert!(lit.contains("@location(1) normal") && !unlit.contains("@location(1) normal"));
+        assert_eq!(lit.matches("struct Frame {").count(), 1, "frame.wgsl is included once");
+        assert!(compose("missing.wgsl", Variant::NONE).is_err());
+        assert_eq!(Variant::LIT.with(Variant::WEIGHT_ONLY, true).defines(), ["LIT", "WEIGHT_ONLY"]);
+        assert_eq!(Variant::all().count(), 4);
+    }
 }

@@ -1,156 +1,117 @@
-//! The intermediate textures of a frame, sized to the output.
+//! The target pool: allocates exactly the targets a plan describes.
 //!
-//! Depth is linear view depth in Depth32Float (the ε test needs f32); the
-//! accumulation targets are Rgba16Float, which every adapter can blend and
-//! which keeps Σw·c exact to ~1e-3 relative for thousands of splats a pixel.
+//! [`TargetPool::prepare`] keeps each texture whose description is still in
+//! the plan, frees every other one first (so memory is not held twice), and
+//! creates the missing ones, with a view of the whole texture and, for
+//! arrays, one render view per layer. What the pool holds is always what the
+//! plan (and `--explain`) lists, byte for byte.
 
-/// Formats of the intermediate targets.
+use super::plan::{Layout, TargetDesc, TargetId};
+
+/// The formats of the targets, chosen for what they hold: depth compared
+/// against ε must be f32 (linear view depth); weighted sums of thousands of
+/// splats a pixel stay within ~1e-3 in Rgba16Float, which every adapter can blend.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 pub const ACCUM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Colour targets of a cloud of one colour hold only Σw.
 pub const WEIGHT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
+/// True view depth written as colour, read by a compositing pass.
+pub const VIEW_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
 /// The colour target's format: (Σw·rgb, Σw), or Σw alone.
 pub fn colour_format(weight_only: bool) -> wgpu::TextureFormat {
     if weight_only { WEIGHT_FORMAT } else { ACCUM_FORMAT }
 }
 
-/// Depth and accumulation textures for one output size.
-pub struct FrameTargets {
-    pub width: u32,
-    pub height: u32,
-    pub depth: wgpu::TextureView,
-    pub accum_color: wgpu::TextureView,
-    /// The normal sums; a 1x1 placeholder when lighting is off.
-    pub accum_normal: wgpu::TextureView,
-    /// Binds the two accumulation targets for the normalisation pass.
-    pub normalize_inputs: wgpu::BindGroup,
-    /// Whether the normal target is real (lighting on).
-    pub lit: bool,
-    /// Whether the colour target holds only Σw (a cloud of one colour).
-    pub weight_only: bool,
+struct PooledTarget {
+    desc: TargetDesc,
+    /// Keeps the texture alive; the views below are what passes use.
+    _texture: wgpu::Texture,
+    whole: wgpu::TextureView,
+    layers: Vec<wgpu::TextureView>,
 }
 
-impl FrameTargets {
-    pub fn new(
-        device: &wgpu::Device,
-        (width, height): (u32, u32),
-        normalize_layout: &wgpu::BindGroupLayout,
-        lit: bool,
-        weight_only: bool,
-    ) -> Self {
-        let make_sized = |label: &str, format, usage, (width, height)| {
-            device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage,
-                    view_formats: &[],
-                })
-                .create_view(&wgpu::TextureViewDescriptor::default())
-        };
-        let make = |label: &str, format, usage| make_sized(label, format, usage, (width, height));
-        let attach_and_read = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
-        let depth = make("FrameTargets::depth", DEPTH_FORMAT, attach_and_read);
-        let accum_color = make("FrameTargets::accumulated_color", colour_format(weight_only), attach_and_read);
-        let normal_size = if lit { (width, height) } else { (1, 1) };
-        let accum_normal = make_sized("FrameTargets::accumulated_normal", ACCUM_FORMAT, attach_and_read, normal_size);
-        let normalize_inputs = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("Normalize::inputs"),
-            layout: normalize_layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&accum_color) },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&accum_normal) },
-            ],
-        });
-        Self { width, height, depth, accum_color, accum_normal, normalize_inputs, lit, weight_only }
+/// The textures of the current plan.
+#[derive(Default)]
+pub struct TargetPool {
+    targets: Vec<PooledTarget>,
+}
+
+impl TargetPool {
+    /// Makes the pool hold exactly `descs`.
+    pub fn prepare(&mut self, device: &wgpu::Device, descs: &[TargetDesc]) {
+        self.targets.retain(|t| descs.contains(&t.desc));
+        for desc in descs {
+            if !self.targets.iter().any(|t| &t.desc == desc) {
+                self.targets.push(create(device, desc));
+            }
+        }
+    }
+
+    /// Frees every texture.
+    pub fn clear(&mut self) {
+        self.targets.clear();
+    }
+
+    fn get(&self, id: TargetId) -> Option<&PooledTarget> {
+        self.targets.iter().find(|t| t.desc.id == id)
+    }
+
+    /// The view of the whole target (an array view for arrays).
+    pub fn view(&self, id: TargetId) -> Option<&wgpu::TextureView> {
+        self.get(id).map(|t| &t.whole)
+    }
+
+    /// A render view of one layer (layer 0 of a single image is the image).
+    pub fn layer_view(&self, id: TargetId, layer: u32) -> Option<&wgpu::TextureView> {
+        let target = self.get(id)?;
+        match target.desc.layout {
+            Layout::Single => (layer == 0).then_some(&target.whole),
+            Layout::Array { .. } => target.layers.get(layer as usize),
+        }
+    }
+
+    pub fn desc(&self, id: TargetId) -> Option<&TargetDesc> {
+        self.get(id).map(|t| &t.desc)
+    }
+
+    /// The descriptions of what the pool holds.
+    pub fn descs(&self) -> Vec<TargetDesc> {
+        self.targets.iter().map(|t| t.desc.clone()).collect()
+    }
+
+    /// Bytes of all textures held.
+    pub fn bytes(&self) -> u64 {
+        self.targets.iter().map(|t| t.desc.bytes()).sum()
     }
 }
 
-/// Format of the per-group depth image read by the compositing pass.
-pub const GROUP_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-
-/// The K group images of deferred blending: 2D array textures with one layer
-/// per group (so K is not limited by the number of colour attachments), each
-/// layer with its own z-buffer layer.
-pub struct GroupTargets {
-    pub width: u32,
-    pub height: u32,
-    pub layers: u32,
-    /// Whether the normal layers are real (lighting on); else a 1x1 placeholder.
-    pub lit: bool,
-    /// Whether the colour layers hold only w (a cloud of one colour).
-    pub weight_only: bool,
-    /// Per layer: colour, normal, depth views and the z-buffer view.
-    pub layer_views: Vec<[wgpu::TextureView; 4]>,
-    /// Binds the three arrays for the compositing pass.
-    pub composite_inputs: wgpu::BindGroup,
-}
-
-impl GroupTargets {
-    pub fn new(
-        device: &wgpu::Device,
-        (width, height, layers): (u32, u32, u32),
-        composite_layout: &wgpu::BindGroupLayout,
-        lit: bool,
-        weight_only: bool,
-    ) -> Self {
-        let layers = layers.max(1);
-        let make_sized = |label: &str, format, (width, height, layers)| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d { width, height, depth_or_array_layers: layers },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            })
-        };
-        let make = |label: &str, format| make_sized(label, format, (width, height, layers));
-        let normal_size = if lit { (width, height, layers) } else { (1, 1, 1) };
-        let textures = [
-            make("GroupTargets::colour", colour_format(weight_only)),
-            make_sized("GroupTargets::normal", ACCUM_FORMAT, normal_size),
-            make("GroupTargets::depth", GROUP_DEPTH_FORMAT),
-            make("GroupTargets::z_buffer", DEPTH_FORMAT),
-        ];
-        let layer_views = (0..layers)
-            .map(|k| {
-                [0, 1, 2, 3].map(|t| {
-                    let layer = if t == 1 && !lit { 0 } else { k };
-                    textures[t].create_view(&wgpu::TextureViewDescriptor {
-                        label: Some("GroupTargets::layer"),
-                        dimension: Some(wgpu::TextureViewDimension::D2),
-                        base_array_layer: layer,
-                        array_layer_count: Some(1),
-                        ..Default::default()
-                    })
-                })
-            })
-            .collect();
-        let array = |t: &wgpu::Texture| {
-            t.create_view(&wgpu::TextureViewDescriptor {
-                label: Some("GroupTargets::array"),
-                dimension: Some(wgpu::TextureViewDimension::D2Array),
-                ..Default::default()
-            })
-        };
-        let (colour, normal, depth) = (array(&textures[0]), array(&textures[1]), array(&textures[2]));
-        let composite_inputs = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("Composite::inputs"),
-            layout: composite_layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&colour) },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&normal) },
-                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&depth) },
-            ],
-        });
-        Self { width, height, layers, lit, weight_only, layer_views, composite_inputs }
-    }
+fn create(device: &wgpu::Device, desc: &TargetDesc) -> PooledTarget {
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(desc.id.0),
+        size: wgpu::Extent3d { width: desc.width, height: desc.height, depth_or_array_layers: desc.layers() },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: desc.format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    });
+    let view = |dimension, base_array_layer, array_layer_count| {
+        texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some(desc.id.0),
+            dimension: Some(dimension),
+            base_array_layer,
+            array_layer_count,
+            ..Default::default()
+        })
+    };
+    let (whole, layers) = match desc.layout {
+        Layout::Single => (view(wgpu::TextureViewDimension::D2, 0, None), Vec::new()),
+        Layout::Array { layers } => (
+            view(wgpu::TextureViewDimension::D2Array, 0, None),
+            (0..layers).map(|k| view(wgpu::TextureViewDimension::D2, k, Some(1))).collect(),
+        ),
+    };
+    PooledTarget { desc: desc.clone(), _texture: texture, whole, layers }
 }

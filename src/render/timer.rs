@@ -1,15 +1,17 @@
-//! GPU timestamps around each pass, when the adapter supports them.
+//! GPU timestamps around each plan pass, when the adapter supports them.
 //!
-//! Each pass writes a timestamp at its start and end; the renderer resolves
-//! them into a buffer in the same submission, and [`PassTimer::read`] maps it
-//! after the frame to give milliseconds per pass.
+//! Each plan pass writes a timestamp at the start of its first render pass
+//! and at the end of its last one (the K render passes of the group images
+//! are one plan pass); the renderer resolves them into a buffer in the same
+//! submission, and [`PassTimer::read`] maps it after the frame to give
+//! milliseconds per pass. The timer is sized from the plan: the renderer
+//! makes a larger one when a plan has more passes.
 
 use super::context::{GpuContext, GpuError};
 
-/// Most passes a frame can time.
-const MAX_PASSES: u32 = 16;
-
 pub struct PassTimer {
+    /// Plan passes it can time.
+    passes: u32,
     query_set: wgpu::QuerySet,
     resolve: wgpu::Buffer,
     readback: wgpu::Buffer,
@@ -17,12 +19,13 @@ pub struct PassTimer {
 }
 
 impl PassTimer {
-    /// A timer, or `None` when the device has no timestamp queries.
-    pub fn new(ctx: &GpuContext) -> Option<Self> {
+    /// A timer for `passes` plan passes, or `None` when the device has no timestamp queries.
+    pub fn new(ctx: &GpuContext, passes: usize) -> Option<Self> {
         if !ctx.device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
             return None;
         }
-        let count = 2 * MAX_PASSES;
+        let passes = u32::try_from(passes.max(1)).ok()?;
+        let count = 2 * passes;
         let bytes = count as u64 * 8;
         let query_set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("PassTimer::queries"),
@@ -38,6 +41,7 @@ impl PassTimer {
             })
         };
         Some(Self {
+            passes,
             query_set,
             resolve: buffer("PassTimer::resolve", wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
             readback: buffer("PassTimer::readback", wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ),
@@ -45,9 +49,14 @@ impl PassTimer {
         })
     }
 
+    /// Plan passes it can time.
+    pub fn capacity(&self) -> usize {
+        self.passes as usize
+    }
+
     /// The timestamp writes for pass `index`, if it can be timed.
     pub fn writes(&self, index: usize) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        let i = u32::try_from(index).ok().filter(|&i| i < MAX_PASSES)?;
+        let i = u32::try_from(index).ok().filter(|&i| i < self.passes)?;
         Some(wgpu::RenderPassTimestampWrites {
             query_set: &self.query_set,
             beginning_of_pass_write_index: Some(2 * i),
@@ -71,7 +80,7 @@ impl PassTimer {
 
     /// Resolves the timestamps of `passes` passes into the readback buffer.
     pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, passes: usize) {
-        let count = (2 * passes as u32).min(2 * MAX_PASSES);
+        let count = (2 * passes as u32).min(2 * self.passes);
         if count == 0 {
             return;
         }
@@ -81,7 +90,7 @@ impl PassTimer {
 
     /// Milliseconds spent in each of the first `passes` passes of the last frame.
     pub fn read(&self, ctx: &GpuContext, passes: usize) -> Result<Vec<f64>, GpuError> {
-        let passes = passes.min(MAX_PASSES as usize);
+        let passes = passes.min(self.passes as usize);
         if passes == 0 {
             return Ok(Vec::new());
         }

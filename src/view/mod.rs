@@ -1,17 +1,22 @@
 //! What every renderer shares, GPU or CPU: the camera, the splat kernel, the
-//! shading model and the render settings. Keeping them here (with no GPU types) lets the exact CPU
-//! reference and the wgpu passes produce images that compare pixel for pixel.
+//! shading model, the render settings and the mode registry. Keeping them here
+//! (with no GPU types) lets the exact CPU reference and the wgpu passes
+//! produce images that compare pixel for pixel.
 
 pub mod camera;
 pub mod kernel;
+pub mod modes;
 pub mod parameters;
 pub mod settings;
 pub mod shading;
 pub mod sidecar;
+pub mod variant;
 
 pub use camera::{Camera, UpAxis};
 pub use kernel::SplatKernel;
+pub use modes::{ModeInfo, RenderMode};
 pub use parameters::Parameter;
-pub use settings::{Quality, RenderMode, RenderSettings};
+pub use settings::{Quality, RenderSettings};
 pub use shading::Shading;
 pub use sidecar::Sidecar;
+pub use variant::ModeVariant;

@@ -1,10 +1,12 @@
-//! The mode registry: what each render mode is and which parameters it reads.
+//! The settings a mode can read, each with the one name it has everywhere:
+//! on the command line (`--group wgc-k8`), in bench variants
+//! (`deferred:group=wgc-k8`), in the viewer's panel and in sidecars.
 //!
-//! Front ends (the viewer's panels, help texts) iterate [`RenderMode::ALL`] and
-//! show a control for each [`Parameter`] of the chosen mode, so a new mode
-//! appears everywhere by adding it to the enum and listing its parameters here.
+//! Front ends show a control for each [`Parameter`] of the chosen mode (the
+//! registry in [`super::modes`] lists them), so a new mode needs no UI code.
 
-use super::RenderMode;
+use super::RenderSettings;
+use crate::grouping::GroupingSpec;
 
 /// A setting a mode reads.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -25,33 +27,87 @@ pub enum Parameter {
     Background,
 }
 
-impl RenderMode {
-    /// One sentence on what the mode does.
-    pub fn description(self) -> &'static str {
+impl Parameter {
+    pub const ALL: [Parameter; 8] = [
+        Parameter::Quality,
+        Parameter::Epsilon,
+        Parameter::RadiusScale,
+        Parameter::BackfaceCulling,
+        Parameter::Lighting,
+        Parameter::Grouping,
+        Parameter::Voronoi,
+        Parameter::Background,
+    ];
+
+    /// The name in `key=value` settings (bench variants).
+    pub fn key(self) -> &'static str {
         match self {
-            RenderMode::TwoPass => {
-                "Botsch & Kobbelt: ε-offset visibility, additive blending, normalisation (2+1 passes)."
-            }
-            RenderMode::Deferred => {
-                "Zhang & Pajarola: one geometry pass into K group images, then ε-z compositing (1+1 passes)."
-            }
-            RenderMode::Reference => "Exact A-buffer ray casting on the CPU: the ground truth for error (slow).",
+            Parameter::Quality => "quality",
+            Parameter::Epsilon => "epsilon",
+            Parameter::RadiusScale => "radius-scale",
+            Parameter::BackfaceCulling => "cull",
+            Parameter::Lighting => "lighting",
+            Parameter::Grouping => "group",
+            Parameter::Voronoi => "voronoi",
+            Parameter::Background => "background",
         }
     }
 
-    /// The parameters the mode reads, in display order.
-    pub fn parameters(self) -> &'static [Parameter] {
-        use Parameter::*;
+    /// The values it takes, for messages.
+    pub fn values(self) -> &'static str {
         match self {
-            RenderMode::TwoPass => &[Quality, Epsilon, RadiusScale, BackfaceCulling, Lighting, Background],
-            RenderMode::Deferred => &[Grouping, Voronoi, Epsilon, RadiusScale, BackfaceCulling, Lighting, Background],
-            RenderMode::Reference => &[Epsilon, RadiusScale, BackfaceCulling, Lighting, Background],
+            Parameter::Quality => "filtered or unfiltered",
+            Parameter::Epsilon => "a positive multiple of the mean splat radius",
+            Parameter::RadiusScale => "a positive factor",
+            Parameter::BackfaceCulling | Parameter::Lighting | Parameter::Voronoi => "on or off",
+            Parameter::Grouping => "mgc-cC, wgc-kK, hash-kK or hash-kK-kept",
+            Parameter::Background => "R,G,B (or R/G/B) in 0..255",
         }
     }
 
-    /// Whether the mode draws groups (and so needs a grouping before it can render).
-    pub fn needs_grouping(self) -> bool {
-        self.parameters().contains(&Parameter::Grouping)
+    pub fn from_key(key: &str) -> Option<Parameter> {
+        Parameter::ALL.into_iter().find(|p| p.key() == key)
+    }
+
+    /// Sets this parameter of `settings` from its text form.
+    pub fn apply(self, settings: &mut RenderSettings, value: &str) -> Result<(), String> {
+        let bad = || format!("{}={value}: expected {}", self.key(), self.values());
+        let on_off = |v: &str| match v {
+            "on" | "true" | "yes" => Ok(true),
+            "off" | "false" | "no" => Ok(false),
+            _ => Err(bad()),
+        };
+        let positive = |v: &str| v.parse::<f32>().ok().filter(|x| x.is_finite() && *x > 0.0).ok_or_else(bad);
+        match self {
+            Parameter::Quality => {
+                settings.quality = match value {
+                    "filtered" => super::Quality::Filtered,
+                    "unfiltered" => super::Quality::Unfiltered,
+                    _ => return Err(bad()),
+                }
+            }
+            Parameter::Epsilon => settings.epsilon_scale = positive(value)?,
+            Parameter::RadiusScale => settings.radius_scale = positive(value)?,
+            Parameter::BackfaceCulling => settings.backface_culling = on_off(value)?,
+            Parameter::Lighting => settings.lighting = on_off(value)?,
+            Parameter::Voronoi => settings.voronoi = on_off(value)?,
+            Parameter::Grouping => {
+                settings.grouping = value.parse::<GroupingSpec>().map_err(|e| format!("group={e}"))?
+            }
+            Parameter::Background => {
+                let rgb: Vec<f32> = value
+                    .split([',', '/'])
+                    .map(|c| c.trim().parse::<f32>().map_err(|_| bad()))
+                    .collect::<Result<_, _>>()?;
+                match rgb[..] {
+                    [r, g, b] if [r, g, b].iter().all(|c| (0.0..=255.0).contains(c)) => {
+                        settings.shading.background = glam::Vec3::new(r, g, b) / 255.0;
+                    }
+                    _ => return Err(bad()),
+                }
+            }
+        }
+        Ok(())
     }
 }
 
@@ -60,12 +116,20 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_mode_has_a_description_and_parameters() {
-        for mode in RenderMode::ALL {
-            assert!(!mode.description().is_empty(), "{mode}");
-            assert!(!mode.parameters().is_empty(), "{mode}");
+    fn every_parameter_has_a_unique_key_that_applies() {
+        for p in Parameter::ALL {
+            assert_eq!(Parameter::from_key(p.key()), Some(p));
         }
-        assert!(RenderMode::Deferred.needs_grouping());
-        assert!(!RenderMode::TwoPass.needs_grouping());
+        let mut s = RenderSettings::default();
+        Parameter::Quality.apply(&mut s, "unfiltered").unwrap();
+        Parameter::Grouping.apply(&mut s, "wgc-k8").unwrap();
+        Parameter::Voronoi.apply(&mut s, "off").unwrap();
+        Parameter::Background.apply(&mut s, "255,0,51").unwrap();
+        assert_eq!(s.quality, crate::view::Quality::Unfiltered);
+        assert_eq!(s.grouping, GroupingSpec::Wgc { k: 8 });
+        assert!(!s.voronoi);
+        assert!((s.shading.background - glam::Vec3::new(1.0, 0.0, 0.2)).length() < 1e-6);
+        assert!(Parameter::Epsilon.apply(&mut s, "0").is_err());
+        assert!(Parameter::Lighting.apply(&mut s, "maybe").is_err());
     }
 }

@@ -1,52 +1,8 @@
-//! What a frame is rendered with: the mode, its quality level and parameters.
-//! Plain data, shared by the GPU modes and the CPU reference.
+//! What a frame is rendered with besides the camera: the mode, its quality
+//! level and parameters. Plain data, shared by the GPU modes and the CPU reference.
 
-use super::{Shading, SplatKernel};
-
-/// The rendering algorithm.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum RenderMode {
-    /// Botsch & Kobbelt's 2+1-pass pipeline: ε-offset visibility, accumulation, normalisation.
-    TwoPass,
-    /// Zhang & Pajarola's deferred blending: one geometry pass into K group
-    /// images, then ε-z compositing and deferred shading (1+1 passes).
-    Deferred,
-    /// The exact A-buffer renderer on the CPU: the ground truth for error.
-    Reference,
-}
-
-impl RenderMode {
-    pub const ALL: [RenderMode; 3] = [RenderMode::TwoPass, RenderMode::Deferred, RenderMode::Reference];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            RenderMode::TwoPass => "two-pass",
-            RenderMode::Deferred => "deferred",
-            RenderMode::Reference => "reference",
-        }
-    }
-
-    /// Whether the mode runs on the GPU.
-    pub fn is_gpu(self) -> bool {
-        !matches!(self, RenderMode::Reference)
-    }
-}
-
-impl std::fmt::Display for RenderMode {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for RenderMode {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        RenderMode::ALL.into_iter().find(|m| m.name() == s).ok_or_else(|| {
-            let names: Vec<_> = RenderMode::ALL.iter().map(|m| m.name()).collect();
-            format!("unknown mode '{s}'; available: {}", names.join(", "))
-        })
-    }
-}
+use super::{RenderMode, Shading, SplatKernel};
+use crate::grouping::GroupingSpec;
 
 /// Botsch & Kobbelt §5's two quality levels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -68,7 +24,9 @@ pub struct RenderSettings {
     pub backface_culling: bool,
     /// Every splat radius is multiplied by this (1: as loaded).
     pub radius_scale: f32,
-    /// Voronoi rasterisation in the deferred geometry pass (Zhang & Pajarola Eq. 14).
+    /// How modes that draw groups split the splats (the paper's opaque setting: MGC at c = 0.4).
+    pub grouping: GroupingSpec,
+    /// Voronoi rasterisation in the group images (Zhang & Pajarola Eq. 14).
     pub voronoi: bool,
     /// Phong lighting; without it the normalised colour is shown and no
     /// normal targets are allocated or written.
@@ -87,11 +45,12 @@ impl RenderSettings {
 impl Default for RenderSettings {
     fn default() -> Self {
         Self {
-            mode: RenderMode::TwoPass,
+            mode: RenderMode::DEFAULT,
             quality: Quality::Filtered,
             epsilon_scale: 1.0,
             backface_culling: true,
             radius_scale: 1.0,
+            grouping: GroupingSpec::default(),
             voronoi: true,
             lighting: true,
             kernel: SplatKernel::default(),

@@ -76,13 +76,7 @@ const UP_AXES: [(UpAxis, [f32; 3]); 6] = [
 ];
 
 impl Sidecar {
-    pub fn new(
-        model: SidecarModel,
-        camera: &Camera,
-        settings: &RenderSettings,
-        grouping: GroupingSpec,
-        size: (u32, u32),
-    ) -> Self {
+    pub fn new(model: SidecarModel, camera: &Camera, settings: &RenderSettings, size: (u32, u32)) -> Self {
         let up = UP_AXES.iter().find(|(a, _)| *a == camera.up).map(|(_, v)| *v).unwrap_or([0.0, 1.0, 0.0]);
         Sidecar {
             generator: format!("pointblend {}", env!("CARGO_PKG_VERSION")),
@@ -105,7 +99,7 @@ impl Sidecar {
                 backface_culling: settings.backface_culling,
                 voronoi: settings.voronoi,
                 lighting: settings.lighting,
-                grouping: grouping.to_string(),
+                grouping: settings.grouping.to_string(),
                 light_dir_eye: settings.shading.light_dir_eye.to_array(),
                 background: settings.shading.background.to_array(),
             },
@@ -119,8 +113,7 @@ impl Sidecar {
         let sidecar: Sidecar = serde_json::from_str(&text)
             .map_err(|e| SidecarError::Format { path: shown.clone(), message: e.to_string() })?;
         let bad = |message: String| SidecarError::Format { path: shown.clone(), message };
-        sidecar.render_mode().map_err(bad)?;
-        sidecar.grouping().map_err(bad)?;
+        sidecar.settings().map_err(bad)?;
         sidecar.up_axis().map_err(bad)?;
         let c = &sidecar.camera;
         let finite = c
@@ -141,14 +134,6 @@ impl Sidecar {
     pub fn write(&self, path: &Path) -> std::io::Result<()> {
         let text = serde_json::to_string_pretty(self).map_err(std::io::Error::other)?;
         crate::output::write_atomically(path, text.as_bytes())
-    }
-
-    pub fn render_mode(&self) -> Result<RenderMode, String> {
-        self.mode.parse()
-    }
-
-    pub fn grouping(&self) -> Result<GroupingSpec, String> {
-        self.settings.grouping.parse()
     }
 
     fn up_axis(&self) -> Result<UpAxis, String> {
@@ -173,21 +158,22 @@ impl Sidecar {
     }
 
     /// The settings, starting from the defaults for what the sidecar does not hold.
-    pub fn settings(&self) -> RenderSettings {
+    pub fn settings(&self) -> Result<RenderSettings, String> {
         let s = &self.settings;
         let mut settings = RenderSettings {
-            mode: self.render_mode().unwrap_or(RenderMode::TwoPass),
+            mode: self.mode.parse::<RenderMode>()?,
             quality: if s.filtered { Quality::Filtered } else { Quality::Unfiltered },
             epsilon_scale: s.epsilon_scale,
             radius_scale: s.radius_scale,
             backface_culling: s.backface_culling,
+            grouping: s.grouping.parse::<GroupingSpec>()?,
             voronoi: s.voronoi,
             lighting: s.lighting,
             ..RenderSettings::default()
         };
         settings.shading.light_dir_eye = Vec3::from_array(s.light_dir_eye);
         settings.shading.background = Vec3::from_array(s.background);
-        settings
+        Ok(settings)
     }
 }
 
@@ -200,18 +186,21 @@ mod tests {
         let mut camera = Camera::framing(Vec3::new(1.0, 2.0, 3.0), 4.0, 1.5);
         camera.up = UpAxis::NegZ;
         camera.azimuth_deg = 33.0;
-        let settings = RenderSettings { mode: RenderMode::Deferred, radius_scale: 1.3, ..Default::default() };
+        let settings = RenderSettings {
+            mode: RenderMode::ALL[1],
+            radius_scale: 1.3,
+            grouping: GroupingSpec::Wgc { k: 6 },
+            ..Default::default()
+        };
         let model = SidecarModel { name: "m.ply".into(), path: "/x/m.ply".into(), hash: "00ff".into(), splats: 7 };
-        let grouping = GroupingSpec::Wgc { k: 6 };
-        let sidecar = Sidecar::new(model, &camera, &settings, grouping, (300, 200));
+        let sidecar = Sidecar::new(model, &camera, &settings, (300, 200));
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("view.json");
         sidecar.write(&path).unwrap();
         let back = Sidecar::read(&path).unwrap();
         assert_eq!(back, sidecar);
         assert_eq!(back.camera(), camera);
-        assert_eq!(back.settings(), settings);
-        assert_eq!(back.grouping().unwrap(), grouping);
+        assert_eq!(back.settings(), Ok(settings));
     }
 
     #[test]

@@ -1,27 +1,27 @@
 //! The viewer's state and its per-frame logic: polling background jobs,
-//! reacting to input, deciding whether the 3D view needs a new frame, and
-//! the screenshot-and-exit sequence used for documentation and tests.
-//! The panels (`panels.rs`, `stats.rs`) draw from and edit this state.
+//! running the panels and applying the actions they return, deciding whether
+//! the 3D view needs a new frame, and the screenshot-and-exit sequence used
+//! for documentation and tests. The 3D view and its input are in `view3d.rs`.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use glam::Vec2;
-
-use crate::grouping::GroupingSpec;
 use crate::grouping::cache::Cache;
 use crate::reference::{self, ImageError, ReferenceOptions};
 use crate::view::sidecar::SidecarModel;
 use crate::view::{Camera, RenderMode, RenderSettings, Sidecar};
 
-use super::camera_input::{self, SceneSphere};
+use super::camera_input::SceneSphere;
 use super::jobs::Job;
 use super::model::{GroupedModel, Model};
 use super::render_thread::{FrameRequest, FrameStats, Purpose, RenderThread};
+use super::state::{
+    Action, FrameKey, JobInfo, JobKind, Measurement, ModelInfo, PanelInfo, ScreenshotSize, ShownInfo, UiState,
+};
 
 /// How long after the last camera move large models still draw their preview.
-const SETTLE: Duration = Duration::from_millis(300);
+pub(super) const SETTLE: Duration = Duration::from_millis(300);
 
 /// How the viewer starts.
 #[derive(Debug, Clone, Default)]
@@ -42,68 +42,16 @@ pub struct ViewerOptions {
     pub cache: Option<Cache>,
 }
 
-/// The size of an exported screenshot.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ScreenshotSize {
-    Window,
-    Double,
-    Fixed(u32, u32),
-}
-
-impl ScreenshotSize {
-    pub const CHOICES: [ScreenshotSize; 4] = [
-        ScreenshotSize::Window,
-        ScreenshotSize::Double,
-        ScreenshotSize::Fixed(1920, 1080),
-        ScreenshotSize::Fixed(3840, 2160),
-    ];
-
-    pub fn label(self) -> String {
-        match self {
-            ScreenshotSize::Window => "view size".into(),
-            ScreenshotSize::Double => "2 × view size".into(),
-            ScreenshotSize::Fixed(w, h) => format!("{w} × {h}"),
-        }
-    }
-
-    fn pixels(self, view: (u32, u32)) -> (u32, u32) {
-        match self {
-            ScreenshotSize::Window => view,
-            ScreenshotSize::Double => (view.0 * 2, view.1 * 2),
-            ScreenshotSize::Fixed(w, h) => (w, h),
-        }
-    }
-}
-
-/// Everything that decides a frame of the 3D view.
-#[derive(Debug, Clone, PartialEq)]
-pub struct FrameKey {
-    pub generation: u64,
-    pub grouping: Option<String>,
-    pub camera: Camera,
-    pub settings: RenderSettings,
-    pub size: (u32, u32),
-    pub preview: bool,
-}
-
 /// The frame on screen.
-pub struct ShownFrame {
+pub(super) struct ShownFrame {
     pub texture: egui::TextureHandle,
     pub image: Arc<image::RgbaImage>,
     pub key: FrameKey,
     pub stats: FrameStats,
 }
 
-/// A finished error measurement.
-pub struct Measurement {
-    pub key: FrameKey,
-    pub error: ImageError,
-    pub reference_seconds: f64,
-    pub difference: egui::TextureHandle,
-}
-
 /// What a measurement job returns before its texture exists.
-pub struct MeasuredImages {
+pub(super) struct MeasuredImages {
     key: FrameKey,
     error: ImageError,
     seconds: f64,
@@ -112,20 +60,16 @@ pub struct MeasuredImages {
 
 pub struct ViewerApp {
     pub(super) options: ViewerOptions,
+    pub(super) ui: UiState,
     pub(super) model: Option<Arc<Model>>,
-    pub(super) load: Option<Job<Result<Model, String>>>,
-    pub(super) load_error: Option<String>,
+    load: Option<Job<Result<Model, String>>>,
+    load_error: Option<String>,
     generations: u64,
-    pub(super) camera: Camera,
-    home: Camera,
-    scene: SceneSphere,
-    pub(super) settings: RenderSettings,
-    /// Light direction in eye space as (azimuth, elevation) degrees, edited by the panel.
-    pub(super) light_angles: (f32, f32),
-    pub(super) grouping_spec: GroupingSpec,
-    pub(super) grouped: Option<Arc<GroupedModel>>,
-    pub(super) grouping_job: Option<(GroupingSpec, Job<Result<GroupedModel, String>>)>,
-    pub(super) grouping_error: Option<String>,
+    pub(super) home: Camera,
+    pub(super) scene: SceneSphere,
+    grouped: Option<Arc<GroupedModel>>,
+    grouping_job: Option<(crate::grouping::GroupingSpec, Job<Result<GroupedModel, String>>)>,
+    grouping_error: Option<String>,
     renderer: RenderThread,
     next_request: u64,
     requested: Option<FrameKey>,
@@ -135,45 +79,41 @@ pub struct ViewerApp {
     pub(super) shown: Option<ShownFrame>,
     pub(super) view_size: (u32, u32),
     last_camera_move: Option<Instant>,
-    pub(super) measure: Option<Job<Result<MeasuredImages, String>>>,
-    pub(super) measurement: Option<Measurement>,
-    pub(super) measure_error: Option<String>,
-    pub(super) screenshot_size: ScreenshotSize,
-    pub(super) status: Option<String>,
+    measure: Option<Job<Result<MeasuredImages, String>>>,
+    measurement: Option<Measurement>,
+    measure_error: Option<String>,
+    status: Option<String>,
     pub(super) ui_fps: f32,
     /// UI frame intervals of the last two seconds, for the slowest one.
-    recent_ui_frames: std::collections::VecDeque<(Instant, f32)>,
-    last_ui_frame: Option<Instant>,
-    frames_since_ready: u64,
-    window_shot_requested: bool,
+    pub(super) recent_ui_frames: std::collections::VecDeque<(Instant, f32)>,
+    pub(super) last_ui_frame: Option<Instant>,
+    pub(super) frames_since_ready: u64,
+    pub(super) window_shot_requested: bool,
 }
 
 impl ViewerApp {
     pub fn new(cc: &eframe::CreationContext<'_>, options: ViewerOptions) -> Self {
         let ctx = cc.egui_ctx.clone();
-        let mut settings = match &options.view {
-            Some(view) => view.settings(),
-            // Deferred starts in the paper's opaque setting (MGC c = 0.4 with Voronoi), as everywhere.
-            None => RenderSettings::default(),
-        };
+        // Without a sidecar every mode starts in its defaults (deferred: the paper's MGC c = 0.4 with Voronoi).
+        let mut settings = options.view.as_ref().and_then(|v| v.settings().ok()).unwrap_or_default();
         if let Some(mode) = options.mode {
             settings.mode = mode;
         }
-        let grouping_spec = options.view.as_ref().and_then(|v| v.grouping().ok()).unwrap_or_default();
-        let d = settings.shading.light_dir_eye;
-        let light_angles = (d.x.atan2(d.z).to_degrees(), d.y.clamp(-1.0, 1.0).asin().to_degrees());
         let camera = Camera::framing(glam::Vec3::ZERO, 1.0, 1.0);
+        let ui = UiState {
+            light_angles: UiState::light_angles_of(&settings),
+            settings,
+            camera,
+            screenshot_size: ScreenshotSize::Window,
+        };
         let mut app = Self {
+            ui,
             model: None,
             load: None,
             load_error: None,
             generations: 0,
-            camera,
             home: camera,
             scene: SceneSphere { centre: glam::Vec3::ZERO, radius: 1.0 },
-            settings,
-            light_angles,
-            grouping_spec,
             grouped: None,
             grouping_job: None,
             grouping_error: None,
@@ -188,7 +128,6 @@ impl ViewerApp {
             measure: None,
             measurement: None,
             measure_error: None,
-            screenshot_size: ScreenshotSize::Window,
             status: None,
             ui_fps: 0.0,
             recent_ui_frames: Default::default(),
@@ -236,16 +175,22 @@ impl ViewerApp {
         self.status.as_deref()
     }
 
+    /// The settings the panels show now.
+    pub fn settings(&self) -> &RenderSettings {
+        &self.ui.settings
+    }
+
     /// The frame the view should show now, if a model is loaded.
     pub fn current_key(&self) -> Option<FrameKey> {
         let model = self.model.as_ref()?;
         let preview = model.preview.is_some() && self.last_camera_move.is_some_and(|t| t.elapsed() < SETTLE);
-        let grouping = (self.settings.mode.needs_grouping() && !preview).then(|| self.grouping_spec.to_string());
+        let settings = self.ui.settings;
+        let grouping = (settings.mode.needs_grouping() && !preview).then(|| settings.grouping.to_string());
         Some(FrameKey {
             generation: model.generation,
             grouping,
-            camera: self.camera,
-            settings: self.settings,
+            camera: self.ui.camera,
+            settings,
             size: self.view_size,
             preview,
         })
@@ -259,10 +204,10 @@ impl ViewerApp {
             && (self.model.is_none() || (current.is_some() && self.shown.as_ref().map(|s| &s.key) == current.as_ref()))
     }
 
-    /// Progress of a reference frame the view is waiting for.
-    pub(super) fn view_progress(&self) -> Option<(String, Option<f32>)> {
+    /// Progress of a CPU-mode frame (the reference) the view is waiting for.
+    fn view_progress(&self) -> Option<(String, Option<f32>)> {
         let (_, key) = self.in_flight.last()?;
-        (key.settings.mode == RenderMode::Reference && !key.preview).then(|| self.renderer.tracker.snapshot())
+        (!key.settings.mode.is_gpu() && !key.preview).then(|| self.renderer.tracker.snapshot())
     }
 
     /// The slowest UI frame of the last two seconds, in ms.
@@ -275,12 +220,86 @@ impl ViewerApp {
     }
 
     pub(super) fn reset_camera(&mut self) {
-        self.camera = self.home;
+        self.ui.camera = self.home;
         self.camera_moved();
     }
 
+    /// What the panels show.
+    fn panel_info(&self) -> PanelInfo<'_> {
+        let job_info = |kind, label: &str, (stage, fraction), seconds| JobInfo {
+            kind,
+            label: label.to_string(),
+            stage,
+            fraction,
+            seconds,
+        };
+        let mut jobs = Vec::new();
+        if let Some(j) = &self.load {
+            jobs.push(job_info(JobKind::Load, j.label(), j.progress(), j.seconds()));
+        }
+        if let Some((_, j)) = &self.grouping_job {
+            jobs.push(job_info(JobKind::Grouping, j.label(), j.progress(), j.seconds()));
+        }
+        if let Some(j) = &self.measure {
+            jobs.push(job_info(JobKind::Measure, j.label(), j.progress(), j.seconds()));
+        }
+        PanelInfo {
+            model: self.model.as_ref().map(|m| ModelInfo {
+                name: &m.name,
+                path: &m.path,
+                splats: m.cloud.len(),
+                warnings: &m.warnings,
+            }),
+            load_error: self.load_error.as_deref(),
+            jobs,
+            view_progress: self.view_progress(),
+            grouped: self.grouped.as_ref(),
+            grouping_error: self.grouping_error.as_deref(),
+            shown: self.shown.as_ref().map(|s| ShownInfo { key: &s.key, stats: &s.stats }),
+            current: self.current_key(),
+            ui_fps: self.ui_fps,
+            slowest_ui_frame_ms: self.slowest_ui_frame_ms(),
+            measurement: self.measurement.as_ref(),
+            measure_error: self.measure_error.as_deref(),
+            screenshot_dir: &self.options.screenshot_dir,
+            status: self.status.as_deref(),
+        }
+    }
+
+    /// Takes the actions the panels returned.
+    fn apply(&mut self, ctx: &egui::Context, actions: Vec<Action>) {
+        for action in actions {
+            match action {
+                Action::Open(path) => self.open(ctx, &path),
+                Action::Cancel(JobKind::Load) => {
+                    if let Some(job) = self.load.take() {
+                        job.cancel();
+                    }
+                }
+                Action::Cancel(JobKind::Grouping) => {
+                    if let Some((_, job)) = self.grouping_job.take() {
+                        job.cancel();
+                    }
+                    // Back to the grouping on screen, so the job does not restart at once.
+                    if let Some(g) = &self.grouped {
+                        self.ui.settings.grouping = g.spec;
+                    }
+                }
+                Action::Cancel(JobKind::Measure) => {
+                    if let Some(job) = self.measure.take() {
+                        job.cancel();
+                    }
+                }
+                Action::MeasureError => self.measure_error(ctx),
+                Action::SaveScreenshot => self.save_screenshot(),
+                Action::ResetCamera => self.reset_camera(),
+                Action::CameraMoved => self.camera_moved(),
+            }
+        }
+    }
+
     /// Polls jobs and the render thread.
-    pub(super) fn poll(&mut self, ctx: &egui::Context) {
+    fn poll(&mut self, ctx: &egui::Context) {
         if let Some(result) = self.load.as_ref().and_then(|j| j.poll()) {
             self.load = None;
             match result.and_then(|r| r) {
@@ -352,7 +371,7 @@ impl ViewerApp {
         let fresh = Camera::default_for(&model.cloud, aspect);
         self.scene = SceneSphere { centre: fresh.target, radius: fresh.scene_radius };
         self.home = fresh;
-        self.camera = match &self.options.view {
+        self.ui.camera = match &self.options.view {
             // The starting view of a sidecar applies to the first model only.
             Some(view) if self.model.is_none() => view.camera(),
             _ => fresh,
@@ -366,13 +385,13 @@ impl ViewerApp {
         self.model = Some(Arc::new(model));
     }
 
-    /// Starts a grouping when the deferred mode needs one that is not there.
-    pub(super) fn ensure_grouping(&mut self, ctx: &egui::Context) {
+    /// Starts a grouping when the mode draws groups and the one it needs is not there.
+    fn ensure_grouping(&mut self, ctx: &egui::Context) {
         let Some(model) = self.model.clone() else { return };
-        if !self.settings.mode.needs_grouping() {
+        if !self.ui.settings.mode.needs_grouping() {
             return;
         }
-        let spec = self.grouping_spec;
+        let spec = self.ui.settings.grouping;
         let have = self.grouped.as_ref().is_some_and(|g| g.generation == model.generation && g.spec == spec);
         let running = self.grouping_job.as_ref().is_some_and(|(s, _)| *s == spec);
         if have || running || ctx.input(|i| i.pointer.any_down()) {
@@ -393,7 +412,7 @@ impl ViewerApp {
     }
 
     /// Sends the current frame to the renderer unless it is on screen or on its way.
-    pub(super) fn request_frame(&mut self, ctx: &egui::Context) {
+    fn request_frame(&mut self, ctx: &egui::Context) {
         let Some(key) = self.current_key() else { return };
         if self.view_size.0 < 1 || self.view_size.1 < 1 || ctx.input(|i| i.viewport().minimized == Some(true)) {
             return;
@@ -413,7 +432,8 @@ impl ViewerApp {
     fn frame_request(&mut self, key: &FrameKey, size: (u32, u32), purpose: Purpose) -> Option<FrameRequest> {
         let model = self.model.clone()?;
         let grouping = if key.grouping.is_some() {
-            let g = self.grouped.clone().filter(|g| g.generation == model.generation && g.spec == self.grouping_spec);
+            let wanted = key.settings.grouping;
+            let g = self.grouped.clone().filter(|g| g.generation == model.generation && g.spec == wanted);
             Some(g?) // the old image stays until the grouping is ready
         } else {
             None
@@ -438,17 +458,18 @@ impl ViewerApp {
             self.status = Some("no model to take a screenshot of".into());
             return;
         };
+        let settings = self.ui.settings;
         key.preview = false;
-        key.grouping = self.settings.mode.needs_grouping().then(|| self.grouping_spec.to_string());
-        let size = self.screenshot_size.pixels(self.view_size);
-        let png = next_free_path(&self.options.screenshot_dir, &model.name, self.settings.mode);
+        key.grouping = settings.mode.needs_grouping().then(|| settings.grouping.to_string());
+        let size = self.ui.screenshot_size.pixels(self.view_size);
+        let png = next_free_path(&self.options.screenshot_dir, &model.name, settings.mode);
         let model_info = SidecarModel {
             name: model.name.clone(),
             path: model.path.display().to_string(),
             hash: model.hash_hex(),
             splats: model.cloud.len(),
         };
-        let sidecar = Box::new(Sidecar::new(model_info, &self.camera, &self.settings, self.grouping_spec, size));
+        let sidecar = Box::new(Sidecar::new(model_info, &self.ui.camera, &settings, size));
         if let Err(e) = std::fs::create_dir_all(&self.options.screenshot_dir) {
             self.status = Some(format!("{}: {e}", self.options.screenshot_dir.display()));
             return;
@@ -463,13 +484,13 @@ impl ViewerApp {
     }
 
     /// Renders the exact reference of the frame on screen and compares.
-    pub(super) fn measure_error(&mut self, ctx: &egui::Context) {
+    fn measure_error(&mut self, ctx: &egui::Context) {
         let (Some(model), Some(shown)) = (self.model.clone(), self.shown.as_ref()) else { return };
         let (key, image) = (shown.key.clone(), Arc::clone(&shown.image));
-        let job = Job::spawn("reference", ctx.clone(), move || {
+        let job = Job::spawn(RenderMode::RULER.name(), ctx.clone(), move || {
             let started = Instant::now();
-            let options = ReferenceOptions::matching(&key.settings, &model.cloud);
-            let exact = reference::render(&model.cloud, &key.camera, &options, image.width(), image.height());
+            let options = ReferenceOptions::matching(&key.settings, &model.scene);
+            let exact = reference::render(&model.scene, &key.camera, &options, image.width(), image.height());
             if crate::progress::cancelled() {
                 return Err("cancelled".to_string());
             }
@@ -480,129 +501,6 @@ impl ViewerApp {
         });
         self.measure = Some(job);
     }
-
-    /// Handles dropped files and keyboard shortcuts.
-    pub(super) fn handle_input(&mut self, ctx: &egui::Context) {
-        let dropped: Vec<PathBuf> = ctx.input(|i| i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).collect());
-        if let Some(path) = dropped.first() {
-            self.open(ctx, path);
-        }
-        if ctx.input_mut(|i| i.consume_key(egui::Modifiers::COMMAND, egui::Key::S)) {
-            self.save_screenshot();
-        }
-        if ctx.input(|i| i.key_pressed(egui::Key::Home)) && !ctx.egui_wants_keyboard_input() {
-            self.reset_camera();
-        }
-    }
-
-    /// The 3D view: the latest frame, and the camera controls on it.
-    pub(super) fn view_ui(&mut self, ui: &mut egui::Ui) {
-        let (rect, response) = ui.allocate_exact_size(ui.available_size(), egui::Sense::click_and_drag());
-        let ppp = ui.ctx().pixels_per_point();
-        let max_side = 8192.0;
-        self.view_size = (
-            (rect.width() * ppp).round().clamp(1.0, max_side) as u32,
-            (rect.height() * ppp).round().clamp(1.0, max_side) as u32,
-        );
-        let painter = ui.painter_at(rect);
-        let bg = self.settings.shading.background;
-        painter.rect_filled(
-            rect,
-            0.0,
-            egui::Color32::from_rgb((bg.x * 255.0) as u8, (bg.y * 255.0) as u8, (bg.z * 255.0) as u8),
-        );
-        if let Some(shown) = &self.shown {
-            let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
-            painter.image(shown.texture.id(), rect, uv, egui::Color32::WHITE);
-        }
-        if let Some(e) = &self.frame_error {
-            painter.text(
-                rect.center(),
-                egui::Align2::CENTER_CENTER,
-                e,
-                egui::FontId::proportional(16.0),
-                egui::Color32::LIGHT_RED,
-            );
-        }
-        let to_vec = |v: egui::Vec2| Vec2::new(v.x, v.y);
-        let mut moved = false;
-        if response.dragged_by(egui::PointerButton::Primary) {
-            camera_input::orbit(&mut self.camera, to_vec(response.drag_delta()));
-            moved = true;
-        }
-        if response.dragged_by(egui::PointerButton::Secondary) || response.dragged_by(egui::PointerButton::Middle) {
-            camera_input::pan(&mut self.camera, &self.scene, to_vec(response.drag_delta()), rect.height());
-            moved = true;
-        }
-        if response.hovered() {
-            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
-            if scroll != 0.0 {
-                camera_input::zoom(&mut self.camera, scroll);
-                moved = true;
-            }
-        }
-        if response.double_clicked() {
-            if let (Some(pos), Some(model)) = (response.interact_pointer_pos(), &self.model) {
-                let uv = Vec2::new((pos.x - rect.left()) / rect.width(), (pos.y - rect.top()) / rect.height());
-                let aspect = rect.width() / rect.height().max(1.0);
-                if let Some(hit) = camera_input::pick(&model.cloud, &self.camera, uv, aspect) {
-                    self.scene.retarget(&mut self.camera, hit);
-                    moved = true;
-                }
-            }
-        }
-        if moved {
-            self.camera_moved();
-        }
-    }
-
-    /// `--screenshot` / `--exit-after-frames`: once settled, count frames, then shoot and close.
-    pub(super) fn scripted_exit(&mut self, ctx: &egui::Context) {
-        let Some(limit) = self.options.exit_after_frames.or(self.options.screenshot.as_ref().map(|_| 2)) else {
-            return;
-        };
-        ctx.request_repaint();
-        if !self.is_settled() || self.window_shot_requested {
-            return;
-        }
-        self.frames_since_ready += 1;
-        if self.frames_since_ready < limit {
-            return;
-        }
-        self.window_shot_requested = true;
-        let Some(path) = self.options.screenshot.clone() else {
-            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
-            return;
-        };
-        let close = ctx.clone();
-        ctx.request_screenshot(move |shot| {
-            let [w, h] = shot.size;
-            let bytes: Vec<u8> = shot.pixels.iter().flat_map(|c| c.to_array()).collect();
-            match image::RgbaImage::from_raw(w as u32, h as u32, bytes) {
-                Some(image) => match crate::output::save_png(&image, &path) {
-                    Ok(()) => eprintln!("saved the window to {}", path.display()),
-                    Err(e) => eprintln!("error: {}: {e}", path.display()),
-                },
-                None => eprintln!("error: the window screenshot has the wrong size"),
-            }
-            close.send_viewport_cmd(egui::ViewportCommand::Close);
-        });
-    }
-
-    pub(super) fn count_ui_frame(&mut self) {
-        let now = Instant::now();
-        if let Some(last) = self.last_ui_frame {
-            let seconds = now.duration_since(last).as_secs_f32().max(1e-4);
-            let fps = 1.0 / seconds;
-            self.ui_fps = if self.ui_fps == 0.0 { fps } else { 0.9 * self.ui_fps + 0.1 * fps };
-            self.recent_ui_frames.push_back((now, seconds * 1e3));
-            while self.recent_ui_frames.front().is_some_and(|(t, _)| now.duration_since(*t) > Duration::from_secs(2)) {
-                self.recent_ui_frames.pop_front();
-            }
-            log::debug!("UI frame {:.1} ms", seconds * 1e3);
-        }
-        self.last_ui_frame = Some(now);
-    }
 }
 
 impl eframe::App for ViewerApp {
@@ -611,12 +509,17 @@ impl eframe::App for ViewerApp {
         self.count_ui_frame();
         self.poll(&ctx);
         self.handle_input(&ctx);
-        let d = self.light_angles;
-        let (az, el) = (d.0.to_radians(), d.1.to_radians());
-        self.settings.shading.light_dir_eye = glam::Vec3::new(az.sin() * el.cos(), el.sin(), az.cos() * el.cos());
+        self.ui.apply_light_angles();
+        let mut actions = Vec::new();
         egui::Panel::left("controls").resizable(true).default_size(310.0).show(ui, |ui| {
-            egui::ScrollArea::vertical().show(ui, |ui| super::panels::controls(self, ui));
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                let mut state = self.ui.clone();
+                actions = super::panels::controls(ui, &mut state, &self.panel_info());
+                self.ui = state;
+            });
         });
+        self.ui.apply_light_angles();
+        self.apply(&ctx, actions);
         egui::CentralPanel::no_frame().show(ui, |ui| self.view_ui(ui));
         self.ensure_grouping(&ctx);
         self.request_frame(&ctx);
@@ -627,7 +530,7 @@ impl eframe::App for ViewerApp {
     }
 }
 
-fn color_image(image: &image::RgbaImage) -> egui::ColorImage {
+pub(super) fn color_image(image: &image::RgbaImage) -> egui::ColorImage {
     egui::ColorImage::from_rgba_unmultiplied([image.width() as usize, image.height() as usize], image.as_raw())
 }
 

@@ -3,6 +3,9 @@
 //! The left panel holds the model, the mode (every entry of the mode registry,
 //! [`RenderMode::ALL`](crate::view::RenderMode::ALL), with the parameters it
 //! lists), live statistics, the error measurement and the screenshot export.
+//! The panels (`panels.rs`, `stats.rs`, with `widgets.rs`) edit a `UiState`
+//! and return actions; `app.rs` applies them (`state.rs` holds the types both
+//! sides share), and `view3d.rs` draws the 3D view and takes its input.
 //! The 3D view shows frames from a render thread that runs the same
 //! [`HeadlessRenderer`](crate::render::HeadlessRenderer) as `pointblend render`;
 //! loading, grouping and the reference render run on worker threads with
@@ -14,10 +17,14 @@ mod jobs;
 mod model;
 mod panels;
 mod render_thread;
+mod state;
 mod stats;
+mod view3d;
+mod widgets;
 
-pub use app::{FrameKey, ScreenshotSize, ViewerApp, ViewerOptions};
+pub use app::{ViewerApp, ViewerOptions};
 pub use model::Model;
+pub use state::{FrameKey, ScreenshotSize};
 
 /// The model bundled with pointblend.
 pub const BUNDLED_MODEL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/bunny.ply");

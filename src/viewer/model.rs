@@ -1,12 +1,14 @@
-//! A model as the viewer holds it: the loaded cloud, its file's name and
-//! content hash (for screenshot sidecars), its load warnings, and a
-//! subsampled preview cloud that large models draw while the camera moves.
+//! A model as the viewer holds it: the loaded scene and its splats in world
+//! space, its file's name and content hash (for screenshot sidecars), its
+//! load warnings, and a subsampled preview cloud that large models draw while
+//! the camera moves.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use crate::cloud::{self, LoadOptions, PointCloud};
+use crate::cloud::{LoadOptions, PointCloud};
 use crate::grouping::{Grouping, GroupingSpec};
+use crate::scene::Scene;
 
 /// Models with more splats than this get a preview cloud of this many.
 pub const PREVIEW_SPLATS: usize = 200_000;
@@ -16,8 +18,10 @@ pub const PREVIEW_SPLATS: usize = 200_000;
 pub struct Model {
     pub path: PathBuf,
     pub name: String,
-    /// FNV-1a 64 of the file's bytes.
+    /// What identifies the scene's content for caches and sidecars (the file's FNV-1a 64).
     pub hash: u64,
+    pub scene: Arc<Scene>,
+    /// The scene's splats in world space (see [`Scene::flatten`]).
     pub cloud: Arc<PointCloud>,
     /// A subsample with enlarged splats, for models above [`PREVIEW_SPLATS`].
     pub preview: Option<Arc<PointCloud>>,
@@ -40,12 +44,12 @@ impl Model {
     /// Loads `path` (on a worker thread: this decodes, estimates and hashes).
     pub fn load(path: &Path, generation: u64) -> Result<Model, String> {
         crate::progress::stage("reading the file");
-        let (cloud, report) = cloud::load_with(path, &LoadOptions::default()).map_err(|e| e.to_string())?;
-        if cloud.is_empty() {
+        let (scene, report) = Scene::load(path, &LoadOptions::default()).map_err(|e| e.to_string())?;
+        if scene.is_empty() {
             return Err(format!("{}: the file holds no usable splats", path.display()));
         }
-        crate::progress::stage("hashing the file");
-        let hash = crate::grouping::cache::file_hash(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let hash = scene.content_hash();
+        let cloud = scene.flattened();
         crate::progress::stage("building the preview");
         let preview = (cloud.len() > PREVIEW_SPLATS).then(|| Arc::new(subsample(&cloud, PREVIEW_SPLATS)));
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());
@@ -53,7 +57,8 @@ impl Model {
             path: path.to_path_buf(),
             name,
             hash,
-            cloud: Arc::new(cloud),
+            scene: Arc::new(scene),
+            cloud,
             preview,
             warnings: report.warnings,
             generation,
@@ -78,7 +83,6 @@ pub fn subsample(cloud: &PointCloud, count: usize) -> PointCloud {
         radii: picks.iter().map(|&i| cloud.radii[i] * grow).collect(),
         colors: picks.iter().map(|&i| cloud.colors[i]).collect(),
         opacity: picks.iter().map(|&i| cloud.opacity[i]).collect(),
-        material: cloud.material,
         origin: cloud.origin,
         scale_exponent: cloud.scale_exponent,
         scanner_position: cloud.scanner_position,

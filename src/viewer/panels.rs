@@ -1,39 +1,43 @@
 //! The left panel's controls: model, background jobs, mode and its
-//! parameters, camera, screenshot. Parameters come from the mode registry
-//! ([`RenderMode::parameters`]): each [`Parameter`] has one widget here, and a
-//! mode shows the widgets of the parameters it lists.
+//! parameters, camera, statistics, error and screenshot. The controls edit
+//! the [`UiState`] and return [`Action`]s for the app to take. Parameters come
+//! from the mode registry ([`crate::view::RenderMode::parameters`]): each
+//! [`Parameter`] has one widget here, and a mode shows the widgets of the
+//! parameters it lists.
 
 use egui::{RichText, Ui};
 
+use super::state::{Action, JobKind, PanelInfo, ScreenshotSize, UiState};
+use super::widgets::{job_row, thousands};
 use crate::grouping::{GroupingSpec, MAX_GROUPS};
 use crate::view::{Parameter, Quality, RenderMode};
 
-use super::app::{ScreenshotSize, ViewerApp};
-
-pub(super) fn controls(app: &mut ViewerApp, ui: &mut Ui) {
-    model_section(app, ui);
-    jobs_section(app, ui);
+pub fn controls(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>) -> Vec<Action> {
+    let mut actions = Vec::new();
+    model_section(ui, info, &mut actions);
+    jobs_section(ui, info, &mut actions);
     ui.separator();
-    mode_section(app, ui);
+    mode_section(ui, state, info);
     ui.separator();
-    camera_section(app, ui);
+    camera_section(ui, state, &mut actions);
     ui.separator();
-    super::stats::stats_section(app, ui);
+    super::stats::stats_section(ui, info);
     ui.separator();
-    super::stats::error_section(app, ui);
+    super::stats::error_section(ui, info, &mut actions);
     ui.separator();
-    screenshot_section(app, ui);
+    screenshot_section(ui, state, info, &mut actions);
+    actions
 }
 
-fn model_section(app: &mut ViewerApp, ui: &mut Ui) {
+fn model_section(ui: &mut Ui, info: &PanelInfo<'_>, actions: &mut Vec<Action>) {
     ui.heading("Model");
-    match &app.model {
+    match &info.model {
         Some(m) => {
-            ui.label(RichText::new(&m.name).strong()).on_hover_text(m.path.display().to_string());
-            ui.label(format!("{} splats", thousands(m.cloud.len())));
+            ui.label(RichText::new(m.name).strong()).on_hover_text(m.path.display().to_string());
+            ui.label(format!("{} splats", thousands(m.splats)));
             if !m.warnings.is_empty() {
                 ui.collapsing(format!("{} load warnings", m.warnings.len()), |ui| {
-                    for w in &m.warnings {
+                    for w in m.warnings {
                         ui.label(w);
                     }
                 });
@@ -45,83 +49,49 @@ fn model_section(app: &mut ViewerApp, ui: &mut Ui) {
     }
     ui.horizontal(|ui| {
         if ui.button("Open…").clicked() {
-            let picked = rfd::FileDialog::new().add_filter("PLY", &["ply", "PLY"]).pick_file();
-            if let Some(path) = picked {
-                app.open(&ui.ctx().clone(), &path);
+            if let Some(path) = rfd::FileDialog::new().add_filter("PLY", &["ply", "PLY"]).pick_file() {
+                actions.push(Action::Open(path));
             }
         }
         ui.label(RichText::new("or drop a .ply file").weak());
     });
-    if let Some(e) = &app.load_error {
+    if let Some(e) = info.load_error {
         ui.colored_label(egui::Color32::LIGHT_RED, format!("Could not open: {e}"));
     }
 }
 
-fn jobs_section(app: &mut ViewerApp, ui: &mut Ui) {
-    if let Some((stage, fraction)) = app.view_progress() {
+fn jobs_section(ui: &mut Ui, info: &PanelInfo<'_>, actions: &mut Vec<Action>) {
+    if let Some((stage, fraction)) = &info.view_progress {
         ui.horizontal(|ui| {
             ui.spinner();
             ui.label(format!("drawing the view: {stage}"));
         });
         ui.add(egui::ProgressBar::new(fraction.unwrap_or(0.0)).show_percentage());
     }
-    let mut cancel_load = false;
-    if let Some(job) = &app.load {
-        cancel_load = job_row(ui, job.label(), job.progress(), job.seconds());
-    }
-    if cancel_load {
-        if let Some(job) = app.load.take() {
-            job.cancel();
-        }
-    }
-    let mut cancel_grouping = false;
-    if let Some((_, job)) = &app.grouping_job {
-        cancel_grouping = job_row(ui, job.label(), job.progress(), job.seconds());
-    }
-    if cancel_grouping {
-        if let Some((_, job)) = app.grouping_job.take() {
-            job.cancel();
-        }
-        // Back to the grouping on screen, so the job does not restart at once.
-        if let Some(g) = &app.grouped {
-            app.grouping_spec = g.spec;
+    for kind in [JobKind::Load, JobKind::Grouping] {
+        if let Some(job) = info.job(kind) {
+            if job_row(ui, job) {
+                actions.push(Action::Cancel(kind));
+            }
         }
     }
 }
 
-/// A progress bar with a Cancel button; returns whether Cancel was clicked.
-pub(super) fn job_row(ui: &mut Ui, label: &str, (stage, fraction): (String, Option<f32>), seconds: f64) -> bool {
-    let mut cancel = false;
-    ui.horizontal(|ui| {
-        ui.spinner();
-        ui.label(format!("{label}: {stage} ({seconds:.1} s)"));
-    });
-    ui.horizontal(|ui| {
-        let bar = match fraction {
-            Some(f) => egui::ProgressBar::new(f).show_percentage(),
-            None => egui::ProgressBar::new(0.0).animate(true),
-        };
-        ui.add_sized([ui.available_width() - 70.0, 18.0], bar);
-        cancel = ui.button("Cancel").clicked();
-    });
-    cancel
-}
-
-fn mode_section(app: &mut ViewerApp, ui: &mut Ui) {
+fn mode_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>) {
     ui.heading("Mode");
     ui.horizontal_wrapped(|ui| {
         for mode in RenderMode::ALL {
-            ui.selectable_value(&mut app.settings.mode, mode, mode.name()).on_hover_text(mode.description());
+            ui.selectable_value(&mut state.settings.mode, mode, mode.name()).on_hover_text(mode.description());
         }
     });
-    ui.label(RichText::new(app.settings.mode.description()).weak());
-    for &parameter in app.settings.mode.parameters() {
-        parameter_widget(app, ui, parameter);
+    ui.label(RichText::new(state.settings.mode.description()).weak());
+    for &parameter in state.settings.mode.parameters() {
+        parameter_widget(ui, state, info, parameter);
     }
 }
 
-fn parameter_widget(app: &mut ViewerApp, ui: &mut Ui, parameter: Parameter) {
-    let s = &mut app.settings;
+fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, parameter: Parameter) {
+    let s = &mut state.settings;
     match parameter {
         Parameter::Quality => {
             ui.horizontal(|ui| {
@@ -142,8 +112,8 @@ fn parameter_widget(app: &mut ViewerApp, ui: &mut Ui, parameter: Parameter) {
         Parameter::Lighting => {
             ui.checkbox(&mut s.lighting, "lighting");
             if s.lighting {
-                ui.add(egui::Slider::new(&mut app.light_angles.0, -90.0..=90.0).text("light azimuth °"));
-                ui.add(egui::Slider::new(&mut app.light_angles.1, -90.0..=90.0).text("light elevation °"));
+                ui.add(egui::Slider::new(&mut state.light_angles.0, -90.0..=90.0).text("light azimuth °"));
+                ui.add(egui::Slider::new(&mut state.light_angles.1, -90.0..=90.0).text("light elevation °"));
             }
         }
         Parameter::Background => {
@@ -157,12 +127,11 @@ fn parameter_widget(app: &mut ViewerApp, ui: &mut Ui, parameter: Parameter) {
         Parameter::Voronoi => {
             ui.checkbox(&mut s.voronoi, "Voronoi rasterisation (Eq. 14)");
         }
-        Parameter::Grouping => grouping_widget(app, ui),
+        Parameter::Grouping => grouping_widget(ui, &mut s.grouping, info),
     }
 }
 
-fn grouping_widget(app: &mut ViewerApp, ui: &mut Ui) {
-    let spec = &mut app.grouping_spec;
+fn grouping_widget(ui: &mut Ui, spec: &mut GroupingSpec, info: &PanelInfo<'_>) {
     let name = |s: &GroupingSpec| match s {
         GroupingSpec::Mgc { .. } => "MGC (overlap c)",
         GroupingSpec::Wgc { .. } => "WGC (K groups)",
@@ -171,7 +140,7 @@ fn grouping_widget(app: &mut ViewerApp, ui: &mut Ui) {
     ui.horizontal(|ui| {
         egui::ComboBox::new("grouping", "grouping").selected_text(name(spec)).show_ui(ui, |ui| {
             for choice in [
-                GroupingSpec::Mgc { c: 0.4 },
+                GroupingSpec::default(),
                 GroupingSpec::Wgc { k: 8 },
                 GroupingSpec::Hash { k: 8, resolve_collisions: true },
             ] {
@@ -194,7 +163,7 @@ fn grouping_widget(app: &mut ViewerApp, ui: &mut Ui) {
             ui.checkbox(resolve_collisions, "resolve collisions");
         }
     }
-    if let Some(g) = &app.grouped {
+    if let Some(g) = info.grouped {
         let sizes = g.grouping.sizes();
         let (lo, hi) = (sizes.iter().min().copied().unwrap_or(0), sizes.iter().max().copied().unwrap_or(0));
         let origin = if g.cached { "from the cache" } else { "computed" };
@@ -207,21 +176,21 @@ fn grouping_widget(app: &mut ViewerApp, ui: &mut Ui) {
             g.seconds
         ));
     }
-    if let Some(e) = &app.grouping_error {
+    if let Some(e) = info.grouping_error {
         ui.colored_label(egui::Color32::LIGHT_RED, e);
     }
 }
 
-fn camera_section(app: &mut ViewerApp, ui: &mut Ui) {
+fn camera_section(ui: &mut Ui, state: &mut UiState, actions: &mut Vec<Action>) {
     ui.heading("Camera");
-    let before = app.camera.fov_y_deg;
-    ui.add(egui::Slider::new(&mut app.camera.fov_y_deg, 5.0..=120.0).text("field of view °"));
-    if app.camera.fov_y_deg != before {
-        app.camera_moved();
+    let before = state.camera.fov_y_deg;
+    ui.add(egui::Slider::new(&mut state.camera.fov_y_deg, 5.0..=120.0).text("field of view °"));
+    if state.camera.fov_y_deg != before {
+        actions.push(Action::CameraMoved);
     }
     ui.horizontal(|ui| {
         if ui.button("Home").on_hover_text("reset the camera (Home key)").clicked() {
-            app.reset_camera();
+            actions.push(Action::ResetCamera);
         }
     });
     ui.add(
@@ -232,33 +201,20 @@ fn camera_section(app: &mut ViewerApp, ui: &mut Ui) {
     );
 }
 
-fn screenshot_section(app: &mut ViewerApp, ui: &mut Ui) {
+fn screenshot_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, actions: &mut Vec<Action>) {
     ui.heading("Screenshot");
     ui.horizontal(|ui| {
-        egui::ComboBox::new("shot size", "size").selected_text(app.screenshot_size.label()).show_ui(ui, |ui| {
+        egui::ComboBox::new("shot size", "size").selected_text(state.screenshot_size.label()).show_ui(ui, |ui| {
             for choice in ScreenshotSize::CHOICES {
-                ui.selectable_value(&mut app.screenshot_size, choice, choice.label());
+                ui.selectable_value(&mut state.screenshot_size, choice, choice.label());
             }
         });
         if ui.button("Save (Ctrl+S)").clicked() {
-            app.save_screenshot();
+            actions.push(Action::SaveScreenshot);
         }
     });
-    ui.label(RichText::new(format!("PNG + JSON sidecar in {}", app.options.screenshot_dir.display())).weak());
-    if let Some(status) = &app.status {
+    ui.label(RichText::new(format!("PNG + JSON sidecar in {}", info.screenshot_dir.display())).weak());
+    if let Some(status) = info.status {
         ui.label(status);
     }
-}
-
-/// 1234567 -> "1,234,567".
-pub(super) fn thousands(n: usize) -> String {
-    let digits = n.to_string();
-    let mut out = String::new();
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i) % 3 == 0 {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
 }

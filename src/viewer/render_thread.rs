@@ -16,10 +16,10 @@ use std::sync::Arc;
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::time::Instant;
 
-use crate::cloud::PointCloud;
 use crate::progress::{self, Tracker};
 use crate::reference::{self, ReferenceOptions};
-use crate::render::{GpuCloud, HeadlessRenderer, RenderMode, RenderPlan};
+use crate::render::{GpuScene, HeadlessRenderer, RenderPlan};
+use crate::scene::Scene;
 use crate::view::{Camera, RenderSettings, Sidecar};
 
 use super::model::{GroupedModel, Model};
@@ -38,12 +38,12 @@ pub enum Purpose {
 pub struct FrameRequest {
     pub id: u64,
     pub model: Arc<Model>,
-    /// Present for the deferred mode.
+    /// Present for modes that draw groups.
     pub grouping: Option<Arc<GroupedModel>>,
     pub camera: Camera,
     pub settings: RenderSettings,
     pub size: (u32, u32),
-    /// Draw the preview cloud with `two-pass` (while the camera moves).
+    /// Draw the preview cloud with the mode's preview mode (while the camera moves).
     pub preview: bool,
     pub purpose: Purpose,
 }
@@ -106,12 +106,12 @@ impl RenderThread {
     }
 }
 
-/// GPU copies of clouds, kept while the model and grouping stay the same.
+/// GPU copies of the scene, kept while the model and grouping stay the same.
 #[derive(Default)]
 struct Uploads {
-    full: Option<(u64, GpuCloud)>,
-    preview: Option<(u64, GpuCloud)>,
-    grouped: Option<(u64, String, GpuCloud)>,
+    full: Option<(u64, GpuScene)>,
+    preview: Option<(u64, GpuScene)>,
+    grouped: Option<(u64, String, GpuScene)>,
 }
 
 fn serve(inbox: Receiver<FrameRequest>, outbox: Sender<FrameResult>, repaint: egui::Context) {
@@ -168,13 +168,13 @@ fn draw(r: &mut HeadlessRenderer, uploads: &mut Uploads, request: &FrameRequest)
     let model = &request.model;
     let mut stats = FrameStats { preview: request.preview, ..Default::default() };
     let mut settings = request.settings;
-    let image = if request.preview || settings.mode != RenderMode::Reference {
-        let cloud = gpu_cloud(r, uploads, request, &mut settings);
-        stats.splats_drawn = cloud.as_ref().map(|c| c.len).unwrap_or(0);
-        match cloud {
-            None => Err("the deferred mode has no grouping yet".to_string()),
-            Some(cloud) => {
-                let frame = r.render_image(cloud, &request.camera, &settings, width, height);
+    let image = if request.preview || settings.mode.is_gpu() {
+        let scene = gpu_scene(r, uploads, request, &mut settings);
+        stats.splats_drawn = scene.as_ref().map(|c| c.len).unwrap_or(0);
+        match scene {
+            None => Err(format!("{} has no grouping yet", settings.mode)),
+            Some(scene) => {
+                let frame = r.render_image(scene, &request.camera, &settings, width, height);
                 frame.map_err(|e| e.to_string()).map(|(image, plan)| {
                     stats.pass_ms = pass_times(r, &plan);
                     describe_plan(&mut stats, &plan);
@@ -184,50 +184,50 @@ fn draw(r: &mut HeadlessRenderer, uploads: &mut Uploads, request: &FrameRequest)
         }
     } else {
         stats.splats_drawn = model.cloud.len();
-        reference_frame(&model.cloud, request)
+        reference_frame(&model.scene, request)
     };
     stats.frame_ms = started.elapsed().as_secs_f64() * 1e3;
     FrameResult { id: request.id, purpose: request.purpose.clone(), image: image.map(Arc::new), stats }
 }
 
-/// The GPU cloud this request draws (uploading it if needed); a preview
-/// request switches `settings` to `two-pass`.
-fn gpu_cloud<'a>(
+/// The GPU scene this request draws (uploading it if needed); a preview
+/// request switches `settings` to the mode's preview mode.
+fn gpu_scene<'a>(
     r: &HeadlessRenderer,
     uploads: &'a mut Uploads,
     request: &FrameRequest,
     settings: &mut RenderSettings,
-) -> Option<&'a GpuCloud> {
+) -> Option<&'a GpuScene> {
     let model = &request.model;
     let generation = model.generation;
+    let device = &r.ctx.device;
     if request.preview {
-        settings.mode = RenderMode::TwoPass;
-        let cloud = model.preview.as_ref().unwrap_or(&model.cloud);
-        if uploads.preview.as_ref().is_none_or(|(g, _)| *g != generation) {
-            uploads.preview = None;
-            uploads.preview = Some((generation, r.upload(cloud)));
-        }
-        return uploads.preview.as_ref().map(|(_, c)| c);
+        settings.mode = settings.mode.info().preview;
     }
-    if settings.mode == RenderMode::Deferred {
+    if settings.mode.needs_grouping() && !request.preview {
         let grouped = request.grouping.as_ref().filter(|g| g.generation == generation)?;
         let key = grouped.spec.to_string();
         if uploads.grouped.as_ref().is_none_or(|(g, k, _)| *g != generation || *k != key) {
             uploads.grouped = None; // free the old copy first
-            uploads.grouped = Some((generation, key, r.upload_grouped(&model.cloud, &grouped.grouping)));
+            let upload = GpuScene::upload_cloud(device, &model.cloud, Some(&grouped.grouping));
+            uploads.grouped = Some((generation, key, upload));
         }
         return uploads.grouped.as_ref().map(|(_, _, c)| c);
     }
-    if uploads.full.as_ref().is_none_or(|(g, _)| *g != generation) {
-        uploads.full = None;
-        uploads.full = Some((generation, r.upload(&model.cloud)));
+    let (slot, cloud) = match (request.preview, &model.preview) {
+        (true, Some(preview)) => (&mut uploads.preview, preview),
+        _ => (&mut uploads.full, &model.cloud),
+    };
+    if slot.as_ref().is_none_or(|(g, _)| *g != generation) {
+        *slot = None;
+        *slot = Some((generation, GpuScene::upload_cloud(device, cloud, None)));
     }
-    uploads.full.as_ref().map(|(_, c)| c)
+    slot.as_ref().map(|(_, c)| c)
 }
 
 fn pass_times(r: &HeadlessRenderer, plan: &RenderPlan) -> Vec<(String, f64)> {
     match r.renderer.pass_times(&r.ctx, plan) {
-        Ok(Some(times)) => plan.passes.iter().zip(times).map(|(p, ms)| (p.label().to_string(), ms)).collect(),
+        Ok(Some(times)) => plan.passes.iter().zip(times).map(|(p, ms)| (p.name.to_string(), ms)).collect(),
         Ok(None) => Vec::new(),
         Err(e) => {
             log::warn!("pass timing: {e}");
@@ -242,8 +242,8 @@ fn describe_plan(stats: &mut FrameStats, plan: &RenderPlan) {
     stats.geometry_passes = plan.geometry_passes();
 }
 
-fn reference_frame(cloud: &PointCloud, request: &FrameRequest) -> Result<image::RgbaImage, String> {
-    let options = ReferenceOptions::matching(&request.settings, cloud);
+fn reference_frame(scene: &Scene, request: &FrameRequest) -> Result<image::RgbaImage, String> {
+    let options = ReferenceOptions::matching(&request.settings, scene);
     let (w, h) = request.size;
-    Ok(reference::render(cloud, &request.camera, &options, w, h))
+    Ok(reference::render(scene, &request.camera, &options, w, h))
 }

@@ -3,19 +3,21 @@
 
 use egui::{RichText, Ui};
 
-use super::app::ViewerApp;
-use super::panels::{job_row, thousands};
+use super::state::{Action, JobKind, PanelInfo};
+use super::widgets::{job_row, thousands};
 
-pub(super) fn stats_section(app: &mut ViewerApp, ui: &mut Ui) {
+pub fn stats_section(ui: &mut Ui, info: &PanelInfo<'_>) {
     ui.heading("Statistics");
-    ui.label(format!("window: {:.0} fps, slowest frame {:.0} ms (last 2 s)", app.ui_fps, app.slowest_ui_frame_ms()));
-    let Some(shown) = &app.shown else {
+    ui.label(format!("window: {:.0} fps, slowest frame {:.0} ms (last 2 s)", info.ui_fps, info.slowest_ui_frame_ms));
+    let Some(shown) = &info.shown else {
         ui.label("no frame yet");
         return;
     };
-    let stats = &shown.stats;
+    let stats = shown.stats;
     let (w, h) = shown.key.size;
-    let what = if stats.preview { "preview (two-pass on a subsample)" } else { shown.key.settings.mode.name() };
+    let mode = shown.key.settings.mode;
+    let what =
+        if stats.preview { format!("preview ({} on a subsample)", mode.info().preview) } else { mode.to_string() };
     ui.label(format!("{what}, {w}×{h}: {:.1} ms per frame", stats.frame_ms));
     ui.label(format!("{} splats drawn, {} geometry pass(es)", thousands(stats.splats_drawn), stats.geometry_passes));
     if !stats.pass_ms.is_empty() {
@@ -26,7 +28,7 @@ pub(super) fn stats_section(app: &mut ViewerApp, ui: &mut Ui) {
                 ui.end_row();
             }
         });
-    } else if shown.key.settings.mode.is_gpu() {
+    } else if mode.is_gpu() {
         ui.label(RichText::new("no GPU timestamps on this adapter").weak());
     }
     if let Some(plan) = &stats.plan {
@@ -39,32 +41,27 @@ pub(super) fn stats_section(app: &mut ViewerApp, ui: &mut Ui) {
     }
 }
 
-pub(super) fn error_section(app: &mut ViewerApp, ui: &mut Ui) {
+pub fn error_section(ui: &mut Ui, info: &PanelInfo<'_>, actions: &mut Vec<Action>) {
     ui.heading("Error against the reference");
-    let ctx = ui.ctx().clone();
-    let current = app.current_key();
-    let shown_key = app.shown.as_ref().map(|s| &s.key);
-    let comparable = shown_key.is_some_and(|k| !k.preview && k.settings.mode.is_gpu()) && shown_key == current.as_ref();
-    let mut cancel = false;
-    if let Some(job) = &app.measure {
-        cancel = job_row(ui, job.label(), job.progress(), job.seconds());
+    let shown_key = info.shown.as_ref().map(|s| s.key);
+    let comparable =
+        shown_key.is_some_and(|k| !k.preview && k.settings.mode.is_gpu()) && shown_key == info.current.as_ref();
+    if let Some(job) = info.job(JobKind::Measure) {
+        if job_row(ui, job) {
+            actions.push(Action::Cancel(JobKind::Measure));
+        }
     } else if ui
         .add_enabled(comparable, egui::Button::new("Measure error"))
         .on_disabled_hover_text("needs a finished GPU frame of the current view")
         .clicked()
     {
-        app.measure_error(&ctx);
+        actions.push(Action::MeasureError);
     }
-    if cancel {
-        if let Some(job) = app.measure.take() {
-            job.cancel();
-        }
-    }
-    if let Some(e) = &app.measure_error {
+    if let Some(e) = info.measure_error {
         ui.colored_label(egui::Color32::LIGHT_RED, e);
     }
-    if let Some(m) = &app.measurement {
-        let stale = current.as_ref() != Some(&m.key);
+    if let Some(m) = info.measurement {
+        let stale = info.current.as_ref() != Some(&m.key);
         let psnr = if m.error.psnr.is_finite() { format!("{:.2} dB", m.error.psnr) } else { "∞".into() };
         ui.label(format!(
             "{}: ε {:.3}, PSNR {psnr}, {:.2}% pixels off by > 8/255",

@@ -1,113 +1,120 @@
-//! One file per pass: each builds its pipeline and records its render pass.
+//! The two kinds of pass every mode is built from, as data: a splat pass
+//! ([`SplatPass`]) draws splats into targets, a full-screen pass
+//! ([`FullscreenPass`]) reads targets and writes the frame (or a target).
+//!
+//! Visibility, accumulation, nearest-splat and group-layer passes differ only
+//! in their fragment entry point, what they write, how they depth-test and
+//! how they blend, so one builder ([`splat`]) makes all of them; the
+//! normalisation and compositing passes share the other ([`fullscreen`]).
+//! A mode records its frame as a list of [`Command`]s; the renderer runs
+//! them, taking pipelines from the cache by their [`PipelineKey`].
 
-pub mod accumulate;
-pub mod deferred_composite;
-pub mod deferred_geometry;
-pub mod nearest;
-pub mod normalize;
-pub mod visibility;
+pub mod fullscreen;
+pub mod splat;
 
-use super::gpu_data::SplatInstance;
+use std::ops::Range;
 
-/// How a splat pass uses the depth buffer.
-pub(super) struct DepthTest {
+use super::gpu_data::PassUniforms;
+use super::plan::TargetId;
+use super::shaders::Variant;
+
+/// How a colour output combines with what the target holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Blend {
+    /// The fragment replaces the texel.
+    Replace,
+    /// The fragment is added to the texel (sums of weights).
+    Add,
+}
+
+/// How a splat pass uses its depth target.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct DepthTest {
+    /// Whether passing fragments write their depth.
     pub write: bool,
     pub compare: wgpu::CompareFunction,
+    /// Clear the depth target to the far plane first (else keep it).
+    pub clear: bool,
 }
 
-/// Which fragment stage a splat pipeline runs: the entry point, its unlit
-/// variant when lighting is off, and the single-channel weight-only output
-/// (the WGSL override `WEIGHT_ONLY`) for clouds of one colour.
-pub(super) struct FragmentVariant<'a> {
-    pub entry: &'a str,
-    pub lit: bool,
-    pub weight_only: bool,
+/// A colour output of a splat pass.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ColourOutput {
+    pub target: TargetId,
+    pub blend: Blend,
 }
 
-/// A pipeline that draws every splat as an instanced 4-vertex strip.
-pub(super) fn splat_pipeline(
-    device: &wgpu::Device,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    fragment: &FragmentVariant<'_>,
-    targets: &[Option<wgpu::ColorTargetState>],
-    depth: DepthTest,
-) -> wgpu::RenderPipeline {
-    let entry = lighting_entry(fragment.lit, fragment.entry);
-    let constants = [("WEIGHT_ONLY", if fragment.weight_only { 1.0 } else { 0.0 })];
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(label),
-        layout: Some(layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some("vs_splat"),
-            compilation_options: Default::default(),
-            buffers: &[Some(SplatInstance::layout())],
-        },
-        primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleStrip, ..Default::default() },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: super::targets::DEPTH_FORMAT,
-            depth_write_enabled: Some(depth.write),
-            depth_compare: Some(depth.compare),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some(&entry),
-            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
-            targets,
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+/// A render pass that draws splats.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SplatPass {
+    /// The render pass's label.
+    pub label: &'static str,
+    pub shader: &'static str,
+    pub entry: &'static str,
+    pub variant: Variant,
+    /// Colour outputs, in `@location` order; cleared to zero first.
+    pub colour: Vec<ColourOutput>,
+    pub depth: Option<(TargetId, DepthTest)>,
+    /// The layer of array targets to draw into (0 for single images).
+    pub layer: u32,
+    /// The splats to draw (indices into the uploaded scene).
+    pub splats: Range<u32>,
+    pub uniforms: PassUniforms,
 }
 
-/// Colour attachment of an intermediate target, cleared to zero.
-pub(super) fn cleared(view: &wgpu::TextureView) -> Option<wgpu::RenderPassColorAttachment<'_>> {
-    Some(wgpu::RenderPassColorAttachment {
-        view,
-        depth_slice: None,
-        resolve_target: None,
-        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
-    })
+/// Where a full-screen pass writes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Output {
+    /// The frame's output view.
+    Frame,
+    Target(TargetId),
 }
 
-/// Depth attachment that is either cleared to the far plane or kept.
-pub(super) fn depth(view: &wgpu::TextureView, clear: bool) -> Option<wgpu::RenderPassDepthStencilAttachment<'_>> {
-    Some(wgpu::RenderPassDepthStencilAttachment {
-        view,
-        depth_ops: Some(wgpu::Operations {
-            load: if clear { wgpu::LoadOp::Clear(1.0) } else { wgpu::LoadOp::Load },
-            store: wgpu::StoreOp::Store,
-        }),
-        stencil_ops: None,
-    })
+/// A render pass that covers the screen with one triangle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FullscreenPass {
+    pub label: &'static str,
+    pub shader: &'static str,
+    pub entry: &'static str,
+    pub variant: Variant,
+    /// Targets bound as textures at group 1, bindings 0.. in order.
+    pub inputs: Vec<TargetId>,
+    pub output: Output,
+    pub uniforms: PassUniforms,
 }
 
-/// Records one render pass, described by `desc`, that draws splats with `pipeline`.
-pub(super) fn record_splats(
-    encoder: &mut wgpu::CommandEncoder,
-    desc: &wgpu::RenderPassDescriptor<'_>,
-    pipeline: &wgpu::RenderPipeline,
-    frame: &wgpu::BindGroup,
-    draw: impl FnOnce(&mut wgpu::RenderPass<'_>),
-) {
-    let mut pass = encoder.begin_render_pass(desc);
-    pass.set_pipeline(pipeline);
-    pass.set_bind_group(0, frame, &[]);
-    draw(&mut pass);
+/// One render pass of a recorded frame.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Command {
+    Splats(SplatPass),
+    Fullscreen(FullscreenPass),
 }
 
-/// Drops the normal slot (`normal_slot`) of a pass's colour targets or
-/// attachments when lighting is off: without lighting no normal is written.
-pub(super) fn lighting_slots<T: Clone>(lit: bool, slots: &[T], normal_slot: usize) -> Vec<T> {
-    slots.iter().enumerate().filter(|(i, _)| lit || *i != normal_slot).map(|(_, t)| t.clone()).collect()
+/// A command and the plan pass it belongs to (for timing).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Recorded {
+    pub pass: usize,
+    pub command: Command,
 }
 
-/// The fragment entry point for lighting on or off (`NAME` or `NAME_unlit`).
-pub(super) fn lighting_entry(lit: bool, entry: &str) -> String {
-    if lit { entry.to_string() } else { format!("{entry}_unlit") }
+/// What makes two pipelines the same: shader, entry point, variant, and the
+/// formats and fixed-function state of what they write.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct PipelineKey {
+    pub shader: &'static str,
+    pub entry: &'static str,
+    pub variant: Variant,
+    pub kind: PipelineKind,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum PipelineKind {
+    Splats {
+        colour: Vec<(wgpu::TextureFormat, Blend)>,
+        depth: Option<(wgpu::TextureFormat, bool, wgpu::CompareFunction)>,
+    },
+    Fullscreen {
+        inputs: Vec<wgpu::TextureViewDimension>,
+        output: wgpu::TextureFormat,
+    },
 }

@@ -1,4 +1,5 @@
-//! A point cloud on the GPU: splat instances in vertex buffers.
+//! A scene on the GPU: its splats (world space, materials applied) as
+//! instances in vertex buffers, in group order when the mode draws groups.
 //!
 //! Splats live in instance (vertex) buffers rather than storage buffers,
 //! because lavapipe caps a storage binding at 128 MiB. Buffers are split into
@@ -10,12 +11,13 @@ use wgpu::util::DeviceExt;
 use super::gpu_data::SplatInstance;
 use crate::cloud::PointCloud;
 use crate::grouping::Grouping;
+use crate::scene::Scene;
 
 /// Largest vertex buffer made for one chunk of splats.
 pub const MAX_CHUNK_BYTES: usize = 32 << 20;
 
-/// The splats of one cloud, uploaded.
-pub struct GpuCloud {
+/// The splats of one scene, uploaded.
+pub struct GpuScene {
     pub chunks: Vec<(wgpu::Buffer, u32)>,
     pub len: usize,
     pub mean_radius: f32,
@@ -26,17 +28,24 @@ pub struct GpuCloud {
     pub uniform_color: Option<[u8; 3]>,
 }
 
-impl GpuCloud {
-    pub fn upload(device: &wgpu::Device, cloud: &PointCloud) -> Self {
-        let order: Vec<u32> = (0..cloud.len() as u32).collect();
-        let everything = std::iter::once(0..cloud.len() as u32).collect::<Vec<_>>();
-        Self::upload_in_order(device, cloud, &order, &[1.0], &everything)
+impl GpuScene {
+    /// Uploads `scene`'s splats in scene order, or group by group (each group
+    /// contiguous, with its radius scale) when a grouping of the flattened
+    /// scene is given.
+    pub fn upload(device: &wgpu::Device, scene: &Scene, grouping: Option<&Grouping>) -> Self {
+        let flat = scene.flatten();
+        Self::upload_cloud(device, &flat.cloud, grouping)
     }
 
-    /// Uploads the splats group by group, each group contiguous, with each
-    /// group's radius scale applied.
-    pub fn upload_grouped(device: &wgpu::Device, cloud: &PointCloud, grouping: &Grouping) -> Self {
-        Self::upload_in_order(device, cloud, &grouping.order, &grouping.radius_scale, &grouping.ranges)
+    /// [`Self::upload`] for a cloud already in world space.
+    pub fn upload_cloud(device: &wgpu::Device, cloud: &PointCloud, grouping: Option<&Grouping>) -> Self {
+        match grouping {
+            Some(g) => Self::upload_in_order(device, cloud, &g.order, &g.radius_scale, &g.ranges),
+            None => {
+                let order: Vec<u32> = (0..cloud.len() as u32).collect();
+                Self::upload_in_order(device, cloud, &order, &[1.0], std::slice::from_ref(&(0..cloud.len() as u32)))
+            }
+        }
     }
 
     fn upload_in_order(
@@ -73,7 +82,7 @@ impl GpuCloud {
                 })
                 .collect();
             let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("GpuCloud::splats"),
+                label: Some("GpuScene::splats"),
                 contents: bytemuck::cast_slice(&instances),
                 usage: wgpu::BufferUsages::VERTEX,
             });
@@ -85,15 +94,13 @@ impl GpuCloud {
         Self { chunks, len: order.len(), mean_radius: cloud.mean_radius(), groups: groups.to_vec(), uniform_color }
     }
 
-    /// Draws every splat as a 4-vertex strip instance; the pipeline must be set.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
-        for (buffer, count) in &self.chunks {
-            pass.set_vertex_buffer(0, buffer.slice(..));
-            pass.draw(0..4, 0..*count);
-        }
+    /// All splats, as an instance range.
+    pub fn all(&self) -> std::ops::Range<u32> {
+        0..self.len as u32
     }
 
-    /// Draws the instances `range` (global indices across chunks).
+    /// Draws the instances `range` (global indices across chunks) as 4-vertex
+    /// strips; the pipeline must be set.
     pub fn draw_range(&self, pass: &mut wgpu::RenderPass<'_>, range: std::ops::Range<u32>) {
         let mut chunk_start = 0u32;
         for (buffer, count) in &self.chunks {

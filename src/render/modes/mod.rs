@@ -1,0 +1,65 @@
+//! The GPU modes, one file each. A mode turns a frame's description
+//! ([`FrameDesc`]: settings, size, what the uploaded scene holds) into its
+//! [`RenderPlan`] (passes and targets) and records the plan as commands; the
+//! renderer allocates the plan's targets and runs the commands.
+//!
+//! A new mode is a new file here with a [`GpuMode`] implementation, one line
+//! in [`gpu_mode`], and its entry in the registry (`src/view/modes.rs`).
+
+mod deferred;
+mod two_pass;
+
+use std::ops::Range;
+
+use super::passes::Recorded;
+use super::plan::RenderPlan;
+use crate::view::{RenderMode, RenderSettings};
+
+/// Everything a mode needs to know to plan and record a frame.
+#[derive(Debug, Clone)]
+pub struct FrameDesc<'a> {
+    pub settings: &'a RenderSettings,
+    pub width: u32,
+    pub height: u32,
+    pub splats: usize,
+    /// Instance ranges of the groups (one range over everything when ungrouped).
+    pub groups: &'a [Range<u32>],
+    /// The scene's one colour, when every splat has it: colour targets then hold only weights.
+    pub uniform_colour: Option<[u8; 3]>,
+    /// ε in view-depth units.
+    pub epsilon: f32,
+    /// Low-precision depth steps n over the depth range (Zhang & Pajarola Eq. 10): (far - near)/ε.
+    pub depth_steps: f32,
+}
+
+impl FrameDesc<'_> {
+    /// Whether colour targets hold only weights (a scene of one colour).
+    pub fn weight_only(&self) -> bool {
+        self.uniform_colour.is_some()
+    }
+
+    /// The one colour as a uniform (rgb 0..1), zero when there is none.
+    pub fn uniform_colour_rgba(&self) -> [f32; 4] {
+        match self.uniform_colour {
+            Some([r, g, b]) => [r as f32 / 255.0, g as f32 / 255.0, b as f32 / 255.0, 1.0],
+            None => [0.0; 4],
+        }
+    }
+}
+
+/// A render mode that runs on the GPU.
+pub trait GpuMode: Sync {
+    /// The passes and targets of a frame.
+    fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan;
+    /// The frame's render passes, in order, each tagged with its plan pass.
+    fn record(&self, frame: &FrameDesc<'_>, plan: &RenderPlan) -> Vec<Recorded>;
+}
+
+/// The GPU implementation of `mode`, or `None` for a mode that runs on the CPU.
+pub fn gpu_mode(mode: RenderMode) -> Option<&'static dyn GpuMode> {
+    match mode {
+        RenderMode::TwoPass => Some(&two_pass::TwoPass),
+        RenderMode::Deferred => Some(&deferred::Deferred),
+        RenderMode::Reference => None,
+    }
+}

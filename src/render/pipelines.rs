@@ -1,0 +1,125 @@
+//! The pipeline cache: shader modules by (file, variant), bind group layouts
+//! by the textures they bind, and pipelines by [`PipelineKey`] (pass, variant,
+//! output formats and fixed-function state), each built on first use and kept.
+//!
+//! Group 0 of every pipeline holds the frame's uniforms (binding 0) and the
+//! pass's own uniforms (binding 1, a slot chosen by a dynamic offset); group 1
+//! of a full-screen pipeline holds its input textures.
+
+use std::collections::HashMap;
+
+use super::context::GpuError;
+use super::gpu_data::{FrameUniforms, PassUniforms};
+use super::passes::{PipelineKey, PipelineKind, fullscreen, splat};
+use super::shaders::{self, Variant};
+
+pub struct PipelineCache {
+    frame_layout: wgpu::BindGroupLayout,
+    modules: HashMap<(&'static str, Variant), wgpu::ShaderModule>,
+    /// Bind group layouts of full-screen inputs, by their texture dimensions.
+    input_layouts: HashMap<Vec<wgpu::TextureViewDimension>, wgpu::BindGroupLayout>,
+    /// Pipeline layouts by the input dimensions (none: a splat pass).
+    layouts: HashMap<Vec<wgpu::TextureViewDimension>, wgpu::PipelineLayout>,
+    pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
+}
+
+impl PipelineCache {
+    pub fn new(device: &wgpu::Device) -> Self {
+        let uniform = |binding, dynamic: bool, size: usize| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: dynamic,
+                min_binding_size: wgpu::BufferSize::new(size as u64),
+            },
+            count: None,
+        };
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("Frame::layout"),
+            entries: &[
+                uniform(0, false, std::mem::size_of::<FrameUniforms>()),
+                uniform(1, true, std::mem::size_of::<PassUniforms>()),
+            ],
+        });
+        Self {
+            frame_layout,
+            modules: HashMap::new(),
+            input_layouts: HashMap::new(),
+            layouts: HashMap::new(),
+            pipelines: HashMap::new(),
+        }
+    }
+
+    /// The layout of bind group 0 (frame and pass uniforms).
+    pub fn frame_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.frame_layout
+    }
+
+    /// The layout of a full-screen pass's inputs.
+    pub fn inputs_layout(
+        &mut self,
+        device: &wgpu::Device,
+        dims: &[wgpu::TextureViewDimension],
+    ) -> &wgpu::BindGroupLayout {
+        self.input_layouts.entry(dims.to_vec()).or_insert_with(|| fullscreen::inputs_layout(device, dims))
+    }
+
+    /// The pipeline for `key`, built on first use.
+    pub fn pipeline(&mut self, device: &wgpu::Device, key: &PipelineKey) -> Result<&wgpu::RenderPipeline, GpuError> {
+        if !self.pipelines.contains_key(key) {
+            let pipeline = self.build(device, key)?;
+            self.pipelines.insert(key.clone(), pipeline);
+        }
+        self.pipelines.get(key).ok_or_else(|| GpuError::Device("pipeline cache".into()))
+    }
+
+    /// Pipelines built so far.
+    pub fn len(&self) -> usize {
+        self.pipelines.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.pipelines.is_empty()
+    }
+
+    fn build(&mut self, device: &wgpu::Device, key: &PipelineKey) -> Result<wgpu::RenderPipeline, GpuError> {
+        if let std::collections::hash_map::Entry::Vacant(slot) = self.modules.entry((key.shader, key.variant)) {
+            let source = shaders::compose(key.shader, key.variant)
+                .map_err(|message| GpuError::Validation { stage: "composing a shader".into(), message })?;
+            slot.insert(device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(key.shader),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            }));
+        }
+        let inputs = match &key.kind {
+            PipelineKind::Splats { .. } => Vec::new(),
+            PipelineKind::Fullscreen { inputs, .. } => inputs.clone(),
+        };
+        if !self.layouts.contains_key(&inputs) {
+            let mut groups = vec![Some(&self.frame_layout)];
+            if !inputs.is_empty() {
+                let inputs_layout = self
+                    .input_layouts
+                    .entry(inputs.clone())
+                    .or_insert_with(|| fullscreen::inputs_layout(device, &inputs));
+                groups.push(Some(inputs_layout));
+            }
+            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(if inputs.is_empty() { "Splat::pipeline_layout" } else { "Fullscreen::pipeline_layout" }),
+                bind_group_layouts: &groups,
+                immediate_size: 0,
+            });
+            self.layouts.insert(inputs.clone(), layout);
+        }
+        let (module, layout) = (&self.modules[&(key.shader, key.variant)], &self.layouts[&inputs]);
+        let label = format!("{}::{} ({})", key.shader, key.entry, key.variant);
+        let built = match &key.kind {
+            PipelineKind::Splats { .. } => splat::pipeline(device, &label, layout, module, key.entry, &key.kind),
+            PipelineKind::Fullscreen { .. } => {
+                fullscreen::pipeline(device, &label, layout, module, key.entry, &key.kind)
+            }
+        };
+        built.ok_or_else(|| GpuError::Device(format!("no pipeline for {label}")))
+    }
+}

@@ -1,0 +1,161 @@
+//! What the panels work with: the UI state they edit ([`UiState`]), a
+//! read-only picture of everything else they show ([`PanelInfo`]), and the
+//! [`Action`]s they ask the app to take. The panels import only this module
+//! and the widgets; the app builds a `PanelInfo`, runs the panels and applies
+//! their actions, so no module depends on the app's internals.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use crate::reference::ImageError;
+use crate::view::{Camera, RenderSettings};
+
+use super::model::GroupedModel;
+use super::render_thread::FrameStats;
+
+/// The size of an exported screenshot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ScreenshotSize {
+    Window,
+    Double,
+    Fixed(u32, u32),
+}
+
+impl ScreenshotSize {
+    pub const CHOICES: [ScreenshotSize; 4] = [
+        ScreenshotSize::Window,
+        ScreenshotSize::Double,
+        ScreenshotSize::Fixed(1920, 1080),
+        ScreenshotSize::Fixed(3840, 2160),
+    ];
+
+    pub fn label(self) -> String {
+        match self {
+            ScreenshotSize::Window => "view size".into(),
+            ScreenshotSize::Double => "2 × view size".into(),
+            ScreenshotSize::Fixed(w, h) => format!("{w} × {h}"),
+        }
+    }
+
+    pub fn pixels(self, view: (u32, u32)) -> (u32, u32) {
+        match self {
+            ScreenshotSize::Window => view,
+            ScreenshotSize::Double => (view.0 * 2, view.1 * 2),
+            ScreenshotSize::Fixed(w, h) => (w, h),
+        }
+    }
+}
+
+/// Everything that decides a frame of the 3D view.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameKey {
+    pub generation: u64,
+    /// The grouping drawn, for modes that draw groups.
+    pub grouping: Option<String>,
+    pub camera: Camera,
+    pub settings: RenderSettings,
+    pub size: (u32, u32),
+    pub preview: bool,
+}
+
+/// A finished error measurement.
+pub struct Measurement {
+    pub key: FrameKey,
+    pub error: ImageError,
+    pub reference_seconds: f64,
+    pub difference: egui::TextureHandle,
+}
+
+/// What the panels edit directly.
+#[derive(Debug, Clone)]
+pub struct UiState {
+    pub settings: RenderSettings,
+    pub camera: Camera,
+    /// Light direction in eye space as (azimuth, elevation) degrees.
+    pub light_angles: (f32, f32),
+    pub screenshot_size: ScreenshotSize,
+}
+
+impl UiState {
+    /// Light angles (degrees) of the light direction in `settings`.
+    pub fn light_angles_of(settings: &RenderSettings) -> (f32, f32) {
+        let d = settings.shading.light_dir_eye;
+        (d.x.atan2(d.z).to_degrees(), d.y.clamp(-1.0, 1.0).asin().to_degrees())
+    }
+
+    /// Writes the light angles back into the settings' light direction.
+    pub fn apply_light_angles(&mut self) {
+        let (az, el) = (self.light_angles.0.to_radians(), self.light_angles.1.to_radians());
+        self.settings.shading.light_dir_eye = glam::Vec3::new(az.sin() * el.cos(), el.sin(), az.cos() * el.cos());
+    }
+}
+
+/// Which background job an action is about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JobKind {
+    Load,
+    Grouping,
+    Measure,
+}
+
+/// A running background job as the panels show it.
+#[derive(Debug, Clone)]
+pub struct JobInfo {
+    pub kind: JobKind,
+    pub label: String,
+    pub stage: String,
+    pub fraction: Option<f32>,
+    pub seconds: f64,
+}
+
+/// What the panels ask the app to do.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Action {
+    Open(PathBuf),
+    Cancel(JobKind),
+    MeasureError,
+    SaveScreenshot,
+    ResetCamera,
+    /// The camera was edited in the panel (field of view).
+    CameraMoved,
+}
+
+/// The model on screen, as the panels show it.
+pub struct ModelInfo<'a> {
+    pub name: &'a str,
+    pub path: &'a Path,
+    pub splats: usize,
+    pub warnings: &'a [String],
+}
+
+/// The frame on screen, as the panels show it.
+pub struct ShownInfo<'a> {
+    pub key: &'a FrameKey,
+    pub stats: &'a FrameStats,
+}
+
+/// Everything the panels show but do not edit.
+pub struct PanelInfo<'a> {
+    pub model: Option<ModelInfo<'a>>,
+    pub load_error: Option<&'a str>,
+    pub jobs: Vec<JobInfo>,
+    /// Progress of a slow frame the view is waiting for (the reference).
+    pub view_progress: Option<(String, Option<f32>)>,
+    pub grouped: Option<&'a Arc<GroupedModel>>,
+    pub grouping_error: Option<&'a str>,
+    pub shown: Option<ShownInfo<'a>>,
+    /// The frame the view should show now.
+    pub current: Option<FrameKey>,
+    pub ui_fps: f32,
+    pub slowest_ui_frame_ms: f32,
+    pub measurement: Option<&'a Measurement>,
+    pub measure_error: Option<&'a str>,
+    pub screenshot_dir: &'a Path,
+    pub status: Option<&'a str>,
+}
+
+impl PanelInfo<'_> {
+    pub fn job(&self, kind: JobKind) -> Option<&JobInfo> {
+        self.jobs.iter().find(|j| j.kind == kind)
+    }
+}

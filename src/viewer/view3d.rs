@@ -1,0 +1,136 @@
+//! The 3D view: the latest frame from the render thread, the camera controls
+//! on it (orbit, pan, zoom, double-click to re-centre), keyboard shortcuts,
+//! the frame-rate count and the scripted screenshot-and-exit sequence.
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use glam::Vec2;
+
+use super::app::ViewerApp;
+use super::camera_input;
+
+impl ViewerApp {
+    /// Handles dropped files and keyboard shortcuts.
+    pub(super) fn handle_input(&mut self, ctx: &egui::Context) {
+        let dropped: Vec<PathBuf> = ctx.input(|i| i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).collect());
+        if let Some(path) = dropped.first() {
+            self.open(ctx, path);
+        }
+        if ctx.input_mut(|i| i.consume_key(egui::Modifiers::COMMAND, egui::Key::S)) {
+            self.save_screenshot();
+        }
+        if ctx.input(|i| i.key_pressed(egui::Key::Home)) && !ctx.egui_wants_keyboard_input() {
+            self.reset_camera();
+        }
+    }
+
+    /// The 3D view: the latest frame, and the camera controls on it.
+    pub(super) fn view_ui(&mut self, ui: &mut egui::Ui) {
+        let (rect, response) = ui.allocate_exact_size(ui.available_size(), egui::Sense::click_and_drag());
+        let ppp = ui.ctx().pixels_per_point();
+        let max_side = 8192.0;
+        self.view_size = (
+            (rect.width() * ppp).round().clamp(1.0, max_side) as u32,
+            (rect.height() * ppp).round().clamp(1.0, max_side) as u32,
+        );
+        let painter = ui.painter_at(rect);
+        let bg = self.ui.settings.shading.background;
+        painter.rect_filled(
+            rect,
+            0.0,
+            egui::Color32::from_rgb((bg.x * 255.0) as u8, (bg.y * 255.0) as u8, (bg.z * 255.0) as u8),
+        );
+        if let Some(shown) = &self.shown {
+            let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
+            painter.image(shown.texture.id(), rect, uv, egui::Color32::WHITE);
+        }
+        if let Some(e) = &self.frame_error {
+            painter.text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                e,
+                egui::FontId::proportional(16.0),
+                egui::Color32::LIGHT_RED,
+            );
+        }
+        let to_vec = |v: egui::Vec2| Vec2::new(v.x, v.y);
+        let mut moved = false;
+        if response.dragged_by(egui::PointerButton::Primary) {
+            camera_input::orbit(&mut self.ui.camera, to_vec(response.drag_delta()));
+            moved = true;
+        }
+        if response.dragged_by(egui::PointerButton::Secondary) || response.dragged_by(egui::PointerButton::Middle) {
+            camera_input::pan(&mut self.ui.camera, &self.scene, to_vec(response.drag_delta()), rect.height());
+            moved = true;
+        }
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+            if scroll != 0.0 {
+                camera_input::zoom(&mut self.ui.camera, scroll);
+                moved = true;
+            }
+        }
+        if response.double_clicked() {
+            if let (Some(pos), Some(model)) = (response.interact_pointer_pos(), &self.model) {
+                let uv = Vec2::new((pos.x - rect.left()) / rect.width(), (pos.y - rect.top()) / rect.height());
+                let aspect = rect.width() / rect.height().max(1.0);
+                if let Some(hit) = camera_input::pick(&model.cloud, &self.ui.camera, uv, aspect) {
+                    self.scene.retarget(&mut self.ui.camera, hit);
+                    moved = true;
+                }
+            }
+        }
+        if moved {
+            self.camera_moved();
+        }
+    }
+
+    /// `--screenshot` / `--exit-after-frames`: once settled, count frames, then shoot and close.
+    pub(super) fn scripted_exit(&mut self, ctx: &egui::Context) {
+        let Some(limit) = self.options.exit_after_frames.or(self.options.screenshot.as_ref().map(|_| 2)) else {
+            return;
+        };
+        ctx.request_repaint();
+        if !self.is_settled() || self.window_shot_requested {
+            return;
+        }
+        self.frames_since_ready += 1;
+        if self.frames_since_ready < limit {
+            return;
+        }
+        self.window_shot_requested = true;
+        let Some(path) = self.options.screenshot.clone() else {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            return;
+        };
+        let close = ctx.clone();
+        ctx.request_screenshot(move |shot| {
+            let [w, h] = shot.size;
+            let bytes: Vec<u8> = shot.pixels.iter().flat_map(|c| c.to_array()).collect();
+            match image::RgbaImage::from_raw(w as u32, h as u32, bytes) {
+                Some(image) => match crate::output::save_png(&image, &path) {
+                    Ok(()) => eprintln!("saved the window to {}", path.display()),
+                    Err(e) => eprintln!("error: {}: {e}", path.display()),
+                },
+                None => eprintln!("error: the window screenshot has the wrong size"),
+            }
+            close.send_viewport_cmd(egui::ViewportCommand::Close);
+        });
+    }
+
+    pub(super) fn count_ui_frame(&mut self) {
+        let now = Instant::now();
+        if let Some(last) = self.last_ui_frame {
+            let seconds = now.duration_since(last).as_secs_f32().max(1e-4);
+            let fps = 1.0 / seconds;
+            self.ui_fps = if self.ui_fps == 0.0 { fps } else { 0.9 * self.ui_fps + 0.1 * fps };
+            self.recent_ui_frames.push_back((now, seconds * 1e3));
+            while self.recent_ui_frames.front().is_some_and(|(t, _)| now.duration_since(*t) > Duration::from_secs(2)) {
+                self.recent_ui_frames.pop_front();
+            }
+            log::debug!("UI frame {:.1} ms", seconds * 1e3);
+        }
+        self.last_ui_frame = Some(now);
+    }
+}

@@ -1,0 +1,146 @@
+//! The render core: for every mode of the registry the pool allocates exactly
+//! the targets the plan (and so `--explain`) describes, frees what a new plan
+//! does not use, builds each pipeline once, times every plan pass, and gives
+//! each render pass its own uniforms.
+
+mod common;
+
+use pointblend::cloud::{self, PointCloud};
+use pointblend::grouping::GroupingSpec;
+use pointblend::render::modes::{FrameDesc, gpu_mode};
+use pointblend::render::passes::Command;
+use pointblend::render::{GpuScene, HeadlessRenderer, RenderPlan};
+use pointblend::view::{Camera, Quality, RenderMode, RenderSettings};
+
+fn bunny() -> PointCloud {
+    cloud::load(&common::bundled_bunny()).unwrap().0
+}
+
+/// Every setting that changes a plan's targets: quality, lighting, colours, and the grouping's K.
+fn settings_of(mode: RenderMode) -> Vec<RenderSettings> {
+    let mut all = Vec::new();
+    for quality in [Quality::Filtered, Quality::Unfiltered] {
+        for lighting in [true, false] {
+            for grouping in [GroupingSpec::Mgc { c: 0.4 }, GroupingSpec::Mgc { c: 1.0 }] {
+                all.push(RenderSettings { mode, quality, lighting, grouping, ..Default::default() });
+            }
+        }
+    }
+    all
+}
+
+/// Uploads `cloud` as `settings`' mode needs it.
+fn upload(renderer: &HeadlessRenderer, cloud: &PointCloud, settings: &RenderSettings) -> GpuScene {
+    let grouping = settings.mode.needs_grouping().then(|| settings.grouping.compute(cloud).unwrap());
+    renderer.upload_cloud(cloud, grouping.as_ref())
+}
+
+/// The bytes `--explain` prints as the plan's target memory.
+fn explained_bytes(plan: &RenderPlan) -> u64 {
+    let text = plan.to_string();
+    let line = text.lines().find(|l| l.trim_start().starts_with("target memory:")).expect("a target memory line");
+    line.rsplit('(').next().unwrap().trim_end_matches(" bytes)").parse().unwrap()
+}
+
+#[test]
+fn the_pool_allocates_exactly_what_explain_reports_for_every_mode() {
+    let colour = bunny();
+    let mut one_colour = colour.clone();
+    one_colour.colors.iter_mut().for_each(|c| *c = [90, 160, 200]);
+    let camera = Camera::default_for(&colour, 1.0);
+    let mut renderer = common::renderer();
+    let mut checked = 0;
+    for mode in RenderMode::ALL.into_iter().filter(|m| m.is_gpu()) {
+        for cloud in [&colour, &one_colour] {
+            for settings in settings_of(mode) {
+                let gpu = upload(&renderer, cloud, &settings);
+                let plan = renderer.render(&gpu, &camera, &settings, 96, 80).unwrap();
+                let mut held = renderer.renderer.allocated_targets();
+                let mut planned = plan.targets.clone();
+                held.sort_by_key(|t| t.id.0);
+                planned.sort_by_key(|t| t.id.0);
+                assert_eq!(held, planned, "{mode}: the pool holds other targets than the plan lists\n{plan}");
+                assert_eq!(renderer.renderer.allocated_bytes(), plan.target_bytes(), "{mode}\n{plan}");
+                assert_eq!(explained_bytes(&plan), renderer.renderer.allocated_bytes(), "{mode}\n{plan}");
+                assert!(plan.targets.iter().all(|t| (t.width, t.height) == (96, 80)));
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 32, "{checked} plans checked");
+}
+
+#[test]
+fn a_new_plan_frees_the_targets_it_does_not_use_and_pipelines_are_built_once() {
+    let cloud = bunny();
+    let camera = Camera::default_for(&cloud, 1.0);
+    let mut renderer = common::renderer();
+    let deferred = RenderSettings { mode: "deferred".parse().unwrap(), ..Default::default() };
+    let two_pass = RenderSettings { mode: "two-pass".parse().unwrap(), ..Default::default() };
+    let grouped = upload(&renderer, &cloud, &deferred);
+    let plain = upload(&renderer, &cloud, &two_pass);
+    renderer.render(&grouped, &camera, &deferred, 128, 128).unwrap();
+    let deferred_bytes = renderer.renderer.allocated_bytes();
+    let plan = renderer.render(&plain, &camera, &two_pass, 128, 128).unwrap();
+    assert_eq!(renderer.renderer.allocated_bytes(), plan.target_bytes());
+    assert!(plan.target_bytes() < deferred_bytes, "the group layers were freed");
+    let built = renderer.renderer.pipelines_built();
+    for _ in 0..3 {
+        renderer.render(&grouped, &camera, &deferred, 128, 128).unwrap();
+        renderer.render(&plain, &camera, &two_pass, 128, 128).unwrap();
+    }
+    assert_eq!(renderer.renderer.pipelines_built(), built, "the same frames built new pipelines");
+    // A new output size reallocates targets but needs no new pipeline.
+    renderer.render(&plain, &camera, &two_pass, 64, 200).unwrap();
+    assert_eq!(renderer.renderer.pipelines_built(), built);
+}
+
+#[test]
+fn every_plan_pass_is_timed_even_with_many_groups() {
+    let cloud = bunny();
+    let camera = Camera::default_for(&cloud, 1.0);
+    // Its own renderer, so turning timing on does not touch the shared one.
+    let mut renderer = HeadlessRenderer::new().unwrap();
+    if !renderer.renderer.enable_pass_timing(&renderer.ctx) {
+        println!("this adapter has no timestamps: nothing to check");
+        return;
+    }
+    for settings in settings_of("deferred".parse().unwrap()).into_iter().chain(settings_of("two-pass".parse().unwrap()))
+    {
+        let gpu = upload(&renderer, &cloud, &settings);
+        let plan = renderer.render(&gpu, &camera, &settings, 96, 96).unwrap();
+        let times = renderer.renderer.pass_times(&renderer.ctx, &plan).unwrap().expect("timing is on");
+        assert_eq!(times.len(), plan.passes.len(), "{plan}");
+        assert!(times.iter().all(|t| t.is_finite() && *t >= 0.0), "{times:?}");
+    }
+}
+
+#[test]
+fn each_group_layer_pass_carries_its_own_layer_in_its_uniforms() {
+    let cloud = bunny();
+    let grouping = GroupingSpec::Mgc { c: 1.0 }.compute(&cloud).unwrap();
+    let settings = RenderSettings { mode: "deferred".parse().unwrap(), ..Default::default() };
+    let frame = FrameDesc {
+        settings: &settings,
+        width: 64,
+        height: 64,
+        splats: cloud.len(),
+        groups: &grouping.ranges,
+        uniform_colour: None,
+        epsilon: 0.001,
+        depth_steps: 100.0,
+    };
+    let mode = gpu_mode(settings.mode).unwrap();
+    let plan = mode.plan(&frame);
+    let commands = mode.record(&frame, &plan);
+    let layers: Vec<u32> = commands
+        .iter()
+        .filter_map(|c| match &c.command {
+            Command::Splats(pass) => Some(pass.uniforms.layers[0]),
+            Command::Fullscreen(_) => None,
+        })
+        .collect();
+    assert_eq!(layers, (0..grouping.k() as u32).collect::<Vec<_>>());
+    assert!(commands.iter().all(|c| c.pass < plan.passes.len()), "every command belongs to a plan pass");
+    assert_eq!(plan.geometry_render_passes(), grouping.k());
+}
