@@ -23,6 +23,7 @@
 
 struct SplatIn {
     @location(0) position: vec3<f32>,
+    // Negative for a splat of a two-sided object (never back-face culled).
     @location(1) radius: f32,
     @location(2) normal: vec3<f32>,
     @location(3) color: vec4<f32>,
@@ -63,9 +64,9 @@ fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying 
     let normal_length = length(normal_eye);
     let normal = select(vec3<f32>(0.0, 0.0, 1.0), normal_eye / normal_length, normal_length > 1e-20);
     let distance = length(centre);
-    // Back-face culling: the normal points away from the eye.
-    let back_facing = dot(normal, centre) > 0.0 && frame.splat.w > 0.5;
-    let radius = splat.radius * frame.lens.z;
+    // Back-face culling: the normal points away from the eye (two-sided splats are kept).
+    let back_facing = dot(normal, centre) > 0.0 && frame.splat.w > 0.5 && splat.radius > 0.0;
+    let radius = abs(splat.radius) * frame.lens.z;
     if back_facing || !(radius > 0.0) || !(distance > 0.0) || -centre.z - radius >= frame.depth.y {
         out.clip = CULLED;
         return out;

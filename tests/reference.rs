@@ -6,7 +6,7 @@ use common::tolerances::*;
 use glam::{Vec2, Vec3};
 use pointblend::cloud::{self, PointCloud};
 use pointblend::reference::{self, ReferenceOptions};
-use pointblend::scene::Scene;
+use pointblend::scene::{Material, Scene, SceneObject};
 use pointblend::view::{Camera, RenderSettings, Shading, SplatKernel, UpAxis};
 
 const SIZE: u32 = 128;
@@ -25,6 +25,7 @@ fn options(epsilon: f32) -> ReferenceOptions {
         shading: flat(),
         lighting: true,
         radius_scale: 1.0,
+        transparent: true,
         progress: false,
     }
 }
@@ -177,4 +178,114 @@ fn two_pass_matches_the_reference_on_the_bunny() {
         assert!(error.eps <= MAX_TWO_PASS_EPS, "az {az}: ε {}", error.eps);
         assert!(error.bad_pixel_share <= MAX_TWO_PASS_BAD_PIXELS, "az {az}: bad {}", error.bad_pixel_share);
     }
+}
+
+/// A square plane of overlapping splats at depth `z` (world z, facing the
+/// camera), of one colour, as a scene object with `opacity`.
+fn plane(z: f32, half: f32, colour: [u8; 3], opacity: f32) -> SceneObject {
+    let n = 40;
+    let spacing = 2.0 * half / n as f32;
+    let mut cloud = PointCloud::default();
+    for i in 0..=n {
+        for j in 0..=n {
+            cloud.positions.push(Vec3::new(-half + i as f32 * spacing, -half + j as f32 * spacing, z));
+            cloud.normals.push(Vec3::Z);
+            cloud.radii.push(1.5 * spacing);
+            cloud.colors.push(colour);
+            cloud.opacity.push(1.0);
+        }
+    }
+    let mut object = Scene::from(cloud).objects.remove(0);
+    object.material = Material::with_opacity(opacity);
+    object
+}
+
+fn unlit_transparent(epsilon: f32) -> ReferenceOptions {
+    ReferenceOptions { lighting: false, backface_culling: false, ..options(epsilon) }
+}
+
+/// α₁c₁ + (1 − α₁)(α₂c₂ + (1 − α₂)(… + bg)), in 0..255, front layer first.
+fn over(layers: &[([u8; 3], f32)], background: [u8; 3]) -> [f32; 3] {
+    let mut colour = background.map(|c| c as f32);
+    for (c, a) in layers.iter().rev() {
+        colour = [0, 1, 2].map(|k| a * c[k] as f32 + (1.0 - a) * colour[k]);
+    }
+    colour
+}
+
+#[test]
+fn parallel_transparent_planes_composite_exactly_front_to_back() {
+    let bg = background();
+    let cases: Vec<Vec<(f32, [u8; 3], f32)>> = vec![
+        vec![(1.0, [250, 30, 20], 0.5), (0.0, [20, 40, 240], 0.6)],
+        vec![(1.0, [250, 30, 20], 0.3), (0.0, [20, 200, 40], 0.5), (-1.0, [40, 40, 250], 0.8)],
+        vec![(1.0, [200, 200, 200], 1.0), (0.0, [20, 200, 40], 0.5)],
+        vec![(1.0, [200, 100, 0], 0.0), (0.0, [20, 200, 40], 0.5)],
+    ];
+    for layers in cases {
+        let mut scene = Scene::default();
+        for &(z, c, a) in &layers {
+            scene.objects.push(plane(z, 3.0, c, a));
+        }
+        let (image, counts) = reference::render_with_layers(&scene, &camera(), &unlit_transparent(0.3), SIZE, SIZE);
+        let visible: Vec<([u8; 3], f32)> = layers.iter().filter(|l| l.2 > 0.0).map(|&(_, c, a)| (c, a)).collect();
+        let want = over(&visible, bg);
+        let centre = (SIZE / 2 - 8)..(SIZE / 2 + 8);
+        for y in centre.clone() {
+            for x in centre.clone() {
+                let got = image.get_pixel(x, y).0;
+                for k in 0..3 {
+                    assert!((got[k] as f32 - want[k]).abs() <= 1.0, "{layers:?}: pixel {x},{y}: {got:?} vs {want:?}");
+                }
+                // Every plane is a layer, up to the first opaque one, which ends the ray.
+                let met = layers.iter().position(|l| l.2 >= 1.0).map_or(layers.len(), |i| i + 1) as u32;
+                assert_eq!(counts[(y * SIZE + x) as usize], met, "{layers:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_closed_transparent_sphere_has_two_layers_inside_its_outline() {
+    let mut sphere = Scene::from(pointblend::scene::primitives::sphere(20_000, 1.0, Vec3::ZERO)).objects.remove(0);
+    sphere.material = Material::with_opacity(0.4);
+    let scene = Scene { objects: vec![sphere], ..Default::default() };
+    let eps = 0.05;
+    let (_, counts) = reference::render_with_layers(&scene, &camera(), &unlit_transparent(eps), SIZE, SIZE);
+    let (mut inside, mut outside) = (0, 0);
+    for y in 0..SIZE {
+        for x in 0..SIZE {
+            // The ray's closest approach to the centre, against the radius.
+            let on_plane = pixel_on_plane(x, y, 0.0);
+            let ray = on_plane.extend(-DISTANCE).normalize();
+            let miss = Vec3::new(0.0, 0.0, DISTANCE).cross(ray).length();
+            let count = counts[(y * SIZE + x) as usize];
+            if miss < 0.9 {
+                assert_eq!(count, 2, "pixel {x},{y} (ray passes {miss:.3} from the centre)");
+                inside += 1;
+            } else if miss > 1.1 {
+                assert_eq!(count, 0, "pixel {x},{y} misses the sphere");
+                outside += 1;
+            }
+        }
+    }
+    assert!(inside > 1000 && outside > 1000);
+}
+
+#[test]
+fn an_opaque_ball_inside_a_transparent_sphere_shows_through_it_dimmed() {
+    let mut shell = Scene::from(pointblend::scene::primitives::sphere(20_000, 1.0, Vec3::ZERO)).objects.remove(0);
+    shell.material = Material { colour: Some([40, 80, 240]), ..Material::with_opacity(0.5) };
+    let mut ball = Scene::from(pointblend::scene::primitives::sphere(4_000, 0.4, Vec3::ZERO)).objects.remove(0);
+    ball.material = Material { colour: Some([240, 200, 40]), ..Material::default() };
+    let scene = Scene { objects: vec![shell, ball], ..Default::default() };
+    let (image, counts) = reference::render_with_layers(&scene, &camera(), &unlit_transparent(0.05), SIZE, SIZE);
+    let c = SIZE / 2;
+    let want = over(&[([40, 80, 240], 0.5), ([240, 200, 40], 1.0)], background());
+    let got = image.get_pixel(c, c).0;
+    for k in 0..3 {
+        assert!((got[k] as f32 - want[k]).abs() <= 1.0, "{got:?} vs {want:?}");
+    }
+    // The ball is opaque: the ray ends there, and the shell's back layer is not met.
+    assert_eq!(counts[(c * SIZE + c) as usize], 2);
 }

@@ -129,6 +129,7 @@ fn each_group_layer_pass_carries_its_own_layer_in_its_uniforms() {
         uniform_colour: None,
         epsilon: 0.001,
         depth_steps: 100.0,
+        transparent: false,
     };
     let mode = gpu_mode(settings.mode).unwrap();
     let plan = mode.plan(&frame);

@@ -1,9 +1,10 @@
 //! The cache of reference images, keyed by everything that decides them.
 //!
-//! The key hashes (FNV-1a, stable across runs and builds) the model file's
-//! path, size and modification time, the camera, the image size and every
-//! render parameter; the image is stored as `cache/reference-KEY.png` with the
-//! time it took to render in `cache/reference-KEY.ms`.
+//! The key hashes (FNV-1a, stable across runs and builds) the scene's content
+//! (its files' bytes, transforms and materials), the camera, the image size,
+//! every render parameter and whether opacity was read; the image is stored as
+//! `cache/reference-KEY.png` with the time it took to render in
+//! `cache/reference-KEY.ms`.
 
 use std::path::{Path, PathBuf};
 
@@ -18,13 +19,16 @@ pub struct CacheEntry {
 use crate::grouping::cache::{FNV_OFFSET, fnv1a};
 
 /// Where the reference image for these inputs is (or would be) cached.
-pub fn entry(dir: &Path, model: &Path, camera: &Camera, settings: &RenderSettings, size: (u32, u32)) -> CacheEntry {
-    let meta = std::fs::metadata(model).ok();
-    let stamp = meta.as_ref().and_then(|m| m.modified().ok()).map(|t| format!("{t:?}")).unwrap_or_default();
-    let file_len = meta.map(|m| m.len()).unwrap_or(0);
+pub fn entry(
+    dir: &Path,
+    scene_hash: u64,
+    camera: &Camera,
+    settings: &RenderSettings,
+    transparent: bool,
+    size: (u32, u32),
+) -> CacheEntry {
     let key = format!(
-        "v1|{}|{file_len}|{stamp}|{camera:?}|{size:?}|{:?}|{:?}|{}|{}|{}|{}",
-        model.display(),
+        "v2|{scene_hash:016x}|{transparent}|{camera:?}|{size:?}|{:?}|{:?}|{}|{}|{}|{}",
         settings.kernel,
         settings.shading,
         settings.epsilon_scale,

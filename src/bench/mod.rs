@@ -7,13 +7,15 @@
 //! image of the same view (ε of Zhang & Pajarola 2007 §6.3, PSNR, bad-pixel
 //! share). Reference images are cached in the output folder, keyed by file,
 //! view, size and parameters. [`report`] writes `bench.json` and `bench.md`,
-//! [`plot`] the error-against-time plot.
+//! [`plot`] the error-against-time plot. With `--orders`, [`orders`] times
+//! the back-to-front orders on the same views.
 
 pub mod cache;
+pub mod orders;
 pub mod plot;
 pub mod report;
 pub mod run;
 pub mod views;
 
 pub use report::{BenchRow, PassTime};
-pub use run::{BenchConfig, BenchError, BenchOutcome, run};
+pub use run::{BenchConfig, BenchError, BenchOutcome, Materials, run};

@@ -21,6 +21,9 @@ pub struct BenchRow {
     pub mode: String,
     /// The mode with the settings that differ (`deferred:group=wgc-k8`), as `--modes` takes it.
     pub variant: String,
+    /// What the error is measured against: the reference with every splat
+    /// opaque (opaque modes) or with the scene's opacity (transparent modes).
+    pub reference: String,
     pub view: String,
     /// Wall time per frame, submission to `poll(wait)`, median over the timed frames.
     pub frame_ms: f64,
@@ -57,11 +60,11 @@ pub fn write_json(rows: &[BenchRow], path: &Path) -> std::io::Result<()> {
 /// The rows as a Markdown table.
 pub fn markdown(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "| model | view | variant | K | points | size | geometry passes | frame ms median (min-max) | GPU ms | ε | PSNR dB | bad pixels |\n|---|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|\n",
+        "| model | view | variant | K | points | size | geometry passes | frame ms median (min-max) | GPU ms | ε | PSNR dB | bad pixels | measured against |\n|---|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---|\n",
     );
     for r in rows {
         out.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {}x{} | {} | {:.1} ({:.1}-{:.1}) | {} | {:.3} | {} | {:.2}% |\n",
+            "| {} | {} | {} | {} | {} | {}x{} | {} | {:.1} ({:.1}-{:.1}) | {} | {:.3} | {} | {:.2}% | {} |\n",
             r.model,
             r.view,
             r.variant,
@@ -76,7 +79,8 @@ pub fn markdown(rows: &[BenchRow]) -> String {
             r.gpu_ms.map_or("-".into(), |g| format!("{g:.1}")),
             r.eps,
             r.psnr.map_or("∞".into(), |p| format!("{p:.2}")),
-            100.0 * r.bad_pixel_share
+            100.0 * r.bad_pixel_share,
+            r.reference
         ));
     }
     out

@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::cache;
+use super::orders::{OrderRow, time_orders};
 use super::report::{BenchRow, PassTime};
 use super::views::standard_views;
 use crate::cloud::{CloudError, LoadOptions};
@@ -30,6 +31,15 @@ pub enum BenchError {
     Invalid(String),
 }
 
+/// Materials every scene of the run gets (`--opacity`, `--color`), and
+/// whether a scene's own background applies (no `--background`).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Materials {
+    pub opacity: Option<f32>,
+    pub colour: Option<[u8; 3]>,
+    pub scene_background: bool,
+}
+
 /// What to run.
 #[derive(Debug, Clone)]
 pub struct BenchConfig {
@@ -38,6 +48,7 @@ pub struct BenchConfig {
     pub variants: Vec<ModeVariant>,
     /// The settings every variant starts from (ε, kernel, shading, culling...).
     pub settings: RenderSettings,
+    pub materials: Materials,
     pub width: u32,
     pub height: u32,
     pub frames: usize,
@@ -46,6 +57,8 @@ pub struct BenchConfig {
     /// Where images, the cache and the reports go.
     pub out: PathBuf,
     pub progress: bool,
+    /// Also time the back-to-front orders (`orders.json`, a table in `bench.md`).
+    pub orders: bool,
 }
 
 fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> BenchError + '_ {
@@ -77,6 +90,8 @@ fn spread(values: &[f64]) -> Spread {
 #[derive(Debug, Default)]
 pub struct BenchOutcome {
     pub rows: Vec<BenchRow>,
+    /// Order timings (`--orders`).
+    pub orders: Vec<OrderRow>,
     /// One line per model that could not be loaded or rendered; its rows are left out.
     pub skipped: Vec<String>,
 }
@@ -101,7 +116,10 @@ pub fn run(
     let mut outcome = BenchOutcome::default();
     for model in models {
         match bench_model(model, config, renderer) {
-            Ok(rows) => outcome.rows.extend(rows),
+            Ok((rows, orders)) => {
+                outcome.rows.extend(rows);
+                outcome.orders.extend(orders);
+            }
             Err(e) => {
                 // Loading errors name the file already.
                 let text = e.to_string();
@@ -112,15 +130,27 @@ pub fn run(
             }
         }
     }
-    if outcome.rows.is_empty() {
+    if outcome.rows.is_empty() && outcome.orders.is_empty() {
         return Err(BenchError::Invalid(format!("no model could be benchmarked: {}", outcome.skipped.join("; "))));
     }
     let json = config.out.join("bench.json");
     super::report::write_json(&outcome.rows, &json).map_err(io_error(&json))?;
+    // A run of the orders alone (`--modes none`) has no image table.
+    let mut markdown = if outcome.rows.is_empty() { String::new() } else { super::report::markdown(&outcome.rows) };
+    if config.orders {
+        let json = config.out.join("orders.json");
+        let text = serde_json::to_string_pretty(&outcome.orders).map_err(|e| BenchError::Invalid(e.to_string()))?;
+        write_atomically(&json, text.as_bytes()).map_err(io_error(&json))?;
+        markdown.push_str("\nBack-to-front orders, CPU ms per view:\n\n");
+        markdown.push_str(&super::orders::markdown(&outcome.orders));
+    }
     let md = config.out.join("bench.md");
-    write_atomically(&md, super::report::markdown(&outcome.rows).as_bytes()).map_err(io_error(&md))?;
-    let title = format!("error against frame time, {}x{}", config.width, config.height);
-    super::plot::write(&outcome.rows, &title, &config.out.join("error_vs_time.png")).map_err(BenchError::Invalid)?;
+    write_atomically(&md, markdown.as_bytes()).map_err(io_error(&md))?;
+    if !outcome.rows.is_empty() {
+        let title = format!("error against frame time, {}x{}", config.width, config.height);
+        super::plot::write(&outcome.rows, &title, &config.out.join("error_vs_time.png"))
+            .map_err(BenchError::Invalid)?;
+    }
     Ok(outcome)
 }
 
@@ -138,12 +168,24 @@ fn bench_model(
     model: &Path,
     config: &BenchConfig,
     renderer: &mut HeadlessRenderer,
-) -> Result<Vec<BenchRow>, BenchError> {
+) -> Result<(Vec<BenchRow>, Vec<OrderRow>), BenchError> {
     let (w, h) = (config.width, config.height);
     let started = Instant::now();
-    let (scene, report) = Scene::load(model, &LoadOptions { progress: config.progress, ..Default::default() })?;
-    for warning in &report.warnings {
-        log::warn!("{}: {warning}", model.display());
+    let (mut scene, warnings) =
+        crate::scene::open(model, &LoadOptions { progress: config.progress, ..Default::default() })
+            .map_err(|e| BenchError::Invalid(e.to_string()))?;
+    for warning in &warnings {
+        log::warn!("{warning}");
+    }
+    if let Some(opacity) = config.materials.opacity {
+        scene.set_opacity(opacity);
+    }
+    if let Some(colour) = config.materials.colour {
+        scene.set_colour(colour);
+    }
+    let mut base = config.settings;
+    if let (true, Some(bg)) = (config.materials.scene_background, scene.background) {
+        base.shading.background = bg;
     }
     let load_s = started.elapsed().as_secs_f64();
     let flat = scene.flatten();
@@ -151,14 +193,14 @@ fn bench_model(
     let mut uploads: Vec<(Option<crate::grouping::GroupingSpec>, GpuScene)> = Vec::new();
     let mut prepared = Vec::new();
     for variant in config.variants.iter().filter(|v| v.mode.is_gpu()) {
-        let settings = variant.apply(&config.settings).map_err(BenchError::Invalid)?;
+        let settings = variant.apply(&base).map_err(BenchError::Invalid)?;
         let spec = variant.mode.needs_grouping().then_some(settings.grouping);
         let (mut k, mut group_s) = (1, None);
         if let Some(spec) = spec {
             let t = Instant::now();
             let cache = GroupCache::from_env();
             let (grouping, cached) = spec
-                .compute_cached_for_hash(&cache, scene.content_hash(), &flat.cloud)
+                .compute_cached_for_hash(&cache, scene.geometry_hash(), &flat.cloud)
                 .map_err(|e| BenchError::Invalid(e.to_string()))?;
             k = grouping.k();
             group_s = Some(if cached { 0.0 } else { t.elapsed().as_secs_f64() });
@@ -174,14 +216,24 @@ fn bench_model(
     let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let stem = crate::output::safe_stem(model);
     let views = standard_views(&flat.cloud, w as f32 / h as f32, config.views);
+    let orders = if config.orders {
+        log::info!("timing the back-to-front orders of {name}");
+        time_orders(&name, &flat.cloud, &views, config.frames, config.warm_up)
+    } else {
+        Vec::new()
+    };
+    if config.variants.is_empty() {
+        return Ok((Vec::new(), orders));
+    }
     let bar =
         crate::progress::bar((views.len() * (prepared.len() + 1)) as u64, &format!("bench {stem}"), config.progress);
     let mut rows = Vec::new();
     for view in &views {
-        let base = |variant: &str, mode: RenderMode| BenchRow {
+        let row = |variant: &str, mode: RenderMode| BenchRow {
             model: name.clone(),
             mode: mode.name().to_string(),
             variant: variant.to_string(),
+            reference: ruler_name(mode.info().transparent).to_string(),
             view: view.name.to_string(),
             frame_ms: 0.0,
             frame_ms_min: 0.0,
@@ -201,26 +253,22 @@ fn bench_model(
             frames: config.frames,
         };
 
-        // The ruler: the exact reference, from the cache when it is there.
-        let entry = cache::entry(&config.out, model, &view.camera, &config.settings, (w, h));
-        let (reference_image, reference_ms) = match entry.load() {
-            Some(cached) => cached,
-            None => {
-                let options = ReferenceOptions::matching(&config.settings, &scene);
-                let t = Instant::now();
-                let image = reference::render(&scene, &view.camera, &options, w, h);
-                let ms = t.elapsed().as_secs_f64() * 1e3;
-                save_png(&image, &entry.image)?;
-                write_atomically(&entry.millis, format!("{ms}").as_bytes()).map_err(io_error(&entry.millis))?;
-                (image, ms)
-            }
-        };
-        let ruler = RenderMode::RULER.name();
-        save_png(&reference_image, &config.out.join(format!("{stem}-{}-{ruler}.png", view.name)))?;
+        // The rulers: the exact reference with every splat opaque (for opaque
+        // modes) and with the scene's opacities (for transparent modes, and
+        // the reference mode itself); one image when the scene is opaque.
+        let opaque = ruler(config, &scene, &base, &view.camera, false)?;
+        let with_opacity =
+            if scene.has_transparency() { ruler(config, &scene, &base, &view.camera, true)? } else { opaque.clone() };
+        let ruler_for = |transparent: bool| if transparent { &with_opacity } else { &opaque };
+        let name = RenderMode::RULER.name();
+        save_png(&with_opacity.0, &config.out.join(format!("{stem}-{}-{name}.png", view.name)))?;
+        if scene.has_transparency() {
+            save_png(&opaque.0, &config.out.join(format!("{stem}-{}-{name}-opaque.png", view.name)))?;
+        }
         for variant in config.variants.iter().filter(|v| !v.mode.is_gpu()) {
-            let mut row = base(&variant.label(), variant.mode);
-            (row.frame_ms, row.frame_ms_min, row.frame_ms_max, row.frames) =
-                (reference_ms, reference_ms, reference_ms, 1);
+            let mut row = row(&variant.label(), variant.mode);
+            let ms = ruler_for(variant.mode.info().transparent).1;
+            (row.frame_ms, row.frame_ms_min, row.frame_ms_max, row.frames) = (ms, ms, ms, 1);
             rows.push(row);
         }
         bar.inc(1);
@@ -229,11 +277,12 @@ fn bench_model(
             let gpu_scene = &uploads[p.scene].1;
             let (image, plan, wall, per_pass) = time_frames(renderer, gpu_scene, &view.camera, p, config)
                 .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?;
-            let error = reference::compare(&image, &reference_image)
+            let reference_image = &ruler_for(p.variant.mode.info().transparent).0;
+            let error = reference::compare(&image, reference_image)
                 .ok_or_else(|| BenchError::Invalid("image and reference sizes differ".into()))?;
             let tag = p.variant.file_tag();
             save_png(&image, &config.out.join(format!("{stem}-{}-{tag}.png", view.name)))?;
-            if let Some(diff) = reference::difference_image(&image, &reference_image, 8.0) {
+            if let Some(diff) = reference::difference_image(&image, reference_image, 8.0) {
                 save_png(&diff, &config.out.join(format!("{stem}-{}-{tag}-diff.png", view.name)))?;
             }
             let frame = spread(&wall);
@@ -246,7 +295,7 @@ fn bench_model(
                     PassTime { pass: pass.name.to_string(), ms: s.median, ms_min: s.min, ms_max: s.max }
                 })
                 .collect();
-            let mut row = base(&p.variant.label(), p.variant.mode);
+            let mut row = row(&p.variant.label(), p.variant.mode);
             row.k = p.k;
             row.group_s = p.group_s;
             row.frame_ms = frame.median;
@@ -263,7 +312,35 @@ fn bench_model(
         }
     }
     bar.finish();
-    Ok(rows)
+    Ok((rows, orders))
+}
+
+/// What a row's error is measured against.
+fn ruler_name(transparent: bool) -> &'static str {
+    if transparent { "reference with the scene's opacity" } else { "reference with every splat opaque" }
+}
+
+/// The exact reference of `scene` from `camera`, reading opacity or not,
+/// from the cache when it is there; and the milliseconds it took.
+fn ruler(
+    config: &BenchConfig,
+    scene: &Scene,
+    settings: &RenderSettings,
+    camera: &Camera,
+    transparent: bool,
+) -> Result<(image::RgbaImage, f64), BenchError> {
+    let size = (config.width, config.height);
+    let entry = cache::entry(&config.out, scene.content_hash(), camera, settings, transparent, size);
+    if let Some(cached) = entry.load() {
+        return Ok(cached);
+    }
+    let options = ReferenceOptions { transparent, ..ReferenceOptions::matching(settings, scene) };
+    let t = Instant::now();
+    let image = reference::render(scene, camera, &options, size.0, size.1);
+    let ms = t.elapsed().as_secs_f64() * 1e3;
+    save_png(&image, &entry.image)?;
+    write_atomically(&entry.millis, format!("{ms}").as_bytes()).map_err(io_error(&entry.millis))?;
+    Ok((image, ms))
 }
 
 /// Warm-up and timed frames of one variant from one view: the last image,

@@ -36,7 +36,9 @@ pub fn load(path: &Path) -> Result<(PointCloud, LoadReport), CloudError> {
 const NORMAL_NAMES: [[&str; 3]; 2] = [["nx", "ny", "nz"], ["normal_x", "normal_y", "normal_z"]];
 const COLOR_NAMES: [[&str; 3]; 3] =
     [["red", "green", "blue"], ["r", "g", "b"], ["diffuse_red", "diffuse_green", "diffuse_blue"]];
-const ALPHA_NAMES: [&str; 2] = ["alpha", "diffuse_alpha"];
+/// Per-splat opacity columns, 0..1 (floats) or 0..max (integers). `opacity`
+/// counts here unless the file is 3D Gaussian splats, whose `opacity` is a logit.
+const ALPHA_NAMES: [&str; 3] = ["alpha", "diffuse_alpha", "opacity"];
 
 fn is_wanted(name: &str) -> bool {
     matches!(name, "x" | "y" | "z" | "radius")
@@ -275,7 +277,9 @@ fn build(
     // Opacity.
     let mut opacity_from = Provenance::Default;
     cloud.opacity = vec![1.0; kept.len()];
-    if let Some(name) = ALPHA_NAMES.iter().find(|n| data.vertex_columns.contains_key(**n)) {
+    let alpha_column =
+        ALPHA_NAMES.iter().find(|n| data.vertex_columns.contains_key(**n) && !(gaussians && **n == "opacity"));
+    if let Some(name) = alpha_column {
         opacity_from = Provenance::FromFile;
         let col = gather(&data.vertex_columns[*name]);
         let unit = data.vertex_types.get(*name).map_or(1.0, |t| t.unit_max());
@@ -288,7 +292,7 @@ fn build(
             *a = if x.is_finite() { x.clamp(0.0, 1.0) as f32 } else { 1.0 };
         }
         if clamped > 0 {
-            warnings.push(format!("{clamped} alpha values outside 0..1 were clamped"));
+            warnings.push(format!("{clamped} {name} values outside 0..1 were clamped"));
         }
     } else if gaussians {
         opacity_from = Provenance::FromGaussians;

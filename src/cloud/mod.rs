@@ -32,6 +32,8 @@ pub struct PointCloud {
     pub colors: Vec<[u8; 3]>,
     /// Opacity in 0..=1 (1 = opaque).
     pub opacity: Vec<f32>,
+    /// Splats never back-face culled (of two-sided objects); empty when none is.
+    pub two_sided: Vec<bool>,
     /// The f64 offset subtracted from the file's coordinates on load.
     pub origin: [f64; 3],
     /// Positions and radii are in units of 10^this of the file's units (0
@@ -90,6 +92,11 @@ impl PointCloud {
         10f64.powi(self.scale_exponent)
     }
 
+    /// Whether splat `i` is never back-face culled.
+    pub fn is_two_sided(&self, i: usize) -> bool {
+        self.two_sided.get(i).copied().unwrap_or(false)
+    }
+
     /// True when any splat is not fully opaque.
     pub fn has_transparency(&self) -> bool {
         self.opacity.iter().any(|&a| a < 1.0)
@@ -98,7 +105,11 @@ impl PointCloud {
     /// Checks that every column has one entry per splat.
     pub fn is_consistent(&self) -> bool {
         let n = self.positions.len();
-        self.normals.len() == n && self.radii.len() == n && self.colors.len() == n && self.opacity.len() == n
+        self.normals.len() == n
+            && self.radii.len() == n
+            && self.colors.len() == n
+            && self.opacity.len() == n
+            && (self.two_sided.is_empty() || self.two_sided.len() == n)
     }
 }
 

@@ -36,6 +36,10 @@ pub struct Args {
     /// Timed loads per file for the decode speed.
     #[arg(long, default_value_t = 3)]
     pub loads: usize,
+    /// Also time the back-to-front orders (BSP, bucket, full sort) on each view: orders.json and a table in bench.md.
+    /// With --modes none, only the orders are timed.
+    #[arg(long)]
+    pub orders: bool,
     /// Output folder for bench.json, bench.md, error_vs_time.png, images and the reference cache.
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
@@ -49,7 +53,11 @@ pub fn run(args: &Args) -> Result<()> {
         bail!("--views must be 1..={}", bench::views::MAX_VIEWS);
     }
     let mut variants = Vec::new();
-    for text in &args.modes {
+    let no_modes = args.modes.iter().all(|m| m == "none");
+    if no_modes && !args.orders {
+        bail!("--modes none leaves nothing to run: add --orders, or name modes");
+    }
+    for text in args.modes.iter().filter(|m| *m != "none") {
         variants.extend(ModeVariant::expand(text).map_err(|e| anyhow::anyhow!("--modes: {e}"))?);
     }
     for file in &args.files {
@@ -76,7 +84,12 @@ pub fn run(args: &Args) -> Result<()> {
     println!("GPU: {}", renderer.ctx.describe());
     let config = BenchConfig {
         variants,
-        settings: args.view.base_settings()?,
+        settings: args.view.base_settings(&pointblend::scene::Scene::default())?,
+        materials: pointblend::bench::Materials {
+            opacity: args.view.opacity,
+            colour: args.view.color,
+            scene_background: args.view.background.is_none(),
+        },
         width: args.view.size.0,
         height: args.view.size.1,
         frames: args.frames,
@@ -84,10 +97,20 @@ pub fn run(args: &Args) -> Result<()> {
         views: args.views,
         out: args.out.clone(),
         progress: true,
+        orders: args.orders,
     };
     let outcome = bench::run(&args.files, &config, &mut renderer)?;
-    print!("{}", bench::report::markdown(&outcome.rows));
-    println!("wrote {}/bench.json, bench.md, error_vs_time.png and the images", args.out.display());
+    if !outcome.rows.is_empty() {
+        print!("{}", bench::report::markdown(&outcome.rows));
+    }
+    if args.orders {
+        print!("{}", bench::orders::markdown(&outcome.orders));
+    }
+    if outcome.rows.is_empty() {
+        println!("wrote {}/bench.json, bench.md and orders.json", args.out.display());
+    } else {
+        println!("wrote {}/bench.json, bench.md, error_vs_time.png and the images", args.out.display());
+    }
     if !outcome.skipped.is_empty() {
         bail!(
             "{} of {} files could not be benchmarked and have no rows ({})",

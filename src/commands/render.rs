@@ -35,21 +35,22 @@ pub struct Args {
 
 pub fn run(args: &Args) -> Result<()> {
     let sidecar = args.camera.as_deref().map(Sidecar::read).transpose()?;
-    let (settings, (width, height)) = match &sidecar {
-        Some(s) => (s.settings().map_err(anyhow::Error::msg)?, (s.size[0], s.size[1])),
-        None => (args.view.settings()?, args.view.size),
-    };
     // Every output is checked before the work starts, so none is written when another cannot be.
     shared::prepare_image_output(&args.out)?;
     if let Some(diff) = &args.diff {
         shared::prepare_image_output(diff)?;
     }
     let started = Instant::now();
-    let scene = shared::load_scene(&args.file)?;
+    let mut scene = shared::load_scene(&args.file)?;
+    args.view.apply_materials(&mut scene);
     let load_seconds = started.elapsed().as_secs_f64();
+    let (settings, (width, height)) = match &sidecar {
+        Some(s) => (s.settings().map_err(anyhow::Error::msg)?, (s.size[0], s.size[1])),
+        None => (args.view.settings(&scene)?, args.view.size),
+    };
     let camera = match &sidecar {
         Some(s) => {
-            let hash = format!("{:016x}", scene.content_hash());
+            let hash = format!("{:016x}", scene.geometry_hash());
             if hash != s.model.hash {
                 log::warn!(
                     "{}: this file is not the one the view was saved from ({}, hash {})",
@@ -71,7 +72,7 @@ pub fn run(args: &Args) -> Result<()> {
             let t = Instant::now();
             let flat = scene.flatten();
             let (grouping, cached) =
-                settings.grouping.compute_cached_for_hash(&Cache::from_env(), scene.content_hash(), &flat.cloud)?;
+                settings.grouping.compute_cached_for_hash(&Cache::from_env(), scene.geometry_hash(), &flat.cloud)?;
             log::info!(
                 "grouping {}: K = {} in {:.2} s{}",
                 settings.grouping,

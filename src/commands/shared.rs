@@ -21,14 +21,35 @@ pub fn load(path: &Path) -> Result<(PointCloud, LoadReport)> {
     Ok((cloud, report))
 }
 
-/// Loads a PLY file as a scene of one object, with progress bars, and logs its warnings.
+/// Opens a PLY file (a scene of one object) or a scene file, with progress
+/// bars, and logs the objects' load warnings.
 pub fn load_scene(path: &Path) -> Result<Scene> {
     let options = LoadOptions { progress: true, ..Default::default() };
-    let (scene, report) = Scene::load(path, &options)?;
-    for warning in &report.warnings {
-        log::warn!("{}: {warning}", path.display());
+    let (scene, warnings) = pointblend::scene::open(path, &options)?;
+    for warning in &warnings {
+        log::warn!("{warning}");
     }
     Ok(scene)
+}
+
+/// `R,G,B`, each 0..255.
+pub fn parse_rgb(text: &str) -> Result<[u8; 3], String> {
+    let values: Vec<&str> = text.split(',').map(str::trim).collect();
+    match values[..] {
+        [r, g, b] => {
+            let c = |v: &str| v.parse::<u8>().map_err(|_| format!("'{v}' is not a value in 0..255"));
+            Ok([c(r)?, c(g)?, c(b)?])
+        }
+        _ => Err(format!("'{text}' is not R,G,B (three values in 0..255)")),
+    }
+}
+
+/// `A` in 0..1.
+pub fn parse_opacity(text: &str) -> Result<f32, String> {
+    text.parse::<f32>()
+        .ok()
+        .filter(|a| (0.0..=1.0).contains(a))
+        .ok_or_else(|| format!("'{text}' is not an opacity in 0..1"))
 }
 
 /// `WxH`, e.g. `512x512`.
@@ -106,25 +127,48 @@ pub struct ViewArgs {
     /// No lighting: show the blended colours (no normal targets are used).
     #[arg(long)]
     pub unlit: bool,
+    /// Transparent layers k of depth-peel (default 8) and approx-peel (default 3), 2..=64.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=pointblend::view::settings::MAX_LAYERS as i64))]
+    pub layers: Option<u32>,
+    /// Opacity of every object, 0..1 (transparent objects are drawn two-sided;
+    /// only transparent modes and the reference show it).
+    #[arg(long, value_parser = parse_opacity)]
+    pub opacity: Option<f32>,
+    /// Colour R,G,B (0..255) that replaces every object's own.
+    #[arg(long, value_parser = parse_rgb)]
+    pub color: Option<[u8; 3]>,
+    /// Background colour R,G,B (0..255) [default: the scene's, else 28,31,36].
+    #[arg(long, value_parser = parse_rgb)]
+    pub background: Option<[u8; 3]>,
 }
 
 impl ViewArgs {
-    /// The settings of `--mode`, saying which given options it does not read.
-    pub fn settings(&self) -> Result<RenderSettings> {
-        let settings = self.base_settings()?;
+    /// The settings of `--mode` for `scene`, saying which given options it does not read.
+    pub fn settings(&self, scene: &Scene) -> Result<RenderSettings> {
+        let settings = self.base_settings(scene)?;
         self.warn_ignored();
         Ok(settings)
     }
 
+    /// Applies `--opacity` and `--color` to the scene's objects.
+    pub fn apply_materials(&self, scene: &mut Scene) {
+        if let Some(opacity) = self.opacity {
+            scene.set_opacity(opacity);
+        }
+        if let Some(colour) = self.color {
+            scene.set_colour(colour);
+        }
+    }
+
     /// The settings, without checking them against `--mode` (bench's base for every variant).
-    pub fn base_settings(&self) -> Result<RenderSettings> {
+    pub fn base_settings(&self, scene: &Scene) -> Result<RenderSettings> {
         if !(self.epsilon.is_finite() && self.epsilon > 0.0) {
             bail!(
                 "--epsilon must be a positive multiple of the mean splat radius, not {} (at 0 no two splats would blend)",
                 self.epsilon
             );
         }
-        Ok(RenderSettings {
+        let mut settings = RenderSettings {
             mode: self.mode,
             quality: self.quality.map_or(Quality::Filtered, QualityArg::quality),
             epsilon_scale: self.epsilon,
@@ -132,8 +176,14 @@ impl ViewArgs {
             grouping: self.group.unwrap_or_default(),
             voronoi: !self.no_voronoi,
             lighting: !self.unlit,
+            layers: self.layers.unwrap_or(0),
             ..Default::default()
-        })
+        };
+        if let Some(bg) = self.background.map(|c| glam::Vec3::from_array(c.map(f32::from)) / 255.0).or(scene.background)
+        {
+            settings.shading.background = bg;
+        }
+        Ok(settings)
     }
 
     /// Says which given options the chosen mode does not read.
@@ -143,6 +193,7 @@ impl ViewArgs {
             ("--quality", self.quality.is_some(), Parameter::Quality),
             ("--group", self.group.is_some(), Parameter::Grouping),
             ("--no-voronoi", self.no_voronoi, Parameter::Voronoi),
+            ("--layers", self.layers.is_some(), Parameter::Layers),
         ];
         for (option, is_given, parameter) in given {
             if is_given && !reads.contains(&parameter) {
@@ -151,38 +202,49 @@ impl ViewArgs {
         }
     }
 
+    /// The camera: the options given, else the scene file's, else framing every object.
     pub fn camera(&self, scene: &Scene) -> Result<Camera> {
         let flat = scene.flatten();
         let cloud = flat.cloud.as_ref();
         let aspect = self.size.0 as f32 / self.size.1 as f32;
         let mut camera = Camera::default_for(cloud, aspect);
-        if let Some(up) = self.up {
+        let asked = scene.camera.unwrap_or_default();
+        let given = ViewArgs {
+            up: self.up.or(asked.up),
+            fov: self.fov.or(asked.fov),
+            azimuth: self.azimuth.or(asked.azimuth),
+            elevation: self.elevation.or(asked.elevation),
+            distance: self.distance.or(asked.distance),
+            ..self.clone()
+        };
+        let this = &given;
+        if let Some(up) = this.up {
             if up != camera.up {
                 let dir = camera.direction();
                 camera.up = up;
                 camera.look_from_direction(dir);
             }
         }
-        if let Some(fov) = self.fov {
+        if let Some(fov) = this.fov {
             if !(fov > 0.5 && fov < 170.0) {
                 bail!("--fov must be between 0.5 and 170 degrees, not {fov}");
             }
             camera.fov_y_deg = fov;
         }
-        if let Some(a) = self.azimuth {
+        if let Some(a) = this.azimuth {
             if !a.is_finite() {
                 bail!("--azimuth must be a finite number of degrees, not {a}");
             }
             camera.azimuth_deg = a;
         }
-        if let Some(e) = self.elevation {
+        if let Some(e) = this.elevation {
             if !e.is_finite() {
                 bail!("--elevation must be a finite number of degrees, not {e}");
             }
             camera.elevation_deg = e.clamp(-90.0, 90.0);
         }
         camera.distance = camera.fit_distance(&cloud.positions, aspect);
-        if let Some(d) = self.distance {
+        if let Some(d) = this.distance {
             if !(d.is_finite() && d > 0.0) {
                 bail!("--distance must be a positive number, not {d}");
             }

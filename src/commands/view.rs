@@ -15,7 +15,7 @@ use pointblend::viewer::{self, ViewerError, ViewerOptions};
 
 #[derive(clap::Args, Debug, Default)]
 pub struct Args {
-    /// PLY file to open (default: the bundled bunny).
+    /// PLY file or scene file (.toml) to open (default: the bundled bunny).
     pub file: Option<PathBuf>,
     /// Save a screenshot of the whole window (UI included) to this PNG once the
     /// first full-quality frame is shown, then close (for documentation and tests).
@@ -36,6 +36,15 @@ pub struct Args {
     /// Output folder of the headless main job (when no window can open).
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
+    /// Opacity of every object, 0..1.
+    #[arg(long, value_parser = super::shared::parse_opacity)]
+    pub opacity: Option<f32>,
+    /// Colour R,G,B (0..255) that replaces every object's own.
+    #[arg(long, value_parser = super::shared::parse_rgb)]
+    pub color: Option<[u8; 3]>,
+    /// Background colour R,G,B (0..255) [default: the scene's, else 28,31,36].
+    #[arg(long, value_parser = super::shared::parse_rgb)]
+    pub background: Option<[u8; 3]>,
 }
 
 pub fn run(args: &Args) -> Result<()> {
@@ -52,6 +61,12 @@ pub fn run(args: &Args) -> Result<()> {
         view,
         mode: args.mode,
         cache: None,
+        materials: bench::Materials {
+            opacity: args.opacity,
+            colour: args.color,
+            scene_background: args.background.is_none(),
+        },
+        background: args.background.map(|c| glam::Vec3::from_array(c.map(f32::from)) / 255.0),
     };
     match viewer::run_window(options) {
         Ok(()) => Ok(()),
@@ -78,9 +93,18 @@ fn headless_main_job(args: &Args) -> Result<()> {
     for mode in RenderMode::ALL {
         variants.extend(ModeVariant::expand(mode.name()).map_err(anyhow::Error::msg)?);
     }
+    let mut settings = RenderSettings::default();
+    if let Some(bg) = args.background {
+        settings.shading.background = glam::Vec3::from_array(bg.map(f32::from)) / 255.0;
+    }
     let config = BenchConfig {
         variants,
-        settings: RenderSettings::default(),
+        settings,
+        materials: bench::Materials {
+            opacity: args.opacity,
+            colour: args.color,
+            scene_background: args.background.is_none(),
+        },
         width: 512,
         height: 512,
         frames: 5,
@@ -88,6 +112,7 @@ fn headless_main_job(args: &Args) -> Result<()> {
         views: 1,
         out: args.out.clone(),
         progress: true,
+        orders: false,
     };
     let outcome = bench::run(&[model], &config, &mut renderer)?;
     print!("{}", bench::report::markdown(&outcome.rows));

@@ -1,4 +1,12 @@
 //! Ray casting of splat discs per pixel, ε-layering and front-to-back compositing.
+//!
+//! Every hit of a pixel's ray counts, with no cap on the number of layers. A
+//! layer is the hits within ε of its front hit; when opacity is read
+//! (transparent modes, the reference mode) hits whose surfaces face the other
+//! way from the front hit form layers of their own even within ε, so a thin
+//! shell seen through keeps its two layers. Each layer is normalised (Eq. 1:
+//! weighted colour, normal and opacity), shaded facing the viewer, and
+//! composited front to back; an opaque layer ends the ray.
 
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
@@ -19,6 +27,8 @@ pub struct ReferenceOptions {
     pub lighting: bool,
     /// Every splat radius is multiplied by this.
     pub radius_scale: f32,
+    /// Read opacity (the scene as defined); else every splat is opaque, as opaque modes draw it.
+    pub transparent: bool,
     /// Show a progress bar.
     pub progress: bool,
 }
@@ -33,6 +43,7 @@ impl ReferenceOptions {
             shading: settings.shading,
             lighting: settings.lighting,
             radius_scale: settings.radius_scale,
+            transparent: settings.mode.info().transparent,
             progress: false,
         }
     }
@@ -44,10 +55,23 @@ struct Hit {
     depth: f32,
     weight: f32,
     splat: u32,
+    /// Whether the surface faces the viewer (its normal points against the ray).
+    facing: bool,
 }
 
 /// Renders `scene` exactly, on the CPU, as the GPU modes would with the same camera.
 pub fn render(scene: &Scene, camera: &Camera, options: &ReferenceOptions, width: u32, height: u32) -> image::RgbaImage {
+    render_with_layers(scene, camera, options, width, height).0
+}
+
+/// [`render`], and per pixel (row-major) the number of layers its ray met.
+pub fn render_with_layers(
+    scene: &Scene,
+    camera: &Camera,
+    options: &ReferenceOptions,
+    width: u32,
+    height: u32,
+) -> (image::RgbaImage, Vec<u32>) {
     let flat = scene.flatten();
     let cloud = flat.cloud.as_ref();
     let (width, height) = (width.max(1), height.max(1));
@@ -62,7 +86,7 @@ pub fn render(scene: &Scene, camera: &Camera, options: &ReferenceOptions, width:
             let normal = view.transform_vector3(cloud.normals[i]).try_normalize().unwrap_or(Vec3::Z);
             let depth = -centre.z;
             let radius = cloud.radii[i] * options.radius_scale;
-            let culled = options.backface_culling && normal.dot(centre) > 0.0;
+            let culled = options.backface_culling && !cloud.is_two_sided(i) && normal.dot(centre) > 0.0;
             // Discs that cross the near or far plane keep the part between them (the per-hit test).
             let usable = depth - radius < far && depth + radius > near && radius > 0.0;
             if culled || !usable {
@@ -75,16 +99,15 @@ pub fn render(scene: &Scene, camera: &Camera, options: &ReferenceOptions, width:
                 plane: options.kernel.footprint_normal(normal, centre.normalize_or_zero()),
                 radius,
                 color: Vec3::new(r as f32, g as f32, b as f32) / 255.0,
-                opacity: cloud.opacity[i].clamp(0.0, 1.0),
+                opacity: if options.transparent { cloud.opacity[i].clamp(0.0, 1.0) } else { 1.0 },
             })
         })
         .collect();
-    let opaque = splats.iter().all(|s| s.opacity >= 1.0);
     let bins = tiles::bin(&splats, &proj, width, height, near);
     let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
     let lens = Vec2::new(tan_y * aspect, tan_y);
     let bar = crate::progress::bar(bins.bins.len() as u64, "reference render", options.progress);
-    let tiles: Vec<(u32, Vec<[u8; 4]>)> = (0..bins.bins.len() as u32)
+    let tiles: Vec<(u32, Vec<TilePixel>)> = (0..bins.bins.len() as u32)
         .into_par_iter()
         .map(|tile| {
             if bar.is_cancelled() {
@@ -92,6 +115,7 @@ pub fn render(scene: &Scene, camera: &Camera, options: &ReferenceOptions, width:
             }
             let (tx, ty) = (tile % bins.columns, tile / bins.columns);
             let mut hits = Vec::new();
+            let mut used = Vec::new();
             let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
             for y in ty * TILE..((ty + 1) * TILE).min(height) {
                 for x in tx * TILE..((tx + 1) * TILE).min(width) {
@@ -106,8 +130,8 @@ pub fn render(scene: &Scene, camera: &Camera, options: &ReferenceOptions, width:
                             hits.push(Hit { splat: s, ..hit });
                         }
                     }
-                    let colour = composite(&mut hits, &splats, ray, options, opaque);
-                    pixels.push(to_rgba8(colour));
+                    let (colour, layers) = composite(&mut hits, &mut used, &splats, ray, options);
+                    pixels.push((to_rgba8(colour), layers));
                 }
             }
             bar.inc(1);
@@ -116,19 +140,24 @@ pub fn render(scene: &Scene, camera: &Camera, options: &ReferenceOptions, width:
         .collect();
     bar.finish();
     let mut image = image::RgbaImage::new(width, height);
+    let mut layer_counts = vec![0u32; (width * height) as usize];
     for (tile, pixels) in tiles {
         let (tx, ty) = (tile % bins.columns, tile / bins.columns);
         let mut it = pixels.into_iter();
         for y in ty * TILE..((ty + 1) * TILE).min(height) {
             for x in tx * TILE..((tx + 1) * TILE).min(width) {
-                if let Some(p) = it.next() {
+                if let Some((p, layers)) = it.next() {
                     image.put_pixel(x, y, image::Rgba(p));
+                    layer_counts[(y * width + x) as usize] = layers;
                 }
             }
         }
     }
-    image
+    (image, layer_counts)
 }
+
+/// One pixel of a tile: its colour and how many layers it composited.
+type TilePixel = ([u8; 4], u32);
 
 /// Exact ray-disc intersection: the ray from the eye through `ray` (z = -1)
 /// meets the splat's footprint plane (see `SplatKernel::footprint_normal`) at
@@ -143,35 +172,56 @@ fn intersect(s: &EyeSplat, ray: Vec3, kernel: &SplatKernel, near: f32, far: f32)
         return None;
     }
     let rho2 = (ray * t - s.centre).length_squared() / (s.radius * s.radius);
-    (rho2 < 1.0).then(|| Hit { depth: t, weight: kernel.weight(rho2), splat: 0 })
+    (rho2 < 1.0).then(|| Hit { depth: t, weight: kernel.weight(rho2), splat: 0, facing: s.normal.dot(ray) < 0.0 })
 }
 
-/// Sorts the hits, groups them into ε-layers, normalises and shades each
-/// layer, and composites the layers front to back over the background.
-fn composite(hits: &mut [Hit], splats: &[EyeSplat], ray: Vec3, options: &ReferenceOptions, opaque: bool) -> Vec3 {
+/// Sorts the hits, groups them into ε-layers (by facing too when opacity is
+/// read), normalises and shades each layer, and composites the layers front
+/// to back over the background. Returns the colour and the number of layers.
+fn composite(
+    hits: &mut [Hit],
+    used: &mut Vec<bool>,
+    splats: &[EyeSplat],
+    ray: Vec3,
+    options: &ReferenceOptions,
+) -> (Vec3, u32) {
     let background = options.shading.background;
     if hits.is_empty() {
-        return background;
+        return (background, 0);
     }
     hits.sort_unstable_by(|a, b| a.depth.total_cmp(&b.depth));
+    used.clear();
+    used.resize(hits.len(), false);
     let to_eye = -ray.normalize();
     let mut colour = Vec3::ZERO;
     let mut transmittance = 1.0f32;
+    let mut layers = 0;
     let mut start = 0;
-    while start < hits.len() && transmittance > 1e-4 {
-        let front = hits[start].depth;
-        let end = start + hits[start..].iter().take_while(|h| h.depth <= front + options.epsilon).count();
+    while start < hits.len() {
+        let (front, facing) = (hits[start].depth, hits[start].facing);
         let (mut sum_w, mut sum_c, mut sum_n, mut sum_a) = (0.0f32, Vec3::ZERO, Vec3::ZERO, 0.0f32);
-        for h in &hits[start..end] {
+        for (h, taken) in
+            hits[start..].iter().zip(&mut used[start..]).take_while(|(h, _)| h.depth <= front + options.epsilon)
+        {
+            if *taken || (options.transparent && h.facing != facing) {
+                continue;
+            }
+            *taken = true;
             let s = &splats[h.splat as usize];
             sum_w += h.weight;
             sum_c += s.color * h.weight;
             sum_n += s.normal * h.weight;
             sum_a += s.opacity * h.weight;
         }
-        start = end;
+        while start < hits.len() && used[start] {
+            start += 1;
+        }
         if sum_w <= 0.0 || sum_w.is_nan() {
             continue;
+        }
+        layers += 1;
+        if transmittance <= 1e-6 {
+            continue; // too little shows through to change a colour; the layer is only counted
         }
         let normal = sum_n.try_normalize().unwrap_or(to_eye);
         let albedo = sum_c / sum_w;
@@ -180,11 +230,14 @@ fn composite(hits: &mut [Hit], splats: &[EyeSplat], ray: Vec3, options: &Referen
         } else {
             albedo.clamp(Vec3::ZERO, Vec3::ONE)
         };
-        let alpha = if opaque { 1.0 } else { (sum_a / sum_w).clamp(0.0, 1.0) };
+        let alpha = (sum_a / sum_w).clamp(0.0, 1.0);
         colour += transmittance * alpha * shaded;
         transmittance *= 1.0 - alpha;
+        if transmittance <= 0.0 {
+            break; // an opaque layer ends the ray
+        }
     }
-    colour + transmittance * background
+    (colour + transmittance * background, layers)
 }
 
 /// Quantises as the GPU's Rgba8Unorm target does (round to nearest).

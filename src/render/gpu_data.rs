@@ -11,6 +11,8 @@ use bytemuck::{Pod, Zeroable};
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct SplatInstance {
     pub position: [f32; 3],
+    /// The disc's radius; negative for a splat of a two-sided object, which
+    /// is never back-face culled.
     pub radius: f32,
     pub normal: [f32; 3],
     /// RGBA8, read as unorm8x4.

@@ -26,6 +26,8 @@ pub struct GpuScene {
     /// The colour of every splat, when they all have the same one: colour
     /// targets then hold only the weights.
     pub uniform_color: Option<[u8; 3]>,
+    /// Whether some splat is less than opaque.
+    pub transparent: bool,
 }
 
 impl GpuScene {
@@ -33,17 +35,17 @@ impl GpuScene {
     /// contiguous, with its radius scale) when a grouping of the flattened
     /// scene is given.
     pub fn upload(device: &wgpu::Device, scene: &Scene, grouping: Option<&Grouping>) -> Self {
-        let flat = scene.flatten();
-        Self::upload_cloud(device, &flat.cloud, grouping)
+        Self::upload_cloud(device, &scene.flatten().cloud, grouping)
     }
 
-    /// [`Self::upload`] for a cloud already in world space.
+    /// [`Self::upload`] of a scene's flattened cloud (see `Scene::flatten`).
     pub fn upload_cloud(device: &wgpu::Device, cloud: &PointCloud, grouping: Option<&Grouping>) -> Self {
         match grouping {
             Some(g) => Self::upload_in_order(device, cloud, &g.order, &g.radius_scale, &g.ranges),
             None => {
                 let order: Vec<u32> = (0..cloud.len() as u32).collect();
-                Self::upload_in_order(device, cloud, &order, &[1.0], std::slice::from_ref(&(0..cloud.len() as u32)))
+                let all = 0..cloud.len() as u32;
+                Self::upload_in_order(device, cloud, &order, &[1.0], std::slice::from_ref(&all))
             }
         }
     }
@@ -73,9 +75,11 @@ impl GpuScene {
                 .map(|slot| {
                     let i = order[slot] as usize;
                     let [r, g, b] = cloud.colors[i];
+                    // A two-sided splat carries a negative radius (see `SplatInstance`).
+                    let side = if cloud.is_two_sided(i) { -1.0 } else { 1.0 };
                     SplatInstance {
                         position: cloud.positions[i].to_array(),
-                        radius: cloud.radii[i] * scale_of[slot],
+                        radius: side * cloud.radii[i] * scale_of[slot],
                         normal: cloud.normals[i].to_array(),
                         color: [r, g, b, (cloud.opacity[i].clamp(0.0, 1.0) * 255.0).round() as u8],
                     }
@@ -91,7 +95,14 @@ impl GpuScene {
         }
         let first = cloud.colors.first().copied();
         let uniform_color = first.filter(|c| cloud.colors.iter().all(|x| x == c));
-        Self { chunks, len: order.len(), mean_radius: cloud.mean_radius(), groups: groups.to_vec(), uniform_color }
+        Self {
+            chunks,
+            len: order.len(),
+            mean_radius: cloud.mean_radius(),
+            groups: groups.to_vec(),
+            uniform_color,
+            transparent: cloud.has_transparency(),
+        }
     }
 
     /// All splats, as an instance range.

@@ -18,7 +18,7 @@ pub struct PipelineCache {
     modules: HashMap<(&'static str, Variant), wgpu::ShaderModule>,
     /// Bind group layouts of full-screen inputs, by their texture dimensions.
     input_layouts: HashMap<Vec<wgpu::TextureViewDimension>, wgpu::BindGroupLayout>,
-    /// Pipeline layouts by the input dimensions (none: a splat pass).
+    /// Pipeline layouts by the dimensions of the textures read at group 1.
     layouts: HashMap<Vec<wgpu::TextureViewDimension>, wgpu::PipelineLayout>,
     pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
 }
@@ -92,10 +92,7 @@ impl PipelineCache {
                 source: wgpu::ShaderSource::Wgsl(source.into()),
             }));
         }
-        let inputs = match &key.kind {
-            PipelineKind::Splats { .. } => Vec::new(),
-            PipelineKind::Fullscreen { inputs, .. } => inputs.clone(),
-        };
+        let inputs = key.kind.inputs().to_vec();
         if !self.layouts.contains_key(&inputs) {
             let mut groups = vec![Some(&self.frame_layout)];
             if !inputs.is_empty() {
@@ -106,7 +103,7 @@ impl PipelineCache {
                 groups.push(Some(inputs_layout));
             }
             let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(if inputs.is_empty() { "Splat::pipeline_layout" } else { "Fullscreen::pipeline_layout" }),
+                label: Some("Pipeline::layout"),
                 bind_group_layouts: &groups,
                 immediate_size: 0,
             });

@@ -108,6 +108,7 @@ impl Renderer {
             uniform_colour: scene.uniform_color,
             epsilon,
             depth_steps,
+            transparent: scene.transparent,
         }
     }
 
@@ -208,59 +209,31 @@ impl Renderer {
                         Some((id, test)) => Some((desc(id)?.format, test.write, test.compare)),
                         None => None,
                     };
-                    let key = PipelineKey {
-                        shader: pass.shader,
-                        entry: pass.entry,
-                        variant: pass.variant,
-                        kind: PipelineKind::Splats { colour, depth },
+                    let inputs = inputs(&mut self.cache, &self.pool, device, plan, &pass.inputs)?;
+                    let kind = PipelineKind::Splats {
+                        colour,
+                        depth,
+                        inputs: inputs.as_ref().map(|i| i.0.clone()).unwrap_or_default(),
                     };
+                    let key = PipelineKey { shader: pass.shader, entry: pass.entry, variant: pass.variant, kind };
                     let pipeline = self.cache.pipeline(device, &key)?;
                     let layer_view = |id| self.pool.layer_view(id, pass.layer).ok_or_else(|| missing(id.0));
                     let attachments = splat::Attachments {
                         colour: pass.colour.iter().map(|c| layer_view(c.target)).collect::<Result<_, _>>()?,
                         depth: pass.depth.map(|(id, _)| layer_view(id)).transpose()?,
                     };
-                    splat::record(&mut encoder, pass, pipeline, frame, offset, &attachments, scene, stamps);
+                    let group = inputs.as_ref().map(|i| &i.1);
+                    splat::record(&mut encoder, pass, pipeline, frame, offset, group, &attachments, scene, stamps);
                 }
                 Command::Fullscreen(pass) => {
-                    let dims: Vec<wgpu::TextureViewDimension> = pass
-                        .inputs
-                        .iter()
-                        .map(|&id| {
-                            Ok(match desc(id)?.layout {
-                                Layout::Single => wgpu::TextureViewDimension::D2,
-                                Layout::Array { .. } => wgpu::TextureViewDimension::D2Array,
-                            })
-                        })
-                        .collect::<Result<_, GpuError>>()?;
                     let (target_view, target_format) = match pass.output {
                         Output::Frame => (output, output_format),
                         Output::Target(id) => (self.pool.view(id).ok_or_else(|| missing(id.0))?, desc(id)?.format),
                     };
-                    let views = pass
-                        .inputs
-                        .iter()
-                        .map(|&id| self.pool.view(id).ok_or_else(|| missing(id.0)))
-                        .collect::<Result<Vec<_>, _>>()?;
-                    let entries: Vec<wgpu::BindGroupEntry<'_>> = views
-                        .iter()
-                        .enumerate()
-                        .map(|(binding, view)| wgpu::BindGroupEntry {
-                            binding: binding as u32,
-                            resource: wgpu::BindingResource::TextureView(view),
-                        })
-                        .collect();
-                    let inputs = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some("Fullscreen::inputs"),
-                        layout: self.cache.inputs_layout(device, &dims),
-                        entries: &entries,
-                    });
-                    let key = PipelineKey {
-                        shader: pass.shader,
-                        entry: pass.entry,
-                        variant: pass.variant,
-                        kind: PipelineKind::Fullscreen { inputs: dims, output: target_format },
-                    };
+                    let (dims, inputs) = inputs(&mut self.cache, &self.pool, device, plan, &pass.inputs)?
+                        .ok_or_else(|| GpuError::Device(format!("{} reads no target", pass.label)))?;
+                    let kind = PipelineKind::Fullscreen { inputs: dims, output: target_format, blend: pass.blend };
+                    let key = PipelineKey { shader: pass.shader, entry: pass.entry, variant: pass.variant, kind };
                     let pipeline = self.cache.pipeline(device, &key)?;
                     fullscreen::record(&mut encoder, pass, pipeline, frame, offset, &inputs, target_view, stamps);
                 }
@@ -272,6 +245,45 @@ impl Renderer {
         ctx.queue.submit([encoder.finish()]);
         Ok(())
     }
+}
+
+/// The texture dimensions and the group-1 bind group of a pass that reads
+/// `ids` (none when it reads nothing).
+#[allow(clippy::type_complexity)]
+fn inputs(
+    cache: &mut PipelineCache,
+    pool: &TargetPool,
+    device: &wgpu::Device,
+    plan: &RenderPlan,
+    ids: &[super::plan::TargetId],
+) -> Result<Option<(Vec<wgpu::TextureViewDimension>, wgpu::BindGroup)>, GpuError> {
+    if ids.is_empty() {
+        return Ok(None);
+    }
+    let missing = |id: super::plan::TargetId| GpuError::Device(format!("the plan has no target '{}'", id.0));
+    let mut dims = Vec::with_capacity(ids.len());
+    let mut views = Vec::with_capacity(ids.len());
+    for &id in ids {
+        dims.push(match plan.target(id).ok_or_else(|| missing(id))?.layout {
+            Layout::Single => wgpu::TextureViewDimension::D2,
+            Layout::Array { .. } => wgpu::TextureViewDimension::D2Array,
+        });
+        views.push(pool.view(id).ok_or_else(|| missing(id))?);
+    }
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = views
+        .iter()
+        .enumerate()
+        .map(|(binding, view)| wgpu::BindGroupEntry {
+            binding: binding as u32,
+            resource: wgpu::BindingResource::TextureView(view),
+        })
+        .collect();
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("Pass::inputs"),
+        layout: cache.inputs_layout(device, &dims),
+        entries: &entries,
+    });
+    Ok(Some((dims, group)))
 }
 
 use bytemuck::Zeroable;

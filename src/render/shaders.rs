@@ -12,7 +12,7 @@
 //! and validates it with naga (`tests/shaders.rs`).
 
 /// Every WGSL file, by name.
-const FILES: [(&str, &str); 8] = [
+const FILES: [(&str, &str); 12] = [
     ("frame.wgsl", include_str!("../../shaders/frame.wgsl")),
     ("splat.wgsl", include_str!("../../shaders/splat.wgsl")),
     ("shading.wgsl", include_str!("../../shaders/shading.wgsl")),
@@ -21,11 +21,24 @@ const FILES: [(&str, &str); 8] = [
     ("normalize.wgsl", include_str!("../../shaders/normalize.wgsl")),
     ("deferred_geometry.wgsl", include_str!("../../shaders/deferred_geometry.wgsl")),
     ("deferred_composite.wgsl", include_str!("../../shaders/deferred_composite.wgsl")),
+    ("peel.wgsl", include_str!("../../shaders/peel.wgsl")),
+    ("peel_layer.wgsl", include_str!("../../shaders/peel_layer.wgsl")),
+    ("peel_rest.wgsl", include_str!("../../shaders/peel_rest.wgsl")),
+    ("peel_final.wgsl", include_str!("../../shaders/peel_final.wgsl")),
 ];
 
 /// The files passes build modules from; the others are only included.
-pub const ROOTS: [&str; 5] =
-    ["visibility.wgsl", "accumulate.wgsl", "normalize.wgsl", "deferred_geometry.wgsl", "deferred_composite.wgsl"];
+pub const ROOTS: [&str; 9] = [
+    "visibility.wgsl",
+    "accumulate.wgsl",
+    "normalize.wgsl",
+    "deferred_geometry.wgsl",
+    "deferred_composite.wgsl",
+    "peel.wgsl",
+    "peel_layer.wgsl",
+    "peel_rest.wgsl",
+    "peel_final.wgsl",
+];
 
 /// A set of preprocessor names a shader module is built with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

@@ -1,6 +1,8 @@
-//! An object's material: a colour that replaces the splats' own, and an
-//! opacity that multiplies theirs. Opaque modes ignore opacity; transparent
-//! modes read it.
+//! An object's material: a colour that replaces the splats' own, an opacity
+//! that multiplies theirs, and whether both sides are drawn. Opaque modes
+//! ignore opacity; transparent modes read it. A transparent object is
+//! two-sided by default: it is not back-face culled, and every renderer
+//! shades a surface from the side the viewer sees.
 
 /// How an object's splats look.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -9,15 +11,22 @@ pub struct Material {
     pub colour: Option<[u8; 3]>,
     /// Multiplies every splat's opacity (1: as loaded).
     pub opacity: f32,
+    /// Draw back faces too (never back-face culled).
+    pub two_sided: bool,
 }
 
 impl Default for Material {
     fn default() -> Self {
-        Self { colour: None, opacity: 1.0 }
+        Self { colour: None, opacity: 1.0, two_sided: false }
     }
 }
 
 impl Material {
+    /// A material of `opacity`, two-sided when it is transparent.
+    pub fn with_opacity(opacity: f32) -> Self {
+        Self { opacity, two_sided: opacity < 1.0, ..Default::default() }
+    }
+
     /// The colour a splat of colour `own` shows.
     pub fn colour(&self, own: [u8; 3]) -> [u8; 3] {
         self.colour.unwrap_or(own)

@@ -18,6 +18,10 @@ pub enum RenderMode {
     /// Zhang & Pajarola's deferred blending: one geometry pass into K group
     /// images, then ε-z compositing and deferred shading (1+1 passes).
     Deferred,
+    /// Exact depth peeling of k transparent layers (the baseline of Zhang & Pajarola's Fig. 17).
+    DepthPeel,
+    /// Guennebaud's approximate depth peeling: k - 1 exact layers and one approximate.
+    ApproxPeel,
     /// The exact A-buffer renderer on the CPU: the ground truth for error.
     Reference,
 }
@@ -40,14 +44,18 @@ pub struct ModeInfo {
     /// The settings it reads, in display order.
     pub parameters: &'static [Parameter],
     pub device: Device,
+    /// Whether it reads opacity (draws transparency); opaque modes draw every splat opaque.
+    pub transparent: bool,
     /// The mode drawn (on a subsample) while the camera moves.
     pub preview: RenderMode,
     /// What a plain `bench --modes NAME` runs: one row per entry, each a
     /// list of `key=value` settings (see [`Parameter::key`]); "" is the defaults.
     pub bench_variants: &'static [&'static str],
+    /// Layers k it draws when the settings leave it open (modes that read `Parameter::Layers`).
+    pub default_layers: u32,
 }
 
-const REGISTRY: [ModeInfo; 3] = [
+const REGISTRY: [ModeInfo; 5] = [
     ModeInfo {
         mode: RenderMode::TwoPass,
         name: "two-pass",
@@ -61,8 +69,10 @@ const REGISTRY: [ModeInfo; 3] = [
             Parameter::Background,
         ],
         device: Device::Gpu,
+        transparent: false,
         preview: RenderMode::TwoPass,
         bench_variants: &["", "quality=unfiltered"],
+        default_layers: 1,
     },
     ModeInfo {
         mode: RenderMode::Deferred,
@@ -78,8 +88,46 @@ const REGISTRY: [ModeInfo; 3] = [
             Parameter::Background,
         ],
         device: Device::Gpu,
+        transparent: false,
         preview: RenderMode::TwoPass,
         bench_variants: &[""],
+        default_layers: 1,
+    },
+    ModeInfo {
+        mode: RenderMode::DepthPeel,
+        name: "depth-peel",
+        description: "Depth peeling: k layers, each a full splat render behind the one before, composited front to back (k × (2+1) passes).",
+        parameters: &[
+            Parameter::Layers,
+            Parameter::Epsilon,
+            Parameter::RadiusScale,
+            Parameter::BackfaceCulling,
+            Parameter::Lighting,
+            Parameter::Background,
+        ],
+        device: Device::Gpu,
+        transparent: true,
+        preview: RenderMode::ApproxPeel,
+        bench_variants: &["", "layers=4", "layers=2"],
+        default_layers: 8,
+    },
+    ModeInfo {
+        mode: RenderMode::ApproxPeel,
+        name: "approx-peel",
+        description: "Guennebaud: k - 1 exactly peeled layers, then all the rest blended into one approximate layer.",
+        parameters: &[
+            Parameter::Layers,
+            Parameter::Epsilon,
+            Parameter::RadiusScale,
+            Parameter::BackfaceCulling,
+            Parameter::Lighting,
+            Parameter::Background,
+        ],
+        device: Device::Gpu,
+        transparent: true,
+        preview: RenderMode::ApproxPeel,
+        bench_variants: &["", "layers=2"],
+        default_layers: 3,
     },
     ModeInfo {
         mode: RenderMode::Reference,
@@ -93,13 +141,23 @@ const REGISTRY: [ModeInfo; 3] = [
             Parameter::Background,
         ],
         device: Device::Cpu,
-        preview: RenderMode::TwoPass,
+        transparent: true,
+        // Approximate peeling keeps a transparent scene's look while the
+        // camera moves, and runs the two-pass plan for an opaque one.
+        preview: RenderMode::ApproxPeel,
         bench_variants: &[""],
+        default_layers: 1,
     },
 ];
 
 impl RenderMode {
-    pub const ALL: [RenderMode; 3] = [RenderMode::TwoPass, RenderMode::Deferred, RenderMode::Reference];
+    pub const ALL: [RenderMode; 5] = [
+        RenderMode::TwoPass,
+        RenderMode::Deferred,
+        RenderMode::DepthPeel,
+        RenderMode::ApproxPeel,
+        RenderMode::Reference,
+    ];
 
     /// The mode pointblend starts in when nothing else is asked for.
     pub const DEFAULT: RenderMode = RenderMode::TwoPass;

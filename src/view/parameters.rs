@@ -25,10 +25,12 @@ pub enum Parameter {
     /// Voronoi rasterisation inside a group (Zhang & Pajarola Eq. 14).
     Voronoi,
     Background,
+    /// Transparent layers k a peeling mode draws.
+    Layers,
 }
 
 impl Parameter {
-    pub const ALL: [Parameter; 8] = [
+    pub const ALL: [Parameter; 9] = [
         Parameter::Quality,
         Parameter::Epsilon,
         Parameter::RadiusScale,
@@ -37,6 +39,7 @@ impl Parameter {
         Parameter::Grouping,
         Parameter::Voronoi,
         Parameter::Background,
+        Parameter::Layers,
     ];
 
     /// The name in `key=value` settings (bench variants).
@@ -50,6 +53,7 @@ impl Parameter {
             Parameter::Grouping => "group",
             Parameter::Voronoi => "voronoi",
             Parameter::Background => "background",
+            Parameter::Layers => "layers",
         }
     }
 
@@ -62,6 +66,7 @@ impl Parameter {
             Parameter::BackfaceCulling | Parameter::Lighting | Parameter::Voronoi => "on or off",
             Parameter::Grouping => "mgc-cC, wgc-kK, hash-kK or hash-kK-kept",
             Parameter::Background => "R,G,B (or R/G/B) in 0..255",
+            Parameter::Layers => "a number of layers, 2..=64",
         }
     }
 
@@ -93,6 +98,10 @@ impl Parameter {
             Parameter::Voronoi => settings.voronoi = on_off(value)?,
             Parameter::Grouping => {
                 settings.grouping = value.parse::<GroupingSpec>().map_err(|e| format!("group={e}"))?
+            }
+            Parameter::Layers => {
+                let max = super::settings::MAX_LAYERS;
+                settings.layers = value.parse::<u32>().ok().filter(|k| (2..=max).contains(k)).ok_or_else(bad)?;
             }
             Parameter::Background => {
                 let rgb: Vec<f32> = value

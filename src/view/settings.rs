@@ -31,11 +31,21 @@ pub struct RenderSettings {
     /// Phong lighting; without it the normalised colour is shown and no
     /// normal targets are allocated or written.
     pub lighting: bool,
+    /// Transparent layers k of a peeling mode; 0 leaves it to the mode's default.
+    pub layers: u32,
     pub kernel: SplatKernel,
     pub shading: Shading,
 }
 
+/// Most layers a peeling mode draws.
+pub const MAX_LAYERS: u32 = 64;
+
 impl RenderSettings {
+    /// The layers k the mode draws: the setting, else the registry's default for the mode.
+    pub fn layers_or_default(&self) -> u32 {
+        if self.layers == 0 { self.mode.info().default_layers } else { self.layers }
+    }
+
     /// ε in view-depth units for a cloud whose mean splat radius is `mean_radius`.
     pub fn epsilon(&self, mean_radius: f32) -> f32 {
         self.epsilon_scale * mean_radius
@@ -53,6 +63,7 @@ impl Default for RenderSettings {
             grouping: GroupingSpec::default(),
             voronoi: true,
             lighting: true,
+            layers: 0,
             kernel: SplatKernel::default(),
             shading: Shading::default(),
         }

@@ -40,6 +40,10 @@ pub struct ViewerOptions {
     pub mode: Option<RenderMode>,
     /// Where groupings are cached (default: the user's cache, see [`Cache::from_env`]).
     pub cache: Option<Cache>,
+    /// Materials every object opened gets (`--opacity`, `--color`).
+    pub materials: crate::bench::Materials,
+    /// Background colour (0..1) that overrides the scene's.
+    pub background: Option<glam::Vec3>,
 }
 
 /// The frame on screen.
@@ -105,6 +109,7 @@ impl ViewerApp {
             settings,
             camera,
             screenshot_size: ScreenshotSize::Window,
+            opacity_pending: None,
         };
         let mut app = Self {
             ui,
@@ -150,7 +155,22 @@ impl ViewerApp {
         let generation = self.generations;
         let path = path.to_path_buf();
         let label = format!("loading {}", path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default());
-        self.load = Some(Job::spawn(label, ctx.clone(), move || Model::load(&path, generation)));
+        let materials = self.options.materials;
+        self.load = Some(Job::spawn(label, ctx.clone(), move || Model::load(&path, generation, &materials)));
+    }
+
+    /// Gives every object of the model on screen `opacity`, in the
+    /// background: the same geometry as a new model (new upload; the grouping
+    /// comes back from the cache, keyed by geometry), with the camera kept.
+    pub fn set_opacity(&mut self, ctx: &egui::Context, opacity: f32) {
+        let Some(model) = self.model.clone() else { return };
+        if let Some(old) = self.load.take() {
+            old.cancel();
+        }
+        self.generations += 1;
+        let generation = self.generations;
+        let label = format!("opacity {opacity:.2}");
+        self.load = Some(Job::spawn(label, ctx.clone(), move || Ok(model.with_opacity(opacity, generation))));
     }
 
     /// The model on screen.
@@ -249,6 +269,7 @@ impl ViewerApp {
                 path: &m.path,
                 splats: m.cloud.len(),
                 warnings: &m.warnings,
+                opacity: m.opacity(),
             }),
             load_error: self.load_error.as_deref(),
             jobs,
@@ -294,6 +315,7 @@ impl ViewerApp {
                 Action::SaveScreenshot => self.save_screenshot(),
                 Action::ResetCamera => self.reset_camera(),
                 Action::CameraMoved => self.camera_moved(),
+                Action::SetOpacity(opacity) => self.set_opacity(ctx, opacity),
             }
         }
     }
@@ -371,7 +393,10 @@ impl ViewerApp {
         let fresh = Camera::default_for(&model.cloud, aspect);
         self.scene = SceneSphere { centre: fresh.target, radius: fresh.scene_radius };
         self.home = fresh;
+        // The same file with other materials (the opacity slider) keeps the view.
+        let same_geometry = self.model.as_ref().is_some_and(|m| m.path == model.path && m.hash == model.hash);
         self.ui.camera = match &self.options.view {
+            _ if same_geometry => self.ui.camera,
             // The starting view of a sidecar applies to the first model only.
             Some(view) if self.model.is_none() => view.camera(),
             _ => fresh,
@@ -379,6 +404,12 @@ impl ViewerApp {
         self.load_error = None;
         self.grouped = None;
         self.measurement = None;
+        // The scene's background, unless the command line or a sidecar set one.
+        if self.options.view.is_none() {
+            if let Some(bg) = self.options.background.or(model.scene.background) {
+                self.ui.settings.shading.background = bg;
+            }
+        }
         for warning in &model.warnings {
             log::warn!("{}: {warning}", model.path.display());
         }

@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use crate::bench::Materials;
 use crate::cloud::{LoadOptions, PointCloud};
 use crate::grouping::{Grouping, GroupingSpec};
 use crate::scene::Scene;
@@ -41,28 +42,44 @@ pub struct GroupedModel {
 }
 
 impl Model {
-    /// Loads `path` (on a worker thread: this decodes, estimates and hashes).
-    pub fn load(path: &Path, generation: u64) -> Result<Model, String> {
+    /// Loads `path`, a PLY or a scene file (on a worker thread: this decodes,
+    /// estimates and hashes), and gives its objects `materials`.
+    pub fn load(path: &Path, generation: u64, materials: &Materials) -> Result<Model, String> {
         crate::progress::stage("reading the file");
-        let (scene, report) = Scene::load(path, &LoadOptions::default()).map_err(|e| e.to_string())?;
+        let (mut scene, warnings) = crate::scene::open(path, &LoadOptions::default()).map_err(|e| e.to_string())?;
         if scene.is_empty() {
             return Err(format!("{}: the file holds no usable splats", path.display()));
         }
-        let hash = scene.content_hash();
+        if let Some(opacity) = materials.opacity {
+            scene.set_opacity(opacity);
+        }
+        if let Some(colour) = materials.colour {
+            scene.set_colour(colour);
+        }
+        Ok(Self::of_scene(path, scene, warnings, generation))
+    }
+
+    /// This model with every object at `opacity` (and two-sided when below 1).
+    pub fn with_opacity(&self, opacity: f32, generation: u64) -> Model {
+        let mut scene = (*self.scene).clone();
+        scene.set_opacity(opacity);
+        Self::of_scene(&self.path, scene, self.warnings.clone(), generation)
+    }
+
+    /// The first object's opacity, and whether every object has it.
+    pub fn opacity(&self) -> (f32, bool) {
+        let first = self.scene.objects.first().map_or(1.0, |o| o.material.opacity);
+        (first, self.scene.objects.iter().all(|o| o.material.opacity == first))
+    }
+
+    /// The model of an already loaded `scene`.
+    pub fn of_scene(path: &Path, scene: Scene, warnings: Vec<String>, generation: u64) -> Model {
+        let hash = scene.geometry_hash();
         let cloud = scene.flattened();
         crate::progress::stage("building the preview");
         let preview = (cloud.len() > PREVIEW_SPLATS).then(|| Arc::new(subsample(&cloud, PREVIEW_SPLATS)));
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());
-        Ok(Model {
-            path: path.to_path_buf(),
-            name,
-            hash,
-            scene: Arc::new(scene),
-            cloud,
-            preview,
-            warnings: report.warnings,
-            generation,
-        })
+        Model { path: path.to_path_buf(), name, hash, scene: Arc::new(scene), cloud, preview, warnings, generation }
     }
 
     pub fn hash_hex(&self) -> String {
@@ -83,6 +100,11 @@ pub fn subsample(cloud: &PointCloud, count: usize) -> PointCloud {
         radii: picks.iter().map(|&i| cloud.radii[i] * grow).collect(),
         colors: picks.iter().map(|&i| cloud.colors[i]).collect(),
         opacity: picks.iter().map(|&i| cloud.opacity[i]).collect(),
+        two_sided: if cloud.two_sided.is_empty() {
+            Vec::new()
+        } else {
+            picks.iter().map(|&i| cloud.two_sided[i]).collect()
+        },
         origin: cloud.origin,
         scale_exponent: cloud.scale_exponent,
         scanner_position: cloud.scanner_position,

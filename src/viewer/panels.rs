@@ -14,7 +14,7 @@ use crate::view::{Parameter, Quality, RenderMode};
 
 pub fn controls(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>) -> Vec<Action> {
     let mut actions = Vec::new();
-    model_section(ui, info, &mut actions);
+    model_section(ui, state, info, &mut actions);
     jobs_section(ui, info, &mut actions);
     ui.separator();
     mode_section(ui, state, info);
@@ -29,12 +29,13 @@ pub fn controls(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>) -> Vec<A
     actions
 }
 
-fn model_section(ui: &mut Ui, info: &PanelInfo<'_>, actions: &mut Vec<Action>) {
+fn model_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, actions: &mut Vec<Action>) {
     ui.heading("Model");
     match &info.model {
         Some(m) => {
             ui.label(RichText::new(m.name).strong()).on_hover_text(m.path.display().to_string());
             ui.label(format!("{} splats", thousands(m.splats)));
+            opacity_widget(ui, &mut state.opacity_pending, m.opacity, actions);
             if !m.warnings.is_empty() {
                 ui.collapsing(format!("{} load warnings", m.warnings.len()), |ui| {
                     for w in m.warnings {
@@ -49,7 +50,7 @@ fn model_section(ui: &mut Ui, info: &PanelInfo<'_>, actions: &mut Vec<Action>) {
     }
     ui.horizontal(|ui| {
         if ui.button("Open…").clicked() {
-            if let Some(path) = rfd::FileDialog::new().add_filter("PLY", &["ply", "PLY"]).pick_file() {
+            if let Some(path) = rfd::FileDialog::new().add_filter("PLY or scene", &["ply", "PLY", "toml"]).pick_file() {
                 actions.push(Action::Open(path));
             }
         }
@@ -74,6 +75,28 @@ fn jobs_section(ui: &mut Ui, info: &PanelInfo<'_>, actions: &mut Vec<Action>) {
                 actions.push(Action::Cancel(kind));
             }
         }
+    }
+}
+
+/// Opacity of every object: applied when the slider is let go (a new upload).
+/// Transparent modes and the reference show it; opaque modes draw α = 1.
+fn opacity_widget(ui: &mut Ui, pending: &mut Option<f32>, (opacity, shared): (f32, bool), actions: &mut Vec<Action>) {
+    // The slider shows its own value while dragged and until the model holds
+    // the value let go; otherwise the model's.
+    if pending.is_some_and(|v| (v - opacity).abs() <= 1e-6) {
+        *pending = None;
+    }
+    let mut value = pending.unwrap_or(opacity);
+    let text = if shared { "opacity" } else { "opacity (objects differ; sets all)" };
+    let response = ui.add(egui::Slider::new(&mut value, 0.0..=1.0).text(text)).on_hover_text(
+        "Opacity of every object. Transparent modes (depth-peel, approx-peel) and the reference show it; \
+         opaque modes draw every splat opaque.",
+    );
+    if response.dragged() || response.changed() {
+        *pending = Some(value);
+    }
+    if response.drag_stopped() || (response.changed() && !response.dragged()) {
+        actions.push(Action::SetOpacity(value));
     }
 }
 
@@ -128,6 +151,11 @@ fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, para
             ui.checkbox(&mut s.voronoi, "Voronoi rasterisation (Eq. 14)");
         }
         Parameter::Grouping => grouping_widget(ui, &mut s.grouping, info),
+        Parameter::Layers => {
+            let mut k = s.layers_or_default();
+            ui.add(egui::Slider::new(&mut k, 2..=crate::view::settings::MAX_LAYERS).text("layers k"));
+            s.layers = k;
+        }
     }
 }
 

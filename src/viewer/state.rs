@@ -74,6 +74,9 @@ pub struct UiState {
     /// Light direction in eye space as (azimuth, elevation) degrees.
     pub light_angles: (f32, f32),
     pub screenshot_size: ScreenshotSize,
+    /// The opacity slider's value while it is dragged, and until the model
+    /// holds the value it was let go at.
+    pub opacity_pending: Option<f32>,
 }
 
 impl UiState {
@@ -118,6 +121,8 @@ pub enum Action {
     ResetCamera,
     /// The camera was edited in the panel (field of view).
     CameraMoved,
+    /// Give every object of the model this opacity (0..1).
+    SetOpacity(f32),
 }
 
 /// The model on screen, as the panels show it.
@@ -126,6 +131,8 @@ pub struct ModelInfo<'a> {
     pub path: &'a Path,
     pub splats: usize,
     pub warnings: &'a [String],
+    /// The first object's opacity, and whether every object shares it.
+    pub opacity: (f32, bool),
 }
 
 /// The frame on screen, as the panels show it.

@@ -70,3 +70,22 @@ pub const NEAR_PLANE_BAD_PIXELS: f64 = 0.002;
 /// blending, which shows as faint facets. Measured: ε 2.65 / 1.47 / 2.29,
 /// bad pixels 1.9% / 0.7% / 1.7% (two-pass: ε 0.02).
 pub const MAX_MGC_04_DEFERRED_EPS: f64 = 3.0;
+
+/// depth-peel with at least as many layers as the reference meets, against
+/// the transparent reference (bundled bunny at opacity 0.5, 160², three
+/// views; a camera inside a transparent sphere). The goal (ε ≤ 2.0:
+/// the opaque two-pass error plus what a GPU layer cannot split, facing-ways
+/// hits within ε). Measured: ε 0.61 / 0.55 / 0.77 (12, 14 and 21 layers), 0.07
+/// inside the sphere.
+pub const MAX_DEPTH_PEEL_EPS: f64 = 2.0;
+
+/// approx-peel at k = 3 against the transparent reference: the goal.
+/// Measured: ε 1.08 (depth-peel k = 2: 1.67, k = 8: 0.64).
+pub const MAX_APPROX_PEEL_EPS: f64 = 5.0;
+
+/// A thousand coincident splats of opacity 0.5 against the closed form
+/// 0.5·c + 0.5·bg, in 8-bit steps: one rounding on the CPU; on the GPU the
+/// Rgba16Float sums of a thousand weighted terms, each addition rounded to 11
+/// bits, so the normalised opacity drifts by up to ~1.5 %. Measured: 0
+/// (reference), 2 (depth-peel, approx-peel) in a 13x13 block of pixels.
+pub const MAX_COINCIDENT_CHANNEL_ERROR: f32 = 3.0;

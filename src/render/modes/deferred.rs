@@ -135,6 +135,7 @@ impl GpuMode for Deferred {
                     variant,
                     colour: colour.clone(),
                     depth: Some((Z_BUFFER, z_test)),
+                    inputs: Vec::new(),
                     layer,
                     splats: frame.groups.get(layer as usize).cloned().unwrap_or(0..0),
                     uniforms: uniforms(layer),
@@ -149,6 +150,8 @@ impl GpuMode for Deferred {
             variant,
             inputs: composite_inputs(frame),
             output: Output::Frame,
+            blend: Blend::Replace,
+            clear: true,
             uniforms: uniforms(0),
         };
         commands.push(Recorded { pass: 1, command: Command::Fullscreen(composite) });

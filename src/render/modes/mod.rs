@@ -6,7 +6,10 @@
 //! A new mode is a new file here with a [`GpuMode`] implementation, one line
 //! in [`gpu_mode`], and its entry in the registry (`src/view/modes.rs`).
 
+mod approx_peel;
 mod deferred;
+mod depth_peel;
+mod peeling;
 mod two_pass;
 
 use std::ops::Range;
@@ -30,6 +33,8 @@ pub struct FrameDesc<'a> {
     pub epsilon: f32,
     /// Low-precision depth steps n over the depth range (Zhang & Pajarola Eq. 10): (far - near)/ε.
     pub depth_steps: f32,
+    /// Whether some splat is less than opaque (transparent modes draw an opaque scene opaquely).
+    pub transparent: bool,
 }
 
 impl FrameDesc<'_> {
@@ -60,6 +65,8 @@ pub fn gpu_mode(mode: RenderMode) -> Option<&'static dyn GpuMode> {
     match mode {
         RenderMode::TwoPass => Some(&two_pass::TwoPass),
         RenderMode::Deferred => Some(&deferred::Deferred),
+        RenderMode::DepthPeel => Some(&depth_peel::DepthPeel),
+        RenderMode::ApproxPeel => Some(&approx_peel::ApproxPeel),
         RenderMode::Reference => None,
     }
 }

@@ -127,6 +127,7 @@ impl GpuMode for TwoPass {
             variant,
             colour,
             depth: Some((DEPTH, depth)),
+            inputs: Vec::new(),
             layer: 0,
             splats: 0..frame.splats as u32,
             uniforms,
@@ -168,6 +169,8 @@ impl GpuMode for TwoPass {
             variant,
             inputs,
             output: Output::Frame,
+            blend: Blend::Replace,
+            clear: true,
             uniforms,
         };
         commands.push(Recorded { pass: plan.passes.len() - 1, command: Command::Fullscreen(normalize) });

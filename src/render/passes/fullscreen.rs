@@ -35,7 +35,7 @@ pub fn pipeline(
     entry: &str,
     kind: &PipelineKind,
 ) -> Option<wgpu::RenderPipeline> {
-    let PipelineKind::Fullscreen { output, .. } = kind else { return None };
+    let PipelineKind::Fullscreen { output, blend, .. } = kind else { return None };
     Some(device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(layout),
@@ -54,7 +54,7 @@ pub fn pipeline(
             compilation_options: Default::default(),
             targets: &[Some(wgpu::ColorTargetState {
                 format: *output,
-                blend: None,
+                blend: blend.state(),
                 write_mask: wgpu::ColorWrites::ALL,
             })],
         }),
@@ -81,7 +81,10 @@ pub fn record(
             view: output,
             depth_slice: None,
             resolve_target: None,
-            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+            ops: wgpu::Operations {
+                load: if pass.clear { wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT) } else { wgpu::LoadOp::Load },
+                store: wgpu::StoreOp::Store,
+            },
         })],
         timestamp_writes: timestamps,
         ..Default::default()

@@ -25,6 +25,9 @@ pub enum Blend {
     Replace,
     /// The fragment is added to the texel (sums of weights).
     Add,
+    /// Front-to-back compositing of premultiplied colour: the fragment goes
+    /// under what is there, dst + (1 - dst.a)·src.
+    Under,
 }
 
 /// How a splat pass uses its depth target.
@@ -55,6 +58,8 @@ pub struct SplatPass {
     /// Colour outputs, in `@location` order; cleared to zero first.
     pub colour: Vec<ColourOutput>,
     pub depth: Option<(TargetId, DepthTest)>,
+    /// Targets the fragment stage reads, bound as textures at group 1, bindings 0.. in order.
+    pub inputs: Vec<TargetId>,
     /// The layer of array targets to draw into (0 for single images).
     pub layer: u32,
     /// The splats to draw (indices into the uploaded scene).
@@ -80,6 +85,10 @@ pub struct FullscreenPass {
     /// Targets bound as textures at group 1, bindings 0.. in order.
     pub inputs: Vec<TargetId>,
     pub output: Output,
+    /// How the output combines with what is there.
+    pub blend: Blend,
+    /// Clear the output first (to black) rather than keep it.
+    pub clear: bool,
     pub uniforms: PassUniforms,
 }
 
@@ -112,9 +121,43 @@ pub enum PipelineKind {
     Splats {
         colour: Vec<(wgpu::TextureFormat, Blend)>,
         depth: Option<(wgpu::TextureFormat, bool, wgpu::CompareFunction)>,
+        inputs: Vec<wgpu::TextureViewDimension>,
     },
     Fullscreen {
         inputs: Vec<wgpu::TextureViewDimension>,
         output: wgpu::TextureFormat,
+        blend: Blend,
     },
+}
+
+impl PipelineKind {
+    /// The dimensions of the textures it reads at group 1.
+    pub fn inputs(&self) -> &[wgpu::TextureViewDimension] {
+        match self {
+            PipelineKind::Splats { inputs, .. } | PipelineKind::Fullscreen { inputs, .. } => inputs,
+        }
+    }
+}
+
+const ONE: wgpu::BlendComponent = wgpu::BlendComponent {
+    src_factor: wgpu::BlendFactor::One,
+    dst_factor: wgpu::BlendFactor::One,
+    operation: wgpu::BlendOperation::Add,
+};
+
+const UNDER: wgpu::BlendComponent = wgpu::BlendComponent {
+    src_factor: wgpu::BlendFactor::OneMinusDstAlpha,
+    dst_factor: wgpu::BlendFactor::One,
+    operation: wgpu::BlendOperation::Add,
+};
+
+impl Blend {
+    /// The blend state of a colour target.
+    pub fn state(self) -> Option<wgpu::BlendState> {
+        match self {
+            Blend::Replace => None,
+            Blend::Add => Some(wgpu::BlendState { color: ONE, alpha: ONE }),
+            Blend::Under => Some(wgpu::BlendState { color: UNDER, alpha: UNDER }),
+        }
+    }
 }

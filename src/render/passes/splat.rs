@@ -3,15 +3,9 @@
 //! per splat through `vs_splat` (shaders/splat.wgsl), differing only in its
 //! fragment entry point, its outputs and blending, and its depth test.
 
-use super::{Blend, PipelineKind, SplatPass};
+use super::{PipelineKind, SplatPass};
 use crate::render::gpu_data::SplatInstance;
 use crate::render::gpu_scene::GpuScene;
-
-const ADDITIVE: wgpu::BlendComponent = wgpu::BlendComponent {
-    src_factor: wgpu::BlendFactor::One,
-    dst_factor: wgpu::BlendFactor::One,
-    operation: wgpu::BlendOperation::Add,
-};
 
 /// Builds the pipeline of a splat pass described by `kind`.
 pub fn pipeline(
@@ -22,18 +16,11 @@ pub fn pipeline(
     entry: &str,
     kind: &PipelineKind,
 ) -> Option<wgpu::RenderPipeline> {
-    let PipelineKind::Splats { colour, depth } = kind else { return None };
+    let PipelineKind::Splats { colour, depth, .. } = kind else { return None };
     let targets: Vec<Option<wgpu::ColorTargetState>> = colour
         .iter()
         .map(|&(format, blend)| {
-            Some(wgpu::ColorTargetState {
-                format,
-                blend: match blend {
-                    Blend::Replace => None,
-                    Blend::Add => Some(wgpu::BlendState { color: ADDITIVE, alpha: ADDITIVE }),
-                },
-                write_mask: wgpu::ColorWrites::ALL,
-            })
+            Some(wgpu::ColorTargetState { format, blend: blend.state(), write_mask: wgpu::ColorWrites::ALL })
         })
         .collect();
     Some(device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -79,6 +66,7 @@ pub fn record(
     pipeline: &wgpu::RenderPipeline,
     frame: &wgpu::BindGroup,
     uniform_offset: u32,
+    inputs: Option<&wgpu::BindGroup>,
     attachments: &Attachments<'_>,
     scene: &GpuScene,
     timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
@@ -115,5 +103,8 @@ pub fn record(
     });
     render_pass.set_pipeline(pipeline);
     render_pass.set_bind_group(0, frame, &[uniform_offset]);
+    if let Some(inputs) = inputs {
+        render_pass.set_bind_group(1, inputs, &[]);
+    }
     scene.draw_range(&mut render_pass, pass.splats.clone());
 }

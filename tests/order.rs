@@ -1,0 +1,258 @@
+//! Back-to-front orders (src/spatial/order) on real scans: along every
+//! pixel's view ray, no later splat lies behind an earlier one by more than
+//! the order's slab thickness (plus the two splats' radii: the orders sort
+//! centres, and a ray meets a disc up to a radius from its centre's depth);
+//! the bucket order against a full sort; the grouped order keeps each
+//! group's splats in the global order.
+
+mod common;
+
+use glam::Vec3;
+use pointblend::bench::views::standard_views;
+use pointblend::cloud::{self, PointCloud};
+use pointblend::grouping::GroupingSpec;
+use pointblend::spatial::order::BspTree;
+use pointblend::spatial::order::{BucketSort, GroupedOrder, OrderKind, Orderer, ViewRay, full_sort};
+use pointblend::view::Camera;
+
+const SIZE: u32 = 128;
+
+/// How far, at worst, a later splat's hit lies behind an earlier one's along a
+/// pixel ray, beyond slab + r_i + r_j, over all pixels; and the pairs checked.
+fn worst_excess(cloud: &PointCloud, camera: &Camera, order: &[u32], slab: f32) -> (f32, usize) {
+    let view = ViewRay::of(camera);
+    let (near, _) = camera.near_far();
+    let tan = (camera.fov_y_deg.to_radians() * 0.5).tan();
+    let up_screen = camera.view_matrix().inverse().transform_vector3(Vec3::Y);
+    let right = view.forward.cross(up_screen).normalize();
+    let up = right.cross(view.forward);
+    let focal = SIZE as f32 / (2.0 * tan);
+    // Per pixel, the smallest depth + radius of the hits so far, in order.
+    let mut front = vec![f32::INFINITY; (SIZE * SIZE) as usize];
+    let (mut worst, mut pairs) = (f32::NEG_INFINITY, 0usize);
+    for &i in order {
+        let i = i as usize;
+        let (c, n, r) = (cloud.positions[i], cloud.normals[i], cloud.radii[i]);
+        let z = view.depth(c);
+        if z - r <= near {
+            continue;
+        }
+        let (sx, sy) = ((c - view.eye).dot(right) / z, (c - view.eye).dot(up) / z);
+        let (px, py) = (SIZE as f32 * 0.5 + sx * focal, SIZE as f32 * 0.5 - sy * focal);
+        let reach = (r / (z - r)) * focal + 1.0;
+        let x0 = (px - reach).floor().max(0.0) as u32;
+        let x1 = (px + reach).ceil().min(SIZE as f32 - 1.0).max(0.0) as u32;
+        let y0 = (py - reach).floor().max(0.0) as u32;
+        let y1 = (py + reach).ceil().min(SIZE as f32 - 1.0).max(0.0) as u32;
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                let sx = ((x as f32 + 0.5) - SIZE as f32 * 0.5) / focal;
+                let sy = (SIZE as f32 * 0.5 - (y as f32 + 0.5)) / focal;
+                let ray = view.forward + right * sx + up * sy; // view depth 1
+                let denom = n.dot(ray);
+                if denom.abs() < 1e-9 {
+                    continue;
+                }
+                let t = n.dot(c - view.eye) / denom; // = the hit's view depth
+                if t <= near || (view.eye + ray * t - c).length_squared() >= r * r {
+                    continue;
+                }
+                let p = (y * SIZE + x) as usize;
+                if front[p].is_finite() {
+                    pairs += 1;
+                    worst = worst.max((t - r - slab) - front[p]);
+                }
+                front[p] = front[p].min(t + r);
+            }
+        }
+    }
+    (worst, pairs)
+}
+
+fn is_permutation(order: &[u32], n: usize) -> bool {
+    let mut seen = vec![false; n];
+    order.len() == n && order.iter().all(|&i| (i as usize) < n && !std::mem::replace(&mut seen[i as usize], true))
+}
+
+fn scans() -> Vec<(String, PointCloud)> {
+    let mut out = Vec::new();
+    for name in ["bun_zipper.ply", "bunny_range_scans_merged.ply", "table_scene_mug_stereo_textured.ply"] {
+        out.push((name.to_string(), cloud::load(&common::data(name)).unwrap().0));
+    }
+    out
+}
+
+#[test]
+fn bucket_and_sort_orders_are_back_to_front_along_every_pixel_ray_of_real_scans() {
+    for (name, cloud) in scans() {
+        let scale = cloud.bounds().unwrap().radius();
+        for kind in [OrderKind::Bucket, OrderKind::Sort] {
+            let mut orderer = Orderer::new(kind, &cloud.positions, &cloud.radii);
+            for view in standard_views(&cloud, 1.0, 5) {
+                let mut order = Vec::new();
+                let slab = orderer.back_to_front(&cloud.positions, ViewRay::of(&view.camera), &mut order);
+                assert!(is_permutation(&order, cloud.len()), "{name} {kind} {}: not a permutation", view.name);
+                let (worst, pairs) = worst_excess(&cloud, &view.camera, &order, slab);
+                println!(
+                    "{name} {kind} {}: slab {:.2e} ({:.4} of the radius), {pairs} pairs on pixel rays, worst excess {:.2e}",
+                    view.name,
+                    slab,
+                    slab / scale,
+                    worst
+                );
+                assert!(pairs > 1000, "{name} {}: the check saw too few overlapping hits ({pairs})", view.name);
+                // Rounding only: depths are f32 differences of about the scene's size.
+                assert!(
+                    worst <= scale * 1e-5,
+                    "{name} {kind} {}: a later splat lies {worst:.3e} behind an earlier one beyond the slab {slab:.3e}",
+                    view.name
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_bucket_order_is_the_full_sort_up_to_one_slab() {
+    for (name, cloud) in scans() {
+        let mut buckets = BucketSort::for_radii(&cloud.radii);
+        for view in standard_views(&cloud, 1.0, 5) {
+            let ray = ViewRay::of(&view.camera);
+            let (mut sorted, mut sliced) = (Vec::new(), Vec::new());
+            full_sort(&cloud.positions, ray, &mut sorted);
+            let slab = buckets.back_to_front(&cloud.positions, ray, &mut sliced);
+            assert!(is_permutation(&sliced, cloud.len()));
+            let depth = |i: u32| ray.depth(cloud.positions[i as usize]);
+            // The full sort is exact: depth never grows.
+            assert!(sorted.windows(2).all(|w| depth(w[0]) >= depth(w[1])), "{name}: the sort is not back to front");
+            // The k-th splat of the slicing lies in the k-th sorted splat's slab.
+            let worst = sorted.iter().zip(&sliced).map(|(&a, &b)| (depth(a) - depth(b)).abs()).fold(0.0f32, f32::max);
+            let min_radius = cloud.radii.iter().copied().fold(f32::INFINITY, f32::min);
+            println!("{name} {}: slab {slab:.3e} (smallest radius {min_radius:.3e}), worst {worst:.3e}", view.name);
+            assert!(
+                slab > 0.0 && slab <= min_radius,
+                "the slab is at most Gunjee's ε, the smallest radius ({slab} > {min_radius})"
+            );
+            assert!(worst <= slab * 1.0001, "{name} {}: {worst} apart, slab {slab}", view.name);
+        }
+    }
+}
+
+#[test]
+fn slicing_many_slabs_uses_both_levels() {
+    // A line of 20,000 points along the view axis, one slab apart: 20,000
+    // slices need 142 first-level buckets of 142 accurate ones each; the
+    // result must be exactly the full sort.
+    let points: Vec<Vec3> =
+        (0..20_000).map(|i| Vec3::new(0.0, 0.0, -1.0 - (i * 7919 % 20_000) as f32 * 1e-3)).collect();
+    let ray = ViewRay { eye: Vec3::ZERO, forward: Vec3::NEG_Z };
+    let (mut sorted, mut sliced) = (Vec::new(), Vec::new());
+    full_sort(&points, ray, &mut sorted);
+    let slab = BucketSort::new(1e-3 * 0.999).back_to_front(&points, ray, &mut sliced);
+    assert!(slab < 1e-3, "{slab}");
+    assert_eq!(sorted, sliced);
+}
+
+#[test]
+fn the_grouped_order_keeps_each_group_in_the_global_order() {
+    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let grouping = GroupingSpec::Mgc { c: 0.4 }.compute(&cloud).unwrap();
+    let grouped = GroupedOrder::new(&grouping, cloud.len());
+    let view = &standard_views(&cloud, 1.0, 2)[1];
+    let mut orderer = Orderer::new(OrderKind::Bsp, &cloud.positions, &cloud.radii);
+    let mut order = Vec::new();
+    orderer.back_to_front(&cloud.positions, ViewRay::of(&view.camera), &mut order);
+    let mut rank = vec![0usize; cloud.len()];
+    for (k, &i) in order.iter().enumerate() {
+        rank[i as usize] = k;
+    }
+    let mut out = Vec::new();
+    grouped.partition(&order, &mut out);
+    assert!(is_permutation(&out, grouping.order.len()), "every slot of the grouped buffer once");
+    for (g, range) in grouping.ranges.iter().enumerate() {
+        let run = &out[range.start as usize..range.end as usize];
+        assert!(run.iter().all(|&p| range.contains(&p)), "group {g} holds only its own slots");
+        let ranks: Vec<usize> = run.iter().map(|&p| rank[grouping.order[p as usize] as usize]).collect();
+        assert!(ranks.windows(2).all(|w| w[0] < w[1]), "group {g} follows the global order");
+    }
+}
+
+/// The ray's entry and exit depths (view depth, ray scaled to depth 1) through a box, if it meets it.
+fn through_box(eye: Vec3, ray: Vec3, lo: Vec3, hi: Vec3) -> Option<(f32, f32)> {
+    let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
+    for a in 0..3 {
+        if ray[a].abs() < 1e-12 {
+            if eye[a] < lo[a] || eye[a] > hi[a] {
+                return None;
+            }
+            continue;
+        }
+        let (u, v) = ((lo[a] - eye[a]) / ray[a], (hi[a] - eye[a]) / ray[a]);
+        t0 = t0.max(u.min(v));
+        t1 = t1.min(u.max(v));
+    }
+    (t0 <= t1).then_some((t0, t1))
+}
+
+#[test]
+fn the_bsp_visits_its_cells_back_to_front_along_every_pixel_ray_of_real_scans() {
+    // The BSP tree's property: its leaves' cells are disjoint boxes tiling
+    // the scene, each holding its leaf's splats, and along any ray from the
+    // eye the traversal meets them far to near; inside a leaf (at most the
+    // slab across) the order is arbitrary. Checked for 32x32 rays per view.
+    const RAYS: u32 = 32;
+    for (name, cloud) in scans() {
+        let tree = BspTree::build(&cloud.positions, &cloud.radii);
+        let bounds = cloud.bounds().unwrap();
+        let scale = bounds.radius();
+        for view in standard_views(&cloud, 1.0, 5) {
+            let ray_view = ViewRay::of(&view.camera);
+            let cells = tree.cells_back_to_front(ray_view.eye, (bounds.min, bounds.max));
+            assert_eq!(cells.iter().map(|(_, run)| run.len()).sum::<usize>(), cloud.len());
+            for ((lo, hi), run) in &cells {
+                for &i in *run {
+                    let p = cloud.positions[i as usize];
+                    assert!(p.cmpge(*lo).all() && p.cmple(*hi).all(), "{name}: splat {i} outside its leaf's cell");
+                }
+            }
+            let tan = (view.camera.fov_y_deg.to_radians() * 0.5).tan();
+            let up_screen = view.camera.view_matrix().inverse().transform_vector3(Vec3::Y);
+            let right = ray_view.forward.cross(up_screen).normalize();
+            let up = right.cross(ray_view.forward);
+            let (mut crossings, mut worst) = (0usize, f32::NEG_INFINITY);
+            for y in 0..RAYS {
+                for x in 0..RAYS {
+                    let sx = ((x as f32 + 0.5) / RAYS as f32 * 2.0 - 1.0) * tan;
+                    let sy = (1.0 - (y as f32 + 0.5) / RAYS as f32 * 2.0) * tan;
+                    let ray = ray_view.forward + right * sx + up * sy;
+                    // Each cell the ray crosses must lie wholly in front of every earlier one it crossed.
+                    let mut nearest_entry = f32::INFINITY;
+                    for &((lo, hi), _) in &cells {
+                        if let Some((entry, exit)) = through_box(ray_view.eye, ray, lo, hi) {
+                            if nearest_entry.is_finite() {
+                                crossings += 1;
+                                worst = worst.max(exit - nearest_entry);
+                            }
+                            nearest_entry = nearest_entry.min(entry);
+                        }
+                    }
+                }
+            }
+            println!(
+                "{name} {}: {} cells, {crossings} cell pairs on rays, worst overlap {worst:.2e}",
+                view.name,
+                cells.len()
+            );
+            assert!(
+                crossings > 10 * RAYS as usize,
+                "{name} {}: too few cells met by the rays ({crossings})",
+                view.name
+            );
+            assert!(
+                worst <= scale * 1e-5,
+                "{name} {}: a later cell reaches {worst:.3e} behind an earlier one",
+                view.name
+            );
+        }
+    }
+}
