@@ -256,3 +256,52 @@ fn the_bsp_visits_its_cells_back_to_front_along_every_pixel_ray_of_real_scans() 
         }
     }
 }
+
+/// Reads a GPU buffer of u32s back.
+fn read_u32s(ctx: &pointblend::render::GpuContext, source: &wgpu::Buffer, count: usize) -> Vec<u32> {
+    let bytes = (count * 4) as u64;
+    let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("test staging"),
+        size: bytes,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    encoder.copy_buffer_to_buffer(source, 0, &staging, 0, bytes);
+    ctx.queue.submit([encoder.finish()]);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    staging.map_async(wgpu::MapMode::Read, .., move |r| sender.send(r).unwrap());
+    ctx.wait_idle().unwrap();
+    receiver.recv().unwrap().unwrap();
+    let values = bytemuck::cast_slice(&staging.get_mapped_range(..).unwrap()).to_vec();
+    staging.unmap();
+    values
+}
+
+#[test]
+fn the_order_buffer_is_sorted_and_uploaded_only_when_the_view_changes() {
+    use pointblend::render::order_buffer::OrderBuffer;
+    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let views = standard_views(&cloud, 1.0, 2);
+    let renderer = common::renderer();
+    let ctx = &renderer.ctx;
+    for kind in [OrderKind::Bsp, OrderKind::Bucket] {
+        let mut buffer = OrderBuffer::new(&ctx.device, kind, &cloud.positions, &cloud.radii);
+        let (a, b) = (ViewRay::of(&views[0].camera), ViewRay::of(&views[1].camera));
+        for _ in 0..3 {
+            buffer.for_view(&ctx.queue, &cloud.positions, a);
+        }
+        assert_eq!(buffer.uploads(), 1, "{kind}: one view, one upload");
+        let mut want = Vec::new();
+        Orderer::new(kind, &cloud.positions, &cloud.radii).back_to_front(&cloud.positions, a, &mut want);
+        let gpu = buffer.for_view(&ctx.queue, &cloud.positions, a);
+        assert_eq!(read_u32s(ctx, gpu, cloud.len()), want, "{kind}: the GPU holds the order of the view");
+        buffer.for_view(&ctx.queue, &cloud.positions, b);
+        assert_eq!(buffer.uploads(), 2, "{kind}: a new view re-sorts");
+        let gpu = buffer.for_view(&ctx.queue, &cloud.positions, b);
+        assert_eq!(read_u32s(ctx, gpu, cloud.len()), buffer.order(), "{kind}");
+        let moved = ViewRay { eye: a.eye + Vec3::splat(1e-4), ..a };
+        buffer.for_view(&ctx.queue, &cloud.positions, moved);
+        assert_eq!(buffer.uploads(), 3, "{kind}: any camera move re-sorts");
+    }
+}

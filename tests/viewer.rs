@@ -169,3 +169,27 @@ fn resizing_down_to_one_pixel_and_back_keeps_drawing() {
     let (image, _) = h.state().shown_frame().unwrap();
     assert!(image.width() > 100, "the view grows back: {:?}", image.dimensions());
 }
+
+#[test]
+fn the_opacity_slider_makes_a_transparent_mode_see_through_and_keeps_the_view() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(options(dir.path()));
+    wait_for(&mut h, "the bunny in two-pass", settled_in(RenderMode::TwoPass));
+    h.get_by_label("depth-peel").click();
+    wait_for(&mut h, "the opaque bunny in depth-peel", settled_in(RenderMode::DepthPeel));
+    let (opaque, key) = h.state().shown_frame().map(|(i, k)| (i.clone(), k.clone())).unwrap();
+    assert!(h.query_all_by_label("opacity").next().is_some(), "the model panel has an opacity slider");
+
+    let ctx = h.ctx.clone();
+    h.state_mut().set_opacity(&ctx, 0.4);
+    wait_for(&mut h, "the bunny at opacity 0.4", |app| {
+        settled_in(RenderMode::DepthPeel)(app)
+            && app.model().is_some_and(|m| m.opacity() == (0.4, true))
+            && app.shown_frame().is_some_and(|(_, k)| k.generation > key.generation)
+    });
+    let (seen_through, after) = h.state().shown_frame().map(|(i, k)| (i.clone(), k.clone())).unwrap();
+    assert_eq!(after.camera, key.camera, "a new opacity keeps the view");
+    let share = changed_share(&opaque, &seen_through);
+    println!("{:.1}% of the pixels changed", 100.0 * share);
+    assert!(share > 0.05, "the bunny shows its back layers and the background through it: {share}");
+}

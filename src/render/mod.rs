@@ -13,7 +13,10 @@
 //!    ([`targets::TargetPool`]), takes every pass's pipeline from
 //!    [`pipelines::PipelineCache`] (shader variants from [`shaders`]), encodes
 //!    the passes into the output view, timed per plan pass when asked.
-//! 5. [`HeadlessRenderer`] renders into its own texture and reads the image
+//! 5. Transparent passes that blend in order read the splats through an
+//!    [`order_buffer::OrderBuffer`], re-sorted and uploaded only when the view
+//!    changed.
+//! 6. [`HeadlessRenderer`] renders into its own texture and reads the image
 //!    back ([`readback`]); the viewer does the same on its render thread.
 
 pub mod context;
@@ -21,6 +24,7 @@ pub mod gpu_data;
 pub mod gpu_scene;
 pub mod headless;
 pub mod modes;
+pub mod order_buffer;
 pub mod passes;
 pub mod pipelines;
 pub mod plan;
