@@ -74,7 +74,7 @@ fn with_one_group_per_splat_deferred_equals_two_pass() {
 #[test]
 fn with_independent_groups_deferred_is_close_to_two_pass() {
     let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
-    let grouping = GroupingSpec::Mgc { c: 1.0 }.compute(&cloud).unwrap();
+    let grouping = GroupingSpec::mgc(1.0).compute(&cloud).unwrap();
     for az in [0.0, 120.0, 240.0] {
         let mut camera = Camera::default_for(&cloud, 1.0);
         camera.azimuth_deg = az;
@@ -125,7 +125,7 @@ fn deferred_gives_sane_images_in_extreme_views() {
             cases.push((format!("scale {scale}"), scaled, camera));
         }
         for (name, cloud, camera) in cases {
-            let grouping = GroupingSpec::Mgc { c: 0.4 }.compute(&cloud).unwrap();
+            let grouping = GroupingSpec::mgc(0.4).compute(&cloud).unwrap();
             let image = render(&cloud, Some(&grouping), &camera, &settings);
             let black = image.pixels().filter(|p| p.0[..3] == [0, 0, 0]).count();
             assert_eq!(black, 0, "{name} (voronoi {voronoi}): NaN pixels");
@@ -141,7 +141,7 @@ fn deferred_gives_sane_images_in_extreme_views() {
 #[test]
 fn without_lighting_no_normal_target_is_planned_and_images_match_the_reference() {
     let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
-    let grouping = GroupingSpec::Mgc { c: 1.0 }.compute(&cloud).unwrap();
+    let grouping = GroupingSpec::mgc(1.0).compute(&cloud).unwrap();
     let camera = Camera::default_for(&cloud, 1.0);
     for mode in [RenderMode::TwoPass, RenderMode::Deferred] {
         let settings = RenderSettings { mode, lighting: false, ..Default::default() };
@@ -167,7 +167,7 @@ fn a_cloud_of_one_colour_writes_only_weights_and_looks_the_same() {
     let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
     let mut full_colour = cloud.clone();
     full_colour.colors[0][0] ^= 1; // one splat one unit off: the full colour path
-    let grouping = GroupingSpec::Mgc { c: 0.4 }.compute(&cloud).unwrap();
+    let grouping = GroupingSpec::mgc(0.4).compute(&cloud).unwrap();
     let camera = Camera::default_for(&cloud, 1.0);
     for mode in [RenderMode::TwoPass, RenderMode::Deferred] {
         let settings = RenderSettings { mode, ..Default::default() };

@@ -271,7 +271,7 @@ fn a_corrupt_cache_entry_is_recomputed_not_used() {
     let dir = tempfile::tempdir().unwrap();
     let cache = cache::Cache::in_dir(dir.path());
     let cloud = random_cloud(5, 800, true);
-    let spec = pointblend::grouping::GroupingSpec::Hash { k: 4, resolve_collisions: true };
+    let spec = pointblend::grouping::GroupingSpec::hash(4, true);
     let (fresh, cached) = spec.compute_cached_for_hash(&cache, 42, &cloud).unwrap();
     assert!(!cached);
     let entry = std::fs::read_dir(dir.path()).unwrap().next().unwrap().unwrap().path();
@@ -294,4 +294,130 @@ fn a_corrupt_cache_entry_is_recomputed_not_used() {
     }
     let (_, cached) = spec.compute_cached_for_hash(&cache, 42, &cloud).unwrap();
     assert!(cached, "the rewritten entry is used");
+}
+
+/// Per colour, the sum of `weight(i, j)` over v's neighbours j of that colour.
+fn colour_sums(
+    graph: &OverlapGraph,
+    labels: &[u32],
+    k: usize,
+    v: usize,
+    weight: impl Fn(usize, usize) -> f64,
+) -> Vec<f64> {
+    let mut sums = vec![0.0; k];
+    for &j in graph.neighbours_of(v) {
+        sums[labels[j as usize] as usize] += weight(v, j as usize);
+    }
+    sums
+}
+
+#[test]
+fn wgc_ends_where_no_splat_can_lower_the_cost_by_its_least_overlap_colour() {
+    // §4.2: MinimizeOverlap picks the colour of least plain overlap ΣA_ij
+    // (or of least Eq. 7 weight, the option), and a move is kept only if it
+    // lowers L (Eq. 6, Eq. 7 weights). Re-queueing every neighbour of a moved
+    // splat means that at the end no splat has such a move left.
+    let (bunny, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    for minimize_by_eq7 in [false, true] {
+        let k = 4;
+        let options = wgc::WgcOptions { k, minimize_by_eq7, ..Default::default() };
+        let (grouping, graph, report) = wgc::group(&bunny, &options).unwrap();
+        let labels = grouping.labels(bunny.len());
+        let sizes = grouping.sizes();
+        let (p, n, r) = (&bunny.positions, &bunny.normals, &bunny.radii);
+        let eq7 = |i: usize, j: usize| overlap_weight(p[i], n[i], r[i], p[j], n[j], r[j], false) as f64;
+        let area = |i: usize, j: usize| overlap_weight(p[i], n[i], r[i], p[j], n[j], r[j], true) as f64;
+        let mut left = 0;
+        for v in 0..bunny.len() {
+            let costs = colour_sums(&graph, &labels, k, v, eq7);
+            let choice = if minimize_by_eq7 { costs.clone() } else { colour_sums(&graph, &labels, k, v, area) };
+            let best = (0..k).min_by(|&a, &b| choice[a].total_cmp(&choice[b]).then(sizes[a].cmp(&sizes[b]))).unwrap();
+            let own = labels[v] as usize;
+            if best != own && costs[own] - costs[best] > 1e-6 * costs[own] {
+                left += 1;
+            }
+        }
+        println!(
+            "minimize by Eq. 7 {minimize_by_eq7}: {} moves, cost {:.4e} -> {:.4e}, {left} moves left",
+            report.moves, report.initial_cost, report.final_cost
+        );
+        assert_eq!(left, 0, "splats that could still lower the cost");
+    }
+}
+
+/// Two parallel square sheets `gap` apart, splats of radius `r` on a grid of
+/// spacing `r`; the front sheet faces +z, the back one -z (a thin shell).
+fn thin_shell(gap: f32, same_colour: bool) -> PointCloud {
+    let mut cloud = PointCloud::default();
+    let r = 0.1;
+    for (z, normal) in [(0.0, Vec3::Z), (-gap, -Vec3::Z)] {
+        for i in 0..20 {
+            for j in 0..20 {
+                cloud.positions.push(Vec3::new(i as f32 * r, j as f32 * r, z));
+                cloud.normals.push(normal);
+                cloud.radii.push(r);
+                let shade = if same_colour || (i + j) % 2 == 0 { 200 } else { 40 };
+                cloud.colors.push([shade, shade, shade]);
+                cloud.opacity.push(1.0);
+            }
+        }
+    }
+    cloud
+}
+
+#[test]
+fn mgc_relaxations_drop_the_edges_they_name() {
+    use pointblend::grouping::GroupingSpec;
+    let k = |spec: &str, cloud: &PointCloud| spec.parse::<GroupingSpec>().unwrap().compute(cloud).unwrap().k();
+    let shell = thin_shell(0.02, true);
+    let front: PointCloud = {
+        let mut c = shell.clone();
+        let half = c.len() / 2;
+        c.positions.truncate(half);
+        c.normals.truncate(half);
+        c.radii.truncate(half);
+        c.colors.truncate(half);
+        c.opacity.truncate(half);
+        c
+    };
+    // (2) opposite normals: the two sheets of the shell no longer conflict,
+    // so the shell needs the colours of one sheet.
+    let (plain, opposite, one_sheet) = (k("mgc-c1", &shell), k("mgc-c1-opposite", &shell), k("mgc-c1", &front));
+    println!("shell: K {plain}, with opposite {opposite}; one sheet {one_sheet}");
+    assert!(opposite < plain);
+    assert_eq!(opposite, one_sheet);
+    // (1) coplanar splats of one colour: a sheet of one colour has no edge left;
+    // a checkerboard of two colours keeps its edges.
+    assert_eq!(k("mgc-c1-coplanar", &front), 1);
+    let checker = thin_shell(0.02, false);
+    assert!(k("mgc-c1-coplanar", &checker) > 1);
+    // Both on: the one-colour shell falls apart into independent splats.
+    assert_eq!(k("mgc-c1-coplanar-opposite", &shell), 1);
+}
+
+#[test]
+fn extensions_are_reachable_from_the_grouping_spec() {
+    use pointblend::grouping::GroupingSpec;
+    let (bunny, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let spec = |s: &str| s.parse::<GroupingSpec>().unwrap().compute(&bunny).unwrap();
+    let (base, duplicated) = (spec("wgc-k4"), spec("wgc-k4-dup"));
+    let (m0, m1) = (metrics::measure(&bunny, &base), metrics::measure(&bunny, &duplicated));
+    println!(
+        "wgc-k4 coverage {:.3}, with duplication {:.3} (+{:.1}% splats)",
+        m0.mean_coverage,
+        m1.mean_coverage,
+        100.0 * m1.duplication_ratio
+    );
+    assert!(m1.duplication_ratio > 0.0 && m1.mean_coverage > m0.mean_coverage);
+    assert_eq!(duplicated.k(), 4);
+    let enlarged = spec("hash-k8-radius");
+    assert_eq!(enlarged.order.len(), bunny.len(), "enlargement duplicates nothing");
+    assert!(enlarged.radius_scale.iter().all(|&s| s >= 1.0) && enlarged.radius_scale.iter().any(|&s| s > 1.0));
+    // The cache key follows the spec: an extended grouping is not the base one.
+    let dir = tempfile::tempdir().unwrap();
+    let cache = cache::Cache::in_dir(dir.path().to_path_buf());
+    let (a, _) = "wgc-k4".parse::<GroupingSpec>().unwrap().compute_cached_for_hash(&cache, 7, &bunny).unwrap();
+    let (b, cached) = "wgc-k4-dup".parse::<GroupingSpec>().unwrap().compute_cached_for_hash(&cache, 7, &bunny).unwrap();
+    assert!(!cached, "a new spec is computed, not read from the base's entry");
+    assert_ne!(a, b);
 }

@@ -156,7 +156,7 @@ fn slicing_many_slabs_uses_both_levels() {
 #[test]
 fn the_grouped_order_keeps_each_group_in_the_global_order() {
     let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
-    let grouping = GroupingSpec::Mgc { c: 0.4 }.compute(&cloud).unwrap();
+    let grouping = GroupingSpec::mgc(0.4).compute(&cloud).unwrap();
     let grouped = GroupedOrder::new(&grouping, cloud.len());
     let view = &standard_views(&cloud, 1.0, 2)[1];
     let mut orderer = Orderer::new(OrderKind::Bsp, &cloud.positions, &cloud.radii);

@@ -21,7 +21,7 @@ fn settings_of(mode: RenderMode) -> Vec<RenderSettings> {
     let mut all = Vec::new();
     for quality in [Quality::Filtered, Quality::Unfiltered] {
         for lighting in [true, false] {
-            for grouping in [GroupingSpec::Mgc { c: 0.4 }, GroupingSpec::Mgc { c: 1.0 }] {
+            for grouping in [GroupingSpec::mgc(0.4), GroupingSpec::mgc(1.0)] {
                 all.push(RenderSettings { mode, quality, lighting, grouping, ..Default::default() });
             }
         }
@@ -118,7 +118,7 @@ fn every_plan_pass_is_timed_even_with_many_groups() {
 #[test]
 fn each_group_layer_pass_carries_its_own_layer_in_its_uniforms() {
     let cloud = bunny();
-    let grouping = GroupingSpec::Mgc { c: 1.0 }.compute(&cloud).unwrap();
+    let grouping = GroupingSpec::mgc(1.0).compute(&cloud).unwrap();
     let settings = RenderSettings { mode: "deferred".parse().unwrap(), ..Default::default() };
     let frame = FrameDesc {
         settings: &settings,

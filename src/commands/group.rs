@@ -53,6 +53,10 @@ pub struct Args {
     /// WGC weights without Eq. 7's (1 - n_i·n_j) factor.
     #[arg(long)]
     pub pure_area: bool,
+    /// WGC's MinimizeOverlap picks the colour of least Eq. 7 weight instead of
+    /// the paper's least overlap area.
+    #[arg(long)]
+    pub eq7: bool,
     /// Hash grouping collision handling; `near` resolves splats nearer the default camera than the median.
     #[arg(long, value_enum, default_value = "all")]
     pub collisions: CollisionArg,
@@ -86,8 +90,8 @@ pub fn run(args: &Args) -> Result<()> {
         skip_coplanar_same_colour: args.relax_coplanar,
     };
     let parameters = format!(
-        "{:?}|{:?}|{:?}|{}|{:?}|{:?}|v1",
-        args.algo, args.k, overlap, args.pure_area, args.collisions, args.extend
+        "{:?}|{:?}|{:?}|{}|{}|{:?}|{:?}|v2",
+        args.algo, args.k, overlap, args.pure_area, args.eq7, args.collisions, args.extend
     );
     let cache = cache::Cache::from_env();
     let cache_key = if args.no_cache { None } else { cache::key(&args.file, &parameters).ok() };
@@ -123,6 +127,7 @@ pub fn run(args: &Args) -> Result<()> {
                     let options = wgc::WgcOptions {
                         k: args.k.unwrap_or(8),
                         pure_area: args.pure_area,
+                        minimize_by_eq7: args.eq7,
                         overlap,
                         ..Default::default()
                     };

@@ -6,6 +6,7 @@
 //! - [`hash`]: dynamic hash grouping (§4.3, Eq. 9, Fig. 9), fast enough per frame.
 //! - [`extend`]: extended grouping for transparency (§4.4.2): duplication or radius enlargement.
 //! - [`metrics`]: overlap factor (§6.1), violations, coverage.
+//! - [`spec`]: a grouping by name (`wgc-k4-dup`): algorithm, relaxations, extension.
 //!
 //! A [`Grouping`] is a permutation of the splats with one contiguous range per
 //! group, ready to upload; [`cache`] stores it keyed by the model and parameters.
@@ -16,7 +17,10 @@ pub mod extend;
 pub mod hash;
 pub mod metrics;
 pub mod mgc;
+pub mod spec;
 pub mod wgc;
+
+pub use spec::{Extension, GroupingAlgo, GroupingSpec, Relaxations};
 
 use std::ops::Range;
 
@@ -96,114 +100,3 @@ pub enum GroupingError {
 
 /// Largest K any algorithm accepts.
 pub const MAX_GROUPS: usize = 64;
-
-/// A grouping algorithm with its parameter, as the render modes name it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum GroupingSpec {
-    Mgc {
-        c: f32,
-    },
-    Wgc {
-        k: usize,
-    },
-    /// `resolve_collisions`: splats that overlap in a hash cell are moved to
-    /// another group (Fig. 9's collision handling), or left where they hash.
-    Hash {
-        k: usize,
-        resolve_collisions: bool,
-    },
-}
-
-impl Default for GroupingSpec {
-    /// The paper's setting for opaque rendering (§6.2): MGC at c = 0.4.
-    fn default() -> Self {
-        GroupingSpec::Mgc { c: 0.4 }
-    }
-}
-
-impl std::fmt::Display for GroupingSpec {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            GroupingSpec::Mgc { c } => write!(f, "mgc-c{c}"),
-            GroupingSpec::Wgc { k } => write!(f, "wgc-k{k}"),
-            GroupingSpec::Hash { k, resolve_collisions: true } => write!(f, "hash-k{k}"),
-            GroupingSpec::Hash { k, resolve_collisions: false } => write!(f, "hash-k{k}-kept"),
-        }
-    }
-}
-
-impl std::str::FromStr for GroupingSpec {
-    type Err = String;
-    /// `mgc-c0.4`, `wgc-k8`, `hash-k8`, and `hash-k8-kept` for hashing that keeps collisions.
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        let bad =
-            || format!("'{s}' is not a grouping; use mgc-cC, wgc-kK, hash-kK or hash-kK-kept (e.g. mgc-c0.4, wgc-k8)");
-        let (algo, value) = s.split_once('-').ok_or_else(bad)?;
-        let (value, resolve_collisions) = match value.strip_suffix("-kept") {
-            Some(v) if algo == "hash" => (v, false),
-            _ => (value, true),
-        };
-        let number = |prefix: char| value.strip_prefix(prefix).ok_or_else(bad);
-        let spec = match algo {
-            "mgc" => GroupingSpec::Mgc { c: number('c')?.parse().map_err(|_| bad())? },
-            "wgc" => GroupingSpec::Wgc { k: number('k')?.parse().map_err(|_| bad())? },
-            "hash" => GroupingSpec::Hash { k: number('k')?.parse().map_err(|_| bad())?, resolve_collisions },
-            _ => return Err(bad()),
-        };
-        match spec {
-            GroupingSpec::Mgc { c } if !(0.0..=1.0).contains(&c) => Err(format!("c must be in 0..=1, not {c}")),
-            GroupingSpec::Wgc { k } | GroupingSpec::Hash { k, .. } if k == 0 || k > MAX_GROUPS => {
-                Err(format!("K must be 1..={MAX_GROUPS}, not {k}"))
-            }
-            _ => Ok(spec),
-        }
-    }
-}
-
-impl GroupingSpec {
-    /// Groups `cloud`.
-    pub fn compute(&self, cloud: &crate::cloud::PointCloud) -> Result<Grouping, GroupingError> {
-        use crate::spatial::overlap::OverlapOptions;
-        crate::progress::stage(&format!("grouping {self}"));
-        Ok(match *self {
-            GroupingSpec::Mgc { c } => mgc::group(cloud, &OverlapOptions { c, ..Default::default() })?.0,
-            GroupingSpec::Wgc { k } => wgc::group(cloud, &wgc::WgcOptions { k, ..Default::default() })?.0,
-            GroupingSpec::Hash { k, resolve_collisions } => {
-                let collisions = if resolve_collisions { hash::Collisions::All } else { hash::Collisions::None };
-                hash::group(cloud, &hash::HashOptions { k, collisions })?.0
-            }
-        })
-    }
-
-    /// Groups the cloud loaded from `model`, through `cache`; returns the
-    /// grouping and whether it came from the cache.
-    pub fn compute_cached(
-        &self,
-        cache: &cache::Cache,
-        model: &std::path::Path,
-        cloud: &crate::cloud::PointCloud,
-    ) -> Result<(Grouping, bool), GroupingError> {
-        match cache::file_hash(model) {
-            Ok(hash) => self.compute_cached_for_hash(cache, hash, cloud),
-            Err(_) => Ok((self.compute(cloud)?, false)), // unreadable: no cache
-        }
-    }
-
-    /// [`Self::compute_cached`] for a model whose [`cache::file_hash`] is known.
-    pub fn compute_cached_for_hash(
-        &self,
-        cache: &cache::Cache,
-        file_hash: u64,
-        cloud: &crate::cloud::PointCloud,
-    ) -> Result<(Grouping, bool), GroupingError> {
-        let key = cache::key_for_hash(file_hash, &format!("spec|{self}|v1"));
-        if let Some(g) = cache.load(key, cloud.len()) {
-            return Ok((g, true));
-        }
-        let g = self.compute(cloud)?;
-        if let Err(e) = cache.store(key, &g, cloud.len()) {
-            log::warn!("{e}");
-        }
-        Ok((g, false))
-    }
-}

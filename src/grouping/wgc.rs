@@ -2,11 +2,16 @@
 //!
 //! Edge weights are Eq. 7, w_ij = (A_ij + A_ji)·(1 - n_i·n_j), with A_ij from
 //! [`super::area`] (or the plain area sum). The two-step greedy method of §4.2:
-//! 1. edges in descending weight; an uncoloured endpoint takes the colour of
-//!    least overlap with its coloured neighbours (`MinimizeOverlap`);
-//! 2. vertices in a priority queue by their same-colour weight; each moves to
-//!    its best colour if that lowers the cost L (Eq. 6), and goes back into the
-//!    queue with its new priority until it is below the threshold.
+//! 1. edges in descending weight; an uncoloured endpoint takes the colour
+//!    `MinimizeOverlap` gives it: the colour whose splats overlap it least,
+//!    by the plain overlap area ΣA_ij as the paper has it (or, as an option,
+//!    by the Eq. 7 weights, which make nearly coplanar overlaps almost free);
+//! 2. vertices in a priority queue by their same-colour weight Σw_ij; each
+//!    moves to the colour `MinimizeOverlap` gives if that lowers the cost L
+//!    (Eq. 6). The moved vertex and all its neighbours (whose colours' costs
+//!    it changed) go back into the queue with their new priorities while
+//!    these are above the threshold, so the optimisation ends where no
+//!    vertex above it can lower L by its MinimizeOverlap colour.
 //!
 //! Ties go to the smallest group, so zero-weight regions are spread evenly.
 //! Every move strictly lowers L, and the number of queue pops is bounded, so
@@ -26,6 +31,9 @@ pub struct WgcOptions {
     pub k: usize,
     /// Weights are the plain overlap area, without Eq. 7's (1 - n_i·n_j).
     pub pure_area: bool,
+    /// MinimizeOverlap picks the colour of least Eq. 7 weight instead of the
+    /// paper's least overlap area.
+    pub minimize_by_eq7: bool,
     pub overlap: OverlapOptions,
     /// A vertex leaves the queue when its same-colour weight is at most this.
     pub threshold: f32,
@@ -35,7 +43,14 @@ pub struct WgcOptions {
 
 impl Default for WgcOptions {
     fn default() -> Self {
-        Self { k: 8, pure_area: false, overlap: OverlapOptions::default(), threshold: 0.0, trace: false }
+        Self {
+            k: 8,
+            pure_area: false,
+            minimize_by_eq7: false,
+            overlap: OverlapOptions::default(),
+            threshold: 0.0,
+            trace: false,
+        }
     }
 }
 
@@ -71,35 +86,44 @@ pub fn group(cloud: &PointCloud, options: &WgcOptions) -> Result<(Grouping, Over
 
     let started = std::time::Instant::now();
     let (p, nrm, r) = (&cloud.positions, &cloud.normals, &cloud.radii);
-    let weights: Vec<f32> = (0..n)
-        .into_par_iter()
-        .flat_map_iter(|i| {
-            graph.neighbours_of(i).iter().map(move |&j| {
-                overlap_weight(p[i], nrm[i], r[i], p[j as usize], nrm[j as usize], r[j as usize], options.pure_area)
+    let edge_weights = |pure_area: bool| -> Vec<f32> {
+        (0..n)
+            .into_par_iter()
+            .flat_map_iter(|i| {
+                graph.neighbours_of(i).iter().map(move |&j| {
+                    overlap_weight(p[i], nrm[i], r[i], p[j as usize], nrm[j as usize], r[j as usize], pure_area)
+                })
             })
-        })
-        .collect();
+            .collect()
+    };
+    // w_ij of the cost L and the queue priorities; and the overlap areas
+    // MinimizeOverlap compares, unless it compares the same weights.
+    let weights = edge_weights(options.pure_area);
+    let areas = (!options.pure_area && !options.minimize_by_eq7).then(|| edge_weights(true));
+    let choice = areas.as_deref().unwrap_or(&weights);
     report.seconds_weights = started.elapsed().as_secs_f64();
 
     let started = std::time::Instant::now();
     let mut colours = vec![u32::MAX; n];
     let mut sizes = vec![0usize; k];
     let mut costs = vec![0f64; k];
-    // The weight each colour's neighbours put on v (uncoloured ones count for none).
-    let colour_costs = |v: usize, colours: &[u32], costs: &mut [f64]| {
+    // The weight (of `w`) each colour's neighbours put on v (uncoloured ones count for none).
+    let colour_sums = |v: usize, colours: &[u32], w: &[f32], costs: &mut [f64]| {
         costs.iter_mut().for_each(|c| *c = 0.0);
         let start = graph.offsets[v] as usize;
         for (e, &j) in graph.neighbours_of(v).iter().enumerate() {
             let c = colours[j as usize];
             if c != u32::MAX {
-                costs[c as usize] += weights[start + e] as f64;
+                costs[c as usize] += w[start + e] as f64;
             }
         }
     };
-    // MinimizeOverlap: the colour of least same-colour weight, ties to the smallest group.
-    let best_colour = |v: usize, colours: &[u32], sizes: &[usize], costs: &mut [f64]| -> usize {
-        colour_costs(v, colours, costs);
-        (0..k).min_by(|&a, &b| costs[a].total_cmp(&costs[b]).then(sizes[a].cmp(&sizes[b]))).unwrap_or(0)
+    let colour_costs = |v: usize, colours: &[u32], costs: &mut [f64]| colour_sums(v, colours, &weights, costs);
+    // MinimizeOverlap: the colour of least same-colour overlap, ties to the smallest group.
+    let mut overlaps = vec![0f64; k];
+    let mut best_colour = |v: usize, colours: &[u32], sizes: &[usize]| -> usize {
+        colour_sums(v, colours, choice, &mut overlaps);
+        (0..k).min_by(|&a, &b| overlaps[a].total_cmp(&overlaps[b]).then(sizes[a].cmp(&sizes[b]))).unwrap_or(0)
     };
     let mut edges: Vec<(u32, u32, u32)> = Vec::with_capacity(graph.edge_count());
     for i in 0..n {
@@ -114,7 +138,7 @@ pub fn group(cloud: &PointCloud, options: &WgcOptions) -> Result<(Grouping, Over
     for &(_, i, j) in &edges {
         for v in [i as usize, j as usize] {
             if colours[v] == u32::MAX {
-                let c = best_colour(v, &colours, &sizes, &mut costs);
+                let c = best_colour(v, &colours, &sizes);
                 colours[v] = c as u32;
                 sizes[c] += 1;
             }
@@ -154,7 +178,8 @@ pub fn group(cloud: &PointCloud, options: &WgcOptions) -> Result<(Grouping, Over
             continue; // stale entry
         }
         let old = colours[v] as usize;
-        let best = best_colour(v, &colours, &sizes, &mut costs);
+        let best = best_colour(v, &colours, &sizes);
+        colour_costs(v, &colours, &mut costs);
         let gain = costs[old] - costs[best];
         if best == old || gain <= 1e-9 * costs[old].max(f64::MIN_POSITIVE) {
             continue;
@@ -175,9 +200,11 @@ pub fn group(cloud: &PointCloud, options: &WgcOptions) -> Result<(Grouping, Over
                 conflict[j] = (conflict[j] - w).max(0.0);
             } else if colours[j] as usize == best {
                 conflict[j] += w;
-                if conflict[j] > threshold {
-                    queue.push((key(conflict[j] as f32), j as u32));
-                }
+            }
+            // Back into the queue with its new priority (§4.2 step 2b), not
+            // dropped: v's move changed what every neighbour's colours cost.
+            if conflict[j] > threshold {
+                queue.push((key(conflict[j] as f32), j as u32));
             }
         }
         conflict[v] = costs[best];

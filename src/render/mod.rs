@@ -20,6 +20,7 @@
 //!    back ([`readback`]); the viewer does the same on its render thread.
 
 pub mod context;
+pub mod depth_steps;
 pub mod gpu_data;
 pub mod gpu_scene;
 pub mod headless;

@@ -97,8 +97,8 @@ impl Renderer {
     ) -> FrameDesc<'a> {
         let epsilon = settings.epsilon(scene.mean_radius);
         let (near, far) = camera.near_far();
-        // Eq. 10: n >= (d_max - d_min)/ε low-precision depth steps.
-        let depth_steps = ((far - near) / epsilon.max(f32::MIN_POSITIVE)).ceil().clamp(1.0, 4_194_304.0);
+        // Eq. 10 over the scene's depth range (near and far enclose its sphere).
+        let (depth_steps, _) = super::depth_steps::depth_steps(near, far, epsilon);
         FrameDesc {
             settings,
             width,

@@ -135,7 +135,7 @@ mod tests {
         Parameter::Voronoi.apply(&mut s, "off").unwrap();
         Parameter::Background.apply(&mut s, "255,0,51").unwrap();
         assert_eq!(s.quality, crate::view::Quality::Unfiltered);
-        assert_eq!(s.grouping, GroupingSpec::Wgc { k: 8 });
+        assert_eq!(s.grouping, GroupingSpec::wgc(8));
         assert!(!s.voronoi);
         assert!((s.shading.background - glam::Vec3::new(1.0, 0.0, 0.2)).length() < 1e-6);
         assert!(Parameter::Epsilon.apply(&mut s, "0").is_err());

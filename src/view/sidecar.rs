@@ -189,7 +189,7 @@ mod tests {
         let settings = RenderSettings {
             mode: RenderMode::ALL[1],
             radius_scale: 1.3,
-            grouping: GroupingSpec::Wgc { k: 6 },
+            grouping: GroupingSpec::wgc(6),
             ..Default::default()
         };
         let model = SidecarModel { name: "m.ply".into(), path: "/x/m.ply".into(), hash: "00ff".into(), splats: 7 };

@@ -105,7 +105,7 @@ mod tests {
     fn variants_parse_apply_and_print_back() {
         let v: ModeVariant = "deferred:group=wgc-k8:voronoi=off".parse().unwrap();
         let s = v.apply(&RenderSettings::default()).unwrap();
-        assert_eq!((s.mode.name(), s.grouping, s.voronoi), ("deferred", GroupingSpec::Wgc { k: 8 }, false));
+        assert_eq!((s.mode.name(), s.grouping, s.voronoi), ("deferred", GroupingSpec::wgc(8), false));
         assert_eq!(v.to_string(), "deferred:group=wgc-k8:voronoi=off");
         assert_eq!(v.file_tag(), "deferred_group-wgc-k8_voronoi-off");
         assert!("deferred:quality=unfiltered".parse::<ModeVariant>().unwrap_err().contains("does not read"));

@@ -9,7 +9,7 @@ use egui::{RichText, Ui};
 
 use super::state::{Action, JobKind, PanelInfo, ScreenshotSize, UiState};
 use super::widgets::{job_row, thousands};
-use crate::grouping::{GroupingSpec, MAX_GROUPS};
+use crate::grouping::{Extension, GroupingAlgo, GroupingSpec, MAX_GROUPS};
 use crate::view::{Parameter, Quality, RenderMode};
 
 pub fn controls(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>) -> Vec<Action> {
@@ -160,37 +160,48 @@ fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, para
 }
 
 fn grouping_widget(ui: &mut Ui, spec: &mut GroupingSpec, info: &PanelInfo<'_>) {
-    let name = |s: &GroupingSpec| match s {
-        GroupingSpec::Mgc { .. } => "MGC (overlap c)",
-        GroupingSpec::Wgc { .. } => "WGC (K groups)",
-        GroupingSpec::Hash { .. } => "hashing (K groups)",
+    let name = |a: &GroupingAlgo| match a {
+        GroupingAlgo::Mgc { .. } => "MGC (overlap c)",
+        GroupingAlgo::Wgc { .. } => "WGC (K groups)",
+        GroupingAlgo::Hash { .. } => "hashing (K groups)",
     };
     ui.horizontal(|ui| {
-        egui::ComboBox::new("grouping", "grouping").selected_text(name(spec)).show_ui(ui, |ui| {
-            for choice in [
-                GroupingSpec::default(),
-                GroupingSpec::Wgc { k: 8 },
-                GroupingSpec::Hash { k: 8, resolve_collisions: true },
-            ] {
-                let same = std::mem::discriminant(&choice) == std::mem::discriminant(spec);
+        egui::ComboBox::new("grouping", "grouping").selected_text(name(&spec.algo)).show_ui(ui, |ui| {
+            for choice in [GroupingSpec::default().algo, GroupingSpec::wgc(8).algo, GroupingSpec::hash(8, true).algo] {
+                let same = std::mem::discriminant(&choice) == std::mem::discriminant(&spec.algo);
                 if ui.selectable_label(same, name(&choice)).clicked() && !same {
-                    *spec = choice;
+                    spec.algo = choice;
                 }
             }
         });
     });
-    match spec {
-        GroupingSpec::Mgc { c } => {
+    match &mut spec.algo {
+        GroupingAlgo::Mgc { c } => {
             ui.add(egui::Slider::new(c, 0.05..=1.0).text("c (allowed overlap)"));
         }
-        GroupingSpec::Wgc { k } => {
+        GroupingAlgo::Wgc { k, eq7 } => {
             ui.add(egui::Slider::new(k, 1..=MAX_GROUPS).text("K"));
+            ui.checkbox(eq7, "colours by Eq. 7 weight");
         }
-        GroupingSpec::Hash { k, resolve_collisions } => {
+        GroupingAlgo::Hash { k, resolve_collisions } => {
             ui.add(egui::Slider::new(k, 1..=MAX_GROUPS).text("K"));
             ui.checkbox(resolve_collisions, "resolve collisions");
         }
     }
+    if !matches!(spec.algo, GroupingAlgo::Hash { .. }) {
+        ui.checkbox(&mut spec.relax.coplanar, "relax coplanar overlaps");
+        ui.checkbox(&mut spec.relax.opposite, "relax opposite normals");
+    }
+    let extension_name = |e: &Extension| match e {
+        Extension::None => "none",
+        Extension::Duplicate => "duplication",
+        Extension::Enlarge => "radius enlargement",
+    };
+    egui::ComboBox::new("extension", "extension").selected_text(extension_name(&spec.extension)).show_ui(ui, |ui| {
+        for choice in [Extension::None, Extension::Duplicate, Extension::Enlarge] {
+            ui.selectable_value(&mut spec.extension, choice, extension_name(&choice));
+        }
+    });
     if let Some(g) = info.grouped {
         let sizes = g.grouping.sizes();
         let (lo, hi) = (sizes.iter().min().copied().unwrap_or(0), sizes.iter().max().copied().unwrap_or(0));

@@ -110,7 +110,7 @@ impl GpuMode for Deferred {
             groups: k as usize,
             passes,
             targets,
-            notes: Vec::new(),
+            notes: depth_step_note(frame),
         }
     }
 
@@ -157,4 +157,17 @@ impl GpuMode for Deferred {
         commands.push(Recorded { pass: 1, command: Command::Fullscreen(composite) });
         commands
     }
+}
+
+/// Says so when Eq. 10's depth steps had to be capped for f32 precision, so
+/// that surface layers closer than a step share one in the Voronoi z-test.
+fn depth_step_note(frame: &FrameDesc<'_>) -> Vec<String> {
+    use crate::render::depth_steps::MAX_DEPTH_STEPS;
+    if !frame.settings.voronoi || frame.depth_steps < MAX_DEPTH_STEPS {
+        return Vec::new();
+    }
+    vec![format!(
+        "the depth range is more than {MAX_DEPTH_STEPS} × ε deep: Eq. 10's low-precision depth is capped at \
+         {MAX_DEPTH_STEPS} steps (f32 precision), so surface layers closer than a step are not separated"
+    )]
 }
