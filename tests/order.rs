@@ -279,29 +279,50 @@ fn read_u32s(ctx: &pointblend::render::GpuContext, source: &wgpu::Buffer, count:
 }
 
 #[test]
-fn the_order_buffer_is_sorted_and_uploaded_only_when_the_view_changes() {
-    use pointblend::render::order_buffer::OrderBuffer;
+fn each_group_is_sorted_back_to_front_in_the_instance_buffers_only_when_the_view_changes() {
+    use pointblend::render::gpu_data::SplatInstance;
     let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
-    let views = standard_views(&cloud, 1.0, 2);
+    let grouping = "hash-k4-dup".parse::<GroupingSpec>().unwrap().compute(&cloud).unwrap();
     let renderer = common::renderer();
     let ctx = &renderer.ctx;
-    for kind in [OrderKind::Bsp, OrderKind::Bucket] {
-        let mut buffer = OrderBuffer::new(&ctx.device, kind, &cloud.positions, &cloud.radii);
-        let (a, b) = (ViewRay::of(&views[0].camera), ViewRay::of(&views[1].camera));
-        for _ in 0..3 {
-            buffer.for_view(&ctx.queue, &cloud.positions, a);
+    let gpu = renderer.upload_cloud(&cloud, Some(&grouping));
+    let uploaded = gpu.with_instance_order(|o| o.current().to_vec()).expect("a grouped scene keeps its instances");
+    let scale = cloud.bounds().unwrap().radius();
+    let views = standard_views(&cloud, 1.0, 2);
+    for (round, view) in views.iter().enumerate() {
+        let ray = ViewRay::of(&view.camera);
+        assert!(gpu.order_back_to_front(&ctx.queue, ray), "{}: a new view is sorted", view.name);
+        assert!(!gpu.order_back_to_front(&ctx.queue, ray), "{}: the same view again writes nothing", view.name);
+        assert_eq!(gpu.with_instance_order(|o| o.uploads()), Some(round as u64 + 1));
+        let (current, slab) = gpu.with_instance_order(|o| (o.current().to_vec(), o.slab())).unwrap();
+        // The GPU holds what the order says.
+        let mut held = Vec::new();
+        for (buffer, count) in &gpu.chunks {
+            held.extend(read_u32s(ctx, buffer, *count as usize * 8));
         }
-        assert_eq!(buffer.uploads(), 1, "{kind}: one view, one upload");
-        let mut want = Vec::new();
-        Orderer::new(kind, &cloud.positions, &cloud.radii).back_to_front(&cloud.positions, a, &mut want);
-        let gpu = buffer.for_view(&ctx.queue, &cloud.positions, a);
-        assert_eq!(read_u32s(ctx, gpu, cloud.len()), want, "{kind}: the GPU holds the order of the view");
-        buffer.for_view(&ctx.queue, &cloud.positions, b);
-        assert_eq!(buffer.uploads(), 2, "{kind}: a new view re-sorts");
-        let gpu = buffer.for_view(&ctx.queue, &cloud.positions, b);
-        assert_eq!(read_u32s(ctx, gpu, cloud.len()), buffer.order(), "{kind}");
-        let moved = ViewRay { eye: a.eye + Vec3::splat(1e-4), ..a };
-        buffer.for_view(&ctx.queue, &cloud.positions, moved);
-        assert_eq!(buffer.uploads(), 3, "{kind}: any camera move re-sorts");
+        assert_eq!(held, bytemuck::cast_slice::<SplatInstance, u32>(&current), "{}", view.name);
+        for (g, range) in grouping.ranges.iter().enumerate() {
+            let run = &current[range.start as usize..range.end as usize];
+            // The same splats as uploaded into the group...
+            let key = |s: &SplatInstance| bytemuck::cast::<SplatInstance, [u32; 8]>(*s);
+            let mut have: Vec<[u32; 8]> = run.iter().map(key).collect();
+            let mut want: Vec<[u32; 8]> = uploaded[range.start as usize..range.end as usize].iter().map(key).collect();
+            have.sort_unstable();
+            want.sort_unstable();
+            assert_eq!(have, want, "group {g}");
+            // ...back to front along every pixel ray.
+            let mut group = PointCloud::default();
+            for s in run {
+                group.positions.push(Vec3::from_array(s.position));
+                group.normals.push(Vec3::from_array(s.normal));
+                group.radii.push(s.radius.abs());
+                group.colors.push([0; 3]);
+                group.opacity.push(1.0);
+            }
+            let order: Vec<u32> = (0..run.len() as u32).collect();
+            let (worst, pairs) = worst_excess(&group, &view.camera, &order, slab);
+            println!("{} group {g}: {pairs} overlapping pairs on pixel rays, worst excess {worst:.2e}", view.name);
+            assert!(worst <= scale * 1e-5, "{} group {g}: a later splat lies {worst:.3e} behind", view.name);
+        }
     }
 }

@@ -31,7 +31,7 @@ fn settings_of(mode: RenderMode) -> Vec<RenderSettings> {
 
 /// Uploads `cloud` as `settings`' mode needs it.
 fn upload(renderer: &HeadlessRenderer, cloud: &PointCloud, settings: &RenderSettings) -> GpuScene {
-    let grouping = settings.mode.needs_grouping().then(|| settings.grouping.compute(cloud).unwrap());
+    let grouping = settings.mode.needs_grouping().then(|| settings.grouping_for_mode().compute(cloud).unwrap());
     renderer.upload_cloud(cloud, grouping.as_ref())
 }
 
@@ -47,11 +47,14 @@ fn the_pool_allocates_exactly_what_explain_reports_for_every_mode() {
     let colour = bunny();
     let mut one_colour = colour.clone();
     one_colour.colors.iter_mut().for_each(|c| *c = [90, 160, 200]);
+    // Transparent modes plan their layers only for a transparent scene.
+    let mut see_through = colour.clone();
+    see_through.opacity.iter_mut().for_each(|a| *a = 0.5);
     let camera = Camera::default_for(&colour, 1.0);
     let mut renderer = common::renderer();
     let mut checked = 0;
     for mode in RenderMode::ALL.into_iter().filter(|m| m.is_gpu()) {
-        for cloud in [&colour, &one_colour] {
+        for cloud in [&colour, &one_colour, &see_through] {
             for settings in settings_of(mode) {
                 let gpu = upload(&renderer, cloud, &settings);
                 let plan = renderer.render(&gpu, &camera, &settings, 96, 80).unwrap();

@@ -6,6 +6,7 @@ mod common;
 use common::tolerances::*;
 use glam::Vec3;
 use pointblend::cloud::{self, PointCloud};
+use pointblend::grouping::Grouping;
 use pointblend::reference::{self, ReferenceOptions};
 use pointblend::render::RenderMode;
 use pointblend::scene::{Material, Scene, primitives};
@@ -85,7 +86,7 @@ fn opacity_zero_shows_only_the_background_in_every_transparent_mode() {
     let scene = transparent_bunny(0.0);
     let camera = view(&scene, 0.0, 10.0);
     let bg = common::background_rgb();
-    for name in ["depth-peel", "approx-peel", "reference"] {
+    for name in ["depth-peel", "approx-peel", "alg1", "reference"] {
         let settings = settings(name, 0);
         let image = if name == "reference" {
             exact(&scene, &camera, &settings, 96).0
@@ -105,7 +106,7 @@ fn opacity_one_draws_the_opaque_picture_without_peeling() {
     let opaque = render(&scene, &camera, &settings("two-pass", 0), 128);
     let mut renderer = common::renderer();
     let gpu = renderer.upload(&scene, None);
-    for name in ["depth-peel", "approx-peel"] {
+    for name in ["depth-peel", "approx-peel", "alg1"] {
         let settings = settings(name, 0);
         let (image, plan) = renderer.render_image(&gpu, &camera, &settings, 128, 128).unwrap();
         assert!(plan.notes.iter().any(|n| n.contains("opaque")), "{name}: the plan says it fell back\n{plan}");
@@ -139,7 +140,7 @@ fn a_thousand_coincident_transparent_splats_blend_as_one_layer_without_overflow(
     let bg = common::background_rgb();
     // Eq. 1: one layer of normalised opacity 0.5 over the background.
     let want = [0, 1, 2].map(|k| 0.5 * colour[k] as f32 + 0.5 * bg[k] as f32);
-    for name in ["depth-peel", "approx-peel", "reference"] {
+    for name in ["depth-peel", "approx-peel", "alg1", "reference"] {
         let settings = RenderSettings { lighting: false, ..settings(name, 0) };
         let image = if name == "reference" {
             exact(&scene, &camera, &settings, 64).0
@@ -170,8 +171,11 @@ fn a_camera_inside_a_transparent_sphere_sees_its_inside_as_the_reference_does() 
     camera.distance = 0.3;
     let bg = common::background_rgb();
     let size = 128;
-    for name in ["depth-peel", "approx-peel"] {
-        let settings = settings(name, 0);
+    for name in ["depth-peel", "approx-peel", "alg1"] {
+        // alg1 shades each fragment with its own splat's normal (§5.2.4), not
+        // the layer's blended normal as the reference does; unlit, the check
+        // is of the order, the culling and the blending alone.
+        let settings = RenderSettings { lighting: name != "alg1", ..settings(name, 0) };
         let (want, counts) = exact(&scene, &camera, &settings, size);
         assert!(counts.iter().all(|&c| c == 1), "from inside every ray meets the shell once");
         let got = render(&scene, &camera, &settings, size);
@@ -180,4 +184,107 @@ fn a_camera_inside_a_transparent_sphere_sees_its_inside_as_the_reference_does() 
         println!("{name} inside the sphere: ε {:.3}", error.eps);
         assert!(error.eps <= MAX_DEPTH_PEEL_EPS, "{name}: ε {}", error.eps);
     }
+}
+
+/// Looks down -z at the origin from z = 5.
+fn looking_down_z() -> Camera {
+    Camera {
+        target: Vec3::ZERO,
+        distance: 5.0,
+        azimuth_deg: 0.0,
+        elevation_deg: 0.0,
+        fov_y_deg: 30.0,
+        up: pointblend::view::UpAxis::PosY,
+        scene_radius: 3.0,
+    }
+}
+
+/// Two square planes of splats facing the camera, the front one at z = 1,
+/// the back one at z = 0, each of one colour and opacity. Each plane is a grid
+/// of spacing s split into K = 4 interleaved sub-grids (i mod 2, j mod 2),
+/// the groups: a sub-grid has spacing 2s, and its discs of radius `radius`·s
+/// cover the plane when `radius` > √2 (half the diagonal of a 2s cell).
+fn two_planes_in_groups(front: ([u8; 3], f32), back: ([u8; 3], f32), radius: f32) -> (Scene, Grouping) {
+    let (n, half) = (60, 2.2f32);
+    let spacing = 2.0 * half / n as f32;
+    let mut cloud = PointCloud::default();
+    let mut labels = Vec::new();
+    for (z, (colour, opacity)) in [(1.0, front), (0.0, back)] {
+        for i in 0..=n {
+            for j in 0..=n {
+                cloud.positions.push(Vec3::new(-half + i as f32 * spacing, -half + j as f32 * spacing, z));
+                cloud.normals.push(Vec3::Z);
+                cloud.radii.push(radius * spacing);
+                cloud.colors.push(colour);
+                cloud.opacity.push(opacity);
+                labels.push(((i % 2) * 2 + (j % 2)) as u32);
+            }
+        }
+    }
+    let mut scene = Scene::from(cloud);
+    scene.objects[0].material.two_sided = true;
+    (scene, Grouping::from_labels(&labels, 4))
+}
+
+#[test]
+fn alg1_with_groups_that_cover_each_plane_composites_two_planes_exactly() {
+    let (front, back) = (([240, 40, 30], 0.5), ([30, 60, 230], 0.6));
+    let (scene, grouping) = two_planes_in_groups(front, back, 1.5);
+    let camera = looking_down_z();
+    let settings = RenderSettings { lighting: false, ..settings("alg1", 0) };
+    let size = 96;
+    let got = {
+        let mut renderer = common::renderer();
+        let gpu = renderer.upload(&scene, Some(&grouping));
+        renderer.render_image(&gpu, &camera, &settings, size, size).expect("render").0
+    };
+    // C = α₁c₁ + (1 − α₁)(α₂c₂ + (1 − α₂)·bg). Each group covers both planes,
+    // draws the back one then the front one, and culls its own second
+    // fragment of a plane (one Eq. 10 step: the planes face the camera), so
+    // every I_k is α₁c₁ + (1 − α₁)α₂c₂ and so is their average. Bound: the
+    // colours are exact 8-bit values; the premultiplied blends and the
+    // average run in Rgba16Float (11-bit mantissa, a few operations on values
+    // ≤ 1: under 0.4/255), then one rounding to 8 bits (0.5/255): < 1/255.
+    let bg = common::background_rgb();
+    let want: [f32; 3] = [0, 1, 2].map(|k| {
+        let behind = back.1 * back.0[k] as f32 + (1.0 - back.1) * bg[k] as f32;
+        front.1 * front.0[k] as f32 + (1.0 - front.1) * behind
+    });
+    let mut worst = 0.0f32;
+    for p in got.pixels() {
+        for (got, want) in p.0.iter().zip(want) {
+            worst = worst.max((*got as f32 - want).abs());
+        }
+    }
+    println!("alg1, two planes in covering groups: worst channel error {worst} (want {want:?})");
+    assert!(worst <= MAX_ALG1_COVERED_CHANNEL_ERROR, "off by {worst} from {want:?}");
+    // The reference agrees (it is the same closed form).
+    let (exact, _) = exact(&scene, &camera, &settings, size);
+    let error = reference::compare(&got, &exact).unwrap();
+    println!("alg1 against the reference: ε {:.3}", error.eps);
+    assert!(error.eps <= 3.0 * MAX_ALG1_COVERED_CHANNEL_ERROR as f64, "ε {}", error.eps);
+}
+
+#[test]
+fn alg1_groups_with_holes_show_the_layers_they_miss() {
+    // The same planes with discs too small for a sub-grid to cover its plane
+    // (radius 0.9 s at spacing 2 s): a group that misses the front plane at a
+    // pixel shows only the back one there, so the average is off. This is
+    // what the extension of §4.4.2 is for.
+    let (front, back) = (([240, 40, 30], 0.5), ([30, 60, 230], 0.6));
+    let camera = looking_down_z();
+    let settings = RenderSettings { lighting: false, ..settings("alg1", 0) };
+    let eps = |radius: f32| {
+        let (scene, grouping) = two_planes_in_groups(front, back, radius);
+        let got = {
+            let mut renderer = common::renderer();
+            let gpu = renderer.upload(&scene, Some(&grouping));
+            renderer.render_image(&gpu, &camera, &settings, 96, 96).expect("render").0
+        };
+        let (want, _) = exact(&scene, &camera, &settings, 96);
+        reference::compare(&got, &want).unwrap().eps
+    };
+    let (covering, holed) = (eps(1.5), eps(0.9));
+    println!("alg1: ε {covering:.3} with covering groups, {holed:.3} with holes");
+    assert!(holed > 10.0 * covering.max(0.1), "holes must show: {holed} against {covering}");
 }

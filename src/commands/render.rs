@@ -71,11 +71,14 @@ pub fn run(args: &Args) -> Result<()> {
         let grouping = if settings.mode.needs_grouping() {
             let t = Instant::now();
             let flat = scene.flatten();
-            let (grouping, cached) =
-                settings.grouping.compute_cached_for_hash(&Cache::from_env(), scene.geometry_hash(), &flat.cloud)?;
+            let (grouping, cached) = settings.grouping_for_mode().compute_cached_for_hash(
+                &Cache::from_env(),
+                scene.geometry_hash(),
+                &flat.cloud,
+            )?;
             log::info!(
                 "grouping {}: K = {} in {:.2} s{}",
-                settings.grouping,
+                settings.grouping_for_mode(),
                 grouping.k(),
                 t.elapsed().as_secs_f64(),
                 if cached { " (from the cache)" } else { "" }

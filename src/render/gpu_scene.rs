@@ -9,6 +9,7 @@
 use wgpu::util::DeviceExt;
 
 use super::gpu_data::SplatInstance;
+use super::instance_order::InstanceOrder;
 use crate::cloud::PointCloud;
 use crate::grouping::Grouping;
 use crate::scene::Scene;
@@ -28,6 +29,10 @@ pub struct GpuScene {
     pub uniform_color: Option<[u8; 3]>,
     /// Whether some splat is less than opaque.
     pub transparent: bool,
+    /// For a grouped or a transparent scene, the records to sort each group
+    /// (or the one group of everything) back to front for modes that blend in
+    /// order (a CPU copy of the instances: 32 bytes each).
+    order: Option<std::sync::Mutex<InstanceOrder>>,
 }
 
 impl GpuScene {
@@ -41,11 +46,12 @@ impl GpuScene {
     /// [`Self::upload`] of a scene's flattened cloud (see `Scene::flatten`).
     pub fn upload_cloud(device: &wgpu::Device, cloud: &PointCloud, grouping: Option<&Grouping>) -> Self {
         match grouping {
-            Some(g) => Self::upload_in_order(device, cloud, &g.order, &g.radius_scale, &g.ranges),
+            Some(g) => Self::upload_in_order(device, cloud, &g.order, &g.radius_scale, &g.ranges, true),
             None => {
                 let order: Vec<u32> = (0..cloud.len() as u32).collect();
                 let all = 0..cloud.len() as u32;
-                Self::upload_in_order(device, cloud, &order, &[1.0], std::slice::from_ref(&all))
+                let transparent = cloud.has_transparency();
+                Self::upload_in_order(device, cloud, &order, &[1.0], std::slice::from_ref(&all), transparent)
             }
         }
     }
@@ -56,6 +62,7 @@ impl GpuScene {
         order: &[u32],
         scales: &[f32],
         groups: &[std::ops::Range<u32>],
+        keep_for_order: bool,
     ) -> Self {
         let mut scale_of = vec![1.0f32; order.len()];
         for (g, range) in groups.iter().enumerate() {
@@ -68,6 +75,7 @@ impl GpuScene {
             .min(device.limits().max_buffer_size as usize / std::mem::size_of::<SplatInstance>())
             .max(1);
         let mut chunks = Vec::new();
+        let mut kept = Vec::new();
         let mut start = 0;
         while start < order.len() {
             let end = (start + per_chunk).min(order.len());
@@ -88,11 +96,17 @@ impl GpuScene {
             let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("GpuScene::splats"),
                 contents: bytemuck::cast_slice(&instances),
-                usage: wgpu::BufferUsages::VERTEX,
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
             });
             chunks.push((buffer, (end - start) as u32));
+            if keep_for_order {
+                kept.extend_from_slice(&instances);
+            }
             start = end;
         }
+        let instance_order = keep_for_order.then(|| {
+            std::sync::Mutex::new(InstanceOrder::new(kept, groups.to_vec(), crate::spatial::order::OrderKind::Bucket))
+        });
         let first = cloud.colors.first().copied();
         let uniform_color = first.filter(|c| cloud.colors.iter().all(|x| x == c));
         Self {
@@ -102,7 +116,23 @@ impl GpuScene {
             groups: groups.to_vec(),
             uniform_color,
             transparent: cloud.has_transparency(),
+            order: instance_order,
         }
+    }
+
+    /// Sorts each group's instances back to front for `view` (a grouped or
+    /// transparent scene; others are left as they are); returns whether the
+    /// buffers were rewritten (not when the view is the last one's).
+    pub fn order_back_to_front(&self, queue: &wgpu::Queue, view: crate::spatial::order::ViewRay) -> bool {
+        let Some(order) = &self.order else { return false };
+        let mut order = order.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        order.apply(queue, &self.chunks, view)
+    }
+
+    /// Runs `look` on the scene's instance order, if it keeps one.
+    pub fn with_instance_order<T>(&self, look: impl FnOnce(&InstanceOrder) -> T) -> Option<T> {
+        let order = self.order.as_ref()?.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        Some(look(&order))
     }
 
     /// All splats, as an instance range.

@@ -13,9 +13,9 @@
 //!    ([`targets::TargetPool`]), takes every pass's pipeline from
 //!    [`pipelines::PipelineCache`] (shader variants from [`shaders`]), encodes
 //!    the passes into the output view, timed per plan pass when asked.
-//! 5. Transparent passes that blend in order read the splats through an
-//!    [`order_buffer::OrderBuffer`], re-sorted and uploaded only when the view
-//!    changed.
+//! 5. Modes that blend in order get each group's splats back to front
+//!    ([`instance_order::InstanceOrder`]), re-sorted and rewritten only when
+//!    the view changed.
 //! 6. [`HeadlessRenderer`] renders into its own texture and reads the image
 //!    back ([`readback`]); the viewer does the same on its render thread.
 
@@ -24,8 +24,8 @@ pub mod depth_steps;
 pub mod gpu_data;
 pub mod gpu_scene;
 pub mod headless;
+pub mod instance_order;
 pub mod modes;
-pub mod order_buffer;
 pub mod passes;
 pub mod pipelines;
 pub mod plan;

@@ -142,6 +142,9 @@ impl Renderer {
         let frame = Self::frame_desc(scene, camera, settings, size);
         let plan = mode.plan(&frame);
         plan.check_fits(&ctx.device.limits(), ctx.target_budget())?;
+        if mode.blends_in_order(&frame) {
+            scene.order_back_to_front(&ctx.queue, crate::spatial::order::ViewRay::of(camera));
+        }
         let commands = mode.record(&frame, &plan);
         let allocated =
             ctx.allocating("allocating the render targets", || self.pool.prepare(&ctx.device, &plan.targets));

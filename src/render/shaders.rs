@@ -12,7 +12,7 @@
 //! and validates it with naga (`tests/shaders.rs`).
 
 /// Every WGSL file, by name.
-const FILES: [(&str, &str); 12] = [
+const FILES: [(&str, &str); 14] = [
     ("frame.wgsl", include_str!("../../shaders/frame.wgsl")),
     ("splat.wgsl", include_str!("../../shaders/splat.wgsl")),
     ("shading.wgsl", include_str!("../../shaders/shading.wgsl")),
@@ -24,11 +24,13 @@ const FILES: [(&str, &str); 12] = [
     ("peel.wgsl", include_str!("../../shaders/peel.wgsl")),
     ("peel_layer.wgsl", include_str!("../../shaders/peel_layer.wgsl")),
     ("peel_rest.wgsl", include_str!("../../shaders/peel_rest.wgsl")),
+    ("alg1_group.wgsl", include_str!("../../shaders/alg1_group.wgsl")),
+    ("alg1_average.wgsl", include_str!("../../shaders/alg1_average.wgsl")),
     ("peel_final.wgsl", include_str!("../../shaders/peel_final.wgsl")),
 ];
 
 /// The files passes build modules from; the others are only included.
-pub const ROOTS: [&str; 9] = [
+pub const ROOTS: [&str; 11] = [
     "visibility.wgsl",
     "accumulate.wgsl",
     "normalize.wgsl",
@@ -38,6 +40,8 @@ pub const ROOTS: [&str; 9] = [
     "peel_layer.wgsl",
     "peel_rest.wgsl",
     "peel_final.wgsl",
+    "alg1_group.wgsl",
+    "alg1_average.wgsl",
 ];
 
 /// A set of preprocessor names a shader module is built with.

@@ -9,6 +9,7 @@
 //! Adding a mode means one entry here and one mode file.
 
 use super::parameters::Parameter;
+use crate::grouping::Extension;
 
 /// A rendering algorithm.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -22,6 +23,9 @@ pub enum RenderMode {
     DepthPeel,
     /// Guennebaud's approximate depth peeling: k - 1 exact layers and one approximate.
     ApproxPeel,
+    /// Zhang & Pajarola's Algorithm-1: each group back to front into its own
+    /// image, then the average of the images (1+1 passes).
+    Alg1,
     /// The exact A-buffer renderer on the CPU: the ground truth for error.
     Reference,
 }
@@ -53,9 +57,12 @@ pub struct ModeInfo {
     pub bench_variants: &'static [&'static str],
     /// Layers k it draws when the settings leave it open (modes that read `Parameter::Layers`).
     pub default_layers: u32,
+    /// The extension (§4.4.2) its groups get when the grouping names none:
+    /// the transparent algorithms need groups that each cover the surface.
+    pub grouping_extension: Extension,
 }
 
-const REGISTRY: [ModeInfo; 5] = [
+const REGISTRY: [ModeInfo; 6] = [
     ModeInfo {
         mode: RenderMode::TwoPass,
         name: "two-pass",
@@ -73,6 +80,7 @@ const REGISTRY: [ModeInfo; 5] = [
         preview: RenderMode::TwoPass,
         bench_variants: &["", "quality=unfiltered"],
         default_layers: 1,
+        grouping_extension: Extension::None,
     },
     ModeInfo {
         mode: RenderMode::Deferred,
@@ -92,6 +100,7 @@ const REGISTRY: [ModeInfo; 5] = [
         preview: RenderMode::TwoPass,
         bench_variants: &[""],
         default_layers: 1,
+        grouping_extension: Extension::None,
     },
     ModeInfo {
         mode: RenderMode::DepthPeel,
@@ -110,6 +119,7 @@ const REGISTRY: [ModeInfo; 5] = [
         preview: RenderMode::ApproxPeel,
         bench_variants: &["", "layers=4", "layers=2"],
         default_layers: 8,
+        grouping_extension: Extension::None,
     },
     ModeInfo {
         mode: RenderMode::ApproxPeel,
@@ -128,6 +138,27 @@ const REGISTRY: [ModeInfo; 5] = [
         preview: RenderMode::ApproxPeel,
         bench_variants: &["", "layers=2"],
         default_layers: 3,
+        grouping_extension: Extension::None,
+    },
+    ModeInfo {
+        mode: RenderMode::Alg1,
+        name: "alg1",
+        description: "Zhang & Pajarola Algorithm-1: each group back to front into its own image (one geometry pass), then their average (1+1 passes).",
+        parameters: &[
+            Parameter::Grouping,
+            Parameter::Epsilon,
+            Parameter::RadiusScale,
+            Parameter::BackfaceCulling,
+            Parameter::Lighting,
+            Parameter::Background,
+        ],
+        device: Device::Gpu,
+        transparent: true,
+        preview: RenderMode::ApproxPeel,
+        bench_variants: &[""],
+        default_layers: 1,
+        // The paper's choice for small K (§6.3): duplication.
+        grouping_extension: Extension::Duplicate,
     },
     ModeInfo {
         mode: RenderMode::Reference,
@@ -147,15 +178,17 @@ const REGISTRY: [ModeInfo; 5] = [
         preview: RenderMode::ApproxPeel,
         bench_variants: &[""],
         default_layers: 1,
+        grouping_extension: Extension::None,
     },
 ];
 
 impl RenderMode {
-    pub const ALL: [RenderMode; 5] = [
+    pub const ALL: [RenderMode; 6] = [
         RenderMode::TwoPass,
         RenderMode::Deferred,
         RenderMode::DepthPeel,
         RenderMode::ApproxPeel,
+        RenderMode::Alg1,
         RenderMode::Reference,
     ];
 

@@ -64,7 +64,9 @@ impl Parameter {
             Parameter::Epsilon => "a positive multiple of the mean splat radius",
             Parameter::RadiusScale => "a positive factor",
             Parameter::BackfaceCulling | Parameter::Lighting | Parameter::Voronoi => "on or off",
-            Parameter::Grouping => "mgc-cC, wgc-kK, hash-kK or hash-kK-kept",
+            Parameter::Grouping => {
+                "mgc-cC, wgc-kK or hash-kK, then any of -kept, -eq7, -coplanar, -opposite, -dup, -radius"
+            }
             Parameter::Background => "R,G,B (or R/G/B) in 0..255",
             Parameter::Layers => "a number of layers, 2..=64",
         }

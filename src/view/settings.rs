@@ -46,6 +46,17 @@ impl RenderSettings {
         if self.layers == 0 { self.mode.info().default_layers } else { self.layers }
     }
 
+    /// The grouping the mode draws: the setting, with the mode's extension
+    /// (§4.4.2) when the setting names none (`alg1` needs covering groups).
+    pub fn grouping_for_mode(&self) -> crate::grouping::GroupingSpec {
+        let extension = self.mode.info().grouping_extension;
+        if self.grouping.extension == crate::grouping::Extension::None {
+            self.grouping.extended(extension)
+        } else {
+            self.grouping
+        }
+    }
+
     /// ε in view-depth units for a cloud whose mean splat radius is `mean_radius`.
     pub fn epsilon(&self, mean_radius: f32) -> f32 {
         self.epsilon_scale * mean_radius

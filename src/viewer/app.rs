@@ -205,7 +205,7 @@ impl ViewerApp {
         let model = self.model.as_ref()?;
         let preview = model.preview.is_some() && self.last_camera_move.is_some_and(|t| t.elapsed() < SETTLE);
         let settings = self.ui.settings;
-        let grouping = (settings.mode.needs_grouping() && !preview).then(|| settings.grouping.to_string());
+        let grouping = (settings.mode.needs_grouping() && !preview).then(|| settings.grouping_for_mode().to_string());
         Some(FrameKey {
             generation: model.generation,
             grouping,
@@ -422,7 +422,7 @@ impl ViewerApp {
         if !self.ui.settings.mode.needs_grouping() {
             return;
         }
-        let spec = self.ui.settings.grouping;
+        let spec = self.ui.settings.grouping_for_mode();
         let have = self.grouped.as_ref().is_some_and(|g| g.generation == model.generation && g.spec == spec);
         let running = self.grouping_job.as_ref().is_some_and(|(s, _)| *s == spec);
         if have || running || ctx.input(|i| i.pointer.any_down()) {
@@ -463,7 +463,7 @@ impl ViewerApp {
     fn frame_request(&mut self, key: &FrameKey, size: (u32, u32), purpose: Purpose) -> Option<FrameRequest> {
         let model = self.model.clone()?;
         let grouping = if key.grouping.is_some() {
-            let wanted = key.settings.grouping;
+            let wanted = key.settings.grouping_for_mode();
             let g = self.grouped.clone().filter(|g| g.generation == model.generation && g.spec == wanted);
             Some(g?) // the old image stays until the grouping is ready
         } else {
@@ -491,7 +491,7 @@ impl ViewerApp {
         };
         let settings = self.ui.settings;
         key.preview = false;
-        key.grouping = settings.mode.needs_grouping().then(|| settings.grouping.to_string());
+        key.grouping = settings.mode.needs_grouping().then(|| settings.grouping_for_mode().to_string());
         let size = self.ui.screenshot_size.pixels(self.view_size);
         let png = next_free_path(&self.options.screenshot_dir, &model.name, settings.mode);
         let model_info = SidecarModel {

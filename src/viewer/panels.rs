@@ -150,7 +150,19 @@ fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, para
         Parameter::Voronoi => {
             ui.checkbox(&mut s.voronoi, "Voronoi rasterisation (Eq. 14)");
         }
-        Parameter::Grouping => grouping_widget(ui, &mut s.grouping, info),
+        Parameter::Grouping => {
+            grouping_widget(ui, &mut s.grouping, info);
+            if s.grouping_for_mode() != s.grouping {
+                ui.label(
+                    RichText::new(format!(
+                        "{} draws {}: its groups must cover the surface",
+                        s.mode,
+                        s.grouping_for_mode()
+                    ))
+                    .weak(),
+                );
+            }
+        }
         Parameter::Layers => {
             let mut k = s.layers_or_default();
             ui.add(egui::Slider::new(&mut k, 2..=crate::view::settings::MAX_LAYERS).text("layers k"));

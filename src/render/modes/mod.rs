@@ -6,6 +6,7 @@
 //! A new mode is a new file here with a [`GpuMode`] implementation, one line
 //! in [`gpu_mode`], and its entry in the registry (`src/view/modes.rs`).
 
+mod alg1;
 mod approx_peel;
 mod deferred;
 mod depth_peel;
@@ -58,6 +59,11 @@ pub trait GpuMode: Sync {
     fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan;
     /// The frame's render passes, in order, each tagged with its plan pass.
     fn record(&self, frame: &FrameDesc<'_>, plan: &RenderPlan) -> Vec<Recorded>;
+    /// Whether the frame draws each group back to front (the renderer then
+    /// sorts the scene's instances for the view first).
+    fn blends_in_order(&self, _frame: &FrameDesc<'_>) -> bool {
+        false
+    }
 }
 
 /// The GPU implementation of `mode`, or `None` for a mode that runs on the CPU.
@@ -67,6 +73,7 @@ pub fn gpu_mode(mode: RenderMode) -> Option<&'static dyn GpuMode> {
         RenderMode::Deferred => Some(&deferred::Deferred),
         RenderMode::DepthPeel => Some(&depth_peel::DepthPeel),
         RenderMode::ApproxPeel => Some(&approx_peel::ApproxPeel),
+        RenderMode::Alg1 => Some(&alg1::Alg1),
         RenderMode::Reference => None,
     }
 }

@@ -28,6 +28,9 @@ pub enum Blend {
     /// Front-to-back compositing of premultiplied colour: the fragment goes
     /// under what is there, dst + (1 - dst.a)·src.
     Under,
+    /// Back-to-front α-blending of premultiplied colour: the fragment goes
+    /// over what is there, src + (1 - src.a)·dst.
+    Over,
 }
 
 /// How a splat pass uses its depth target.
@@ -145,6 +148,12 @@ const ONE: wgpu::BlendComponent = wgpu::BlendComponent {
     operation: wgpu::BlendOperation::Add,
 };
 
+const OVER: wgpu::BlendComponent = wgpu::BlendComponent {
+    src_factor: wgpu::BlendFactor::One,
+    dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+    operation: wgpu::BlendOperation::Add,
+};
+
 const UNDER: wgpu::BlendComponent = wgpu::BlendComponent {
     src_factor: wgpu::BlendFactor::OneMinusDstAlpha,
     dst_factor: wgpu::BlendFactor::One,
@@ -158,6 +167,7 @@ impl Blend {
             Blend::Replace => None,
             Blend::Add => Some(wgpu::BlendState { color: ONE, alpha: ONE }),
             Blend::Under => Some(wgpu::BlendState { color: UNDER, alpha: UNDER }),
+            Blend::Over => Some(wgpu::BlendState { color: OVER, alpha: OVER }),
         }
     }
 }

@@ -1,0 +1,127 @@
+//! Each group's splats back to front for the view, in the scene's own
+//! instance buffers: what the transparent passes that blend in order draw
+//! (Zhang & Pajarola §5.2.1: every group S_k back to front into its image).
+//!
+//! The order is made on the CPU, the fast path on lavapipe: Gunjee's bucket
+//! sort of the instances (`spatial::order`, O(n); exact along every pixel ray
+//! up to one slab, where the BSP traversal lets overlapping discs stray), then
+//! a stable partition by group, so each group keeps the global back-to-front
+//! order. The instance records are then gathered in that order and written
+//! over the scene's vertex buffers. The splats stay instance vertex buffers
+//! (no storage binding, see `gpu_scene`), so the order is applied to the
+//! records themselves rather than through an index buffer. Nothing is sorted
+//! or written when the eye and view direction are bit for bit those of the
+//! last frame: a settled viewer, or `bench`'s timed frames of one view,
+//! upload nothing.
+
+use std::ops::Range;
+
+use glam::Vec3;
+
+use super::gpu_data::SplatInstance;
+use crate::spatial::order::{OrderKind, Orderer, ViewRay};
+
+/// The eye and view direction an order was made for, as bits (so any change
+/// counts, and NaN never equals itself as a float would not).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct ViewKey([u32; 6]);
+
+impl ViewKey {
+    fn of(view: ViewRay) -> Self {
+        let [a, b, c] = view.eye.to_array().map(f32::to_bits);
+        let [d, e, f] = view.forward.to_array().map(f32::to_bits);
+        Self([a, b, c, d, e, f])
+    }
+}
+
+/// The instances of a grouped scene and the view their buffers are sorted for.
+pub struct InstanceOrder {
+    /// As uploaded: group by group, each group's run `groups[k]`.
+    uploaded: Vec<SplatInstance>,
+    groups: Vec<Range<u32>>,
+    kind: OrderKind,
+    /// Built on the first ordered frame (the BSP tree costs a build).
+    orderer: Option<Orderer>,
+    positions: Vec<Vec3>,
+    order: Vec<u32>,
+    /// What the buffers hold now.
+    current: Vec<SplatInstance>,
+    view: Option<ViewKey>,
+    uploads: u64,
+    slab: f32,
+}
+
+impl InstanceOrder {
+    /// The order of `instances`, uploaded group by group in `groups`.
+    pub fn new(instances: Vec<SplatInstance>, groups: Vec<Range<u32>>, kind: OrderKind) -> Self {
+        let positions = instances.iter().map(|s| Vec3::from_array(s.position)).collect();
+        Self {
+            current: instances.clone(),
+            uploaded: instances,
+            groups,
+            kind,
+            orderer: None,
+            positions,
+            order: Vec::new(),
+            view: None,
+            uploads: 0,
+            slab: 0.0,
+        }
+    }
+
+    /// Sorts each group back to front for `view` and writes the records over
+    /// `chunks` (the scene's instance buffers, in order); returns whether it
+    /// did (false when the view is the last one's).
+    pub fn apply(&mut self, queue: &wgpu::Queue, chunks: &[(wgpu::Buffer, u32)], view: ViewRay) -> bool {
+        let key = ViewKey::of(view);
+        if self.view == Some(key) || self.uploaded.is_empty() {
+            return false;
+        }
+        let orderer = self.orderer.get_or_insert_with(|| {
+            let radii: Vec<f32> = self.uploaded.iter().map(|s| s.radius.abs()).collect();
+            Orderer::new(self.kind, &self.positions, &radii)
+        });
+        self.slab = orderer.back_to_front(&self.positions, view, &mut self.order);
+        // A stable partition of the one order into the groups' runs.
+        let mut fill: Vec<u32> = self.groups.iter().map(|r| r.start).collect();
+        let mut group_of = vec![0u32; self.uploaded.len()];
+        for (g, range) in self.groups.iter().enumerate() {
+            group_of[range.start as usize..range.end as usize].fill(g as u32);
+        }
+        for &i in &self.order {
+            let g = group_of[i as usize] as usize;
+            self.current[fill[g] as usize] = self.uploaded[i as usize];
+            fill[g] += 1;
+        }
+        let mut start = 0usize;
+        for (buffer, count) in chunks {
+            let end = start + *count as usize;
+            queue.write_buffer(buffer, 0, bytemuck::cast_slice(&self.current[start..end]));
+            start = end;
+        }
+        self.view = Some(key);
+        self.uploads += 1;
+        true
+    }
+
+    /// The records the buffers hold now.
+    pub fn current(&self) -> &[SplatInstance] {
+        &self.current
+    }
+
+    /// The groups' runs in the buffers.
+    pub fn groups(&self) -> &[Range<u32>] {
+        &self.groups
+    }
+
+    /// How many times the buffers were sorted and written.
+    pub fn uploads(&self) -> u64 {
+        self.uploads
+    }
+
+    /// The slab thickness of the last order: within a group, an earlier
+    /// splat's depth is at least a later one's minus this.
+    pub fn slab(&self) -> f32 {
+        self.slab
+    }
+}
