@@ -46,14 +46,17 @@ impl RenderSettings {
         if self.layers == 0 { self.mode.info().default_layers } else { self.layers }
     }
 
-    /// The grouping the mode draws: the setting, with the mode's extension
-    /// (§4.4.2) when the setting names none (`alg1` needs covering groups).
-    pub fn grouping_for_mode(&self) -> crate::grouping::GroupingSpec {
-        let extension = self.mode.info().grouping_extension;
-        if self.grouping.extension == crate::grouping::Extension::None {
-            self.grouping.extended(extension)
-        } else {
-            self.grouping
+    /// The grouping the mode draws. Modes whose groups must cover the surface
+    /// (`alg1`) draw their own grouping in place of the opaque default, and
+    /// add its extension (§4.4.2) to any other grouping that names none.
+    pub fn grouping_for_mode(&self) -> GroupingSpec {
+        match self.mode.info().covering_grouping {
+            None => self.grouping,
+            Some(own) if self.grouping == GroupingSpec::default() => own,
+            Some(own) if self.grouping.extension == crate::grouping::Extension::None => {
+                self.grouping.extended(own.extension)
+            }
+            Some(_) => self.grouping,
         }
     }
 
@@ -78,5 +81,24 @@ impl Default for RenderSettings {
             kernel: SplatKernel::default(),
             shading: Shading::default(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn alg1_draws_covering_groups_and_other_modes_the_grouping_as_set() {
+        let with = |mode: &str, group: &str| RenderSettings {
+            mode: mode.parse().unwrap(),
+            grouping: group.parse().unwrap(),
+            ..Default::default()
+        };
+        let drawn = |mode: &str, group: &str| with(mode, group).grouping_for_mode().to_string();
+        assert_eq!(drawn("deferred", "mgc-c0.4"), "mgc-c0.4");
+        assert_eq!(drawn("alg1", "mgc-c0.4"), "wgc-k4-radius", "the opaque default is replaced");
+        assert_eq!(drawn("alg1", "hash-k8"), "hash-k8-radius", "an extension is added");
+        assert_eq!(drawn("alg1", "wgc-k4-dup"), "wgc-k4-dup", "a named extension is kept");
     }
 }

@@ -2,9 +2,8 @@
 //! surfaces in one geometry traversal plus one compositing pass.
 //!
 //! The splats come in groups that each cover the surface with little overlap
-//! (§4.4.2: the grouping's duplication or radius enlargement; without one,
-//! the mode extends the grouping by duplication, see
-//! `RenderSettings::grouping_for_mode`). Each group is drawn back to front
+//! (§4.4.2: duplication or radius enlargement; by default WGC with K = 4 and
+//! radius enlargement, see `RenderSettings::grouping_for_mode`). Each group is drawn back to front
 //! (the scene's instances are re-sorted per view, `render::instance_order`)
 //! into its own layer I_k of a 2D array, α-blended with each splat's opacity
 //! and culled by a z-test on Eq. 10's low-precision depth so that one surface
