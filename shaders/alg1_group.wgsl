@@ -18,6 +18,11 @@ struct GroupFragment {
 
 @fragment
 fn fs_alg1_group(v: SplatVarying) -> GroupFragment {
+    return group_fragment(v);
+}
+
+// One fragment of a group image (also Algorithm-2's second pass).
+fn group_fragment(v: SplatVarying) -> GroupFragment {
     let s = splat_sample(v);
     var rgb = v.color.rgb;
 #ifdef LIT

@@ -86,7 +86,7 @@ fn opacity_zero_shows_only_the_background_in_every_transparent_mode() {
     let scene = transparent_bunny(0.0);
     let camera = view(&scene, 0.0, 10.0);
     let bg = common::background_rgb();
-    for name in ["depth-peel", "approx-peel", "alg1", "reference"] {
+    for name in ["depth-peel", "approx-peel", "alg1", "alg2", "reference"] {
         let settings = settings(name, 0);
         let image = if name == "reference" {
             exact(&scene, &camera, &settings, 96).0
@@ -106,7 +106,7 @@ fn opacity_one_draws_the_opaque_picture_without_peeling() {
     let opaque = render(&scene, &camera, &settings("two-pass", 0), 128);
     let mut renderer = common::renderer();
     let gpu = renderer.upload(&scene, None);
-    for name in ["depth-peel", "approx-peel", "alg1"] {
+    for name in ["depth-peel", "approx-peel", "alg1", "alg2"] {
         let settings = settings(name, 0);
         let (image, plan) = renderer.render_image(&gpu, &camera, &settings, 128, 128).unwrap();
         assert!(plan.notes.iter().any(|n| n.contains("opaque")), "{name}: the plan says it fell back\n{plan}");
@@ -140,7 +140,7 @@ fn a_thousand_coincident_transparent_splats_blend_as_one_layer_without_overflow(
     let bg = common::background_rgb();
     // Eq. 1: one layer of normalised opacity 0.5 over the background.
     let want = [0, 1, 2].map(|k| 0.5 * colour[k] as f32 + 0.5 * bg[k] as f32);
-    for name in ["depth-peel", "approx-peel", "alg1", "reference"] {
+    for name in ["depth-peel", "approx-peel", "alg1", "alg2", "reference"] {
         let settings = RenderSettings { lighting: false, ..settings(name, 0) };
         let image = if name == "reference" {
             exact(&scene, &camera, &settings, 64).0
@@ -171,11 +171,12 @@ fn a_camera_inside_a_transparent_sphere_sees_its_inside_as_the_reference_does() 
     camera.distance = 0.3;
     let bg = common::background_rgb();
     let size = 128;
-    for name in ["depth-peel", "approx-peel", "alg1"] {
-        // alg1 shades each fragment with its own splat's normal (§5.2.4), not
-        // the layer's blended normal as the reference does; unlit, the check
-        // is of the order, the culling and the blending alone.
-        let settings = RenderSettings { lighting: name != "alg1", ..settings(name, 0) };
+    for name in ["depth-peel", "approx-peel", "alg1", "alg2"] {
+        // alg1 (and alg2 behind its nearest layer) shades each fragment with
+        // its own splat's normal (§5.2.4), not the layer's blended normal as
+        // the reference does; unlit, the check is of the order, the culling
+        // and the blending alone.
+        let settings = RenderSettings { lighting: !name.starts_with("alg"), ..settings(name, 0) };
         let (want, counts) = exact(&scene, &camera, &settings, size);
         assert!(counts.iter().all(|&c| c == 1), "from inside every ray meets the shell once");
         let got = render(&scene, &camera, &settings, size);
@@ -227,42 +228,48 @@ fn two_planes_in_groups(front: ([u8; 3], f32), back: ([u8; 3], f32), radius: f32
 }
 
 #[test]
-fn alg1_with_groups_that_cover_each_plane_composites_two_planes_exactly() {
+fn alg1_and_alg2_with_groups_that_cover_each_plane_composite_two_planes_exactly() {
     let (front, back) = (([240, 40, 30], 0.5), ([30, 60, 230], 0.6));
     let (scene, grouping) = two_planes_in_groups(front, back, 1.5);
     let camera = looking_down_z();
-    let settings = RenderSettings { lighting: false, ..settings("alg1", 0) };
     let size = 96;
-    let got = {
-        let mut renderer = common::renderer();
-        let gpu = renderer.upload(&scene, Some(&grouping));
-        renderer.render_image(&gpu, &camera, &settings, size, size).expect("render").0
-    };
-    // C = α₁c₁ + (1 − α₁)(α₂c₂ + (1 − α₂)·bg). Each group covers both planes,
-    // draws the back one then the front one, and culls its own second
-    // fragment of a plane (one Eq. 10 step: the planes face the camera), so
-    // every I_k is α₁c₁ + (1 − α₁)α₂c₂ and so is their average. Bound: the
-    // colours are exact 8-bit values; the premultiplied blends and the
-    // average run in Rgba16Float (11-bit mantissa, a few operations on values
-    // ≤ 1: under 0.4/255), then one rounding to 8 bits (0.5/255): < 1/255.
+    // C = α₁c₁ + (1 − α₁)(α₂c₂ + (1 − α₂)·bg).
+    // alg1: each group covers both planes, draws the back one then the front
+    // one, and culls its own second fragment of a plane (one Eq. 10 step: the
+    // planes face the camera), so every I_k is α₁c₁ + (1 − α₁)α₂c₂ and so is
+    // their average.
+    // alg2: pass 1 finds the front plane in every group; its normalised colour
+    // is c₁ and its opacity Σw·α/Σw = α₁; pass 2 culls the front plane (within
+    // ε of it) and leaves α₂c₂ in every O_k; the composite is the same sum.
+    // Bound for both: the colours are exact 8-bit values; the blends, sums
+    // and averages run in Rgba16Float (11-bit mantissa, a few operations on
+    // values ≤ 1: under 0.4/255), then one rounding to 8 bits (0.5/255): < 1/255.
     let bg = common::background_rgb();
     let want: [f32; 3] = [0, 1, 2].map(|k| {
         let behind = back.1 * back.0[k] as f32 + (1.0 - back.1) * bg[k] as f32;
         front.1 * front.0[k] as f32 + (1.0 - front.1) * behind
     });
-    let mut worst = 0.0f32;
-    for p in got.pixels() {
-        for (got, want) in p.0.iter().zip(want) {
-            worst = worst.max((*got as f32 - want).abs());
+    for name in ["alg1", "alg2"] {
+        let settings = RenderSettings { lighting: false, ..settings(name, 0) };
+        let got = {
+            let mut renderer = common::renderer();
+            let gpu = renderer.upload(&scene, Some(&grouping));
+            renderer.render_image(&gpu, &camera, &settings, size, size).expect("render").0
+        };
+        let mut worst = 0.0f32;
+        for p in got.pixels() {
+            for (got, want) in p.0.iter().zip(want) {
+                worst = worst.max((*got as f32 - want).abs());
+            }
         }
+        println!("{name}, two planes in covering groups: worst channel error {worst} (want {want:?})");
+        assert!(worst <= MAX_ALG_COVERED_CHANNEL_ERROR, "{name}: off by {worst} from {want:?}");
+        // The reference agrees (it is the same closed form).
+        let (exact, _) = exact(&scene, &camera, &settings, size);
+        let error = reference::compare(&got, &exact).unwrap();
+        println!("{name} against the reference: ε {:.3}", error.eps);
+        assert!(error.eps <= 3.0 * MAX_ALG_COVERED_CHANNEL_ERROR as f64, "{name}: ε {}", error.eps);
     }
-    println!("alg1, two planes in covering groups: worst channel error {worst} (want {want:?})");
-    assert!(worst <= MAX_ALG1_COVERED_CHANNEL_ERROR, "off by {worst} from {want:?}");
-    // The reference agrees (it is the same closed form).
-    let (exact, _) = exact(&scene, &camera, &settings, size);
-    let error = reference::compare(&got, &exact).unwrap();
-    println!("alg1 against the reference: ε {:.3}", error.eps);
-    assert!(error.eps <= 3.0 * MAX_ALG1_COVERED_CHANNEL_ERROR as f64, "ε {}", error.eps);
 }
 
 #[test]

@@ -12,7 +12,7 @@
 //! and validates it with naga (`tests/shaders.rs`).
 
 /// Every WGSL file, by name.
-const FILES: [(&str, &str); 14] = [
+const FILES: [(&str, &str); 17] = [
     ("frame.wgsl", include_str!("../../shaders/frame.wgsl")),
     ("splat.wgsl", include_str!("../../shaders/splat.wgsl")),
     ("shading.wgsl", include_str!("../../shaders/shading.wgsl")),
@@ -26,11 +26,14 @@ const FILES: [(&str, &str); 14] = [
     ("peel_rest.wgsl", include_str!("../../shaders/peel_rest.wgsl")),
     ("alg1_group.wgsl", include_str!("../../shaders/alg1_group.wgsl")),
     ("alg1_average.wgsl", include_str!("../../shaders/alg1_average.wgsl")),
+    ("alg2_nearest.wgsl", include_str!("../../shaders/alg2_nearest.wgsl")),
+    ("alg2_other.wgsl", include_str!("../../shaders/alg2_other.wgsl")),
+    ("alg2_composite.wgsl", include_str!("../../shaders/alg2_composite.wgsl")),
     ("peel_final.wgsl", include_str!("../../shaders/peel_final.wgsl")),
 ];
 
 /// The files passes build modules from; the others are only included.
-pub const ROOTS: [&str; 11] = [
+pub const ROOTS: [&str; 14] = [
     "visibility.wgsl",
     "accumulate.wgsl",
     "normalize.wgsl",
@@ -42,6 +45,9 @@ pub const ROOTS: [&str; 11] = [
     "peel_final.wgsl",
     "alg1_group.wgsl",
     "alg1_average.wgsl",
+    "alg2_nearest.wgsl",
+    "alg2_other.wgsl",
+    "alg2_composite.wgsl",
 ];
 
 /// A set of preprocessor names a shader module is built with.

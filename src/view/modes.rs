@@ -26,6 +26,9 @@ pub enum RenderMode {
     /// Zhang & Pajarola's Algorithm-1: each group back to front into its own
     /// image, then the average of the images (1+1 passes).
     Alg1,
+    /// Zhang & Pajarola's Algorithm-2: the nearest layer as `deferred` draws
+    /// it, the others as Algorithm-1 does, composited in one pass (2+1 passes).
+    Alg2,
     /// The exact A-buffer renderer on the CPU: the ground truth for error.
     Reference,
 }
@@ -72,7 +75,7 @@ const ALG1_GROUPING: GroupingSpec = GroupingSpec {
     extension: Extension::Enlarge,
 };
 
-const REGISTRY: [ModeInfo; 6] = [
+const REGISTRY: [ModeInfo; 7] = [
     ModeInfo {
         mode: RenderMode::TwoPass,
         name: "two-pass",
@@ -170,6 +173,26 @@ const REGISTRY: [ModeInfo; 6] = [
         covering_grouping: Some(ALG1_GROUPING),
     },
     ModeInfo {
+        mode: RenderMode::Alg2,
+        name: "alg2",
+        description: "Zhang & Pajarola Algorithm-2: the nearest layer in high quality (deferred blending), the layers behind as Algorithm-1 draws them (2+1 passes).",
+        parameters: &[
+            Parameter::Grouping,
+            Parameter::Voronoi,
+            Parameter::Epsilon,
+            Parameter::RadiusScale,
+            Parameter::BackfaceCulling,
+            Parameter::Lighting,
+            Parameter::Background,
+        ],
+        device: Device::Gpu,
+        transparent: true,
+        preview: RenderMode::ApproxPeel,
+        bench_variants: &[""],
+        default_layers: 1,
+        covering_grouping: Some(ALG1_GROUPING),
+    },
+    ModeInfo {
         mode: RenderMode::Reference,
         name: "reference",
         description: "Exact A-buffer ray casting on the CPU: the ground truth for error (slow).",
@@ -192,12 +215,13 @@ const REGISTRY: [ModeInfo; 6] = [
 ];
 
 impl RenderMode {
-    pub const ALL: [RenderMode; 6] = [
+    pub const ALL: [RenderMode; 7] = [
         RenderMode::TwoPass,
         RenderMode::Deferred,
         RenderMode::DepthPeel,
         RenderMode::ApproxPeel,
         RenderMode::Alg1,
+        RenderMode::Alg2,
         RenderMode::Reference,
     ];
 

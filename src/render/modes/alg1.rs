@@ -25,13 +25,19 @@ pub struct Alg1;
 const IMAGES: TargetId = TargetId("group images I_k");
 const Z_BUFFER: TargetId = TargetId("group Eq. 10 z-buffer");
 
-/// Group images K: at least one.
-fn groups(frame: &FrameDesc<'_>) -> u32 {
+/// Group images K: at least one (also alg2's).
+pub(super) fn groups(frame: &FrameDesc<'_>) -> u32 {
     frame.groups.len().max(1) as u32
 }
 
-fn variant(frame: &FrameDesc<'_>) -> Variant {
+/// The shader variant (also alg2's): lit or not; colours are always full.
+pub(super) fn variant(frame: &FrameDesc<'_>) -> Variant {
     Variant::NONE.with(Variant::LIT, frame.settings.lighting)
+}
+
+/// The plan's variant in words (also alg2's): the grouping drawn, lit or not.
+pub(super) fn describe(frame: &FrameDesc<'_>) -> String {
+    format!("{}, {}", frame.settings.grouping_for_mode(), if frame.settings.lighting { "lit" } else { "unlit" })
 }
 
 impl GpuMode for Alg1 {
@@ -70,14 +76,9 @@ impl GpuMode for Alg1 {
                 render_passes: 1,
             },
         ];
-        let variant = format!(
-            "{}, {}",
-            frame.settings.grouping_for_mode(),
-            if frame.settings.lighting { "lit" } else { "unlit" }
-        );
         RenderPlan {
             mode: frame.settings.mode,
-            variant,
+            variant: describe(frame),
             width: frame.width,
             height: frame.height,
             splats: frame.splats,

@@ -7,6 +7,7 @@
 //! in [`gpu_mode`], and its entry in the registry (`src/view/modes.rs`).
 
 mod alg1;
+mod alg2;
 mod approx_peel;
 mod deferred;
 mod depth_peel;
@@ -74,6 +75,7 @@ pub fn gpu_mode(mode: RenderMode) -> Option<&'static dyn GpuMode> {
         RenderMode::DepthPeel => Some(&depth_peel::DepthPeel),
         RenderMode::ApproxPeel => Some(&approx_peel::ApproxPeel),
         RenderMode::Alg1 => Some(&alg1::Alg1),
+        RenderMode::Alg2 => Some(&alg2::Alg2),
         RenderMode::Reference => None,
     }
 }
