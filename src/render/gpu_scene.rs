@@ -29,9 +29,9 @@ pub struct GpuScene {
     pub uniform_color: Option<[u8; 3]>,
     /// Whether some splat is less than opaque.
     pub transparent: bool,
-    /// For a grouped or a transparent scene, the records to sort each group
-    /// (or the one group of everything) back to front for modes that blend in
-    /// order (a CPU copy of the instances: 32 bytes each).
+    /// For a transparent scene, the records to sort each group (or the one
+    /// group of everything) back to front for modes that blend in order (a
+    /// CPU copy of the instances: 32 bytes each).
     order: Option<std::sync::Mutex<InstanceOrder>>,
 }
 
@@ -45,12 +45,13 @@ impl GpuScene {
 
     /// [`Self::upload`] of a scene's flattened cloud (see `Scene::flatten`).
     pub fn upload_cloud(device: &wgpu::Device, cloud: &PointCloud, grouping: Option<&Grouping>) -> Self {
+        // Only a transparent scene is ever drawn in order (opaque ones run opaque plans).
+        let transparent = cloud.has_transparency();
         match grouping {
-            Some(g) => Self::upload_in_order(device, cloud, &g.order, &g.radius_scale, &g.ranges, true),
+            Some(g) => Self::upload_in_order(device, cloud, &g.order, &g.radius_scale, &g.ranges, transparent),
             None => {
                 let order: Vec<u32> = (0..cloud.len() as u32).collect();
                 let all = 0..cloud.len() as u32;
-                let transparent = cloud.has_transparency();
                 Self::upload_in_order(device, cloud, &order, &[1.0], std::slice::from_ref(&all), transparent)
             }
         }
@@ -120,9 +121,9 @@ impl GpuScene {
         }
     }
 
-    /// Sorts each group's instances back to front for `view` (a grouped or
-    /// transparent scene; others are left as they are); returns whether the
-    /// buffers were rewritten (not when the view is the last one's).
+    /// Sorts each group's instances back to front for `view` (a transparent
+    /// scene; others are left as they are); returns whether the buffers were
+    /// rewritten (not when the view is the last one's).
     pub fn order_back_to_front(&self, queue: &wgpu::Queue, view: crate::spatial::order::ViewRay) -> bool {
         let Some(order) = &self.order else { return false };
         let mut order = order.lock().unwrap_or_else(|poisoned| poisoned.into_inner());

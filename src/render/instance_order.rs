@@ -39,6 +39,8 @@ pub struct InstanceOrder {
     /// As uploaded: group by group, each group's run `groups[k]`.
     uploaded: Vec<SplatInstance>,
     groups: Vec<Range<u32>>,
+    /// The group of each uploaded instance.
+    group_of: Vec<u32>,
     kind: OrderKind,
     /// Built on the first ordered frame (the BSP tree costs a build).
     orderer: Option<Orderer>,
@@ -55,7 +57,12 @@ impl InstanceOrder {
     /// The order of `instances`, uploaded group by group in `groups`.
     pub fn new(instances: Vec<SplatInstance>, groups: Vec<Range<u32>>, kind: OrderKind) -> Self {
         let positions = instances.iter().map(|s| Vec3::from_array(s.position)).collect();
+        let mut group_of = vec![0u32; instances.len()];
+        for (g, range) in groups.iter().enumerate() {
+            group_of[range.start as usize..range.end as usize].fill(g as u32);
+        }
         Self {
+            group_of,
             current: instances.clone(),
             uploaded: instances,
             groups,
@@ -84,12 +91,8 @@ impl InstanceOrder {
         self.slab = orderer.back_to_front(&self.positions, view, &mut self.order);
         // A stable partition of the one order into the groups' runs.
         let mut fill: Vec<u32> = self.groups.iter().map(|r| r.start).collect();
-        let mut group_of = vec![0u32; self.uploaded.len()];
-        for (g, range) in self.groups.iter().enumerate() {
-            group_of[range.start as usize..range.end as usize].fill(g as u32);
-        }
         for &i in &self.order {
-            let g = group_of[i as usize] as usize;
+            let g = self.group_of[i as usize] as usize;
             self.current[fill[g] as usize] = self.uploaded[i as usize];
             fill[g] += 1;
         }
@@ -107,11 +110,6 @@ impl InstanceOrder {
     /// The records the buffers hold now.
     pub fn current(&self) -> &[SplatInstance] {
         &self.current
-    }
-
-    /// The groups' runs in the buffers.
-    pub fn groups(&self) -> &[Range<u32>] {
-        &self.groups
     }
 
     /// How many times the buffers were sorted and written.

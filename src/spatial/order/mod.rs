@@ -18,17 +18,15 @@
 //! direction (view z); it grows along every ray from the eye, so any order
 //! by it is back to front along each pixel's ray. Each order reports its
 //! slab thickness: two splats can be out of depth order by at most that
-//! much. [`GroupedOrder`] turns one order into one back-to-front sequence per
-//! group (a stable partition), as the transparent grouped passes draw them.
+//! much. `render::instance_order` partitions one order into one
+//! back-to-front sequence per group, as the transparent grouped passes draw them.
 
 mod bsp;
 mod bucket;
-mod grouped;
 mod sort;
 
 pub use bsp::BspTree;
 pub use bucket::BucketSort;
-pub use grouped::GroupedOrder;
 pub use sort::full_sort;
 
 use glam::Vec3;
