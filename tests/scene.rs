@@ -102,3 +102,25 @@ fn an_opaque_scene_in_a_transparent_mode_says_it_falls_back_and_peels_nothing() 
     assert!(!stdout.contains("nothing in the scene is transparent"), "{stdout}");
     assert!(stdout.contains("peel depth"), "{stdout}");
 }
+
+#[test]
+fn a_transparent_mode_on_an_opaque_model_draws_the_two_pass_image_exactly() {
+    // The grouped modes must not group (and enlarge) an opaque model whose
+    // plan falls back to two-pass: the image would change.
+    let dir = tempfile::tempdir().unwrap();
+    let render = |mode: &str| {
+        let out = dir.path().join(format!("{mode}.png"));
+        let result = pointblend()
+            .args(["render", common::bundled_bunny().to_str().unwrap(), "--mode", mode, "--size", "96x96", "--out"])
+            .arg(&out)
+            .env("POINTBLEND_CACHE", dir.path().join("cache"))
+            .output()
+            .unwrap();
+        assert!(result.status.success(), "{mode}: {}", String::from_utf8_lossy(&result.stderr));
+        image::open(&out).unwrap().to_rgba8()
+    };
+    let two_pass = render("two-pass");
+    for mode in ["depth-peel", "approx-peel", "alg1", "alg2"] {
+        assert!(render(mode) == two_pass, "{mode} on an opaque model is not the two-pass image");
+    }
+}

@@ -194,7 +194,7 @@ fn bench_model(
     let mut prepared = Vec::new();
     for variant in config.variants.iter().filter(|v| v.mode.is_gpu()) {
         let settings = variant.apply(&base).map_err(BenchError::Invalid)?;
-        let spec = variant.mode.needs_grouping().then_some(settings.grouping_for_mode());
+        let spec = variant.mode.needs_grouping_for(scene.has_transparency()).then_some(settings.grouping_for_mode());
         let (mut k, mut group_s) = (1, None);
         if let Some(spec) = spec {
             let t = Instant::now();

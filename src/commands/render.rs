@@ -68,7 +68,7 @@ pub fn run(args: &Args) -> Result<()> {
     let (image, plan) = if settings.mode.is_gpu() {
         let mut renderer = HeadlessRenderer::new().context("opening the GPU")?;
         log::info!("GPU: {}", renderer.ctx.describe());
-        let grouping = if settings.mode.needs_grouping() {
+        let grouping = if settings.mode.needs_grouping_for(scene.has_transparency()) {
             let t = Instant::now();
             let flat = scene.flatten();
             let (grouping, cached) = settings.grouping_for_mode().compute_cached_for_hash(

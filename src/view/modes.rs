@@ -258,6 +258,13 @@ impl RenderMode {
         self.parameters().contains(&Parameter::Grouping)
     }
 
+    /// Whether the mode draws groups for a scene that is `transparent` or
+    /// not: a transparent mode runs the ungrouped opaque plan for an opaque
+    /// scene, and grouping it (with enlarged radii) would change that image.
+    pub fn needs_grouping_for(self, transparent: bool) -> bool {
+        self.needs_grouping() && (transparent || !self.info().transparent)
+    }
+
     /// Whether the mode reads `parameter`.
     pub fn reads(self, parameter: Parameter) -> bool {
         self.parameters().contains(&parameter)

@@ -205,7 +205,8 @@ impl ViewerApp {
         let model = self.model.as_ref()?;
         let preview = model.preview.is_some() && self.last_camera_move.is_some_and(|t| t.elapsed() < SETTLE);
         let settings = self.ui.settings;
-        let grouping = (settings.mode.needs_grouping() && !preview).then(|| settings.grouping_for_mode().to_string());
+        let grouping = (settings.mode.needs_grouping_for(model.transparent) && !preview)
+            .then(|| settings.grouping_for_mode().to_string());
         Some(FrameKey {
             generation: model.generation,
             grouping,
@@ -419,7 +420,7 @@ impl ViewerApp {
     /// Starts a grouping when the mode draws groups and the one it needs is not there.
     fn ensure_grouping(&mut self, ctx: &egui::Context) {
         let Some(model) = self.model.clone() else { return };
-        if !self.ui.settings.mode.needs_grouping() {
+        if !self.ui.settings.mode.needs_grouping_for(model.transparent) {
             return;
         }
         let spec = self.ui.settings.grouping_for_mode();
@@ -491,7 +492,8 @@ impl ViewerApp {
         };
         let settings = self.ui.settings;
         key.preview = false;
-        key.grouping = settings.mode.needs_grouping().then(|| settings.grouping_for_mode().to_string());
+        key.grouping =
+            settings.mode.needs_grouping_for(model.transparent).then(|| settings.grouping_for_mode().to_string());
         let size = self.ui.screenshot_size.pixels(self.view_size);
         let png = next_free_path(&self.options.screenshot_dir, &model.name, settings.mode);
         let model_info = SidecarModel {

@@ -25,6 +25,8 @@ pub struct Model {
     /// The scene's splats in world space (see [`Scene::flatten`]).
     pub cloud: Arc<PointCloud>,
     /// A subsample with enlarged splats, for models above [`PREVIEW_SPLATS`].
+    /// Whether some splat is drawn less than opaque (known once, not per frame).
+    pub transparent: bool,
     pub preview: Option<Arc<PointCloud>>,
     pub warnings: Vec<String>,
     /// Tells models apart, also two loads of the same file.
@@ -79,7 +81,18 @@ impl Model {
         crate::progress::stage("building the preview");
         let preview = (cloud.len() > PREVIEW_SPLATS).then(|| Arc::new(subsample(&cloud, PREVIEW_SPLATS)));
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());
-        Model { path: path.to_path_buf(), name, hash, scene: Arc::new(scene), cloud, preview, warnings, generation }
+        let transparent = scene.has_transparency();
+        Model {
+            path: path.to_path_buf(),
+            name,
+            hash,
+            scene: Arc::new(scene),
+            cloud,
+            preview,
+            transparent,
+            warnings,
+            generation,
+        }
     }
 
     pub fn hash_hex(&self) -> String {

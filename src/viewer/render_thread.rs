@@ -204,7 +204,7 @@ fn gpu_scene<'a>(
     if request.preview {
         settings.mode = settings.mode.info().preview;
     }
-    if settings.mode.needs_grouping() && !request.preview {
+    if request.grouping.is_some() && !request.preview {
         let grouped = request.grouping.as_ref().filter(|g| g.generation == generation)?;
         let key = grouped.spec.to_string();
         if uploads.grouped.as_ref().is_none_or(|(g, k, _)| *g != generation || *k != key) {
