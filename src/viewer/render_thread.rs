@@ -76,6 +76,29 @@ pub struct RenderThread {
     results: Receiver<FrameResult>,
     /// Progress of a reference frame (the only slow mode).
     pub tracker: Arc<Tracker>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+/// How long closing waits for the render thread to release the GPU.
+const CLOSE_WAIT: std::time::Duration = std::time::Duration::from_secs(3);
+
+impl Drop for RenderThread {
+    /// Ends the thread (its request channel closes) and waits a little for it
+    /// to drop its GPU device: a process that exits while a thread is still
+    /// tearing a Vulkan device down can crash in the driver. A long reference
+    /// frame is not waited for, so closing the window never hangs.
+    fn drop(&mut self) {
+        let (closed, _) = mpsc::channel();
+        drop(std::mem::replace(&mut self.requests, closed));
+        let Some(thread) = self.thread.take() else { return };
+        let started = std::time::Instant::now();
+        while !thread.is_finished() && started.elapsed() < CLOSE_WAIT {
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        if thread.is_finished() {
+            let _ = thread.join();
+        }
+    }
 }
 
 impl RenderThread {
@@ -88,10 +111,8 @@ impl RenderThread {
         let spawned = std::thread::Builder::new()
             .name("pointblend renderer".into())
             .spawn(move || progress::track(thread_tracker, || serve(inbox, outbox, repaint)));
-        if let Err(e) = spawned {
-            log::error!("could not start the render thread: {e}");
-        }
-        Self { requests, results, tracker }
+        let thread = spawned.map_err(|e| log::error!("could not start the render thread: {e}")).ok();
+        Self { requests, results, tracker, thread }
     }
 
     pub fn request(&self, request: FrameRequest) {
