@@ -1,4 +1,5 @@
 #include "shading.wgsl"
+#include "opaque_under.wgsl"
 
 // The compositing pass of Algorithm-1 (§5.2.1): the average of the K group
 // images I_k, over the background. Each I_k holds premultiplied colour and
@@ -6,9 +7,13 @@
 // empty is left out of the average, not counted as transparent black: it
 // would otherwise darken the colour and thin the opacity by 1/K there. So
 // C = Σ_{α_k > 0} I_k / m over the m groups that cover the pixel, and the
-// pixel is C.rgb + (1 - C.a)·background.
+// pixel is C.rgb + (1 - C.a)·B, B the background or the opaque splats drawn
+// apart over it (shaders/opaque_under.wgsl).
 
 @group(1) @binding(0) var group_images: texture_2d_array<f32>;
+#ifdef OPAQUE_APART
+@group(1) @binding(1) var opaque_image: texture_2d<f32>;
+#endif
 
 @fragment
 fn fs_alg1_average(f: Fullscreen) -> @location(0) vec4<f32> {
@@ -22,9 +27,10 @@ fn fs_alg1_average(f: Fullscreen) -> @location(0) vec4<f32> {
             covering += 1.0;
         }
     }
+    let under = beneath(pixel);
     if covering == 0.0 {
-        return vec4<f32>(frame.background.rgb, 1.0);
+        return vec4<f32>(under, 1.0);
     }
     let mean = sum / covering;
-    return vec4<f32>(mean.rgb + (1.0 - mean.a) * frame.background.rgb, 1.0);
+    return vec4<f32>(mean.rgb + (1.0 - mean.a) * under, 1.0);
 }

@@ -1,4 +1,5 @@
 #include "shading.wgsl"
+#include "opaque_under.wgsl"
 
 // The compositing pass of Algorithm-2 (§5.2.2), the three blends in one go:
 // C_F, the nearest layer: Fig. 6's ε-z compositing of the I_k (d = min_k
@@ -11,6 +12,9 @@
 @group(1) @binding(1) var nearest_depth: texture_2d_array<f32>;
 @group(1) @binding(2) var nearest_normal_alpha: texture_2d_array<f32>;
 @group(1) @binding(3) var other_images: texture_2d_array<f32>;
+#ifdef OPAQUE_APART
+@group(1) @binding(4) var opaque_image: texture_2d<f32>;
+#endif
 
 @fragment
 fn fs_alg2_composite(f: Fullscreen) -> @location(0) vec4<f32> {
@@ -26,10 +30,11 @@ fn fs_alg2_composite(f: Fullscreen) -> @location(0) vec4<f32> {
             covering += 1.0;
         }
     }
-    var behind = frame.background.rgb;
+    let under = beneath(pixel);
+    var behind = under;
     if covering > 0.0 {
         let mean = others / covering;
-        behind = mean.rgb + (1.0 - mean.a) * frame.background.rgb;
+        behind = mean.rgb + (1.0 - mean.a) * under;
     }
     // C_F and its opacity.
     var nearest = 3.0e38;

@@ -129,6 +129,8 @@ fn each_group_layer_pass_carries_its_own_layer_in_its_uniforms() {
         height: 64,
         splats: cloud.len(),
         groups: &grouping.ranges,
+        transparent_groups: &grouping.ranges,
+        opaque: 0..0,
         uniform_colour: None,
         epsilon: 0.001,
         depth_steps: 100.0,

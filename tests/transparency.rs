@@ -9,6 +9,7 @@ use pointblend::cloud::{self, PointCloud};
 use pointblend::grouping::Grouping;
 use pointblend::reference::{self, ReferenceOptions};
 use pointblend::render::RenderMode;
+use pointblend::render::plan::TargetId;
 use pointblend::scene::{Material, Scene, primitives};
 use pointblend::view::{Camera, RenderSettings};
 
@@ -200,17 +201,20 @@ fn looking_down_z() -> Camera {
     }
 }
 
-/// Two square planes of splats facing the camera, the front one at z = 1,
-/// the back one at z = 0, each of one colour and opacity. Each plane is a grid
-/// of spacing s split into K = 4 interleaved sub-grids (i mod 2, j mod 2),
-/// the groups: a sub-grid has spacing 2s, and its discs of radius `radius`·s
-/// cover the plane when `radius` > √2 (half the diagonal of a 2s cell).
-fn two_planes_in_groups(front: ([u8; 3], f32), back: ([u8; 3], f32), radius: f32) -> (Scene, Grouping) {
+/// A plane of splats: its depth z, colour and opacity.
+type Plane = (f32, [u8; 3], f32);
+
+/// Square planes of splats facing the camera at the given depths (z), each of
+/// one colour and opacity. Each plane is a grid of spacing s split into K = 4
+/// interleaved sub-grids (i mod 2, j mod 2), the groups: a sub-grid has
+/// spacing 2s, and its discs of radius `radius`·s cover the plane when
+/// `radius` > √2 (half the diagonal of a 2s cell).
+fn planes_in_groups(planes: &[Plane], radius: f32) -> (Scene, Grouping) {
     let (n, half) = (60, 2.2f32);
     let spacing = 2.0 * half / n as f32;
     let mut cloud = PointCloud::default();
     let mut labels = Vec::new();
-    for (z, (colour, opacity)) in [(1.0, front), (0.0, back)] {
+    for &(z, colour, opacity) in planes {
         for i in 0..=n {
             for j in 0..=n {
                 cloud.positions.push(Vec3::new(-half + i as f32 * spacing, -half + j as f32 * spacing, z));
@@ -225,6 +229,11 @@ fn two_planes_in_groups(front: ([u8; 3], f32), back: ([u8; 3], f32), radius: f32
     let mut scene = Scene::from(cloud);
     scene.objects[0].material.two_sided = true;
     (scene, Grouping::from_labels(&labels, 4))
+}
+
+/// [`planes_in_groups`] of two planes, the front one at z = 1, the back one at z = 0.
+fn two_planes_in_groups(front: ([u8; 3], f32), back: ([u8; 3], f32), radius: f32) -> (Scene, Grouping) {
+    planes_in_groups(&[(1.0, front.0, front.1), (0.0, back.0, back.1)], radius)
 }
 
 #[test]
@@ -294,4 +303,112 @@ fn alg1_groups_with_holes_show_the_layers_they_miss() {
     let (covering, holed) = (eps(1.5), eps(0.9));
     println!("alg1: ε {covering:.3} with covering groups, {holed:.3} with holes");
     assert!(holed > 10.0 * covering.max(0.1), "holes must show: {holed} against {covering}");
+}
+
+#[test]
+fn opaque_planes_are_drawn_apart_cull_what_lies_behind_them_and_show_through_the_transparent_ones() {
+    // Zhang & Pajarola Fig. 18/19: opaque splats of a transparent scene are
+    // drawn in high quality (two-pass) beneath the transparent layers; their
+    // depth culls transparent fragments behind them.
+    let (red, blue, green, grey) = ([240, 40, 30], [30, 60, 230], [40, 200, 60], [200, 200, 200]);
+    let camera = looking_down_z();
+    let bg = common::background_rgb();
+    let over = |alpha: f32, c: [u8; 3], under: [f32; 3]| -> [f32; 3] {
+        [0, 1, 2].map(|k| alpha * c[k] as f32 + (1.0 - alpha) * under[k])
+    };
+    let opaque = |c: [u8; 3]| c.map(f32::from);
+    // (planes, the closed form, what it shows)
+    let cases: Vec<(Vec<Plane>, [f32; 3], &str)> = vec![
+        // A transparent plane over an opaque one: C = α₁c₁ + (1 − α₁)c₂.
+        (vec![(1.0, red, 0.5), (0.0, blue, 1.0)], over(0.5, red, opaque(blue)), "transparent over opaque"),
+        // An opaque plane in front hides the transparent one: C = c₁.
+        (vec![(1.0, green, 1.0), (0.0, red, 0.5)], opaque(green), "opaque over transparent"),
+        // A transparent plane behind the opaque one is culled, not composited
+        // over its image: C = α₁c₁ + (1 − α₁)c₂, the third plane not at all.
+        (
+            vec![(1.0, red, 0.5), (0.0, grey, 1.0), (-1.0, blue, 0.7)],
+            over(0.5, red, opaque(grey)),
+            "transparent, opaque, transparent",
+        ),
+        // Nothing opaque: unchanged (the background beneath).
+        (vec![(1.0, red, 0.5), (0.0, blue, 0.6)], over(0.5, red, over(0.6, blue, bg.map(f32::from))), "no opaque"),
+    ];
+    for (planes, want, what) in cases {
+        let (scene, grouping) = planes_in_groups(&planes, 1.5);
+        let opaque_splats = scene.flattened().opacity.iter().filter(|&&a| a >= 1.0).count();
+        for name in ["alg1", "alg2"] {
+            let settings = RenderSettings { lighting: false, ..settings(name, 0) };
+            let mut renderer = common::renderer();
+            let gpu = renderer.upload(&scene, Some(&grouping));
+            // The layout: every opaque splat once, apart, after the groups;
+            // the groups' transparent runs hold only the transparent ones.
+            assert_eq!(gpu.opaque.len(), opaque_splats, "{what}");
+            assert_eq!(gpu.opaque.start as usize, gpu.len, "{what}");
+            let transparent: usize = gpu.transparent_groups.iter().map(|r| r.len()).sum();
+            assert_eq!(transparent, scene.flattened().len() - opaque_splats, "{what}: each group covers once");
+            let (got, plan) = renderer.render_image(&gpu, &camera, &settings, 96, 96).expect("render");
+            assert_eq!(plan.target(TargetId("opaque image")).is_some(), opaque_splats > 0, "{what}: {plan}");
+            // Bound: the transparent layers as in the two-plane test (< 1/255
+            // from Rgba16Float blends and the final rounding). The opaque
+            // image adds two-pass's normalisation Σw·c / Σw, both sums stored
+            // in Rgba16Float (11-bit mantissa) after each of the m ≤ 9 discs
+            // that overlap a point (radius 1.5 s on a grid of spacing s): a
+            // relative error of at most 2·m·2⁻¹¹ in the quotient, seen
+            // through the transparent layers in front, (1 − α₁)·c.
+            let bound = MAX_ALG_COVERED_CHANNEL_ERROR + opaque_seen(&planes) * 2.0 * 9.0 / 2048.0;
+            let mut worst = 0.0f32;
+            for p in got.pixels() {
+                for (got, want) in p.0.iter().zip(want) {
+                    worst = worst.max((*got as f32 - want).abs());
+                }
+            }
+            println!("{name}, {what}: worst channel error {worst} (bound {bound:.2}, want {want:?})");
+            assert!(worst <= bound, "{name}, {what}: off by {worst} from {want:?}");
+            let (exact, _) = exact(&scene, &camera, &settings, 96);
+            let error = reference::compare(&got, &exact).unwrap();
+            assert!(error.eps <= 3.0 * bound as f64, "{name}, {what}: ε {}", error.eps);
+        }
+    }
+}
+
+/// The largest 8-bit channel of the first opaque plane (front to back) as
+/// seen through the transparent planes in front of it: Π(1 − α)·max c.
+fn opaque_seen(planes: &[Plane]) -> f32 {
+    let mut through = 1.0;
+    for &(_, colour, opacity) in planes {
+        if opacity >= 1.0 {
+            return through * colour.into_iter().max().map_or(0.0, f32::from);
+        }
+        through *= 1.0 - opacity;
+    }
+    0.0
+}
+
+#[test]
+fn plain_alpha_blending_blends_one_surface_as_often_as_its_discs_overlap() {
+    // One plane at opacity 0.5 whose discs overlap (radius 1.5 s on a grid of
+    // spacing s: 4 to 9 discs over every point). Plain α-blending puts every
+    // disc over the ones before, so a pixel under m discs gets opacity
+    // 1 − 0.5^m ≥ 0.94 instead of 0.5: the double blending that alg1's
+    // groups and Eq. 10 culling remove.
+    let red = [240, 40, 30];
+    let (scene, grouping) = planes_in_groups(&[(0.0, red, 0.5)], 1.5);
+    let camera = looking_down_z();
+    let bg = common::background_rgb();
+    let closed_form = 0.5 * red[0] as f32 + 0.5 * bg[0] as f32;
+    let red_of = |name: &str, grouping: Option<&Grouping>| {
+        let settings = RenderSettings { lighting: false, ..settings(name, 0) };
+        let mut renderer = common::renderer();
+        let gpu = renderer.upload(&scene, grouping);
+        let image = renderer.render_image(&gpu, &camera, &settings, 96, 96).expect("render").0;
+        image.pixels().map(|p| p.0[0] as f32).fold(f32::INFINITY, f32::min)
+    };
+    let (blended, grouped) = (red_of("alpha-blend", None), red_of("alg1", Some(&grouping)));
+    // Least opacity any pixel gets: four discs, 1 − 0.5⁴.
+    let at_least = (1.0 - 0.5f32.powi(4)) * red[0] as f32 + 0.5f32.powi(4) * bg[0] as f32;
+    println!(
+        "red channel: alpha-blend ≥ {blended}, alg1 ≥ {grouped}, closed form {closed_form}, 4 discs {at_least:.1}"
+    );
+    assert!(blended >= at_least - 1.0, "alpha-blend: {blended} < {at_least}");
+    assert!((grouped - closed_form).abs() <= MAX_ALG_COVERED_CHANNEL_ERROR, "alg1: {grouped} against {closed_form}");
 }

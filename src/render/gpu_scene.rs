@@ -24,6 +24,15 @@ pub struct GpuScene {
     pub mean_radius: f32,
     /// Instance ranges of the groups (one range over everything when ungrouped).
     pub groups: Vec<std::ops::Range<u32>>,
+    /// The transparent splats of each group: its whole run, or, in a grouped
+    /// scene of transparent and opaque splats, the run's first part (the
+    /// opaque ones follow it). What the transparent grouped modes blend.
+    pub transparent_groups: Vec<std::ops::Range<u32>>,
+    /// In a grouped scene of transparent and opaque splats, every opaque
+    /// splat once at its own radius, after the groups (beyond [`Self::len`]):
+    /// what the transparent grouped modes draw in high quality beneath the
+    /// transparent layers (Zhang & Pajarola Fig. 18/19). Empty otherwise.
+    pub opaque: std::ops::Range<u32>,
     /// The colour of every splat, when they all have the same one: colour
     /// targets then hold only the weights.
     pub uniform_color: Option<[u8; 3]>,
@@ -47,31 +56,15 @@ impl GpuScene {
     pub fn upload_cloud(device: &wgpu::Device, cloud: &PointCloud, grouping: Option<&Grouping>) -> Self {
         // Only a transparent scene is ever drawn in order (opaque ones run opaque plans).
         let transparent = cloud.has_transparency();
-        match grouping {
-            Some(g) => Self::upload_in_order(device, cloud, &g.order, &g.radius_scale, &g.ranges, transparent),
-            None => {
-                let order: Vec<u32> = (0..cloud.len() as u32).collect();
-                let all = 0..cloud.len() as u32;
-                Self::upload_in_order(device, cloud, &order, &[1.0], std::slice::from_ref(&all), transparent)
-            }
-        }
+        let layout = match grouping {
+            Some(g) => InstanceLayout::grouped(cloud, &g.order, &g.radius_scale, &g.ranges),
+            None => InstanceLayout::plain(cloud),
+        };
+        Self::upload_layout(device, cloud, layout, transparent)
     }
 
-    fn upload_in_order(
-        device: &wgpu::Device,
-        cloud: &PointCloud,
-        order: &[u32],
-        scales: &[f32],
-        groups: &[std::ops::Range<u32>],
-        keep_for_order: bool,
-    ) -> Self {
-        let mut scale_of = vec![1.0f32; order.len()];
-        for (g, range) in groups.iter().enumerate() {
-            let s = scales.get(g).copied().unwrap_or(1.0);
-            for slot in &mut scale_of[range.start as usize..range.end as usize] {
-                *slot = s;
-            }
-        }
+    fn upload_layout(device: &wgpu::Device, cloud: &PointCloud, layout: InstanceLayout, keep_for_order: bool) -> Self {
+        let InstanceLayout { order, scale_of, groups, transparent_groups, opaque } = layout;
         let per_chunk = (MAX_CHUNK_BYTES / std::mem::size_of::<SplatInstance>())
             .min(device.limits().max_buffer_size as usize / std::mem::size_of::<SplatInstance>())
             .max(1);
@@ -106,15 +99,18 @@ impl GpuScene {
             start = end;
         }
         let instance_order = keep_for_order.then(|| {
-            std::sync::Mutex::new(InstanceOrder::new(kept, groups.to_vec(), crate::spatial::order::OrderKind::Bucket))
+            let kind = crate::spatial::order::OrderKind::Bucket;
+            std::sync::Mutex::new(InstanceOrder::new(kept, transparent_groups.clone(), kind))
         });
         let first = cloud.colors.first().copied();
         let uniform_color = first.filter(|c| cloud.colors.iter().all(|x| x == c));
         Self {
             chunks,
-            len: order.len(),
+            len: opaque.start as usize,
             mean_radius: cloud.mean_radius(),
-            groups: groups.to_vec(),
+            groups,
+            transparent_groups,
+            opaque,
             uniform_color,
             transparent: cloud.has_transparency(),
             order: instance_order,
@@ -136,7 +132,7 @@ impl GpuScene {
         Some(look(&order))
     }
 
-    /// All splats, as an instance range.
+    /// All splats, as an instance range (without the opaque run).
     pub fn all(&self) -> std::ops::Range<u32> {
         0..self.len as u32
     }
@@ -154,5 +150,68 @@ impl GpuScene {
             }
             chunk_start = chunk_end;
         }
+    }
+}
+
+/// Which splat goes in which instance slot, at what radius scale.
+struct InstanceLayout {
+    /// The cloud index of each slot.
+    order: Vec<u32>,
+    scale_of: Vec<f32>,
+    groups: Vec<std::ops::Range<u32>>,
+    transparent_groups: Vec<std::ops::Range<u32>>,
+    opaque: std::ops::Range<u32>,
+}
+
+impl InstanceLayout {
+    /// The cloud in its own order, one group of everything.
+    fn plain(cloud: &PointCloud) -> Self {
+        let n = cloud.len() as u32;
+        Self {
+            order: (0..n).collect(),
+            scale_of: vec![1.0; n as usize],
+            groups: std::iter::once(0..n).collect(),
+            transparent_groups: std::iter::once(0..n).collect(),
+            opaque: n..n,
+        }
+    }
+
+    /// Group by group (`order`'s runs `ranges`, radii times `scales[k]`). When
+    /// the cloud has both transparent and opaque splats, each group's
+    /// transparent splats come first, and every opaque splat follows the
+    /// groups once more at its own radius.
+    fn grouped(cloud: &PointCloud, order: &[u32], scales: &[f32], ranges: &[std::ops::Range<u32>]) -> Self {
+        let opaque_splat = |i: u32| cloud.opacity[i as usize] >= 1.0;
+        let mixed = cloud.has_transparency() && cloud.opacity.iter().any(|&a| a >= 1.0);
+        let mut out = Self {
+            order: Vec::with_capacity(order.len()),
+            scale_of: Vec::with_capacity(order.len()),
+            groups: Vec::with_capacity(ranges.len()),
+            transparent_groups: Vec::with_capacity(ranges.len()),
+            opaque: 0..0,
+        };
+        for (k, range) in ranges.iter().enumerate() {
+            let run = &order[range.start as usize..range.end as usize];
+            let scale = scales.get(k).copied().unwrap_or(1.0);
+            let start = out.order.len() as u32;
+            if mixed {
+                out.order.extend(run.iter().copied().filter(|&i| !opaque_splat(i)));
+                let transparent_end = out.order.len() as u32;
+                out.order.extend(run.iter().copied().filter(|&i| opaque_splat(i)));
+                out.transparent_groups.push(start..transparent_end);
+            } else {
+                out.order.extend_from_slice(run);
+                out.transparent_groups.push(start..start + run.len() as u32);
+            }
+            out.scale_of.resize(out.order.len(), scale);
+            out.groups.push(start..out.order.len() as u32);
+        }
+        let end = out.order.len() as u32;
+        if mixed {
+            out.order.extend((0..cloud.len() as u32).filter(|&i| opaque_splat(i)));
+            out.scale_of.resize(out.order.len(), 1.0);
+        }
+        out.opaque = end..out.order.len() as u32;
+        out
     }
 }

@@ -34,12 +34,16 @@ impl ViewKey {
     }
 }
 
+/// The group of an instance that is drawn in no order.
+const UNORDERED: u32 = u32::MAX;
+
 /// The instances of a grouped scene and the view their buffers are sorted for.
 pub struct InstanceOrder {
     /// As uploaded: group by group, each group's run `groups[k]`.
     uploaded: Vec<SplatInstance>,
     groups: Vec<Range<u32>>,
-    /// The group of each uploaded instance.
+    /// The group of each uploaded instance ([`UNORDERED`] for instances in no
+    /// group, such as the opaque run drawn apart, which stay where they are).
     group_of: Vec<u32>,
     kind: OrderKind,
     /// Built on the first ordered frame (the BSP tree costs a build).
@@ -57,7 +61,7 @@ impl InstanceOrder {
     /// The order of `instances`, uploaded group by group in `groups`.
     pub fn new(instances: Vec<SplatInstance>, groups: Vec<Range<u32>>, kind: OrderKind) -> Self {
         let positions = instances.iter().map(|s| Vec3::from_array(s.position)).collect();
-        let mut group_of = vec![0u32; instances.len()];
+        let mut group_of = vec![UNORDERED; instances.len()];
         for (g, range) in groups.iter().enumerate() {
             group_of[range.start as usize..range.end as usize].fill(g as u32);
         }
@@ -92,7 +96,11 @@ impl InstanceOrder {
         // A stable partition of the one order into the groups' runs.
         let mut fill: Vec<u32> = self.groups.iter().map(|r| r.start).collect();
         for &i in &self.order {
-            let g = self.group_of[i as usize] as usize;
+            let g = self.group_of[i as usize];
+            if g == UNORDERED {
+                continue;
+            }
+            let g = g as usize;
             self.current[fill[g] as usize] = self.uploaded[i as usize];
             fill[g] += 1;
         }

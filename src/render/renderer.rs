@@ -105,6 +105,8 @@ impl Renderer {
             height,
             splats: scene.len,
             groups: &scene.groups,
+            transparent_groups: &scene.transparent_groups,
+            opaque: scene.opaque.clone(),
             uniform_colour: scene.uniform_color,
             epsilon,
             depth_steps,

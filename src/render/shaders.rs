@@ -3,7 +3,7 @@
 //! Shader variants come from one mechanism: a small preprocessor with
 //! `#include "file.wgsl"` (each file included once), `#ifdef NAME`,
 //! `#ifndef NAME`, `#else` and `#endif`. A [`Variant`] is a set of names
-//! (`LIT`, `WEIGHT_ONLY`; transparency and environment lookups add theirs).
+//! (`LIT`, `WEIGHT_ONLY`, `OPAQUE_APART`).
 //! Chosen over WGSL `override` constants, which cannot remove a binding, a
 //! fragment output or a struct field (an unlit pass must neither declare nor
 //! write a normal target), and over `naga_oil`, which composes into naga IR
@@ -12,7 +12,7 @@
 //! and validates it with naga (`tests/shaders.rs`).
 
 /// Every WGSL file, by name.
-const FILES: [(&str, &str); 17] = [
+const FILES: [(&str, &str); 21] = [
     ("frame.wgsl", include_str!("../../shaders/frame.wgsl")),
     ("splat.wgsl", include_str!("../../shaders/splat.wgsl")),
     ("shading.wgsl", include_str!("../../shaders/shading.wgsl")),
@@ -24,7 +24,11 @@ const FILES: [(&str, &str); 17] = [
     ("peel.wgsl", include_str!("../../shaders/peel.wgsl")),
     ("peel_layer.wgsl", include_str!("../../shaders/peel_layer.wgsl")),
     ("peel_rest.wgsl", include_str!("../../shaders/peel_rest.wgsl")),
+    ("group_layer.wgsl", include_str!("../../shaders/group_layer.wgsl")),
+    ("opaque_cull.wgsl", include_str!("../../shaders/opaque_cull.wgsl")),
+    ("opaque_under.wgsl", include_str!("../../shaders/opaque_under.wgsl")),
     ("alg1_group.wgsl", include_str!("../../shaders/alg1_group.wgsl")),
+    ("alpha_blend.wgsl", include_str!("../../shaders/alpha_blend.wgsl")),
     ("alg1_average.wgsl", include_str!("../../shaders/alg1_average.wgsl")),
     ("alg2_nearest.wgsl", include_str!("../../shaders/alg2_nearest.wgsl")),
     ("alg2_other.wgsl", include_str!("../../shaders/alg2_other.wgsl")),
@@ -33,7 +37,7 @@ const FILES: [(&str, &str); 17] = [
 ];
 
 /// The files passes build modules from; the others are only included.
-pub const ROOTS: [&str; 14] = [
+pub const ROOTS: [&str; 15] = [
     "visibility.wgsl",
     "accumulate.wgsl",
     "normalize.wgsl",
@@ -48,6 +52,7 @@ pub const ROOTS: [&str; 14] = [
     "alg2_nearest.wgsl",
     "alg2_other.wgsl",
     "alg2_composite.wgsl",
+    "alpha_blend.wgsl",
 ];
 
 /// A set of preprocessor names a shader module is built with.
@@ -59,9 +64,13 @@ impl Variant {
     pub const LIT: Variant = Variant(1);
     /// A cloud of one colour: colour targets hold only the weight.
     pub const WEIGHT_ONLY: Variant = Variant(2);
+    /// A transparent scene's opaque splats were drawn apart: transparent
+    /// fragments behind their depth are culled, and the layers are
+    /// composited over their image instead of the background.
+    pub const OPAQUE_APART: Variant = Variant(4);
 
     /// Every name, by bit.
-    const NAMES: [&'static str; 2] = ["LIT", "WEIGHT_ONLY"];
+    const NAMES: [&'static str; 3] = ["LIT", "WEIGHT_ONLY", "OPAQUE_APART"];
 
     pub const NONE: Variant = Variant(0);
 
@@ -155,6 +164,6 @@ mod tests {
         assert_eq!(lit.matches("struct Frame {").count(), 1, "frame.wgsl is included once");
         assert!(compose("missing.wgsl", Variant::NONE).is_err());
         assert_eq!(Variant::LIT.with(Variant::WEIGHT_ONLY, true).defines(), ["LIT", "WEIGHT_ONLY"]);
-        assert_eq!(Variant::all().count(), 4);
+        assert_eq!(Variant::all().count(), 8);
     }
 }

@@ -29,6 +29,9 @@ pub enum RenderMode {
     /// Zhang & Pajarola's Algorithm-2: the nearest layer as `deferred` draws
     /// it, the others as Algorithm-1 does, composited in one pass (2+1 passes).
     Alg2,
+    /// Plain α-blending: every splat back to front over the ones behind, no
+    /// culling; the double-blending baseline of Zhang & Pajarola §5.2.
+    AlphaBlend,
     /// The exact A-buffer renderer on the CPU: the ground truth for error.
     Reference,
 }
@@ -75,7 +78,7 @@ const ALG1_GROUPING: GroupingSpec = GroupingSpec {
     extension: Extension::Enlarge,
 };
 
-const REGISTRY: [ModeInfo; 7] = [
+const REGISTRY: [ModeInfo; 8] = [
     ModeInfo {
         mode: RenderMode::TwoPass,
         name: "two-pass",
@@ -193,6 +196,18 @@ const REGISTRY: [ModeInfo; 7] = [
         covering_grouping: Some(ALG1_GROUPING),
     },
     ModeInfo {
+        mode: RenderMode::AlphaBlend,
+        name: "alpha-blend",
+        description: "Plain α-blending: every splat back to front over the ones behind, no culling (1+1 passes); overlapping splats of one surface blend twice or more, the artefact Algorithm-1 and -2 remove.",
+        parameters: &[Parameter::RadiusScale, Parameter::BackfaceCulling, Parameter::Lighting, Parameter::Background],
+        device: Device::Gpu,
+        transparent: true,
+        preview: RenderMode::AlphaBlend,
+        bench_variants: &[""],
+        default_layers: 1,
+        covering_grouping: None,
+    },
+    ModeInfo {
         mode: RenderMode::Reference,
         name: "reference",
         description: "Exact A-buffer ray casting on the CPU: the ground truth for error (slow).",
@@ -215,13 +230,14 @@ const REGISTRY: [ModeInfo; 7] = [
 ];
 
 impl RenderMode {
-    pub const ALL: [RenderMode; 7] = [
+    pub const ALL: [RenderMode; 8] = [
         RenderMode::TwoPass,
         RenderMode::Deferred,
         RenderMode::DepthPeel,
         RenderMode::ApproxPeel,
         RenderMode::Alg1,
         RenderMode::Alg2,
+        RenderMode::AlphaBlend,
         RenderMode::Reference,
     ];
 

@@ -10,9 +10,13 @@
 //! layer is blended once per group (`shaders/alg1_group.wgsl`). A full-screen
 //! pass averages the K images over the background; groups that left a pixel
 //! empty are left out of its average (`shaders/alg1_average.wgsl`).
+//! In a scene of transparent and opaque splats, the opaque ones are drawn
+//! first, apart and in high quality (`two-pass`, [`OpaquePart`]): the group
+//! passes cull fragments behind their depth and the average goes over their
+//! image instead of the background (Fig. 18/19).
 //! A scene with nothing transparent runs the opaque two-pass plan.
 
-use super::two_pass::TwoPass;
+use super::two_pass::{OPAQUE_DEPTH, OPAQUE_IMAGE, OpaquePart, TwoPass};
 use super::{FrameDesc, GpuMode, peeling};
 use crate::render::gpu_data::PassUniforms;
 use crate::render::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, Recorded, SplatPass};
@@ -27,17 +31,37 @@ const Z_BUFFER: TargetId = TargetId("group Eq. 10 z-buffer");
 
 /// Group images K: at least one (also alg2's).
 pub(super) fn groups(frame: &FrameDesc<'_>) -> u32 {
-    frame.groups.len().max(1) as u32
+    frame.transparent_groups.len().max(1) as u32
 }
 
-/// The shader variant (also alg2's): lit or not; colours are always full.
+/// The transparent splats of group `layer` (also alg2's).
+pub(super) fn group(frame: &FrameDesc<'_>, layer: u32) -> std::ops::Range<u32> {
+    frame.transparent_groups.get(layer as usize).cloned().unwrap_or(0..0)
+}
+
+/// The shader variant (also alg2's): lit or not, opaque splats drawn apart
+/// or not; colours are always full.
 pub(super) fn variant(frame: &FrameDesc<'_>) -> Variant {
-    Variant::NONE.with(Variant::LIT, frame.settings.lighting)
+    Variant::NONE.with(Variant::LIT, frame.settings.lighting).with(Variant::OPAQUE_APART, OpaquePart::present(frame))
 }
 
-/// The plan's variant in words (also alg2's): the grouping drawn, lit or not.
+/// `reads` and, when the opaque splats are drawn apart, `opaque` (also alg2's).
+pub(super) fn with_opaque(frame: &FrameDesc<'_>, mut reads: Vec<TargetId>, opaque: TargetId) -> Vec<TargetId> {
+    if OpaquePart::present(frame) {
+        reads.push(opaque);
+    }
+    reads
+}
+
+/// The plan's variant in words (also alg2's): the grouping drawn, lit or
+/// not, and how opaque splats are drawn.
 pub(super) fn describe(frame: &FrameDesc<'_>) -> String {
-    format!("{}, {}", frame.settings.grouping_for_mode(), if frame.settings.lighting { "lit" } else { "unlit" })
+    format!(
+        "{}, {}{}",
+        frame.settings.grouping_for_mode(),
+        if frame.settings.lighting { "lit" } else { "unlit" },
+        if OpaquePart::present(frame) { ", opaque splats apart (two-pass)" } else { "" }
+    )
 }
 
 impl GpuMode for Alg1 {
@@ -54,40 +78,30 @@ impl GpuMode for Alg1 {
             layout: Layout::Array { layers: k },
             why,
         };
-        let targets = vec![
+        let (mut targets, mut passes) = OpaquePart::plan(frame);
+        targets.extend([
             target(IMAGES, ACCUM_FORMAT, "I_k: group k blended back to front, premultiplied colour and α"),
             target(Z_BUFFER, DEPTH_FORMAT, "Eq. 10 low-precision depth per group: one blend per surface layer"),
-        ];
-        let passes = vec![
+        ]);
+        passes.extend([
             PlannedPass {
                 name: "group layers",
                 what: "group k back to front -> I_k: shaded rgb·α, α, over; z-test on Eq. 10 depth".into(),
-                reads: Vec::new(),
+                reads: with_opaque(frame, Vec::new(), OPAQUE_DEPTH),
                 writes: vec![IMAGES, Z_BUFFER],
                 draws_splats: true,
                 render_passes: k as usize,
             },
             PlannedPass {
                 name: "average",
-                what: "full screen: mean of the I_k that cover the pixel, over the background".into(),
-                reads: vec![IMAGES],
+                what: "full screen: mean of the I_k that cover the pixel, over the background (or opaque image)".into(),
+                reads: with_opaque(frame, vec![IMAGES], OPAQUE_IMAGE),
                 writes: Vec::new(),
                 draws_splats: false,
                 render_passes: 1,
             },
-        ];
-        RenderPlan {
-            mode: frame.settings.mode,
-            variant: describe(frame),
-            width: frame.width,
-            height: frame.height,
-            splats: frame.splats,
-            epsilon: frame.epsilon,
-            groups: k as usize,
-            passes,
-            targets,
-            notes: Vec::new(),
-        }
+        ]);
+        frame.plan(describe(frame), k as usize, passes, targets)
     }
 
     fn record(&self, frame: &FrameDesc<'_>, plan: &RenderPlan) -> Vec<Recorded> {
@@ -101,35 +115,35 @@ impl GpuMode for Alg1 {
             layers: [layer, k, 0, 0],
         };
         let z_test = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
-        let mut commands: Vec<Recorded> = (0..k)
-            .map(|layer| {
-                let pass = SplatPass {
-                    label: "Alg1Group::pass",
-                    shader: "alg1_group.wgsl",
-                    entry: "fs_alg1_group",
-                    variant: variant(frame),
-                    colour: vec![ColourOutput { target: IMAGES, blend: Blend::Over }],
-                    depth: Some((Z_BUFFER, z_test)),
-                    inputs: Vec::new(),
-                    layer,
-                    splats: frame.groups.get(layer as usize).cloned().unwrap_or(0..0),
-                    uniforms: uniforms(layer),
-                };
-                Recorded { pass: 0, command: Command::Splats(pass) }
-            })
-            .collect();
+        let mut commands = OpaquePart::record(frame);
+        let first = plan.passes.len() - 2;
+        commands.extend((0..k).map(|layer| {
+            let pass = SplatPass {
+                label: "Alg1Group::pass",
+                shader: "alg1_group.wgsl",
+                entry: "fs_alg1_group",
+                variant: variant(frame),
+                colour: vec![ColourOutput { target: IMAGES, blend: Blend::Over }],
+                depth: Some((Z_BUFFER, z_test)),
+                inputs: with_opaque(frame, Vec::new(), OPAQUE_DEPTH),
+                layer,
+                splats: group(frame, layer),
+                uniforms: uniforms(layer),
+            };
+            Recorded { pass: first, command: Command::Splats(pass) }
+        }));
         let average = FullscreenPass {
             label: "Alg1Average::pass",
             shader: "alg1_average.wgsl",
             entry: "fs_alg1_average",
-            variant: Variant::NONE,
-            inputs: vec![IMAGES],
+            variant: Variant::NONE.with(Variant::OPAQUE_APART, OpaquePart::present(frame)),
+            inputs: with_opaque(frame, vec![IMAGES], OPAQUE_IMAGE),
             output: Output::Frame,
             blend: Blend::Replace,
             clear: true,
             uniforms: uniforms(0),
         };
-        commands.push(Recorded { pass: 1, command: Command::Fullscreen(average) });
+        commands.push(Recorded { pass: first + 1, command: Command::Fullscreen(average) });
         commands
     }
 

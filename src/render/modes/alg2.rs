@@ -12,10 +12,12 @@
 //! normalised and shaded nearest layer with its opacity α = Σw·α/Σw; C_O, the
 //! average of the O_k over the background; and I = α·C_F + (1 - α)·C_O. The
 //! groups are those of `alg1` (covering, `RenderSettings::grouping_for_mode`).
+//! Opaque splats of a mixed scene are drawn apart first as in `alg1`: both
+//! geometry passes cull behind them, and C_O goes over their image.
 //! A scene with nothing transparent runs the opaque two-pass plan.
 
-use super::alg1::{describe, groups, variant};
-use super::two_pass::TwoPass;
+use super::alg1::{describe, group, groups, variant, with_opaque};
+use super::two_pass::{OPAQUE_DEPTH, OPAQUE_IMAGE, OpaquePart, TwoPass};
 use super::{FrameDesc, GpuMode, peeling};
 use crate::render::gpu_data::PassUniforms;
 use crate::render::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, Recorded, SplatPass};
@@ -45,19 +47,20 @@ impl GpuMode for Alg2 {
             layout: Layout::Array { layers: k },
             why,
         };
-        let targets = vec![
+        let (mut targets, mut passes) = OpaquePart::plan(frame);
+        targets.extend([
             target(NEAR_COLOUR, ACCUM_FORMAT, "pass 1 (deferred): each group's nearest splat, Eq. 4 weight"),
             target(NEAR_NORMAL, ACCUM_FORMAT, "pass 1: w·n for deferred shading, w·α for the nearest layer's opacity"),
             target(NEAR_DEPTH, VIEW_DEPTH_FORMAT, "pass 1: true view depth for ε-z compositing and pass 2's culling"),
             target(NEAR_Z, DEPTH_FORMAT, "pass 1: z-test within each group (Voronoi depth)"),
             target(OTHERS, ACCUM_FORMAT, "pass 2 (Algorithm-1): the layers behind the nearest, per group"),
             target(OTHERS_Z, DEPTH_FORMAT, "pass 2: Eq. 10 low-precision depth per group"),
-        ];
-        let passes = vec![
+        ]);
+        passes.extend([
             PlannedPass {
                 name: "nearest layer",
                 what: "group k -> I_k as deferred draws it: w·rgb, w, w·n, w·α, depth; Voronoi z-test".into(),
-                reads: Vec::new(),
+                reads: with_opaque(frame, Vec::new(), OPAQUE_DEPTH),
                 writes: vec![NEAR_COLOUR, NEAR_NORMAL, NEAR_DEPTH, NEAR_Z],
                 draws_splats: true,
                 render_passes: k as usize,
@@ -65,7 +68,7 @@ impl GpuMode for Alg2 {
             PlannedPass {
                 name: "other layers",
                 what: "group k back to front -> O_k, without fragments within ε of the nearest layer".into(),
-                reads: vec![NEAR_COLOUR, NEAR_DEPTH],
+                reads: with_opaque(frame, vec![NEAR_COLOUR, NEAR_DEPTH], OPAQUE_DEPTH),
                 writes: vec![OTHERS, OTHERS_Z],
                 draws_splats: true,
                 render_passes: k as usize,
@@ -73,24 +76,13 @@ impl GpuMode for Alg2 {
             PlannedPass {
                 name: "composite",
                 what: "full screen: C_F (ε-z, normalise, shade), C_O (mean of O_k), I = α·C_F + (1-α)·C_O".into(),
-                reads: vec![NEAR_COLOUR, NEAR_DEPTH, NEAR_NORMAL, OTHERS],
+                reads: with_opaque(frame, vec![NEAR_COLOUR, NEAR_DEPTH, NEAR_NORMAL, OTHERS], OPAQUE_IMAGE),
                 writes: Vec::new(),
                 draws_splats: false,
                 render_passes: 1,
             },
-        ];
-        RenderPlan {
-            mode: frame.settings.mode,
-            variant: describe(frame),
-            width: frame.width,
-            height: frame.height,
-            splats: frame.splats,
-            epsilon: frame.epsilon,
-            groups: k as usize,
-            passes,
-            targets,
-            notes: Vec::new(),
-        }
+        ]);
+        frame.plan(describe(frame), k as usize, passes, targets)
     }
 
     fn record(&self, frame: &FrameDesc<'_>, plan: &RenderPlan) -> Vec<Recorded> {
@@ -105,8 +97,9 @@ impl GpuMode for Alg2 {
         };
         let z_test = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
         let replace = |target| ColourOutput { target, blend: Blend::Replace };
-        let group = |layer: u32| frame.groups.get(layer as usize).cloned().unwrap_or(0..0);
-        let mut commands = Vec::new();
+        let group = |layer: u32| group(frame, layer);
+        let mut commands = OpaquePart::record(frame);
+        let first = plan.passes.len() - 3;
         for layer in 0..k {
             let pass = SplatPass {
                 label: "Alg2Nearest::pass",
@@ -115,12 +108,12 @@ impl GpuMode for Alg2 {
                 variant: variant(frame),
                 colour: vec![replace(NEAR_COLOUR), replace(NEAR_NORMAL), replace(NEAR_DEPTH)],
                 depth: Some((NEAR_Z, z_test)),
-                inputs: Vec::new(),
+                inputs: with_opaque(frame, Vec::new(), OPAQUE_DEPTH),
                 layer,
                 splats: group(layer),
                 uniforms: uniforms(layer),
             };
-            commands.push(Recorded { pass: 0, command: Command::Splats(pass) });
+            commands.push(Recorded { pass: first, command: Command::Splats(pass) });
         }
         for layer in 0..k {
             let pass = SplatPass {
@@ -130,25 +123,25 @@ impl GpuMode for Alg2 {
                 variant: variant(frame),
                 colour: vec![ColourOutput { target: OTHERS, blend: Blend::Over }],
                 depth: Some((OTHERS_Z, z_test)),
-                inputs: vec![NEAR_COLOUR, NEAR_DEPTH],
+                inputs: with_opaque(frame, vec![NEAR_COLOUR, NEAR_DEPTH], OPAQUE_DEPTH),
                 layer,
                 splats: group(layer),
                 uniforms: uniforms(layer),
             };
-            commands.push(Recorded { pass: 1, command: Command::Splats(pass) });
+            commands.push(Recorded { pass: first + 1, command: Command::Splats(pass) });
         }
         let composite = FullscreenPass {
             label: "Alg2Composite::pass",
             shader: "alg2_composite.wgsl",
             entry: "fs_alg2_composite",
             variant: variant(frame),
-            inputs: vec![NEAR_COLOUR, NEAR_DEPTH, NEAR_NORMAL, OTHERS],
+            inputs: with_opaque(frame, vec![NEAR_COLOUR, NEAR_DEPTH, NEAR_NORMAL, OTHERS], OPAQUE_IMAGE),
             output: Output::Frame,
             blend: Blend::Replace,
             clear: true,
             uniforms: uniforms(0),
         };
-        commands.push(Recorded { pass: 2, command: Command::Fullscreen(composite) });
+        commands.push(Recorded { pass: first + 2, command: Command::Fullscreen(composite) });
         commands
     }
 

@@ -49,18 +49,7 @@ impl GpuMode for ApproxPeel {
         passes.push(peeling::final_pass());
         let mut targets = peeling::targets(frame);
         targets.extend(peeling::sum_targets(frame, REST, "Σw·rgb, Σw of everything behind the exact layers"));
-        RenderPlan {
-            mode: frame.settings.mode,
-            variant: format!("{}, the last approximate", peeling::describe(frame, k)),
-            width: frame.width,
-            height: frame.height,
-            splats: frame.splats,
-            epsilon: frame.epsilon,
-            groups: 1,
-            passes,
-            targets,
-            notes: Vec::new(),
-        }
+        frame.plan(format!("{}, the last approximate", peeling::describe(frame, k)), 1, passes, targets)
     }
 
     fn record(&self, frame: &FrameDesc<'_>, plan: &RenderPlan) -> Vec<Recorded> {

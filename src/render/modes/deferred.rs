@@ -100,18 +100,7 @@ impl GpuMode for Deferred {
             if frame.settings.voronoi { "on" } else { "off" },
             if frame.weight_only() { ", weights only" } else { "" }
         );
-        RenderPlan {
-            mode: frame.settings.mode,
-            variant,
-            width: frame.width,
-            height: frame.height,
-            splats: frame.splats,
-            epsilon: frame.epsilon,
-            groups: k as usize,
-            passes,
-            targets,
-            notes: depth_step_note(frame),
-        }
+        RenderPlan { notes: depth_step_note(frame), ..frame.plan(variant, k as usize, passes, targets) }
     }
 
     fn record(&self, frame: &FrameDesc<'_>, _plan: &RenderPlan) -> Vec<Recorded> {

@@ -23,18 +23,7 @@ impl GpuMode for DepthPeel {
         let k = peeling::layers(frame);
         let mut passes = peeling::layer_passes(frame, k);
         passes.push(peeling::final_pass());
-        RenderPlan {
-            mode: frame.settings.mode,
-            variant: peeling::describe(frame, k),
-            width: frame.width,
-            height: frame.height,
-            splats: frame.splats,
-            epsilon: frame.epsilon,
-            groups: 1,
-            passes,
-            targets: peeling::targets(frame),
-            notes: Vec::new(),
-        }
+        frame.plan(peeling::describe(frame, k), 1, passes, peeling::targets(frame))
     }
 
     fn record(&self, frame: &FrameDesc<'_>, plan: &RenderPlan) -> Vec<Recorded> {

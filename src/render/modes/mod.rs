@@ -8,6 +8,7 @@
 
 mod alg1;
 mod alg2;
+mod alpha_blend;
 mod approx_peel;
 mod deferred;
 mod depth_peel;
@@ -29,6 +30,12 @@ pub struct FrameDesc<'a> {
     pub splats: usize,
     /// Instance ranges of the groups (one range over everything when ungrouped).
     pub groups: &'a [Range<u32>],
+    /// The transparent splats of each group (the groups themselves unless the
+    /// scene mixes opaque and transparent splats; see `GpuScene`).
+    pub transparent_groups: &'a [Range<u32>],
+    /// Instances of the scene's opaque splats drawn apart, under the
+    /// transparent layers (empty unless grouped and mixed).
+    pub opaque: Range<u32>,
     /// The scene's one colour, when every splat has it: colour targets then hold only weights.
     pub uniform_colour: Option<[u8; 3]>,
     /// ε in view-depth units.
@@ -43,6 +50,29 @@ impl FrameDesc<'_> {
     /// Whether colour targets hold only weights (a scene of one colour).
     pub fn weight_only(&self) -> bool {
         self.uniform_colour.is_some()
+    }
+
+    /// The plan of this frame: its size, splats and ε, with the mode's
+    /// variant in words, its group count, passes and targets.
+    pub fn plan(
+        &self,
+        variant: String,
+        groups: usize,
+        passes: Vec<super::plan::PlannedPass>,
+        targets: Vec<super::plan::TargetDesc>,
+    ) -> RenderPlan {
+        RenderPlan {
+            mode: self.settings.mode,
+            variant,
+            width: self.width,
+            height: self.height,
+            splats: self.splats,
+            epsilon: self.epsilon,
+            groups,
+            passes,
+            targets,
+            notes: Vec::new(),
+        }
     }
 
     /// The one colour as a uniform (rgb 0..1), zero when there is none.
@@ -76,6 +106,7 @@ pub fn gpu_mode(mode: RenderMode) -> Option<&'static dyn GpuMode> {
         RenderMode::ApproxPeel => Some(&approx_peel::ApproxPeel),
         RenderMode::Alg1 => Some(&alg1::Alg1),
         RenderMode::Alg2 => Some(&alg2::Alg2),
+        RenderMode::AlphaBlend => Some(&alpha_blend::AlphaBlend),
         RenderMode::Reference => None,
     }
 }
