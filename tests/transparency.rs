@@ -87,7 +87,7 @@ fn opacity_zero_shows_only_the_background_in_every_transparent_mode() {
     let scene = transparent_bunny(0.0);
     let camera = view(&scene, 0.0, 10.0);
     let bg = common::background_rgb();
-    for name in ["depth-peel", "approx-peel", "alg1", "alg2", "reference"] {
+    for name in ["depth-peel", "approx-peel", "alg1", "alg2", "alpha-blend", "reference"] {
         let settings = settings(name, 0);
         let image = if name == "reference" {
             exact(&scene, &camera, &settings, 96).0
@@ -107,7 +107,7 @@ fn opacity_one_draws_the_opaque_picture_without_peeling() {
     let opaque = render(&scene, &camera, &settings("two-pass", 0), 128);
     let mut renderer = common::renderer();
     let gpu = renderer.upload(&scene, None);
-    for name in ["depth-peel", "approx-peel", "alg1", "alg2"] {
+    for name in ["depth-peel", "approx-peel", "alg1", "alg2", "alpha-blend"] {
         let settings = settings(name, 0);
         let (image, plan) = renderer.render_image(&gpu, &camera, &settings, 128, 128).unwrap();
         assert!(plan.notes.iter().any(|n| n.contains("opaque")), "{name}: the plan says it fell back\n{plan}");
@@ -411,4 +411,56 @@ fn plain_alpha_blending_blends_one_surface_as_often_as_its_discs_overlap() {
     );
     assert!(blended >= at_least - 1.0, "alpha-blend: {blended} < {at_least}");
     assert!((grouped - closed_form).abs() <= MAX_ALG_COVERED_CHANNEL_ERROR, "alg1: {grouped} against {closed_form}");
+}
+
+#[test]
+fn alg1_and_alg2_with_one_group_with_the_most_layers_the_device_allows_and_edge_on_stay_sane() {
+    let (front, back) = (([240, 40, 30], 0.5), ([30, 60, 230], 0.6));
+    let (scene, _) = two_planes_in_groups(front, back, 1.5);
+    let splats = scene.flattened().len();
+    let camera = looking_down_z();
+    let bg = common::background_rgb();
+    let want: [f32; 3] = [0, 1, 2].map(|k| {
+        let behind = back.1 * back.0[k] as f32 + (1.0 - back.1) * bg[k] as f32;
+        front.1 * front.0[k] as f32 + (1.0 - front.1) * behind
+    });
+    let mut renderer = common::renderer();
+    let most = renderer.ctx.device.limits().max_texture_array_layers;
+    for name in ["alg1", "alg2"] {
+        let settings = RenderSettings { lighting: false, ..settings(name, 0) };
+        // K = 1: one group of everything covers both planes, and Eq. 10
+        // culls its second fragment of each, so the closed form holds as in
+        // the two-plane test, within the same bound.
+        let one = Grouping::from_labels(&vec![0; splats], 1);
+        let gpu = renderer.upload(&scene, Some(&one));
+        let (image, plan) = renderer.render_image(&gpu, &camera, &settings, 64, 64).expect("K = 1");
+        assert_eq!(plan.groups, 1);
+        let worst =
+            image.pixels().flat_map(|p| (0..3).map(move |k| (p.0[k] as f32 - want[k]).abs())).fold(0.0, f32::max);
+        assert!(worst <= MAX_ALG_COVERED_CHANNEL_ERROR, "{name}, K = 1: off by {worst} from {want:?}");
+        // K = the device's most texture layers: renders (tiny, so the
+        // layers fit in memory); one more is a clear error, not a panic.
+        let labels = |k: usize| (0..splats).map(|i| (i % k) as u32).collect::<Vec<_>>();
+        let at_most = Grouping::from_labels(&labels(most as usize), most as usize);
+        let gpu = renderer.upload(&scene, Some(&at_most));
+        let (image, plan) = renderer.render_image(&gpu, &camera, &settings, 8, 8).expect("K = the layer limit");
+        assert_eq!(plan.groups, most as usize);
+        assert!(image.pixels().all(|p| p.0[..3] != [0, 0, 0]), "{name}, K = {most}: black (NaN) pixels");
+        let over = Grouping::from_labels(&labels(most as usize + 1), most as usize + 1);
+        let gpu = renderer.upload(&scene, Some(&over));
+        let error = renderer.render_image(&gpu, &camera, &settings, 8, 8).expect_err("K over the layer limit");
+        println!("{name}, K = {}: {error}", most + 1);
+        assert!(error.to_string().contains("texture layers this GPU allows"), "{error}");
+    }
+    // Edge-on: the planes' discs seen exactly side on (normals across the
+    // view): slivers or nothing, never NaN-black pixels.
+    let mut edge_on = scene.flattened().as_ref().clone();
+    edge_on.normals.iter_mut().for_each(|n| *n = Vec3::X);
+    let grouping = Grouping::from_labels(&(0..edge_on.len()).map(|i| (i % 4) as u32).collect::<Vec<_>>(), 4);
+    let edge_on = Scene::from(edge_on);
+    let gpu = renderer.upload(&edge_on, Some(&grouping));
+    for name in ["alg1", "alg2", "alpha-blend"] {
+        let (image, _) = renderer.render_image(&gpu, &camera, &settings(name, 0), 64, 64).expect("edge-on");
+        assert!(image.pixels().all(|p| p.0[..3] != [0, 0, 0]), "{name}, edge-on: black (NaN) pixels");
+    }
 }
