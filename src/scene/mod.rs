@@ -11,6 +11,7 @@
 //! scene of one object with the identity transform and the default material
 //! flattens to its cloud as it is, without a copy.
 
+pub mod environment;
 pub mod file;
 mod material;
 pub mod primitives;

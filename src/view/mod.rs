@@ -4,6 +4,7 @@
 //! produce images that compare pixel for pixel.
 
 pub mod camera;
+pub mod environment;
 pub mod kernel;
 pub mod modes;
 pub mod parameters;
