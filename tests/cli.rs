@@ -119,3 +119,40 @@ fn group_prints_the_required_json_for_every_shared_scan_and_caches_it() {
         assert_eq!(second["group_sizes"], json["group_sizes"]);
     }
 }
+
+#[test]
+fn environment_maps_that_cannot_be_drawn_fail_with_one_line_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never.png");
+    let venice = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/venice.exr");
+    let missing = dir.path().join("missing.exr");
+    let bunny = common::bundled_bunny();
+    let cases: [(Vec<&std::ffi::OsStr>, &str); 3] = [
+        // A mode that does not draw environment effects says which do.
+        (
+            vec!["--mode".as_ref(), "two-pass".as_ref(), "--env".as_ref(), venice.as_os_str()],
+            "modes that do: reference",
+        ),
+        (vec!["--mode".as_ref(), "reference".as_ref(), "--env".as_ref(), missing.as_os_str()], "missing.exr"),
+        (
+            vec![
+                "--mode".as_ref(),
+                "reference".as_ref(),
+                "--env".as_ref(),
+                venice.as_os_str(),
+                "--eta".as_ref(),
+                "0".as_ref(),
+            ],
+            "--eta",
+        ),
+    ];
+    for (extra, says) in cases {
+        let result = pointblend().arg("render").arg(&bunny).args(extra).arg("--out").arg(&out).output().unwrap();
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert!(!result.status.success(), "{stderr}");
+        let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
+        assert_eq!(errors.len(), 1, "{stderr}");
+        assert!(errors[0].contains(says), "{stderr}");
+        assert!(!out.exists(), "no output for a failed render");
+    }
+}

@@ -27,6 +27,7 @@ fn options(epsilon: f32) -> ReferenceOptions {
         radius_scale: 1.0,
         transparent: true,
         progress: false,
+        environment: Default::default(),
     }
 }
 

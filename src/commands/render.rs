@@ -3,11 +3,14 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use pointblend::grouping::cache::Cache;
 use pointblend::reference::{self, ReferenceOptions};
 use pointblend::render::{HeadlessRenderer, RenderPlan};
-use pointblend::view::Sidecar;
+use pointblend::scene::Scene;
+use pointblend::scene::environment::EnvironmentMap;
+use pointblend::view::environment::EnvironmentSettings;
+use pointblend::view::{RenderMode, RenderSettings, Sidecar};
 
 use super::shared::{self, ViewArgs};
 
@@ -31,6 +34,58 @@ pub struct Args {
     /// and size from its JSON sidecar (the other view options are ignored).
     #[arg(long, value_name = "SIDECAR.json")]
     pub camera: Option<PathBuf>,
+    /// Environment map that transparent surfaces reflect and refract: an
+    /// equirectangular OpenEXR, Radiance HDR, PNG or JPEG (assets/venice.exr
+    /// is bundled). Drawn by modes whose registry entry says so (reference).
+    #[arg(long, value_name = "FILE")]
+    pub env: Option<PathBuf>,
+    /// Index of refraction η of the transparent surfaces (with --env).
+    #[arg(long, default_value_t = 1.5)]
+    pub eta: f32,
+    /// Chromatic dispersion δ: red refracts with η - δ, blue with η + δ (with --env).
+    #[arg(long, default_value_t = 0.02)]
+    pub dispersion: f32,
+    /// Environment effects at the nearest layer only, or through every layer (Eq. 15-16).
+    #[arg(long, value_name = "single|multi", default_value = "single")]
+    pub env_layers: pointblend::view::environment::LayerEffects,
+    /// Keep the flat background colour where nothing is drawn, instead of the environment map.
+    #[arg(long)]
+    pub flat_background: bool,
+}
+
+impl Args {
+    /// Loads `--env` into the scene and its parameters into the settings.
+    fn apply_environment(&self, scene: &mut Scene, settings: &mut RenderSettings) -> Result<()> {
+        let Some(path) = &self.env else { return Ok(()) };
+        if !settings.mode.info().environment {
+            let drawing: Vec<&str> =
+                RenderMode::ALL.iter().filter(|m| m.info().environment).map(|m| m.name()).collect();
+            bail!(
+                "{}: mode {} does not draw environment effects yet; modes that do: {}",
+                path.display(),
+                settings.mode,
+                drawing.join(", ")
+            );
+        }
+        if !(self.eta.is_finite() && self.eta > 0.0) {
+            bail!("--eta must be a positive index of refraction, not {}", self.eta);
+        }
+        if !(self.dispersion.is_finite() && self.dispersion >= 0.0 && self.dispersion < self.eta) {
+            bail!("--dispersion must be at least 0 and below --eta ({}), not {}", self.eta, self.dispersion);
+        }
+        let map = EnvironmentMap::load(path)?;
+        if map.cleaned > 0 {
+            log::warn!("{}: {} negative or non-finite values set to 0", path.display(), map.cleaned);
+        }
+        scene.environment = Some(std::sync::Arc::new(map));
+        settings.environment = EnvironmentSettings {
+            eta: self.eta,
+            dispersion: self.dispersion,
+            layers: self.env_layers,
+            skybox: !self.flat_background,
+        };
+        Ok(())
+    }
 }
 
 pub fn run(args: &Args) -> Result<()> {
@@ -44,10 +99,11 @@ pub fn run(args: &Args) -> Result<()> {
     let mut scene = shared::load_scene(&args.file)?;
     args.view.apply_materials(&mut scene);
     let load_seconds = started.elapsed().as_secs_f64();
-    let (settings, (width, height)) = match &sidecar {
+    let (mut settings, (width, height)) = match &sidecar {
         Some(s) => (s.settings().map_err(anyhow::Error::msg)?, (s.size[0], s.size[1])),
         None => (args.view.settings(&scene)?, args.view.size),
     };
+    args.apply_environment(&mut scene, &mut settings)?;
     let camera = match &sidecar {
         Some(s) => {
             let hash = format!("{:016x}", scene.geometry_hash());

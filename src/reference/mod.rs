@@ -10,6 +10,7 @@
 //! GPU modes. [`metrics`] holds the ε of Zhang & Pajarola 2007 §6.3, PSNR, the
 //! bad-pixel share and the difference image.
 
+mod environment;
 pub mod metrics;
 mod raster;
 mod tiles;

@@ -13,6 +13,7 @@ use rayon::prelude::*;
 
 use super::tiles::{self, EyeSplat, TILE};
 use crate::scene::Scene;
+use crate::view::environment::{EnvironmentSettings, GlassPixel};
 use crate::view::{Camera, Shading, SplatKernel};
 
 /// Parameters of a reference frame; the same values a GPU frame uses.
@@ -31,6 +32,9 @@ pub struct ReferenceOptions {
     pub transparent: bool,
     /// Show a progress bar.
     pub progress: bool,
+    /// How the scene's environment map, if any, is reflected and refracted
+    /// (read only with opacity, on the nearest transparent layer).
+    pub environment: EnvironmentSettings,
 }
 
 impl ReferenceOptions {
@@ -45,6 +49,7 @@ impl ReferenceOptions {
             radius_scale: settings.radius_scale,
             transparent: settings.mode.info().transparent,
             progress: false,
+            environment: settings.environment,
         }
     }
 }
@@ -106,6 +111,8 @@ pub fn render_with_layers(
     let bins = tiles::bin(&splats, &proj, width, height, near);
     let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
     let lens = Vec2::new(tan_y * aspect, tan_y);
+    let environment = scene.environment.as_deref().filter(|_| options.transparent);
+    let glassy = environment.is_some();
     let bar = crate::progress::bar(bins.bins.len() as u64, "reference render", options.progress);
     let tiles: Vec<(u32, Vec<TilePixel>)> = (0..bins.bins.len() as u32)
         .into_par_iter()
@@ -130,8 +137,8 @@ pub fn render_with_layers(
                             hits.push(Hit { splat: s, ..hit });
                         }
                     }
-                    let (colour, layers) = composite(&mut hits, &mut used, &splats, ray, options);
-                    pixels.push((to_rgba8(colour), layers));
+                    let (colour, layers, glass) = composite(&mut hits, &mut used, &splats, ray, options, glassy);
+                    pixels.push((colour, layers, glass));
                 }
             }
             bar.inc(1);
@@ -139,25 +146,45 @@ pub fn render_with_layers(
         })
         .collect();
     bar.finish();
-    let mut image = image::RgbaImage::new(width, height);
+    let mut colours = vec![Vec3::ZERO; (width * height) as usize];
+    let mut glass = vec![None; (width * height) as usize];
     let mut layer_counts = vec![0u32; (width * height) as usize];
     for (tile, pixels) in tiles {
         let (tx, ty) = (tile % bins.columns, tile / bins.columns);
         let mut it = pixels.into_iter();
         for y in ty * TILE..((ty + 1) * TILE).min(height) {
             for x in tx * TILE..((tx + 1) * TILE).min(width) {
-                if let Some((p, layers)) = it.next() {
-                    image.put_pixel(x, y, image::Rgba(p));
-                    layer_counts[(y * width + x) as usize] = layers;
+                if let Some((colour, layers, g)) = it.next() {
+                    let at = (y * width + x) as usize;
+                    (colours[at], layer_counts[at], glass[at]) = (colour, layers, g);
                 }
             }
         }
     }
+    if let Some(map) = environment {
+        let rays = (0..width * height)
+            .map(|i| {
+                let (x, y) = (i % width, i / width);
+                let ndc = Vec2::new(
+                    (x as f32 + 0.5) / width as f32 * 2.0 - 1.0,
+                    1.0 - (y as f32 + 0.5) / height as f32 * 2.0,
+                );
+                (ndc * lens).extend(-1.0).normalize()
+            })
+            .collect::<Vec<_>>();
+        let lookup = super::environment::Lookup { map, camera, settings: &options.environment, width, height };
+        lookup.apply(&rays, &glass, &layer_counts, &mut colours);
+    }
+    let mut image = image::RgbaImage::new(width, height);
+    for (i, c) in colours.iter().enumerate() {
+        image.put_pixel(i as u32 % width, i as u32 / width, image::Rgba(to_rgba8(*c)));
+    }
     (image, layer_counts)
 }
 
-/// One pixel of a tile: its colour and how many layers it composited.
-type TilePixel = ([u8; 4], u32);
+/// One pixel of a tile: its colour, how many layers it composited, and its
+/// nearest transparent layer for the environment effects.
+type TilePixel = (Vec3, u32, Option<GlassPixel>);
 
 /// Exact ray-disc intersection: the ray from the eye through `ray` (z = -1)
 /// meets the splat's footprint plane (see `SplatKernel::footprint_normal`) at
@@ -177,17 +204,20 @@ fn intersect(s: &EyeSplat, ray: Vec3, kernel: &SplatKernel, near: f32, far: f32)
 
 /// Sorts the hits, groups them into ε-layers (by facing too when opacity is
 /// read), normalises and shades each layer, and composites the layers front
-/// to back over the background. Returns the colour and the number of layers.
+/// to back over the background. Returns the colour, the number of layers,
+/// and, when `glassy` and the nearest layer is transparent, that layer and
+/// what lies behind it (for the environment effects).
 fn composite(
     hits: &mut [Hit],
     used: &mut Vec<bool>,
     splats: &[EyeSplat],
     ray: Vec3,
     options: &ReferenceOptions,
-) -> (Vec3, u32) {
+    glassy: bool,
+) -> (Vec3, u32, Option<GlassPixel>) {
     let background = options.shading.background;
     if hits.is_empty() {
-        return (background, 0);
+        return (background, 0, None);
     }
     hits.sort_unstable_by(|a, b| a.depth.total_cmp(&b.depth));
     used.clear();
@@ -196,6 +226,7 @@ fn composite(
     let mut colour = Vec3::ZERO;
     let mut transmittance = 1.0f32;
     let mut layers = 0;
+    let mut glass: Option<GlassPixel> = None;
     let mut start = 0;
     while start < hits.len() {
         let (front, facing) = (hits[start].depth, hits[start].facing);
@@ -220,6 +251,11 @@ fn composite(
             continue;
         }
         layers += 1;
+        let alpha = (sum_a / sum_w).clamp(0.0, 1.0);
+        if let Some(g) = glass.as_mut() {
+            // Counted even where too little shows through to change a colour.
+            if alpha < 1.0 { g.layers_behind += 1.0 } else { g.closed = true }
+        }
         if transmittance <= 1e-6 {
             continue; // too little shows through to change a colour; the layer is only counted
         }
@@ -230,14 +266,35 @@ fn composite(
         } else {
             albedo.clamp(Vec3::ZERO, Vec3::ONE)
         };
-        let alpha = (sum_a / sum_w).clamp(0.0, 1.0);
+        match glass.as_mut() {
+            Some(g) => {
+                g.behind += g.through * alpha * shaded;
+                g.through *= 1.0 - alpha;
+            }
+            None if glassy && layers == 1 && alpha < 1.0 => {
+                let normal = if normal.dot(to_eye) < 0.0 { -normal } else { normal };
+                glass = Some(GlassPixel {
+                    front: shaded,
+                    alpha,
+                    normal,
+                    behind: Vec3::ZERO,
+                    through: 1.0,
+                    layers_behind: 0.0,
+                    closed: false,
+                });
+            }
+            None => {}
+        }
         colour += transmittance * alpha * shaded;
         transmittance *= 1.0 - alpha;
         if transmittance <= 0.0 {
+            if let Some(g) = glass.as_mut() {
+                g.closed = true;
+            }
             break; // an opaque layer ends the ray
         }
     }
-    (colour + transmittance * background, layers)
+    (colour + transmittance * background, layers, glass)
 }
 
 /// Quantises as the GPU's Rgba8Unorm target does (round to nearest).

@@ -65,6 +65,8 @@ pub struct Scene {
     /// Background colour (0..1), when the scene sets one.
     pub background: Option<Vec3>,
     pub camera: Option<SceneCamera>,
+    /// The environment map transparent surfaces reflect and refract (§5.2.3).
+    pub environment: Option<Arc<environment::EnvironmentMap>>,
 }
 
 /// A scene's splats in one frame, materials applied.

@@ -24,7 +24,7 @@ pub enum UpAxis {
 
 impl UpAxis {
     /// (up, front): the camera sits on +front at azimuth 0, elevation 0.
-    fn frame(self) -> (Vec3, Vec3) {
+    pub fn frame(self) -> (Vec3, Vec3) {
         match self {
             UpAxis::PosY => (Vec3::Y, Vec3::Z),
             UpAxis::NegY => (Vec3::NEG_Y, Vec3::NEG_Z),

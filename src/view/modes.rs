@@ -67,6 +67,10 @@ pub struct ModeInfo {
     /// grouping drawn when the settings hold the opaque default, and whose
     /// extension is added to any other grouping that names none.
     pub covering_grouping: Option<GroupingSpec>,
+    /// Whether it draws the environment effects (reflection, refraction,
+    /// Fresnel, dispersion, absorption; Zhang & Pajarola §5.2.3) of a scene
+    /// with an environment map. The others refuse such a scene.
+    pub environment: bool,
 }
 
 /// Algorithm-1's grouping: WGC with K = 4 and radius enlargement, the best of
@@ -97,6 +101,7 @@ const REGISTRY: [ModeInfo; 8] = [
         bench_variants: &["", "quality=unfiltered"],
         default_layers: 1,
         covering_grouping: None,
+        environment: false,
     },
     ModeInfo {
         mode: RenderMode::Deferred,
@@ -117,6 +122,7 @@ const REGISTRY: [ModeInfo; 8] = [
         bench_variants: &[""],
         default_layers: 1,
         covering_grouping: None,
+        environment: false,
     },
     ModeInfo {
         mode: RenderMode::DepthPeel,
@@ -136,6 +142,7 @@ const REGISTRY: [ModeInfo; 8] = [
         bench_variants: &["", "layers=4", "layers=2"],
         default_layers: 8,
         covering_grouping: None,
+        environment: false,
     },
     ModeInfo {
         mode: RenderMode::ApproxPeel,
@@ -155,6 +162,7 @@ const REGISTRY: [ModeInfo; 8] = [
         bench_variants: &["", "layers=2"],
         default_layers: 3,
         covering_grouping: None,
+        environment: false,
     },
     ModeInfo {
         mode: RenderMode::Alg1,
@@ -174,6 +182,7 @@ const REGISTRY: [ModeInfo; 8] = [
         bench_variants: &[""],
         default_layers: 1,
         covering_grouping: Some(ALG1_GROUPING),
+        environment: false,
     },
     ModeInfo {
         mode: RenderMode::Alg2,
@@ -194,6 +203,7 @@ const REGISTRY: [ModeInfo; 8] = [
         bench_variants: &[""],
         default_layers: 1,
         covering_grouping: Some(ALG1_GROUPING),
+        environment: false,
     },
     ModeInfo {
         mode: RenderMode::AlphaBlend,
@@ -206,6 +216,7 @@ const REGISTRY: [ModeInfo; 8] = [
         bench_variants: &[""],
         default_layers: 1,
         covering_grouping: None,
+        environment: false,
     },
     ModeInfo {
         mode: RenderMode::Reference,
@@ -226,6 +237,7 @@ const REGISTRY: [ModeInfo; 8] = [
         bench_variants: &[""],
         default_layers: 1,
         covering_grouping: None,
+        environment: true,
     },
 ];
 

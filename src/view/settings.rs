@@ -35,6 +35,8 @@ pub struct RenderSettings {
     pub layers: u32,
     pub kernel: SplatKernel,
     pub shading: Shading,
+    /// Reflection and refraction of the scene's environment map, when it has one.
+    pub environment: crate::view::environment::EnvironmentSettings,
 }
 
 /// Most layers a peeling mode draws.
@@ -80,6 +82,7 @@ impl Default for RenderSettings {
             layers: 0,
             kernel: SplatKernel::default(),
             shading: Shading::default(),
+            environment: Default::default(),
         }
     }
 }
