@@ -1,12 +1,25 @@
 #include "shading.wgsl"
 #include "opaque_under.wgsl"
+#ifdef ENVIRONMENT
+#include "environment.wgsl"
+#endif
 
 // The compositing pass of Algorithm-2 (§5.2.2), the three blends in one go:
 // C_F, the nearest layer: Fig. 6's ε-z compositing of the I_k (d = min_k
 // depth_k, the layers within d + ε summed), normalised and shaded per pixel
 // (deferred shading), with its opacity α = Σw·α / Σw; C_O, the other layers:
 // the average of the O_k that cover the pixel (as in Algorithm-1), over the
-// background; and the pixel I = α·C_F + (1 - α)·C_O.
+// background or the opaque splats drawn apart (shaders/opaque_under.wgsl);
+// and the pixel I = α·C_F + (1 - α)·C_O.
+//
+// With an environment map (ENVIRONMENT, §5.2.3-5.2.4) the nearest layer's
+// composited normal reflects and refracts it (shaders/environment.wgsl) and
+// the pixel follows src/view/environment.rs: I = F·E_R + (1 - F)·(α·C_F +
+// (1 - α)·B), B = C_b + a·E_T, with C_b the mean of the O_k (premultiplied),
+// a = 1 - C_b's coverage (single-layer) or (1 - α)^l (multi-layer, Eq. 15,
+// l = Σα/α from the O_k's summed opacities), and the opaque image in place
+// of E_T where an opaque splat lies behind. Where nothing is drawn, the map
+// itself shows (a skybox) unless the flat background is asked for.
 
 @group(1) @binding(0) var nearest_color: texture_2d_array<f32>;
 @group(1) @binding(1) var nearest_depth: texture_2d_array<f32>;
@@ -20,7 +33,7 @@
 fn fs_alg2_composite(f: Fullscreen) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(f.position.xy);
     let layers = i32(this_pass.layers.y);
-    // C_O over the background.
+    // The other layers: the mean of the O_k that cover the pixel.
     var others = vec4<f32>(0.0);
     var covering = 0.0;
     for (var k = 0; k < layers; k++) {
@@ -30,12 +43,7 @@ fn fs_alg2_composite(f: Fullscreen) -> @location(0) vec4<f32> {
             covering += 1.0;
         }
     }
-    let under = beneath(pixel);
-    var behind = under;
-    if covering > 0.0 {
-        let mean = others / covering;
-        behind = mean.rgb + (1.0 - mean.a) * under;
-    }
+    let mean = select(vec4<f32>(0.0), others / max(covering, 1.0), covering > 0.0);
     // C_F and its opacity.
     var nearest = 3.0e38;
     for (var k = 0; k < layers; k++) {
@@ -52,10 +60,91 @@ fn fs_alg2_composite(f: Fullscreen) -> @location(0) vec4<f32> {
             normal_alpha += textureLoad(nearest_normal_alpha, pixel, k, 0);
         }
     }
-    if !(sums.a > 1e-6) {
+    let has_front = sums.a > 1e-6;
+    let alpha = select(0.0, clamp(normal_alpha.a / max(sums.a, 1e-30), 0.0, 1.0), has_front);
+#ifdef ENVIRONMENT
+    return glass(f.position.xy, pixel, has_front, alpha, sums, normal_alpha.xyz, mean);
+#else
+    let under = beneath(pixel);
+    let behind = select(under, mean.rgb + (1.0 - mean.a) * under, covering > 0.0);
+    if !has_front {
         return vec4<f32>(behind, 1.0);
     }
-    let alpha = clamp(normal_alpha.a / sums.a, 0.0, 1.0);
     let front = shade_sums(f.position.xy, sums, normal_alpha.xyz);
     return vec4<f32>(alpha * front + (1.0 - alpha) * behind, 1.0);
+#endif
 }
+
+#ifdef ENVIRONMENT
+// The pixel with the environment effects. Every lookup direction and its
+// mip level is found before any branch: derivatives need uniform control flow.
+fn glass(
+    position: vec2<f32>,
+    pixel: vec2<i32>,
+    has_front: bool,
+    alpha: f32,
+    sums: vec4<f32>,
+    normal_sum: vec3<f32>,
+    mean: vec4<f32>,
+) -> vec4<f32> {
+    let ndc = vec2<f32>(position.x * frame.viewport.z * 2.0 - 1.0, 1.0 - position.y * frame.viewport.w * 2.0);
+    let d = normalize(vec3<f32>(ndc * frame.lens.xy, -1.0));
+    let normal_length = length(normal_sum);
+    var n = select(-d, normal_sum / normal_length, normal_length > 1e-20);
+    n = select(n, -n, dot(n, d) > 0.0);
+    let multi = frame.environment.z > 0.5;
+    let layers_behind = select(0.0, mean.a / max(alpha, 1e-6), multi && alpha > 0.0);
+    let crossings = select(1.0, 1.0 + layers_behind, multi);
+    let reflected = environment_world(reflect(d, n));
+    let red = environment_refract(d, n, environment_eta(0), crossings);
+    let green = environment_refract(d, n, environment_eta(1), crossings);
+    let blue = environment_refract(d, n, environment_eta(2), crossings);
+    let sky = environment_world(d);
+    let through = array<vec3<f32>, 3>(environment_world(red.xyz), environment_world(green.xyz), environment_world(blue.xyz));
+    let levels = vec4<f32>(
+        environment_level(through[0]),
+        environment_level(through[1]),
+        environment_level(through[2]),
+        environment_level(reflected),
+    );
+    let sky_level = environment_level(sky);
+    // Beneath everything: the opaque splats drawn apart, else the map or the background.
+    var under = select(frame.background.rgb, environment_sample(sky, sky_level), frame.environment.w > 0.5);
+    var closed = false;
+#ifdef OPAQUE_APART
+    let opaque = textureLoad(opaque_image, pixel, 0);
+    closed = opaque.a > 0.5;
+    under = select(under, opaque.rgb, closed);
+#endif
+    if !has_front {
+        return vec4<f32>(under, 1.0);
+    }
+    let front = shade_sums(position, sums, normal_sum);
+    if alpha >= 1.0 {
+        return vec4<f32>(front, 1.0);
+    }
+    let seen_reflected = environment_sample(reflected, levels.w);
+    let refracted = vec3<f32>(red.w, green.w, blue.w);
+    let reaching = select(1.0 - mean.a, environment_absorption(alpha, layers_behind), multi);
+    let cos_i = clamp(-dot(d, n), 0.0, 1.0);
+    var out = vec3<f32>(0.0);
+    for (var c = 0; c < 3; c++) {
+        let seen_through = environment_sample(through[c], levels[c])[c];
+        let beyond = select(seen_through, opaque_channel(pixel, c), closed);
+        let fresnel = select(1.0, environment_schlick(environment_eta(c), cos_i), refracted[c] > 0.5);
+        let transmitted = mean[c] + reaching * beyond;
+        let surface = alpha * front[c] + (1.0 - alpha) * transmitted;
+        out[c] = fresnel * seen_reflected[c] + (1.0 - fresnel) * surface;
+    }
+    return vec4<f32>(out, 1.0);
+}
+
+// Channel c of the opaque image (0 when opaque splats are not drawn apart).
+fn opaque_channel(pixel: vec2<i32>, c: i32) -> f32 {
+#ifdef OPAQUE_APART
+    return textureLoad(opaque_image, pixel, 0)[c];
+#else
+    return 0.0;
+#endif
+}
+#endif

@@ -17,6 +17,12 @@ struct Frame {
     background: vec4<f32>,
     // tan(fov_x/2), tan(fov_y/2), splat radius scale, unused
     lens: vec4<f32>,
+    // Environment effects: η, dispersion δ, multi-layer (0/1), skybox (0/1)
+    environment: vec4<f32>,
+    // The map's up axis (world), the angle of one texel of its level 0
+    environment_up: vec4<f32>,
+    // The world direction of the map's centre column, unused
+    environment_front: vec4<f32>,
 }
 
 struct Pass {

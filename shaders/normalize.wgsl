@@ -15,7 +15,12 @@ fn fs_normalize(f: Fullscreen) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(f.position.xy);
     let sums = colour_sums(textureLoad(accumulated_color, pixel, 0));
     if !(sums.a > 1e-6) {
+#ifdef OPAQUE_APART
+        // The opaque image of a transparent scene: α = 0 where nothing opaque is.
+        return vec4<f32>(frame.background.rgb, 0.0);
+#else
         return vec4<f32>(frame.background.rgb, 1.0);
+#endif
     }
     var normal_sum = vec3<f32>(0.0);
 #ifdef LIT

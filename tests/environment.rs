@@ -95,7 +95,13 @@ fn plane(z: f32, colour: [u8; 3], opacity: f32) -> pointblend::cloud::PointCloud
     cloud
 }
 
-fn slab(planes: &[(f32, [u8; 3], f32)], env: [f32; 3]) -> pointblend::scene::Scene {
+/// A plane's depth, colour and opacity.
+type Plane = (f32, [u8; 3], f32);
+
+/// What a stiff case shows, its planes, η, the map's one colour, and whether edge-on.
+type StiffCase = (&'static str, Vec<Plane>, f32, [f32; 3], bool);
+
+fn slab(planes: &[Plane], env: [f32; 3]) -> pointblend::scene::Scene {
     let mut cloud = pointblend::cloud::PointCloud::default();
     for &(z, colour, opacity) in planes {
         let p = plane(z, colour, opacity);
@@ -114,8 +120,8 @@ fn slab(planes: &[(f32, [u8; 3], f32)], env: [f32; 3]) -> pointblend::scene::Sce
 #[test]
 fn a_transparent_slab_in_a_constant_environment_matches_the_closed_form() {
     use pointblend::reference::{ReferenceOptions, render_with_layers};
+    use pointblend::view::RenderSettings;
     use pointblend::view::environment::{EnvironmentSettings, LayerEffects};
-    use pointblend::view::{Camera, RenderSettings, UpAxis};
     // The camera looks down -z from z = 5 (30° field): every ray meets the
     // planes, at cos θ_I = -d·z of its pixel. In a constant environment E
     // every lookup is E whatever the direction, so per channel
@@ -128,36 +134,30 @@ fn a_transparent_slab_in_a_constant_environment_matches_the_closed_form() {
     // opaque plane (E is not seen). Bound: the colours are exact, the normal is
     // exactly +z, so only the final 8-bit rounding (0.5) remains: 0.5/255
     // per channel, within 1 unit.
-    let camera = Camera {
-        target: Vec3::ZERO,
-        distance: 5.0,
-        azimuth_deg: 0.0,
-        elevation_deg: 0.0,
-        fov_y_deg: 30.0,
-        up: UpAxis::PosY,
-        scene_radius: 3.0,
-    };
+    let camera = common::looking_down_z();
     let env = [0.2, 0.7, 0.9];
     let (red, blue) = ([240u8, 40, 30], [30u8, 60, 230]);
     let size = 48u32;
-    let tan = (15f32).to_radians().tan();
     for layers in [LayerEffects::Single, LayerEffects::Multi] {
         for (behind_opacity, what) in [(0.6, "two transparent planes"), (1.0, "transparent over opaque")] {
             let scene = slab(&[(0.5, red, 0.5), (0.0, blue, behind_opacity)], env);
             let settings = RenderSettings {
                 mode: "reference".parse().unwrap(),
                 lighting: false,
-                environment: EnvironmentSettings { eta: 1.5, dispersion: 0.0, layers, skybox: true },
+                environment: EnvironmentSettings {
+                    eta: 1.5,
+                    dispersion: 0.0,
+                    layers,
+                    skybox: true,
+                    ..Default::default()
+                },
                 ..Default::default()
             };
             let options = ReferenceOptions::matching(&settings, &scene);
             let (image, _) = render_with_layers(&scene, &camera, &options, size, size);
-            let f0 = (0.5f32 / 2.5).powi(2);
             let mut worst = 0.0f32;
             for (x, y, p) in image.enumerate_pixels() {
-                let ndc = [(x as f32 + 0.5) / size as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / size as f32 * 2.0];
-                let d = Vec3::new(ndc[0] * tan, ndc[1] * tan, -1.0).normalize();
-                let fresnel = f0 + (1.0 - f0) * (1.0 + d.z).powi(5);
+                let fresnel = fresnel_at(x, y, size);
                 for k in 0..3 {
                     let (c1, c2) = (red[k] as f32 / 255.0, blue[k] as f32 / 255.0);
                     let reaching = match layers {
@@ -173,4 +173,106 @@ fn a_transparent_slab_in_a_constant_environment_matches_the_closed_form() {
             assert!(worst <= 1.0, "{layers}, {what}: off by {worst}");
         }
     }
+}
+
+#[test]
+fn alg2_with_an_environment_matches_the_closed_form_and_stays_finite_in_stiff_cases() {
+    use pointblend::grouping::Grouping;
+    use pointblend::view::RenderSettings;
+    use pointblend::view::environment::{EnvironmentSettings, LayerEffects};
+    let camera = common::looking_down_z();
+    let size = 48u32;
+    let (red, blue) = ([240u8, 40, 30], [30u8, 60, 230]);
+    let env = [0.2, 0.7, 0.9];
+    // Groups: the four interleaved sub-grids of spacing 0.2; discs of radius
+    // 0.15 at spacing 0.2 leave holes in a group (the diagonal half-cell is
+    // 0.141 < 0.15, so they just cover), every group covers each plane.
+    let grouping_of = |scene: &pointblend::scene::Scene| {
+        let n = scene.flattened().len();
+        let labels: Vec<u32> = (0..n).map(|i| ((i / 45) % 2 * 2 + (i % 45) % 2) as u32).collect();
+        Grouping::from_labels(&labels, 4)
+    };
+    let mut renderer = common::renderer();
+    // The closed form of the reference test (same derivation): alg2 draws the
+    // front plane as its nearest layer (normal exactly +z) and the back one in
+    // every O_k. Both planes have opacity 0.5: the multi-layer count is the
+    // paper's l = α_total/α, which assumes one opacity throughout (with two
+    // opacities the GPU's l is their ratio, the reference's the true count).
+    // Bound: the two-plane bound of tests/transparency.rs (< 1/255
+    // from Rgba16Float sums and one rounding) plus the map's half-float copy
+    // of E (11-bit mantissa: E·2⁻¹¹ ≤ 0.5/255 for E ≤ 1): within 1.5 units.
+    for layers in [LayerEffects::Single, LayerEffects::Multi] {
+        let scene = slab(&[(0.5, red, 0.5), (0.0, blue, 0.5)], env);
+        let settings = RenderSettings {
+            mode: "alg2".parse().unwrap(),
+            lighting: false,
+            environment: EnvironmentSettings { eta: 1.5, dispersion: 0.0, layers, skybox: true, ..Default::default() },
+            ..Default::default()
+        };
+        let gpu = renderer.upload(&scene, Some(&grouping_of(&scene)));
+        let (image, plan) = renderer.render_image(&gpu, &camera, &settings, size, size).expect("alg2 with a map");
+        assert!(plan.notes.iter().any(|n| n.contains("environment map")), "{plan}");
+        let mut worst = 0.0f32;
+        for (x, y, p) in image.enumerate_pixels() {
+            let fresnel = fresnel_at(x, y, size);
+            for k in 0..3 {
+                let (c1, c2) = (red[k] as f32 / 255.0, blue[k] as f32 / 255.0);
+                // (1 − α₂) = (1 − α)^1: single- and multi-layer agree here.
+                let behind = 0.5 * c2 + 0.5 * env[k];
+                let want = fresnel * env[k] + (1.0 - fresnel) * (0.5 * c1 + 0.5 * behind);
+                worst = worst.max((p.0[k] as f32 - want * 255.0).abs());
+            }
+        }
+        println!("alg2 {layers}: worst channel error {worst:.2}");
+        assert!(worst <= 1.5, "alg2 {layers}: off by {worst}");
+    }
+    // Stiff cases: none gives NaN (black) or a failure. η = 1 and η < 1
+    // (total internal reflection off-axis), α nearly 0 and 1, about a
+    // thousand layers behind (l = Σα/α with α = 0.001 in front of 0.999), a
+    // map of 65504 (the half-float limit of a 1e5 sun), edge-on planes.
+    let cases: Vec<StiffCase> = vec![
+        ("η = 1", vec![(0.5, red, 0.5), (0.0, blue, 0.6)], 1.0, env, false),
+        ("η = 0.6", vec![(0.5, red, 0.5), (0.0, blue, 0.6)], 0.6, env, false),
+        ("α → 0", vec![(0.5, red, 0.001), (0.0, blue, 0.001)], 1.5, env, false),
+        ("α = 1 behind", vec![(0.5, red, 0.5), (0.0, blue, 1.0)], 1.5, env, false),
+        ("1000 layers", vec![(0.5, red, 0.001), (0.0, blue, 0.999)], 1.5, env, false),
+        ("a map of 65504", vec![(0.5, red, 0.5), (0.0, blue, 0.6)], 1.5, [65504.0; 3], false),
+        ("edge-on", vec![(0.5, red, 0.5), (0.0, blue, 0.6)], 1.5, env, true),
+    ];
+    for (what, planes, eta, colour, edge_on) in cases {
+        let mut scene = slab(&planes, colour);
+        if edge_on {
+            let mut cloud = scene.flattened().as_ref().clone();
+            cloud.normals.iter_mut().for_each(|n| *n = Vec3::X);
+            let map = scene.environment.clone();
+            scene = pointblend::scene::Scene::from(cloud);
+            scene.environment = map;
+        }
+        for layers in [LayerEffects::Single, LayerEffects::Multi] {
+            let settings = RenderSettings {
+                mode: "alg2".parse().unwrap(),
+                environment: EnvironmentSettings { eta, dispersion: 0.02, layers, skybox: true, ..Default::default() },
+                ..Default::default()
+            };
+            let gpu = renderer.upload(&scene, Some(&grouping_of(&scene)));
+            let (image, _) = renderer.render_image(&gpu, &camera, &settings, 32, 32).expect(what);
+            let black = image.pixels().filter(|p| p.0[..3] == [0, 0, 0]).count();
+            assert_eq!(black, 0, "alg2 {layers}, {what}: {black} black (NaN) pixels");
+            let options = pointblend::reference::ReferenceOptions::matching(&settings, &scene);
+            let (exact, _) = pointblend::reference::render_with_layers(&scene, &camera, &options, 32, 32);
+            let black = exact.pixels().filter(|p| p.0[..3] == [0, 0, 0]).count();
+            assert_eq!(black, 0, "reference {layers}, {what}: {black} black (NaN) pixels");
+        }
+    }
+}
+
+/// Schlick's Fresnel weight at η 1.5 for pixel (x, y) of a `size`² image
+/// seen by `common::looking_down_z` on a surface facing +z: cos θ_I is the pixel
+/// ray's -z.
+fn fresnel_at(x: u32, y: u32, size: u32) -> f32 {
+    let tan = 15f32.to_radians().tan();
+    let ndc = [(x as f32 + 0.5) / size as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / size as f32 * 2.0];
+    let d = Vec3::new(ndc[0] * tan, ndc[1] * tan, -1.0).normalize();
+    let f0 = (0.5f32 / 2.5).powi(2);
+    f0 + (1.0 - f0) * (1.0 + d.z).powi(5)
 }

@@ -135,6 +135,7 @@ fn each_group_layer_pass_carries_its_own_layer_in_its_uniforms() {
         epsilon: 0.001,
         depth_steps: 100.0,
         transparent: false,
+        environment: None,
     };
     let mode = gpu_mode(settings.mode).unwrap();
     let plan = mode.plan(&frame);

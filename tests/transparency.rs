@@ -188,19 +188,6 @@ fn a_camera_inside_a_transparent_sphere_sees_its_inside_as_the_reference_does() 
     }
 }
 
-/// Looks down -z at the origin from z = 5.
-fn looking_down_z() -> Camera {
-    Camera {
-        target: Vec3::ZERO,
-        distance: 5.0,
-        azimuth_deg: 0.0,
-        elevation_deg: 0.0,
-        fov_y_deg: 30.0,
-        up: pointblend::view::UpAxis::PosY,
-        scene_radius: 3.0,
-    }
-}
-
 /// A plane of splats: its depth z, colour and opacity.
 type Plane = (f32, [u8; 3], f32);
 
@@ -240,7 +227,7 @@ fn two_planes_in_groups(front: ([u8; 3], f32), back: ([u8; 3], f32), radius: f32
 fn alg1_and_alg2_with_groups_that_cover_each_plane_composite_two_planes_exactly() {
     let (front, back) = (([240, 40, 30], 0.5), ([30, 60, 230], 0.6));
     let (scene, grouping) = two_planes_in_groups(front, back, 1.5);
-    let camera = looking_down_z();
+    let camera = common::looking_down_z();
     let size = 96;
     // C = α₁c₁ + (1 − α₁)(α₂c₂ + (1 − α₂)·bg).
     // alg1: each group covers both planes, draws the back one then the front
@@ -288,7 +275,7 @@ fn alg1_groups_with_holes_show_the_layers_they_miss() {
     // pixel shows only the back one there, so the average is off. This is
     // what the extension of §4.4.2 is for.
     let (front, back) = (([240, 40, 30], 0.5), ([30, 60, 230], 0.6));
-    let camera = looking_down_z();
+    let camera = common::looking_down_z();
     let settings = RenderSettings { lighting: false, ..settings("alg1", 0) };
     let eps = |radius: f32| {
         let (scene, grouping) = two_planes_in_groups(front, back, radius);
@@ -311,7 +298,7 @@ fn opaque_planes_are_drawn_apart_cull_what_lies_behind_them_and_show_through_the
     // drawn in high quality (two-pass) beneath the transparent layers; their
     // depth culls transparent fragments behind them.
     let (red, blue, green, grey) = ([240, 40, 30], [30, 60, 230], [40, 200, 60], [200, 200, 200]);
-    let camera = looking_down_z();
+    let camera = common::looking_down_z();
     let bg = common::background_rgb();
     let over = |alpha: f32, c: [u8; 3], under: [f32; 3]| -> [f32; 3] {
         [0, 1, 2].map(|k| alpha * c[k] as f32 + (1.0 - alpha) * under[k])
@@ -393,7 +380,7 @@ fn plain_alpha_blending_blends_one_surface_as_often_as_its_discs_overlap() {
     // groups and Eq. 10 culling remove.
     let red = [240, 40, 30];
     let (scene, grouping) = planes_in_groups(&[(0.0, red, 0.5)], 1.5);
-    let camera = looking_down_z();
+    let camera = common::looking_down_z();
     let bg = common::background_rgb();
     let closed_form = 0.5 * red[0] as f32 + 0.5 * bg[0] as f32;
     let red_of = |name: &str, grouping: Option<&Grouping>| {
@@ -418,7 +405,7 @@ fn alg1_and_alg2_with_one_group_with_the_most_layers_the_device_allows_and_edge_
     let (front, back) = (([240, 40, 30], 0.5), ([30, 60, 230], 0.6));
     let (scene, _) = two_planes_in_groups(front, back, 1.5);
     let splats = scene.flattened().len();
-    let camera = looking_down_z();
+    let camera = common::looking_down_z();
     let bg = common::background_rgb();
     let want: [f32; 3] = [0, 1, 2].map(|k| {
         let behind = back.1 * back.0[k] as f32 + (1.0 - back.1) * bg[k] as f32;

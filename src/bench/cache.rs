@@ -26,9 +26,14 @@ pub fn entry(
     settings: &RenderSettings,
     transparent: bool,
     size: (u32, u32),
+    environment: Option<&crate::scene::environment::EnvironmentMap>,
 ) -> CacheEntry {
+    let environment = match environment.filter(|_| transparent && settings.environment.enabled) {
+        Some(map) => format!("{:016x}|{:?}", map.hash, settings.environment),
+        None => "-".into(),
+    };
     let key = format!(
-        "v2|{scene_hash:016x}|{transparent}|{camera:?}|{size:?}|{:?}|{:?}|{}|{}|{}|{}",
+        "v2|{scene_hash:016x}|{transparent}|{camera:?}|{size:?}|{environment}|{:?}|{:?}|{}|{}|{}|{}",
         settings.kernel,
         settings.shading,
         settings.epsilon_scale,

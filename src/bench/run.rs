@@ -59,6 +59,8 @@ pub struct BenchConfig {
     pub progress: bool,
     /// Also time the back-to-front orders (`orders.json`, a table in `bench.md`).
     pub orders: bool,
+    /// The environment map every model is set in, if any (§5.2.3).
+    pub environment: Option<std::sync::Arc<crate::scene::environment::EnvironmentMap>>,
 }
 
 fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> BenchError + '_ {
@@ -183,6 +185,9 @@ fn bench_model(
     if let Some(colour) = config.materials.colour {
         scene.set_colour(colour);
     }
+    if config.environment.is_some() {
+        scene.environment = config.environment.clone();
+    }
     let mut base = config.settings;
     if let (true, Some(bg)) = (config.materials.scene_background, scene.background) {
         base.shading.background = bg;
@@ -205,10 +210,14 @@ fn bench_model(
             k = grouping.k();
             group_s = Some(if cached { 0.0 } else { t.elapsed().as_secs_f64() });
             if !uploads.iter().any(|(s, _)| *s == Some(spec)) {
-                uploads.push((Some(spec), GpuScene::upload_cloud(&renderer.ctx.device, &flat.cloud, Some(&grouping))));
+                let mut gpu = GpuScene::upload_cloud(&renderer.ctx.device, &flat.cloud, Some(&grouping));
+                gpu.set_environment(&renderer.ctx.device, &renderer.ctx.queue, scene.environment.as_deref());
+                uploads.push((Some(spec), gpu));
             }
         } else if !uploads.iter().any(|(s, _)| s.is_none()) {
-            uploads.push((None, GpuScene::upload_cloud(&renderer.ctx.device, &flat.cloud, None)));
+            let mut gpu = GpuScene::upload_cloud(&renderer.ctx.device, &flat.cloud, None);
+            gpu.set_environment(&renderer.ctx.device, &renderer.ctx.queue, scene.environment.as_deref());
+            uploads.push((None, gpu));
         }
         let scene = uploads.iter().position(|(s, _)| *s == spec).unwrap_or(0);
         prepared.push(Prepared { variant: variant.clone(), settings, scene, k, group_s });
@@ -259,6 +268,29 @@ fn bench_model(
         let opaque = ruler(config, &scene, &base, &view.camera, false)?;
         let with_opacity =
             if scene.has_transparency() { ruler(config, &scene, &base, &view.camera, true)? } else { opaque.clone() };
+        // With an environment map, a transparent variant whose environment
+        // settings differ from the base (env-layers, eta, dispersion) is
+        // measured against the reference with its own.
+        let mut own_rulers: Vec<(crate::view::environment::EnvironmentSettings, (image::RgbaImage, f64))> = Vec::new();
+        if scene.environment.is_some() && scene.has_transparency() {
+            for p in &prepared {
+                let env = p.settings.environment;
+                if p.variant.mode.info().transparent
+                    && env != base.environment
+                    && !own_rulers.iter().any(|(e, _)| *e == env)
+                {
+                    let settings = RenderSettings { environment: env, ..base };
+                    own_rulers.push((env, ruler(config, &scene, &settings, &view.camera, true)?));
+                }
+            }
+        }
+        let ruler_of = |p: &Prepared| {
+            let transparent = p.variant.mode.info().transparent;
+            own_rulers
+                .iter()
+                .find(|(e, _)| transparent && *e == p.settings.environment)
+                .map_or(if transparent { &with_opacity } else { &opaque }, |(_, r)| r)
+        };
         let ruler_for = |transparent: bool| if transparent { &with_opacity } else { &opaque };
         let name = RenderMode::RULER.name();
         save_png(&with_opacity.0, &config.out.join(format!("{stem}-{}-{name}.png", view.name)))?;
@@ -277,7 +309,7 @@ fn bench_model(
             let gpu_scene = &uploads[p.scene].1;
             let (image, plan, wall, per_pass) = time_frames(renderer, gpu_scene, &view.camera, p, config)
                 .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?;
-            let reference_image = &ruler_for(p.variant.mode.info().transparent).0;
+            let reference_image = &ruler_of(p).0;
             let error = reference::compare(&image, reference_image)
                 .ok_or_else(|| BenchError::Invalid("image and reference sizes differ".into()))?;
             let tag = p.variant.file_tag();
@@ -330,7 +362,8 @@ fn ruler(
     transparent: bool,
 ) -> Result<(image::RgbaImage, f64), BenchError> {
     let size = (config.width, config.height);
-    let entry = cache::entry(&config.out, scene.content_hash(), camera, settings, transparent, size);
+    let environment = scene.environment.as_deref();
+    let entry = cache::entry(&config.out, scene.content_hash(), camera, settings, transparent, size, environment);
     if let Some(cached) = entry.load() {
         return Ok(cached);
     }

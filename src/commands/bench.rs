@@ -43,6 +43,10 @@ pub struct Args {
     /// Output folder for bench.json, bench.md, error_vs_time.png, images and the reference cache.
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
+    /// Environment map every model is set in (equirectangular OpenEXR, HDR,
+    /// PNG or JPEG); variants choose the effects with env-layers=single|multi|off.
+    #[arg(long, value_name = "FILE")]
+    pub env: Option<PathBuf>,
 }
 
 pub fn run(args: &Args) -> Result<()> {
@@ -82,7 +86,18 @@ pub fn run(args: &Args) -> Result<()> {
     }
     let mut renderer = HeadlessRenderer::new().context("opening the GPU")?;
     println!("GPU: {}", renderer.ctx.describe());
+    let environment = match &args.env {
+        Some(path) => {
+            let map = pointblend::scene::environment::EnvironmentMap::load(path)?;
+            if map.cleaned > 0 {
+                log::warn!("{}: {} negative or non-finite values set to 0", path.display(), map.cleaned);
+            }
+            Some(std::sync::Arc::new(map))
+        }
+        None => None,
+    };
     let config = BenchConfig {
+        environment,
         variants,
         settings: args.view.base_settings(&pointblend::scene::Scene::default())?,
         materials: pointblend::bench::Materials {

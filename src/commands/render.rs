@@ -36,7 +36,7 @@ pub struct Args {
     pub camera: Option<PathBuf>,
     /// Environment map that transparent surfaces reflect and refract: an
     /// equirectangular OpenEXR, Radiance HDR, PNG or JPEG (assets/venice.exr
-    /// is bundled). Drawn by modes whose registry entry says so (reference).
+    /// is bundled). Drawn by modes whose registry entry says so (alg2, reference).
     #[arg(long, value_name = "FILE")]
     pub env: Option<PathBuf>,
     /// Index of refraction η of the transparent surfaces (with --env).
@@ -83,6 +83,7 @@ impl Args {
             dispersion: self.dispersion,
             layers: self.env_layers,
             skybox: !self.flat_background,
+            enabled: true,
         };
         Ok(())
     }

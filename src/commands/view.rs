@@ -98,6 +98,7 @@ fn headless_main_job(args: &Args) -> Result<()> {
         settings.shading.background = glam::Vec3::from_array(bg.map(f32::from)) / 255.0;
     }
     let config = BenchConfig {
+        environment: None,
         variants,
         settings,
         materials: bench::Materials {

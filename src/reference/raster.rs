@@ -111,7 +111,7 @@ pub fn render_with_layers(
     let bins = tiles::bin(&splats, &proj, width, height, near);
     let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
     let lens = Vec2::new(tan_y * aspect, tan_y);
-    let environment = scene.environment.as_deref().filter(|_| options.transparent);
+    let environment = scene.environment.as_deref().filter(|_| options.transparent && options.environment.enabled);
     let glassy = environment.is_some();
     let bar = crate::progress::bar(bins.bins.len() as u64, "reference render", options.progress);
     let tiles: Vec<(u32, Vec<TilePixel>)> = (0..bins.bins.len() as u32)

@@ -57,8 +57,14 @@ pub struct FrameUniforms {
     pub background: [f32; 4],
     /// tan(fov_x/2), tan(fov_y/2), splat radius scale, unused
     pub lens: [f32; 4],
+    /// Environment effects: η, dispersion δ, multi-layer (0/1), skybox (0/1)
+    pub environment: [f32; 4],
+    /// The map's up axis (world), the angle of one texel of its level 0 (2π / width)
+    pub environment_up: [f32; 4],
+    /// The world direction the map's centre column looks along, unused
+    pub environment_front: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 240);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 288);
 
 /// The constants of one pass, in its own slot of a buffer bound with a
 /// dynamic offset. Mirrors `Pass` in `shaders/frame.wgsl`.

@@ -42,6 +42,8 @@ pub struct GpuScene {
     /// group of everything) back to front for modes that blend in order (a
     /// CPU copy of the instances: 32 bytes each).
     order: Option<std::sync::Mutex<InstanceOrder>>,
+    /// The scene's environment map, when it has one (see [`Self::set_environment`]).
+    pub environment: Option<super::environment::EnvTexture>,
 }
 
 impl GpuScene {
@@ -114,7 +116,19 @@ impl GpuScene {
             uniform_color,
             transparent: cloud.has_transparency(),
             order: instance_order,
+            environment: None,
         }
+    }
+
+    /// Uploads the environment map transparent surfaces reflect and refract
+    /// (or drops it).
+    pub fn set_environment(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        map: Option<&crate::scene::environment::EnvironmentMap>,
+    ) {
+        self.environment = map.map(|m| super::environment::EnvTexture::upload(device, queue, m));
     }
 
     /// Sorts each group's instances back to front for `view` (a transparent

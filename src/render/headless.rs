@@ -27,9 +27,12 @@ impl HeadlessRenderer {
         Ok(Self { ctx, renderer, output: None })
     }
 
-    /// Uploads `scene`, group by group when a grouping of it is given.
+    /// Uploads `scene`, group by group when a grouping of it is given, with
+    /// its environment map if it has one.
     pub fn upload(&self, scene: &Scene, grouping: Option<&Grouping>) -> GpuScene {
-        GpuScene::upload(&self.ctx.device, scene, grouping)
+        let mut gpu = GpuScene::upload(&self.ctx.device, scene, grouping);
+        gpu.set_environment(&self.ctx.device, &self.ctx.queue, scene.environment.as_deref());
+        gpu
     }
 
     /// Uploads a cloud already in world space (a scene's flattened splats).

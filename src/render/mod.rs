@@ -21,6 +21,7 @@
 
 pub mod context;
 pub mod depth_steps;
+pub mod environment;
 pub mod gpu_data;
 pub mod gpu_scene;
 pub mod headless;

@@ -4,7 +4,8 @@
 //!
 //! Group 0 of every pipeline holds the frame's uniforms (binding 0) and the
 //! pass's own uniforms (binding 1, a slot chosen by a dynamic offset); group 1
-//! of a full-screen pipeline holds its input textures.
+//! of a full-screen pipeline holds its input textures, and group 2 of one
+//! built with `Variant::ENVIRONMENT` the environment map and its sampler.
 
 use std::collections::HashMap;
 
@@ -18,8 +19,10 @@ pub struct PipelineCache {
     modules: HashMap<(&'static str, Variant), wgpu::ShaderModule>,
     /// Bind group layouts of full-screen inputs, by their texture dimensions.
     input_layouts: HashMap<Vec<wgpu::TextureViewDimension>, wgpu::BindGroupLayout>,
-    /// Pipeline layouts by the dimensions of the textures read at group 1.
-    layouts: HashMap<Vec<wgpu::TextureViewDimension>, wgpu::PipelineLayout>,
+    /// Pipeline layouts by the dimensions of the textures read at group 1,
+    /// and whether group 2 binds the environment map.
+    layouts: HashMap<(Vec<wgpu::TextureViewDimension>, bool), wgpu::PipelineLayout>,
+    environment_layout: wgpu::BindGroupLayout,
     pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
 }
 
@@ -44,6 +47,7 @@ impl PipelineCache {
         });
         Self {
             frame_layout,
+            environment_layout: super::environment::EnvTexture::layout(device),
             modules: HashMap::new(),
             input_layouts: HashMap::new(),
             layouts: HashMap::new(),
@@ -54,6 +58,11 @@ impl PipelineCache {
     /// The layout of bind group 0 (frame and pass uniforms).
     pub fn frame_layout(&self) -> &wgpu::BindGroupLayout {
         &self.frame_layout
+    }
+
+    /// The layout of group 2: the environment map and its sampler.
+    pub fn environment_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.environment_layout
     }
 
     /// The layout of a full-screen pass's inputs.
@@ -92,24 +101,27 @@ impl PipelineCache {
                 source: wgpu::ShaderSource::Wgsl(source.into()),
             }));
         }
-        let inputs = key.kind.inputs().to_vec();
-        if !self.layouts.contains_key(&inputs) {
+        let environment = key.variant.has(Variant::ENVIRONMENT);
+        let layout_key = (key.kind.inputs().to_vec(), environment);
+        if !self.layouts.contains_key(&layout_key) {
+            let inputs = &layout_key.0;
+            let inputs_layout =
+                self.input_layouts.entry(inputs.clone()).or_insert_with(|| fullscreen::inputs_layout(device, inputs));
             let mut groups = vec![Some(&self.frame_layout)];
-            if !inputs.is_empty() {
-                let inputs_layout = self
-                    .input_layouts
-                    .entry(inputs.clone())
-                    .or_insert_with(|| fullscreen::inputs_layout(device, &inputs));
+            if !inputs.is_empty() || environment {
                 groups.push(Some(inputs_layout));
+            }
+            if environment {
+                groups.push(Some(&self.environment_layout));
             }
             let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("Pipeline::layout"),
                 bind_group_layouts: &groups,
                 immediate_size: 0,
             });
-            self.layouts.insert(inputs.clone(), layout);
+            self.layouts.insert(layout_key.clone(), layout);
         }
-        let (module, layout) = (&self.modules[&(key.shader, key.variant)], &self.layouts[&inputs]);
+        let (module, layout) = (&self.modules[&(key.shader, key.variant)], &self.layouts[&layout_key]);
         let label = format!("{}::{} ({})", key.shader, key.entry, key.variant);
         let built = match &key.kind {
             PipelineKind::Splats { .. } => splat::pipeline(device, &label, layout, module, key.entry, &key.kind),

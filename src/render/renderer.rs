@@ -111,6 +111,10 @@ impl Renderer {
             epsilon,
             depth_steps,
             transparent: scene.transparent,
+            environment: scene
+                .environment
+                .as_ref()
+                .filter(|_| settings.environment.enabled && settings.mode.info().environment),
         }
     }
 
@@ -158,7 +162,16 @@ impl Renderer {
         if self.timing && self.timer.as_ref().is_none_or(|t| t.capacity() < plan.passes.len()) {
             self.timer = PassTimer::new(ctx, plan.passes.len());
         }
-        ctx.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame_uniforms(camera, settings, size)));
+        ctx.queue.write_buffer(
+            &self.frame_buffer,
+            0,
+            bytemuck::bytes_of(&frame_uniforms(
+                camera,
+                settings,
+                size,
+                scene.environment.as_ref().map_or(0, |e| e.width),
+            )),
+        );
         let mut slots = vec![0u8; commands.len() * PASS_SLOT_BYTES as usize];
         for (i, recorded) in commands.iter().enumerate() {
             let uniforms = match &recorded.command {
@@ -239,8 +252,25 @@ impl Renderer {
                         .ok_or_else(|| GpuError::Device(format!("{} reads no target", pass.label)))?;
                     let kind = PipelineKind::Fullscreen { inputs: dims, output: target_format, blend: pass.blend };
                     let key = PipelineKey { shader: pass.shader, entry: pass.entry, variant: pass.variant, kind };
+                    let environment = if pass.variant.has(super::shaders::Variant::ENVIRONMENT) {
+                        let map = scene.environment.as_ref().ok_or_else(|| missing("environment map"))?;
+                        Some(map.bind_group(device, self.cache.environment_layout()))
+                    } else {
+                        None
+                    };
                     let pipeline = self.cache.pipeline(device, &key)?;
-                    fullscreen::record(&mut encoder, pass, pipeline, frame, offset, &inputs, target_view, stamps);
+                    let environment = environment.as_ref();
+                    fullscreen::record(
+                        &mut encoder,
+                        pass,
+                        pipeline,
+                        frame,
+                        offset,
+                        &inputs,
+                        environment,
+                        target_view,
+                        stamps,
+                    );
                 }
             }
         }
@@ -326,7 +356,15 @@ fn frame_bind_group(
 }
 
 /// The uniforms of one frame.
-fn frame_uniforms(camera: &Camera, settings: &RenderSettings, (width, height): (u32, u32)) -> FrameUniforms {
+fn frame_uniforms(
+    camera: &Camera,
+    settings: &RenderSettings,
+    (width, height): (u32, u32),
+    environment_width: u32,
+) -> FrameUniforms {
+    use crate::view::environment::LayerEffects;
+    let env = &settings.environment;
+    let (up, front) = camera.up.frame();
     let aspect = width as f32 / height as f32;
     let (near, far) = camera.near_far();
     let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
@@ -347,5 +385,13 @@ fn frame_uniforms(camera: &Camera, settings: &RenderSettings, (width, height): (
         material: [shading.ambient, shading.diffuse, shading.specular, 0.0],
         background: shading.background.extend(1.0).to_array(),
         lens: [tan_y * aspect, tan_y, settings.radius_scale, 0.0],
+        environment: [
+            env.eta,
+            env.dispersion,
+            if env.layers == LayerEffects::Multi { 1.0 } else { 0.0 },
+            if env.skybox { 1.0 } else { 0.0 },
+        ],
+        environment_up: up.extend(std::f32::consts::TAU / environment_width.max(1) as f32).to_array(),
+        environment_front: front.extend(0.0).to_array(),
     }
 }

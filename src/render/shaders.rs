@@ -3,7 +3,7 @@
 //! Shader variants come from one mechanism: a small preprocessor with
 //! `#include "file.wgsl"` (each file included once), `#ifdef NAME`,
 //! `#ifndef NAME`, `#else` and `#endif`. A [`Variant`] is a set of names
-//! (`LIT`, `WEIGHT_ONLY`, `OPAQUE_APART`).
+//! (`LIT`, `WEIGHT_ONLY`, `OPAQUE_APART`, `ENVIRONMENT`).
 //! Chosen over WGSL `override` constants, which cannot remove a binding, a
 //! fragment output or a struct field (an unlit pass must neither declare nor
 //! write a normal target), and over `naga_oil`, which composes into naga IR
@@ -12,7 +12,7 @@
 //! and validates it with naga (`tests/shaders.rs`).
 
 /// Every WGSL file, by name.
-const FILES: [(&str, &str); 21] = [
+const FILES: [(&str, &str); 22] = [
     ("frame.wgsl", include_str!("../../shaders/frame.wgsl")),
     ("splat.wgsl", include_str!("../../shaders/splat.wgsl")),
     ("shading.wgsl", include_str!("../../shaders/shading.wgsl")),
@@ -27,6 +27,7 @@ const FILES: [(&str, &str); 21] = [
     ("group_layer.wgsl", include_str!("../../shaders/group_layer.wgsl")),
     ("opaque_cull.wgsl", include_str!("../../shaders/opaque_cull.wgsl")),
     ("opaque_under.wgsl", include_str!("../../shaders/opaque_under.wgsl")),
+    ("environment.wgsl", include_str!("../../shaders/environment.wgsl")),
     ("alg1_group.wgsl", include_str!("../../shaders/alg1_group.wgsl")),
     ("alpha_blend.wgsl", include_str!("../../shaders/alpha_blend.wgsl")),
     ("alg1_average.wgsl", include_str!("../../shaders/alg1_average.wgsl")),
@@ -68,9 +69,12 @@ impl Variant {
     /// fragments behind their depth are culled, and the layers are
     /// composited over their image instead of the background.
     pub const OPAQUE_APART: Variant = Variant(4);
+    /// The scene has an environment map: it is bound at group 2 (texture,
+    /// filtering sampler) and the compositing pass reflects and refracts it.
+    pub const ENVIRONMENT: Variant = Variant(8);
 
     /// Every name, by bit.
-    const NAMES: [&'static str; 3] = ["LIT", "WEIGHT_ONLY", "OPAQUE_APART"];
+    const NAMES: [&'static str; 4] = ["LIT", "WEIGHT_ONLY", "OPAQUE_APART", "ENVIRONMENT"];
 
     pub const NONE: Variant = Variant(0);
 
@@ -164,6 +168,6 @@ mod tests {
         assert_eq!(lit.matches("struct Frame {").count(), 1, "frame.wgsl is included once");
         assert!(compose("missing.wgsl", Variant::NONE).is_err());
         assert_eq!(Variant::LIT.with(Variant::WEIGHT_ONLY, true).defines(), ["LIT", "WEIGHT_ONLY"]);
-        assert_eq!(Variant::all().count(), 8);
+        assert_eq!(Variant::all().count(), 16);
     }
 }

@@ -38,6 +38,8 @@ pub struct EnvironmentMap {
     pub levels: Vec<EnvLevel>,
     /// Texels that were negative, NaN or Inf and became 0.
     pub cleaned: usize,
+    /// FNV-1a of level 0's texels, for caches keyed by what the map holds.
+    pub hash: u64,
 }
 
 /// Why an environment map could not be used.
@@ -84,7 +86,7 @@ impl EnvironmentMap {
             return Err(format!("{} texels for a {width}x{height} map", texels.len()));
         }
         let mut cleaned = 0;
-        let texels = texels
+        let texels: Vec<[f32; 3]> = texels
             .into_iter()
             .map(|c| {
                 c.map(|v| {
@@ -97,11 +99,13 @@ impl EnvironmentMap {
                 })
             })
             .collect();
+        let bytes: Vec<u8> = texels.iter().flatten().flat_map(|v| v.to_le_bytes()).collect();
+        let hash = crate::grouping::cache::fnv1a(crate::grouping::cache::FNV_OFFSET, &bytes);
         let mut levels = vec![EnvLevel { width, height, texels }];
         while let Some(last) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
             levels.push(last.halved());
         }
-        Ok(Self { name, levels, cleaned })
+        Ok(Self { name, levels, cleaned, hash })
     }
 
     /// A map of one colour everywhere (display-encoded).

@@ -64,11 +64,14 @@ pub struct EnvironmentSettings {
     pub layers: LayerEffects,
     /// Show the map behind everything (a skybox) instead of the flat background.
     pub skybox: bool,
+    /// Draw the effects when the scene has a map (off: as if it had none,
+    /// the cost baseline of `bench`'s `env-layers=off`).
+    pub enabled: bool,
 }
 
 impl Default for EnvironmentSettings {
     fn default() -> Self {
-        Self { eta: 1.5, dispersion: 0.02, layers: LayerEffects::Single, skybox: true }
+        Self { eta: 1.5, dispersion: 0.02, layers: LayerEffects::Single, skybox: true, enabled: true }
     }
 }
 

@@ -27,10 +27,16 @@ pub enum Parameter {
     Background,
     /// Transparent layers k a peeling mode draws.
     Layers,
+    /// Environment effects at the nearest layer, through all layers, or off (§5.2.3).
+    EnvironmentLayers,
+    /// Index of refraction η of the environment effects.
+    Eta,
+    /// Chromatic dispersion δ of the environment effects.
+    Dispersion,
 }
 
 impl Parameter {
-    pub const ALL: [Parameter; 9] = [
+    pub const ALL: [Parameter; 12] = [
         Parameter::Quality,
         Parameter::Epsilon,
         Parameter::RadiusScale,
@@ -40,6 +46,9 @@ impl Parameter {
         Parameter::Voronoi,
         Parameter::Background,
         Parameter::Layers,
+        Parameter::EnvironmentLayers,
+        Parameter::Eta,
+        Parameter::Dispersion,
     ];
 
     /// The name in `key=value` settings (bench variants).
@@ -54,6 +63,9 @@ impl Parameter {
             Parameter::Voronoi => "voronoi",
             Parameter::Background => "background",
             Parameter::Layers => "layers",
+            Parameter::EnvironmentLayers => "env-layers",
+            Parameter::Eta => "eta",
+            Parameter::Dispersion => "dispersion",
         }
     }
 
@@ -69,6 +81,9 @@ impl Parameter {
             }
             Parameter::Background => "R,G,B (or R/G/B) in 0..255",
             Parameter::Layers => "a number of layers, 2..=64",
+            Parameter::EnvironmentLayers => "single, multi or off",
+            Parameter::Eta => "a positive index of refraction",
+            Parameter::Dispersion => "a dispersion of 0 or more, below η",
         }
     }
 
@@ -104,6 +119,19 @@ impl Parameter {
             Parameter::Layers => {
                 let max = super::settings::MAX_LAYERS;
                 settings.layers = value.parse::<u32>().ok().filter(|k| (2..=max).contains(k)).ok_or_else(bad)?;
+            }
+            Parameter::EnvironmentLayers => {
+                let env = &mut settings.environment;
+                (env.enabled, env.layers) = match value {
+                    "off" => (false, env.layers),
+                    other => (true, other.parse().map_err(|_| bad())?),
+                };
+            }
+            Parameter::Eta => settings.environment.eta = positive(value)?,
+            Parameter::Dispersion => {
+                let eta = settings.environment.eta;
+                settings.environment.dispersion =
+                    value.parse::<f32>().ok().filter(|d| d.is_finite() && *d >= 0.0 && *d < eta).ok_or_else(bad)?;
             }
             Parameter::Background => {
                 let rgb: Vec<f32> = value

@@ -168,6 +168,21 @@ fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, para
             ui.add(egui::Slider::new(&mut k, 2..=crate::view::settings::MAX_LAYERS).text("layers k"));
             s.layers = k;
         }
+        Parameter::EnvironmentLayers => {
+            use crate::view::environment::LayerEffects;
+            ui.checkbox(&mut s.environment.enabled, "environment effects");
+            ui.horizontal(|ui| {
+                ui.radio_value(&mut s.environment.layers, LayerEffects::Single, "single");
+                ui.radio_value(&mut s.environment.layers, LayerEffects::Multi, "multi-layer");
+            });
+            ui.label(RichText::new("with a map: render, bench --env").weak());
+        }
+        Parameter::Eta => {
+            ui.add(egui::Slider::new(&mut s.environment.eta, 0.5..=2.5).text("η refraction"));
+        }
+        Parameter::Dispersion => {
+            ui.add(egui::Slider::new(&mut s.environment.dispersion, 0.0..=0.1).text("dispersion δ"));
+        }
     }
 }
 

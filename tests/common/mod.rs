@@ -26,6 +26,19 @@ pub fn data(name: &str) -> PathBuf {
     path
 }
 
+/// Looks down -z at the origin from z = 5 with a 30° field.
+pub fn looking_down_z() -> Camera {
+    Camera {
+        target: Vec3::ZERO,
+        distance: 5.0,
+        azimuth_deg: 0.0,
+        elevation_deg: 0.0,
+        fov_y_deg: 30.0,
+        up: pointblend::view::UpAxis::PosY,
+        scene_radius: 3.0,
+    }
+}
+
 pub fn bundled_bunny() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/bunny.ply")
 }

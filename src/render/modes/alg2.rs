@@ -22,7 +22,9 @@ use super::{FrameDesc, GpuMode, peeling};
 use crate::render::gpu_data::PassUniforms;
 use crate::render::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, Recorded, SplatPass};
 use crate::render::plan::{Layout, PlannedPass, RenderPlan, TargetDesc, TargetId};
+use crate::render::shaders::Variant;
 use crate::render::targets::{ACCUM_FORMAT, DEPTH_FORMAT, VIEW_DEPTH_FORMAT};
+use crate::view::environment::LayerEffects;
 
 pub struct Alg2;
 
@@ -32,6 +34,12 @@ const NEAR_DEPTH: TargetId = TargetId("nearest layer I_k: depth");
 const NEAR_Z: TargetId = TargetId("nearest layer z-buffer");
 const OTHERS: TargetId = TargetId("other layers O_k");
 const OTHERS_Z: TargetId = TargetId("other layers Eq. 10 z-buffer");
+
+/// Whether the other layers count themselves for the multi-layer
+/// environment effects (an environment map, `--env-layers multi`).
+fn multi_layer(frame: &FrameDesc<'_>) -> bool {
+    frame.environment.is_some() && frame.settings.environment.layers == LayerEffects::Multi
+}
 
 impl GpuMode for Alg2 {
     fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan {
@@ -56,6 +64,22 @@ impl GpuMode for Alg2 {
             target(OTHERS, ACCUM_FORMAT, "pass 2 (Algorithm-1): the layers behind the nearest, per group"),
             target(OTHERS_Z, DEPTH_FORMAT, "pass 2: Eq. 10 low-precision depth per group"),
         ]);
+        let mut notes = Vec::new();
+        if let Some(map) = frame.environment {
+            let env = &frame.settings.environment;
+            notes.push(format!(
+                "environment map {} {}x{}, {} levels ({} bytes, uploaded with the scene), sampled by the composite: reflection, refraction (η {}, dispersion {}), Fresnel, {}-layer{}",
+                map.name,
+                map.width,
+                map.height,
+                map.levels,
+                map.bytes(),
+                env.eta,
+                env.dispersion,
+                env.layers,
+                if multi_layer(frame) { "; O_k sum their opacities (Eq. 15-16's layer count)" } else { "" }
+            ));
+        }
         passes.extend([
             PlannedPass {
                 name: "nearest layer",
@@ -82,7 +106,7 @@ impl GpuMode for Alg2 {
                 render_passes: 1,
             },
         ]);
-        frame.plan(describe(frame), k as usize, passes, targets)
+        RenderPlan { notes, ..frame.plan(describe(frame), k as usize, passes, targets) }
     }
 
     fn record(&self, frame: &FrameDesc<'_>, plan: &RenderPlan) -> Vec<Recorded> {
@@ -98,6 +122,7 @@ impl GpuMode for Alg2 {
         let z_test = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
         let replace = |target| ColourOutput { target, blend: Blend::Replace };
         let group = |layer: u32| group(frame, layer);
+        let others_blend = if multi_layer(frame) { Blend::OverSumAlpha } else { Blend::Over };
         let mut commands = OpaquePart::record(frame);
         let first = plan.passes.len() - 3;
         for layer in 0..k {
@@ -121,7 +146,7 @@ impl GpuMode for Alg2 {
                 shader: "alg2_other.wgsl",
                 entry: "fs_alg2_other",
                 variant: variant(frame),
-                colour: vec![ColourOutput { target: OTHERS, blend: Blend::Over }],
+                colour: vec![ColourOutput { target: OTHERS, blend: others_blend }],
                 depth: Some((OTHERS_Z, z_test)),
                 inputs: with_opaque(frame, vec![NEAR_COLOUR, NEAR_DEPTH], OPAQUE_DEPTH),
                 layer,
@@ -134,7 +159,7 @@ impl GpuMode for Alg2 {
             label: "Alg2Composite::pass",
             shader: "alg2_composite.wgsl",
             entry: "fs_alg2_composite",
-            variant: variant(frame),
+            variant: variant(frame).with(Variant::ENVIRONMENT, frame.environment.is_some()),
             inputs: with_opaque(frame, vec![NEAR_COLOUR, NEAR_DEPTH, NEAR_NORMAL, OTHERS], OPAQUE_IMAGE),
             output: Output::Frame,
             blend: Blend::Replace,

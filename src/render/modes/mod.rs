@@ -44,6 +44,8 @@ pub struct FrameDesc<'a> {
     pub depth_steps: f32,
     /// Whether some splat is less than opaque (transparent modes draw an opaque scene opaquely).
     pub transparent: bool,
+    /// The scene's environment map on the GPU, when it has one.
+    pub environment: Option<&'a super::environment::EnvTexture>,
 }
 
 impl FrameDesc<'_> {

@@ -192,7 +192,8 @@ pub(super) fn record_parts(
         label: "Normalize::pass",
         shader: "normalize.wgsl",
         entry: "fs_normalize",
-        variant,
+        // Into the opaque image, α says where an opaque splat was drawn.
+        variant: variant.with(Variant::OPAQUE_APART, ids.image.is_some()),
         inputs: ids.sums(frame),
         output: ids.image.map_or(Output::Frame, Output::Target),
         blend: Blend::Replace,

@@ -72,6 +72,7 @@ pub fn record(
     frame: &wgpu::BindGroup,
     uniform_offset: u32,
     inputs: &wgpu::BindGroup,
+    environment: Option<&wgpu::BindGroup>,
     output: &wgpu::TextureView,
     timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) {
@@ -92,5 +93,8 @@ pub fn record(
     render_pass.set_pipeline(pipeline);
     render_pass.set_bind_group(0, frame, &[uniform_offset]);
     render_pass.set_bind_group(1, inputs, &[]);
+    if let Some(environment) = environment {
+        render_pass.set_bind_group(2, environment, &[]);
+    }
     render_pass.draw(0..3, 0..1);
 }

@@ -31,6 +31,10 @@ pub enum Blend {
     /// Back-to-front α-blending of premultiplied colour: the fragment goes
     /// over what is there, src + (1 - src.a)·dst.
     Over,
+    /// [`Blend::Over`] for the colour, and the opacities summed, α_total =
+    /// Σα (blend factors ONE, ONE on the α channel): the layer count of
+    /// Zhang & Pajarola §5.2.3, l = α_total / α.
+    OverSumAlpha,
 }
 
 /// How a splat pass uses its depth target.
@@ -168,6 +172,7 @@ impl Blend {
             Blend::Add => Some(wgpu::BlendState { color: ONE, alpha: ONE }),
             Blend::Under => Some(wgpu::BlendState { color: UNDER, alpha: UNDER }),
             Blend::Over => Some(wgpu::BlendState { color: OVER, alpha: OVER }),
+            Blend::OverSumAlpha => Some(wgpu::BlendState { color: OVER, alpha: ONE }),
         }
     }
 }
