@@ -48,6 +48,9 @@ fn the_demo_scenes_load_with_their_materials() {
     let colours: Vec<_> = registration.objects.iter().map(|o| o.material.colour).collect();
     assert_ne!(colours[0], colours[1], "in two colours");
     assert_ne!(registration.objects[0].transform, registration.objects[1].transform, "one moved");
+    let (glass, _) = scene::open(&asset("glass-bunny.toml"), &LoadOptions::default()).unwrap();
+    let map = glass.environment.as_ref().expect("the glass bunny's scene names its environment map");
+    assert_eq!((map.width(), map.height()), (512, 256));
 }
 
 #[test]
@@ -74,6 +77,14 @@ fn bad_scene_files_name_the_file_line_column_and_problem() {
     let error = the_one_error(&pointblend().arg("render").arg(&path).arg("--out").arg(&out).output().unwrap());
     assert!(error.contains("missing.toml:2:7"), "{error}");
     assert!(error.contains("gone.ply"), "{error}");
+    // An environment map that is not there: its line, and the map named.
+    let path = dir.path().join("no-map.toml");
+    let bunny = common::bundled_bunny();
+    std::fs::write(&path, format!("environment = \"gone.exr\"\n[[object]]\nply = {:?}\n", bunny.to_str().unwrap()))
+        .unwrap();
+    let error = the_one_error(&pointblend().arg("render").arg(&path).arg("--out").arg(&out).output().unwrap());
+    assert!(error.contains("no-map.toml:1:15"), "{error}");
+    assert!(error.contains("gone.exr"), "{error}");
 }
 
 #[test]

@@ -54,17 +54,34 @@ pub struct Args {
 }
 
 impl Args {
-    /// Loads `--env` into the scene and its parameters into the settings.
+    /// Loads `--env` into the scene (in place of a scene file's map) and the
+    /// environment options into the settings.
     fn apply_environment(&self, scene: &mut Scene, settings: &mut RenderSettings) -> Result<()> {
-        let Some(path) = &self.env else { return Ok(()) };
+        let drawing = || -> String {
+            RenderMode::ALL.iter().filter(|m| m.info().environment).map(|m| m.name()).collect::<Vec<_>>().join(", ")
+        };
+        if let Some(path) = &self.env {
+            if !settings.mode.info().environment {
+                bail!(
+                    "{}: mode {} does not draw environment effects yet; modes that do: {}",
+                    path.display(),
+                    settings.mode,
+                    drawing()
+                );
+            }
+            let map = EnvironmentMap::load(path)?;
+            if map.cleaned > 0 {
+                log::warn!("{}: {} negative or non-finite values set to 0", path.display(), map.cleaned);
+            }
+            scene.environment = Some(std::sync::Arc::new(map));
+        }
+        let Some(map) = &scene.environment else { return Ok(()) };
         if !settings.mode.info().environment {
-            let drawing: Vec<&str> =
-                RenderMode::ALL.iter().filter(|m| m.info().environment).map(|m| m.name()).collect();
-            bail!(
-                "{}: mode {} does not draw environment effects yet; modes that do: {}",
-                path.display(),
+            log::warn!(
+                "the scene's environment map {} is not drawn by {}; modes that draw it: {}",
+                map.name,
                 settings.mode,
-                drawing.join(", ")
+                drawing()
             );
         }
         if !(self.eta.is_finite() && self.eta > 0.0) {
@@ -73,11 +90,6 @@ impl Args {
         if !(self.dispersion.is_finite() && self.dispersion >= 0.0 && self.dispersion < self.eta) {
             bail!("--dispersion must be at least 0 and below --eta ({}), not {}", self.eta, self.dispersion);
         }
-        let map = EnvironmentMap::load(path)?;
-        if map.cleaned > 0 {
-            log::warn!("{}: {} negative or non-finite values set to 0", path.display(), map.cleaned);
-        }
-        scene.environment = Some(std::sync::Arc::new(map));
         settings.environment = EnvironmentSettings {
             eta: self.eta,
             dispersion: self.dispersion,

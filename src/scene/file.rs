@@ -1,9 +1,10 @@
 //! Scene files: a TOML file that lists objects, each a PLY file or a
 //! generated sphere, with a transform and a material, and the scene's
-//! background and camera.
+//! background, environment map and camera.
 //!
 //! ```toml
 //! background = [28, 31, 36]          # optional, 0..255
+//! environment = "venice.exr"         # optional map to reflect and refract, relative to this file
 //!
 //! [camera]                           # optional; defaults frame every object
 //! azimuth = 20                       # degrees
@@ -58,6 +59,7 @@ pub struct SceneError {
 #[serde(deny_unknown_fields)]
 struct SceneFile {
     background: Option<Spanned<[f32; 3]>>,
+    environment: Option<Spanned<String>>,
     camera: Option<CameraEntry>,
     #[serde(rename = "object", default)]
     objects: Vec<Spanned<ObjectEntry>>,
@@ -198,6 +200,15 @@ pub fn read(path: &Path, options: &LoadOptions) -> Result<(Scene, Vec<String>), 
             return Err(at(Some(bg.span()), "background must be three values in 0..255".into()));
         }
         scene.background = Some(Vec3::from_array(*bg.get_ref()) / 255.0);
+    }
+    if let Some(env) = &file.environment {
+        let map_path = folder.join(env.get_ref());
+        let map = super::environment::EnvironmentMap::load(&map_path)
+            .map_err(|e| at(Some(env.span()), one_line(&e.to_string())))?;
+        if map.cleaned > 0 {
+            warnings.push(format!("{}: {} negative or non-finite values set to 0", map_path.display(), map.cleaned));
+        }
+        scene.environment = Some(Arc::new(map));
     }
     if let Some(c) = &file.camera {
         if let Some(fov) = &c.fov {

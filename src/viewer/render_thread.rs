@@ -230,7 +230,8 @@ fn gpu_scene<'a>(
         let key = grouped.spec.to_string();
         if uploads.grouped.as_ref().is_none_or(|(g, k, _)| *g != generation || *k != key) {
             uploads.grouped = None; // free the old copy first
-            let upload = GpuScene::upload_cloud(device, &model.cloud, Some(&grouped.grouping));
+            let mut upload = GpuScene::upload_cloud(device, &model.cloud, Some(&grouped.grouping));
+            upload.set_environment(device, &r.ctx.queue, model.scene.environment.as_deref());
             uploads.grouped = Some((generation, key, upload));
         }
         return uploads.grouped.as_ref().map(|(_, _, c)| c);
@@ -241,7 +242,9 @@ fn gpu_scene<'a>(
     };
     if slot.as_ref().is_none_or(|(g, _)| *g != generation) {
         *slot = None;
-        *slot = Some((generation, GpuScene::upload_cloud(device, cloud, None)));
+        let mut upload = GpuScene::upload_cloud(device, cloud, None);
+        upload.set_environment(device, &r.ctx.queue, model.scene.environment.as_deref());
+        *slot = Some((generation, upload));
     }
     slot.as_ref().map(|(_, c)| c)
 }
