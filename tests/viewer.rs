@@ -193,3 +193,31 @@ fn the_opacity_slider_makes_a_transparent_mode_see_through_and_keeps_the_view() 
     println!("{:.1}% of the pixels changed", 100.0 * share);
     assert!(share > 0.05, "the bunny shows its back layers and the background through it: {share}");
 }
+
+#[test]
+fn an_environment_map_picked_in_the_viewer_is_reflected_and_refracted_by_alg2() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(options(dir.path()));
+    wait_for(&mut h, "the bunny in two-pass", settled_in(RenderMode::TwoPass));
+    assert!(h.query_by_label("environment").is_some(), "the model panel has an environment picker");
+    let ctx = h.ctx.clone();
+    h.state_mut().set_opacity(&ctx, 0.4);
+    wait_for(&mut h, "the bunny at opacity 0.4", |app| app.model().is_some_and(|m| m.opacity() == (0.4, true)));
+    h.get_by_label("alg2").click();
+    wait_for(&mut h, "the glass bunny in alg2", |app| {
+        settled_in(RenderMode::Alg2)(app) && app.shown_frame().is_some_and(|(_, k)| k.settings.mode == RenderMode::Alg2)
+    });
+    let (plain, key) = h.state().shown_frame().map(|(i, k)| (i.clone(), k.clone())).unwrap();
+    h.state_mut().set_environment(&ctx, Some(PathBuf::from(pointblend::viewer::BUNDLED_ENVIRONMENT)));
+    wait_for(&mut h, "the bunny in the Venice map", |app| {
+        settled_in(RenderMode::Alg2)(app)
+            && app.model().is_some_and(|m| m.scene.environment.is_some())
+            && app.shown_frame().is_some_and(|(_, k)| k.generation > key.generation)
+    });
+    let (in_venice, _) = h.state().shown_frame().map(|(i, k)| (i.clone(), k.clone())).unwrap();
+    let share = changed_share(&plain, &in_venice);
+    println!("{:.1}% of the pixels changed", 100.0 * share);
+    // The skybox replaces the flat background and the bunny reflects and refracts it.
+    assert!(share > 0.5, "the map shows: {share}");
+    assert!(in_venice.pixels().all(|p| p.0[..3] != [0, 0, 0]), "no black (NaN) pixels");
+}

@@ -45,6 +45,10 @@ pub struct Args {
     /// Background colour R,G,B (0..255) [default: the scene's, else 28,31,36].
     #[arg(long, value_parser = super::shared::parse_rgb)]
     pub background: Option<[u8; 3]>,
+    /// Environment map the model is set in (equirectangular OpenEXR, HDR, PNG
+    /// or JPEG; assets/venice.exr is bundled); alg2 and the reference draw it.
+    #[arg(long, value_name = "FILE")]
+    pub env: Option<PathBuf>,
 }
 
 pub fn run(args: &Args) -> Result<()> {
@@ -67,6 +71,7 @@ pub fn run(args: &Args) -> Result<()> {
             scene_background: args.background.is_none(),
         },
         background: args.background.map(|c| glam::Vec3::from_array(c.map(f32::from)) / 255.0),
+        environment: args.env.clone(),
     };
     match viewer::run_window(options) {
         Ok(()) => Ok(()),
@@ -97,8 +102,12 @@ fn headless_main_job(args: &Args) -> Result<()> {
     if let Some(bg) = args.background {
         settings.shading.background = glam::Vec3::from_array(bg.map(f32::from)) / 255.0;
     }
+    let environment = match &args.env {
+        Some(path) => Some(std::sync::Arc::new(pointblend::scene::environment::EnvironmentMap::load(path)?)),
+        None => None,
+    };
     let config = BenchConfig {
-        environment: None,
+        environment,
         variants,
         settings,
         materials: bench::Materials {

@@ -5,6 +5,8 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+
+use crate::scene::environment::EnvironmentMap;
 use std::time::{Duration, Instant};
 
 use crate::grouping::cache::Cache;
@@ -44,6 +46,8 @@ pub struct ViewerOptions {
     pub materials: crate::bench::Materials,
     /// Background colour (0..1) that overrides the scene's.
     pub background: Option<glam::Vec3>,
+    /// Environment map every model opened is set in (in place of a scene file's).
+    pub environment: Option<PathBuf>,
 }
 
 /// The frame on screen.
@@ -156,7 +160,17 @@ impl ViewerApp {
         let path = path.to_path_buf();
         let label = format!("loading {}", path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default());
         let materials = self.options.materials;
-        self.load = Some(Job::spawn(label, ctx.clone(), move || Model::load(&path, generation, &materials)));
+        let environment = self.options.environment.clone();
+        self.load = Some(Job::spawn(label, ctx.clone(), move || {
+            let model = Model::load(&path, generation, &materials)?;
+            match environment {
+                Some(env) => {
+                    let map = EnvironmentMap::load(&env).map_err(|e| e.to_string())?;
+                    Ok(model.with_environment(Some(Arc::new(map)), generation))
+                }
+                None => Ok(model),
+            }
+        }));
     }
 
     /// Gives every object of the model on screen `opacity`, in the
@@ -171,6 +185,29 @@ impl ViewerApp {
         let generation = self.generations;
         let label = format!("opacity {opacity:.2}");
         self.load = Some(Job::spawn(label, ctx.clone(), move || Ok(model.with_opacity(opacity, generation))));
+    }
+
+    /// Sets the model on screen in the environment map at `path` (loaded in
+    /// the background; an unreadable map is shown as the load error and the
+    /// model kept), or in none: a new upload of the same geometry.
+    pub fn set_environment(&mut self, ctx: &egui::Context, path: Option<PathBuf>) {
+        let Some(model) = self.model.clone() else { return };
+        if let Some(old) = self.load.take() {
+            old.cancel();
+        }
+        self.generations += 1;
+        let generation = self.generations;
+        let label = match &path {
+            Some(p) => format!("environment {}", p.file_name().map(|n| n.to_string_lossy()).unwrap_or_default()),
+            None => "no environment".into(),
+        };
+        self.load = Some(Job::spawn(label, ctx.clone(), move || {
+            let map = match path {
+                Some(p) => Some(Arc::new(EnvironmentMap::load(&p).map_err(|e| e.to_string())?)),
+                None => None,
+            };
+            Ok(model.with_environment(map, generation))
+        }));
     }
 
     /// The model on screen.
@@ -271,6 +308,7 @@ impl ViewerApp {
                 splats: m.cloud.len(),
                 warnings: &m.warnings,
                 opacity: m.opacity(),
+                environment: m.scene.environment.as_ref().map(|e| e.name.as_str()),
             }),
             load_error: self.load_error.as_deref(),
             jobs,
@@ -317,6 +355,7 @@ impl ViewerApp {
                 Action::ResetCamera => self.reset_camera(),
                 Action::CameraMoved => self.camera_moved(),
                 Action::SetOpacity(opacity) => self.set_opacity(ctx, opacity),
+                Action::SetEnvironment(path) => self.set_environment(ctx, path),
             }
         }
     }

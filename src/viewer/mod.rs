@@ -29,6 +29,9 @@ pub use state::{FrameKey, ScreenshotSize};
 /// The model bundled with pointblend.
 pub const BUNDLED_MODEL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/bunny.ply");
 
+/// The environment map the viewer offers first.
+pub const BUNDLED_ENVIRONMENT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/venice.exr");
+
 /// Errors opening the window.
 #[derive(Debug, thiserror::Error)]
 pub enum ViewerError {

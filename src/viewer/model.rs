@@ -68,6 +68,17 @@ impl Model {
         Self::of_scene(&self.path, scene, self.warnings.clone(), generation)
     }
 
+    /// This model in the environment map `map` (or in none).
+    pub fn with_environment(
+        &self,
+        map: Option<Arc<crate::scene::environment::EnvironmentMap>>,
+        generation: u64,
+    ) -> Model {
+        let mut scene = (*self.scene).clone();
+        scene.environment = map;
+        Self::of_scene(&self.path, scene, self.warnings.clone(), generation)
+    }
+
     /// The first object's opacity, and whether every object has it.
     pub fn opacity(&self) -> (f32, bool) {
         let first = self.scene.objects.first().map_or(1.0, |o| o.material.opacity);

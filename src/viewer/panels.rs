@@ -5,6 +5,8 @@
 //! [`Parameter`] has one widget here, and a mode shows the widgets of the
 //! parameters it lists.
 
+use std::path::PathBuf;
+
 use egui::{RichText, Ui};
 
 use super::state::{Action, JobKind, PanelInfo, ScreenshotSize, UiState};
@@ -36,6 +38,7 @@ fn model_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, actions
             ui.label(RichText::new(m.name).strong()).on_hover_text(m.path.display().to_string());
             ui.label(format!("{} splats", thousands(m.splats)));
             opacity_widget(ui, &mut state.opacity_pending, m.opacity, actions);
+            environment_widget(ui, m.environment, actions);
             if !m.warnings.is_empty() {
                 ui.collapsing(format!("{} load warnings", m.warnings.len()), |ui| {
                     for w in m.warnings {
@@ -76,6 +79,25 @@ fn jobs_section(ui: &mut Ui, info: &PanelInfo<'_>, actions: &mut Vec<Action>) {
             }
         }
     }
+}
+
+/// The environment map transparent surfaces reflect and refract (alg2 and
+/// the reference draw it): none, the bundled one, or a file.
+fn environment_widget(ui: &mut Ui, current: Option<&str>, actions: &mut Vec<Action>) {
+    egui::ComboBox::new("environment", "environment").selected_text(current.unwrap_or("none")).show_ui(ui, |ui| {
+        if ui.selectable_label(current.is_none(), "none").clicked() && current.is_some() {
+            actions.push(Action::SetEnvironment(None));
+        }
+        if ui.selectable_label(false, "venice.exr (bundled)").clicked() {
+            actions.push(Action::SetEnvironment(Some(PathBuf::from(crate::viewer::BUNDLED_ENVIRONMENT))));
+        }
+        if ui.selectable_label(false, "Open…").clicked() {
+            let dialog = rfd::FileDialog::new().add_filter("environment map", &["exr", "hdr", "png", "jpg", "jpeg"]);
+            if let Some(path) = dialog.pick_file() {
+                actions.push(Action::SetEnvironment(Some(path)));
+            }
+        }
+    });
 }
 
 /// Opacity of every object: applied when the slider is let go (a new upload).
@@ -170,12 +192,15 @@ fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, para
         }
         Parameter::EnvironmentLayers => {
             use crate::view::environment::LayerEffects;
-            ui.checkbox(&mut s.environment.enabled, "environment effects");
+            ui.horizontal(|ui| {
+                ui.checkbox(&mut s.environment.enabled, "environment effects");
+                ui.checkbox(&mut s.environment.skybox, "skybox");
+            });
             ui.horizontal(|ui| {
                 ui.radio_value(&mut s.environment.layers, LayerEffects::Single, "single");
                 ui.radio_value(&mut s.environment.layers, LayerEffects::Multi, "multi-layer");
             });
-            ui.label(RichText::new("with a map: render, bench --env").weak());
+            ui.label(RichText::new("with a map (Model panel)").weak());
         }
         Parameter::Eta => {
             ui.add(egui::Slider::new(&mut s.environment.eta, 0.5..=2.5).text("η refraction"));

@@ -123,6 +123,8 @@ pub enum Action {
     CameraMoved,
     /// Give every object of the model this opacity (0..1).
     SetOpacity(f32),
+    /// Set the model in this environment map (a file), or in none.
+    SetEnvironment(Option<PathBuf>),
 }
 
 /// The model on screen, as the panels show it.
@@ -133,6 +135,8 @@ pub struct ModelInfo<'a> {
     pub warnings: &'a [String],
     /// The first object's opacity, and whether every object shares it.
     pub opacity: (f32, bool),
+    /// The environment map's name, if the model has one.
+    pub environment: Option<&'a str>,
 }
 
 /// The frame on screen, as the panels show it.
