@@ -12,8 +12,9 @@
 
 @fragment
 fn fs_alg1_group(v: SplatVarying) -> GroupFragment {
-    if behind_opaque(vec2<i32>(v.clip.xy), splat_sample(v).view_depth) {
+    let s = splat_sample(v);
+    if behind_opaque(vec2<i32>(v.clip.xy), s.view_depth) {
         discard;
     }
-    return group_fragment(v);
+    return group_fragment(v, s);
 }

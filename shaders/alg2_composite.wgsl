@@ -43,7 +43,8 @@ fn fs_alg2_composite(f: Fullscreen) -> @location(0) vec4<f32> {
             covering += 1.0;
         }
     }
-    let mean = select(vec4<f32>(0.0), others / max(covering, 1.0), covering > 0.0);
+    // Zero where no O_k covers the pixel.
+    let mean = others / max(covering, 1.0);
     // C_F and its opacity.
     var nearest = 3.0e38;
     for (var k = 0; k < layers; k++) {
@@ -66,7 +67,7 @@ fn fs_alg2_composite(f: Fullscreen) -> @location(0) vec4<f32> {
     return glass(f.position.xy, pixel, has_front, alpha, sums, normal_alpha.xyz, mean);
 #else
     let under = beneath(pixel);
-    let behind = select(under, mean.rgb + (1.0 - mean.a) * under, covering > 0.0);
+    let behind = mean.rgb + (1.0 - mean.a) * under;
     if !has_front {
         return vec4<f32>(behind, 1.0);
     }
@@ -130,21 +131,13 @@ fn glass(
     var out = vec3<f32>(0.0);
     for (var c = 0; c < 3; c++) {
         let seen_through = environment_sample(through[c], levels[c])[c];
-        let beyond = select(seen_through, opaque_channel(pixel, c), closed);
+        // Behind an opaque splat, `under` is the opaque image.
+        let beyond = select(seen_through, under[c], closed);
         let fresnel = select(1.0, environment_schlick(environment_eta(c), cos_i), refracted[c] > 0.5);
         let transmitted = mean[c] + reaching * beyond;
         let surface = alpha * front[c] + (1.0 - alpha) * transmitted;
         out[c] = fresnel * seen_reflected[c] + (1.0 - fresnel) * surface;
     }
     return vec4<f32>(out, 1.0);
-}
-
-// Channel c of the opaque image (0 when opaque splats are not drawn apart).
-fn opaque_channel(pixel: vec2<i32>, c: i32) -> f32 {
-#ifdef OPAQUE_APART
-    return textureLoad(opaque_image, pixel, 0)[c];
-#else
-    return 0.0;
-#endif
 }
 #endif

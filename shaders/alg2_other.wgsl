@@ -26,5 +26,5 @@ fn fs_alg2_other(v: SplatVarying) -> GroupFragment {
     if s.view_depth <= nearest + this_pass.depth.x || behind_opaque(pixel, s.view_depth) {
         discard;
     }
-    return group_fragment(v);
+    return group_fragment(v, s);
 }

@@ -17,8 +17,8 @@ struct GroupFragment {
     @builtin(frag_depth) z: f32,
 }
 
-fn group_fragment(v: SplatVarying) -> GroupFragment {
-    let s = splat_sample(v);
+// `s`: the fragment's splat sample (splat_sample, which discards outside the disc).
+fn group_fragment(v: SplatVarying, s: SplatSample) -> GroupFragment {
     let n = this_pass.depth.y;
     let z = min(floor(depth_to_buffer(s.view_depth) * n) / n, 1.0);
     return GroupFragment(premultiplied_fragment(v), z);

@@ -132,8 +132,9 @@ fn a_transparent_slab_in_a_constant_environment_matches_the_closed_form() {
     // (1 − α₁)^l with l = 1 layer behind and the nearest layer's α₁
     // (multi-layer: the paper assumes one opacity throughout); c₂ for an
     // opaque plane (E is not seen). Bound: the colours are exact, the normal is
-    // exactly +z, so only the final 8-bit rounding (0.5) remains: 0.5/255
-    // per channel, within 1 unit.
+    // exactly +z, so only the final 8-bit rounding (0.5) remains, plus the
+    // f32 arithmetic of both sides (relative 1e-6 of values ≤ 255, well under
+    // 0.01): 0.51 per channel.
     let camera = common::looking_down_z();
     let env = [0.2, 0.7, 0.9];
     let (red, blue) = ([240u8, 40, 30], [30u8, 60, 230]);
@@ -170,7 +171,7 @@ fn a_transparent_slab_in_a_constant_environment_matches_the_closed_form() {
                 }
             }
             println!("{layers}, {what}: worst channel error {worst:.2}");
-            assert!(worst <= 1.0, "{layers}, {what}: off by {worst}");
+            assert!(worst <= 0.51, "{layers}, {what}: off by {worst}");
         }
     }
 }

@@ -28,7 +28,7 @@ pub fn entry(
     size: (u32, u32),
     environment: Option<&crate::scene::environment::EnvironmentMap>,
 ) -> CacheEntry {
-    let environment = match environment.filter(|_| transparent && settings.environment.enabled) {
+    let environment = match environment.filter(|_| transparent && settings.draws_environment()) {
         Some(map) => format!("{:016x}|{:?}", map.hash, settings.environment),
         None => "-".into(),
     };

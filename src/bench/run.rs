@@ -13,6 +13,7 @@ use crate::output::write_atomically;
 use crate::reference::{self, ReferenceOptions};
 use crate::render::{GpuError, GpuScene, HeadlessRenderer, RenderPlan};
 use crate::scene::Scene;
+use crate::view::environment::EnvironmentSettings;
 use crate::view::{Camera, ModeVariant, RenderMode, RenderSettings};
 
 #[derive(Debug, thiserror::Error)]
@@ -266,30 +267,35 @@ fn bench_model(
         // modes) and with the scene's opacities (for transparent modes, and
         // the reference mode itself); one image when the scene is opaque.
         let opaque = ruler(config, &scene, &base, &view.camera, false)?;
-        let with_opacity =
-            if scene.has_transparency() { ruler(config, &scene, &base, &view.camera, true)? } else { opaque.clone() };
-        // With an environment map, a transparent variant whose environment
-        // settings differ from the base (env-layers, eta, dispersion) is
-        // measured against the reference with its own.
-        let mut own_rulers: Vec<(crate::view::environment::EnvironmentSettings, (image::RgbaImage, f64))> = Vec::new();
-        if scene.environment.is_some() && scene.has_transparency() {
-            for p in &prepared {
-                let env = p.settings.environment;
-                if p.variant.mode.info().transparent
-                    && env != base.environment
-                    && !own_rulers.iter().any(|(e, _)| *e == env)
-                {
-                    let settings = RenderSettings { environment: env, ..base };
-                    own_rulers.push((env, ruler(config, &scene, &settings, &view.camera, true)?));
+        // The reference mode's own image (with the scene's map, if any).
+        let reference = RenderSettings { mode: RenderMode::RULER, ..base };
+        let with_opacity = if scene.has_transparency() {
+            ruler(config, &scene, &reference, &view.camera, true)?
+        } else {
+            opaque.clone()
+        };
+        // With a map, a transparent variant is measured against the reference
+        // of what it draws: its own environment settings, or none for a mode
+        // without the effects (or env-layers=off).
+        let drawn =
+            |s: &RenderSettings| (scene.environment.is_some() && s.draws_environment()).then_some(s.environment);
+        let mut own_rulers = Vec::new();
+        if scene.has_transparency() {
+            for p in prepared.iter().filter(|p| p.variant.mode.info().transparent) {
+                let key = drawn(&p.settings);
+                if key != drawn(&reference) && !own_rulers.iter().any(|(k, _)| *k == key) {
+                    let environment = EnvironmentSettings { enabled: key.is_some(), ..key.unwrap_or(base.environment) };
+                    let settings = RenderSettings { environment, ..reference };
+                    own_rulers.push((key, ruler(config, &scene, &settings, &view.camera, true)?));
                 }
             }
         }
         let ruler_of = |p: &Prepared| {
-            let transparent = p.variant.mode.info().transparent;
-            own_rulers
-                .iter()
-                .find(|(e, _)| transparent && *e == p.settings.environment)
-                .map_or(if transparent { &with_opacity } else { &opaque }, |(_, r)| r)
+            if !p.variant.mode.info().transparent {
+                return &opaque;
+            }
+            let key = drawn(&p.settings);
+            own_rulers.iter().find(|(k, _)| *k == key).map_or(&with_opacity, |(_, r)| r)
         };
         let ruler_for = |transparent: bool| if transparent { &with_opacity } else { &opaque };
         let name = RenderMode::RULER.name();

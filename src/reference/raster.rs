@@ -49,7 +49,8 @@ impl ReferenceOptions {
             radius_scale: settings.radius_scale,
             transparent: settings.mode.info().transparent,
             progress: false,
-            environment: settings.environment,
+            // Only what the mode draws: a mode without the effects is measured without them.
+            environment: EnvironmentSettings { enabled: settings.draws_environment(), ..settings.environment },
         }
     }
 }

@@ -111,10 +111,7 @@ impl Renderer {
             epsilon,
             depth_steps,
             transparent: scene.transparent,
-            environment: scene
-                .environment
-                .as_ref()
-                .filter(|_| settings.environment.enabled && settings.mode.info().environment),
+            environment: scene.environment.as_ref().filter(|_| settings.draws_environment()),
         }
     }
 

@@ -83,7 +83,7 @@ impl Parameter {
             Parameter::Layers => "a number of layers, 2..=64",
             Parameter::EnvironmentLayers => "single, multi or off",
             Parameter::Eta => "a positive index of refraction",
-            Parameter::Dispersion => "a dispersion of 0 or more, below η",
+            Parameter::Dispersion => "a dispersion of 0 or more",
         }
     }
 
@@ -128,10 +128,11 @@ impl Parameter {
                 };
             }
             Parameter::Eta => settings.environment.eta = positive(value)?,
+            // Checked alone (not against η, which may come later in the
+            // variant): η - δ is kept above MIN_ETA where it is used.
             Parameter::Dispersion => {
-                let eta = settings.environment.eta;
                 settings.environment.dispersion =
-                    value.parse::<f32>().ok().filter(|d| d.is_finite() && *d >= 0.0 && *d < eta).ok_or_else(bad)?;
+                    value.parse::<f32>().ok().filter(|d| d.is_finite() && *d >= 0.0).ok_or_else(bad)?;
             }
             Parameter::Background => {
                 let rgb: Vec<f32> = value

@@ -62,6 +62,12 @@ impl RenderSettings {
         }
     }
 
+    /// Whether a frame of these settings draws a scene's environment map:
+    /// the mode draws the effects (registry) and they are on.
+    pub fn draws_environment(&self) -> bool {
+        self.environment.enabled && self.mode.info().environment
+    }
+
     /// ε in view-depth units for a cloud whose mean splat radius is `mean_radius`.
     pub fn epsilon(&self, mean_radius: f32) -> f32 {
         self.epsilon_scale * mean_radius

@@ -186,9 +186,11 @@ fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, para
             }
         }
         Parameter::Layers => {
+            // Written only when moved, so each mode keeps its own default until then.
             let mut k = s.layers_or_default();
-            ui.add(egui::Slider::new(&mut k, 2..=crate::view::settings::MAX_LAYERS).text("layers k"));
-            s.layers = k;
+            if ui.add(egui::Slider::new(&mut k, 2..=crate::view::settings::MAX_LAYERS).text("layers k")).changed() {
+                s.layers = k;
+            }
         }
         Parameter::EnvironmentLayers => {
             use crate::view::environment::LayerEffects;

@@ -17,10 +17,10 @@
 //! A scene with nothing transparent runs the opaque two-pass plan.
 
 use super::two_pass::{OPAQUE_DEPTH, OPAQUE_IMAGE, OpaquePart, TwoPass};
-use super::{FrameDesc, GpuMode, peeling};
+use super::{FrameDesc, GpuMode, depth_step_note, peeling, per_group};
 use crate::render::gpu_data::PassUniforms;
 use crate::render::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, Recorded, SplatPass};
-use crate::render::plan::{Layout, PlannedPass, RenderPlan, TargetDesc, TargetId};
+use crate::render::plan::{Layout, PlannedPass, RenderPlan, TargetId};
 use crate::render::shaders::Variant;
 use crate::render::targets::{ACCUM_FORMAT, DEPTH_FORMAT};
 
@@ -32,11 +32,6 @@ const Z_BUFFER: TargetId = TargetId("group Eq. 10 z-buffer");
 /// Group images K: at least one (also alg2's).
 pub(super) fn groups(frame: &FrameDesc<'_>) -> u32 {
     frame.transparent_groups.len().max(1) as u32
-}
-
-/// The transparent splats of group `layer` (also alg2's).
-pub(super) fn group(frame: &FrameDesc<'_>, layer: u32) -> std::ops::Range<u32> {
-    frame.transparent_groups.get(layer as usize).cloned().unwrap_or(0..0)
 }
 
 /// The shader variant (also alg2's): lit or not, opaque splats drawn apart
@@ -70,14 +65,7 @@ impl GpuMode for Alg1 {
             return peeling::opaque_fallback(frame, TwoPass.plan(frame));
         }
         let k = groups(frame);
-        let target = |id, format, why| TargetDesc {
-            id,
-            format,
-            width: frame.width,
-            height: frame.height,
-            layout: Layout::Array { layers: k },
-            why,
-        };
+        let target = |id, format, why| frame.target(id, format, Layout::Array { layers: k }, why);
         let (mut targets, mut passes) = OpaquePart::plan(frame);
         targets.extend([
             target(IMAGES, ACCUM_FORMAT, "I_k: group k blended back to front, premultiplied colour and α"),
@@ -101,7 +89,7 @@ impl GpuMode for Alg1 {
                 render_passes: 1,
             },
         ]);
-        frame.plan(describe(frame), k as usize, passes, targets)
+        RenderPlan { notes: depth_step_note(frame, true), ..frame.plan(describe(frame), k as usize, passes, targets) }
     }
 
     fn record(&self, frame: &FrameDesc<'_>, plan: &RenderPlan) -> Vec<Recorded> {
@@ -117,21 +105,19 @@ impl GpuMode for Alg1 {
         let z_test = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
         let mut commands = OpaquePart::record(frame);
         let first = plan.passes.len() - 2;
-        commands.extend((0..k).map(|layer| {
-            let pass = SplatPass {
-                label: "Alg1Group::pass",
-                shader: "alg1_group.wgsl",
-                entry: "fs_alg1_group",
-                variant: variant(frame),
-                colour: vec![ColourOutput { target: IMAGES, blend: Blend::Over }],
-                depth: Some((Z_BUFFER, z_test)),
-                inputs: with_opaque(frame, Vec::new(), OPAQUE_DEPTH),
-                layer,
-                splats: group(frame, layer),
-                uniforms: uniforms(layer),
-            };
-            Recorded { pass: first, command: Command::Splats(pass) }
-        }));
+        let group_pass = SplatPass {
+            label: "Alg1Group::pass",
+            shader: "alg1_group.wgsl",
+            entry: "fs_alg1_group",
+            variant: variant(frame),
+            colour: vec![ColourOutput { target: IMAGES, blend: Blend::Over }],
+            depth: Some((Z_BUFFER, z_test)),
+            inputs: with_opaque(frame, Vec::new(), OPAQUE_DEPTH),
+            layer: 0,
+            splats: 0..0,
+            uniforms: uniforms(0),
+        };
+        commands.extend(per_group(group_pass, frame.transparent_groups, k, first, uniforms));
         let average = FullscreenPass {
             label: "Alg1Average::pass",
             shader: "alg1_average.wgsl",

@@ -16,12 +16,12 @@
 //! geometry passes cull behind them, and C_O goes over their image.
 //! A scene with nothing transparent runs the opaque two-pass plan.
 
-use super::alg1::{describe, group, groups, variant, with_opaque};
+use super::alg1::{describe, groups, variant, with_opaque};
 use super::two_pass::{OPAQUE_DEPTH, OPAQUE_IMAGE, OpaquePart, TwoPass};
-use super::{FrameDesc, GpuMode, peeling};
+use super::{FrameDesc, GpuMode, depth_step_note, peeling, per_group};
 use crate::render::gpu_data::PassUniforms;
 use crate::render::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, Recorded, SplatPass};
-use crate::render::plan::{Layout, PlannedPass, RenderPlan, TargetDesc, TargetId};
+use crate::render::plan::{Layout, PlannedPass, RenderPlan, TargetId};
 use crate::render::shaders::Variant;
 use crate::render::targets::{ACCUM_FORMAT, DEPTH_FORMAT, VIEW_DEPTH_FORMAT};
 use crate::view::environment::LayerEffects;
@@ -47,14 +47,7 @@ impl GpuMode for Alg2 {
             return peeling::opaque_fallback(frame, TwoPass.plan(frame));
         }
         let k = groups(frame);
-        let target = |id, format, why| TargetDesc {
-            id,
-            format,
-            width: frame.width,
-            height: frame.height,
-            layout: Layout::Array { layers: k },
-            why,
-        };
+        let target = |id, format, why| frame.target(id, format, Layout::Array { layers: k }, why);
         let (mut targets, mut passes) = OpaquePart::plan(frame);
         targets.extend([
             target(NEAR_COLOUR, ACCUM_FORMAT, "pass 1 (deferred): each group's nearest splat, Eq. 4 weight"),
@@ -64,7 +57,7 @@ impl GpuMode for Alg2 {
             target(OTHERS, ACCUM_FORMAT, "pass 2 (Algorithm-1): the layers behind the nearest, per group"),
             target(OTHERS_Z, DEPTH_FORMAT, "pass 2: Eq. 10 low-precision depth per group"),
         ]);
-        let mut notes = Vec::new();
+        let mut notes = depth_step_note(frame, true);
         if let Some(map) = frame.environment {
             let env = &frame.settings.environment;
             notes.push(format!(
@@ -121,40 +114,32 @@ impl GpuMode for Alg2 {
         };
         let z_test = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
         let replace = |target| ColourOutput { target, blend: Blend::Replace };
-        let group = |layer: u32| group(frame, layer);
         let others_blend = if multi_layer(frame) { Blend::OverSumAlpha } else { Blend::Over };
         let mut commands = OpaquePart::record(frame);
         let first = plan.passes.len() - 3;
-        for layer in 0..k {
-            let pass = SplatPass {
-                label: "Alg2Nearest::pass",
-                shader: "alg2_nearest.wgsl",
-                entry: "fs_alg2_nearest",
-                variant: variant(frame),
-                colour: vec![replace(NEAR_COLOUR), replace(NEAR_NORMAL), replace(NEAR_DEPTH)],
-                depth: Some((NEAR_Z, z_test)),
-                inputs: with_opaque(frame, Vec::new(), OPAQUE_DEPTH),
-                layer,
-                splats: group(layer),
-                uniforms: uniforms(layer),
-            };
-            commands.push(Recorded { pass: first, command: Command::Splats(pass) });
-        }
-        for layer in 0..k {
-            let pass = SplatPass {
-                label: "Alg2Other::pass",
-                shader: "alg2_other.wgsl",
-                entry: "fs_alg2_other",
-                variant: variant(frame),
-                colour: vec![ColourOutput { target: OTHERS, blend: others_blend }],
-                depth: Some((OTHERS_Z, z_test)),
-                inputs: with_opaque(frame, vec![NEAR_COLOUR, NEAR_DEPTH], OPAQUE_DEPTH),
-                layer,
-                splats: group(layer),
-                uniforms: uniforms(layer),
-            };
-            commands.push(Recorded { pass: first + 1, command: Command::Splats(pass) });
-        }
+        let nearest = SplatPass {
+            label: "Alg2Nearest::pass",
+            shader: "alg2_nearest.wgsl",
+            entry: "fs_alg2_nearest",
+            variant: variant(frame),
+            colour: vec![replace(NEAR_COLOUR), replace(NEAR_NORMAL), replace(NEAR_DEPTH)],
+            depth: Some((NEAR_Z, z_test)),
+            inputs: with_opaque(frame, Vec::new(), OPAQUE_DEPTH),
+            layer: 0,
+            splats: 0..0,
+            uniforms: uniforms(0),
+        };
+        let others = SplatPass {
+            label: "Alg2Other::pass",
+            shader: "alg2_other.wgsl",
+            entry: "fs_alg2_other",
+            colour: vec![ColourOutput { target: OTHERS, blend: others_blend }],
+            depth: Some((OTHERS_Z, z_test)),
+            inputs: with_opaque(frame, vec![NEAR_COLOUR, NEAR_DEPTH], OPAQUE_DEPTH),
+            ..nearest.clone()
+        };
+        commands.extend(per_group(nearest, frame.transparent_groups, k, first, uniforms));
+        commands.extend(per_group(others, frame.transparent_groups, k, first + 1, uniforms));
         let composite = FullscreenPass {
             label: "Alg2Composite::pass",
             shader: "alg2_composite.wgsl",

@@ -15,7 +15,7 @@ use super::two_pass::TwoPass;
 use super::{FrameDesc, GpuMode, peeling};
 use crate::render::gpu_data::PassUniforms;
 use crate::render::passes::{Blend, ColourOutput, Command, FullscreenPass, Output, Recorded, SplatPass};
-use crate::render::plan::{Layout, PlannedPass, RenderPlan, TargetDesc, TargetId};
+use crate::render::plan::{Layout, PlannedPass, RenderPlan, TargetId};
 use crate::render::shaders::Variant;
 use crate::render::targets::ACCUM_FORMAT;
 
@@ -28,14 +28,12 @@ impl GpuMode for AlphaBlend {
         if !frame.transparent {
             return peeling::opaque_fallback(frame, TwoPass.plan(frame));
         }
-        let targets = vec![TargetDesc {
-            id: IMAGE,
-            format: ACCUM_FORMAT,
-            width: frame.width,
-            height: frame.height,
-            layout: Layout::Array { layers: 1 },
-            why: "every splat back to front: shaded rgb·α, α, over; no culling",
-        }];
+        let targets = vec![frame.target(
+            IMAGE,
+            ACCUM_FORMAT,
+            Layout::Array { layers: 1 },
+            "every splat back to front: shaded rgb·α, α, over; no culling",
+        )];
         let passes = vec![
             PlannedPass {
                 name: "blend",

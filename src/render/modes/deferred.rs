@@ -9,10 +9,10 @@
 //! centre within one). A full-screen pass then takes d = min_k depth_k, sums
 //! the layers within d + ε, normalises and shades (Fig. 6).
 
-use super::{FrameDesc, GpuMode};
+use super::{FrameDesc, GpuMode, depth_step_note, per_group};
 use crate::render::gpu_data::PassUniforms;
 use crate::render::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, Recorded, SplatPass};
-use crate::render::plan::{Layout, PlannedPass, RenderPlan, TargetDesc, TargetId};
+use crate::render::plan::{Layout, PlannedPass, RenderPlan, TargetId};
 use crate::render::shaders::Variant;
 use crate::render::targets::{ACCUM_FORMAT, DEPTH_FORMAT, VIEW_DEPTH_FORMAT, colour_format};
 
@@ -55,14 +55,7 @@ fn composite_inputs(frame: &FrameDesc<'_>) -> Vec<TargetId> {
 impl GpuMode for Deferred {
     fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan {
         let k = layers(frame);
-        let target = |id, format, why| TargetDesc {
-            id,
-            format,
-            width: frame.width,
-            height: frame.height,
-            layout: Layout::Array { layers: k },
-            why,
-        };
+        let target = |id, format, why| frame.target(id, format, Layout::Array { layers: k }, why);
         let mut targets = vec![if frame.weight_only() {
             target(WEIGHT, colour_format(true), "Eq. 4's weight per group; the scene has one colour")
         } else {
@@ -100,7 +93,10 @@ impl GpuMode for Deferred {
             if frame.settings.voronoi { "on" } else { "off" },
             if frame.weight_only() { ", weights only" } else { "" }
         );
-        RenderPlan { notes: depth_step_note(frame), ..frame.plan(variant, k as usize, passes, targets) }
+        RenderPlan {
+            notes: depth_step_note(frame, frame.settings.voronoi),
+            ..frame.plan(variant, k as usize, passes, targets)
+        }
     }
 
     fn record(&self, frame: &FrameDesc<'_>, _plan: &RenderPlan) -> Vec<Recorded> {
@@ -115,23 +111,19 @@ impl GpuMode for Deferred {
         let colour: Vec<ColourOutput> =
             layer_outputs(frame).into_iter().map(|target| ColourOutput { target, blend: Blend::Replace }).collect();
         let z_test = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
-        let mut commands: Vec<Recorded> = (0..k)
-            .map(|layer| {
-                let pass = SplatPass {
-                    label: "DeferredGeometry::pass",
-                    shader: "deferred_geometry.wgsl",
-                    entry: "fs_group",
-                    variant,
-                    colour: colour.clone(),
-                    depth: Some((Z_BUFFER, z_test)),
-                    inputs: Vec::new(),
-                    layer,
-                    splats: frame.groups.get(layer as usize).cloned().unwrap_or(0..0),
-                    uniforms: uniforms(layer),
-                };
-                Recorded { pass: 0, command: Command::Splats(pass) }
-            })
-            .collect();
+        let geometry = SplatPass {
+            label: "DeferredGeometry::pass",
+            shader: "deferred_geometry.wgsl",
+            entry: "fs_group",
+            variant,
+            colour,
+            depth: Some((Z_BUFFER, z_test)),
+            inputs: Vec::new(),
+            layer: 0,
+            splats: 0..0,
+            uniforms: uniforms(0),
+        };
+        let mut commands = per_group(geometry, frame.groups, k, 0, uniforms);
         let composite = FullscreenPass {
             label: "Composite::pass",
             shader: "deferred_composite.wgsl",
@@ -146,17 +138,4 @@ impl GpuMode for Deferred {
         commands.push(Recorded { pass: 1, command: Command::Fullscreen(composite) });
         commands
     }
-}
-
-/// Says so when Eq. 10's depth steps had to be capped for f32 precision, so
-/// that surface layers closer than a step share one in the Voronoi z-test.
-fn depth_step_note(frame: &FrameDesc<'_>) -> Vec<String> {
-    use crate::render::depth_steps::MAX_DEPTH_STEPS;
-    if !frame.settings.voronoi || frame.depth_steps < MAX_DEPTH_STEPS {
-        return Vec::new();
-    }
-    vec![format!(
-        "the depth range is more than {MAX_DEPTH_STEPS} × ε deep: Eq. 10's low-precision depth is capped at \
-         {MAX_DEPTH_STEPS} steps (f32 precision), so surface layers closer than a step are not separated"
-    )]
 }

@@ -77,6 +77,22 @@ impl FrameDesc<'_> {
         }
     }
 
+    /// A target of the frame's size.
+    pub fn target(
+        &self,
+        id: super::plan::TargetId,
+        format: wgpu::TextureFormat,
+        layout: super::plan::Layout,
+        why: &'static str,
+    ) -> super::plan::TargetDesc {
+        super::plan::TargetDesc { id, format, width: self.width, height: self.height, layout, why }
+    }
+
+    /// The instances of group `k` among `groups` (none past the last group).
+    pub fn group(groups: &[Range<u32>], k: u32) -> Range<u32> {
+        groups.get(k as usize).cloned().unwrap_or(0..0)
+    }
+
     /// The one colour as a uniform (rgb 0..1), zero when there is none.
     pub fn uniform_colour_rgba(&self) -> [f32; 4] {
         match self.uniform_colour {
@@ -84,6 +100,43 @@ impl FrameDesc<'_> {
             None => [0.0; 4],
         }
     }
+}
+
+/// `pass` once per group layer 0..k, in plan pass `plan_pass`: each copy
+/// draws its layer, that group's instances among `groups`, with
+/// `uniforms(layer)` (the geometry passes of deferred, alg1 and alg2).
+pub fn per_group(
+    pass: super::passes::SplatPass,
+    groups: &[Range<u32>],
+    k: u32,
+    plan_pass: usize,
+    uniforms: impl Fn(u32) -> super::gpu_data::PassUniforms,
+) -> Vec<Recorded> {
+    (0..k)
+        .map(|layer| {
+            let pass = super::passes::SplatPass {
+                layer,
+                splats: FrameDesc::group(groups, layer),
+                uniforms: uniforms(layer),
+                ..pass.clone()
+            };
+            Recorded { pass: plan_pass, command: super::passes::Command::Splats(pass) }
+        })
+        .collect()
+}
+
+/// Says so when Eq. 10's depth steps had to be capped for f32 precision, so
+/// that surface layers closer than a step share one (deferred's Voronoi
+/// z-test, alg1's and alg2's Eq. 10 culling).
+pub fn depth_step_note(frame: &FrameDesc<'_>, uses_steps: bool) -> Vec<String> {
+    use crate::render::depth_steps::MAX_DEPTH_STEPS;
+    if !uses_steps || frame.depth_steps < MAX_DEPTH_STEPS {
+        return Vec::new();
+    }
+    vec![format!(
+        "the depth range is more than {MAX_DEPTH_STEPS} × ε deep: Eq. 10's low-precision depth is capped at \
+         {MAX_DEPTH_STEPS} steps (f32 precision), so surface layers closer than a step are not separated"
+    )]
 }
 
 /// A render mode that runs on the GPU.

@@ -57,7 +57,7 @@ pub fn layer_sums(frame: &FrameDesc<'_>) -> Vec<TargetId> {
 
 /// A target of the view's size.
 pub fn target(frame: &FrameDesc<'_>, id: TargetId, format: wgpu::TextureFormat, why: &'static str) -> TargetDesc {
-    TargetDesc { id, format, width: frame.width, height: frame.height, layout: Layout::Single, why }
+    frame.target(id, format, Layout::Single, why)
 }
 
 /// The targets of one set of layer sums.

@@ -73,14 +73,16 @@ fn lit(frame: &FrameDesc<'_>) -> bool {
     frame.settings.lighting
 }
 
-fn filtered(frame: &FrameDesc<'_>) -> bool {
-    frame.settings.quality == Quality::Filtered
+/// Whether `ids` are drawn filtered: `two-pass` as its quality says; the
+/// opaque part of a transparent frame always (the transparent passes cull
+/// behind its front + ε, which only the visibility pass leaves).
+fn filtered(frame: &FrameDesc<'_>, ids: &Targets) -> bool {
+    ids.image.is_some() || frame.settings.quality == Quality::Filtered
 }
 
 /// The targets and planned passes of a two-pass rendering into `ids`.
 pub(super) fn plan_parts(frame: &FrameDesc<'_>, ids: &Targets) -> (Vec<TargetDesc>, Vec<PlannedPass>) {
-    let (w, h) = (frame.width, frame.height);
-    let target = |id, format, why| TargetDesc { id, format, width: w, height: h, layout: Layout::Single, why };
+    let target = |id, format, why| frame.target(id, format, Layout::Single, why);
     let mut targets = vec![
         target(ids.depth, DEPTH_FORMAT, "linear view depth for the ε test"),
         if frame.weight_only() {
@@ -98,7 +100,7 @@ pub(super) fn plan_parts(frame: &FrameDesc<'_>, ids: &Targets) -> (Vec<TargetDes
     let sums = ids.sums(frame);
     let mut written = sums.clone();
     let mut passes = Vec::new();
-    if filtered(frame) {
+    if filtered(frame, ids) {
         passes.push(PlannedPass {
             name: "visibility",
             what: "splats -> depth (linear f32, +ε)".into(),
@@ -174,7 +176,7 @@ pub(super) fn record_parts(
         uniforms,
     };
     let mut commands = Vec::new();
-    if filtered(frame) {
+    if filtered(frame, ids) {
         let visibility = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
         let within_epsilon = DepthTest { write: false, compare: wgpu::CompareFunction::LessEqual, clear: false };
         let first = pass("Visibility::pass", "visibility.wgsl", "fs_visibility", Variant::NONE, Vec::new(), visibility);
@@ -200,7 +202,7 @@ pub(super) fn record_parts(
         clear: true,
         uniforms,
     };
-    let normalize_pass = first_pass + if filtered(frame) { 2 } else { 1 };
+    let normalize_pass = first_pass + if filtered(frame, ids) { 2 } else { 1 };
     commands.push(Recorded { pass: normalize_pass, command: Command::Fullscreen(normalize) });
     commands
 }
@@ -232,7 +234,7 @@ impl GpuMode for TwoPass {
         let (targets, passes) = plan_parts(frame, &OWN);
         let variant = format!(
             "{}, {}{}",
-            if filtered(frame) { "filtered" } else { "unfiltered" },
+            if filtered(frame, &OWN) { "filtered" } else { "unfiltered" },
             if lit(frame) { "lit" } else { "unlit" },
             if frame.weight_only() { ", weights only" } else { "" }
         );

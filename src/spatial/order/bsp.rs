@@ -148,11 +148,6 @@ impl BspTree {
     pub fn slab(&self) -> f32 {
         self.slab
     }
-
-    /// Nodes in the tree (splits and leaves).
-    pub fn nodes(&self) -> usize {
-        self.nodes.len()
-    }
 }
 
 /// The median of `values` (0 for none).

@@ -76,16 +76,6 @@ impl std::fmt::Display for OrderKind {
     }
 }
 
-impl std::str::FromStr for OrderKind {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Self::ALL.into_iter().find(|k| k.name() == s).ok_or_else(|| {
-            let names: Vec<_> = Self::ALL.iter().map(|k| k.name()).collect();
-            format!("unknown order '{s}' (one of {})", names.join(", "))
-        })
-    }
-}
-
 /// An order ready to be asked for views: the BSP tree is built here (once),
 /// the others keep their buffers between views.
 pub enum Orderer {
@@ -101,14 +91,6 @@ impl Orderer {
             OrderKind::Bsp => Orderer::Bsp(BspTree::build(points, radii)),
             OrderKind::Bucket => Orderer::Bucket(BucketSort::for_radii(radii)),
             OrderKind::Sort => Orderer::Sort,
-        }
-    }
-
-    pub fn kind(&self) -> OrderKind {
-        match self {
-            Orderer::Bsp(_) => OrderKind::Bsp,
-            Orderer::Bucket(_) => OrderKind::Bucket,
-            Orderer::Sort => OrderKind::Sort,
         }
     }
 
