@@ -82,7 +82,7 @@ fn convert_samples_a_mesh_into_a_loadable_splat_cloud() {
 }
 
 #[test]
-fn group_prints_the_required_json_for_every_shared_scan_and_caches_it() {
+fn group_prints_the_required_json_for_every_test_scan_and_caches_it() {
     let cache = tempfile::tempdir().unwrap();
     let keys = [
         "k",

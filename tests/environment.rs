@@ -1,5 +1,5 @@
 //! Environment maps (Zhang & Pajarola §5.2.3): the bundled default and the
-//! shared maps load, their DWAB residue is cleaned, and bad files give one
+//! test maps load, their DWAB residue is cleaned, and bad files give one
 //! line naming the file.
 
 mod common;
@@ -14,7 +14,7 @@ fn bundled() -> PathBuf {
 }
 
 #[test]
-fn the_bundled_and_shared_maps_load_clean_with_a_full_mip_chain() {
+fn the_bundled_and_test_maps_load_clean_with_a_full_mip_chain() {
     let mut paths = vec![bundled()];
     paths.extend(["sky.exr", "studio.exr", "venice.exr"].map(|n| common::data(&format!("env/{n}"))));
     for path in paths {

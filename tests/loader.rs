@@ -1,4 +1,4 @@
-//! Loader tests: every encoding and type, the shared scans, repairs and broken files.
+//! Loader tests: every encoding and type, the test scans, repairs and broken files.
 
 mod common;
 
@@ -109,7 +109,7 @@ fn colours_read_as_uchar_float_and_ushort() {
 }
 
 #[test]
-fn the_shared_scans_load_with_every_attribute() {
+fn the_test_scans_load_with_every_attribute() {
     for name in ["bun_zipper.ply", "bunny_range_scans_merged.ply", "table_scene_mug_stereo_textured.ply"] {
         let (cloud, report) = cloud::load(&common::data(name)).unwrap();
         assert!(cloud.is_consistent());

@@ -1,5 +1,5 @@
 //! Helpers shared by the integration tests: data paths, tolerances, an
-//! independent PLY reader for the shared scans, a CPU silhouette rasteriser
+//! independent PLY reader for the test scans, a CPU silhouette rasteriser
 //! and one GPU renderer per test binary.
 #![allow(dead_code)]
 
@@ -13,16 +13,22 @@ use glam::{DVec3, Mat4, Vec3};
 use pointblend::render::HeadlessRenderer;
 use pointblend::view::Camera;
 
-/// The shared scans: `POINTBLEND_DATA`, or `../shared/data`.
+/// The test scans: `tests/data` (in the repository, see its README), or
+/// `POINTBLEND_DATA` when set, a folder holding files of the same names.
 pub fn data_dir() -> PathBuf {
     std::env::var_os("POINTBLEND_DATA")
+        .filter(|dir| !dir.is_empty())
         .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data"))
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data"))
 }
 
 pub fn data(name: &str) -> PathBuf {
     let path = data_dir().join(name);
-    assert!(path.exists(), "{} is missing: set POINTBLEND_DATA to the folder of the shared scans", path.display());
+    assert!(
+        path.exists(),
+        "{} is missing: tests/data holds it in a clone of the repository, or POINTBLEND_DATA names a folder with it",
+        path.display()
+    );
     path
 }
 
