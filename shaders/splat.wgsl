@@ -26,7 +26,10 @@ struct SplatIn {
     // Negative for a splat of a two-sided object (never back-face culled).
     @location(1) radius: f32,
     @location(2) normal: vec3<f32>,
+    // rgb; the fourth byte is unused.
     @location(3) color: vec4<f32>,
+    // Opacity in f32 (the reference's precision).
+    @location(4) opacity: f32,
 }
 
 struct SplatVarying {
@@ -58,7 +61,7 @@ fn footprint_normal(n: vec3<f32>, v: vec3<f32>, min_cos: f32) -> vec3<f32> {
 fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying {
     var out: SplatVarying;
     let corner = vec2<f32>(f32(vertex & 1u) * 2.0 - 1.0, f32(vertex >> 1u) * 2.0 - 1.0);
-    out.color = splat.color;
+    out.color = vec4<f32>(splat.color.rgb, splat.opacity);
     let centre = (frame.view * vec4<f32>(splat.position, 1.0)).xyz;
     let normal_eye = (frame.view * vec4<f32>(splat.normal, 0.0)).xyz;
     let normal_length = length(normal_eye);

@@ -69,6 +69,18 @@ pub fn track<R>(tracker: Arc<Tracker>, work: impl FnOnce() -> R) -> R {
     result
 }
 
+/// Logs `message` as a warning, once per process: steps that run several
+/// times for one model (an overlap graph built for grouping, then for its
+/// extension) say what they found once.
+pub fn warn_once(message: String) {
+    static SAID: Mutex<Vec<String>> = Mutex::new(Vec::new());
+    let mut said = SAID.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    if !said.contains(&message) {
+        log::warn!("{message}");
+        said.push(message);
+    }
+}
+
 fn current() -> Option<Arc<Tracker>> {
     CURRENT.with(|c| c.borrow().clone())
 }

@@ -2,6 +2,8 @@
 
 mod common;
 
+use common::tolerances::{BENCH_UNFILTERED_EPS, MAX_BENCH_TWO_PASS_EPS};
+
 use std::process::Command;
 
 #[test]
@@ -34,17 +36,28 @@ fn bench_writes_json_markdown_plot_and_images_and_reuses_the_reference_cache() {
         for field in fields.iter().chain(&more) {
             assert!(row.get(field).is_some(), "{field} missing in {row}");
         }
-        let mode = row["mode"].as_str().unwrap();
+        let variant = row["variant"].as_str().unwrap();
         let eps = row["eps"].as_f64().unwrap();
-        match mode {
-            "reference" => assert_eq!(eps, 0.0),
-            _ => {
-                assert!(eps > 0.0 && eps < 50.0, "{mode}: ε {eps}");
-                assert!(row["frame_ms_min"].as_f64() <= row["frame_ms"].as_f64());
-                assert!(row["frame_ms"].as_f64() <= row["frame_ms_max"].as_f64());
+        let view = row["view"].as_str().unwrap();
+        println!("{variant} {view}: ε {eps}");
+        assert_eq!(row["ruler"].as_bool(), Some(variant == "reference"), "{variant}: the reference rows are the ruler");
+        match variant {
+            "reference" => assert_eq!(eps, 0.0, "the ruler measured against itself"),
+            "two-pass" => assert!(eps <= MAX_BENCH_TWO_PASS_EPS, "{variant} {view}: ε {eps}"),
+            "two-pass:quality=unfiltered" => {
+                assert!(BENCH_UNFILTERED_EPS.contains(&eps), "{variant} {view}: ε {eps}")
             }
+            other => panic!("a row for {other}, which was not asked for"),
+        }
+        if variant != "reference" {
+            assert!(row["frame_ms_min"].as_f64() <= row["frame_ms"].as_f64());
+            assert!(row["frame_ms"].as_f64() <= row["frame_ms_max"].as_f64());
         }
     }
+    let table = std::fs::read_to_string(out.join("bench.md")).unwrap();
+    // The two reference rows are marked as the ruler, with no ε or PSNR of their own.
+    assert_eq!(table.lines().filter(|l| l.contains("| reference (the ruler) |")).count(), 2, "{table}");
+    assert!(!table.contains('∞'), "{table}");
     let cached: Vec<_> = std::fs::read_dir(out.join("cache")).unwrap().map(|e| e.unwrap().path()).collect();
     assert_eq!(cached.iter().filter(|p| p.extension().is_some_and(|e| e == "png")).count(), 2);
     let stamps: Vec<_> = cached.iter().map(|p| std::fs::metadata(p).unwrap().modified().unwrap()).collect();

@@ -421,3 +421,130 @@ fn extensions_are_reachable_from_the_grouping_spec() {
     assert!(!cached, "a new spec is computed, not read from the base's entry");
     assert_ne!(a, b);
 }
+
+/// The `count` splats of `cloud` nearest to splat `centre` (a real patch of surface).
+fn patch(cloud: &PointCloud, centre: usize, count: usize) -> PointCloud {
+    let c = cloud.positions[centre];
+    let mut order: Vec<usize> = (0..cloud.len()).collect();
+    order.sort_by(|&a, &b| cloud.positions[a].distance(c).total_cmp(&cloud.positions[b].distance(c)));
+    order.truncate(count);
+    PointCloud {
+        positions: order.iter().map(|&i| cloud.positions[i]).collect(),
+        normals: order.iter().map(|&i| cloud.normals[i]).collect(),
+        radii: order.iter().map(|&i| cloud.radii[i]).collect(),
+        colors: order.iter().map(|&i| cloud.colors[i]).collect(),
+        opacity: order.iter().map(|&i| cloud.opacity[i]).collect(),
+        ..Default::default()
+    }
+}
+
+/// Monte-Carlo estimate of A_ij from its definition, independent of the
+/// library's lens formula: the share of `samples` uniform points x of disc i
+/// whose line along n_i meets disc j (disc j projected onto i's plane along
+/// n_i covers x), times π·r_i². Returns the estimate and its standard error.
+fn sampled_cover(cloud: &PointCloud, i: usize, j: usize, samples: usize, rng: &mut Lcg) -> (f64, f64) {
+    let (pi, ni, ri) = (cloud.positions[i], cloud.normals[i], cloud.radii[i]);
+    let (pj, nj, rj) = (cloud.positions[j], cloud.normals[j], cloud.radii[j]);
+    let (u, v) = ni.any_orthonormal_pair();
+    let (mut inside, mut hits) = (0usize, 0usize);
+    while inside < samples {
+        let (a, b) = (rng.next() * 2.0 - 1.0, rng.next() * 2.0 - 1.0);
+        if a * a + b * b > 1.0 {
+            continue;
+        }
+        inside += 1;
+        let x = pi + (u * a + v * b) * ri;
+        let facing = nj.dot(ni);
+        if facing.abs() < 1e-6 {
+            continue;
+        }
+        let q = x + ni * (nj.dot(pj - x) / facing);
+        if q.distance(pj) < rj {
+            hits += 1;
+        }
+    }
+    let share = hits as f64 / samples as f64;
+    let disc = std::f64::consts::PI * (ri as f64).powi(2);
+    (share * disc, (share * (1.0 - share) / samples as f64).sqrt() * disc)
+}
+
+#[test]
+fn wgc_cost_is_the_brute_force_sum_of_monte_carlo_overlaps_on_a_real_patch() {
+    // Eq. 6, L = Σ over pairs in one group of w_ij, on 500 splats of the
+    // bundled bunny, summed over every pair (no overlap graph) with each
+    // A_ij sampled from its definition: the cost WGC reports must be that
+    // sum. The library measures A_ij as the lens of disc i and a circle of
+    // radius r_j at j's projected centre; the true projection of disc j is an
+    // ellipse whose area is |n_i·n_j| of it, so the two differ by at most
+    // (1 − |n_i·n_j|)·π·min(r_i, r_j)² per direction, which the bound
+    // allows, plus 4 standard errors of the sampling.
+    let (bunny, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let cloud = patch(&bunny, 1000, 500);
+    let mut rng = Lcg(11);
+    for pure_area in [true, false] {
+        let options = wgc::WgcOptions { k: 4, pure_area, ..Default::default() };
+        let (grouping, _, report) = wgc::group(&cloud, &options).unwrap();
+        let labels = grouping.labels(cloud.len());
+        let (mut sum, mut variance, mut allowance, mut pairs) = (0.0f64, 0.0f64, 0.0f64, 0);
+        for i in 0..cloud.len() {
+            for j in i + 1..cloud.len() {
+                if labels[i] != labels[j] {
+                    continue;
+                }
+                let (ni, nj) = (cloud.normals[i], cloud.normals[j]);
+                let factor = if pure_area { 1.0 } else { (1.0 - ni.dot(nj) as f64).max(0.0) };
+                let (a_ij, e_ij) = sampled_cover(&cloud, i, j, 4000, &mut rng);
+                let (a_ji, e_ji) = sampled_cover(&cloud, j, i, 4000, &mut rng);
+                if a_ij + a_ji == 0.0 {
+                    continue;
+                }
+                pairs += 1;
+                sum += (a_ij + a_ji) * factor;
+                variance += (e_ij * e_ij + e_ji * e_ji) * factor * factor;
+                let small = std::f64::consts::PI * (cloud.radii[i].min(cloud.radii[j]) as f64).powi(2);
+                allowance += 2.0 * (1.0 - ni.dot(nj).abs() as f64) * small * factor;
+            }
+        }
+        let bound = allowance + 4.0 * variance.sqrt();
+        let off = (report.final_cost - sum).abs();
+        println!(
+            "pure area {pure_area}: {pairs} overlapping pairs share a group; WGC's cost {:.6e}, brute-force Monte-Carlo sum {sum:.6e}, off by {off:.2e} (bound {bound:.2e}, {:.2} % of the sum)",
+            report.final_cost,
+            100.0 * bound / sum
+        );
+        assert!(pairs > 20, "too few overlapping pairs in a group to check ({pairs})");
+        assert!(off <= bound, "pure area {pure_area}: cost {} against {sum} (bound {bound})", report.final_cost);
+    }
+}
+
+#[test]
+fn overlap_areas_match_a_monte_carlo_estimate_on_real_neighbours() {
+    // covered_area (A_ij of Eq. 8) for every overlapping pair of a real patch
+    // against its sampled definition, per pair, within the circle-for-ellipse
+    // allowance and 4 standard errors.
+    use pointblend::grouping::area::covered_area;
+    let (bunny, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let cloud = patch(&bunny, 20_000, 200);
+    let mut rng = Lcg(5);
+    let mut checked = 0;
+    for i in 0..cloud.len() {
+        for j in 0..cloud.len() {
+            let (pi, pj) = (cloud.positions[i], cloud.positions[j]);
+            if i == j || pi.distance(pj) >= cloud.radii[i] + cloud.radii[j] {
+                continue;
+            }
+            let (ni, nj) = (cloud.normals[i], cloud.normals[j]);
+            let area = covered_area(pi, ni, cloud.radii[i], pj, cloud.radii[j]) as f64;
+            let (sampled, error) = sampled_cover(&cloud, i, j, 4000, &mut rng);
+            let small = std::f64::consts::PI * (cloud.radii[i].min(cloud.radii[j]) as f64).powi(2);
+            let bound = (1.0 - ni.dot(nj).abs() as f64) * small + 4.0 * error + 1e-12;
+            assert!(
+                (area - sampled).abs() <= bound,
+                "pair ({i}, {j}): {area:.4e} against sampled {sampled:.4e} ± {bound:.1e}"
+            );
+            checked += 1;
+        }
+    }
+    println!("{checked} overlapping pairs checked");
+    assert!(checked > 1000, "{checked} pairs");
+}

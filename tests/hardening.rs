@@ -224,9 +224,10 @@ fn convert_and_render_both_create_a_missing_output_folder() {
 }
 
 #[test]
-fn more_groups_than_the_device_allows_give_a_hint_instead_of_a_validation_error() {
+fn coincident_copies_are_merged_and_a_plan_over_the_memory_budget_gives_a_hint() {
     let dir = test_dir();
-    // 3,000 coincident points overlap each other, so MGC needs one group each.
+    // 3,000 copies of one point: merged into one splat (they used to need
+    // one group each, K = 3001), with a warning that counts them.
     let mut points = sphere(2000, 1.0);
     points.extend(std::iter::repeat_n([0.0, 0.0, 1.0], 3000));
     let file = cloud_file(&dir, "clique.ply", &points, &[]);
@@ -234,13 +235,17 @@ fn more_groups_than_the_device_allows_give_a_hint_instead_of_a_validation_error(
     let run = pointblend(dir.path())
         .arg("render")
         .arg(&file)
-        .args(["--mode", "deferred", "--size", "64x64", "--out"])
+        .args(["--mode", "deferred", "--size", "64x64", "--explain", "--out"])
         .arg(&out)
         .output()
         .unwrap();
-    let error = one_error(&run, "K = 3001");
-    assert!(error.contains("layers") && error.contains("--group hash-k8"), "{error}");
-    assert!(!out.exists());
+    let warnings = ok(&run, "3,000 copies");
+    assert!(warnings.contains("2999 splats that repeat another's"), "{warnings}");
+    let explained = String::from_utf8_lossy(&run.stdout);
+    let line = explained.lines().find(|l| l.contains(" groups; each splat")).expect("--explain's groups line");
+    let groups: usize = line.split_whitespace().next().unwrap().parse().unwrap();
+    assert!(groups <= 64, "the copies need no group each: K = {groups}\n{explained}");
+    assert!(out.exists());
     // Within the layer limit but over the memory budget: refused with the size in the message.
     let run = pointblend(dir.path())
         .env("POINTBLEND_GPU_MEMORY_MB", "16")

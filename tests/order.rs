@@ -20,6 +20,33 @@ const SIZE: u32 = 128;
 /// How far, at worst, a later splat's hit lies behind an earlier one's along a
 /// pixel ray, beyond slab + r_i + r_j, over all pixels; and the pairs checked.
 fn worst_excess(cloud: &PointCloud, camera: &Camera, order: &[u32], slab: f32) -> (f32, usize) {
+    let (mut worst, mut pairs) = (f32::NEG_INFINITY, 0usize);
+    for hits in pixel_hits(cloud, camera, order) {
+        // Each pixel's hits come in the order's sequence; the smallest depth + radius so far.
+        let mut front = f32::INFINITY;
+        for h in hits {
+            if front.is_finite() {
+                pairs += 1;
+                worst = worst.max((h.depth - h.radius - slab) - front);
+            }
+            front = front.min(h.depth + h.radius);
+        }
+    }
+    (worst, pairs)
+}
+
+/// One ray-disc hit on a pixel ray: where the splat comes in the order, its
+/// view depth, its radius, and whether it faces the viewer.
+#[derive(Clone, Copy)]
+struct RayHit {
+    position: u32,
+    depth: f32,
+    radius: f32,
+    facing: bool,
+}
+
+/// Every pixel's hits, in the order's sequence, for an image of `SIZE`² seen by `camera`.
+fn pixel_hits(cloud: &PointCloud, camera: &Camera, order: &[u32]) -> Vec<Vec<RayHit>> {
     let view = ViewRay::of(camera);
     let (near, _) = camera.near_far();
     let tan = (camera.fov_y_deg.to_radians() * 0.5).tan();
@@ -27,10 +54,8 @@ fn worst_excess(cloud: &PointCloud, camera: &Camera, order: &[u32], slab: f32) -
     let right = view.forward.cross(up_screen).normalize();
     let up = right.cross(view.forward);
     let focal = SIZE as f32 / (2.0 * tan);
-    // Per pixel, the smallest depth + radius of the hits so far, in order.
-    let mut front = vec![f32::INFINITY; (SIZE * SIZE) as usize];
-    let (mut worst, mut pairs) = (f32::NEG_INFINITY, 0usize);
-    for &i in order {
+    let mut hits = vec![Vec::new(); (SIZE * SIZE) as usize];
+    for (position, &i) in order.iter().enumerate() {
         let i = i as usize;
         let (c, n, r) = (cloud.positions[i], cloud.normals[i], cloud.radii[i]);
         let z = view.depth(c);
@@ -53,20 +78,67 @@ fn worst_excess(cloud: &PointCloud, camera: &Camera, order: &[u32], slab: f32) -
                 if denom.abs() < 1e-9 {
                     continue;
                 }
-                let t = n.dot(c - view.eye) / denom; // = the hit's view depth
+                let t = n.dot(c - view.eye) / denom;
                 if t <= near || (view.eye + ray * t - c).length_squared() >= r * r {
                     continue;
                 }
-                let p = (y * SIZE + x) as usize;
-                if front[p].is_finite() {
-                    pairs += 1;
-                    worst = worst.max((t - r - slab) - front[p]);
-                }
-                front[p] = front[p].min(t + r);
+                hits[(y * SIZE + x) as usize].push(RayHit {
+                    position: position as u32,
+                    depth: t,
+                    radius: r,
+                    facing: denom < 0.0,
+                });
             }
         }
     }
-    (worst, pairs)
+    hits
+}
+
+/// Splits a pixel's hits into the reference's transparent ε-layers (each
+/// the hits within ε of its front hit that face the same way, nearest
+/// first; src/reference/raster.rs) and returns, per layer, the first and
+/// last place in the order at which one of its hits is drawn.
+fn layer_spans(hits: &mut [RayHit], epsilon: f32) -> Vec<(u32, u32)> {
+    hits.sort_unstable_by(|a, b| a.depth.total_cmp(&b.depth));
+    let mut used = vec![false; hits.len()];
+    let mut spans = Vec::new();
+    let mut start = 0;
+    while start < hits.len() {
+        let (front, facing) = (hits[start].depth, hits[start].facing);
+        let mut span = (u32::MAX, 0);
+        for (h, taken) in hits[start..].iter().zip(&mut used[start..]).take_while(|(h, _)| h.depth <= front + epsilon) {
+            if !*taken && h.facing == facing {
+                *taken = true;
+                span = (span.0.min(h.position), span.1.max(h.position));
+            }
+        }
+        spans.push(span);
+        while start < hits.len() && used[start] {
+            start += 1;
+        }
+    }
+    spans
+}
+
+/// Of the adjacent ε-layer pairs on all pixel rays, how many arrive in the
+/// wrong order for back-to-front blending: some hit of the nearer layer is
+/// drawn before some hit of the farther one. With Algorithm-1's z-test and
+/// z-write on Eq. 10's depth, a nearer fragment drawn first culls the
+/// farther layer's fragments that follow it in its group, so that layer is
+/// lost there instead of blended under. Returns (misordered, pairs).
+fn misordered_layer_pairs(cloud: &PointCloud, camera: &Camera, order: &[u32], epsilon: f32) -> (usize, usize) {
+    let (mut misordered, mut pairs) = (0, 0);
+    for mut hits in pixel_hits(cloud, camera, order) {
+        let spans = layer_spans(&mut hits, epsilon);
+        for pair in spans.windows(2) {
+            let (near, far) = (pair[0], pair[1]);
+            pairs += 1;
+            if near.0 < far.1 {
+                misordered += 1;
+            }
+        }
+    }
+    (misordered, pairs)
 }
 
 fn is_permutation(order: &[u32], n: usize) -> bool {
@@ -257,6 +329,7 @@ fn read_u32s(ctx: &pointblend::render::GpuContext, source: &wgpu::Buffer, count:
 #[test]
 fn each_group_is_sorted_back_to_front_in_the_instance_buffers_only_when_the_view_changes() {
     use pointblend::render::gpu_data::SplatInstance;
+    const WORDS: usize = std::mem::size_of::<SplatInstance>() / 4;
     let (mut cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
     cloud.opacity.iter_mut().for_each(|a| *a = 0.5); // only transparent scenes are drawn in order
     let grouping = "hash-k4-dup".parse::<GroupingSpec>().unwrap().compute(&cloud).unwrap();
@@ -275,15 +348,16 @@ fn each_group_is_sorted_back_to_front_in_the_instance_buffers_only_when_the_view
         // The GPU holds what the order says.
         let mut held = Vec::new();
         for (buffer, count) in &gpu.chunks {
-            held.extend(read_u32s(ctx, buffer, *count as usize * 8));
+            held.extend(read_u32s(ctx, buffer, *count as usize * WORDS));
         }
         assert_eq!(held, bytemuck::cast_slice::<SplatInstance, u32>(&current), "{}", view.name);
         for (g, range) in grouping.ranges.iter().enumerate() {
             let run = &current[range.start as usize..range.end as usize];
             // The same splats as uploaded into the group...
-            let key = |s: &SplatInstance| bytemuck::cast::<SplatInstance, [u32; 8]>(*s);
-            let mut have: Vec<[u32; 8]> = run.iter().map(key).collect();
-            let mut want: Vec<[u32; 8]> = uploaded[range.start as usize..range.end as usize].iter().map(key).collect();
+            let key = |s: &SplatInstance| bytemuck::cast::<SplatInstance, [u32; WORDS]>(*s);
+            let mut have: Vec<[u32; WORDS]> = run.iter().map(key).collect();
+            let mut want: Vec<[u32; WORDS]> =
+                uploaded[range.start as usize..range.end as usize].iter().map(key).collect();
             have.sort_unstable();
             want.sort_unstable();
             assert_eq!(have, want, "group {g}");
@@ -300,6 +374,43 @@ fn each_group_is_sorted_back_to_front_in_the_instance_buffers_only_when_the_view
             let (worst, pairs) = worst_excess(&group, &view.camera, &order, slab);
             println!("{} group {g}: {pairs} overlapping pairs on pixel rays, worst excess {worst:.2e}", view.name);
             assert!(worst <= scale * 1e-5, "{} group {g}: a later splat lies {worst:.3e} behind", view.name);
+        }
+    }
+}
+
+#[test]
+fn how_often_the_orders_draw_a_nearer_layer_before_a_farther_one_on_real_scans() {
+    // The orders sort splat centres (or cells of them), and a ray meets a
+    // disc up to a radius from its centre's depth, so along a pixel ray two
+    // ε-layers can arrive in the wrong order. The rates measured here are
+    // regression bounds (see MAX_MISORDERED_LAYER_SHARE): lowering them is
+    // work for Algorithm-1's accuracy, not a property the orders promise.
+    for (name, cloud) in scans() {
+        let epsilon = cloud.mean_radius();
+        for kind in OrderKind::ALL {
+            let mut orderer = Orderer::new(kind, &cloud.positions, &cloud.radii);
+            let (mut misordered, mut pairs) = (0, 0);
+            for view in standard_views(&cloud, 1.0, 5) {
+                let mut order = Vec::new();
+                orderer.back_to_front(&cloud.positions, ViewRay::of(&view.camera), &mut order);
+                let (m, p) = misordered_layer_pairs(&cloud, &view.camera, &order, epsilon);
+                misordered += m;
+                pairs += p;
+            }
+            let share = misordered as f64 / pairs as f64;
+            let bound = common::tolerances::max_misordered_layer_share(&name, kind.name());
+            println!(
+                "{name} {kind}: {misordered} of {pairs} adjacent layer pairs misordered ({:.2} %, bound {:.2} %)",
+                100.0 * share,
+                100.0 * bound
+            );
+            assert!(pairs > 10_000, "{name}: too few layer pairs ({pairs})");
+            assert!(
+                share <= bound,
+                "{name} {kind}: {:.3} % of layer pairs misordered, above {:.3} %",
+                100.0 * share,
+                100.0 * bound
+            );
         }
     }
 }

@@ -141,7 +141,7 @@ fn assert_sane(image: &image::RgbaImage, what: &str) {
 }
 
 #[test]
-fn every_shared_scan_renders() {
+fn every_test_scan_renders() {
     for name in ["bun_zipper.ply", "bunny_range_scans_merged.ply", "table_scene_mug_stereo_textured.ply"] {
         let (cloud, _) = cloud::load(&common::data(name)).unwrap();
         let camera = Camera::default_for(&cloud, 1.0);
@@ -252,4 +252,45 @@ fn extreme_views_and_sizes_give_sane_images() {
     single.radii = vec![0.5];
     let camera = Camera::default_for(&single, 1.0);
     assert_sane(&render(&single, &camera, &RenderSettings::default(), 128), "one splat");
+}
+
+#[test]
+fn a_model_a_millionth_of_its_distance_away_renders_in_every_mode() {
+    // The depth range around a tiny model far away is a few f32 steps wide
+    // (at 1e-8 of the distance, none: far − near rounds to 0 and 1/(far −
+    // near) to infinity). Every mode must still show the sphere's disc, of
+    // the size its distance gives, without a NaN pixel.
+    use pointblend::view::RenderMode;
+    let mut cloud = sphere(20_000, 1.0);
+    cloud.opacity.iter_mut().for_each(|a| *a = 0.5); // the transparent modes draw their own passes
+    for ratio in [1e-6f32, 1e-8] {
+        let mut camera = Camera::default_for(&cloud, 1.0);
+        camera.distance = 1.0 / ratio;
+        // The sphere's angular radius asin(1/d), 0.4 of the half field.
+        camera.fov_y_deg = 2.0 * (ratio.asin() / 0.4).to_degrees();
+        let (near, far) = camera.near_far();
+        assert!(far > near && (1.0 / (far - near)).is_finite(), "{ratio}: near {near}, far {far}");
+        let size = 96u32;
+        let radius_px = ratio.asin().tan() * camera.focal_pixels(size);
+        let disc = std::f32::consts::PI * radius_px * radius_px;
+        for mode in RenderMode::ALL {
+            let settings = RenderSettings { mode, ..Default::default() };
+            let image = if mode.is_gpu() {
+                let grouping =
+                    mode.needs_grouping().then(|| settings.grouping_for_mode().compute(&cloud).expect("grouping"));
+                let mut renderer = common::renderer();
+                let gpu = renderer.upload_cloud(&cloud, grouping.as_ref());
+                renderer.render_image(&gpu, &camera, &settings, size, size).expect("render").0
+            } else {
+                let scene = pointblend::scene::Scene::from(cloud.clone());
+                let options = pointblend::reference::ReferenceOptions::matching(&settings, &scene);
+                pointblend::reference::render(&scene, &camera, &options, size, size)
+            };
+            let what = format!("{mode} at {ratio:e} of the distance");
+            assert_no_nan(&image, &what);
+            let shown = count(&common::foreground(&image, common::background_rgb())) as f32;
+            println!("{what}: {shown} px against the disc's {disc:.0}");
+            assert!((shown - disc).abs() <= 0.1 * disc, "{what}: {shown} px against the disc's {disc:.0}");
+        }
+    }
 }

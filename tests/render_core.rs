@@ -1,7 +1,8 @@
-//! The render core: for every mode of the registry the pool allocates exactly
-//! the targets the plan (and so `--explain`) describes, frees what a new plan
-//! does not use, builds each pipeline once, times every plan pass, and gives
-//! each render pass its own uniforms.
+//! The render core: for every mode of the registry the targets the recorded
+//! render passes really bind are the ones the pool allocated (as bound) and
+//! the ones the plan (and so `--explain`) says each pass reads and writes; a
+//! new plan frees what it does not use, each pipeline is built once, every
+//! plan pass is timed, and each render pass has its own uniforms.
 
 mod common;
 
@@ -9,7 +10,9 @@ use pointblend::cloud::{self, PointCloud};
 use pointblend::grouping::GroupingSpec;
 use pointblend::render::modes::{FrameDesc, gpu_mode};
 use pointblend::render::passes::Command;
-use pointblend::render::{GpuScene, HeadlessRenderer, RenderPlan};
+use pointblend::render::plan::TargetId;
+use pointblend::render::touches::{Access, Touch};
+use pointblend::render::{GpuScene, HeadlessRenderer};
 use pointblend::view::{Camera, Quality, RenderMode, RenderSettings};
 
 fn bunny() -> PointCloud {
@@ -35,15 +38,23 @@ fn upload(renderer: &HeadlessRenderer, cloud: &PointCloud, settings: &RenderSett
     renderer.upload_cloud(cloud, grouping.as_ref())
 }
 
-/// The bytes `--explain` prints as the plan's target memory.
-fn explained_bytes(plan: &RenderPlan) -> u64 {
-    let text = plan.to_string();
-    let line = text.lines().find(|l| l.trim_start().starts_with("target memory:")).expect("a target memory line");
-    line.rsplit('(').next().unwrap().trim_end_matches(" bytes)").parse().unwrap()
+/// The ids a plan pass's recorded render passes bound with `access`, sorted.
+fn bound(touches: &[Touch], pass: usize, access: Access) -> Vec<&'static str> {
+    let mut ids: Vec<&'static str> =
+        touches.iter().filter(|t| t.pass == pass && t.access == access).map(|t| t.target.id.0).collect();
+    ids.sort_unstable();
+    ids.dedup();
+    ids
+}
+
+fn sorted(ids: &[TargetId]) -> Vec<&'static str> {
+    let mut ids: Vec<&'static str> = ids.iter().map(|t| t.0).collect();
+    ids.sort_unstable();
+    ids
 }
 
 #[test]
-fn the_pool_allocates_exactly_what_explain_reports_for_every_mode() {
+fn every_target_the_recorded_passes_bind_is_allocated_as_bound_explained_as_used_and_nothing_else_is() {
     let colour = bunny();
     let mut one_colour = colour.clone();
     one_colour.colors.iter_mut().for_each(|c| *c = [90, 160, 200]);
@@ -58,14 +69,46 @@ fn the_pool_allocates_exactly_what_explain_reports_for_every_mode() {
             for settings in settings_of(mode) {
                 let gpu = upload(&renderer, cloud, &settings);
                 let plan = renderer.render(&gpu, &camera, &settings, 96, 80).unwrap();
-                let mut held = renderer.renderer.allocated_targets();
-                let mut planned = plan.targets.clone();
-                held.sort_by_key(|t| t.id.0);
-                planned.sort_by_key(|t| t.id.0);
-                assert_eq!(held, planned, "{mode}: the pool holds other targets than the plan lists\n{plan}");
-                assert_eq!(renderer.renderer.allocated_bytes(), plan.target_bytes(), "{mode}\n{plan}");
-                assert_eq!(explained_bytes(&plan), renderer.renderer.allocated_bytes(), "{mode}\n{plan}");
-                assert!(plan.targets.iter().all(|t| (t.width, t.height) == (96, 80)));
+                let touches = renderer.renderer.last_frame_touches().to_vec();
+                let held = renderer.renderer.allocated_targets();
+                let what = format!("{mode} ({})", plan.variant);
+                // What the passes bind is allocated, as they bind it: the
+                // frame's size, and a layer the texture has.
+                for touch in &touches {
+                    let t = &touch.target;
+                    assert!(held.contains(t), "{what}: pass {} binds {} unlike the pool holds it", touch.pass, t.id.0);
+                    assert_eq!((t.width, t.height), (96, 80), "{what}: {}", t.id.0);
+                    assert!(touch.layer.is_none_or(|l| l < t.layers()), "{what}: {} layer {:?}", t.id.0, touch.layer);
+                }
+                // Nothing is allocated that no pass binds, and every layer of an array is drawn.
+                for target in &held {
+                    let layers: std::collections::BTreeSet<u32> =
+                        touches.iter().filter(|t| &t.target == target).filter_map(|t| t.layer).collect();
+                    assert!(
+                        touches.iter().any(|t| &t.target == target),
+                        "{what}: {} is allocated but no pass binds it\n{plan}",
+                        target.id.0
+                    );
+                    if target.layers() > 1 {
+                        assert_eq!(layers.len() as u32, target.layers(), "{what}: {} layers drawn", target.id.0);
+                    }
+                }
+                // --explain's reads and writes are the ones that run.
+                for (i, pass) in plan.passes.iter().enumerate() {
+                    assert_eq!(
+                        bound(&touches, i, Access::Read),
+                        sorted(&pass.reads),
+                        "{what}: reads of pass {i} ({})\n{plan}",
+                        pass.name
+                    );
+                    assert_eq!(
+                        bound(&touches, i, Access::Write),
+                        sorted(&pass.writes),
+                        "{what}: writes of pass {i} ({})\n{plan}",
+                        pass.name
+                    );
+                }
+                assert!(touches.iter().all(|t| t.pass < plan.passes.len()), "{what}: a render pass outside the plan");
                 checked += 1;
             }
         }
@@ -136,6 +179,7 @@ fn each_group_layer_pass_carries_its_own_layer_in_its_uniforms() {
         depth_steps: 100.0,
         transparent: false,
         environment: None,
+        sums: pointblend::render::targets::SumPrecision::F32,
     };
     let mode = gpu_mode(settings.mode).unwrap();
     let plan = mode.plan(&frame);

@@ -100,19 +100,23 @@ fn opacity_zero_shows_only_the_background_in_every_transparent_mode() {
 }
 
 #[test]
-fn opacity_one_draws_the_opaque_picture_without_peeling() {
+fn opacity_one_draws_the_opaque_picture_without_peeling_as_the_reference_does() {
     let scene = transparent_bunny(1.0);
     assert!(!scene.has_transparency());
     let camera = view(&scene, 30.0, 10.0);
-    let opaque = render(&scene, &camera, &settings("two-pass", 0), 128);
+    // The exact reference of the opaque scene: what every mode must show.
+    let (want, _) = exact(&scene, &camera, &settings("reference", 0), 128);
     let mut renderer = common::renderer();
     let gpu = renderer.upload(&scene, None);
     for name in ["depth-peel", "approx-peel", "alg1", "alg2", "alpha-blend"] {
         let settings = settings(name, 0);
         let (image, plan) = renderer.render_image(&gpu, &camera, &settings, 128, 128).unwrap();
+        // The policy: an opaque scene runs the opaque plan, and says so.
         assert!(plan.notes.iter().any(|n| n.contains("opaque")), "{name}: the plan says it fell back\n{plan}");
         assert!(!plan.passes.iter().any(|p| p.name.contains("peel")), "{name} peels an opaque scene\n{plan}");
-        assert_eq!(image, opaque, "{name}: not the two-pass picture");
+        let error = reference::compare(&image, &want).unwrap();
+        println!("{name} at opacity 1: ε {:.4} against the reference", error.eps);
+        assert!(error.eps <= MAX_TWO_PASS_EPS, "{name} at opacity 1: ε {}", error.eps);
     }
 }
 
@@ -449,5 +453,33 @@ fn alg1_and_alg2_with_one_group_with_the_most_layers_the_device_allows_and_edge_
     for name in ["alg1", "alg2", "alpha-blend"] {
         let (image, _) = renderer.render_image(&gpu, &camera, &settings(name, 0), 64, 64).expect("edge-on");
         assert!(image.pixels().all(|p| p.0[..3] != [0, 0, 0]), "{name}, edge-on: black (NaN) pixels");
+    }
+}
+
+#[test]
+fn each_transparent_mode_stays_as_accurate_as_measured_on_the_bunny() {
+    // The bundled bunny at opacity 0.5, lit, 128², one view, each mode at
+    // its defaults (alg1 and alg2 with their covering grouping) against the
+    // exact reference: a regression guard on the accuracy of each algorithm.
+    let scene = transparent_bunny(0.5);
+    let camera = view(&scene, 30.0, 15.0);
+    let size = 128;
+    let (want, _) = exact(&scene, &camera, &settings("reference", 0), size);
+    let flat = scene.flattened();
+    for (name, bound) in [
+        ("depth-peel", MAX_BUNNY_DEPTH_PEEL_EPS),
+        ("approx-peel", MAX_BUNNY_APPROX_PEEL_EPS),
+        ("alg1", MAX_BUNNY_ALG1_EPS),
+        ("alg2", MAX_BUNNY_ALG2_EPS),
+    ] {
+        let settings = settings(name, 0);
+        let grouping = settings.mode.needs_grouping().then(|| settings.grouping_for_mode().compute(&flat).unwrap());
+        let mut renderer = common::renderer();
+        let gpu = renderer.upload(&scene, grouping.as_ref());
+        let (image, _) = renderer.render_image(&gpu, &camera, &settings, size, size).unwrap();
+        drop(renderer);
+        let error = reference::compare(&image, &want).unwrap();
+        println!("{name}: ε {:.3}, PSNR {:.2} dB (bound {bound})", error.eps, error.psnr);
+        assert!(error.eps <= bound, "{name}: ε {:.3} above {bound}", error.eps);
     }
 }

@@ -27,6 +27,8 @@ pub struct ModePoint {
     pub frame_ms: f64,
     /// Mean ε over views.
     pub eps: f64,
+    /// The reference: the ruler, drawn as a line at its time, not as a point at ε 0.
+    pub ruler: bool,
 }
 
 /// Averages `rows` over views per variant (and per model, when there are several).
@@ -51,6 +53,7 @@ pub fn mode_points(rows: &[BenchRow]) -> Vec<ModePoint> {
             ModePoint {
                 frame_ms: ms[ms.len() / 2],
                 eps: of.iter().map(|r| r.eps).sum::<f64>() / of.len() as f64,
+                ruler: of.iter().all(|r| r.ruler),
                 label: l,
             }
         })
@@ -94,12 +97,24 @@ pub fn write(rows: &[BenchRow], title: &str, path: &Path) -> Result<(), String> 
             .map_err(|e| e.to_string())?;
         for (i, p) in points.iter().enumerate() {
             let colour = Palette99::pick(i).to_rgba();
-            chart
-                .draw_series(std::iter::once(Circle::new((p.frame_ms, p.eps), 7, colour.filled())))
-                .map_err(|e| e.to_string())?;
             let y = 60 + (LEGEND_LINE * i as u32) as i32;
-            legend_area.draw(&Circle::new((12, y), 6, colour.filled())).map_err(|e| e.to_string())?;
-            let text = format!("{}: {:.1} ms, ε {:.2}", p.label, p.frame_ms, p.eps);
+            let text = if p.ruler {
+                // The ruler has no error of its own: a vertical line at its time.
+                let line = [(p.frame_ms, 0.0), (p.frame_ms, max_eps)];
+                chart
+                    .draw_series(std::iter::once(PathElement::new(line, colour.stroke_width(2))))
+                    .map_err(|e| e.to_string())?;
+                legend_area
+                    .draw(&PathElement::new([(6, y), (18, y)], colour.stroke_width(3)))
+                    .map_err(|e| e.to_string())?;
+                format!("{}: {:.1} ms, the ruler (ε is measured against it)", p.label, p.frame_ms)
+            } else {
+                chart
+                    .draw_series(std::iter::once(Circle::new((p.frame_ms, p.eps), 7, colour.filled())))
+                    .map_err(|e| e.to_string())?;
+                legend_area.draw(&Circle::new((12, y), 6, colour.filled())).map_err(|e| e.to_string())?;
+                format!("{}: {:.1} ms, ε {:.2}", p.label, p.frame_ms, p.eps)
+            };
             legend_area
                 .draw(&Text::new(text, (26, y - 8), ("sans-serif", 14).into_font()))
                 .map_err(|e| e.to_string())?;

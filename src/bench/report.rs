@@ -24,6 +24,10 @@ pub struct BenchRow {
     /// What the error is measured against: the reference with every splat
     /// opaque (opaque modes) or with the scene's opacity (transparent modes).
     pub reference: String,
+    /// Whether this row is the reference itself: the ruler the other rows
+    /// are measured against. Its ε (0) and PSNR (none) compare it with
+    /// itself and say nothing; its time is the exact answer's cost.
+    pub ruler: bool,
     pub view: String,
     /// Wall time per frame, submission to `poll(wait)`, median over the timed frames.
     pub frame_ms: f64,
@@ -63,6 +67,13 @@ pub fn markdown(rows: &[BenchRow]) -> String {
         "| model | view | variant | K | points | size | geometry passes | frame ms median (min-max) | GPU ms | ε | PSNR dB | bad pixels | measured against |\n|---|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---|\n",
     );
     for r in rows {
+        if r.ruler {
+            out.push_str(&format!(
+                "| {} | {} | {} (the ruler) | {} | {} | {}x{} | {} | {:.1} | - | ruler | ruler | ruler | itself: the other rows are measured against it |\n",
+                r.model, r.view, r.variant, r.k, r.points, r.width, r.height, r.geometry_passes, r.frame_ms
+            ));
+            continue;
+        }
         out.push_str(&format!(
             "| {} | {} | {} | {} | {} | {}x{} | {} | {:.1} ({:.1}-{:.1}) | {} | {:.3} | {} | {:.2}% | {} |\n",
             r.model,

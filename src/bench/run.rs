@@ -244,6 +244,7 @@ fn bench_model(
             mode: mode.name().to_string(),
             variant: variant.to_string(),
             reference: ruler_name(mode.info().transparent).to_string(),
+            ruler: mode == RenderMode::RULER,
             view: view.name.to_string(),
             frame_ms: 0.0,
             frame_ms_min: 0.0,

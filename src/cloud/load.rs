@@ -331,6 +331,13 @@ fn build(
         ));
     }
 
+    let merged = super::duplicates::merge(&mut cloud, &mut needs_normal, &mut needs_radius);
+    if merged > 0 {
+        warnings.push(format!(
+            "{merged} splats that repeat another's position, normal and radius exactly were merged into it (colour and opacity averaged)"
+        ));
+    }
+
     let estimate_started = Instant::now();
     let scanner = (-origin / unit).as_vec3();
     let estimated =

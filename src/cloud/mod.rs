@@ -6,6 +6,7 @@
 //! splats), repairs bad records and estimates what the file lacks; the
 //! [`LoadReport`] says what was read, estimated and repaired.
 
+pub mod duplicates;
 mod error;
 pub mod estimate;
 pub mod gaussians;

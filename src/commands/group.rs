@@ -90,7 +90,7 @@ pub fn run(args: &Args) -> Result<()> {
         skip_coplanar_same_colour: args.relax_coplanar,
     };
     let parameters = format!(
-        "{:?}|{:?}|{:?}|{}|{}|{:?}|{:?}|v2",
+        "{:?}|{:?}|{:?}|{}|{}|{:?}|{:?}|v3",
         args.algo, args.k, overlap, args.pure_area, args.eq7, args.collisions, args.extend
     );
     let cache = cache::Cache::from_env();

@@ -170,7 +170,8 @@ pub fn group(cloud: &PointCloud, options: &HashOptions) -> Result<(Grouping, usi
     for &(i, slot) in &queue {
         overlap.iter_mut().for_each(|o| *o = 0.0);
         let reach = (2.0 * radii[i] / grid.cell_size()).ceil() as i32;
-        grid.for_each_near(p[i], reach, |j| {
+        // Capped like the overlap graph's queries: a crowd of coincident splats costs O(n), not O(n²).
+        grid.scan_near(p[i], reach, crate::spatial::overlap::MAX_SCANNED, |j| {
             let j = j as usize;
             if j != i && !pending[j] {
                 let d = p[i].distance(p[j]);
@@ -179,6 +180,7 @@ pub fn group(cloud: &PointCloud, options: &HashOptions) -> Result<(Grouping, usi
                     overlap[labels[j] as usize] += (reach - d) / (0.5 * reach);
                 }
             }
+            true
         });
         let used = table_of_cells.used[slot];
         let free = |g: usize| used & (1u64 << g) == 0;

@@ -32,6 +32,10 @@ pub struct GroupingMetrics {
     pub duplication_ratio: f64,
 }
 
+/// Samples one splat's cover scan visits, at most: far above what a real
+/// scan's splat reaches within 4 radii, a bound on time where splats crowd.
+pub const MAX_COVER_SCAN: usize = 16384;
+
 /// For every splat centre j and group g: min over splats i of g of |p_j - p_i| / r_i,
 /// for values below `max_ratio` (else infinity). Row-major, K per splat.
 ///
@@ -54,12 +58,14 @@ pub fn nearest_cover(cloud: &PointCloud, grouping: &Grouping, max_ratio: f32) ->
                     let i = i as usize;
                     let (pi, ri) = (cloud.positions[i], cloud.radii[i]);
                     let reach = (max_ratio * ri / grid.cell_size()).ceil() as i32;
-                    grid.for_each_near(pi, reach, |j| {
+                    // Capped, so that crowds of coincident splats cost O(n) scans, not O(n²).
+                    grid.scan_near(pi, reach, MAX_COVER_SCAN, |j| {
                         let ratio = pi.distance(cloud.positions[j as usize]) / ri;
                         if ratio < max_ratio {
                             let slot = &mut nearest[j as usize * k + g as usize];
                             *slot = slot.min(ratio);
                         }
+                        true
                     });
                 }
                 nearest

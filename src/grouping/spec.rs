@@ -150,8 +150,9 @@ impl GroupingSpec {
         file_hash: u64,
         cloud: &crate::cloud::PointCloud,
     ) -> Result<(Grouping, bool), GroupingError> {
-        // v2: WGC's MinimizeOverlap by area and its re-queueing changed its results.
-        let key = cache::key_for_hash(file_hash, &format!("spec|{self}|v2"));
+        // v2: WGC's MinimizeOverlap by area and its re-queueing changed its results;
+        // v3: duplication takes the most clipped splat first (§4.4.2).
+        let key = cache::key_for_hash(file_hash, &format!("spec|{self}|v3"));
         if let Some(g) = cache.load(key, cloud.len()) {
             return Ok((g, true));
         }

@@ -6,26 +6,30 @@
 use bytemuck::{Pod, Zeroable};
 
 /// One splat, as a per-instance vertex attribute. Mirrors `SplatIn` in
-/// `shaders/splat.wgsl` (locations 0-3).
+/// `shaders/splat.wgsl` (locations 0-4).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct SplatInstance {
     pub position: [f32; 3],
     /// The disc's radius; negative for a splat of a two-sided object, which
     /// is never back-face culled.
     pub radius: f32,
     pub normal: [f32; 3],
-    /// RGBA8, read as unorm8x4.
-    pub color: [u8; 4],
+    /// RGB8 and an unused byte, read as unorm8x4 (colours are 8-bit in the files).
+    pub colour: [u8; 4],
+    /// Opacity in f32, as the reference keeps it: 8 bits would turn α < 0.002
+    /// into 0 and 0.5 into 0.502, and alg2's layer count l = Σα/α needs more.
+    pub opacity: f32,
 }
-const _: () = assert!(std::mem::size_of::<SplatInstance>() == 32);
+const _: () = assert!(std::mem::size_of::<SplatInstance>() == 36);
 
 impl SplatInstance {
-    pub const ATTRIBUTES: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
         0 => Float32x3,
         1 => Float32,
         2 => Float32x3,
         3 => Unorm8x4,
+        4 => Float32,
     ];
 
     pub fn layout() -> wgpu::VertexBufferLayout<'static> {

@@ -40,10 +40,12 @@ pub struct GpuScene {
     pub transparent: bool,
     /// For a transparent scene, the records to sort each group (or the one
     /// group of everything) back to front for modes that blend in order (a
-    /// CPU copy of the instances: 32 bytes each).
+    /// CPU copy of the instances: 36 bytes each).
     order: Option<std::sync::Mutex<InstanceOrder>>,
     /// The scene's environment map, when it has one (see [`Self::set_environment`]).
     pub environment: Option<super::environment::EnvTexture>,
+    /// How the device it lives on can keep sums of fragments.
+    pub sums: super::targets::SumPrecision,
 }
 
 impl GpuScene {
@@ -85,7 +87,8 @@ impl GpuScene {
                         position: cloud.positions[i].to_array(),
                         radius: side * cloud.radii[i] * scale_of[slot],
                         normal: cloud.normals[i].to_array(),
-                        color: [r, g, b, (cloud.opacity[i].clamp(0.0, 1.0) * 255.0).round() as u8],
+                        colour: [r, g, b, 255],
+                        opacity: cloud.opacity[i].clamp(0.0, 1.0),
                     }
                 })
                 .collect();
@@ -117,6 +120,7 @@ impl GpuScene {
             transparent: cloud.has_transparency(),
             order: instance_order,
             environment: None,
+            sums: super::targets::SumPrecision::of(device),
         }
     }
 

@@ -35,6 +35,7 @@ pub mod renderer;
 pub mod shaders;
 pub mod targets;
 pub mod timer;
+pub mod touches;
 
 pub use crate::view::{Quality, RenderMode, RenderSettings};
 pub use context::{GpuContext, GpuError};

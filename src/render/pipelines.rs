@@ -92,6 +92,11 @@ impl PipelineCache {
         self.pipelines.is_empty()
     }
 
+    /// The shader modules built so far: (root file, variant).
+    pub fn modules(&self) -> Vec<(&'static str, Variant)> {
+        self.modules.keys().copied().collect()
+    }
+
     fn build(&mut self, device: &wgpu::Device, key: &PipelineKey) -> Result<wgpu::RenderPipeline, GpuError> {
         if let std::collections::hash_map::Entry::Vacant(slot) = self.modules.entry((key.shader, key.variant)) {
             let source = shaders::compose(key.shader, key.variant)

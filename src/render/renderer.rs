@@ -21,6 +21,7 @@ use super::pipelines::PipelineCache;
 use super::plan::{Layout, RenderPlan, TargetDesc};
 use super::targets::TargetPool;
 use super::timer::PassTimer;
+use super::touches::{self, Touch};
 use crate::view::{Camera, RenderSettings};
 
 pub struct Renderer {
@@ -34,6 +35,8 @@ pub struct Renderer {
     frame_bind_group: wgpu::BindGroup,
     timer: Option<PassTimer>,
     timing: bool,
+    /// The targets the last frame's render passes bound.
+    touches: Vec<Touch>,
 }
 
 impl Renderer {
@@ -58,6 +61,7 @@ impl Renderer {
                 frame_bind_group,
                 timer: None,
                 timing: false,
+                touches: Vec::new(),
             }
         })
     }
@@ -88,6 +92,16 @@ impl Renderer {
         self.cache.len()
     }
 
+    /// The shader modules built so far: (root file, variant).
+    pub fn modules_built(&self) -> Vec<(&'static str, super::shaders::Variant)> {
+        self.cache.modules()
+    }
+
+    /// Every target the last frame's render passes read or wrote, as the pool held it.
+    pub fn last_frame_touches(&self) -> &[Touch] {
+        &self.touches
+    }
+
     /// What the frame's mode needs to know: settings, size and the scene.
     fn frame_desc<'a>(
         scene: &'a GpuScene,
@@ -112,6 +126,7 @@ impl Renderer {
             depth_steps,
             transparent: scene.transparent,
             environment: scene.environment.as_ref().filter(|_| settings.draws_environment()),
+            sums: scene.sums,
         }
     }
 
@@ -208,7 +223,12 @@ impl Renderer {
         let mut encoder =
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("Renderer::encoder") });
         let timer = self.timer.as_ref().filter(|_| self.timing);
+        self.touches.clear();
         for (i, recorded) in commands.iter().enumerate() {
+            for (id, layer, access) in touches::of(&recorded.command) {
+                let target = self.pool.desc(id).ok_or_else(|| missing(id.0))?.clone();
+                self.touches.push(Touch { pass: recorded.pass, target, layer, access });
+            }
             let first = i == 0 || commands[i - 1].pass != recorded.pass;
             let last = i + 1 == commands.len() || commands[i + 1].pass != recorded.pass;
             let stamps = timer.and_then(|t| t.writes_span(recorded.pass, first, last));
@@ -371,7 +391,7 @@ fn frame_uniforms(
         view: to_cols(camera.view_matrix()),
         proj: to_cols(camera.projection(aspect)),
         viewport: [width as f32, height as f32, 1.0 / width as f32, 1.0 / height as f32],
-        depth: [near, far, 0.0, 1.0 / (far - near)],
+        depth: [near, far, 0.0, 1.0 / (far - near).max(f32::MIN_POSITIVE)],
         splat: [
             0.0,
             settings.kernel.sharpness(),

@@ -9,18 +9,61 @@
 use super::plan::{Layout, TargetDesc, TargetId};
 
 /// The formats of the targets, chosen for what they hold: depth compared
-/// against ε must be f32 (linear view depth); weighted sums of thousands of
-/// splats a pixel stay within ~1e-3 in Rgba16Float, which every adapter can blend.
+/// against ε must be f32 (linear view depth); a value one fragment writes
+/// (a group's nearest splat, a blend bounded by 1) fits Rgba16Float.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 pub const ACCUM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// Colour targets of a cloud of one colour hold only Σw.
+/// Colour targets of a cloud of one colour hold only w.
 pub const WEIGHT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 /// True view depth written as colour, read by a compositing pass.
 pub const VIEW_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
-/// The colour target's format: (Σw·rgb, Σw), or Σw alone.
+/// The colour target's format for one fragment's values: (w·rgb, w), or w alone.
 pub fn colour_format(weight_only: bool) -> wgpu::TextureFormat {
     if weight_only { WEIGHT_FORMAT } else { ACCUM_FORMAT }
+}
+
+/// How targets that add up every fragment of a pixel (Σw·rgb, Σw, Σw·n,
+/// Σw·α) store their sums.
+///
+/// Half floats stop adding a weight of 1 at 2048 and overflow above 65504,
+/// and scans hold many overlapping splats where registered scans overlap, so
+/// the sums are f32 (24-bit mantissa: 100,000 coincident splats sum exactly
+/// enough for 8-bit output) wherever the adapter can blend f32
+/// (`FLOAT32_BLENDABLE`). Chosen over scaled weights, which cannot know how
+/// many splats a pixel will meet, and over a renormalising pass, which costs
+/// a pass per frame. Without the feature the sums fall back to f16 and the
+/// plan says so.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SumPrecision {
+    F32,
+    F16,
+}
+
+impl SumPrecision {
+    /// The best the device can blend.
+    pub fn of(device: &wgpu::Device) -> Self {
+        if device.features().contains(wgpu::Features::FLOAT32_BLENDABLE) { Self::F32 } else { Self::F16 }
+    }
+
+    /// A sum target's format: four channels, or one (Σw of a cloud of one colour).
+    pub fn format(self, one_channel: bool) -> wgpu::TextureFormat {
+        match (self, one_channel) {
+            (Self::F32, false) => wgpu::TextureFormat::Rgba32Float,
+            (Self::F32, true) => wgpu::TextureFormat::R32Float,
+            (Self::F16, false) => ACCUM_FORMAT,
+            (Self::F16, true) => WEIGHT_FORMAT,
+        }
+    }
+
+    /// The plan's note when sums can saturate.
+    pub fn note(self) -> Option<String> {
+        (self == Self::F16).then(|| {
+            "this GPU cannot blend f32: sums of overlapping splats are kept in f16, which stops adding at 2048 \
+             splats of weight 1 per pixel"
+                .to_string()
+        })
+    }
 }
 
 struct PooledTarget {

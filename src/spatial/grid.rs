@@ -78,17 +78,38 @@ impl HashGrid {
     /// number of points (a splat far larger than the typical one), every
     /// point is tested instead, so a query never costs more than O(n).
     pub fn for_each_near(&self, p: Vec3, reach: i32, mut visit: impl FnMut(u32)) {
+        self.scan_near(p, reach, usize::MAX, |i| {
+            visit(i);
+            true
+        });
+    }
+
+    /// [`Self::for_each_near`] that visits at most `limit` points and stops
+    /// when `visit` returns false; returns false when it stopped at the
+    /// limit. A cap on what a query scans bounds its time where thousands of
+    /// splats crowd one cell (coincident copies, a clump of tiny splats).
+    pub fn scan_near(&self, p: Vec3, reach: i32, limit: usize, mut visit: impl FnMut(u32) -> bool) -> bool {
         let c = self.cell_of(p);
         let reach = reach.max(0);
         let side = 2 * reach as u64 + 1;
+        let mut left = limit;
+        let mut take = |i: u32| -> Option<bool> {
+            if left == 0 {
+                return Some(false);
+            }
+            left -= 1;
+            if visit(i) { None } else { Some(true) }
+        };
         if side.saturating_mul(side).saturating_mul(side) > self.items.len() as u64 {
             for (&i, item_cell) in self.items.iter().zip(&self.cells) {
                 let d = (*item_cell - c).abs();
                 if d.x <= reach && d.y <= reach && d.z <= reach {
-                    visit(i);
+                    if let Some(done) = take(i) {
+                        return done;
+                    }
                 }
             }
-            return;
+            return true;
         }
         for dz in -reach..=reach {
             for dy in -reach..=reach {
@@ -98,12 +119,15 @@ impl HashGrid {
                     let range = self.start[b] as usize..self.start[b + 1] as usize;
                     for (&i, &item_cell) in self.items[range.clone()].iter().zip(&self.cells[range]) {
                         if item_cell == cell {
-                            visit(i);
+                            if let Some(done) = take(i) {
+                                return done;
+                            }
                         }
                     }
                 }
             }
         }
+        true
     }
 }
 

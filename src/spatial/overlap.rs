@@ -6,6 +6,13 @@
 //! found once, by its larger-radius endpoint, which searches only 2c·r around
 //! itself in a [`HashGrid`]; the queries run in parallel with rayon, and the
 //! pairs are then made symmetric in compressed sparse rows.
+//!
+//! Memory is bounded by the number of splats, not of overlapping pairs: a
+//! splat keeps at most [`MAX_FOUND_PAIRS`] of the pairs it finds, and scans at
+//! most [`MAX_SCANNED`] candidates. On the real scans no splat comes near
+//! either cap (the largest degree is 52); where thousands of splats crowd one
+//! spot, the graph keeps a bounded part of their overlaps, the grouping puts
+//! some overlapping splats together, and a counted warning says so.
 
 use rayon::prelude::*;
 
@@ -35,12 +42,19 @@ const COPLANAR_COS: f32 = 0.99;
 const COPLANAR_OFFSET: f32 = 0.05;
 const SAME_COLOUR: u8 = 8;
 
+/// Pairs one splat records, at most (see the module's doc).
+pub const MAX_FOUND_PAIRS: usize = 64;
+/// Candidates one splat's query scans, at most.
+pub const MAX_SCANNED: usize = 4096;
+
 /// An undirected graph over splats, as compressed sparse rows.
 #[derive(Debug, Clone, Default)]
 pub struct OverlapGraph {
     /// `offsets[i]..offsets[i + 1]` indexes `neighbours` for splat i.
     pub offsets: Vec<u32>,
     pub neighbours: Vec<u32>,
+    /// Splats whose search stopped at a cap: they may overlap more splats than the graph says.
+    pub crowded: usize,
 }
 
 impl OverlapGraph {
@@ -77,7 +91,7 @@ impl OverlapGraph {
         let n = cloud.len();
         let c = options.c.clamp(0.0, 1.0);
         if n == 0 {
-            return Self { offsets: vec![0], neighbours: Vec::new() };
+            return Self { offsets: vec![0], neighbours: Vec::new(), crowded: 0 };
         }
         let positions = &cloud.positions;
         let radii = &cloud.radii;
@@ -105,24 +119,35 @@ impl OverlapGraph {
         };
         // Each pair once: the endpoint with the larger radius (ties: smaller index) finds it.
         let owns = |i: usize, j: usize| radii[j] < radii[i] || (radii[j] == radii[i] && j > i);
-        let pairs: Vec<Vec<(u32, u32)>> = (0..n)
+        let found: Vec<(Vec<(u32, u32)>, usize)> = (0..n)
             .into_par_iter()
             .chunks(4096)
             .map(|chunk| {
-                let mut out = Vec::new();
+                let (mut out, mut crowded) = (Vec::new(), 0);
                 for i in chunk {
                     let reach = (2.0 * c * radii[i] / grid.cell_size()).ceil() as i32;
-                    grid.for_each_near(positions[i], reach, |j| {
+                    let mut kept = 0;
+                    let whole = grid.scan_near(positions[i], reach, MAX_SCANNED, |j| {
                         let j = j as usize;
                         if j != i && owns(i, j) && accept(i, j) {
                             out.push((i as u32, j as u32));
+                            kept += 1;
                         }
+                        kept < MAX_FOUND_PAIRS
                     });
+                    crowded += usize::from(!whole || kept >= MAX_FOUND_PAIRS);
                 }
-                out
+                (out, crowded)
             })
             .collect();
-        Self::from_pairs(n, pairs.iter().flatten().copied())
+        let crowded = found.iter().map(|f| f.1).sum();
+        if crowded > 0 {
+            crate::progress::warn_once(format!(
+                "{crowded} of {n} splats overlap too many others to list (coincident or crowded splats): the grouping \
+                 sees at most {MAX_FOUND_PAIRS} overlaps of each, so some overlapping splats may share a group"
+            ));
+        }
+        Self { crowded, ..Self::from_pairs(n, found.iter().flat_map(|f| f.0.iter().copied())) }
     }
 
     /// Builds the symmetric CSR form from undirected pairs (each given once).
@@ -143,7 +168,7 @@ impl OverlapGraph {
             neighbours[fill[b as usize] as usize] = a;
             fill[b as usize] += 1;
         }
-        Self { offsets, neighbours }
+        Self { offsets, neighbours, crowded: 0 }
     }
 }
 

@@ -68,6 +68,10 @@ pub struct Camera {
 /// Default vertical field of view.
 pub const DEFAULT_FOV_DEG: f32 = 35.0;
 
+/// The least reach of the depth range to either side of the target, as a
+/// share of its distance (see [`Camera::near_far`]).
+pub const MIN_DEPTH_RANGE: f32 = 1.0 / 1024.0;
+
 impl Camera {
     /// A camera that frames a sphere at `centre` with `radius`, for an image of `aspect` = w/h.
     pub fn framing(centre: Vec3, radius: f32, aspect: f32) -> Self {
@@ -165,8 +169,13 @@ impl Camera {
     /// Near and far clipping distances, enclosing the scene sphere.
     pub fn near_far(&self) -> (f32, f32) {
         let r = self.scene_radius * 1.02;
-        let far = self.distance + r;
-        let near = (self.distance - r).max(far * 1e-5);
+        // A model tiny against its distance (1e-6 of it and less) would leave
+        // far − near a few f32 steps wide, or none: far would round to the
+        // distance itself and 1/(far − near) to infinity. The range reaches at
+        // least MIN_DEPTH_RANGE of the distance to either side, which only
+        // widens it around the model.
+        let far = (self.distance + r).max(self.distance * (1.0 + MIN_DEPTH_RANGE));
+        let near = (self.distance - r).max(far * 1e-5).min(self.distance * (1.0 - MIN_DEPTH_RANGE));
         (near, far)
     }
 

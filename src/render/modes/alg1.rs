@@ -89,7 +89,9 @@ impl GpuMode for Alg1 {
                 render_passes: 1,
             },
         ]);
-        RenderPlan { notes: depth_step_note(frame, true), ..frame.plan(describe(frame), k as usize, passes, targets) }
+        let mut plan = frame.plan(describe(frame), k as usize, passes, targets);
+        plan.notes.extend(depth_step_note(frame, true));
+        plan
     }
 
     fn record(&self, frame: &FrameDesc<'_>, plan: &RenderPlan) -> Vec<Recorded> {

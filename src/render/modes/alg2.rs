@@ -99,7 +99,9 @@ impl GpuMode for Alg2 {
                 render_passes: 1,
             },
         ]);
-        RenderPlan { notes, ..frame.plan(describe(frame), k as usize, passes, targets) }
+        let mut plan = frame.plan(describe(frame), k as usize, passes, targets);
+        plan.notes.extend(notes);
+        plan
     }
 
     fn record(&self, frame: &FrameDesc<'_>, plan: &RenderPlan) -> Vec<Recorded> {

@@ -37,6 +37,7 @@ impl GpuMode for ApproxPeel {
         });
         let mut reads = peeling::sums(frame, REST);
         reads.insert(2, peeling::layer_sums(frame)[0]);
+        reads.push(peeling::COMPOSITE); // blended under it
         passes.push(PlannedPass {
             name: "composite rest",
             what: "the rest as one layer of l = Σw_rest/Σw_layer layers: α = 1 - (1 - ᾱ)^l, under the exact ones"
@@ -65,7 +66,7 @@ impl GpuMode for ApproxPeel {
         let any_depth = DepthTest { write: false, compare: wgpu::CompareFunction::Always, clear: false };
         let free = peeling::DEPTH[exact as usize % 2];
         let outputs = peeling::additive(peeling::sums(frame, REST));
-        let rest = peeling::splat_pass(frame, exact, "fs_peel_accumulate", outputs, Some((free, any_depth)));
+        let rest = peeling::splat_pass(frame, exact, "accumulate", outputs, Some((free, any_depth)));
         commands.push(Recorded { pass: first, command: Command::Splats(rest) });
         let mut inputs = peeling::sums(frame, REST);
         inputs.insert(2, peeling::layer_sums(frame)[0]);

@@ -93,10 +93,9 @@ impl GpuMode for Deferred {
             if frame.settings.voronoi { "on" } else { "off" },
             if frame.weight_only() { ", weights only" } else { "" }
         );
-        RenderPlan {
-            notes: depth_step_note(frame, frame.settings.voronoi),
-            ..frame.plan(variant, k as usize, passes, targets)
-        }
+        let mut plan = frame.plan(variant, k as usize, passes, targets);
+        plan.notes.extend(depth_step_note(frame, frame.settings.voronoi));
+        plan
     }
 
     fn record(&self, frame: &FrameDesc<'_>, _plan: &RenderPlan) -> Vec<Recorded> {

@@ -46,12 +46,20 @@ pub struct FrameDesc<'a> {
     pub transparent: bool,
     /// The scene's environment map on the GPU, when it has one.
     pub environment: Option<&'a super::environment::EnvTexture>,
+    /// How targets that sum every fragment of a pixel store their sums.
+    pub sums: super::targets::SumPrecision,
 }
 
 impl FrameDesc<'_> {
     /// Whether colour targets hold only weights (a scene of one colour).
     pub fn weight_only(&self) -> bool {
         self.uniform_colour.is_some()
+    }
+
+    /// The format of a target that sums every fragment of a pixel, of four
+    /// channels or one (see [`super::targets::SumPrecision`]).
+    pub fn sum_format(&self, one_channel: bool) -> wgpu::TextureFormat {
+        self.sums.format(one_channel)
     }
 
     /// The plan of this frame: its size, splats and ε, with the mode's
@@ -72,8 +80,9 @@ impl FrameDesc<'_> {
             epsilon: self.epsilon,
             groups,
             passes,
+            // Every plan says when sums can saturate; modes append their own notes.
+            notes: self.sums.note().into_iter().collect(),
             targets,
-            notes: Vec::new(),
         }
     }
 

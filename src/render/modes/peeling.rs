@@ -17,7 +17,7 @@ use crate::render::gpu_data::PassUniforms;
 use crate::render::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, Recorded, SplatPass};
 use crate::render::plan::{Layout, PlannedPass, TargetDesc, TargetId};
 use crate::render::shaders::Variant;
-use crate::render::targets::{ACCUM_FORMAT, DEPTH_FORMAT, WEIGHT_FORMAT, colour_format};
+use crate::render::targets::DEPTH_FORMAT;
 
 /// The two depth buffers layers alternate between.
 pub const DEPTH: [TargetId; 2] = [TargetId("peel depth (even layers)"), TargetId("peel depth (odd layers)")];
@@ -64,13 +64,13 @@ pub fn target(frame: &FrameDesc<'_>, id: TargetId, format: wgpu::TextureFormat, 
 pub fn sum_targets(frame: &FrameDesc<'_>, ids: [TargetId; 4], what: &'static str) -> Vec<TargetDesc> {
     let [c, w, a, n] = ids;
     let mut out = vec![if frame.weight_only() {
-        target(frame, w, WEIGHT_FORMAT, what)
+        target(frame, w, frame.sum_format(true), what)
     } else {
-        target(frame, c, colour_format(false), what)
+        target(frame, c, frame.sum_format(false), what)
     }];
-    out.push(target(frame, a, WEIGHT_FORMAT, "Σw·α: the layer's opacity"));
+    out.push(target(frame, a, frame.sum_format(true), "Σw·α: the layer's opacity"));
     if frame.settings.lighting {
-        out.push(target(frame, n, ACCUM_FORMAT, "Σw·n, turned to the viewer, for shading"));
+        out.push(target(frame, n, frame.sum_format(false), "Σw·n, turned to the viewer, for shading"));
     }
     out
 }
@@ -114,7 +114,8 @@ pub fn layer_passes(frame: &FrameDesc<'_>, layers: u32) -> Vec<PlannedPass> {
         out.push(PlannedPass {
             name: "composite layer",
             what: format!("layer {}: normalise, shade facing the viewer, composite under the layers in front", i + 1),
-            reads: layer_sums(frame),
+            // Blending under what the layers in front left (from layer 2 on) reads it.
+            reads: if i == 0 { layer_sums(frame) } else { [layer_sums(frame), vec![COMPOSITE]].concat() },
             writes: vec![COMPOSITE],
             draws_splats: false,
             render_passes: 1,
@@ -144,22 +145,31 @@ pub fn uniforms(frame: &FrameDesc<'_>, layer: u32) -> PassUniforms {
     }
 }
 
-/// A splat pass of the peeling shader, reading the previous layer's depth.
+/// A splat pass of the peeling shader: `step` ("visibility" or
+/// "accumulate") of layer `layer`, which reads the previous layer's depth
+/// unless it is the first.
 pub fn splat_pass(
     frame: &FrameDesc<'_>,
     layer: u32,
-    entry: &'static str,
+    step: &'static str,
     colour: Vec<ColourOutput>,
     depth: Option<(TargetId, DepthTest)>,
 ) -> SplatPass {
+    let first = layer == 0;
+    let (label, entry) = match (step, first) {
+        ("visibility", true) => ("PeelVisibility::pass", "fs_front_visibility"),
+        ("visibility", false) => ("PeelVisibility::pass", "fs_peel_visibility"),
+        (_, true) => ("PeelAccumulate::pass", "fs_front_accumulate"),
+        (_, false) => ("PeelAccumulate::pass", "fs_peel_accumulate"),
+    };
     SplatPass {
-        label: if entry == "fs_peel_visibility" { "PeelVisibility::pass" } else { "PeelAccumulate::pass" },
+        label,
         shader: "peel.wgsl",
         entry,
         variant: if colour.is_empty() { Variant::NONE } else { variant(frame) },
         colour,
         depth,
-        inputs: vec![DEPTH[(layer as usize + 1) % 2]],
+        inputs: if first { Vec::new() } else { vec![DEPTH[(layer as usize + 1) % 2]] },
         layer: 0,
         splats: 0..frame.splats as u32,
         uniforms: uniforms(frame, layer),
@@ -178,9 +188,8 @@ pub fn record_layers(frame: &FrameDesc<'_>, layers: u32) -> Vec<Recorded> {
         let depth = DEPTH[i as usize % 2];
         let nearest = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
         let within_epsilon = DepthTest { write: false, compare: wgpu::CompareFunction::LessEqual, clear: false };
-        let visibility = splat_pass(frame, i, "fs_peel_visibility", Vec::new(), Some((depth, nearest)));
-        let accumulate =
-            splat_pass(frame, i, "fs_peel_accumulate", additive(layer_sums(frame)), Some((depth, within_epsilon)));
+        let visibility = splat_pass(frame, i, "visibility", Vec::new(), Some((depth, nearest)));
+        let accumulate = splat_pass(frame, i, "accumulate", additive(layer_sums(frame)), Some((depth, within_epsilon)));
         let composite = FullscreenPass {
             label: "PeelLayer::pass",
             shader: "peel_layer.wgsl",

@@ -14,7 +14,7 @@ use crate::render::gpu_data::PassUniforms;
 use crate::render::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, Recorded, SplatPass};
 use crate::render::plan::{Layout, PlannedPass, RenderPlan, TargetDesc, TargetId};
 use crate::render::shaders::Variant;
-use crate::render::targets::{ACCUM_FORMAT, DEPTH_FORMAT, colour_format};
+use crate::render::targets::{ACCUM_FORMAT, DEPTH_FORMAT};
 use crate::view::Quality;
 use std::ops::Range;
 
@@ -86,13 +86,13 @@ pub(super) fn plan_parts(frame: &FrameDesc<'_>, ids: &Targets) -> (Vec<TargetDes
     let mut targets = vec![
         target(ids.depth, DEPTH_FORMAT, "linear view depth for the ε test"),
         if frame.weight_only() {
-            target(ids.weight, colour_format(true), "additive Σw; the scene has one colour")
+            target(ids.weight, frame.sum_format(true), "additive Σw; the scene has one colour")
         } else {
-            target(ids.colour, colour_format(false), "additive Σw·rgb, Σw")
+            target(ids.colour, frame.sum_format(false), "additive Σw·rgb, Σw")
         },
     ];
     if lit(frame) {
-        targets.push(target(ids.normal, ACCUM_FORMAT, "Σw·n, Σw·α for deferred shading"));
+        targets.push(target(ids.normal, frame.sum_format(false), "Σw·n, Σw·α for deferred shading"));
     }
     if let Some(image) = ids.image {
         targets.push(target(image, ACCUM_FORMAT, "the opaque splats shaded over the background"));

@@ -1,0 +1,127 @@
+//! Coincident splats merged on load.
+//!
+//! Splats with the same centre, normal and radius (bit for bit, after the
+//! f64 re-centring) are one surface sample drawn several times: files carry
+//! them where tiles or scans were exported twice. They are merged into one
+//! splat whose colour and opacity are the means of theirs. Every renderer
+//! that normalises a layer (Zhang & Pajarola Eq. 1: Σw·c/Σw, Σw·α/Σw) gives
+//! the same image for the merged splat, since coincident discs carry equal
+//! weights at every pixel; only plain α-blending, which blends one surface as
+//! often as its discs overlap, sees fewer blends. Without merging, the point
+//! grouping of §4 needs one group per copy (the copies all overlap), and its
+//! overlap graph holds n² pairs.
+//!
+//! A normal or radius the file lacks (to be estimated) counts as equal among
+//! copies: copies at one position get the same estimate.
+
+use std::collections::HashMap;
+
+use super::PointCloud;
+
+/// What a splat is, bit for bit: position, and the normal and radius when the file gives them.
+type Key = ([u32; 3], Option<[u32; 3]>, Option<u32>);
+
+/// Merges coincident splats of `cloud` in place (`needs_normal` and
+/// `needs_radius` say which attributes are still to be estimated, and are
+/// compacted with it); returns how many splats were merged away.
+pub fn merge(cloud: &mut PointCloud, needs_normal: &mut Vec<bool>, needs_radius: &mut Vec<bool>) -> usize {
+    let n = cloud.len();
+    // -0.0 + 0.0 = +0.0: both zeros are one coordinate.
+    let bits = |x: f32| (x + 0.0).to_bits();
+    let key = |i: usize| -> Key {
+        (
+            cloud.positions[i].to_array().map(bits),
+            (!needs_normal[i]).then(|| cloud.normals[i].to_array().map(bits)),
+            (!needs_radius[i]).then(|| bits(cloud.radii[i])),
+        )
+    };
+    // The first splat of each key, and each splat's representative.
+    let mut first: HashMap<Key, u32> = HashMap::with_capacity(n);
+    let representative: Vec<u32> = (0..n).map(|i| *first.entry(key(i)).or_insert(i as u32)).collect();
+    let unique = first.len();
+    drop(first);
+    if unique == n {
+        return 0;
+    }
+    // Sums of colour and opacity per representative, then the means.
+    let mut sums = vec![([0u64; 3], 0f64, 0u32); n];
+    for (i, &r) in representative.iter().enumerate() {
+        let s = &mut sums[r as usize];
+        for c in 0..3 {
+            s.0[c] += cloud.colors[i][c] as u64;
+        }
+        s.1 += cloud.opacity[i] as f64;
+        s.2 += 1;
+    }
+    let mut write = 0;
+    for (i, &r) in representative.iter().enumerate() {
+        if r as usize != i {
+            continue;
+        }
+        let (colour, opacity, count) = sums[i];
+        cloud.positions[write] = cloud.positions[i];
+        cloud.normals[write] = cloud.normals[i];
+        cloud.radii[write] = cloud.radii[i];
+        cloud.colors[write] = colour.map(|c| ((c as f64 / count as f64).round()).min(255.0) as u8);
+        cloud.opacity[write] = (opacity / count as f64) as f32;
+        if !cloud.two_sided.is_empty() {
+            cloud.two_sided[write] = cloud.two_sided[i];
+        }
+        needs_normal[write] = needs_normal[i];
+        needs_radius[write] = needs_radius[i];
+        write += 1;
+    }
+    cloud.positions.truncate(write);
+    cloud.normals.truncate(write);
+    cloud.radii.truncate(write);
+    cloud.colors.truncate(write);
+    cloud.opacity.truncate(write);
+    if !cloud.two_sided.is_empty() {
+        cloud.two_sided.truncate(write);
+    }
+    needs_normal.truncate(write);
+    needs_radius.truncate(write);
+    n - write
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    fn cloud(points: &[(Vec3, [u8; 3], f32)]) -> PointCloud {
+        PointCloud {
+            positions: points.iter().map(|p| p.0).collect(),
+            normals: vec![Vec3::Z; points.len()],
+            radii: vec![1.0; points.len()],
+            colors: points.iter().map(|p| p.1).collect(),
+            opacity: points.iter().map(|p| p.2).collect(),
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn copies_become_one_splat_with_the_mean_colour_and_opacity() {
+        let a = Vec3::new(1.0, 0.0, 3.0);
+        let b = Vec3::new(1.0, 0.0, 3.000_001);
+        let minus_zero = Vec3::new(1.0, -0.0, 3.0);
+        let mut c = cloud(&[(a, [200, 100, 100], 0.2), (b, [9, 9, 9], 1.0), (minus_zero, [100, 100, 201], 0.6)]);
+        let (mut nn, mut nr) = (vec![false; 3], vec![false; 3]);
+        assert_eq!(merge(&mut c, &mut nn, &mut nr), 1);
+        assert_eq!(c.positions, vec![a, b], "the first copy's place, the others kept in order");
+        assert_eq!(c.colors, vec![[150, 100, 151], [9, 9, 9]]);
+        assert!((c.opacity[0] - 0.4).abs() < 1e-6);
+        assert_eq!(nn.len(), 2);
+    }
+
+    #[test]
+    fn a_different_normal_or_radius_is_another_splat_unless_it_is_still_to_be_estimated() {
+        let mut c = cloud(&[(Vec3::ZERO, [1, 1, 1], 1.0), (Vec3::ZERO, [3, 3, 3], 1.0)]);
+        c.normals[1] = Vec3::X;
+        let (mut nn, mut nr) = (vec![false; 2], vec![false; 2]);
+        assert_eq!(merge(&mut c.clone(), &mut nn.clone(), &mut nr.clone()), 0);
+        nn = vec![true; 2];
+        assert_eq!(merge(&mut c, &mut nn, &mut nr), 1);
+        assert_eq!(c.colors, vec![[2, 2, 2]]);
+    }
+}

@@ -1,0 +1,60 @@
+//! What a frame's render passes really bound: every target a recorded pass
+//! read or wrote, as the pool held it (format, size, layers), and the layer
+//! it drew into. The renderer records them while it encodes, so a test can
+//! hold them against the plan (`--explain`) and the pool without trusting
+//! either.
+
+use super::passes::{Blend, Command, Output};
+use super::plan::{TargetDesc, TargetId};
+
+/// How a pass used a target.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Access {
+    Read,
+    Write,
+}
+
+/// One target one render pass bound.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Touch {
+    /// The plan pass the render pass belongs to.
+    pub pass: usize,
+    /// The target as the pool allocated it.
+    pub target: TargetDesc,
+    /// The layer drawn into (render attachments); `None` for a whole texture read as input.
+    pub layer: Option<u32>,
+    pub access: Access,
+}
+
+/// The targets `command` reads and writes: (id, layer, access).
+pub fn of(command: &Command) -> Vec<(TargetId, Option<u32>, Access)> {
+    let mut out = Vec::new();
+    match command {
+        Command::Splats(pass) => {
+            out.extend(pass.inputs.iter().map(|&id| (id, None, Access::Read)));
+            // Colour attachments are cleared first: written only.
+            out.extend(pass.colour.iter().map(|c| (c.target, Some(pass.layer), Access::Write)));
+            // A depth attachment is read when fragments test against what it
+            // held, written when they write it; one that does neither (a pass
+            // whose shader writes depth nobody tests) touches nothing.
+            if let Some((id, test)) = pass.depth {
+                if !test.clear && test.compare != wgpu::CompareFunction::Always {
+                    out.push((id, Some(pass.layer), Access::Read));
+                }
+                if test.write {
+                    out.push((id, Some(pass.layer), Access::Write));
+                }
+            }
+        }
+        Command::Fullscreen(pass) => {
+            out.extend(pass.inputs.iter().map(|&id| (id, None, Access::Read)));
+            if let Output::Target(id) = pass.output {
+                if !pass.clear && pass.blend != Blend::Replace {
+                    out.push((id, Some(0), Access::Read));
+                }
+                out.push((id, Some(0), Access::Write));
+            }
+        }
+    }
+    out
+}
