@@ -107,13 +107,14 @@ pub fn write(rows: &[BenchRow], title: &str, path: &Path) -> Result<(), String> 
                 legend_area
                     .draw(&PathElement::new([(6, y), (18, y)], colour.stroke_width(3)))
                     .map_err(|e| e.to_string())?;
-                format!("{}: {:.1} ms, the ruler (ε is measured against it)", p.label, p.frame_ms)
+                format!("{}: {:.1} ms, the ruler", p.label, p.frame_ms)
             } else {
                 chart
                     .draw_series(std::iter::once(Circle::new((p.frame_ms, p.eps), 7, colour.filled())))
                     .map_err(|e| e.to_string())?;
                 legend_area.draw(&Circle::new((12, y), 6, colour.filled())).map_err(|e| e.to_string())?;
-                format!("{}: {:.1} ms, ε {:.2}", p.label, p.frame_ms, p.eps)
+                let digits = if p.eps < 0.1 { 3 } else { 2 };
+                format!("{}: {:.1} ms, ε {:.*}", p.label, p.frame_ms, digits, p.eps)
             };
             legend_area
                 .draw(&Text::new(text, (26, y - 8), ("sans-serif", 14).into_font()))
