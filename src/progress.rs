@@ -6,6 +6,8 @@
 //! [`track`]. The viewer's worker threads install one, read it from the UI
 //! thread for their progress bar, and set its cancel flag: long loops ask
 //! [`Bar::is_cancelled`] and stop early, and the worker drops the result.
+//! [`warn_once`] logs a warning once per process, for steps that run several
+//! times on one model.
 
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};

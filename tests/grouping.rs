@@ -465,7 +465,10 @@ fn sampled_cover(cloud: &PointCloud, i: usize, j: usize, samples: usize, rng: &m
     }
     let share = hits as f64 / samples as f64;
     let disc = std::f64::consts::PI * (ri as f64).powi(2);
-    (share * disc, (share * (1.0 - share) / samples as f64).sqrt() * disc)
+    // At a share of 0 or 1 the sample variance is 0; one sample's worth
+    // (1/n) keeps the error bar honest there.
+    let variance = (share * (1.0 - share)).max(1.0 / samples as f64);
+    (share * disc, (variance / samples as f64).sqrt() * disc)
 }
 
 #[test]

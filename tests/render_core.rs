@@ -72,11 +72,16 @@ fn every_target_the_recorded_passes_bind_is_allocated_as_bound_explained_as_used
                 let touches = renderer.renderer.last_frame_touches().to_vec();
                 let held = renderer.renderer.allocated_targets();
                 let what = format!("{mode} ({})", plan.variant);
-                // What the passes bind is allocated, as they bind it: the
-                // frame's size, and a layer the texture has.
+                // The pool holds what the plan lists, no more, no less.
+                let (mut sorted_held, mut planned) = (held.clone(), plan.targets.clone());
+                sorted_held.sort_by_key(|t| t.id.0);
+                planned.sort_by_key(|t| t.id.0);
+                assert_eq!(sorted_held, planned, "{what}: the pool holds other targets than the plan lists\n{plan}");
+                // What the passes bind is allocated as their pipelines and views
+                // expect it: the plan's format, the frame's size, a layer the texture has.
                 for touch in &touches {
                     let t = &touch.target;
-                    assert!(held.contains(t), "{what}: pass {} binds {} unlike the pool holds it", touch.pass, t.id.0);
+                    assert_eq!(t, &touch.planned, "{what}: pass {} binds {} unlike it was planned", touch.pass, t.id.0);
                     assert_eq!((t.width, t.height), (96, 80), "{what}: {}", t.id.0);
                     assert!(touch.layer.is_none_or(|l| l < t.layers()), "{what}: {} layer {:?}", t.id.0, touch.layer);
                 }

@@ -1,5 +1,6 @@
 //! The error-against-time plot: one marker per mode (per model, when a run has
-//! several), ε over frame time, both averaged over the views.
+//! several), ε over frame time, both averaged over the views; the reference,
+//! the ruler the others are measured against, is a vertical line at its time.
 //!
 //! Drawn with `plotters` into an RGB buffer and encoded with `image`; labels
 //! use the DejaVu Sans font bundled in `assets/fonts`, so no system font is needed.

@@ -6,6 +6,8 @@
 //! over neighbours, radii from 3D Gaussian scales or from neighbour distances,
 //! colours from `red/green/blue` (any type) or from the Gaussian SH DC term.
 //! Bad records are skipped or repaired, and each kind is counted in the report.
+//! Splats that repeat another exactly are merged into it before estimation
+//! ([`super::duplicates`]), with a counted warning.
 
 use std::path::Path;
 use std::time::Instant;

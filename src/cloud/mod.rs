@@ -3,8 +3,9 @@
 //! A [`PointCloud`] holds, per splat, a position (re-centred in f64 on load,
 //! then stored as f32), a unit normal, a disc radius, a colour and an opacity.
 //! [`load`] reads any PLY file (ASCII or binary, clouds, meshes or 3D Gaussian
-//! splats), repairs bad records and estimates what the file lacks; the
-//! [`LoadReport`] says what was read, estimated and repaired.
+//! splats), repairs bad records, merges exact copies of a splat
+//! ([`duplicates`]) and estimates what the file lacks; the [`LoadReport`]
+//! says what was read, estimated, merged and repaired.
 
 pub mod duplicates;
 mod error;

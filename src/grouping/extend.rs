@@ -8,9 +8,11 @@
 //!     samples that S_k already covers, processed in descending order as the
 //!     paper has it: the most clipped splat that is still under
 //!     [`MAX_CLIPPED_SHARE`] first (it fills a small hole with the least new
-//!     overlap); its key is refreshed when S_k has grown since it was queued
-//!     (keys only grow), and a splat clipped by more than the share is
-//!     dropped, so the group ends once its cover is (nearly) complete.
+//!     overlap); as the paper's step 2 does, a splat's key is refreshed when
+//!     it is popped and it goes back into the queue if S_k has grown since
+//!     (keys only grow), so the order is descending in the keys as last
+//!     refreshed; a splat clipped by more than the share is dropped, so the
+//!     group ends once its cover is (nearly) complete.
 //!     Measured against taking the least clipped first (docs/BENCHMARKS.md,
 //!     alg1 at opacity 0.5): the same ε with WGC K = 4, lower with MGC
 //!     c = 0.4 (bunny 5.55 against 6.25, merged scans 10.74 against 12.02).
@@ -61,7 +63,9 @@ pub fn duplicate(cloud: &PointCloud, grouping: &Grouping) -> Grouping {
     if n == 0 {
         return grouping.clone();
     }
-    // Samples on disc i: the splat centres within r_i of p_i (i included).
+    // Samples on disc i: the splat centres within r_i of p_i (i included),
+    // among the overlap graph's neighbours (at most MAX_FOUND_PAIRS a splat
+    // in a crowd: see spatial::overlap).
     let graph = OverlapGraph::build(cloud, &OverlapOptions::default());
     let (p, r) = (&cloud.positions, &cloud.radii);
     let on_disc: Vec<Vec<u32>> = (0..n)

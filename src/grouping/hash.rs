@@ -167,21 +167,30 @@ pub fn group(cloud: &PointCloud, options: &HashOptions) -> Result<(Grouping, usi
     for &(i, _) in &queue {
         pending[i] = true;
     }
+    let mut crowded = 0;
     for &(i, slot) in &queue {
-        overlap.iter_mut().for_each(|o| *o = 0.0);
         let reach = (2.0 * radii[i] / grid.cell_size()).ceil() as i32;
-        // Capped like the overlap graph's queries: a crowd of coincident splats costs O(n), not O(n²).
-        grid.scan_near(p[i], reach, crate::spatial::overlap::MAX_SCANNED, |j| {
-            let j = j as usize;
-            if j != i && !pending[j] {
-                let d = p[i].distance(p[j]);
-                let reach = radii[i] + radii[j];
-                if d < reach {
-                    overlap[labels[j] as usize] += (reach - d) / (0.5 * reach);
+        // Capped like the overlap graph's queries, so a crowd of splats costs
+        // O(n), not O(n²); a capped scan is done again from this splat's own
+        // place in the buckets, so that a crowd's scans see different parts of it.
+        let mut sum_overlaps = |start: usize| {
+            overlap.iter_mut().for_each(|o| *o = 0.0);
+            grid.scan_near(p[i], reach, crate::spatial::overlap::MAX_SCANNED, start, |j| {
+                let j = j as usize;
+                if j != i && !pending[j] {
+                    let d = p[i].distance(p[j]);
+                    let reach = radii[i] + radii[j];
+                    if d < reach {
+                        overlap[labels[j] as usize] += (reach - d) / (0.5 * reach);
+                    }
                 }
-            }
-            true
-        });
+                true
+            })
+        };
+        if !sum_overlaps(0) {
+            crowded += 1;
+            sum_overlaps(i);
+        }
         let used = table_of_cells.used[slot];
         let free = |g: usize| used & (1u64 << g) == 0;
         let all_used = (0..k).all(|g| !free(g));
@@ -192,6 +201,13 @@ pub fn group(cloud: &PointCloud, options: &HashOptions) -> Result<(Grouping, usi
         labels[i] = best as u32;
         table_of_cells.used[slot] |= 1u64 << best;
         pending[i] = false;
+    }
+    if crowded > 0 {
+        crate::progress::warn_once(format!(
+            "{crowded} splats met more than {} others where collisions were resolved (coincident or crowded \
+             splats): each was placed by the overlaps of that many",
+            crate::spatial::overlap::MAX_SCANNED
+        ));
     }
     Ok((Grouping::from_labels(&labels, k), queue.len()))
 }

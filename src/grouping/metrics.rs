@@ -9,6 +9,9 @@
 //!   sample when one of its splats (radius times the group's scale) contains
 //!   it. [`nearest_cover`] gives, per sample and group, the smallest
 //!   |p_j - p_i|/r_i over the group, so coverage at any radius scale is a count.
+//!   Each splat's scan of the samples near it stops after [`MAX_COVER_SCAN`]
+//!   (never reached on the real scans), so a crowd of thousands of splats at
+//!   one spot costs O(n); such a crowd's coverage is then an underestimate.
 
 use rayon::prelude::*;
 
@@ -58,8 +61,9 @@ pub fn nearest_cover(cloud: &PointCloud, grouping: &Grouping, max_ratio: f32) ->
                     let i = i as usize;
                     let (pi, ri) = (cloud.positions[i], cloud.radii[i]);
                     let reach = (max_ratio * ri / grid.cell_size()).ceil() as i32;
-                    // Capped, so that crowds of coincident splats cost O(n) scans, not O(n²).
-                    grid.scan_near(pi, reach, MAX_COVER_SCAN, |j| {
+                    // Capped, so that crowds of splats cost O(n) scans, not O(n²);
+                    // each starts at its own place, so a crowd's scans see all of it between them.
+                    grid.scan_near(pi, reach, MAX_COVER_SCAN, i, |j| {
                         let ratio = pi.distance(cloud.positions[j as usize]) / ri;
                         if ratio < max_ratio {
                             let slot = &mut nearest[j as usize * k + g as usize];

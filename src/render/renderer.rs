@@ -227,7 +227,8 @@ impl Renderer {
         for (i, recorded) in commands.iter().enumerate() {
             for (id, layer, access) in touches::of(&recorded.command) {
                 let target = self.pool.desc(id).ok_or_else(|| missing(id.0))?.clone();
-                self.touches.push(Touch { pass: recorded.pass, target, layer, access });
+                let planned = desc(id)?.clone();
+                self.touches.push(Touch { pass: recorded.pass, target, planned, layer, access });
             }
             let first = i == 0 || commands[i - 1].pass != recorded.pass;
             let last = i + 1 == commands.len() || commands[i + 1].pass != recorded.pass;

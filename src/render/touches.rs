@@ -21,6 +21,9 @@ pub struct Touch {
     pub pass: usize,
     /// The target as the pool allocated it.
     pub target: TargetDesc,
+    /// The target as the plan describes it: the format the pass's pipeline
+    /// was built for and the size and layers its views assume.
+    pub planned: TargetDesc,
     /// The layer drawn into (render attachments); `None` for a whole texture read as input.
     pub layer: Option<u32>,
     pub access: Access,

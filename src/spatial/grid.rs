@@ -78,7 +78,7 @@ impl HashGrid {
     /// number of points (a splat far larger than the typical one), every
     /// point is tested instead, so a query never costs more than O(n).
     pub fn for_each_near(&self, p: Vec3, reach: i32, mut visit: impl FnMut(u32)) {
-        self.scan_near(p, reach, usize::MAX, |i| {
+        self.scan_near(p, reach, usize::MAX, 0, |i| {
             visit(i);
             true
         });
@@ -88,11 +88,22 @@ impl HashGrid {
     /// when `visit` returns false; returns false when it stopped at the
     /// limit. A cap on what a query scans bounds its time where thousands of
     /// splats crowd one cell (coincident copies, a clump of tiny splats).
-    pub fn scan_near(&self, p: Vec3, reach: i32, limit: usize, mut visit: impl FnMut(u32) -> bool) -> bool {
+    /// Each bucket is read from entry `start` on (modulo its length,
+    /// wrapping), so that capped queries from different splats of one crowd
+    /// can see different parts of it instead of all the same first `limit`.
+    pub fn scan_near(
+        &self,
+        p: Vec3,
+        reach: i32,
+        limit: usize,
+        start: usize,
+        mut visit: impl FnMut(u32) -> bool,
+    ) -> bool {
         let c = self.cell_of(p);
         let reach = reach.max(0);
         let side = 2 * reach as u64 + 1;
         let mut left = limit;
+        // None: go on; Some(whole): stop, and whether the scan was whole.
         let mut take = |i: u32| -> Option<bool> {
             if left == 0 {
                 return Some(false);
@@ -100,12 +111,13 @@ impl HashGrid {
             left -= 1;
             if visit(i) { None } else { Some(true) }
         };
+        let rotated = |len: usize| (0..len).map(move |k| (k + start % len.max(1)) % len);
         if side.saturating_mul(side).saturating_mul(side) > self.items.len() as u64 {
-            for (&i, item_cell) in self.items.iter().zip(&self.cells) {
-                let d = (*item_cell - c).abs();
+            for k in rotated(self.items.len()) {
+                let d = (self.cells[k] - c).abs();
                 if d.x <= reach && d.y <= reach && d.z <= reach {
-                    if let Some(done) = take(i) {
-                        return done;
+                    if let Some(whole) = take(self.items[k]) {
+                        return whole;
                     }
                 }
             }
@@ -116,11 +128,12 @@ impl HashGrid {
                 for dx in -reach..=reach {
                     let cell = c + IVec3::new(dx, dy, dz);
                     let b = self.bucket(cell) as usize;
-                    let range = self.start[b] as usize..self.start[b + 1] as usize;
-                    for (&i, &item_cell) in self.items[range.clone()].iter().zip(&self.cells[range]) {
-                        if item_cell == cell {
-                            if let Some(done) = take(i) {
-                                return done;
+                    let first = self.start[b] as usize;
+                    let len = self.start[b + 1] as usize - first;
+                    for k in rotated(len).map(|k| first + k) {
+                        if self.cells[k] == cell {
+                            if let Some(whole) = take(self.items[k]) {
+                                return whole;
                             }
                         }
                     }

@@ -119,23 +119,43 @@ impl OverlapGraph {
         };
         // Each pair once: the endpoint with the larger radius (ties: smaller index) finds it.
         let owns = |i: usize, j: usize| radii[j] < radii[i] || (radii[j] == radii[i] && j > i);
+        // The pairs splat i owns, scanned from entry `start` of each bucket:
+        // whether it saw every candidate and every pair (else it is crowded).
+        let scan = |i: usize, start: usize, out: &mut Vec<(u32, u32)>| -> bool {
+            let reach = (2.0 * c * radii[i] / grid.cell_size()).ceil() as i32;
+            let mut kept = 0;
+            let mut full = false;
+            let whole = grid.scan_near(positions[i], reach, MAX_SCANNED, start, |j| {
+                let j = j as usize;
+                if j != i && owns(i, j) && accept(i, j) {
+                    if kept == MAX_FOUND_PAIRS {
+                        full = true;
+                        return false;
+                    }
+                    out.push((i as u32, j as u32));
+                    kept += 1;
+                }
+                true
+            });
+            whole && !full
+        };
         let found: Vec<(Vec<(u32, u32)>, usize)> = (0..n)
             .into_par_iter()
             .chunks(4096)
             .map(|chunk| {
                 let (mut out, mut crowded) = (Vec::new(), 0);
                 for i in chunk {
-                    let reach = (2.0 * c * radii[i] / grid.cell_size()).ceil() as i32;
-                    let mut kept = 0;
-                    let whole = grid.scan_near(positions[i], reach, MAX_SCANNED, |j| {
-                        let j = j as usize;
-                        if j != i && owns(i, j) && accept(i, j) {
-                            out.push((i as u32, j as u32));
-                            kept += 1;
-                        }
-                        kept < MAX_FOUND_PAIRS
-                    });
-                    crowded += usize::from(!whole || kept >= MAX_FOUND_PAIRS);
+                    let mark = out.len();
+                    if scan(i, 0, &mut out) {
+                        continue;
+                    }
+                    crowded += 1;
+                    // A crowd: scan again from this splat's own place in the
+                    // buckets (their entries are in index order), so that its
+                    // window holds the splats it owns (higher indices) rather
+                    // than the same first candidates every member of the crowd sees.
+                    out.truncate(mark);
+                    scan(i, i, &mut out);
                 }
                 (out, crowded)
             })

@@ -66,7 +66,7 @@ impl GpuMode for ApproxPeel {
         let any_depth = DepthTest { write: false, compare: wgpu::CompareFunction::Always, clear: false };
         let free = peeling::DEPTH[exact as usize % 2];
         let outputs = peeling::additive(peeling::sums(frame, REST));
-        let rest = peeling::splat_pass(frame, exact, "accumulate", outputs, Some((free, any_depth)));
+        let rest = peeling::splat_pass(frame, exact, peeling::Step::Accumulate, outputs, Some((free, any_depth)));
         commands.push(Recorded { pass: first, command: Command::Splats(rest) });
         let mut inputs = peeling::sums(frame, REST);
         inputs.insert(2, peeling::layer_sums(frame)[0]);

@@ -145,22 +145,30 @@ pub fn uniforms(frame: &FrameDesc<'_>, layer: u32) -> PassUniforms {
     }
 }
 
-/// A splat pass of the peeling shader: `step` ("visibility" or
-/// "accumulate") of layer `layer`, which reads the previous layer's depth
-/// unless it is the first.
+/// The two splat passes of a peeled layer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Step {
+    /// The nearest fragment behind the previous layer, pushed back by ε.
+    Visibility,
+    /// The sums of every fragment within ε of that front.
+    Accumulate,
+}
+
+/// A splat pass of the peeling shader: `step` of layer `layer`, which reads
+/// the previous layer's depth unless it is the first.
 pub fn splat_pass(
     frame: &FrameDesc<'_>,
     layer: u32,
-    step: &'static str,
+    step: Step,
     colour: Vec<ColourOutput>,
     depth: Option<(TargetId, DepthTest)>,
 ) -> SplatPass {
     let first = layer == 0;
     let (label, entry) = match (step, first) {
-        ("visibility", true) => ("PeelVisibility::pass", "fs_front_visibility"),
-        ("visibility", false) => ("PeelVisibility::pass", "fs_peel_visibility"),
-        (_, true) => ("PeelAccumulate::pass", "fs_front_accumulate"),
-        (_, false) => ("PeelAccumulate::pass", "fs_peel_accumulate"),
+        (Step::Visibility, true) => ("PeelVisibility::pass", "fs_front_visibility"),
+        (Step::Visibility, false) => ("PeelVisibility::pass", "fs_peel_visibility"),
+        (Step::Accumulate, true) => ("PeelAccumulate::pass", "fs_front_accumulate"),
+        (Step::Accumulate, false) => ("PeelAccumulate::pass", "fs_peel_accumulate"),
     };
     SplatPass {
         label,
@@ -188,8 +196,9 @@ pub fn record_layers(frame: &FrameDesc<'_>, layers: u32) -> Vec<Recorded> {
         let depth = DEPTH[i as usize % 2];
         let nearest = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
         let within_epsilon = DepthTest { write: false, compare: wgpu::CompareFunction::LessEqual, clear: false };
-        let visibility = splat_pass(frame, i, "visibility", Vec::new(), Some((depth, nearest)));
-        let accumulate = splat_pass(frame, i, "accumulate", additive(layer_sums(frame)), Some((depth, within_epsilon)));
+        let visibility = splat_pass(frame, i, Step::Visibility, Vec::new(), Some((depth, nearest)));
+        let accumulate =
+            splat_pass(frame, i, Step::Accumulate, additive(layer_sums(frame)), Some((depth, within_epsilon)));
         let composite = FullscreenPass {
             label: "PeelLayer::pass",
             shader: "peel_layer.wgsl",
