@@ -59,8 +59,8 @@ impl SumPrecision {
     /// The plan's note when sums can saturate.
     pub fn note(self) -> Option<String> {
         (self == Self::F16).then(|| {
-            "this GPU cannot blend f32: sums of overlapping splats are kept in f16, which stops adding at 2048 \
-             splats of weight 1 per pixel"
+            "this GPU cannot blend f32: the targets that sum overlapping splats (two-pass, peeling) are f16, \
+             which stops adding at 2048 splats of weight 1 per pixel"
                 .to_string()
         })
     }

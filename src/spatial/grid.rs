@@ -111,7 +111,11 @@ impl HashGrid {
             left -= 1;
             if visit(i) { None } else { Some(true) }
         };
-        let rotated = |len: usize| (0..len).map(move |k| (k + start % len.max(1)) % len);
+        // 0..len from `start` on, wrapping: two ranges, no division per entry.
+        let rotated = |len: usize| {
+            let from = if len == 0 { 0 } else { start % len };
+            (from..len).chain(0..from)
+        };
         if side.saturating_mul(side).saturating_mul(side) > self.items.len() as u64 {
             for k in rotated(self.items.len()) {
                 let d = (self.cells[k] - c).abs();
