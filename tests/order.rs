@@ -47,7 +47,7 @@ struct RayHit {
 
 /// Every pixel's hits, in the order's sequence, for an image of `SIZE`² seen by `camera`.
 fn pixel_hits(cloud: &PointCloud, camera: &Camera, order: &[u32]) -> Vec<Vec<RayHit>> {
-    let view = ViewRay::of(camera);
+    let view = camera.view_ray();
     let (near, _) = camera.near_far();
     let tan = (camera.fov_y_deg.to_radians() * 0.5).tan();
     let up_screen = camera.view_matrix().inverse().transform_vector3(Vec3::Y);
@@ -162,7 +162,7 @@ fn bucket_and_sort_orders_are_back_to_front_along_every_pixel_ray_of_real_scans(
             let mut orderer = Orderer::new(kind, &cloud.positions, &cloud.radii);
             for view in standard_views(&cloud, 1.0, 5) {
                 let mut order = Vec::new();
-                let slab = orderer.back_to_front(&cloud.positions, ViewRay::of(&view.camera), &mut order);
+                let slab = orderer.back_to_front(&cloud.positions, view.camera.view_ray(), &mut order);
                 assert!(is_permutation(&order, cloud.len()), "{name} {kind} {}: not a permutation", view.name);
                 let (worst, pairs) = worst_excess(&cloud, &view.camera, &order, slab);
                 println!(
@@ -189,7 +189,7 @@ fn the_bucket_order_is_the_full_sort_up_to_one_slab() {
     for (name, cloud) in scans() {
         let mut buckets = BucketSort::for_radii(&cloud.radii);
         for view in standard_views(&cloud, 1.0, 5) {
-            let ray = ViewRay::of(&view.camera);
+            let ray = view.camera.view_ray();
             let (mut sorted, mut sliced) = (Vec::new(), Vec::new());
             full_sort(&cloud.positions, ray, &mut sorted);
             let slab = buckets.back_to_front(&cloud.positions, ray, &mut sliced);
@@ -254,7 +254,7 @@ fn the_bsp_visits_its_cells_back_to_front_along_every_pixel_ray_of_real_scans() 
         let bounds = cloud.bounds().unwrap();
         let scale = bounds.radius();
         for view in standard_views(&cloud, 1.0, 5) {
-            let ray_view = ViewRay::of(&view.camera);
+            let ray_view = view.camera.view_ray();
             let cells = tree.cells_back_to_front(ray_view.eye, (bounds.min, bounds.max));
             assert_eq!(cells.iter().map(|(_, run)| run.len()).sum::<usize>(), cloud.len());
             for ((lo, hi), run) in &cells {
@@ -340,9 +340,13 @@ fn each_group_is_sorted_back_to_front_in_the_instance_buffers_only_when_the_view
     let scale = cloud.bounds().unwrap().radius();
     let views = standard_views(&cloud, 1.0, 2);
     for (round, view) in views.iter().enumerate() {
-        let ray = ViewRay::of(&view.camera);
-        assert!(gpu.order_back_to_front(&ctx.queue, ray), "{}: a new view is sorted", view.name);
-        assert!(!gpu.order_back_to_front(&ctx.queue, ray), "{}: the same view again writes nothing", view.name);
+        let ray = view.camera.view_ray();
+        assert!(gpu.order_back_to_front(&ctx.queue, ray, OrderKind::Bucket), "{}: a new view is sorted", view.name);
+        assert!(
+            !gpu.order_back_to_front(&ctx.queue, ray, OrderKind::Bucket),
+            "{}: the same view again writes nothing",
+            view.name
+        );
         assert_eq!(gpu.with_instance_order(|o| o.uploads()), Some(round as u64 + 1));
         let (current, slab) = gpu.with_instance_order(|o| (o.current().to_vec(), o.slab())).unwrap();
         // The GPU holds what the order says.
@@ -392,7 +396,7 @@ fn how_often_the_orders_draw_a_nearer_layer_before_a_farther_one_on_real_scans()
             let (mut misordered, mut pairs) = (0, 0);
             for view in standard_views(&cloud, 1.0, 5) {
                 let mut order = Vec::new();
-                orderer.back_to_front(&cloud.positions, ViewRay::of(&view.camera), &mut order);
+                orderer.back_to_front(&cloud.positions, view.camera.view_ray(), &mut order);
                 let (m, p) = misordered_layer_pairs(&cloud, &view.camera, &order, epsilon);
                 misordered += m;
                 pairs += p;
@@ -412,5 +416,42 @@ fn how_often_the_orders_draw_a_nearer_layer_before_a_farther_one_on_real_scans()
                 100.0 * bound
             );
         }
+    }
+}
+
+#[test]
+fn the_order_setting_decides_what_the_instance_buffers_hold_each_frame() {
+    use pointblend::render::gpu_data::SplatInstance;
+    use pointblend::view::RenderSettings;
+    let (mut cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    cloud.opacity.iter_mut().for_each(|a| *a = 0.5);
+    let grouping = "wgc-k4-radius".parse::<GroupingSpec>().unwrap().compute(&cloud).unwrap();
+    let mut renderer = common::renderer();
+    let gpu = renderer.upload_cloud(&cloud, Some(&grouping));
+    let uploaded = gpu.with_instance_order(|o| o.current().to_vec()).unwrap();
+    let positions: Vec<Vec3> = uploaded.iter().map(|s| Vec3::from_array(s.position)).collect();
+    let radii: Vec<f32> = uploaded.iter().map(|s| s.radius.abs()).collect();
+    let camera = standard_views(&cloud, 1.0, 2)[1].camera;
+    // What each group's run must hold: the chosen order over all splats, split by group.
+    let expected = |kind: OrderKind| -> Vec<[f32; 3]> {
+        let mut order = Vec::new();
+        Orderer::new(kind, &positions, &radii).back_to_front(&positions, camera.view_ray(), &mut order);
+        let group_of = |i: u32| grouping.ranges.iter().position(|r| r.contains(&i)).unwrap();
+        (0..grouping.ranges.len())
+            .flat_map(|g| order.iter().filter(move |&&i| group_of(i) == g).map(|&i| uploaded[i as usize].position))
+            .collect()
+    };
+    assert_ne!(expected(OrderKind::Bsp), expected(OrderKind::Bucket), "the two orders differ on this view");
+    for (frame, kind) in [OrderKind::Bucket, OrderKind::Bsp, OrderKind::Bucket].into_iter().enumerate() {
+        for mode in ["alg1", "alg2", "alpha-blend"] {
+            let settings = RenderSettings { mode: mode.parse().unwrap(), order: kind, ..Default::default() };
+            let plan = renderer.render(&gpu, &camera, &settings, 64, 64).unwrap();
+            assert!(plan.back_to_front(), "{mode} draws in order");
+            let held: Vec<[f32; 3]> =
+                gpu.with_instance_order(|o| o.current().iter().map(|s: &SplatInstance| s.position).collect()).unwrap();
+            assert_eq!(held, expected(kind), "{mode}, frame {frame}: the instances are not in {kind} order");
+        }
+        // One sort per change of order; the same view and order again sort nothing.
+        assert_eq!(gpu.with_instance_order(|o| o.uploads()), Some(frame as u64 + 1));
     }
 }

@@ -8,7 +8,7 @@ mod common;
 
 use pointblend::cloud::{self, PointCloud};
 use pointblend::grouping::GroupingSpec;
-use pointblend::render::modes::{FrameDesc, gpu_mode};
+use pointblend::render::modes::FrameDesc;
 use pointblend::render::passes::Command;
 use pointblend::render::plan::TargetId;
 use pointblend::render::touches::{Access, Touch};
@@ -98,22 +98,22 @@ fn every_target_the_recorded_passes_bind_is_allocated_as_bound_explained_as_used
                         assert_eq!(layers.len() as u32, target.layers(), "{what}: {} layers drawn", target.id.0);
                     }
                 }
-                // --explain's reads and writes are the ones that run.
-                for (i, pass) in plan.passes.iter().enumerate() {
+                // --explain's reads and writes are the ones that ran.
+                for (i, step) in plan.steps.iter().enumerate() {
                     assert_eq!(
                         bound(&touches, i, Access::Read),
-                        sorted(&pass.reads),
+                        sorted(&step.reads()),
                         "{what}: reads of pass {i} ({})\n{plan}",
-                        pass.name
+                        step.name
                     );
                     assert_eq!(
                         bound(&touches, i, Access::Write),
-                        sorted(&pass.writes),
+                        sorted(&step.writes()),
                         "{what}: writes of pass {i} ({})\n{plan}",
-                        pass.name
+                        step.name
                     );
                 }
-                assert!(touches.iter().all(|t| t.pass < plan.passes.len()), "{what}: a render pass outside the plan");
+                assert!(touches.iter().all(|t| t.pass < plan.steps.len()), "{what}: a render pass outside the plan");
                 checked += 1;
             }
         }
@@ -161,7 +161,7 @@ fn every_plan_pass_is_timed_even_with_many_groups() {
         let gpu = upload(&renderer, &cloud, &settings);
         let plan = renderer.render(&gpu, &camera, &settings, 96, 96).unwrap();
         let times = renderer.renderer.pass_times(&renderer.ctx, &plan).unwrap().expect("timing is on");
-        assert_eq!(times.len(), plan.passes.len(), "{plan}");
+        assert_eq!(times.len(), plan.steps.len(), "{plan}");
         assert!(times.iter().all(|t| t.is_finite() && *t >= 0.0), "{times:?}");
     }
 }
@@ -186,17 +186,14 @@ fn each_group_layer_pass_carries_its_own_layer_in_its_uniforms() {
         environment: None,
         sums: pointblend::render::targets::SumPrecision::F32,
     };
-    let mode = gpu_mode(settings.mode).unwrap();
-    let plan = mode.plan(&frame);
-    let commands = mode.record(&frame, &plan);
-    let layers: Vec<u32> = commands
-        .iter()
-        .filter_map(|c| match &c.command {
+    let plan = pointblend::render::modes::plan(&frame).unwrap();
+    let layers: Vec<u32> = plan
+        .commands()
+        .filter_map(|(_, c)| match c {
             Command::Splats(pass) => Some(pass.uniforms.layers[0]),
             Command::Fullscreen(_) => None,
         })
         .collect();
     assert_eq!(layers, (0..grouping.k() as u32).collect::<Vec<_>>());
-    assert!(commands.iter().all(|c| c.pass < plan.passes.len()), "every command belongs to a plan pass");
     assert_eq!(plan.geometry_render_passes(), grouping.k());
 }

@@ -113,7 +113,7 @@ fn opacity_one_draws_the_opaque_picture_without_peeling_as_the_reference_does() 
         let (image, plan) = renderer.render_image(&gpu, &camera, &settings, 128, 128).unwrap();
         // The policy: an opaque scene runs the opaque plan, and says so.
         assert!(plan.notes.iter().any(|n| n.contains("opaque")), "{name}: the plan says it fell back\n{plan}");
-        assert!(!plan.passes.iter().any(|p| p.name.contains("peel")), "{name} peels an opaque scene\n{plan}");
+        assert!(!plan.steps.iter().any(|p| p.name.contains("peel")), "{name} peels an opaque scene\n{plan}");
         let error = reference::compare(&image, &want).unwrap();
         println!("{name} at opacity 1: ε {:.4} against the reference", error.eps);
         assert!(error.eps <= MAX_TWO_PASS_EPS, "{name} at opacity 1: ε {}", error.eps);

@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use super::views::NamedView;
 use crate::cloud::PointCloud;
-use crate::spatial::order::{OrderKind, Orderer, ViewRay};
+use crate::spatial::order::{OrderKind, Orderer};
 
 /// One order from one view of one model.
 #[derive(Debug, Clone, Serialize)]
@@ -38,7 +38,7 @@ pub fn time_orders(model: &str, cloud: &PointCloud, views: &[NamedView], runs: u
         let mut orderer = Orderer::new(kind, &cloud.positions, &cloud.radii);
         let build_ms = if kind == OrderKind::Bsp { built.elapsed().as_secs_f64() * 1e3 } else { 0.0 };
         for view in views {
-            let ray = ViewRay::of(&view.camera);
+            let ray = view.camera.view_ray();
             let mut times = Vec::with_capacity(runs);
             let mut slab = 0.0;
             for run in 0..warm_up + runs.max(1) {

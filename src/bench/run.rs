@@ -326,7 +326,7 @@ fn bench_model(
             }
             let frame = spread(&wall);
             let passes: Vec<PassTime> = plan
-                .passes
+                .steps
                 .iter()
                 .zip(&per_pass)
                 .map(|(pass, times)| {

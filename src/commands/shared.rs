@@ -127,6 +127,9 @@ pub struct ViewArgs {
     /// No lighting: show the blended colours (no normal targets are used).
     #[arg(long)]
     pub unlit: bool,
+    /// Back-to-front order of alg1, alg2 and alpha-blend: bucket (Gunjee's bucket sort), bsp (Zhang & Pajarola's BSP traversal) or sort (exact comparison sort) [default: bucket].
+    #[arg(long)]
+    pub order: Option<pointblend::spatial::order::OrderKind>,
     /// Transparent layers k of depth-peel (default 8) and approx-peel (default 3), 2..=64.
     #[arg(long, value_parser = clap::value_parser!(u32).range(2..=pointblend::view::settings::MAX_LAYERS as i64))]
     pub layers: Option<u32>,
@@ -177,6 +180,7 @@ impl ViewArgs {
             voronoi: !self.no_voronoi,
             lighting: !self.unlit,
             layers: self.layers.unwrap_or(0),
+            order: self.order.unwrap_or(pointblend::spatial::order::OrderKind::Bucket),
             ..Default::default()
         };
         if let Some(bg) = self.background.map(|c| glam::Vec3::from_array(c.map(f32::from)) / 255.0).or(scene.background)
@@ -194,6 +198,7 @@ impl ViewArgs {
             ("--group", self.group.is_some(), Parameter::Grouping),
             ("--no-voronoi", self.no_voronoi, Parameter::Voronoi),
             ("--layers", self.layers.is_some(), Parameter::Layers),
+            ("--order", self.order.is_some(), Parameter::Order),
         ];
         for (option, is_given, parameter) in given {
             if is_given && !reads.contains(&parameter) {

@@ -103,10 +103,8 @@ impl GpuScene {
             }
             start = end;
         }
-        let instance_order = keep_for_order.then(|| {
-            let kind = crate::spatial::order::OrderKind::Bucket;
-            std::sync::Mutex::new(InstanceOrder::new(kept, transparent_groups.clone(), kind))
-        });
+        let instance_order =
+            keep_for_order.then(|| std::sync::Mutex::new(InstanceOrder::new(kept, transparent_groups.clone())));
         let first = cloud.colors.first().copied();
         let uniform_color = first.filter(|c| cloud.colors.iter().all(|x| x == c));
         Self {
@@ -138,10 +136,15 @@ impl GpuScene {
     /// Sorts each group's instances back to front for `view` (a transparent
     /// scene; others are left as they are); returns whether the buffers were
     /// rewritten (not when the view is the last one's).
-    pub fn order_back_to_front(&self, queue: &wgpu::Queue, view: crate::spatial::order::ViewRay) -> bool {
+    pub fn order_back_to_front(
+        &self,
+        queue: &wgpu::Queue,
+        view: crate::spatial::order::ViewRay,
+        kind: crate::spatial::order::OrderKind,
+    ) -> bool {
         let Some(order) = &self.order else { return false };
         let mut order = order.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-        order.apply(queue, &self.chunks, view)
+        order.apply(queue, &self.chunks, view, kind)
     }
 
     /// Runs `look` on the scene's instance order, if it keeps one.

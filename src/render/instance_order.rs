@@ -22,15 +22,15 @@ use super::gpu_data::SplatInstance;
 use crate::spatial::order::{OrderKind, Orderer, ViewRay};
 
 /// The eye and view direction an order was made for, as bits (so any change
-/// counts, and NaN never equals itself as a float would not).
+/// counts, and NaN never equals itself as a float would not), and the order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct ViewKey([u32; 6]);
+struct ViewKey([u32; 6], OrderKind);
 
 impl ViewKey {
-    fn of(view: ViewRay) -> Self {
+    fn of(view: ViewRay, kind: OrderKind) -> Self {
         let [a, b, c] = view.eye.to_array().map(f32::to_bits);
         let [d, e, f] = view.forward.to_array().map(f32::to_bits);
-        Self([a, b, c, d, e, f])
+        Self([a, b, c, d, e, f], kind)
     }
 }
 
@@ -45,9 +45,8 @@ pub struct InstanceOrder {
     /// The group of each uploaded instance ([`UNORDERED`] for instances in no
     /// group, such as the opaque run drawn apart, which stay where they are).
     group_of: Vec<u32>,
-    kind: OrderKind,
-    /// Built on the first ordered frame (the BSP tree costs a build).
-    orderer: Option<Orderer>,
+    /// Each order, prepared on the first frame that asks for it (the BSP tree costs a build).
+    orderers: Vec<Orderer>,
     positions: Vec<Vec3>,
     order: Vec<u32>,
     /// What the buffers hold now.
@@ -59,7 +58,7 @@ pub struct InstanceOrder {
 
 impl InstanceOrder {
     /// The order of `instances`, uploaded group by group in `groups`.
-    pub fn new(instances: Vec<SplatInstance>, groups: Vec<Range<u32>>, kind: OrderKind) -> Self {
+    pub fn new(instances: Vec<SplatInstance>, groups: Vec<Range<u32>>) -> Self {
         let positions = instances.iter().map(|s| Vec3::from_array(s.position)).collect();
         let mut group_of = vec![UNORDERED; instances.len()];
         for (g, range) in groups.iter().enumerate() {
@@ -70,8 +69,7 @@ impl InstanceOrder {
             current: instances.clone(),
             uploaded: instances,
             groups,
-            kind,
-            orderer: None,
+            orderers: Vec::new(),
             positions,
             order: Vec::new(),
             view: None,
@@ -80,18 +78,30 @@ impl InstanceOrder {
         }
     }
 
-    /// Sorts each group back to front for `view` and writes the records over
-    /// `chunks` (the scene's instance buffers, in order); returns whether it
-    /// did (false when the view is the last one's).
-    pub fn apply(&mut self, queue: &wgpu::Queue, chunks: &[(wgpu::Buffer, u32)], view: ViewRay) -> bool {
-        let key = ViewKey::of(view);
+    /// Sorts each group back to front for `view` in the order `kind` and
+    /// writes the records over `chunks` (the scene's instance buffers, in
+    /// order); returns whether it did (false when the view and order are the
+    /// last one's).
+    pub fn apply(
+        &mut self,
+        queue: &wgpu::Queue,
+        chunks: &[(wgpu::Buffer, u32)],
+        view: ViewRay,
+        kind: OrderKind,
+    ) -> bool {
+        let key = ViewKey::of(view, kind);
         if self.view == Some(key) || self.uploaded.is_empty() {
             return false;
         }
-        let orderer = self.orderer.get_or_insert_with(|| {
-            let radii: Vec<f32> = self.uploaded.iter().map(|s| s.radius.abs()).collect();
-            Orderer::new(self.kind, &self.positions, &radii)
-        });
+        let at = match self.orderers.iter().position(|o| o.kind() == kind) {
+            Some(at) => at,
+            None => {
+                let radii: Vec<f32> = self.uploaded.iter().map(|s| s.radius.abs()).collect();
+                self.orderers.push(Orderer::new(kind, &self.positions, &radii));
+                self.orderers.len() - 1
+            }
+        };
+        let orderer = &mut self.orderers[at];
         self.slab = orderer.back_to_front(&self.positions, view, &mut self.order);
         // A stable partition of the one order into the groups' runs.
         let mut fill: Vec<u32> = self.groups.iter().map(|r| r.start).collect();

@@ -1,13 +1,20 @@
-//! The render plan: the passes and targets a frame needs, and nothing more.
+//! The render plan: the steps a frame runs and the targets they use, and
+//! nothing more.
 //!
-//! A mode's `plan` lists its passes, each with the targets it reads and
-//! writes, and every target with its format, size, layers and the reason it
-//! exists ([`TargetDesc`]). The target pool allocates exactly these
-//! descriptions, `--explain` prints them and the viewer's plan panel shows
-//! them, so the three cannot disagree.
+//! A mode's plan is one list of [`Step`]s: each is a name, the reason in one
+//! line, and the render passes it records ([`Command`]s). Everything else is
+//! derived from those commands: the targets each step reads and writes (what
+//! its passes bind, `touches::of`), whether it draws splats, how many render
+//! passes it takes (the pass timer's slots), and which of the mode's target
+//! descriptions ([`TargetDesc`]: format, size, layers, why) the pool
+//! allocates: only those some pass binds. `--explain`, the viewer's plan
+//! panel, the timer and the pool all read the one list, so none of them can
+//! drift from what runs.
 
 use std::fmt;
 
+use super::passes::Command;
+use super::touches::{self, Access};
 use crate::view::RenderMode;
 
 /// A target, named for what it holds.
@@ -57,19 +64,59 @@ impl TargetDesc {
     }
 }
 
-/// One pass of a frame, as `--explain` and the pass timer see it.
+/// One step of a frame: the render passes it records (K of them for the
+/// group images), named and explained. `--explain` and the pass timer count
+/// steps; what a step reads and writes is what its passes bind.
 #[derive(Debug, Clone, PartialEq)]
-pub struct PlannedPass {
+pub struct Step {
     /// Short name ("visibility", "group images"), also the timer's label.
     pub name: &'static str,
     /// What it does, in one line.
     pub what: String,
-    pub reads: Vec<TargetId>,
-    pub writes: Vec<TargetId>,
-    /// Whether it draws the splats (a geometry pass) or the full screen.
-    pub draws_splats: bool,
-    /// wgpu render passes it takes (K for the group images).
-    pub render_passes: usize,
+    /// Its render passes, in order.
+    pub commands: Vec<Command>,
+}
+
+impl Step {
+    pub fn new(name: &'static str, what: impl Into<String>, commands: Vec<Command>) -> Self {
+        Step { name, what: what.into(), commands }
+    }
+
+    /// The targets its passes bind with `access`, each once, in binding order.
+    fn bound(&self, access: Access) -> Vec<TargetId> {
+        let mut out = Vec::new();
+        for (id, _, a) in self.commands.iter().flat_map(touches::of) {
+            if a == access && !out.contains(&id) {
+                out.push(id);
+            }
+        }
+        out
+    }
+
+    /// The targets it reads (textures, depth tests, blending under what is there).
+    pub fn reads(&self) -> Vec<TargetId> {
+        self.bound(Access::Read)
+    }
+
+    /// The targets it writes.
+    pub fn writes(&self) -> Vec<TargetId> {
+        self.bound(Access::Write)
+    }
+
+    /// Whether it draws the splats (a geometry step) rather than the full screen.
+    pub fn draws_splats(&self) -> bool {
+        self.commands.iter().any(|c| matches!(c, Command::Splats(_)))
+    }
+
+    /// Whether some pass of it draws its splats back to front.
+    pub fn back_to_front(&self) -> bool {
+        self.commands.iter().any(|c| matches!(c, Command::Splats(p) if p.back_to_front))
+    }
+
+    /// wgpu render passes it takes.
+    pub fn render_passes(&self) -> usize {
+        self.commands.len()
+    }
 }
 
 /// The passes and targets of one frame.
@@ -85,7 +132,8 @@ pub struct RenderPlan {
     pub epsilon: f32,
     /// Groups K (1 unless the mode draws groups).
     pub groups: usize,
-    pub passes: Vec<PlannedPass>,
+    pub steps: Vec<Step>,
+    /// The targets the steps bind: what the pool allocates.
     pub targets: Vec<TargetDesc>,
     /// Remarks on the choices the plan made.
     pub notes: Vec<String>,
@@ -102,20 +150,49 @@ impl RenderPlan {
             splats,
             epsilon,
             groups: 1,
-            passes: Vec::new(),
+            steps: Vec::new(),
             targets: Vec::new(),
             notes: Vec::new(),
         }
     }
 
-    /// Passes that draw the splats (the "2" of "2+1").
+    /// A plan of `steps`, keeping of `targets` those some step binds.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        mode: RenderMode,
+        variant: String,
+        (width, height): (u32, u32),
+        splats: usize,
+        epsilon: f32,
+        groups: usize,
+        steps: Vec<Step>,
+        targets: Vec<TargetDesc>,
+    ) -> Self {
+        let bound: Vec<TargetId> =
+            steps.iter().flat_map(|s| &s.commands).flat_map(touches::of).map(|(id, _, _)| id).collect();
+        let targets = targets.into_iter().filter(|t| bound.contains(&t.id)).collect();
+        RenderPlan { mode, variant, width, height, splats, epsilon, groups, steps, targets, notes: Vec::new() }
+    }
+
+    /// The render passes in order, each with the index of its step.
+    pub fn commands(&self) -> impl Iterator<Item = (usize, &Command)> {
+        self.steps.iter().enumerate().flat_map(|(i, s)| s.commands.iter().map(move |c| (i, c)))
+    }
+
+    /// Steps that draw the splats (the "2" of "2+1").
     pub fn geometry_passes(&self) -> usize {
-        self.passes.iter().filter(|p| p.draws_splats).count()
+        self.steps.iter().filter(|p| p.draws_splats()).count()
     }
 
     /// wgpu render passes that draw splats (K for the group images).
     pub fn geometry_render_passes(&self) -> usize {
-        self.passes.iter().filter(|p| p.draws_splats).map(|p| p.render_passes).sum()
+        self.steps.iter().filter(|p| p.draws_splats()).map(Step::render_passes).sum()
+    }
+
+    /// Whether some pass draws its splats back to front (the renderer sorts
+    /// the scene's instances for the view first).
+    pub fn back_to_front(&self) -> bool {
+        self.steps.iter().any(Step::back_to_front)
     }
 
     /// Bytes of all targets.
@@ -164,7 +241,7 @@ fn names(ids: &[TargetId]) -> String {
 
 impl fmt::Display for RenderPlan {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.passes.is_empty() {
+        if self.steps.is_empty() {
             return write!(
                 f,
                 "mode {}: {}, {} splats, {}x{}, ε = {:.4e}; no GPU passes, no targets",
@@ -178,7 +255,7 @@ impl fmt::Display for RenderPlan {
             self.mode,
             self.variant,
             geometry,
-            self.passes.len() - geometry,
+            self.steps.len() - geometry,
             self.splats,
             self.width,
             self.height,
@@ -194,9 +271,9 @@ impl fmt::Display for RenderPlan {
         for note in &self.notes {
             writeln!(f, "  note: {note}")?;
         }
-        for (i, pass) in self.passes.iter().enumerate() {
-            writeln!(f, "  pass {}: {:<13} {}", i + 1, pass.name, pass.what)?;
-            writeln!(f, "          reads {}; writes {}", names(&pass.reads), names(&pass.writes))?;
+        for (i, step) in self.steps.iter().enumerate() {
+            writeln!(f, "  pass {}: {:<13} {}", i + 1, step.name, step.what)?;
+            writeln!(f, "          reads {}; writes {}", names(&step.reads()), names(&step.writes()))?;
         }
         for t in &self.targets {
             writeln!(

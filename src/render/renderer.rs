@@ -1,8 +1,8 @@
 //! The renderer: runs a mode's plan into any view.
 //!
 //! A frame flows scene → plan → passes → image. The scene is uploaded once
-//! ([`GpuScene`]); for each frame the mode of the registry plans its passes and
-//! targets ([`RenderPlan`]) and records them as commands; the renderer
+//! ([`GpuScene`]); for each frame the mode of the registry plans its steps
+//! ([`RenderPlan`]), each the commands of its render passes; the renderer
 //! allocates exactly the plan's targets ([`TargetPool`]), writes the frame's
 //! uniforms and one uniform slot per pass, takes each pass's pipeline from the
 //! cache ([`PipelineCache`]) and encodes the passes, timed per plan pass when
@@ -15,8 +15,8 @@ use wgpu::util::DeviceExt;
 use super::context::{GpuContext, GpuError};
 use super::gpu_data::{FrameUniforms, PASS_SLOT_BYTES, PassUniforms};
 use super::gpu_scene::GpuScene;
-use super::modes::{FrameDesc, gpu_mode};
-use super::passes::{Command, Output, PipelineKey, PipelineKind, Recorded, fullscreen, splat};
+use super::modes::FrameDesc;
+use super::passes::{Command, Output, PipelineKey, PipelineKind, fullscreen, splat};
 use super::pipelines::PipelineCache;
 use super::plan::{Layout, RenderPlan, TargetDesc};
 use super::targets::TargetPool;
@@ -74,7 +74,7 @@ impl Renderer {
 
     /// Milliseconds per plan pass of the last frame (waits for it), if timing is on.
     pub fn pass_times(&self, ctx: &GpuContext, plan: &RenderPlan) -> Result<Option<Vec<f64>>, GpuError> {
-        self.timer.as_ref().filter(|_| self.timing).map(|t| t.read(ctx, plan.passes.len())).transpose()
+        self.timer.as_ref().filter(|_| self.timing).map(|t| t.read(ctx, plan.steps.len())).transpose()
     }
 
     /// The targets the pool holds now (those of the last frame's plan).
@@ -137,9 +137,8 @@ impl Renderer {
         settings: &RenderSettings,
         size: (u32, u32),
     ) -> Result<RenderPlan, GpuError> {
-        let mode = gpu_mode(settings.mode)
-            .ok_or_else(|| GpuError::Device(format!("mode {} does not run on the GPU", settings.mode)))?;
-        Ok(mode.plan(&Self::frame_desc(scene, camera, settings, size)))
+        super::modes::plan(&Self::frame_desc(scene, camera, settings, size))
+            .ok_or_else(|| GpuError::Device(format!("mode {} does not run on the GPU", settings.mode)))
     }
 
     /// Renders `scene` into `output` (of `format`, `width` x `height`) and returns the plan it ran.
@@ -155,15 +154,12 @@ impl Renderer {
         size: (u32, u32),
     ) -> Result<RenderPlan, GpuError> {
         ctx.check_size(size.0, size.1)?;
-        let mode = gpu_mode(settings.mode)
-            .ok_or_else(|| GpuError::Device(format!("mode {} does not run on the GPU", settings.mode)))?;
-        let frame = Self::frame_desc(scene, camera, settings, size);
-        let plan = mode.plan(&frame);
+        let plan = Self::plan(scene, camera, settings, size)?;
         plan.check_fits(&ctx.device.limits(), ctx.target_budget())?;
-        if mode.blends_in_order(&frame) {
-            scene.order_back_to_front(&ctx.queue, crate::spatial::order::ViewRay::of(camera));
+        if plan.back_to_front() {
+            scene.order_back_to_front(&ctx.queue, camera.view_ray(), settings.order);
         }
-        let commands = mode.record(&frame, &plan);
+        let commands: Vec<(usize, &Command)> = plan.commands().collect();
         let allocated =
             ctx.allocating("allocating the render targets", || self.pool.prepare(&ctx.device, &plan.targets));
         if let Err(e) = allocated {
@@ -171,8 +167,8 @@ impl Renderer {
             return Err(e);
         }
         self.ensure_pass_slots(ctx, commands.len() as u64);
-        if self.timing && self.timer.as_ref().is_none_or(|t| t.capacity() < plan.passes.len()) {
-            self.timer = PassTimer::new(ctx, plan.passes.len());
+        if self.timing && self.timer.as_ref().is_none_or(|t| t.capacity() < plan.steps.len()) {
+            self.timer = PassTimer::new(ctx, plan.steps.len());
         }
         ctx.queue.write_buffer(
             &self.frame_buffer,
@@ -185,11 +181,8 @@ impl Renderer {
             )),
         );
         let mut slots = vec![0u8; commands.len() * PASS_SLOT_BYTES as usize];
-        for (i, recorded) in commands.iter().enumerate() {
-            let uniforms = match &recorded.command {
-                Command::Splats(pass) => &pass.uniforms,
-                Command::Fullscreen(pass) => &pass.uniforms,
-            };
+        for (i, (_, command)) in commands.iter().enumerate() {
+            let uniforms = command.uniforms();
             let at = i * PASS_SLOT_BYTES as usize;
             slots[at..at + std::mem::size_of::<PassUniforms>()].copy_from_slice(bytemuck::bytes_of(uniforms));
         }
@@ -213,7 +206,7 @@ impl Renderer {
         ctx: &GpuContext,
         scene: &GpuScene,
         plan: &RenderPlan,
-        commands: &[Recorded],
+        commands: &[(usize, &Command)],
         output: &wgpu::TextureView,
         output_format: wgpu::TextureFormat,
     ) -> Result<(), GpuError> {
@@ -224,17 +217,17 @@ impl Renderer {
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("Renderer::encoder") });
         let timer = self.timer.as_ref().filter(|_| self.timing);
         self.touches.clear();
-        for (i, recorded) in commands.iter().enumerate() {
-            for (id, layer, access) in touches::of(&recorded.command) {
+        for (i, &(step, command)) in commands.iter().enumerate() {
+            for (id, layer, access) in touches::of(command) {
                 let target = self.pool.desc(id).ok_or_else(|| missing(id.0))?.clone();
                 let planned = desc(id)?.clone();
-                self.touches.push(Touch { pass: recorded.pass, target, planned, layer, access });
+                self.touches.push(Touch { pass: step, target, planned, layer, access });
             }
-            let first = i == 0 || commands[i - 1].pass != recorded.pass;
-            let last = i + 1 == commands.len() || commands[i + 1].pass != recorded.pass;
-            let stamps = timer.and_then(|t| t.writes_span(recorded.pass, first, last));
+            let first = i == 0 || commands[i - 1].0 != step;
+            let last = i + 1 == commands.len() || commands[i + 1].0 != step;
+            let stamps = timer.and_then(|t| t.writes_span(step, first, last));
             let (frame, offset) = (&self.frame_bind_group, (i as u64 * PASS_SLOT_BYTES) as u32);
-            match &recorded.command {
+            match command {
                 Command::Splats(pass) => {
                     let colour = pass.colour.iter().map(|c| Ok((desc(c.target)?.format, c.blend))).collect::<Result<
                         _,
@@ -293,7 +286,7 @@ impl Renderer {
             }
         }
         if let Some(timer) = timer {
-            timer.resolve(&mut encoder, plan.passes.len());
+            timer.resolve(&mut encoder, plan.steps.len());
         }
         ctx.queue.submit([encoder.finish()]);
         Ok(())

@@ -9,52 +9,22 @@
 //! write a normal target), and over `naga_oil`, which composes into naga IR
 //! pinned to its own naga release and brings far more than these dozen
 //! directives need. `cargo test` composes every root file in every variant
-//! and validates it with naga (`tests/shaders.rs`).
+//! and validates it with naga (`tests/shaders.rs`). Every file in
+//! `shaders/` is embedded (build.rs); a pass names its root file.
 
-/// Every WGSL file, by name.
-const FILES: [(&str, &str); 22] = [
-    ("frame.wgsl", include_str!("../../shaders/frame.wgsl")),
-    ("splat.wgsl", include_str!("../../shaders/splat.wgsl")),
-    ("shading.wgsl", include_str!("../../shaders/shading.wgsl")),
-    ("visibility.wgsl", include_str!("../../shaders/visibility.wgsl")),
-    ("accumulate.wgsl", include_str!("../../shaders/accumulate.wgsl")),
-    ("normalize.wgsl", include_str!("../../shaders/normalize.wgsl")),
-    ("deferred_geometry.wgsl", include_str!("../../shaders/deferred_geometry.wgsl")),
-    ("deferred_composite.wgsl", include_str!("../../shaders/deferred_composite.wgsl")),
-    ("peel.wgsl", include_str!("../../shaders/peel.wgsl")),
-    ("peel_layer.wgsl", include_str!("../../shaders/peel_layer.wgsl")),
-    ("peel_rest.wgsl", include_str!("../../shaders/peel_rest.wgsl")),
-    ("group_layer.wgsl", include_str!("../../shaders/group_layer.wgsl")),
-    ("opaque_cull.wgsl", include_str!("../../shaders/opaque_cull.wgsl")),
-    ("opaque_under.wgsl", include_str!("../../shaders/opaque_under.wgsl")),
-    ("environment.wgsl", include_str!("../../shaders/environment.wgsl")),
-    ("alg1_group.wgsl", include_str!("../../shaders/alg1_group.wgsl")),
-    ("alpha_blend.wgsl", include_str!("../../shaders/alpha_blend.wgsl")),
-    ("alg1_average.wgsl", include_str!("../../shaders/alg1_average.wgsl")),
-    ("alg2_nearest.wgsl", include_str!("../../shaders/alg2_nearest.wgsl")),
-    ("alg2_other.wgsl", include_str!("../../shaders/alg2_other.wgsl")),
-    ("alg2_composite.wgsl", include_str!("../../shaders/alg2_composite.wgsl")),
-    ("peel_final.wgsl", include_str!("../../shaders/peel_final.wgsl")),
-];
+// `FILES`: every WGSL file in shaders/, embedded by build.rs.
+include!(concat!(env!("OUT_DIR"), "/shader_files.rs"));
 
-/// The files passes build modules from; the others are only included.
-pub const ROOTS: [&str; 15] = [
-    "visibility.wgsl",
-    "accumulate.wgsl",
-    "normalize.wgsl",
-    "deferred_geometry.wgsl",
-    "deferred_composite.wgsl",
-    "peel.wgsl",
-    "peel_layer.wgsl",
-    "peel_rest.wgsl",
-    "peel_final.wgsl",
-    "alg1_group.wgsl",
-    "alg1_average.wgsl",
-    "alg2_nearest.wgsl",
-    "alg2_other.wgsl",
-    "alg2_composite.wgsl",
-    "alpha_blend.wgsl",
-];
+/// Whether `name` is a file passes build modules from (it has a fragment
+/// entry point) rather than one that is only included.
+pub fn is_root(name: &str) -> bool {
+    FILES.iter().any(|(n, source)| *n == name && source.contains("@fragment"))
+}
+
+/// The root files: those a pass can build a module from.
+pub fn roots() -> impl Iterator<Item = &'static str> {
+    FILES.iter().map(|(n, _)| *n).filter(|n| is_root(n))
+}
 
 /// A set of preprocessor names a shader module is built with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

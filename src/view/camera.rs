@@ -73,6 +73,11 @@ pub const DEFAULT_FOV_DEG: f32 = 35.0;
 pub const MIN_DEPTH_RANGE: f32 = 1.0 / 1024.0;
 
 impl Camera {
+    /// Where it looks from and along: what back-to-front orders sort for.
+    pub fn view_ray(&self) -> crate::spatial::order::ViewRay {
+        crate::spatial::order::ViewRay { eye: self.eye(), forward: -self.direction() }
+    }
+
     /// A camera that frames a sphere at `centre` with `radius`, for an image of `aspect` = w/h.
     pub fn framing(centre: Vec3, radius: f32, aspect: f32) -> Self {
         let mut cam = Camera {

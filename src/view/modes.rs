@@ -170,6 +170,7 @@ const REGISTRY: [ModeInfo; 8] = [
         description: "Zhang & Pajarola Algorithm-1: each group back to front into its own image (one geometry pass), then their average (1+1 passes).",
         parameters: &[
             Parameter::Grouping,
+            Parameter::Order,
             Parameter::Epsilon,
             Parameter::RadiusScale,
             Parameter::BackfaceCulling,
@@ -191,6 +192,7 @@ const REGISTRY: [ModeInfo; 8] = [
         parameters: &[
             Parameter::Grouping,
             Parameter::Voronoi,
+            Parameter::Order,
             Parameter::Epsilon,
             Parameter::RadiusScale,
             Parameter::BackfaceCulling,
@@ -212,7 +214,13 @@ const REGISTRY: [ModeInfo; 8] = [
         mode: RenderMode::AlphaBlend,
         name: "alpha-blend",
         description: "Plain α-blending: every splat back to front over the ones behind, no culling (1+1 passes); overlapping splats of one surface blend twice or more, the artefact Algorithm-1 and -2 remove.",
-        parameters: &[Parameter::RadiusScale, Parameter::BackfaceCulling, Parameter::Lighting, Parameter::Background],
+        parameters: &[
+            Parameter::Order,
+            Parameter::RadiusScale,
+            Parameter::BackfaceCulling,
+            Parameter::Lighting,
+            Parameter::Background,
+        ],
         device: Device::Gpu,
         transparent: true,
         preview: RenderMode::AlphaBlend,

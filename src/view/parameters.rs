@@ -33,10 +33,13 @@ pub enum Parameter {
     Eta,
     /// Chromatic dispersion δ of the environment effects.
     Dispersion,
+    /// The back-to-front order of modes that blend in order: Gunjee's bucket
+    /// sort or Zhang & Pajarola's BSP traversal (§5.2.1).
+    Order,
 }
 
 impl Parameter {
-    pub const ALL: [Parameter; 12] = [
+    pub const ALL: [Parameter; 13] = [
         Parameter::Quality,
         Parameter::Epsilon,
         Parameter::RadiusScale,
@@ -49,6 +52,7 @@ impl Parameter {
         Parameter::EnvironmentLayers,
         Parameter::Eta,
         Parameter::Dispersion,
+        Parameter::Order,
     ];
 
     /// The name in `key=value` settings (bench variants).
@@ -66,6 +70,7 @@ impl Parameter {
             Parameter::EnvironmentLayers => "env-layers",
             Parameter::Eta => "eta",
             Parameter::Dispersion => "dispersion",
+            Parameter::Order => "order",
         }
     }
 
@@ -84,6 +89,7 @@ impl Parameter {
             Parameter::EnvironmentLayers => "single, multi or off",
             Parameter::Eta => "a positive index of refraction",
             Parameter::Dispersion => "a dispersion of 0 or more",
+            Parameter::Order => "bucket, bsp or sort",
         }
     }
 
@@ -128,6 +134,7 @@ impl Parameter {
                 };
             }
             Parameter::Eta => settings.environment.eta = positive(value)?,
+            Parameter::Order => settings.order = value.parse().map_err(|_| bad())?,
             // Checked alone (not against η, which may come later in the
             // variant): η - δ is kept above MIN_ETA where it is used.
             Parameter::Dispersion => {

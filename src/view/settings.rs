@@ -37,6 +37,8 @@ pub struct RenderSettings {
     pub shading: Shading,
     /// Reflection and refraction of the scene's environment map, when it has one.
     pub environment: crate::view::environment::EnvironmentSettings,
+    /// How modes that blend in order sort the splats back to front.
+    pub order: crate::spatial::order::OrderKind,
 }
 
 /// Most layers a peeling mode draws.
@@ -89,6 +91,7 @@ impl Default for RenderSettings {
             kernel: SplatKernel::default(),
             shading: Shading::default(),
             environment: Default::default(),
+            order: crate::spatial::order::OrderKind::Bucket,
         }
     }
 }

@@ -53,6 +53,13 @@ pub struct SidecarSettings {
     pub grouping: String,
     pub light_dir_eye: [f32; 3],
     pub background: [f32; 3],
+    /// The back-to-front order (`bucket` in sidecars written before it was a choice).
+    #[serde(default = "bucket")]
+    pub order: String,
+}
+
+fn bucket() -> String {
+    crate::spatial::order::OrderKind::Bucket.to_string()
 }
 
 /// A reproducible view.
@@ -102,6 +109,7 @@ impl Sidecar {
                 grouping: settings.grouping.to_string(),
                 light_dir_eye: settings.shading.light_dir_eye.to_array(),
                 background: settings.shading.background.to_array(),
+                order: settings.order.to_string(),
             },
         }
     }
@@ -169,6 +177,7 @@ impl Sidecar {
             grouping: s.grouping.parse::<GroupingSpec>()?,
             voronoi: s.voronoi,
             lighting: s.lighting,
+            order: s.order.parse()?,
             ..RenderSettings::default()
         };
         settings.shading.light_dir_eye = Vec3::from_array(s.light_dir_eye);

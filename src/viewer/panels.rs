@@ -210,6 +210,17 @@ fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, para
         Parameter::Dispersion => {
             ui.add(egui::Slider::new(&mut s.environment.dispersion, 0.0..=0.1).text("dispersion δ"));
         }
+        Parameter::Order => {
+            use crate::spatial::order::OrderKind;
+            ui.horizontal(|ui| {
+                ui.label("back to front:");
+                ui.radio_value(&mut s.order, OrderKind::Bucket, "bucket sort")
+                    .on_hover_text("Gunjee's bucket sort, O(n): exact up to one slab of thickness ε");
+                ui.radio_value(&mut s.order, OrderKind::Bsp, "BSP tree").on_hover_text(
+                    "Zhang & Pajarola §5.2.1: a BSP tree traversed far side first; unordered inside a leaf",
+                );
+            });
+        }
     }
 }
 

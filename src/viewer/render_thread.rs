@@ -251,7 +251,7 @@ fn gpu_scene<'a>(
 
 fn pass_times(r: &HeadlessRenderer, plan: &RenderPlan) -> Vec<(String, f64)> {
     match r.renderer.pass_times(&r.ctx, plan) {
-        Ok(Some(times)) => plan.passes.iter().zip(times).map(|(p, ms)| (p.name.to_string(), ms)).collect(),
+        Ok(Some(times)) => plan.steps.iter().zip(times).map(|(p, ms)| (p.name.to_string(), ms)).collect(),
         Ok(None) => Vec::new(),
         Err(e) => {
             log::warn!("pass timing: {e}");

@@ -14,14 +14,12 @@
 //! groups are those of `alg1` (covering, `RenderSettings::grouping_for_mode`).
 //! Opaque splats of a mixed scene are drawn apart first as in `alg1`: both
 //! geometry passes cull behind them, and C_O goes over their image.
-//! A scene with nothing transparent runs the opaque two-pass plan.
 
-use super::alg1::{describe, groups, variant, with_opaque};
-use super::two_pass::{OPAQUE_DEPTH, OPAQUE_IMAGE, OpaquePart, TwoPass};
-use super::{FrameDesc, GpuMode, depth_step_note, peeling, per_group};
-use crate::render::gpu_data::PassUniforms;
-use crate::render::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, Recorded, SplatPass};
-use crate::render::plan::{Layout, PlannedPass, RenderPlan, TargetId};
+use super::covering::{describe, groups, variant};
+use super::opaque_part::{self, OPAQUE_DEPTH, OPAQUE_IMAGE, with_opaque};
+use super::{FrameDesc, GpuMode, depth_step_note, per_group};
+use crate::render::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, SplatPass};
+use crate::render::plan::{Layout, RenderPlan, Step, TargetId};
 use crate::render::shaders::Variant;
 use crate::render::targets::{ACCUM_FORMAT, DEPTH_FORMAT, VIEW_DEPTH_FORMAT};
 use crate::view::environment::LayerEffects;
@@ -41,14 +39,29 @@ fn multi_layer(frame: &FrameDesc<'_>) -> bool {
     frame.environment.is_some() && frame.settings.environment.layers == LayerEffects::Multi
 }
 
+/// Says which environment map the composite samples and how.
+fn environment_note(frame: &FrameDesc<'_>) -> Option<String> {
+    let map = frame.environment?;
+    let env = &frame.settings.environment;
+    Some(format!(
+        "environment map {} {}x{}, {} levels ({} bytes, uploaded with the scene), sampled by the composite: reflection, refraction (η {}, dispersion {}), Fresnel, {}-layer{}",
+        map.name,
+        map.width,
+        map.height,
+        map.levels,
+        map.bytes(),
+        env.eta,
+        env.dispersion,
+        env.layers,
+        if multi_layer(frame) { "; O_k sum their opacities (Eq. 15-16's layer count)" } else { "" }
+    ))
+}
+
 impl GpuMode for Alg2 {
     fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan {
-        if !frame.transparent {
-            return peeling::opaque_fallback(frame, TwoPass.plan(frame));
-        }
         let k = groups(frame);
         let target = |id, format, why| frame.target(id, format, Layout::Array { layers: k }, why);
-        let (mut targets, mut passes) = OpaquePart::plan(frame);
+        let (mut targets, mut steps) = opaque_part::plan(frame);
         targets.extend([
             target(NEAR_COLOUR, ACCUM_FORMAT, "pass 1 (deferred): each group's nearest splat, Eq. 4 weight"),
             target(NEAR_NORMAL, ACCUM_FORMAT, "pass 1: w·n for deferred shading, w·α for the nearest layer's opacity"),
@@ -57,68 +70,10 @@ impl GpuMode for Alg2 {
             target(OTHERS, ACCUM_FORMAT, "pass 2 (Algorithm-1): the layers behind the nearest, per group"),
             target(OTHERS_Z, DEPTH_FORMAT, "pass 2: Eq. 10 low-precision depth per group"),
         ]);
-        let mut notes = depth_step_note(frame, true);
-        if let Some(map) = frame.environment {
-            let env = &frame.settings.environment;
-            notes.push(format!(
-                "environment map {} {}x{}, {} levels ({} bytes, uploaded with the scene), sampled by the composite: reflection, refraction (η {}, dispersion {}), Fresnel, {}-layer{}",
-                map.name,
-                map.width,
-                map.height,
-                map.levels,
-                map.bytes(),
-                env.eta,
-                env.dispersion,
-                env.layers,
-                if multi_layer(frame) { "; O_k sum their opacities (Eq. 15-16's layer count)" } else { "" }
-            ));
-        }
-        passes.extend([
-            PlannedPass {
-                name: "nearest layer",
-                what: "group k -> I_k as deferred draws it: w·rgb, w, w·n, w·α, depth; Voronoi z-test".into(),
-                reads: with_opaque(frame, Vec::new(), OPAQUE_DEPTH),
-                writes: vec![NEAR_COLOUR, NEAR_NORMAL, NEAR_DEPTH, NEAR_Z],
-                draws_splats: true,
-                render_passes: k as usize,
-            },
-            PlannedPass {
-                name: "other layers",
-                what: "group k back to front -> O_k, without fragments within ε of the nearest layer".into(),
-                reads: with_opaque(frame, vec![NEAR_COLOUR, NEAR_DEPTH], OPAQUE_DEPTH),
-                writes: vec![OTHERS, OTHERS_Z],
-                draws_splats: true,
-                render_passes: k as usize,
-            },
-            PlannedPass {
-                name: "composite",
-                what: "full screen: C_F (ε-z, normalise, shade), C_O (mean of O_k), I = α·C_F + (1-α)·C_O".into(),
-                reads: with_opaque(frame, vec![NEAR_COLOUR, NEAR_DEPTH, NEAR_NORMAL, OTHERS], OPAQUE_IMAGE),
-                writes: Vec::new(),
-                draws_splats: false,
-                render_passes: 1,
-            },
-        ]);
-        let mut plan = frame.plan(describe(frame), k as usize, passes, targets);
-        plan.notes.extend(notes);
-        plan
-    }
-
-    fn record(&self, frame: &FrameDesc<'_>, plan: &RenderPlan) -> Vec<Recorded> {
-        if !frame.transparent {
-            return TwoPass.record(frame, plan);
-        }
-        let k = groups(frame);
-        let uniforms = |layer: u32| PassUniforms {
-            uniform_colour: frame.uniform_colour_rgba(),
-            depth: [frame.epsilon, frame.depth_steps, 0.0, 0.0],
-            layers: [layer, k, frame.settings.voronoi as u32, 0],
-        };
+        let uniforms = |layer: u32| frame.uniforms(layer, k, frame.settings.voronoi as u32);
         let z_test = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
         let replace = |target| ColourOutput { target, blend: Blend::Replace };
         let others_blend = if multi_layer(frame) { Blend::OverSumAlpha } else { Blend::Over };
-        let mut commands = OpaquePart::record(frame);
-        let first = plan.passes.len() - 3;
         let nearest = SplatPass {
             label: "Alg2Nearest::pass",
             shader: "alg2_nearest.wgsl",
@@ -129,6 +84,7 @@ impl GpuMode for Alg2 {
             inputs: with_opaque(frame, Vec::new(), OPAQUE_DEPTH),
             layer: 0,
             splats: 0..0,
+            back_to_front: false,
             uniforms: uniforms(0),
         };
         let others = SplatPass {
@@ -138,10 +94,9 @@ impl GpuMode for Alg2 {
             colour: vec![ColourOutput { target: OTHERS, blend: others_blend }],
             depth: Some((OTHERS_Z, z_test)),
             inputs: with_opaque(frame, vec![NEAR_COLOUR, NEAR_DEPTH], OPAQUE_DEPTH),
+            back_to_front: true,
             ..nearest.clone()
         };
-        commands.extend(per_group(nearest, frame.transparent_groups, k, first, uniforms));
-        commands.extend(per_group(others, frame.transparent_groups, k, first + 1, uniforms));
         let composite = FullscreenPass {
             label: "Alg2Composite::pass",
             shader: "alg2_composite.wgsl",
@@ -153,11 +108,26 @@ impl GpuMode for Alg2 {
             clear: true,
             uniforms: uniforms(0),
         };
-        commands.push(Recorded { pass: first + 2, command: Command::Fullscreen(composite) });
-        commands
-    }
-
-    fn blends_in_order(&self, frame: &FrameDesc<'_>) -> bool {
-        frame.transparent
+        steps.extend([
+            Step::new(
+                "nearest layer",
+                "group k -> I_k as deferred draws it: w·rgb, w, w·n, w·α, depth; Voronoi z-test",
+                per_group(nearest, frame.transparent_groups, k, uniforms),
+            ),
+            Step::new(
+                "other layers",
+                "group k back to front -> O_k, without fragments within ε of the nearest layer",
+                per_group(others, frame.transparent_groups, k, uniforms),
+            ),
+            Step::new(
+                "composite",
+                "full screen: C_F (ε-z, normalise, shade), C_O (mean of O_k), I = α·C_F + (1-α)·C_O",
+                vec![Command::Fullscreen(composite)],
+            ),
+        ]);
+        let mut plan = frame.plan(describe(frame), k as usize, steps, targets);
+        plan.notes.extend(depth_step_note(frame, true));
+        plan.notes.extend(environment_note(frame));
+        plan
     }
 }

@@ -8,14 +8,11 @@
 //! each surface layer is blended as often as discs cover the pixel (about
 //! 2-3 times on a scan): the double blending that Algorithm-1's groups and
 //! Eq. 10 culling remove. A full-screen pass puts the image over the
-//! background (`shaders/alg1_average.wgsl` with K = 1). A scene with nothing
-//! transparent runs the opaque two-pass plan.
+//! background (`shaders/alg1_average.wgsl` with K = 1).
 
-use super::two_pass::TwoPass;
-use super::{FrameDesc, GpuMode, peeling};
-use crate::render::gpu_data::PassUniforms;
-use crate::render::passes::{Blend, ColourOutput, Command, FullscreenPass, Output, Recorded, SplatPass};
-use crate::render::plan::{Layout, PlannedPass, RenderPlan, TargetId};
+use super::{FrameDesc, GpuMode};
+use crate::render::passes::{Blend, ColourOutput, Command, FullscreenPass, Output, SplatPass};
+use crate::render::plan::{Layout, RenderPlan, Step, TargetId};
 use crate::render::shaders::Variant;
 use crate::render::targets::ACCUM_FORMAT;
 
@@ -25,45 +22,13 @@ const IMAGE: TargetId = TargetId("blended image");
 
 impl GpuMode for AlphaBlend {
     fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan {
-        if !frame.transparent {
-            return peeling::opaque_fallback(frame, TwoPass.plan(frame));
-        }
         let targets = vec![frame.target(
             IMAGE,
             ACCUM_FORMAT,
             Layout::Array { layers: 1 },
             "every splat back to front: shaded rgb·α, α, over; no culling",
         )];
-        let passes = vec![
-            PlannedPass {
-                name: "blend",
-                what: "all splats back to front -> image: rgb·α, α, over; no depth test".into(),
-                reads: Vec::new(),
-                writes: vec![IMAGE],
-                draws_splats: true,
-                render_passes: 1,
-            },
-            PlannedPass {
-                name: "over background",
-                what: "full screen: the image over the background".into(),
-                reads: vec![IMAGE],
-                writes: Vec::new(),
-                draws_splats: false,
-                render_passes: 1,
-            },
-        ];
-        frame.plan((if frame.settings.lighting { "lit" } else { "unlit" }).into(), 1, passes, targets)
-    }
-
-    fn record(&self, frame: &FrameDesc<'_>, plan: &RenderPlan) -> Vec<Recorded> {
-        if !frame.transparent {
-            return TwoPass.record(frame, plan);
-        }
-        let uniforms = PassUniforms {
-            uniform_colour: frame.uniform_colour_rgba(),
-            depth: [frame.epsilon, frame.depth_steps, 0.0, 0.0],
-            layers: [0, 1, 0, 0],
-        };
+        let uniforms = frame.uniforms(0, 1, 0);
         let blend = SplatPass {
             label: "AlphaBlend::pass",
             shader: "alpha_blend.wgsl",
@@ -74,6 +39,7 @@ impl GpuMode for AlphaBlend {
             inputs: Vec::new(),
             layer: 0,
             splats: 0..frame.splats as u32,
+            back_to_front: true,
             uniforms,
         };
         let over = FullscreenPass {
@@ -87,13 +53,14 @@ impl GpuMode for AlphaBlend {
             clear: true,
             uniforms,
         };
-        vec![
-            Recorded { pass: 0, command: Command::Splats(blend) },
-            Recorded { pass: 1, command: Command::Fullscreen(over) },
-        ]
-    }
-
-    fn blends_in_order(&self, frame: &FrameDesc<'_>) -> bool {
-        frame.transparent
+        let steps = vec![
+            Step::new(
+                "blend",
+                "all splats back to front -> image: rgb·α, α, over; no depth test",
+                vec![Command::Splats(blend)],
+            ),
+            Step::new("over background", "full screen: the image over the background", vec![Command::Fullscreen(over)]),
+        ];
+        frame.plan((if frame.settings.lighting { "lit" } else { "unlit" }).into(), 1, steps, targets)
     }
 }

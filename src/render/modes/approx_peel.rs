@@ -9,10 +9,9 @@
 //! blending heuristic and why) and composites it under the exact ones. So the
 //! splats are drawn 2(k - 1) + 1 times, whatever the depth complexity.
 
-use super::two_pass::TwoPass;
 use super::{FrameDesc, GpuMode, peeling};
-use crate::render::passes::{Blend, Command, DepthTest, FullscreenPass, Output, Recorded};
-use crate::render::plan::{PlannedPass, RenderPlan, TargetId};
+use crate::render::passes::{Blend, Command, DepthTest, FullscreenPass, Output};
+use crate::render::plan::{RenderPlan, Step, TargetId};
 
 pub struct ApproxPeel;
 
@@ -21,53 +20,15 @@ const REST: [TargetId; 4] =
 
 impl GpuMode for ApproxPeel {
     fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan {
-        if !frame.transparent {
-            return peeling::opaque_fallback(frame, TwoPass.plan(frame));
-        }
-        let k = peeling::layers(frame);
-        let mut passes = peeling::layer_passes(frame, k - 1);
-        let last = peeling::DEPTH[(k as usize) % 2];
-        passes.push(PlannedPass {
-            name: "accumulate rest",
-            what: format!("splats behind layer {}: Σw·rgb, Σw, Σw·α (+ Σw·n), in any order", k - 1),
-            reads: vec![last],
-            writes: peeling::sums(frame, REST),
-            draws_splats: true,
-            render_passes: 1,
-        });
-        let mut reads = peeling::sums(frame, REST);
-        reads.insert(2, peeling::layer_sums(frame)[0]);
-        reads.push(peeling::COMPOSITE); // blended under it
-        passes.push(PlannedPass {
-            name: "composite rest",
-            what: "the rest as one layer of l = Σw_rest/Σw_layer layers: α = 1 - (1 - ᾱ)^l, under the exact ones"
-                .into(),
-            reads,
-            writes: vec![peeling::COMPOSITE],
-            draws_splats: false,
-            render_passes: 1,
-        });
-        passes.push(peeling::final_pass());
-        let mut targets = peeling::targets(frame);
-        targets.extend(peeling::sum_targets(frame, REST, "Σw·rgb, Σw of everything behind the exact layers"));
-        frame.plan(format!("{}, the last approximate", peeling::describe(frame, k)), 1, passes, targets)
-    }
-
-    fn record(&self, frame: &FrameDesc<'_>, plan: &RenderPlan) -> Vec<Recorded> {
-        if !frame.transparent {
-            return TwoPass.record(frame, plan);
-        }
         let k = peeling::layers(frame);
         let exact = k - 1;
-        let mut commands = peeling::record_layers(frame, exact);
-        let first = 3 * exact as usize;
+        let mut steps = peeling::layer_steps(frame, exact);
         // Layer `exact` peels what lies behind the last exact layer, with no depth test (the
         // free depth target is attached only because the shader writes depth).
         let any_depth = DepthTest { write: false, compare: wgpu::CompareFunction::Always, clear: false };
         let free = peeling::DEPTH[exact as usize % 2];
         let outputs = peeling::additive(peeling::sums(frame, REST));
-        let rest = peeling::splat_pass(frame, exact, peeling::Step::Accumulate, outputs, Some((free, any_depth)));
-        commands.push(Recorded { pass: first, command: Command::Splats(rest) });
+        let rest = peeling::splat_pass(frame, exact, peeling::LayerPass::Accumulate, outputs, Some((free, any_depth)));
         let mut inputs = peeling::sums(frame, REST);
         inputs.insert(2, peeling::layer_sums(frame)[0]);
         let composite = FullscreenPass {
@@ -81,8 +42,19 @@ impl GpuMode for ApproxPeel {
             clear: false,
             uniforms: peeling::uniforms(frame, exact),
         };
-        commands.push(Recorded { pass: first + 1, command: Command::Fullscreen(composite) });
-        commands.push(peeling::record_final(frame, first + 2));
-        commands
+        steps.push(Step::new(
+            "accumulate rest",
+            format!("splats behind layer {exact}: Σw·rgb, Σw, Σw·α (+ Σw·n), in any order"),
+            vec![Command::Splats(rest)],
+        ));
+        steps.push(Step::new(
+            "composite rest",
+            "the rest as one layer of l = Σw_rest/Σw_layer layers: α = 1 - (1 - ᾱ)^l, under the exact ones",
+            vec![Command::Fullscreen(composite)],
+        ));
+        steps.push(peeling::final_step(frame));
+        let mut targets = peeling::targets(frame);
+        targets.extend(peeling::sum_targets(frame, REST, "Σw·rgb, Σw of everything behind the exact layers"));
+        frame.plan(format!("{}, the last approximate", peeling::describe(frame, k)), 1, steps, targets)
     }
 }

@@ -10,9 +10,8 @@
 //! the layers within d + ε, normalises and shades (Fig. 6).
 
 use super::{FrameDesc, GpuMode, depth_step_note, per_group};
-use crate::render::gpu_data::PassUniforms;
-use crate::render::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, Recorded, SplatPass};
-use crate::render::plan::{Layout, PlannedPass, RenderPlan, TargetId};
+use crate::render::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, SplatPass};
+use crate::render::plan::{Layout, RenderPlan, Step, TargetId};
 use crate::render::shaders::Variant;
 use crate::render::targets::{ACCUM_FORMAT, DEPTH_FORMAT, VIEW_DEPTH_FORMAT, colour_format};
 
@@ -56,57 +55,16 @@ impl GpuMode for Deferred {
     fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan {
         let k = layers(frame);
         let target = |id, format, why| frame.target(id, format, Layout::Array { layers: k }, why);
-        let mut targets = vec![if frame.weight_only() {
-            target(WEIGHT, colour_format(true), "Eq. 4's weight per group; the scene has one colour")
-        } else {
-            target(COLOUR, colour_format(false), "Eq. 4: each group's weighted colour w·rgb, w")
-        }];
-        if frame.settings.lighting {
-            targets.push(target(NORMAL, ACCUM_FORMAT, "w·n, w·α for deferred shading"));
-        }
-        targets.push(target(VIEW_DEPTH, VIEW_DEPTH_FORMAT, "true view depth for the ε-z test of Fig. 6"));
-        targets.push(target(Z_BUFFER, DEPTH_FORMAT, "z-test within each group (Voronoi depth if on)"));
-        let mut writes = layer_outputs(frame);
-        writes.push(Z_BUFFER);
-        let passes = vec![
-            PlannedPass {
-                name: "group images",
-                what: "splats of group k -> layer k: w·rgb, w (+ w·n) + depth; z-test per group".into(),
-                reads: Vec::new(),
-                writes,
-                draws_splats: true,
-                render_passes: k as usize,
-            },
-            PlannedPass {
-                name: "composite",
-                what: "full screen: d = min_k depth_k, sum the layers within d + ε, normalise, shade".into(),
-                reads: composite_inputs(frame),
-                writes: Vec::new(),
-                draws_splats: false,
-                render_passes: 1,
-            },
+        let targets = vec![
+            target(WEIGHT, colour_format(true), "Eq. 4's weight per group; the scene has one colour"),
+            target(COLOUR, colour_format(false), "Eq. 4: each group's weighted colour w·rgb, w"),
+            target(NORMAL, ACCUM_FORMAT, "w·n, w·α for deferred shading"),
+            target(VIEW_DEPTH, VIEW_DEPTH_FORMAT, "true view depth for the ε-z test of Fig. 6"),
+            target(Z_BUFFER, DEPTH_FORMAT, "z-test within each group (Voronoi depth if on)"),
         ];
-        let variant = format!(
-            "{}, {}, Voronoi {}{}",
-            frame.settings.grouping,
-            if frame.settings.lighting { "lit" } else { "unlit" },
-            if frame.settings.voronoi { "on" } else { "off" },
-            if frame.weight_only() { ", weights only" } else { "" }
-        );
-        let mut plan = frame.plan(variant, k as usize, passes, targets);
-        plan.notes.extend(depth_step_note(frame, frame.settings.voronoi));
-        plan
-    }
-
-    fn record(&self, frame: &FrameDesc<'_>, _plan: &RenderPlan) -> Vec<Recorded> {
         let variant =
             Variant::NONE.with(Variant::LIT, frame.settings.lighting).with(Variant::WEIGHT_ONLY, frame.weight_only());
-        let k = layers(frame);
-        let uniforms = |layer: u32| PassUniforms {
-            uniform_colour: frame.uniform_colour_rgba(),
-            depth: [frame.epsilon, frame.depth_steps, 0.0, 0.0],
-            layers: [layer, k, frame.settings.voronoi as u32, 0],
-        };
+        let uniforms = |layer: u32| frame.uniforms(layer, k, frame.settings.voronoi as u32);
         let colour: Vec<ColourOutput> =
             layer_outputs(frame).into_iter().map(|target| ColourOutput { target, blend: Blend::Replace }).collect();
         let z_test = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
@@ -120,9 +78,9 @@ impl GpuMode for Deferred {
             inputs: Vec::new(),
             layer: 0,
             splats: 0..0,
+            back_to_front: false,
             uniforms: uniforms(0),
         };
-        let mut commands = per_group(geometry, frame.groups, k, 0, uniforms);
         let composite = FullscreenPass {
             label: "Composite::pass",
             shader: "deferred_composite.wgsl",
@@ -134,7 +92,27 @@ impl GpuMode for Deferred {
             clear: true,
             uniforms: uniforms(0),
         };
-        commands.push(Recorded { pass: 1, command: Command::Fullscreen(composite) });
-        commands
+        let steps = vec![
+            Step::new(
+                "group images",
+                "splats of group k -> layer k: w·rgb, w (+ w·n) + depth; z-test per group",
+                per_group(geometry, frame.groups, k, uniforms),
+            ),
+            Step::new(
+                "composite",
+                "full screen: d = min_k depth_k, sum the layers within d + ε, normalise, shade",
+                vec![Command::Fullscreen(composite)],
+            ),
+        ];
+        let variant = format!(
+            "{}, {}, Voronoi {}{}",
+            frame.settings.grouping,
+            if frame.settings.lighting { "lit" } else { "unlit" },
+            if frame.settings.voronoi { "on" } else { "off" },
+            if frame.weight_only() { ", weights only" } else { "" }
+        );
+        let mut plan = frame.plan(variant, k as usize, steps, targets);
+        plan.notes.extend(depth_step_note(frame, frame.settings.voronoi));
+        plan
     }
 }

@@ -1,24 +1,33 @@
 //! The GPU modes, one file each. A mode turns a frame's description
 //! ([`FrameDesc`]: settings, size, what the uploaded scene holds) into its
-//! [`RenderPlan`] (passes and targets) and records the plan as commands; the
-//! renderer allocates the plan's targets and runs the commands.
+//! [`RenderPlan`]: one list of steps, each the render passes it records. The
+//! renderer allocates the targets those passes bind and runs them in order.
 //!
-//! A new mode is a new file here with a [`GpuMode`] implementation, one line
-//! in [`gpu_mode`], and its entry in the registry (`src/view/modes.rs`).
+//! Policy that holds for every mode lives here, once: a transparent mode
+//! (the registry's `transparent`) given a scene with nothing transparent
+//! runs the opaque two-pass plan and says so ([`plan`]); the pass uniforms
+//! are made by one constructor ([`FrameDesc::uniforms`]).
+//!
+//! A new mode is a new file here with a [`GpuMode`] implementation and its
+//! line in [`gpu_mode`], plus its entry in the registry (`src/view/modes.rs`);
+//! docs/ADDING_A_MODE.md shows the whole diff.
 
 mod alg1;
 mod alg2;
 mod alpha_blend;
 mod approx_peel;
+mod covering;
 mod deferred;
 mod depth_peel;
+mod opaque_part;
 mod peeling;
 mod two_pass;
 
 use std::ops::Range;
 
-use super::passes::Recorded;
-use super::plan::RenderPlan;
+use super::gpu_data::PassUniforms;
+use super::passes::Command;
+use super::plan::{RenderPlan, Step};
 use crate::view::{RenderMode, RenderSettings};
 
 /// Everything a mode needs to know to plan and record a frame.
@@ -63,26 +72,30 @@ impl FrameDesc<'_> {
     }
 
     /// The plan of this frame: its size, splats and ε, with the mode's
-    /// variant in words, its group count, passes and targets.
+    /// variant in words, its group count, steps and the targets they may bind.
     pub fn plan(
         &self,
         variant: String,
         groups: usize,
-        passes: Vec<super::plan::PlannedPass>,
+        steps: Vec<Step>,
         targets: Vec<super::plan::TargetDesc>,
     ) -> RenderPlan {
-        RenderPlan {
-            mode: self.settings.mode,
-            variant,
-            width: self.width,
-            height: self.height,
-            splats: self.splats,
-            epsilon: self.epsilon,
-            groups,
-            passes,
-            // Every plan says when sums can saturate; modes append their own notes.
-            notes: self.sums.note().into_iter().collect(),
-            targets,
+        let size = (self.width, self.height);
+        let mut plan =
+            RenderPlan::new(self.settings.mode, variant, size, self.splats, self.epsilon, groups, steps, targets);
+        // Every plan says when sums can saturate; modes append their own notes.
+        plan.notes.extend(self.sums.note());
+        plan
+    }
+
+    /// The uniforms of one render pass: the frame's one colour, ε and depth
+    /// steps, with the pass's `layer`, a `count` (K for the group modes) and
+    /// a mode's `flag` (Voronoi depth).
+    pub fn uniforms(&self, layer: u32, count: u32, flag: u32) -> PassUniforms {
+        PassUniforms {
+            uniform_colour: self.uniform_colour_rgba(),
+            depth: [self.epsilon, self.depth_steps, 0.0, 0.0],
+            layers: [layer, count, flag, 0],
         }
     }
 
@@ -111,25 +124,23 @@ impl FrameDesc<'_> {
     }
 }
 
-/// `pass` once per group layer 0..k, in plan pass `plan_pass`: each copy
-/// draws its layer, that group's instances among `groups`, with
-/// `uniforms(layer)` (the geometry passes of deferred, alg1 and alg2).
+/// `pass` once per group layer 0..k: each copy draws its layer, that
+/// group's instances among `groups`, with `uniforms(layer)` (the geometry
+/// steps of deferred, alg1 and alg2).
 pub fn per_group(
     pass: super::passes::SplatPass,
     groups: &[Range<u32>],
     k: u32,
-    plan_pass: usize,
-    uniforms: impl Fn(u32) -> super::gpu_data::PassUniforms,
-) -> Vec<Recorded> {
+    uniforms: impl Fn(u32) -> PassUniforms,
+) -> Vec<Command> {
     (0..k)
         .map(|layer| {
-            let pass = super::passes::SplatPass {
+            Command::Splats(super::passes::SplatPass {
                 layer,
                 splats: FrameDesc::group(groups, layer),
                 uniforms: uniforms(layer),
                 ..pass.clone()
-            };
-            Recorded { pass: plan_pass, command: super::passes::Command::Splats(pass) }
+            })
         })
         .collect()
 }
@@ -150,15 +161,9 @@ pub fn depth_step_note(frame: &FrameDesc<'_>, uses_steps: bool) -> Vec<String> {
 
 /// A render mode that runs on the GPU.
 pub trait GpuMode: Sync {
-    /// The passes and targets of a frame.
+    /// The steps of a frame, each with the render passes it records, and
+    /// the targets they bind.
     fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan;
-    /// The frame's render passes, in order, each tagged with its plan pass.
-    fn record(&self, frame: &FrameDesc<'_>, plan: &RenderPlan) -> Vec<Recorded>;
-    /// Whether the frame draws each group back to front (the renderer then
-    /// sorts the scene's instances for the view first).
-    fn blends_in_order(&self, _frame: &FrameDesc<'_>) -> bool {
-        false
-    }
 }
 
 /// The GPU implementation of `mode`, or `None` for a mode that runs on the CPU.
@@ -173,4 +178,20 @@ pub fn gpu_mode(mode: RenderMode) -> Option<&'static dyn GpuMode> {
         RenderMode::AlphaBlend => Some(&alpha_blend::AlphaBlend),
         RenderMode::Reference => None,
     }
+}
+
+/// The plan of a frame in its settings' mode, `None` for a mode that runs on
+/// the CPU. A transparent mode draws a scene with nothing transparent as
+/// `two-pass` does (no layer, peel or group target), and says so.
+pub fn plan(frame: &FrameDesc<'_>) -> Option<RenderPlan> {
+    let mode = frame.settings.mode;
+    let implementation = gpu_mode(mode)?;
+    if mode.info().transparent && !frame.transparent {
+        let mut plan = two_pass::TwoPass.plan(frame);
+        plan.notes.push(format!(
+            "nothing in the scene is transparent, so {mode} runs the opaque two-pass plan: no peeling pass, no layer target"
+        ));
+        return Some(plan);
+    }
+    Some(implementation.plan(frame))
 }

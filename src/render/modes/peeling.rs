@@ -14,8 +14,8 @@
 
 use super::FrameDesc;
 use crate::render::gpu_data::PassUniforms;
-use crate::render::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, Recorded, SplatPass};
-use crate::render::plan::{Layout, PlannedPass, TargetDesc, TargetId};
+use crate::render::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, SplatPass};
+use crate::render::plan::{Layout, Step, TargetDesc, TargetId};
 use crate::render::shaders::Variant;
 use crate::render::targets::DEPTH_FORMAT;
 
@@ -86,89 +86,35 @@ pub fn targets(frame: &FrameDesc<'_>) -> Vec<TargetDesc> {
     out
 }
 
-/// The planned passes of exact layers `0..layers`.
-pub fn layer_passes(frame: &FrameDesc<'_>, layers: u32) -> Vec<PlannedPass> {
-    let mut out = Vec::new();
-    for i in 0..layers {
-        let (depth, previous) = (DEPTH[i as usize % 2], DEPTH[(i as usize + 1) % 2]);
-        let reads = if i == 0 { Vec::new() } else { vec![previous] };
-        let mut written = layer_sums(frame);
-        out.push(PlannedPass {
-            name: "visibility",
-            what: format!("layer {}: splats behind layer {i} -> depth + ε", i + 1),
-            reads: reads.clone(),
-            writes: vec![depth],
-            draws_splats: true,
-            render_passes: 1,
-        });
-        let mut reads_depth = reads;
-        reads_depth.push(depth);
-        out.push(PlannedPass {
-            name: "accumulate",
-            what: format!("layer {}: splats within ε of its front -> Σw·rgb, Σw, Σw·α (+ Σw·n)", i + 1),
-            reads: reads_depth,
-            writes: std::mem::take(&mut written),
-            draws_splats: true,
-            render_passes: 1,
-        });
-        out.push(PlannedPass {
-            name: "composite layer",
-            what: format!("layer {}: normalise, shade facing the viewer, composite under the layers in front", i + 1),
-            // Blending under what the layers in front left (from layer 2 on) reads it.
-            reads: if i == 0 { layer_sums(frame) } else { [layer_sums(frame), vec![COMPOSITE]].concat() },
-            writes: vec![COMPOSITE],
-            draws_splats: false,
-            render_passes: 1,
-        });
-    }
-    out
-}
-
-/// The final pass.
-pub fn final_pass() -> PlannedPass {
-    PlannedPass {
-        name: "final",
-        what: "full screen: the composite over the background -> output".into(),
-        reads: vec![COMPOSITE],
-        writes: Vec::new(),
-        draws_splats: false,
-        render_passes: 1,
-    }
-}
-
 /// The uniforms of a pass of layer `layer`.
 pub fn uniforms(frame: &FrameDesc<'_>, layer: u32) -> PassUniforms {
-    PassUniforms {
-        uniform_colour: frame.uniform_colour_rgba(),
-        depth: [frame.epsilon, frame.depth_steps, 0.0, 0.0],
-        layers: [layer, 0, 0, 0],
-    }
+    frame.uniforms(layer, 0, 0)
 }
 
 /// The two splat passes of a peeled layer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Step {
+pub enum LayerPass {
     /// The nearest fragment behind the previous layer, pushed back by ε.
     Visibility,
     /// The sums of every fragment within ε of that front.
     Accumulate,
 }
 
-/// A splat pass of the peeling shader: `step` of layer `layer`, which reads
+/// A splat pass of the peeling shader: `pass` of layer `layer`, which reads
 /// the previous layer's depth unless it is the first.
 pub fn splat_pass(
     frame: &FrameDesc<'_>,
     layer: u32,
-    step: Step,
+    pass: LayerPass,
     colour: Vec<ColourOutput>,
     depth: Option<(TargetId, DepthTest)>,
 ) -> SplatPass {
     let first = layer == 0;
-    let (label, entry) = match (step, first) {
-        (Step::Visibility, true) => ("PeelVisibility::pass", "fs_front_visibility"),
-        (Step::Visibility, false) => ("PeelVisibility::pass", "fs_peel_visibility"),
-        (Step::Accumulate, true) => ("PeelAccumulate::pass", "fs_front_accumulate"),
-        (Step::Accumulate, false) => ("PeelAccumulate::pass", "fs_peel_accumulate"),
+    let (label, entry) = match (pass, first) {
+        (LayerPass::Visibility, true) => ("PeelVisibility::pass", "fs_front_visibility"),
+        (LayerPass::Visibility, false) => ("PeelVisibility::pass", "fs_peel_visibility"),
+        (LayerPass::Accumulate, true) => ("PeelAccumulate::pass", "fs_front_accumulate"),
+        (LayerPass::Accumulate, false) => ("PeelAccumulate::pass", "fs_peel_accumulate"),
     };
     SplatPass {
         label,
@@ -180,6 +126,7 @@ pub fn splat_pass(
         inputs: if first { Vec::new() } else { vec![DEPTH[(layer as usize + 1) % 2]] },
         layer: 0,
         splats: 0..frame.splats as u32,
+        back_to_front: false,
         uniforms: uniforms(frame, layer),
     }
 }
@@ -189,16 +136,17 @@ pub fn additive(targets: Vec<TargetId>) -> Vec<ColourOutput> {
     targets.into_iter().map(|target| ColourOutput { target, blend: Blend::Add }).collect()
 }
 
-/// Records exact layers `0..layers`, as planned passes `0..3·layers`.
-pub fn record_layers(frame: &FrameDesc<'_>, layers: u32) -> Vec<Recorded> {
+/// The steps of exact layers `0..layers`: three per layer.
+pub fn layer_steps(frame: &FrameDesc<'_>, layers: u32) -> Vec<Step> {
     let mut out = Vec::new();
     for i in 0..layers {
         let depth = DEPTH[i as usize % 2];
         let nearest = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
         let within_epsilon = DepthTest { write: false, compare: wgpu::CompareFunction::LessEqual, clear: false };
-        let visibility = splat_pass(frame, i, Step::Visibility, Vec::new(), Some((depth, nearest)));
+        let visibility = splat_pass(frame, i, LayerPass::Visibility, Vec::new(), Some((depth, nearest)));
         let accumulate =
-            splat_pass(frame, i, Step::Accumulate, additive(layer_sums(frame)), Some((depth, within_epsilon)));
+            splat_pass(frame, i, LayerPass::Accumulate, additive(layer_sums(frame)), Some((depth, within_epsilon)));
+        // Blending under what the layers in front left (from layer 2 on) reads it.
         let composite = FullscreenPass {
             label: "PeelLayer::pass",
             shader: "peel_layer.wgsl",
@@ -210,16 +158,28 @@ pub fn record_layers(frame: &FrameDesc<'_>, layers: u32) -> Vec<Recorded> {
             clear: i == 0,
             uniforms: uniforms(frame, i),
         };
-        let first = 3 * i as usize;
-        out.push(Recorded { pass: first, command: Command::Splats(visibility) });
-        out.push(Recorded { pass: first + 1, command: Command::Splats(accumulate) });
-        out.push(Recorded { pass: first + 2, command: Command::Fullscreen(composite) });
+        let n = i + 1;
+        out.push(Step::new(
+            "visibility",
+            format!("layer {n}: splats behind layer {i} -> depth + ε"),
+            vec![Command::Splats(visibility)],
+        ));
+        out.push(Step::new(
+            "accumulate",
+            format!("layer {n}: splats within ε of its front -> Σw·rgb, Σw, Σw·α (+ Σw·n)"),
+            vec![Command::Splats(accumulate)],
+        ));
+        out.push(Step::new(
+            "composite layer",
+            format!("layer {n}: normalise, shade facing the viewer, composite under the layers in front"),
+            vec![Command::Fullscreen(composite)],
+        ));
     }
     out
 }
 
-/// Records the final pass as planned pass `pass`.
-pub fn record_final(frame: &FrameDesc<'_>, pass: usize) -> Recorded {
+/// The final step: the composite over the background.
+pub fn final_step(frame: &FrameDesc<'_>) -> Step {
     let command = FullscreenPass {
         label: "PeelFinal::pass",
         shader: "peel_final.wgsl",
@@ -231,7 +191,7 @@ pub fn record_final(frame: &FrameDesc<'_>, pass: usize) -> Recorded {
         clear: true,
         uniforms: uniforms(frame, 0),
     };
-    Recorded { pass, command: Command::Fullscreen(command) }
+    Step::new("final", "full screen: the composite over the background -> output", vec![Command::Fullscreen(command)])
 }
 
 /// The variant in words.
@@ -247,17 +207,4 @@ pub fn describe(frame: &FrameDesc<'_>, layers: u32) -> String {
 /// is not transparency; approx-peel needs one exact and one approximate).
 pub fn layers(frame: &FrameDesc<'_>) -> u32 {
     frame.settings.layers_or_default().max(2)
-}
-
-/// The opaque plan a transparent mode runs for a scene with nothing transparent, saying so.
-pub fn opaque_fallback(
-    frame: &FrameDesc<'_>,
-    mut plan: crate::render::plan::RenderPlan,
-) -> crate::render::plan::RenderPlan {
-    plan.notes.push(format!(
-        "nothing in the scene is transparent, so {} runs the opaque two-pass plan: no peeling pass, no layer target",
-        frame.settings.mode
-    ));
-    plan.mode = frame.settings.mode;
-    plan
 }

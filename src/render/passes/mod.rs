@@ -6,7 +6,7 @@
 //! in their fragment entry point, what they write, how they depth-test and
 //! how they blend, so one builder ([`splat`]) makes all of them; the
 //! normalisation and compositing passes share the other ([`fullscreen`]).
-//! A mode records its frame as a list of [`Command`]s; the renderer runs
+//! A mode's plan holds its frame as steps of [`Command`]s; the renderer runs
 //! them, taking pipelines from the cache by their [`PipelineKey`].
 
 pub mod fullscreen;
@@ -71,6 +71,9 @@ pub struct SplatPass {
     pub layer: u32,
     /// The splats to draw (indices into the uploaded scene).
     pub splats: Range<u32>,
+    /// Whether they must be drawn back to front for the view (the renderer
+    /// sorts the scene's instances first, in the order the settings choose).
+    pub back_to_front: bool,
     pub uniforms: PassUniforms,
 }
 
@@ -106,11 +109,21 @@ pub enum Command {
     Fullscreen(FullscreenPass),
 }
 
-/// A command and the plan pass it belongs to (for timing).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Recorded {
-    pub pass: usize,
-    pub command: Command,
+impl Command {
+    pub fn uniforms(&self) -> &PassUniforms {
+        match self {
+            Command::Splats(pass) => &pass.uniforms,
+            Command::Fullscreen(pass) => &pass.uniforms,
+        }
+    }
+
+    /// The WGSL root file its pipeline is built from.
+    pub fn shader(&self) -> &'static str {
+        match self {
+            Command::Splats(pass) => pass.shader,
+            Command::Fullscreen(pass) => pass.shader,
+        }
+    }
 }
 
 /// What makes two pipelines the same: shader, entry point, variant, and the

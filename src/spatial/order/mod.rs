@@ -39,11 +39,6 @@ pub struct ViewRay {
 }
 
 impl ViewRay {
-    /// The view of a camera.
-    pub fn of(camera: &crate::view::Camera) -> Self {
-        Self { eye: camera.eye(), forward: -camera.direction() }
-    }
-
     /// Gunjee's Eq. 12: the distance from the eye to `p` projected on the view direction.
     pub fn depth(&self, p: Vec3) -> f32 {
         (p - self.eye).dot(self.forward)
@@ -70,6 +65,16 @@ impl OrderKind {
     }
 }
 
+impl std::str::FromStr for OrderKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        OrderKind::ALL
+            .into_iter()
+            .find(|k| k.name() == s)
+            .ok_or_else(|| format!("unknown order '{s}'; available: bucket, bsp, sort"))
+    }
+}
+
 impl std::fmt::Display for OrderKind {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())
@@ -91,6 +96,14 @@ impl Orderer {
             OrderKind::Bsp => Orderer::Bsp(BspTree::build(points, radii)),
             OrderKind::Bucket => Orderer::Bucket(BucketSort::for_radii(radii)),
             OrderKind::Sort => Orderer::Sort,
+        }
+    }
+
+    pub fn kind(&self) -> OrderKind {
+        match self {
+            Orderer::Bsp(_) => OrderKind::Bsp,
+            Orderer::Bucket(_) => OrderKind::Bucket,
+            Orderer::Sort => OrderKind::Sort,
         }
     }
 
