@@ -62,3 +62,25 @@ fn only_the_registry_and_the_mode_files_name_a_mode() {
     }
     assert!(checked > 50);
 }
+
+#[test]
+fn the_lower_modules_import_nothing_from_those_above_them() {
+    // (folder, the modules it must not use): the core below stays free of cycles.
+    let rules: [(&str, &[&str]); 4] = [
+        ("spatial", &["crate::cloud", "crate::grouping", "crate::scene"]),
+        ("cloud", &["crate::grouping", "crate::scene"]),
+        ("scene", &["crate::grouping", "crate::bench"]),
+        ("viewer", &["crate::bench"]),
+    ];
+    for (folder, forbidden) in rules {
+        for file in rust_files(&src().join(folder)) {
+            let text = std::fs::read_to_string(&file).unwrap();
+            for (n, line) in text.lines().enumerate() {
+                let code = line.split("//").next().unwrap_or("");
+                for module in forbidden {
+                    assert!(!code.contains(module), "{}:{}: {folder} uses {module}: {line}", file.display(), n + 1);
+                }
+            }
+        }
+    }
+}

@@ -65,7 +65,7 @@ fn mgc_without_relaxation_leaves_no_overlapping_pair_in_a_group() {
 fn the_overlap_graph_is_symmetric_and_matches_brute_force() {
     let cloud = random_cloud(42, 1500, true);
     for c in [1.0, 0.6, 0.3] {
-        let graph = OverlapGraph::build(&cloud, &OverlapOptions { c, ..Default::default() });
+        let graph = OverlapGraph::build(cloud.discs(), &OverlapOptions { c, ..Default::default() });
         for i in 0..cloud.len() {
             let mut found: Vec<u32> = graph.neighbours_of(i).to_vec();
             found.sort_unstable();

@@ -16,7 +16,7 @@ pub struct CacheEntry {
     pub millis: PathBuf,
 }
 
-use crate::grouping::cache::{FNV_OFFSET, fnv1a};
+use crate::hash::{FNV_OFFSET, fnv1a};
 
 /// Where the reference image for these inputs is (or would be) cached.
 pub fn entry(

@@ -18,4 +18,4 @@ pub mod run;
 pub mod views;
 
 pub use report::{BenchRow, PassTime};
-pub use run::{BenchConfig, BenchError, BenchOutcome, Materials, run};
+pub use run::{BenchConfig, BenchError, BenchOutcome, run};

@@ -12,7 +12,7 @@ use crate::grouping::cache::Cache as GroupCache;
 use crate::output::write_atomically;
 use crate::reference::{self, ReferenceOptions};
 use crate::render::{GpuError, GpuScene, HeadlessRenderer, RenderPlan};
-use crate::scene::Scene;
+use crate::scene::{Materials, Scene};
 use crate::view::environment::EnvironmentSettings;
 use crate::view::{Camera, ModeVariant, RenderMode, RenderSettings};
 
@@ -30,15 +30,6 @@ pub enum BenchError {
     },
     #[error("{0}")]
     Invalid(String),
-}
-
-/// Materials every scene of the run gets (`--opacity`, `--color`), and
-/// whether a scene's own background applies (no `--background`).
-#[derive(Debug, Clone, Copy, Default)]
-pub struct Materials {
-    pub opacity: Option<f32>,
-    pub colour: Option<[u8; 3]>,
-    pub scene_background: bool,
 }
 
 /// What to run.

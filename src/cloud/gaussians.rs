@@ -34,7 +34,7 @@ pub fn disc(log_scales: [f64; 3], rotation_wxyz: [f64; 4]) -> Option<(Vec3, f32)
 
 /// The colour (0..255 per channel) of the SH DC coefficients.
 pub fn colour(dc: [f64; 3]) -> [u8; 3] {
-    dc.map(|c| super::load::to_u8((0.5 + SH_C0 * c) * 255.0))
+    dc.map(|c| super::colour::to_u8((0.5 + SH_C0 * c) * 255.0))
 }
 
 /// Opacity in 0..1 from the stored logit (1 when it is not a number).

@@ -14,6 +14,7 @@ use std::time::Instant;
 
 use glam::{DVec3, Vec3};
 
+use super::colour::to_u8;
 use super::estimate::{self, EstimateOptions};
 use super::gaussians;
 use super::ply::{self, PlyData, Scalar};
@@ -106,6 +107,8 @@ fn columns<'a>(data: &'a PlyData, names: &[&str; 3]) -> Option<[&'a Vec<f64>; 3]
     Some([c.get(names[0])?, c.get(names[1])?, c.get(names[2])?])
 }
 
+/// The cloud and report of parsed `data`, in stages: positions, mesh faces,
+/// re-centring, normals, colours, opacity, radii, merging, estimation.
 fn build(
     path: &Path,
     data: PlyData,
@@ -114,258 +117,39 @@ fn build(
 ) -> Result<(PointCloud, LoadReport), CloudError> {
     let n = data.vertex_count;
     let mut warnings = Vec::new();
-    let xyz = columns(&data, &["x", "y", "z"]).ok_or_else(|| CloudError::content(path, "vertices have no x/y/z"))?;
-    let positions: Vec<DVec3> = (0..n).map(|i| DVec3::new(xyz[0][i], xyz[1][i], xyz[2][i])).collect();
-    let mut malformed = vec![false; n];
-    for &i in &data.malformed_vertices {
-        if let Some(m) = malformed.get_mut(i) {
-            *m = true;
-        }
-    }
-    let mut keep: Vec<bool> = positions.iter().zip(&malformed).map(|(p, m)| p.is_finite() && !m).collect();
-    let non_finite = positions.iter().zip(&malformed).filter(|(p, m)| !p.is_finite() && !**m).count();
-    if non_finite > 0 {
-        warnings.push(format!("{non_finite} vertices with NaN or infinite coordinates were skipped"));
-    }
-    if !data.malformed_vertices.is_empty() {
-        warnings.push(format!(
-            "{} vertex lines could not be read (a wrong number of values, or text that is not a number) and were skipped",
-            data.malformed_vertices.len()
-        ));
-    }
-    if data.malformed_records > 0 {
-        warnings.push(format!("{} face or other lines could not be read and were skipped", data.malformed_records));
-    }
-    if data.faces_out_of_range > 0 {
-        warnings.push(format!(
-            "{} faces that refer to vertices the file does not have were skipped",
-            data.faces_out_of_range
-        ));
-    }
-
-    // Mesh faces: area-weighted vertex normals, and unused vertices are dropped.
-    let mut face_normals: Option<Vec<DVec3>> = None;
-    if !data.triangles.is_empty() {
-        let (normals, used) = face_vertex_normals(&positions, &keep, &data.triangles);
-        let unused = (0..n).filter(|&i| keep[i] && !used[i]).count();
-        if unused > 0 {
-            warnings.push(format!("{unused} vertices not used by any face were skipped (they lie off the surface)"));
-        }
-        for i in 0..n {
-            keep[i] &= used[i];
-        }
-        face_normals = Some(normals);
-    }
-    if data.degenerate_faces > 0 {
-        warnings.push(format!("{} faces with fewer than 3 vertices were skipped", data.degenerate_faces));
-    }
+    let (positions, mut keep) = read_positions(path, &data, &mut warnings)?;
+    let face_normals = drop_off_surface_vertices(&data, &positions, &mut keep, &mut warnings);
     let kept: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
     if kept.is_empty() {
         return Err(CloudError::content(path, "the file has no vertex with finite coordinates"));
     }
+    let (mut cloud, frame) = place(&positions, &kept, &mut warnings);
 
-    // Re-centre in f64 on the bounding-box centre, and rescale models whose
-    // size f32 cannot square (or resolve).
-    let (lo, hi) = kept
-        .iter()
-        .fold((positions[kept[0]], positions[kept[0]]), |(lo, hi), &i| (lo.min(positions[i]), hi.max(positions[i])));
-    let origin = (lo + hi) * 0.5;
-    let extent = (hi - lo).max_element();
-    let scale_exponent = unit_exponent(extent);
-    let unit = 10f64.powi(scale_exponent);
-    if scale_exponent != 0 {
-        warnings.push(format!(
-            "the model spans {extent:.3e} units, beyond what f32 rendering handles; coordinates and radii are in units of 1e{scale_exponent}"
-        ));
-    }
-    let mut cloud = PointCloud {
-        positions: kept.iter().map(|&i| ((positions[i] - origin) / unit).as_vec3()).collect(),
-        origin: origin.to_array(),
-        scale_exponent,
-        ..Default::default()
+    let source = Source {
+        data: &data,
+        kept: &kept,
+        unit: frame.unit,
+        gaussians: gaussians::PROPERTIES.iter().all(|g| data.vertex_columns.contains_key(*g)),
     };
-    if extent > 0.0 && extent / (hi.abs().max(lo.abs()).max_element().max(1e-300)) < 1e-6 {
-        warnings.push("the coordinates span less than a millionth of their magnitude; precision may be lost".into());
-    }
-
-    let gaussians = gaussians::PROPERTIES.iter().all(|g| data.vertex_columns.contains_key(*g));
-    let gather = |col: &Vec<f64>| -> Vec<f64> { kept.iter().map(|&i| col[i]).collect() };
     cloud.normals = vec![Vec3::ZERO; kept.len()];
     cloud.radii = vec![0.0; kept.len()];
-    let mut needs_normal = vec![true; kept.len()];
-    let mut needs_radius = vec![true; kept.len()];
-
-    // Normals (and, for Gaussians, radii): the Gaussian's own axes first,
-    // then the file's normals, then the faces'.
-    let mut normals_from = Provenance::Estimated;
-    let mut radii_from = Provenance::Estimated;
-    if gaussians {
-        normals_from = Provenance::FromGaussians;
-        radii_from = Provenance::FromGaussians;
-        let c = &data.vertex_columns;
-        let mut bad = 0;
-        for (k, &i) in kept.iter().enumerate() {
-            let scales = [c["scale_0"][i], c["scale_1"][i], c["scale_2"][i]];
-            let rotation = [c["rot_0"][i], c["rot_1"][i], c["rot_2"][i], c["rot_3"][i]];
-            match gaussians::disc(scales, rotation) {
-                Some((normal, radius)) if ((radius as f64) / unit).is_finite() => {
-                    cloud.normals[k] = normal;
-                    cloud.radii[k] = (radius as f64 / unit) as f32;
-                    needs_normal[k] = false;
-                    needs_radius[k] = false;
-                }
-                _ => bad += 1,
-            }
-        }
-        if bad > 0 {
-            warnings.push(format!(
-                "{bad} Gaussians with degenerate scales or rotation got normals and radii from their neighbours"
-            ));
-        }
-    } else if let Some(cols) = NORMAL_NAMES.iter().find_map(|names| columns(&data, names)) {
-        normals_from = Provenance::FromFile;
-        let mut bad = 0;
-        for (k, &i) in kept.iter().enumerate() {
-            let v = Vec3::new(cols[0][i] as f32, cols[1][i] as f32, cols[2][i] as f32);
-            let len = v.length();
-            if len.is_finite() && len > 1e-12 {
-                cloud.normals[k] = v / len;
-                needs_normal[k] = false;
-            } else {
-                bad += 1;
-            }
-        }
-        if bad > 0 {
-            warnings.push(format!("{bad} zero or non-finite normals were re-estimated from neighbours"));
-        }
-    } else if let Some(face_normals) = &face_normals {
-        normals_from = Provenance::FromFaces;
-        let mut bad = 0;
-        for (k, &i) in kept.iter().enumerate() {
-            let v = face_normals[i];
-            if v.length() > 0.0 && v.is_finite() {
-                cloud.normals[k] = v.normalize().as_vec3();
-                needs_normal[k] = false;
-            } else {
-                bad += 1;
-            }
-        }
-        if bad > 0 {
-            warnings.push(format!("{bad} vertices whose faces have zero area got normals from neighbours"));
-        }
+    let mut needs = Needs { normal: vec![true; kept.len()], radius: vec![true; kept.len()] };
+    let (mut normals_from, mut radii_from) =
+        source.normals(&mut cloud, &mut needs, face_normals.as_deref(), &mut warnings);
+    let colors_from = source.colours(&mut cloud);
+    let opacity_from = source.opacity(&mut cloud, &mut warnings);
+    if let Some(from) = source.radii(&mut cloud, &mut needs, frame.diagonal, &mut warnings) {
+        radii_from = from;
     }
 
-    // Colours.
-    let mut colors_from = Provenance::Default;
-    cloud.colors = vec![DEFAULT_COLOR; kept.len()];
-    if let Some((names, cols)) = COLOR_NAMES.iter().find_map(|names| Some((names, columns(&data, names)?))) {
-        colors_from = Provenance::FromFile;
-        let scale = 255.0 / data.vertex_types.get(names[0]).map_or(1.0, |t: &Scalar| t.unit_max());
-        let floats_above_one = data.vertex_types.get(names[0]).is_some_and(|t| t.is_float())
-            && kept.iter().any(|&i| cols[0][i] > 1.0 || cols[1][i] > 1.0 || cols[2][i] > 1.0);
-        // Float colours above 1 are taken as 0-255 values.
-        let scale = if floats_above_one { 1.0 } else { scale };
-        for (k, &i) in kept.iter().enumerate() {
-            cloud.colors[k] = [0, 1, 2].map(|c| to_u8(cols[c][i] * scale));
-        }
-    } else if gaussians {
-        colors_from = Provenance::FromGaussians;
-        let c = &data.vertex_columns;
-        for (k, &i) in kept.iter().enumerate() {
-            cloud.colors[k] = gaussians::colour([c["f_dc_0"][i], c["f_dc_1"][i], c["f_dc_2"][i]]);
-        }
-    }
-
-    // Opacity.
-    let mut opacity_from = Provenance::Default;
-    cloud.opacity = vec![1.0; kept.len()];
-    let alpha_column =
-        ALPHA_NAMES.iter().find(|n| data.vertex_columns.contains_key(**n) && !(gaussians && **n == "opacity"));
-    if let Some(name) = alpha_column {
-        opacity_from = Provenance::FromFile;
-        let col = gather(&data.vertex_columns[*name]);
-        let unit = data.vertex_types.get(*name).map_or(1.0, |t| t.unit_max());
-        let mut clamped = 0;
-        for (a, v) in cloud.opacity.iter_mut().zip(&col) {
-            let x = v / unit;
-            if !(0.0..=1.0).contains(&x) {
-                clamped += 1;
-            }
-            *a = if x.is_finite() { x.clamp(0.0, 1.0) as f32 } else { 1.0 };
-        }
-        if clamped > 0 {
-            warnings.push(format!("{clamped} {name} values outside 0..1 were clamped"));
-        }
-    } else if gaussians {
-        opacity_from = Provenance::FromGaussians;
-        for (a, &i) in cloud.opacity.iter_mut().zip(&kept) {
-            *a = gaussians::opacity(data.vertex_columns["opacity"][i]);
-        }
-    }
-    if cloud.opacity.iter().all(|&a| a <= 0.0) {
-        warnings.push("alpha is 0 for every vertex (an unused channel); the cloud is rendered opaque".into());
-        cloud.opacity.iter_mut().for_each(|a| *a = 1.0);
-    }
-
-    // Radii from the file (Gaussians have theirs already).
-    if let (Some(col), false) = (data.vertex_columns.get("radius"), gaussians) {
-        radii_from = Provenance::FromFile;
-        let mut bad = 0;
-        for (k, &i) in kept.iter().enumerate() {
-            let r = (col[i] / unit) as f32;
-            if r.is_finite() && r > 0.0 {
-                cloud.radii[k] = r;
-                needs_radius[k] = false;
-            } else {
-                bad += 1;
-            }
-        }
-        if bad > 0 {
-            warnings.push(format!("{bad} radii that were zero, negative or not finite were re-estimated"));
-        }
-    }
-    let diagonal = ((hi - lo) / unit).length() as f32;
-    // A splat larger than a quarter of the model is no surface sample.
-    let (clamped, limit) = clamp_given_radii(&mut cloud.radii, &needs_radius, diagonal);
-    if clamped > 0 {
-        warnings.push(format!(
-            "{clamped} radii larger than {limit:.4e} ({FILE_RADIUS_OVER_MEDIAN}x the median radius, at most a quarter of the model's size) were clamped to it; such outliers would cover the view"
-        ));
-    }
-
-    let merged = super::duplicates::merge(&mut cloud, &mut needs_normal, &mut needs_radius);
+    let merged = super::duplicates::merge(&mut cloud, &mut needs.normal, &mut needs.radius);
     if merged > 0 {
         warnings.push(format!(
             "{merged} splats that repeat another's position, normal and radius exactly were merged into it (colour and opacity averaged)"
         ));
     }
-
-    let estimate_started = Instant::now();
-    let scanner = (-origin / unit).as_vec3();
-    let estimated =
-        estimate::complete(&mut cloud, &needs_normal, &needs_radius, scanner, &options.estimate, options.progress);
-    if estimated.isolated_points > 0 {
-        warnings.push(format!(
-            "{} points whose nearest neighbours all coincide with them got the median radius",
-            estimated.isolated_points
-        ));
-    }
-    if estimated.clamped_radii > 0 {
-        warnings.push(format!(
-            "{} outlier radii were clamped to {}x the median",
-            estimated.clamped_radii,
-            estimate::MAX_RADIUS_OVER_MEDIAN
-        ));
-    }
-    if let Some(normal) = estimated.line_normal {
-        warnings.push(format!(
-            "the points lie on a line, so their normals are undefined; they were set to ({:.2}, {:.2}, {:.2}), across the line and towards the front view",
-            normal.x, normal.y, normal.z
-        ));
-    }
-    cloud.scanner_position = estimated.scanner_position;
-    let estimate_seconds = estimate_started.elapsed().as_secs_f64();
-    if !needs_normal.iter().any(|&b| b) && normals_from == Provenance::Estimated {
+    let estimate_seconds = estimate_missing(&mut cloud, &needs, &frame, options, &mut warnings);
+    if !needs.normal.iter().any(|&b| b) && normals_from == Provenance::Estimated {
         normals_from = Provenance::FromFile;
     }
 
@@ -389,6 +173,330 @@ fn build(
     };
     debug_assert!(cloud.is_consistent());
     Ok((cloud, report))
+}
+
+/// The file's vertex positions, and which of them are usable (finite, and
+/// on a line that could be read); warns of the records the parser skipped.
+fn read_positions(
+    path: &Path,
+    data: &PlyData,
+    warnings: &mut Vec<String>,
+) -> Result<(Vec<DVec3>, Vec<bool>), CloudError> {
+    let n = data.vertex_count;
+    let xyz = columns(data, &["x", "y", "z"]).ok_or_else(|| CloudError::content(path, "vertices have no x/y/z"))?;
+    let positions: Vec<DVec3> = (0..n).map(|i| DVec3::new(xyz[0][i], xyz[1][i], xyz[2][i])).collect();
+    let mut malformed = vec![false; n];
+    for &i in &data.malformed_vertices {
+        if let Some(m) = malformed.get_mut(i) {
+            *m = true;
+        }
+    }
+    let keep: Vec<bool> = positions.iter().zip(&malformed).map(|(p, m)| p.is_finite() && !m).collect();
+    let non_finite = positions.iter().zip(&malformed).filter(|(p, m)| !p.is_finite() && !**m).count();
+    if non_finite > 0 {
+        warnings.push(format!("{non_finite} vertices with NaN or infinite coordinates were skipped"));
+    }
+    if !data.malformed_vertices.is_empty() {
+        warnings.push(format!(
+            "{} vertex lines could not be read (a wrong number of values, or text that is not a number) and were skipped",
+            data.malformed_vertices.len()
+        ));
+    }
+    if data.malformed_records > 0 {
+        warnings.push(format!("{} face or other lines could not be read and were skipped", data.malformed_records));
+    }
+    if data.faces_out_of_range > 0 {
+        warnings.push(format!(
+            "{} faces that refer to vertices the file does not have were skipped",
+            data.faces_out_of_range
+        ));
+    }
+    Ok((positions, keep))
+}
+
+/// Mesh faces: area-weighted vertex normals (per file vertex), and the
+/// vertices no face uses are dropped from `keep`. `None` without faces.
+fn drop_off_surface_vertices(
+    data: &PlyData,
+    positions: &[DVec3],
+    keep: &mut [bool],
+    warnings: &mut Vec<String>,
+) -> Option<Vec<DVec3>> {
+    let mut face_normals: Option<Vec<DVec3>> = None;
+    if !data.triangles.is_empty() {
+        let (normals, used) = face_vertex_normals(positions, keep, &data.triangles);
+        let unused = (0..keep.len()).filter(|&i| keep[i] && !used[i]).count();
+        if unused > 0 {
+            warnings.push(format!("{unused} vertices not used by any face were skipped (they lie off the surface)"));
+        }
+        for (k, u) in keep.iter_mut().zip(&used) {
+            *k &= *u;
+        }
+        face_normals = Some(normals);
+    }
+    if data.degenerate_faces > 0 {
+        warnings.push(format!("{} faces with fewer than 3 vertices were skipped", data.degenerate_faces));
+    }
+    face_normals
+}
+
+/// Where the cloud sits in the file's coordinates.
+struct Frame {
+    /// The bounding-box centre, subtracted from every position.
+    origin: DVec3,
+    /// 10^scale_exponent: lengths are divided by it.
+    unit: f64,
+    /// The bounding box's diagonal, in the cloud's units.
+    diagonal: f32,
+}
+
+/// Re-centres the `kept` positions in f64 on the bounding-box centre, and
+/// rescales models whose size f32 cannot square (or resolve).
+fn place(positions: &[DVec3], kept: &[usize], warnings: &mut Vec<String>) -> (PointCloud, Frame) {
+    let (lo, hi) = kept
+        .iter()
+        .fold((positions[kept[0]], positions[kept[0]]), |(lo, hi), &i| (lo.min(positions[i]), hi.max(positions[i])));
+    let origin = (lo + hi) * 0.5;
+    let extent = (hi - lo).max_element();
+    let scale_exponent = unit_exponent(extent);
+    let unit = 10f64.powi(scale_exponent);
+    if scale_exponent != 0 {
+        warnings.push(format!(
+            "the model spans {extent:.3e} units, beyond what f32 rendering handles; coordinates and radii are in units of 1e{scale_exponent}"
+        ));
+    }
+    let cloud = PointCloud {
+        positions: kept.iter().map(|&i| ((positions[i] - origin) / unit).as_vec3()).collect(),
+        origin: origin.to_array(),
+        scale_exponent,
+        ..Default::default()
+    };
+    if extent > 0.0 && extent / (hi.abs().max(lo.abs()).max_element().max(1e-300)) < 1e-6 {
+        warnings.push("the coordinates span less than a millionth of their magnitude; precision may be lost".into());
+    }
+    (cloud, Frame { origin, unit, diagonal: ((hi - lo) / unit).length() as f32 })
+}
+
+/// What the attributes are read from: the file's columns, the vertices kept
+/// (splat k is file vertex `kept[k]`), and the unit lengths are divided by.
+struct Source<'a> {
+    data: &'a PlyData,
+    kept: &'a [usize],
+    unit: f64,
+    /// The file holds 3D Gaussian splats.
+    gaussians: bool,
+}
+
+/// Which splats still need a normal or a radius estimated.
+struct Needs {
+    normal: Vec<bool>,
+    radius: Vec<bool>,
+}
+
+impl Source<'_> {
+    /// Normals (and, for Gaussians, radii): the Gaussian's own axes first,
+    /// then the file's normals, then the faces'. Returns where normals and radii came from.
+    fn normals(
+        &self,
+        cloud: &mut PointCloud,
+        needs: &mut Needs,
+        face_normals: Option<&[DVec3]>,
+        warnings: &mut Vec<String>,
+    ) -> (Provenance, Provenance) {
+        let (data, kept, unit) = (self.data, self.kept, self.unit);
+        let mut normals_from = Provenance::Estimated;
+        let mut radii_from = Provenance::Estimated;
+        if self.gaussians {
+            normals_from = Provenance::FromGaussians;
+            radii_from = Provenance::FromGaussians;
+            let c = &data.vertex_columns;
+            let mut bad = 0;
+            for (k, &i) in kept.iter().enumerate() {
+                let scales = [c["scale_0"][i], c["scale_1"][i], c["scale_2"][i]];
+                let rotation = [c["rot_0"][i], c["rot_1"][i], c["rot_2"][i], c["rot_3"][i]];
+                match gaussians::disc(scales, rotation) {
+                    Some((normal, radius)) if ((radius as f64) / unit).is_finite() => {
+                        cloud.normals[k] = normal;
+                        cloud.radii[k] = (radius as f64 / unit) as f32;
+                        needs.normal[k] = false;
+                        needs.radius[k] = false;
+                    }
+                    _ => bad += 1,
+                }
+            }
+            if bad > 0 {
+                warnings.push(format!(
+                    "{bad} Gaussians with degenerate scales or rotation got normals and radii from their neighbours"
+                ));
+            }
+        } else if let Some(cols) = NORMAL_NAMES.iter().find_map(|names| columns(data, names)) {
+            normals_from = Provenance::FromFile;
+            let mut bad = 0;
+            for (k, &i) in kept.iter().enumerate() {
+                let v = Vec3::new(cols[0][i] as f32, cols[1][i] as f32, cols[2][i] as f32);
+                let len = v.length();
+                if len.is_finite() && len > 1e-12 {
+                    cloud.normals[k] = v / len;
+                    needs.normal[k] = false;
+                } else {
+                    bad += 1;
+                }
+            }
+            if bad > 0 {
+                warnings.push(format!("{bad} zero or non-finite normals were re-estimated from neighbours"));
+            }
+        } else if let Some(face_normals) = face_normals {
+            normals_from = Provenance::FromFaces;
+            let mut bad = 0;
+            for (k, &i) in kept.iter().enumerate() {
+                let v = face_normals[i];
+                if v.length() > 0.0 && v.is_finite() {
+                    cloud.normals[k] = v.normalize().as_vec3();
+                    needs.normal[k] = false;
+                } else {
+                    bad += 1;
+                }
+            }
+            if bad > 0 {
+                warnings.push(format!("{bad} vertices whose faces have zero area got normals from neighbours"));
+            }
+        }
+        (normals_from, radii_from)
+    }
+
+    /// Colours: the file's, else the Gaussians' SH DC term, else [`DEFAULT_COLOR`].
+    fn colours(&self, cloud: &mut PointCloud) -> Provenance {
+        let (data, kept) = (self.data, self.kept);
+        let mut colors_from = Provenance::Default;
+        cloud.colors = vec![DEFAULT_COLOR; kept.len()];
+        if let Some((names, cols)) = COLOR_NAMES.iter().find_map(|names| Some((names, columns(data, names)?))) {
+            colors_from = Provenance::FromFile;
+            let scale = 255.0 / data.vertex_types.get(names[0]).map_or(1.0, |t: &Scalar| t.unit_max());
+            let floats_above_one = data.vertex_types.get(names[0]).is_some_and(|t| t.is_float())
+                && kept.iter().any(|&i| cols[0][i] > 1.0 || cols[1][i] > 1.0 || cols[2][i] > 1.0);
+            // Float colours above 1 are taken as 0-255 values.
+            let scale = if floats_above_one { 1.0 } else { scale };
+            for (k, &i) in kept.iter().enumerate() {
+                cloud.colors[k] = [0, 1, 2].map(|c| to_u8(cols[c][i] * scale));
+            }
+        } else if self.gaussians {
+            colors_from = Provenance::FromGaussians;
+            let c = &data.vertex_columns;
+            for (k, &i) in kept.iter().enumerate() {
+                cloud.colors[k] = gaussians::colour([c["f_dc_0"][i], c["f_dc_1"][i], c["f_dc_2"][i]]);
+            }
+        }
+        colors_from
+    }
+
+    /// Opacity: an alpha column, else the Gaussians' logit, else opaque (and
+    /// opaque too where every value is 0, an unused channel).
+    fn opacity(&self, cloud: &mut PointCloud, warnings: &mut Vec<String>) -> Provenance {
+        let (data, kept, gaussians) = (self.data, self.kept, self.gaussians);
+        let gather = |col: &Vec<f64>| -> Vec<f64> { kept.iter().map(|&i| col[i]).collect() };
+        let mut opacity_from = Provenance::Default;
+        cloud.opacity = vec![1.0; kept.len()];
+        let alpha_column =
+            ALPHA_NAMES.iter().find(|n| data.vertex_columns.contains_key(**n) && !(gaussians && **n == "opacity"));
+        if let Some(name) = alpha_column {
+            opacity_from = Provenance::FromFile;
+            let col = gather(&data.vertex_columns[*name]);
+            let unit = data.vertex_types.get(*name).map_or(1.0, |t| t.unit_max());
+            let mut clamped = 0;
+            for (a, v) in cloud.opacity.iter_mut().zip(&col) {
+                let x = v / unit;
+                if !(0.0..=1.0).contains(&x) {
+                    clamped += 1;
+                }
+                *a = if x.is_finite() { x.clamp(0.0, 1.0) as f32 } else { 1.0 };
+            }
+            if clamped > 0 {
+                warnings.push(format!("{clamped} {name} values outside 0..1 were clamped"));
+            }
+        } else if gaussians {
+            opacity_from = Provenance::FromGaussians;
+            for (a, &i) in cloud.opacity.iter_mut().zip(kept) {
+                *a = gaussians::opacity(data.vertex_columns["opacity"][i]);
+            }
+        }
+        if cloud.opacity.iter().all(|&a| a <= 0.0) {
+            warnings.push("alpha is 0 for every vertex (an unused channel); the cloud is rendered opaque".into());
+            cloud.opacity.iter_mut().for_each(|a| *a = 1.0);
+        }
+        opacity_from
+    }
+
+    /// Radii from the file (Gaussians have theirs already), then every given
+    /// radius clamped against outliers; `Some(FromFile)` when the file has radii.
+    fn radii(
+        &self,
+        cloud: &mut PointCloud,
+        needs: &mut Needs,
+        diagonal: f32,
+        warnings: &mut Vec<String>,
+    ) -> Option<Provenance> {
+        let mut radii_from = None;
+        if let (Some(col), false) = (self.data.vertex_columns.get("radius"), self.gaussians) {
+            radii_from = Some(Provenance::FromFile);
+            let mut bad = 0;
+            for (k, &i) in self.kept.iter().enumerate() {
+                let r = (col[i] / self.unit) as f32;
+                if r.is_finite() && r > 0.0 {
+                    cloud.radii[k] = r;
+                    needs.radius[k] = false;
+                } else {
+                    bad += 1;
+                }
+            }
+            if bad > 0 {
+                warnings.push(format!("{bad} radii that were zero, negative or not finite were re-estimated"));
+            }
+        }
+        // A splat larger than a quarter of the model is no surface sample.
+        let (clamped, limit) = clamp_given_radii(&mut cloud.radii, &needs.radius, diagonal);
+        if clamped > 0 {
+            warnings.push(format!(
+                "{clamped} radii larger than {limit:.4e} ({FILE_RADIUS_OVER_MEDIAN}x the median radius, at most a quarter of the model's size) were clamped to it; such outliers would cover the view"
+            ));
+        }
+        radii_from
+    }
+}
+
+/// Estimates the normals and radii the splats still `need` (and where a
+/// single-view scan was taken from); returns the seconds it took.
+fn estimate_missing(
+    cloud: &mut PointCloud,
+    needs: &Needs,
+    frame: &Frame,
+    options: &LoadOptions,
+    warnings: &mut Vec<String>,
+) -> f64 {
+    let estimate_started = Instant::now();
+    let scanner = (-frame.origin / frame.unit).as_vec3();
+    let estimated =
+        estimate::complete(cloud, &needs.normal, &needs.radius, scanner, &options.estimate, options.progress);
+    if estimated.isolated_points > 0 {
+        warnings.push(format!(
+            "{} points whose nearest neighbours all coincide with them got the median radius",
+            estimated.isolated_points
+        ));
+    }
+    if estimated.clamped_radii > 0 {
+        warnings.push(format!(
+            "{} outlier radii were clamped to {}x the median",
+            estimated.clamped_radii,
+            estimate::MAX_RADIUS_OVER_MEDIAN
+        ));
+    }
+    if let Some(normal) = estimated.line_normal {
+        warnings.push(format!(
+            "the points lie on a line, so their normals are undefined; they were set to ({:.2}, {:.2}, {:.2}), across the line and towards the front view",
+            normal.x, normal.y, normal.z
+        ));
+    }
+    cloud.scanner_position = estimated.scanner_position;
+    estimate_started.elapsed().as_secs_f64()
 }
 
 /// Radii read from a file are clamped to this multiple of their median: one
@@ -429,10 +537,6 @@ fn unit_exponent(extent: f64) -> i32 {
     } else {
         0
     }
-}
-
-pub(super) fn to_u8(v: f64) -> u8 {
-    if v.is_finite() { v.round().clamp(0.0, 255.0) as u8 } else { 0 }
 }
 
 /// Area-weighted vertex normals of a triangle mesh, and which vertices faces use.

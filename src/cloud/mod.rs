@@ -7,6 +7,7 @@
 //! ([`duplicates`]) and estimates what the file lacks; the [`LoadReport`]
 //! says what was read, estimated, merged and repaired.
 
+mod colour;
 pub mod duplicates;
 mod error;
 pub mod estimate;
@@ -20,6 +21,8 @@ pub use error::CloudError;
 pub use load::{LoadOptions, load, load_surface_samples, load_with};
 
 use glam::Vec3;
+
+use crate::spatial::overlap::Discs;
 
 /// A set of surface splats, stored as a structure of arrays.
 #[derive(Debug, Clone, Default)]
@@ -72,6 +75,11 @@ impl PointCloud {
 
     pub fn is_empty(&self) -> bool {
         self.positions.is_empty()
+    }
+
+    /// The splats as the overlap graph reads them.
+    pub fn discs(&self) -> Discs<'_> {
+        Discs { positions: &self.positions, normals: &self.normals, radii: &self.radii, colours: &self.colors }
     }
 
     /// Bounds of the splat centres, or `None` for an empty cloud.

@@ -7,6 +7,7 @@ use anyhow::{Context, Result, bail};
 use pointblend::bench::{self, BenchConfig};
 use pointblend::cloud;
 use pointblend::render::HeadlessRenderer;
+use pointblend::scene::Materials;
 use pointblend::view::ModeVariant;
 
 use super::shared::ViewArgs;
@@ -100,7 +101,7 @@ pub fn run(args: &Args) -> Result<()> {
         environment,
         variants,
         settings: args.view.base_settings(&pointblend::scene::Scene::default())?,
-        materials: pointblend::bench::Materials {
+        materials: Materials {
             opacity: args.view.opacity,
             colour: args.view.color,
             scene_background: args.view.background.is_none(),

@@ -9,6 +9,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use pointblend::bench::{self, BenchConfig};
 use pointblend::render::{HeadlessRenderer, RenderMode};
+use pointblend::scene::Materials;
 use pointblend::view::ModeVariant;
 use pointblend::view::{RenderSettings, Sidecar};
 use pointblend::viewer::{self, ViewerError, ViewerOptions};
@@ -65,11 +66,7 @@ pub fn run(args: &Args) -> Result<()> {
         view,
         mode: args.mode,
         cache: None,
-        materials: bench::Materials {
-            opacity: args.opacity,
-            colour: args.color,
-            scene_background: args.background.is_none(),
-        },
+        materials: Materials { opacity: args.opacity, colour: args.color, scene_background: args.background.is_none() },
         background: args.background.map(|c| glam::Vec3::from_array(c.map(f32::from)) / 255.0),
         environment: args.env.clone(),
     };
@@ -110,11 +107,7 @@ fn headless_main_job(args: &Args) -> Result<()> {
         environment,
         variants,
         settings,
-        materials: bench::Materials {
-            opacity: args.opacity,
-            colour: args.color,
-            scene_background: args.background.is_none(),
-        },
+        materials: Materials { opacity: args.opacity, colour: args.color, scene_background: args.background.is_none() },
         width: 512,
         height: 512,
         frames: 5,

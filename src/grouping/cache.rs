@@ -11,11 +11,11 @@
 //! (`$POINTBLEND_CACHE_MB`, default [`DEFAULT_MAX_MB`]) by deleting the
 //! entries used least recently; a hit refreshes an entry's time.
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::time::SystemTime;
 
 use super::{Grouping, GroupingError};
+use crate::hash::{file_hash, fnv1a};
 
 const MAGIC: &[u8; 8] = b"PBGROUP1";
 
@@ -110,35 +110,12 @@ pub fn directory() -> PathBuf {
     std::env::temp_dir().join("pointblend")
 }
 
-/// The FNV-1a 64 offset basis: the hash of no bytes.
-pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
-
-/// FNV-1a, 64 bits, continued from `hash` over `bytes`: tiny, and stable
-/// across runs and builds where `std`'s hasher is not.
-pub fn fnv1a(hash: u64, bytes: &[u8]) -> u64 {
-    bytes.iter().fold(hash, |h, &b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
-}
-
-/// FNV-1a of the file's bytes (the model hash that screenshot sidecars carry).
-pub fn file_hash(model: &Path) -> std::io::Result<u64> {
-    let mut hash = FNV_OFFSET;
-    let mut file = std::fs::File::open(model)?;
-    let mut buffer = vec![0u8; 1 << 20];
-    loop {
-        let read = file.read(&mut buffer)?;
-        if read == 0 {
-            return Ok(hash);
-        }
-        hash = fnv1a(hash, &buffer[..read]);
-    }
-}
-
 /// FNV-1a over the file's bytes and the parameter text.
 pub fn key(model: &Path, parameters: &str) -> std::io::Result<u64> {
     Ok(key_for_hash(file_hash(model)?, parameters))
 }
 
-/// The key for a model whose [`file_hash`] is already known.
+/// The key for a model whose [`crate::hash::file_hash`] is already known.
 pub fn key_for_hash(file_hash: u64, parameters: &str) -> u64 {
     fnv1a(file_hash, parameters.as_bytes())
 }

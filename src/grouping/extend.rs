@@ -66,7 +66,7 @@ pub fn duplicate(cloud: &PointCloud, grouping: &Grouping) -> Grouping {
     // Samples on disc i: the splat centres within r_i of p_i (i included),
     // among the overlap graph's neighbours (at most MAX_FOUND_PAIRS a splat
     // in a crowd: see spatial::overlap).
-    let graph = OverlapGraph::build(cloud, &OverlapOptions::default());
+    let graph = OverlapGraph::build(cloud.discs(), &OverlapOptions::default());
     let (p, r) = (&cloud.positions, &cloud.radii);
     let on_disc: Vec<Vec<u32>> = (0..n)
         .into_par_iter()
@@ -176,7 +176,7 @@ pub fn enlarge(cloud: &PointCloud, grouping: &Grouping) -> (Grouping, EnlargeRep
 
 /// For every splat centre, how many splats contain it.
 fn covering_counts(cloud: &PointCloud) -> Vec<u32> {
-    let graph = OverlapGraph::build(cloud, &OverlapOptions::default());
+    let graph = OverlapGraph::build(cloud.discs(), &OverlapOptions::default());
     let (p, r) = (&cloud.positions, &cloud.radii);
     (0..cloud.len())
         .into_par_iter()

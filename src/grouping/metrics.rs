@@ -97,7 +97,7 @@ pub fn coverage_at(nearest: &[f32], k: usize, g: usize, scale: f32) -> f64 {
 pub fn measure(cloud: &PointCloud, grouping: &Grouping) -> GroupingMetrics {
     let k = grouping.k();
     let (p, r) = (&cloud.positions, &cloud.radii);
-    let graph = OverlapGraph::build(cloud, &OverlapOptions::default());
+    let graph = OverlapGraph::build(cloud.discs(), &OverlapOptions::default());
     let mut in_group = vec![0u64; cloud.len()];
     for g in 0..k {
         for &i in grouping.group(g) {

@@ -48,7 +48,7 @@ pub fn group(cloud: &PointCloud, options: &OverlapOptions) -> Result<(Grouping, 
     if !(0.0..=1.0).contains(&options.c) {
         return Err(GroupingError::BadC(options.c));
     }
-    let graph = OverlapGraph::build(cloud, options);
+    let graph = OverlapGraph::build(cloud.discs(), options);
     let (colours, k) = colour(&graph);
     Ok((Grouping::from_labels(&colours, k), graph))
 }
@@ -56,7 +56,7 @@ pub fn group(cloud: &PointCloud, options: &OverlapOptions) -> Result<(Grouping, 
 /// The largest relaxation c (to 1/64) at which MGC needs at most `k` groups.
 pub fn c_for_groups(cloud: &PointCloud, k: usize, base: &OverlapOptions) -> f32 {
     let (mut lo, mut hi) = (0.0f32, 1.0f32);
-    let fits = |c: f32| colour(&OverlapGraph::build(cloud, &OverlapOptions { c, ..*base })).1 <= k;
+    let fits = |c: f32| colour(&OverlapGraph::build(cloud.discs(), &OverlapOptions { c, ..*base })).1 <= k;
     if fits(1.0) {
         return 1.0;
     }

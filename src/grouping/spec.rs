@@ -137,13 +137,13 @@ impl GroupingSpec {
         model: &std::path::Path,
         cloud: &crate::cloud::PointCloud,
     ) -> Result<(Grouping, bool), GroupingError> {
-        match cache::file_hash(model) {
+        match crate::hash::file_hash(model) {
             Ok(hash) => self.compute_cached_for_hash(cache, hash, cloud),
             Err(_) => Ok((self.compute(cloud)?, false)), // unreadable: no cache
         }
     }
 
-    /// [`Self::compute_cached`] for a model whose [`cache::file_hash`] is known.
+    /// [`Self::compute_cached`] for a model whose [`crate::hash::file_hash`] is known.
     pub fn compute_cached_for_hash(
         &self,
         cache: &cache::Cache,

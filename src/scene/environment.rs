@@ -100,7 +100,7 @@ impl EnvironmentMap {
             })
             .collect();
         let bytes: Vec<u8> = texels.iter().flatten().flat_map(|v| v.to_le_bytes()).collect();
-        let hash = crate::grouping::cache::fnv1a(crate::grouping::cache::FNV_OFFSET, &bytes);
+        let hash = crate::hash::fnv1a(crate::hash::FNV_OFFSET, &bytes);
         let mut levels = vec![EnvLevel { width, height, texels }];
         while let Some(last) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
             levels.push(last.halved());

@@ -3,6 +3,18 @@
 //! ignore opacity; transparent modes read it. A transparent object is
 //! two-sided by default: it is not back-face culled, and every renderer
 //! shades a surface from the side the viewer sees.
+//!
+//! [`Materials`] are the overrides the command line gives every object of a
+//! scene (`--opacity`, `--color`), as `bench` and the viewer apply them.
+
+/// Materials every object gets (`--opacity`, `--color`), and whether a
+/// scene's own background applies (no `--background`).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Materials {
+    pub opacity: Option<f32>,
+    pub colour: Option<[u8; 3]>,
+    pub scene_background: bool,
+}
 
 /// How an object's splats look.
 #[derive(Debug, Clone, Copy, PartialEq)]

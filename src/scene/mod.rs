@@ -24,10 +24,10 @@ use std::sync::Arc;
 use glam::{Affine3A, Vec3};
 
 use crate::cloud::{self, CloudError, LoadOptions, LoadReport, PointCloud};
-use crate::grouping::cache::{FNV_OFFSET, fnv1a};
+use crate::hash::{FNV_OFFSET, fnv1a};
 use crate::view::UpAxis;
 pub use file::SceneError;
-pub use material::Material;
+pub use material::{Material, Materials};
 
 /// One object of a scene.
 #[derive(Debug, Clone)]
@@ -113,7 +113,7 @@ impl Scene {
     /// Loads the PLY file at `path` as a scene of one object.
     pub fn load(path: &Path, options: &LoadOptions) -> Result<(Scene, LoadReport), CloudError> {
         let (cloud, report) = cloud::load_with(path, options)?;
-        let hash = crate::grouping::cache::file_hash(path).map_err(|e| CloudError::io(path, e))?;
+        let hash = crate::hash::file_hash(path).map_err(|e| CloudError::io(path, e))?;
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());
         Ok((Scene::single(name, cloud, hash), report))
     }

@@ -14,10 +14,22 @@
 //! spot, the graph keeps a bounded part of their overlaps, the grouping puts
 //! some overlapping splats together, and a counted warning says so.
 
+use glam::Vec3;
 use rayon::prelude::*;
 
 use super::grid::{HashGrid, typical_radius};
-use crate::cloud::PointCloud;
+
+/// The splats a graph is built over: one entry per splat in each slice (a
+/// point cloud's own arrays).
+#[derive(Debug, Clone, Copy)]
+pub struct Discs<'a> {
+    pub positions: &'a [Vec3],
+    /// Unit normals.
+    pub normals: &'a [Vec3],
+    pub radii: &'a [f32],
+    /// sRGB colours, 0-255 (relaxation (1) compares them).
+    pub colours: &'a [[u8; 3]],
+}
 
 /// Which pairs of overlapping splats become edges.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -86,15 +98,14 @@ impl OverlapGraph {
         if self.is_empty() { 0.0 } else { self.neighbours.len() as f64 / self.len() as f64 }
     }
 
-    /// Builds the graph of `cloud` under `options`.
-    pub fn build(cloud: &PointCloud, options: &OverlapOptions) -> Self {
-        let n = cloud.len();
+    /// Builds the graph of `discs` under `options`.
+    pub fn build(discs: Discs<'_>, options: &OverlapOptions) -> Self {
+        let n = discs.positions.len();
         let c = options.c.clamp(0.0, 1.0);
         if n == 0 {
             return Self { offsets: vec![0], neighbours: Vec::new(), crowded: 0 };
         }
-        let positions = &cloud.positions;
-        let radii = &cloud.radii;
+        let (positions, normals, radii) = (discs.positions, discs.normals, discs.radii);
         let typical = typical_radius(radii);
         // Cells of the typical search diameter: most queries scan 3x3x3 cells.
         let grid = HashGrid::new(positions, (2.0 * c * typical).max(typical * 1e-3).max(f32::MIN_POSITIVE));
@@ -103,14 +114,14 @@ impl OverlapGraph {
             if d >= c * (radii[i] + radii[j]) || d.is_nan() {
                 return false;
             }
-            let dot = cloud.normals[i].dot(cloud.normals[j]);
+            let dot = normals[i].dot(normals[j]);
             if options.skip_opposite_normals && dot < 0.0 {
                 return false;
             }
             if options.skip_coplanar_same_colour && dot > COPLANAR_COS {
-                let offset_i = cloud.normals[i].dot(positions[j] - positions[i]).abs();
-                let offset_j = cloud.normals[j].dot(positions[i] - positions[j]).abs();
-                let same_colour = (0..3).all(|k| cloud.colors[i][k].abs_diff(cloud.colors[j][k]) <= SAME_COLOUR);
+                let offset_i = normals[i].dot(positions[j] - positions[i]).abs();
+                let offset_j = normals[j].dot(positions[i] - positions[j]).abs();
+                let same_colour = (0..3).all(|k| discs.colours[i][k].abs_diff(discs.colours[j][k]) <= SAME_COLOUR);
                 if same_colour && offset_i < COPLANAR_OFFSET * radii[i] && offset_j < COPLANAR_OFFSET * radii[j] {
                     return false;
                 }

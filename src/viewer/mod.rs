@@ -4,16 +4,23 @@
 //! [`RenderMode::ALL`](crate::view::RenderMode::ALL), with the parameters it
 //! lists), live statistics, the error measurement and the screenshot export.
 //! The panels (`panels.rs`, `stats.rs`, with `widgets.rs`) edit a `UiState`
-//! and return actions; `app.rs` applies them (`state.rs` holds the types both
-//! sides share), and `view3d.rs` draws the 3D view and takes its input.
+//! and return actions; the app (`app.rs`, its per-frame loop) applies them in
+//! `actions.rs` (`state.rs` holds the types both sides share), loads models in
+//! `loading.rs`, asks for frames in `frames.rs`, saves screenshots and
+//! measures the error in `export.rs`, and `view3d.rs` draws the 3D view and
+//! takes its input.
 //! The 3D view shows frames from a render thread that runs the same
 //! [`HeadlessRenderer`](crate::render::HeadlessRenderer) as `pointblend render`;
 //! loading, grouping and the reference render run on worker threads with
 //! progress and Cancel, so the window never waits on them.
 
+mod actions;
 mod app;
 mod camera_input;
+mod export;
+mod frames;
 mod jobs;
+mod loading;
 mod model;
 mod panels;
 mod render_thread;

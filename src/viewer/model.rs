@@ -6,10 +6,9 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use crate::bench::Materials;
 use crate::cloud::{LoadOptions, PointCloud};
 use crate::grouping::{Grouping, GroupingSpec};
-use crate::scene::Scene;
+use crate::scene::{Materials, Scene};
 
 /// Models with more splats than this get a preview cloud of this many.
 pub const PREVIEW_SPLATS: usize = 200_000;

@@ -1,0 +1,95 @@
+//! What leaves the viewer: screenshots (a PNG at the chosen size with its
+//! JSON sidecar, rendered by the render thread) and the error measurement
+//! (the exact reference of the frame on screen, rendered on a worker thread,
+//! compared and shown with its difference image).
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use super::app::{MeasuredImages, ViewerApp};
+use super::frames::color_image;
+use super::jobs::Job;
+use super::render_thread::Purpose;
+use super::state::Measurement;
+use crate::reference::{self, ReferenceOptions};
+use crate::view::sidecar::SidecarModel;
+use crate::view::{RenderMode, Sidecar};
+
+impl ViewerApp {
+    /// Renders the current view at the chosen size into a PNG and a JSON sidecar beside it.
+    pub fn save_screenshot(&mut self) {
+        let (Some(model), Some(mut key)) = (self.model.clone(), self.current_key()) else {
+            self.status = Some("no model to take a screenshot of".into());
+            return;
+        };
+        let settings = self.ui.settings;
+        key.preview = false;
+        key.grouping =
+            settings.mode.needs_grouping_for(model.transparent).then(|| settings.grouping_for_mode().to_string());
+        let size = self.ui.screenshot_size.pixels(self.view_size);
+        let png = next_free_path(&self.options.screenshot_dir, &model.name, settings.mode);
+        let model_info = SidecarModel {
+            name: model.name.clone(),
+            path: model.path.display().to_string(),
+            hash: model.hash_hex(),
+            splats: model.cloud.len(),
+        };
+        let sidecar = Box::new(Sidecar::new(model_info, &self.ui.camera, &settings, size));
+        if let Err(e) = std::fs::create_dir_all(&self.options.screenshot_dir) {
+            self.status = Some(format!("{}: {e}", self.options.screenshot_dir.display()));
+            return;
+        }
+        match self.frame_request(&key, size, Purpose::Screenshot { png: png.clone(), sidecar }) {
+            Some(request) => {
+                self.status = Some(format!("rendering {} at {}x{}…", png.display(), size.0, size.1));
+                self.renderer.request(request);
+            }
+            None => self.status = Some("the grouping is not ready yet; try again in a moment".into()),
+        }
+    }
+
+    /// Renders the exact reference of the frame on screen and compares.
+    pub(super) fn measure_error(&mut self, ctx: &egui::Context) {
+        let (Some(model), Some(shown)) = (self.model.clone(), self.shown.as_ref()) else { return };
+        let (key, image) = (shown.key.clone(), Arc::clone(&shown.image));
+        let job = Job::spawn(RenderMode::RULER.name(), ctx.clone(), move || {
+            let started = Instant::now();
+            let options = ReferenceOptions::matching(&key.settings, &model.scene);
+            let exact = reference::render(&model.scene, &key.camera, &options, image.width(), image.height());
+            if crate::progress::cancelled() {
+                return Err("cancelled".to_string());
+            }
+            let seconds = started.elapsed().as_secs_f64();
+            let error = reference::compare(&image, &exact).ok_or("the images differ in size")?;
+            let difference = reference::difference_image(&image, &exact, 8.0).ok_or("the images differ in size")?;
+            Ok(MeasuredImages { key, error, seconds, difference })
+        });
+        self.measure = Some(job);
+    }
+
+    /// Takes the measurement the reference job returned, if it has finished.
+    pub(super) fn poll_measurement(&mut self, ctx: &egui::Context) {
+        if let Some(result) = self.measure.as_ref().and_then(|j| j.poll()) {
+            self.measure = None;
+            match result.and_then(|r| r) {
+                Ok(m) => {
+                    let difference = ctx.load_texture("difference", color_image(&m.difference), Default::default());
+                    self.measure_error = None;
+                    self.measurement =
+                        Some(Measurement { key: m.key, error: m.error, reference_seconds: m.seconds, difference });
+                }
+                Err(e) => self.measure_error = Some(e),
+            }
+        }
+    }
+}
+
+/// `DIR/pointblend-MODEL-MODE-NNN.png`, the first that does not exist.
+fn next_free_path(dir: &Path, model: &str, mode: RenderMode) -> PathBuf {
+    let stem = crate::output::safe_stem(Path::new(model));
+    (1..)
+        .map(|n| dir.join(format!("pointblend-{stem}-{mode}-{n:03}.png")))
+        .find(|p| !p.exists() && !p.with_extension("json").exists())
+        .unwrap_or_else(|| dir.join("pointblend.png"))
+}

@@ -1,0 +1,115 @@
+//! Opening a model in the background, and the same geometry again with
+//! another opacity or environment map; the loaded model replaces the one on
+//! screen (keeping the camera where the geometry is the same).
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use super::app::ViewerApp;
+use super::camera_input::SceneSphere;
+use super::jobs::Job;
+use super::model::Model;
+use crate::scene::environment::EnvironmentMap;
+use crate::view::Camera;
+
+impl ViewerApp {
+    /// Starts loading `path` in the background; the current model stays until it succeeds.
+    pub fn open(&mut self, ctx: &egui::Context, path: &Path) {
+        if let Some(old) = self.load.take() {
+            old.cancel();
+        }
+        self.generations += 1;
+        let generation = self.generations;
+        let path = path.to_path_buf();
+        let label = format!("loading {}", path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default());
+        let materials = self.options.materials;
+        let environment = self.options.environment.clone();
+        self.load = Some(Job::spawn(label, ctx.clone(), move || {
+            let model = Model::load(&path, generation, &materials)?;
+            match environment {
+                Some(env) => {
+                    let map = EnvironmentMap::load(&env).map_err(|e| e.to_string())?;
+                    Ok(model.with_environment(Some(Arc::new(map)), generation))
+                }
+                None => Ok(model),
+            }
+        }));
+    }
+
+    /// Gives every object of the model on screen `opacity`, in the
+    /// background: the same geometry as a new model (new upload; the grouping
+    /// comes back from the cache, keyed by geometry), with the camera kept.
+    pub fn set_opacity(&mut self, ctx: &egui::Context, opacity: f32) {
+        let Some(model) = self.model.clone() else { return };
+        if let Some(old) = self.load.take() {
+            old.cancel();
+        }
+        self.generations += 1;
+        let generation = self.generations;
+        let label = format!("opacity {opacity:.2}");
+        self.load = Some(Job::spawn(label, ctx.clone(), move || Ok(model.with_opacity(opacity, generation))));
+    }
+
+    /// Sets the model on screen in the environment map at `path` (loaded in
+    /// the background; an unreadable map is shown as the load error and the
+    /// model kept), or in none: a new upload of the same geometry.
+    pub fn set_environment(&mut self, ctx: &egui::Context, path: Option<PathBuf>) {
+        let Some(model) = self.model.clone() else { return };
+        if let Some(old) = self.load.take() {
+            old.cancel();
+        }
+        self.generations += 1;
+        let generation = self.generations;
+        let label = match &path {
+            Some(p) => format!("environment {}", p.file_name().map(|n| n.to_string_lossy()).unwrap_or_default()),
+            None => "no environment".into(),
+        };
+        self.load = Some(Job::spawn(label, ctx.clone(), move || {
+            let map = match path {
+                Some(p) => Some(Arc::new(EnvironmentMap::load(&p).map_err(|e| e.to_string())?)),
+                None => None,
+            };
+            Ok(model.with_environment(map, generation))
+        }));
+    }
+
+    /// Takes the model the load job returned, if it has finished.
+    pub(super) fn poll_load(&mut self) {
+        if let Some(result) = self.load.as_ref().and_then(|j| j.poll()) {
+            self.load = None;
+            match result.and_then(|r| r) {
+                Ok(model) => self.adopt(model),
+                Err(e) => self.load_error = Some(e),
+            }
+        }
+    }
+
+    /// Puts `model` on screen, with its camera and background.
+    fn adopt(&mut self, model: Model) {
+        let aspect = self.view_size.0 as f32 / self.view_size.1.max(1) as f32;
+        let fresh = Camera::default_for(&model.cloud, aspect);
+        self.scene = SceneSphere { centre: fresh.target, radius: fresh.scene_radius };
+        self.home = fresh;
+        // The same file with other materials (the opacity slider) keeps the view.
+        let same_geometry = self.model.as_ref().is_some_and(|m| m.path == model.path && m.hash == model.hash);
+        self.ui.camera = match &self.options.view {
+            _ if same_geometry => self.ui.camera,
+            // The starting view of a sidecar applies to the first model only.
+            Some(view) if self.model.is_none() => view.camera(),
+            _ => fresh,
+        };
+        self.load_error = None;
+        self.grouped = None;
+        self.measurement = None;
+        // The scene's background, unless the command line or a sidecar set one.
+        if self.options.view.is_none() {
+            if let Some(bg) = self.options.background.or(model.scene.background) {
+                self.ui.settings.shading.background = bg;
+            }
+        }
+        for warning in &model.warnings {
+            log::warn!("{}: {warning}", model.path.display());
+        }
+        self.model = Some(Arc::new(model));
+    }
+}
