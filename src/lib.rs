@@ -1,26 +1,17 @@
-//! pointblend: point-based surface splatting on wgpu.
+//! pointblend: point-based surface splatting on wgpu, as a library for the
+//! app's command line, viewer and benchmark.
 //!
-//! The crate is layered from the ground up: [`spatial`] answers neighbour
-//! queries over plain positions and radii, [`cloud`] loads and repairs point
-//! clouds, [`scene`] places clouds with transforms and materials, [`grouping`]
-//! splits splats into groups, [`reference`] renders exactly on the CPU,
-//! [`view`] holds the camera, the shading model and the mode registry that
-//! every renderer (GPU or CPU) shares, and [`render`] draws splats with wgpu.
-//! Under them all, [`hash`], [`memory`], [`output`] and [`progress`] are small
-//! helpers. Only [`render`] and [`viewer`] touch the GPU (a test checks it).
-//! [`bench`] measures the modes against the reference; [`viewer`] is the
-//! interactive window on top of them.
+//! The workspace has three layers, and the compiler keeps them apart:
+//! `pointblend-core` (crates/core: loading, scenes, neighbour queries,
+//! grouping, the exact CPU reference and the frame vocabulary, with no GPU,
+//! window or UI dependency), `pointblend-render` (crates/render: the wgpu
+//! modes, passes and shaders) and this app crate: [`bench`] measures the
+//! modes against the reference and [`viewer`] is the interactive window. The
+//! core's modules and the renderer are re-exported here under their own
+//! names, so `pointblend::cloud` and `pointblend::render` read as before.
+
+pub use pointblend_core::{cloud, frame, grouping, hash, memory, output, progress, reference, scene, spatial};
+pub use pointblend_render as render;
 
 pub mod bench;
-pub mod cloud;
-pub mod grouping;
-pub mod hash;
-pub mod memory;
-pub mod output;
-pub mod progress;
-pub mod reference;
-pub mod render;
-pub mod scene;
-pub mod spatial;
-pub mod view;
 pub mod viewer;

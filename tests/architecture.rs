@@ -1,6 +1,8 @@
-//! The layering the design promises: the CPU modules never touch the GPU or
-//! the window toolkit, and only the registry and the mode files name a
-//! particular render mode.
+//! The layering the design promises. The workspace makes the compiler keep
+//! the CPU core free of the GPU, the window and the UI (`pointblend-core`
+//! depends on none of them, checked here on the resolved dependency tree);
+//! inside the core, no module imports one above it; and only the registry
+//! and the mode files name a particular render mode.
 
 use std::path::{Path, PathBuf};
 
@@ -17,38 +19,85 @@ fn rust_files(dir: &Path) -> Vec<PathBuf> {
     files
 }
 
-fn src() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src")
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn core_src() -> PathBuf {
+    root().join("crates/core/src")
+}
+
+/// Lines of code (comments cut off) of a file.
+fn code_lines(file: &Path) -> Vec<(usize, String)> {
+    let text = std::fs::read_to_string(file).unwrap();
+    text.lines().enumerate().map(|(n, l)| (n + 1, l.split("//").next().unwrap_or("").to_string())).collect()
 }
 
 #[test]
-fn the_cpu_modules_import_no_gpu_window_or_ui_crate() {
-    let cpu = ["cloud", "scene", "spatial", "grouping", "reference", "view"];
-    let cpu_files = ["progress.rs", "output.rs", "memory.rs"];
-    let mut files: Vec<PathBuf> = cpu.iter().flat_map(|m| rust_files(&src().join(m))).collect();
-    files.extend(cpu_files.iter().map(|f| src().join(f)));
-    assert!(files.len() > 30, "the CPU modules were found: {}", files.len());
-    for file in files {
-        let text = std::fs::read_to_string(&file).unwrap();
-        for (n, line) in text.lines().enumerate() {
-            let code = line.split("//").next().unwrap_or("");
-            for gpu in ["wgpu::", "winit::", "egui::", "eframe::", "egui_wgpu::", "crate::render", "crate::viewer"] {
-                assert!(!code.contains(gpu), "{}:{}: a CPU module uses {gpu}: {line}", file.display(), n + 1);
-            }
-        }
+fn the_core_crate_depends_on_no_gpu_window_or_ui_crate() {
+    let tree = std::process::Command::new(env!("CARGO"))
+        .args(["tree", "--offline", "-p", "pointblend-core", "--edges", "normal", "--prefix", "none"])
+        .current_dir(root())
+        .output()
+        .expect("cargo tree runs");
+    assert!(tree.status.success(), "cargo tree: {}", String::from_utf8_lossy(&tree.stderr));
+    let tree = String::from_utf8_lossy(&tree.stdout);
+    let crates: Vec<&str> = tree.lines().filter_map(|l| l.split_whitespace().next()).collect();
+    assert!(crates.contains(&"glam") && crates.contains(&"image"), "the tree was read: {crates:?}");
+    for forbidden in ["wgpu", "naga", "winit", "egui", "eframe", "egui-wgpu", "pointblend-render", "pointblend"] {
+        assert!(!crates.contains(&forbidden), "pointblend-core depends on {forbidden}:\n{tree}");
     }
 }
 
 #[test]
-fn only_the_registry_and_the_mode_files_name_a_mode() {
-    let allowed = [src().join("view/modes.rs"), src().join("render/modes")];
+fn no_core_module_imports_one_above_it() {
+    // From the ground up; a module may use those before it in this list.
+    let layers: [&[&str]; 7] = [
+        &["hash", "memory", "output", "progress"],
+        &["spatial"],
+        &["cloud"],
+        &["grouping"],
+        &["frame"],
+        &["scene"],
+        &["reference"],
+    ];
     let mut checked = 0;
-    for file in rust_files(&src()) {
+    for (level, modules) in layers.iter().enumerate() {
+        let above: Vec<&str> = layers[level + 1..].iter().flat_map(|l| l.iter().copied()).collect();
+        for module in *modules {
+            let folder = core_src().join(module);
+            let files =
+                if folder.is_dir() { rust_files(&folder) } else { vec![core_src().join(format!("{module}.rs"))] };
+            for file in files {
+                for (n, code) in code_lines(&file) {
+                    for other in &above {
+                        let import = format!("crate::{other}");
+                        let uses = code.match_indices(&import).any(|(at, _)| {
+                            !code[at + import.len()..].starts_with(|c: char| c.is_alphanumeric() || c == '_')
+                        });
+                        assert!(!uses, "{}:{n}: {module} uses {import}, which is above it: {code}", file.display());
+                    }
+                }
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 50, "{checked} files checked");
+}
+
+#[test]
+fn only_the_registry_and_the_mode_files_name_a_mode() {
+    let allowed = [core_src().join("frame/modes.rs"), root().join("crates/render/src/modes")];
+    let mut checked = 0;
+    let files = [root().join("src"), core_src(), root().join("crates/render/src")]
+        .iter()
+        .flat_map(|d| rust_files(d))
+        .collect::<Vec<_>>();
+    for file in files {
         if allowed.iter().any(|a| file.starts_with(a)) {
             continue;
         }
-        let text = std::fs::read_to_string(&file).unwrap();
-        for (n, line) in text.lines().enumerate() {
+        for (n, line) in code_lines(&file) {
             let named = line.match_indices("RenderMode::").any(|(at, _)| {
                 let rest = &line[at + "RenderMode::".len()..];
                 // `RenderMode::ALL`, `::DEFAULT`, `::RULER` are the registry's own; a variant is `TwoPass`-like.
@@ -56,31 +105,18 @@ fn only_the_registry_and_the_mode_files_name_a_mode() {
                 chars.next().is_some_and(|c| c.is_ascii_uppercase())
                     && chars.next().is_some_and(|c| c.is_ascii_lowercase())
             });
-            assert!(!named, "{}:{}: names a mode outside the registry: {line}", file.display(), n + 1);
+            assert!(!named, "{}:{n}: names a mode outside the registry: {line}", file.display());
         }
         checked += 1;
     }
-    assert!(checked > 50);
+    assert!(checked > 100, "{checked} files checked");
 }
 
 #[test]
-fn the_lower_modules_import_nothing_from_those_above_them() {
-    // (folder, the modules it must not use): the core below stays free of cycles.
-    let rules: [(&str, &[&str]); 4] = [
-        ("spatial", &["crate::cloud", "crate::grouping", "crate::scene"]),
-        ("cloud", &["crate::grouping", "crate::scene"]),
-        ("scene", &["crate::grouping", "crate::bench"]),
-        ("viewer", &["crate::bench"]),
-    ];
-    for (folder, forbidden) in rules {
-        for file in rust_files(&src().join(folder)) {
-            let text = std::fs::read_to_string(&file).unwrap();
-            for (n, line) in text.lines().enumerate() {
-                let code = line.split("//").next().unwrap_or("");
-                for module in forbidden {
-                    assert!(!code.contains(module), "{}:{}: {folder} uses {module}: {line}", file.display(), n + 1);
-                }
-            }
+fn the_viewer_imports_nothing_from_the_benchmark() {
+    for file in rust_files(&root().join("src/viewer")) {
+        for (n, code) in code_lines(&file) {
+            assert!(!code.contains("crate::bench"), "{}:{n}: the viewer uses the benchmark: {code}", file.display());
         }
     }
 }

@@ -13,7 +13,7 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 use common::plywriter::{Element, Encoding, ply};
-use pointblend::view::RenderMode;
+use pointblend::frame::RenderMode;
 
 const SIZE: u32 = 96;
 const MEMORY_LIMIT_KIB: u64 = 8 << 20;

@@ -6,11 +6,11 @@ mod common;
 use common::tolerances::*;
 use glam::Vec3;
 use pointblend::cloud::{self, PointCloud};
+use pointblend::frame::Camera;
 use pointblend::grouping::{Grouping, GroupingSpec};
 use pointblend::reference;
 use pointblend::render::{RenderMode, RenderSettings};
 use pointblend::scene::Scene;
-use pointblend::view::Camera;
 
 fn render(
     cloud: &PointCloud,

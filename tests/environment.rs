@@ -119,9 +119,9 @@ fn slab(planes: &[Plane], env: [f32; 3]) -> pointblend::scene::Scene {
 
 #[test]
 fn a_transparent_slab_in_a_constant_environment_matches_the_closed_form() {
+    use pointblend::frame::RenderSettings;
+    use pointblend::frame::environment::{EnvironmentSettings, LayerEffects};
     use pointblend::reference::{ReferenceOptions, render_with_layers};
-    use pointblend::view::RenderSettings;
-    use pointblend::view::environment::{EnvironmentSettings, LayerEffects};
     // The camera looks down -z from z = 5 (30° field): every ray meets the
     // planes, at cos θ_I = -d·z of its pixel. In a constant environment E
     // every lookup is E whatever the direction, so per channel
@@ -178,9 +178,9 @@ fn a_transparent_slab_in_a_constant_environment_matches_the_closed_form() {
 
 #[test]
 fn alg2_with_an_environment_matches_the_closed_form_and_stays_finite_in_stiff_cases() {
+    use pointblend::frame::RenderSettings;
+    use pointblend::frame::environment::{EnvironmentSettings, LayerEffects};
     use pointblend::grouping::Grouping;
-    use pointblend::view::RenderSettings;
-    use pointblend::view::environment::{EnvironmentSettings, LayerEffects};
     let camera = common::looking_down_z();
     let size = 48u32;
     let (red, blue) = ([240u8, 40, 30], [30u8, 60, 230]);
@@ -350,7 +350,7 @@ fn pixel_ray(x: u32, y: u32, size: u32) -> Vec3 {
 
 /// The closed form of a pixel whose ray `d` crosses transparent layers
 /// (colour 0..1, opacity), nearest first, all facing +z, in the gradient
-/// map, per §5.2.3-5.2.4 as src/view/environment.rs states it, written out
+/// map, per §5.2.3-5.2.4 as crates/core/src/frame/environment.rs states it, written out
 /// here with Snell's law:
 /// - reflection along r = (d.x, d.y, −d.z) (the mirror of d in the plane);
 /// - per channel c, η_c = η + (c − 1)·δ; sin θ_T = sin θ_I / η_c^m, with
@@ -458,9 +458,12 @@ fn worst_against_closed_form(
     (worst, checked)
 }
 
-fn glass_settings(mode: &str, layers: pointblend::view::environment::LayerEffects) -> pointblend::view::RenderSettings {
-    use pointblend::view::environment::EnvironmentSettings;
-    pointblend::view::RenderSettings {
+fn glass_settings(
+    mode: &str,
+    layers: pointblend::frame::environment::LayerEffects,
+) -> pointblend::frame::RenderSettings {
+    use pointblend::frame::environment::EnvironmentSettings;
+    pointblend::frame::RenderSettings {
         mode: mode.parse().unwrap(),
         lighting: false,
         environment: EnvironmentSettings {
@@ -476,7 +479,7 @@ fn glass_settings(mode: &str, layers: pointblend::view::environment::LayerEffect
 
 #[test]
 fn the_reference_reflects_and_refracts_a_gradient_map_as_the_closed_form_says() {
-    use pointblend::view::environment::LayerEffects;
+    use pointblend::frame::environment::LayerEffects;
     let camera = common::looking_down_z();
     let size = 48u32;
     for (what, planes) in glass_cases() {
@@ -498,7 +501,7 @@ fn the_reference_reflects_and_refracts_a_gradient_map_as_the_closed_form_says() 
 
 #[test]
 fn alg2_reflects_and_refracts_a_gradient_map_as_the_closed_form_says() {
-    use pointblend::view::environment::LayerEffects;
+    use pointblend::frame::environment::LayerEffects;
     let camera = common::looking_down_z();
     let size = 48u32;
     let mut renderer = common::renderer();

@@ -108,7 +108,7 @@ fn help_lists_the_modes() {
     let dir = test_dir();
     let help = pointblend(dir.path()).args(["render", "--help"]).output().unwrap();
     let text = String::from_utf8_lossy(&help.stdout);
-    for mode in pointblend::view::RenderMode::ALL {
+    for mode in pointblend::frame::RenderMode::ALL {
         assert!(text.contains(mode.name()), "--help does not list {mode}: {text}");
     }
 }
@@ -380,5 +380,5 @@ fn group_and_render_share_the_default_grouping() {
     let c = json["c"].as_f64().unwrap();
     assert!((c - 0.4).abs() < 1e-6, "group's default c is {c}, --group's is mgc-c0.4");
     assert_eq!(pointblend::grouping::GroupingSpec::default().to_string(), "mgc-c0.4");
-    assert!(pointblend::view::RenderSettings::default().voronoi, "deferred defaults to Voronoi depth everywhere");
+    assert!(pointblend::frame::RenderSettings::default().voronoi, "deferred defaults to Voronoi depth everywhere");
 }

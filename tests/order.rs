@@ -1,4 +1,4 @@
-//! Back-to-front orders (src/spatial/order) on real scans: along every
+//! Back-to-front orders (crates/core/src/spatial/order) on real scans: along every
 //! pixel's view ray, no later splat lies behind an earlier one by more than
 //! the order's slab thickness (plus the two splats' radii: the orders sort
 //! centres, and a ray meets a disc up to a radius from its centre's depth);
@@ -10,10 +10,10 @@ mod common;
 use glam::Vec3;
 use pointblend::bench::views::standard_views;
 use pointblend::cloud::{self, PointCloud};
+use pointblend::frame::Camera;
 use pointblend::grouping::GroupingSpec;
 use pointblend::spatial::order::BspTree;
 use pointblend::spatial::order::{BucketSort, OrderKind, Orderer, ViewRay, full_sort};
-use pointblend::view::Camera;
 
 const SIZE: u32 = 128;
 
@@ -421,8 +421,8 @@ fn how_often_the_orders_draw_a_nearer_layer_before_a_farther_one_on_real_scans()
 
 #[test]
 fn the_order_setting_decides_what_the_instance_buffers_hold_each_frame() {
+    use pointblend::frame::RenderSettings;
     use pointblend::render::gpu_data::SplatInstance;
-    use pointblend::view::RenderSettings;
     let (mut cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
     cloud.opacity.iter_mut().for_each(|a| *a = 0.5);
     let grouping = "wgc-k4-radius".parse::<GroupingSpec>().unwrap().compute(&cloud).unwrap();

@@ -86,7 +86,7 @@ fn every_picture_the_docs_show_exists_and_every_picture_is_shown() {
 #[test]
 fn the_readme_names_every_mode_and_subcommand() {
     let readme = read("README.md");
-    for mode in pointblend::view::RenderMode::ALL {
+    for mode in pointblend::frame::RenderMode::ALL {
         assert!(readme.contains(&format!("`{}`", mode.name())), "the README does not describe mode {mode}");
     }
     for command in ["view", "render", "info", "convert", "bench", "group"] {

@@ -5,9 +5,9 @@ mod common;
 use common::tolerances::*;
 use glam::{Vec2, Vec3};
 use pointblend::cloud::{self, PointCloud};
+use pointblend::frame::{Camera, RenderSettings, Shading, SplatKernel, UpAxis};
 use pointblend::reference::{self, ReferenceOptions};
 use pointblend::scene::{Material, Scene, SceneObject};
-use pointblend::view::{Camera, RenderSettings, Shading, SplatKernel, UpAxis};
 
 const SIZE: u32 = 128;
 const DISTANCE: f32 = 10.0;

@@ -5,8 +5,8 @@ mod common;
 use common::tolerances::*;
 use glam::Vec3;
 use pointblend::cloud::{self, PointCloud};
+use pointblend::frame::Camera;
 use pointblend::render::{Quality, RenderSettings};
-use pointblend::view::Camera;
 
 const SIZE: u32 = 192;
 
@@ -260,7 +260,7 @@ fn a_model_a_millionth_of_its_distance_away_renders_in_every_mode() {
     // (at 1e-8 of the distance, none: far − near rounds to 0 and 1/(far −
     // near) to infinity). Every mode must still show the sphere's disc, of
     // the size its distance gives, without a NaN pixel.
-    use pointblend::view::RenderMode;
+    use pointblend::frame::RenderMode;
     let mut cloud = sphere(20_000, 1.0);
     cloud.opacity.iter_mut().for_each(|a| *a = 0.5); // the transparent modes draw their own passes
     for ratio in [1e-6f32, 1e-8] {

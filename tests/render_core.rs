@@ -7,13 +7,13 @@
 mod common;
 
 use pointblend::cloud::{self, PointCloud};
+use pointblend::frame::{Camera, Quality, RenderMode, RenderSettings};
 use pointblend::grouping::GroupingSpec;
 use pointblend::render::modes::FrameDesc;
 use pointblend::render::passes::Command;
 use pointblend::render::plan::TargetId;
 use pointblend::render::touches::{Access, Touch};
 use pointblend::render::{GpuScene, HeadlessRenderer};
-use pointblend::view::{Camera, Quality, RenderMode, RenderSettings};
 
 fn bunny() -> PointCloud {
     cloud::load(&common::bundled_bunny()).unwrap().0

@@ -11,10 +11,10 @@ mod common;
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
+use pointblend::frame::{Camera, Quality, RenderMode, RenderSettings};
 use pointblend::render::HeadlessRenderer;
 use pointblend::render::shaders::{self, Variant};
 use pointblend::scene::Scene;
-use pointblend::view::{Camera, Quality, RenderMode, RenderSettings};
 
 /// Scenes that between them reach every variant flag.
 fn scenes() -> Vec<(&'static str, Scene)> {
@@ -84,13 +84,13 @@ fn naga_validates_every_module_the_renderer_builds_and_every_shader_file_is_in_o
     // ...and every WGSL file is part of a module that is.
     let composed: Vec<String> =
         built.iter().map(|(root, variant)| shaders::compose(root, variant_named(variant)).unwrap()).collect();
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/render/shaders");
     let embedded: Vec<&str> = shaders::file_names().collect();
     for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();
         if path.extension().is_some_and(|e| e == "wgsl") {
             let name = path.file_name().unwrap().to_string_lossy().to_string();
-            assert!(embedded.contains(&name.as_str()), "{name} is not embedded in src/render/shaders.rs");
+            assert!(embedded.contains(&name.as_str()), "{name} is not embedded (crates/render/build.rs)");
             let first_code_line = std::fs::read_to_string(&path)
                 .unwrap()
                 .lines()

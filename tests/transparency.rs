@@ -6,12 +6,12 @@ mod common;
 use common::tolerances::*;
 use glam::Vec3;
 use pointblend::cloud::{self, PointCloud};
+use pointblend::frame::{Camera, RenderSettings};
 use pointblend::grouping::Grouping;
 use pointblend::reference::{self, ReferenceOptions};
 use pointblend::render::RenderMode;
 use pointblend::render::plan::TargetId;
 use pointblend::scene::{Material, Scene, primitives};
-use pointblend::view::{Camera, RenderSettings};
 
 fn transparent_bunny(opacity: f32) -> Scene {
     let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();

@@ -74,7 +74,7 @@ fn switching_the_mode_changes_the_image() {
     h.get_by_label("unfiltered").click();
     wait_for(&mut h, "unfiltered two-pass", |app| {
         app.is_settled()
-            && app.shown_frame().is_some_and(|(_, k)| k.settings.quality == pointblend::view::Quality::Unfiltered)
+            && app.shown_frame().is_some_and(|(_, k)| k.settings.quality == pointblend::frame::Quality::Unfiltered)
     });
     let unfiltered = h.state().shown_frame().unwrap().0.clone();
     let share = changed_share(&two_pass, &unfiltered);

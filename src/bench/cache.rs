@@ -8,7 +8,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::view::{Camera, RenderSettings};
+use crate::frame::{Camera, RenderSettings};
 
 /// A cache entry's files.
 pub struct CacheEntry {

@@ -8,13 +8,13 @@ use super::orders::{OrderRow, time_orders};
 use super::report::{BenchRow, PassTime};
 use super::views::standard_views;
 use crate::cloud::{CloudError, LoadOptions};
+use crate::frame::environment::EnvironmentSettings;
+use crate::frame::{Camera, ModeVariant, RenderMode, RenderSettings};
 use crate::grouping::cache::Cache as GroupCache;
 use crate::output::write_atomically;
 use crate::reference::{self, ReferenceOptions};
 use crate::render::{GpuError, GpuScene, HeadlessRenderer, RenderPlan};
 use crate::scene::{Materials, Scene};
-use crate::view::environment::EnvironmentSettings;
-use crate::view::{Camera, ModeVariant, RenderMode, RenderSettings};
 
 #[derive(Debug, thiserror::Error)]
 pub enum BenchError {

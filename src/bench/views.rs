@@ -8,7 +8,7 @@
 //! scanner's direction, the grazing one looking steeply down across it.
 
 use crate::cloud::PointCloud;
-use crate::view::Camera;
+use crate::frame::Camera;
 
 /// A named camera.
 #[derive(Debug, Clone)]

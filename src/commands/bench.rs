@@ -6,9 +6,9 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use pointblend::bench::{self, BenchConfig};
 use pointblend::cloud;
+use pointblend::frame::ModeVariant;
 use pointblend::render::HeadlessRenderer;
 use pointblend::scene::Materials;
-use pointblend::view::ModeVariant;
 
 use super::shared::ViewArgs;
 

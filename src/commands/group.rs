@@ -5,9 +5,9 @@ use std::time::Instant;
 
 use anyhow::{Result, bail};
 use clap::ValueEnum;
+use pointblend::frame::Camera;
 use pointblend::grouping::{self, Grouping, cache, extend, hash, metrics, mgc, wgc};
 use pointblend::spatial::overlap::OverlapOptions;
-use pointblend::view::Camera;
 use serde_json::json;
 
 #[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]

@@ -4,13 +4,13 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
+use pointblend::frame::environment::EnvironmentSettings;
+use pointblend::frame::{RenderMode, RenderSettings, Sidecar};
 use pointblend::grouping::cache::Cache;
 use pointblend::reference::{self, ReferenceOptions};
 use pointblend::render::{HeadlessRenderer, RenderPlan};
 use pointblend::scene::Scene;
 use pointblend::scene::environment::EnvironmentMap;
-use pointblend::view::environment::EnvironmentSettings;
-use pointblend::view::{RenderMode, RenderSettings, Sidecar};
 
 use super::shared::{self, ViewArgs};
 
@@ -47,7 +47,7 @@ pub struct Args {
     pub dispersion: f32,
     /// Environment effects at the nearest layer only, or through every layer (Eq. 15-16).
     #[arg(long, value_name = "single|multi", default_value = "single")]
-    pub env_layers: pointblend::view::environment::LayerEffects,
+    pub env_layers: pointblend::frame::environment::LayerEffects,
     /// Keep the flat background colour where nothing is drawn, instead of the environment map.
     #[arg(long)]
     pub flat_background: bool,

@@ -5,11 +5,11 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 use pointblend::cloud::{self, LoadOptions, LoadReport, PointCloud};
+use pointblend::frame::{Camera, Parameter, UpAxis};
 use pointblend::grouping::GroupingSpec;
 use pointblend::output::ImageFormat;
 use pointblend::render::{Quality, RenderMode, RenderSettings};
 use pointblend::scene::Scene;
-use pointblend::view::{Camera, Parameter, UpAxis};
 
 /// Loads a cloud with progress bars and logs its warnings.
 pub fn load(path: &Path) -> Result<(PointCloud, LoadReport)> {
@@ -131,7 +131,7 @@ pub struct ViewArgs {
     #[arg(long)]
     pub order: Option<pointblend::spatial::order::OrderKind>,
     /// Transparent layers k of depth-peel (default 8) and approx-peel (default 3), 2..=64.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=pointblend::view::settings::MAX_LAYERS as i64))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=pointblend::frame::settings::MAX_LAYERS as i64))]
     pub layers: Option<u32>,
     /// Opacity of every object, 0..1 (transparent objects are drawn two-sided;
     /// only transparent modes and the reference show it).

@@ -8,10 +8,10 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use pointblend::bench::{self, BenchConfig};
+use pointblend::frame::ModeVariant;
+use pointblend::frame::{RenderSettings, Sidecar};
 use pointblend::render::{HeadlessRenderer, RenderMode};
 use pointblend::scene::Materials;
-use pointblend::view::ModeVariant;
-use pointblend::view::{RenderSettings, Sidecar};
 use pointblend::viewer::{self, ViewerError, ViewerOptions};
 
 #[derive(clap::Args, Debug, Default)]

@@ -14,9 +14,9 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use crate::frame::{Camera, RenderMode, RenderSettings, Sidecar};
 use crate::grouping::cache::Cache;
 use crate::reference::ImageError;
-use crate::view::{Camera, RenderMode, RenderSettings, Sidecar};
 
 use super::camera_input::SceneSphere;
 use super::jobs::Job;

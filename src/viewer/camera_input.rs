@@ -8,7 +8,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use crate::cloud::PointCloud;
-use crate::view::Camera;
+use crate::frame::Camera;
 
 /// Degrees of orbit per point of drag.
 const ORBIT_DEG_PER_POINT: f32 = 0.4;

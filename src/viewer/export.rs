@@ -12,9 +12,9 @@ use super::frames::color_image;
 use super::jobs::Job;
 use super::render_thread::Purpose;
 use super::state::Measurement;
+use crate::frame::sidecar::SidecarModel;
+use crate::frame::{RenderMode, Sidecar};
 use crate::reference::{self, ReferenceOptions};
-use crate::view::sidecar::SidecarModel;
-use crate::view::{RenderMode, Sidecar};
 
 impl ViewerApp {
     /// Renders the current view at the chosen size into a PNG and a JSON sidecar beside it.

@@ -9,8 +9,8 @@ use super::app::ViewerApp;
 use super::camera_input::SceneSphere;
 use super::jobs::Job;
 use super::model::Model;
+use crate::frame::Camera;
 use crate::scene::environment::EnvironmentMap;
-use crate::view::Camera;
 
 impl ViewerApp {
     /// Starts loading `path` in the background; the current model stays until it succeeds.

@@ -1,7 +1,7 @@
 //! The interactive viewer: `pointblend view [FILE]`, an eframe/egui window.
 //!
 //! The left panel holds the model, the mode (every entry of the mode registry,
-//! [`RenderMode::ALL`](crate::view::RenderMode::ALL), with the parameters it
+//! [`RenderMode::ALL`](crate::frame::RenderMode::ALL), with the parameters it
 //! lists), live statistics, the error measurement and the screenshot export.
 //! The panels (`panels.rs`, `stats.rs`, with `widgets.rs`) edit a `UiState`
 //! and return actions; the app (`app.rs`, its per-frame loop) applies them in

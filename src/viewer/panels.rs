@@ -1,7 +1,7 @@
 //! The left panel's controls: model, background jobs, mode and its
 //! parameters, camera, statistics, error and screenshot. The controls edit
 //! the [`UiState`] and return [`Action`]s for the app to take. Parameters come
-//! from the mode registry ([`crate::view::RenderMode::parameters`]): each
+//! from the mode registry ([`crate::frame::RenderMode::parameters`]): each
 //! [`Parameter`] has one widget here, and a mode shows the widgets of the
 //! parameters it lists.
 
@@ -11,8 +11,8 @@ use egui::{RichText, Ui};
 
 use super::state::{Action, JobKind, PanelInfo, ScreenshotSize, UiState};
 use super::widgets::{job_row, thousands};
+use crate::frame::{Parameter, Quality, RenderMode};
 use crate::grouping::{Extension, GroupingAlgo, GroupingSpec, MAX_GROUPS};
-use crate::view::{Parameter, Quality, RenderMode};
 
 pub fn controls(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>) -> Vec<Action> {
     let mut actions = Vec::new();
@@ -188,12 +188,12 @@ fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, para
         Parameter::Layers => {
             // Written only when moved, so each mode keeps its own default until then.
             let mut k = s.layers_or_default();
-            if ui.add(egui::Slider::new(&mut k, 2..=crate::view::settings::MAX_LAYERS).text("layers k")).changed() {
+            if ui.add(egui::Slider::new(&mut k, 2..=crate::frame::settings::MAX_LAYERS).text("layers k")).changed() {
                 s.layers = k;
             }
         }
         Parameter::EnvironmentLayers => {
-            use crate::view::environment::LayerEffects;
+            use crate::frame::environment::LayerEffects;
             ui.horizontal(|ui| {
                 ui.checkbox(&mut s.environment.enabled, "environment effects");
                 ui.checkbox(&mut s.environment.skybox, "skybox");

@@ -16,11 +16,11 @@ use std::sync::Arc;
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::time::Instant;
 
+use crate::frame::{Camera, RenderSettings, Sidecar};
 use crate::progress::{self, Tracker};
 use crate::reference::{self, ReferenceOptions};
 use crate::render::{GpuScene, HeadlessRenderer, RenderPlan};
 use crate::scene::Scene;
-use crate::view::{Camera, RenderSettings, Sidecar};
 
 use super::model::{GroupedModel, Model};
 

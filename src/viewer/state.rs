@@ -7,8 +7,8 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use crate::frame::{Camera, RenderSettings};
 use crate::reference::ImageError;
-use crate::view::{Camera, RenderSettings};
 
 use super::model::GroupedModel;
 use super::render_thread::FrameStats;

@@ -10,8 +10,8 @@ use std::path::PathBuf;
 use std::sync::{Mutex, MutexGuard, OnceLock};
 
 use glam::{DVec3, Mat4, Vec3};
+use pointblend::frame::Camera;
 use pointblend::render::HeadlessRenderer;
-use pointblend::view::Camera;
 
 /// The test scans: `tests/data` (in the repository, see its README), or
 /// `POINTBLEND_DATA` when set, a folder holding files of the same names.
@@ -40,7 +40,7 @@ pub fn looking_down_z() -> Camera {
         azimuth_deg: 0.0,
         elevation_deg: 0.0,
         fov_y_deg: 30.0,
-        up: pointblend::view::UpAxis::PosY,
+        up: pointblend::frame::UpAxis::PosY,
         scene_radius: 3.0,
     }
 }
@@ -136,7 +136,7 @@ pub fn foreground(image: &image::RgbaImage, background: [u8; 3]) -> Vec<bool> {
 
 /// The background colour as the renderer writes it.
 pub fn background_rgb() -> [u8; 3] {
-    let b = pointblend::view::Shading::default().background;
+    let b = pointblend::frame::Shading::default().background;
     [b.x, b.y, b.z].map(|c| (c * 255.0).round() as u8)
 }
 
@@ -186,7 +186,7 @@ pub fn floor_crossing_the_near_plane() -> (pointblend::cloud::PointCloud, Camera
         azimuth_deg: 0.0,
         elevation_deg: 10.0,
         fov_y_deg: 60.0,
-        up: pointblend::view::UpAxis::PosY,
+        up: pointblend::frame::UpAxis::PosY,
         scene_radius: 1.5,
     };
     (cloud, camera)

@@ -1,0 +1,348 @@
+//! The mode registry: every render mode, what it is, which parameters it
+//! reads, where it runs, which mode previews it, and the variants `bench`
+//! runs by default.
+//!
+//! This file and the mode files (`crates/render/src/modes/*.rs`, where the
+//! GPU modes plan their steps) are the only places that name a particular
+//! mode. The CLI, `bench`, the viewer and the sidecars read the registry:
+//! they iterate [`RenderMode::ALL`] and ask a mode for its [`ModeInfo`].
+//! Adding a mode means one entry here and one mode file
+//! (docs/ADDING_A_MODE.md).
+
+use super::parameters::Parameter;
+use crate::grouping::{Extension, GroupingAlgo, GroupingSpec, Relaxations};
+
+/// A rendering algorithm.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum RenderMode {
+    /// Botsch & Kobbelt's 2+1-pass pipeline: ε-offset visibility, accumulation, normalisation.
+    TwoPass,
+    /// Zhang & Pajarola's deferred blending: one geometry pass into K group
+    /// images, then ε-z compositing and deferred shading (1+1 passes).
+    Deferred,
+    /// Exact depth peeling of k transparent layers (the baseline of Zhang & Pajarola's Fig. 17).
+    DepthPeel,
+    /// Guennebaud's approximate depth peeling: k - 1 exact layers and one approximate.
+    ApproxPeel,
+    /// Zhang & Pajarola's Algorithm-1: each group back to front into its own
+    /// image, then the average of the images (1+1 passes).
+    Alg1,
+    /// Zhang & Pajarola's Algorithm-2: the nearest layer as `deferred` draws
+    /// it, the others as Algorithm-1 does, composited in one pass (2+1 passes).
+    Alg2,
+    /// Plain α-blending: every splat back to front over the ones behind, no
+    /// culling; the double-blending baseline of Zhang & Pajarola §5.2.
+    AlphaBlend,
+    /// The exact A-buffer renderer on the CPU: the ground truth for error.
+    Reference,
+}
+
+/// Where a mode runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Device {
+    Gpu,
+    Cpu,
+}
+
+/// What the registry knows of a mode.
+#[derive(Debug)]
+pub struct ModeInfo {
+    pub mode: RenderMode,
+    /// The name on the command line, in files and in the viewer.
+    pub name: &'static str,
+    /// One sentence on what the mode does.
+    pub description: &'static str,
+    /// The settings it reads, in display order.
+    pub parameters: &'static [Parameter],
+    pub device: Device,
+    /// Whether it reads opacity (draws transparency); opaque modes draw every splat opaque.
+    pub transparent: bool,
+    /// The mode drawn (on a subsample) while the camera moves.
+    pub preview: RenderMode,
+    /// What a plain `bench --modes NAME` runs: one row per entry, each a
+    /// list of `key=value` settings (see [`Parameter::key`]); "" is the defaults.
+    pub bench_variants: &'static [&'static str],
+    /// Layers k it draws when the settings leave it open (modes that read `Parameter::Layers`).
+    pub default_layers: u32,
+    /// For modes whose groups must each cover the surface (§4.4.2): the
+    /// grouping drawn when the settings hold the opaque default, and whose
+    /// extension is added to any other grouping that names none.
+    pub covering_grouping: Option<GroupingSpec>,
+    /// Whether it draws the environment effects (reflection, refraction,
+    /// Fresnel, dispersion, absorption; Zhang & Pajarola §5.2.3) of a scene
+    /// with an environment map. The others refuse such a scene.
+    pub environment: bool,
+}
+
+/// Algorithm-1's grouping: WGC with K = 4 and radius enlargement, the best of
+/// the paper's choices on our scans (the comparison is in docs/BENCHMARKS.md).
+const ALG1_GROUPING: GroupingSpec = GroupingSpec {
+    algo: GroupingAlgo::Wgc { k: 4, eq7: false },
+    relax: Relaxations { coplanar: false, opposite: false },
+    extension: Extension::Enlarge,
+};
+
+const REGISTRY: [ModeInfo; 8] = [
+    ModeInfo {
+        mode: RenderMode::TwoPass,
+        name: "two-pass",
+        description: "Botsch & Kobbelt: ε-offset visibility, additive blending, normalisation (2+1 passes).",
+        parameters: &[
+            Parameter::Quality,
+            Parameter::Epsilon,
+            Parameter::RadiusScale,
+            Parameter::BackfaceCulling,
+            Parameter::Lighting,
+            Parameter::Background,
+        ],
+        device: Device::Gpu,
+        transparent: false,
+        preview: RenderMode::TwoPass,
+        bench_variants: &["", "quality=unfiltered"],
+        default_layers: 1,
+        covering_grouping: None,
+        environment: false,
+    },
+    ModeInfo {
+        mode: RenderMode::Deferred,
+        name: "deferred",
+        description: "Zhang & Pajarola: one geometry pass into K group images, then ε-z compositing (1+1 passes).",
+        parameters: &[
+            Parameter::Grouping,
+            Parameter::Voronoi,
+            Parameter::Epsilon,
+            Parameter::RadiusScale,
+            Parameter::BackfaceCulling,
+            Parameter::Lighting,
+            Parameter::Background,
+        ],
+        device: Device::Gpu,
+        transparent: false,
+        preview: RenderMode::TwoPass,
+        bench_variants: &[""],
+        default_layers: 1,
+        covering_grouping: None,
+        environment: false,
+    },
+    ModeInfo {
+        mode: RenderMode::DepthPeel,
+        name: "depth-peel",
+        description: "Depth peeling: k layers, each a full splat render behind the one before, composited front to back (k × (2+1) passes).",
+        parameters: &[
+            Parameter::Layers,
+            Parameter::Epsilon,
+            Parameter::RadiusScale,
+            Parameter::BackfaceCulling,
+            Parameter::Lighting,
+            Parameter::Background,
+        ],
+        device: Device::Gpu,
+        transparent: true,
+        preview: RenderMode::ApproxPeel,
+        bench_variants: &["", "layers=4", "layers=2"],
+        default_layers: 8,
+        covering_grouping: None,
+        environment: false,
+    },
+    ModeInfo {
+        mode: RenderMode::ApproxPeel,
+        name: "approx-peel",
+        description: "Guennebaud: k - 1 exactly peeled layers, then all the rest blended into one approximate layer.",
+        parameters: &[
+            Parameter::Layers,
+            Parameter::Epsilon,
+            Parameter::RadiusScale,
+            Parameter::BackfaceCulling,
+            Parameter::Lighting,
+            Parameter::Background,
+        ],
+        device: Device::Gpu,
+        transparent: true,
+        preview: RenderMode::ApproxPeel,
+        bench_variants: &["", "layers=2"],
+        default_layers: 3,
+        covering_grouping: None,
+        environment: false,
+    },
+    ModeInfo {
+        mode: RenderMode::Alg1,
+        name: "alg1",
+        description: "Zhang & Pajarola Algorithm-1: each group back to front into its own image (one geometry pass), then their average (1+1 passes).",
+        parameters: &[
+            Parameter::Grouping,
+            Parameter::Order,
+            Parameter::Epsilon,
+            Parameter::RadiusScale,
+            Parameter::BackfaceCulling,
+            Parameter::Lighting,
+            Parameter::Background,
+        ],
+        device: Device::Gpu,
+        transparent: true,
+        preview: RenderMode::ApproxPeel,
+        bench_variants: &[""],
+        default_layers: 1,
+        covering_grouping: Some(ALG1_GROUPING),
+        environment: false,
+    },
+    ModeInfo {
+        mode: RenderMode::Alg2,
+        name: "alg2",
+        description: "Zhang & Pajarola Algorithm-2: the nearest layer in high quality (deferred blending), the layers behind as Algorithm-1 draws them (2+1 passes).",
+        parameters: &[
+            Parameter::Grouping,
+            Parameter::Voronoi,
+            Parameter::Order,
+            Parameter::Epsilon,
+            Parameter::RadiusScale,
+            Parameter::BackfaceCulling,
+            Parameter::Lighting,
+            Parameter::Background,
+            Parameter::EnvironmentLayers,
+            Parameter::Eta,
+            Parameter::Dispersion,
+        ],
+        device: Device::Gpu,
+        transparent: true,
+        preview: RenderMode::ApproxPeel,
+        bench_variants: &[""],
+        default_layers: 1,
+        covering_grouping: Some(ALG1_GROUPING),
+        environment: true,
+    },
+    ModeInfo {
+        mode: RenderMode::AlphaBlend,
+        name: "alpha-blend",
+        description: "Plain α-blending: every splat back to front over the ones behind, no culling (1+1 passes); overlapping splats of one surface blend twice or more, the artefact Algorithm-1 and -2 remove.",
+        parameters: &[
+            Parameter::Order,
+            Parameter::RadiusScale,
+            Parameter::BackfaceCulling,
+            Parameter::Lighting,
+            Parameter::Background,
+        ],
+        device: Device::Gpu,
+        transparent: true,
+        preview: RenderMode::AlphaBlend,
+        bench_variants: &[""],
+        default_layers: 1,
+        covering_grouping: None,
+        environment: false,
+    },
+    ModeInfo {
+        mode: RenderMode::Reference,
+        name: "reference",
+        description: "Exact A-buffer ray casting on the CPU: the ground truth for error (slow).",
+        parameters: &[
+            Parameter::Epsilon,
+            Parameter::RadiusScale,
+            Parameter::BackfaceCulling,
+            Parameter::Lighting,
+            Parameter::Background,
+            Parameter::EnvironmentLayers,
+            Parameter::Eta,
+            Parameter::Dispersion,
+        ],
+        device: Device::Cpu,
+        transparent: true,
+        // Approximate peeling keeps a transparent scene's look while the
+        // camera moves, and runs the two-pass plan for an opaque one.
+        preview: RenderMode::ApproxPeel,
+        bench_variants: &[""],
+        default_layers: 1,
+        covering_grouping: None,
+        environment: true,
+    },
+];
+
+impl RenderMode {
+    pub const ALL: [RenderMode; 8] = [
+        RenderMode::TwoPass,
+        RenderMode::Deferred,
+        RenderMode::DepthPeel,
+        RenderMode::ApproxPeel,
+        RenderMode::Alg1,
+        RenderMode::Alg2,
+        RenderMode::AlphaBlend,
+        RenderMode::Reference,
+    ];
+
+    /// The mode pointblend starts in when nothing else is asked for.
+    pub const DEFAULT: RenderMode = RenderMode::TwoPass;
+
+    /// The mode that measures every other: the exact reference.
+    pub const RULER: RenderMode = RenderMode::Reference;
+
+    pub fn info(self) -> &'static ModeInfo {
+        // The registry lists the modes in the order of `ALL`.
+        &REGISTRY[RenderMode::ALL.iter().position(|m| *m == self).unwrap_or(0)]
+    }
+
+    pub fn name(self) -> &'static str {
+        self.info().name
+    }
+
+    pub fn description(self) -> &'static str {
+        self.info().description
+    }
+
+    pub fn parameters(self) -> &'static [Parameter] {
+        self.info().parameters
+    }
+
+    /// Whether the mode runs on the GPU.
+    pub fn is_gpu(self) -> bool {
+        self.info().device == Device::Gpu
+    }
+
+    /// Whether the mode draws groups (and so needs a grouping before it can render).
+    pub fn needs_grouping(self) -> bool {
+        self.parameters().contains(&Parameter::Grouping)
+    }
+
+    /// Whether the mode draws groups for a scene that is `transparent` or
+    /// not: a transparent mode runs the ungrouped opaque plan for an opaque
+    /// scene, and grouping it (with enlarged radii) would change that image.
+    pub fn needs_grouping_for(self, transparent: bool) -> bool {
+        self.needs_grouping() && (transparent || !self.info().transparent)
+    }
+
+    /// Whether the mode reads `parameter`.
+    pub fn reads(self, parameter: Parameter) -> bool {
+        self.parameters().contains(&parameter)
+    }
+}
+
+impl std::fmt::Display for RenderMode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for RenderMode {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        RenderMode::ALL.into_iter().find(|m| m.name() == s).ok_or_else(|| {
+            let names: Vec<_> = RenderMode::ALL.iter().map(|m| m.name()).collect();
+            format!("unknown mode '{s}'; available: {}", names.join(", "))
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_registry_describes_every_mode_once_in_order() {
+        assert_eq!(REGISTRY.len(), RenderMode::ALL.len());
+        for (info, mode) in REGISTRY.iter().zip(RenderMode::ALL) {
+            assert_eq!(info.mode, mode);
+            assert!(!info.description.is_empty() && !info.parameters.is_empty(), "{mode}");
+            assert!(!info.bench_variants.is_empty(), "{mode}");
+            assert!(info.preview.is_gpu(), "{mode} previews with a GPU mode");
+            assert_eq!(mode.name().parse::<RenderMode>(), Ok(mode));
+        }
+        assert!(RenderMode::RULER.info().device == Device::Cpu);
+    }
+}

@@ -1,0 +1,182 @@
+//! The settings a mode can read, each with the one name it has everywhere:
+//! on the command line (`--group wgc-k8`), in bench variants
+//! (`deferred:group=wgc-k8`), in the viewer's panel and in sidecars.
+//!
+//! Front ends show a control for each [`Parameter`] of the chosen mode (the
+//! registry in [`super::modes`] lists them), so a new mode needs no UI code.
+
+use super::RenderSettings;
+use crate::grouping::GroupingSpec;
+
+/// A setting a mode reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Parameter {
+    /// Filtered (Gaussian blending) or unfiltered (nearest splat).
+    Quality,
+    /// ε of the depth test that decides which splats blend.
+    Epsilon,
+    /// A factor on every splat radius.
+    RadiusScale,
+    BackfaceCulling,
+    /// Phong lighting on/off and the light direction.
+    Lighting,
+    /// Grouping algorithm and its parameters (c, K, collision handling).
+    Grouping,
+    /// Voronoi rasterisation inside a group (Zhang & Pajarola Eq. 14).
+    Voronoi,
+    Background,
+    /// Transparent layers k a peeling mode draws.
+    Layers,
+    /// Environment effects at the nearest layer, through all layers, or off (§5.2.3).
+    EnvironmentLayers,
+    /// Index of refraction η of the environment effects.
+    Eta,
+    /// Chromatic dispersion δ of the environment effects.
+    Dispersion,
+    /// The back-to-front order of modes that blend in order: Gunjee's bucket
+    /// sort or Zhang & Pajarola's BSP traversal (§5.2.1).
+    Order,
+}
+
+impl Parameter {
+    pub const ALL: [Parameter; 13] = [
+        Parameter::Quality,
+        Parameter::Epsilon,
+        Parameter::RadiusScale,
+        Parameter::BackfaceCulling,
+        Parameter::Lighting,
+        Parameter::Grouping,
+        Parameter::Voronoi,
+        Parameter::Background,
+        Parameter::Layers,
+        Parameter::EnvironmentLayers,
+        Parameter::Eta,
+        Parameter::Dispersion,
+        Parameter::Order,
+    ];
+
+    /// The name in `key=value` settings (bench variants).
+    pub fn key(self) -> &'static str {
+        match self {
+            Parameter::Quality => "quality",
+            Parameter::Epsilon => "epsilon",
+            Parameter::RadiusScale => "radius-scale",
+            Parameter::BackfaceCulling => "cull",
+            Parameter::Lighting => "lighting",
+            Parameter::Grouping => "group",
+            Parameter::Voronoi => "voronoi",
+            Parameter::Background => "background",
+            Parameter::Layers => "layers",
+            Parameter::EnvironmentLayers => "env-layers",
+            Parameter::Eta => "eta",
+            Parameter::Dispersion => "dispersion",
+            Parameter::Order => "order",
+        }
+    }
+
+    /// The values it takes, for messages.
+    pub fn values(self) -> &'static str {
+        match self {
+            Parameter::Quality => "filtered or unfiltered",
+            Parameter::Epsilon => "a positive multiple of the mean splat radius",
+            Parameter::RadiusScale => "a positive factor",
+            Parameter::BackfaceCulling | Parameter::Lighting | Parameter::Voronoi => "on or off",
+            Parameter::Grouping => {
+                "mgc-cC, wgc-kK or hash-kK, then any of -kept, -eq7, -coplanar, -opposite, -dup, -radius"
+            }
+            Parameter::Background => "R,G,B (or R/G/B) in 0..255",
+            Parameter::Layers => "a number of layers, 2..=64",
+            Parameter::EnvironmentLayers => "single, multi or off",
+            Parameter::Eta => "a positive index of refraction",
+            Parameter::Dispersion => "a dispersion of 0 or more",
+            Parameter::Order => "bucket, bsp or sort",
+        }
+    }
+
+    pub fn from_key(key: &str) -> Option<Parameter> {
+        Parameter::ALL.into_iter().find(|p| p.key() == key)
+    }
+
+    /// Sets this parameter of `settings` from its text form.
+    pub fn apply(self, settings: &mut RenderSettings, value: &str) -> Result<(), String> {
+        let bad = || format!("{}={value}: expected {}", self.key(), self.values());
+        let on_off = |v: &str| match v {
+            "on" | "true" | "yes" => Ok(true),
+            "off" | "false" | "no" => Ok(false),
+            _ => Err(bad()),
+        };
+        let positive = |v: &str| v.parse::<f32>().ok().filter(|x| x.is_finite() && *x > 0.0).ok_or_else(bad);
+        match self {
+            Parameter::Quality => {
+                settings.quality = match value {
+                    "filtered" => super::Quality::Filtered,
+                    "unfiltered" => super::Quality::Unfiltered,
+                    _ => return Err(bad()),
+                }
+            }
+            Parameter::Epsilon => settings.epsilon_scale = positive(value)?,
+            Parameter::RadiusScale => settings.radius_scale = positive(value)?,
+            Parameter::BackfaceCulling => settings.backface_culling = on_off(value)?,
+            Parameter::Lighting => settings.lighting = on_off(value)?,
+            Parameter::Voronoi => settings.voronoi = on_off(value)?,
+            Parameter::Grouping => {
+                settings.grouping = value.parse::<GroupingSpec>().map_err(|e| format!("group={e}"))?
+            }
+            Parameter::Layers => {
+                let max = super::settings::MAX_LAYERS;
+                settings.layers = value.parse::<u32>().ok().filter(|k| (2..=max).contains(k)).ok_or_else(bad)?;
+            }
+            Parameter::EnvironmentLayers => {
+                let env = &mut settings.environment;
+                (env.enabled, env.layers) = match value {
+                    "off" => (false, env.layers),
+                    other => (true, other.parse().map_err(|_| bad())?),
+                };
+            }
+            Parameter::Eta => settings.environment.eta = positive(value)?,
+            Parameter::Order => settings.order = value.parse().map_err(|_| bad())?,
+            // Checked alone (not against η, which may come later in the
+            // variant): η - δ is kept above MIN_ETA where it is used.
+            Parameter::Dispersion => {
+                settings.environment.dispersion =
+                    value.parse::<f32>().ok().filter(|d| d.is_finite() && *d >= 0.0).ok_or_else(bad)?;
+            }
+            Parameter::Background => {
+                let rgb: Vec<f32> = value
+                    .split([',', '/'])
+                    .map(|c| c.trim().parse::<f32>().map_err(|_| bad()))
+                    .collect::<Result<_, _>>()?;
+                match rgb[..] {
+                    [r, g, b] if [r, g, b].iter().all(|c| (0.0..=255.0).contains(c)) => {
+                        settings.shading.background = glam::Vec3::new(r, g, b) / 255.0;
+                    }
+                    _ => return Err(bad()),
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_parameter_has_a_unique_key_that_applies() {
+        for p in Parameter::ALL {
+            assert_eq!(Parameter::from_key(p.key()), Some(p));
+        }
+        let mut s = RenderSettings::default();
+        Parameter::Quality.apply(&mut s, "unfiltered").unwrap();
+        Parameter::Grouping.apply(&mut s, "wgc-k8").unwrap();
+        Parameter::Voronoi.apply(&mut s, "off").unwrap();
+        Parameter::Background.apply(&mut s, "255,0,51").unwrap();
+        assert_eq!(s.quality, crate::frame::Quality::Unfiltered);
+        assert_eq!(s.grouping, GroupingSpec::wgc(8));
+        assert!(!s.voronoi);
+        assert!((s.shading.background - glam::Vec3::new(1.0, 0.0, 0.2)).length() < 1e-6);
+        assert!(Parameter::Epsilon.apply(&mut s, "0").is_err());
+        assert!(Parameter::Lighting.apply(&mut s, "maybe").is_err());
+    }
+}

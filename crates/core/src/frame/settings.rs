@@ -1,0 +1,116 @@
+//! What a frame is rendered with besides the camera: the mode, its quality
+//! level and parameters. Plain data, shared by the GPU modes and the CPU reference.
+
+use super::{RenderMode, Shading, SplatKernel};
+use crate::grouping::GroupingSpec;
+
+/// Botsch & Kobbelt §5's two quality levels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Quality {
+    /// Gaussian-weighted blending of splats within ε (2+1 passes).
+    #[default]
+    Filtered,
+    /// Elliptical splats, nearest wins, no blending (1+1 passes).
+    Unfiltered,
+}
+
+/// Everything besides the camera that decides a frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RenderSettings {
+    pub mode: RenderMode,
+    pub quality: Quality,
+    /// ε of the visibility pass, as a multiple of the cloud's mean splat radius.
+    pub epsilon_scale: f32,
+    pub backface_culling: bool,
+    /// Every splat radius is multiplied by this (1: as loaded).
+    pub radius_scale: f32,
+    /// How modes that draw groups split the splats (the paper's opaque setting: MGC at c = 0.4).
+    pub grouping: GroupingSpec,
+    /// Voronoi rasterisation in the group images (Zhang & Pajarola Eq. 14).
+    pub voronoi: bool,
+    /// Phong lighting; without it the normalised colour is shown and no
+    /// normal targets are allocated or written.
+    pub lighting: bool,
+    /// Transparent layers k of a peeling mode; 0 leaves it to the mode's default.
+    pub layers: u32,
+    pub kernel: SplatKernel,
+    pub shading: Shading,
+    /// Reflection and refraction of the scene's environment map, when it has one.
+    pub environment: crate::frame::environment::EnvironmentSettings,
+    /// How modes that blend in order sort the splats back to front.
+    pub order: crate::spatial::order::OrderKind,
+}
+
+/// Most layers a peeling mode draws.
+pub const MAX_LAYERS: u32 = 64;
+
+impl RenderSettings {
+    /// The layers k the mode draws: the setting, else the registry's default for the mode.
+    pub fn layers_or_default(&self) -> u32 {
+        if self.layers == 0 { self.mode.info().default_layers } else { self.layers }
+    }
+
+    /// The grouping the mode draws. Modes whose groups must cover the surface
+    /// (`alg1`) draw their own grouping in place of the opaque default, and
+    /// add its extension (§4.4.2) to any other grouping that names none.
+    pub fn grouping_for_mode(&self) -> GroupingSpec {
+        match self.mode.info().covering_grouping {
+            None => self.grouping,
+            Some(own) if self.grouping == GroupingSpec::default() => own,
+            Some(own) if self.grouping.extension == crate::grouping::Extension::None => {
+                self.grouping.extended(own.extension)
+            }
+            Some(_) => self.grouping,
+        }
+    }
+
+    /// Whether a frame of these settings draws a scene's environment map:
+    /// the mode draws the effects (registry) and they are on.
+    pub fn draws_environment(&self) -> bool {
+        self.environment.enabled && self.mode.info().environment
+    }
+
+    /// ε in view-depth units for a cloud whose mean splat radius is `mean_radius`.
+    pub fn epsilon(&self, mean_radius: f32) -> f32 {
+        self.epsilon_scale * mean_radius
+    }
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            mode: RenderMode::DEFAULT,
+            quality: Quality::Filtered,
+            epsilon_scale: 1.0,
+            backface_culling: true,
+            radius_scale: 1.0,
+            grouping: GroupingSpec::default(),
+            voronoi: true,
+            lighting: true,
+            layers: 0,
+            kernel: SplatKernel::default(),
+            shading: Shading::default(),
+            environment: Default::default(),
+            order: crate::spatial::order::OrderKind::Bucket,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn alg1_draws_covering_groups_and_other_modes_the_grouping_as_set() {
+        let with = |mode: &str, group: &str| RenderSettings {
+            mode: mode.parse().unwrap(),
+            grouping: group.parse().unwrap(),
+            ..Default::default()
+        };
+        let drawn = |mode: &str, group: &str| with(mode, group).grouping_for_mode().to_string();
+        assert_eq!(drawn("deferred", "mgc-c0.4"), "mgc-c0.4");
+        assert_eq!(drawn("alg1", "mgc-c0.4"), "wgc-k4-radius", "the opaque default is replaced");
+        assert_eq!(drawn("alg1", "hash-k8"), "hash-k8-radius", "an extension is added");
+        assert_eq!(drawn("alg1", "wgc-k4-dup"), "wgc-k4-dup", "a named extension is kept");
+    }
+}

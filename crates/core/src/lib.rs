@@ -1,0 +1,22 @@
+//! pointblend's CPU core: everything that needs no GPU, window or UI, so the
+//! compiler keeps those out (this crate depends on none of them).
+//!
+//! The modules are layered from the ground up: [`spatial`] answers neighbour
+//! queries over plain positions and radii, [`cloud`] loads and repairs point
+//! clouds, [`grouping`] splits splats into groups, [`frame`] holds the camera,
+//! the splat kernel, the shading model, the render settings and the mode
+//! registry that every renderer (GPU or CPU) shares, [`scene`] places clouds
+//! with transforms and materials, and [`reference`] renders exactly on the
+//! CPU. Under them all, [`hash`], [`memory`], [`output`] and [`progress`] are
+//! small helpers. No module imports one above it (`tests/architecture.rs`).
+
+pub mod cloud;
+pub mod frame;
+pub mod grouping;
+pub mod hash;
+pub mod memory;
+pub mod output;
+pub mod progress;
+pub mod reference;
+pub mod scene;
+pub mod spatial;

@@ -1,0 +1,19 @@
+//! The exact CPU reference renderer and the image error metrics.
+//!
+//! [`render`] is an A-buffer splat renderer: every pixel's view ray is
+//! intersected with every splat disc of the scene that covers it
+//! (perspective-correct, no parallel-projection approximation), the hits are
+//! sorted by depth and grouped into ε-layers (split by facing when opacity is
+//! read), each layer is normalised (Σw·c/Σw) and shaded, and the layers are
+//! α-composited front to back with no cap on their number. It uses the camera, kernel and
+//! shading of [`crate::frame`], so its images compare pixel for pixel with the
+//! GPU modes. [`metrics`] holds the ε of Zhang & Pajarola 2007 §6.3, PSNR, the
+//! bad-pixel share and the difference image.
+
+mod environment;
+pub mod metrics;
+mod raster;
+mod tiles;
+
+pub use metrics::{ImageError, compare, difference_image};
+pub use raster::{ReferenceOptions, render, render_with_layers};

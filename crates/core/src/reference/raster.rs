@@ -1,0 +1,305 @@
+//! Ray casting of splat discs per pixel, ε-layering and front-to-back compositing.
+//!
+//! Every hit of a pixel's ray counts, with no cap on the number of layers. A
+//! layer is the hits within ε of its front hit; when opacity is read
+//! (transparent modes, the reference mode) hits whose surfaces face the other
+//! way from the front hit form layers of their own even within ε, so a thin
+//! shell seen through keeps its two layers. Each layer is normalised (Eq. 1:
+//! weighted colour, normal and opacity), shaded facing the viewer, and
+//! composited front to back; an opaque layer ends the ray.
+
+use glam::{Vec2, Vec3};
+use rayon::prelude::*;
+
+use super::tiles::{self, EyeSplat, TILE};
+use crate::frame::environment::{EnvironmentSettings, GlassPixel};
+use crate::frame::{Camera, Shading, SplatKernel};
+use crate::scene::Scene;
+
+/// Parameters of a reference frame; the same values a GPU frame uses.
+#[derive(Debug, Clone, Copy)]
+pub struct ReferenceOptions {
+    /// Hits within this view-depth distance of a layer's front join the layer.
+    pub epsilon: f32,
+    pub backface_culling: bool,
+    pub kernel: SplatKernel,
+    pub shading: Shading,
+    /// Phong lighting; without it layers show their normalised colour.
+    pub lighting: bool,
+    /// Every splat radius is multiplied by this.
+    pub radius_scale: f32,
+    /// Read opacity (the scene as defined); else every splat is opaque, as opaque modes draw it.
+    pub transparent: bool,
+    /// Show a progress bar.
+    pub progress: bool,
+    /// How the scene's environment map, if any, is reflected and refracted
+    /// (read only with opacity, on the nearest transparent layer).
+    pub environment: EnvironmentSettings,
+}
+
+impl ReferenceOptions {
+    /// The options that match a GPU frame of `scene` rendered with `settings`.
+    pub fn matching(settings: &crate::frame::RenderSettings, scene: &Scene) -> Self {
+        Self {
+            epsilon: settings.epsilon(scene.flatten().cloud.mean_radius()),
+            backface_culling: settings.backface_culling,
+            kernel: settings.kernel,
+            shading: settings.shading,
+            lighting: settings.lighting,
+            radius_scale: settings.radius_scale,
+            transparent: settings.mode.info().transparent,
+            progress: false,
+            // Only what the mode draws: a mode without the effects is measured without them.
+            environment: EnvironmentSettings { enabled: settings.draws_environment(), ..settings.environment },
+        }
+    }
+}
+
+/// One ray-splat intersection.
+#[derive(Debug, Clone, Copy)]
+struct Hit {
+    depth: f32,
+    weight: f32,
+    splat: u32,
+    /// Whether the surface faces the viewer (its normal points against the ray).
+    facing: bool,
+}
+
+/// Renders `scene` exactly, on the CPU, as the GPU modes would with the same camera.
+pub fn render(scene: &Scene, camera: &Camera, options: &ReferenceOptions, width: u32, height: u32) -> image::RgbaImage {
+    render_with_layers(scene, camera, options, width, height).0
+}
+
+/// [`render`], and per pixel (row-major) the number of layers its ray met.
+pub fn render_with_layers(
+    scene: &Scene,
+    camera: &Camera,
+    options: &ReferenceOptions,
+    width: u32,
+    height: u32,
+) -> (image::RgbaImage, Vec<u32>) {
+    let flat = scene.flatten();
+    let cloud = flat.cloud.as_ref();
+    let (width, height) = (width.max(1), height.max(1));
+    let aspect = width as f32 / height as f32;
+    let view = camera.view_matrix();
+    let proj = camera.projection(aspect);
+    let (near, far) = camera.near_far();
+    let splats: Vec<EyeSplat> = (0..cloud.len())
+        .into_par_iter()
+        .filter_map(|i| {
+            let centre = view.transform_point3(cloud.positions[i]);
+            let normal = view.transform_vector3(cloud.normals[i]).try_normalize().unwrap_or(Vec3::Z);
+            let depth = -centre.z;
+            let radius = cloud.radii[i] * options.radius_scale;
+            let culled = options.backface_culling && !cloud.is_two_sided(i) && normal.dot(centre) > 0.0;
+            // Discs that cross the near or far plane keep the part between them (the per-hit test).
+            let usable = depth - radius < far && depth + radius > near && radius > 0.0;
+            if culled || !usable {
+                return None;
+            }
+            let [r, g, b] = cloud.colors[i];
+            Some(EyeSplat {
+                centre,
+                normal,
+                plane: options.kernel.footprint_normal(normal, centre.normalize_or_zero()),
+                radius,
+                color: Vec3::new(r as f32, g as f32, b as f32) / 255.0,
+                opacity: if options.transparent { cloud.opacity[i].clamp(0.0, 1.0) } else { 1.0 },
+            })
+        })
+        .collect();
+    let bins = tiles::bin(&splats, &proj, width, height, near);
+    let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
+    let lens = Vec2::new(tan_y * aspect, tan_y);
+    let environment = scene.environment.as_deref().filter(|_| options.transparent && options.environment.enabled);
+    let glassy = environment.is_some();
+    let bar = crate::progress::bar(bins.bins.len() as u64, "reference render", options.progress);
+    let tiles: Vec<(u32, Vec<TilePixel>)> = (0..bins.bins.len() as u32)
+        .into_par_iter()
+        .map(|tile| {
+            if bar.is_cancelled() {
+                return (tile, Vec::new()); // the caller drops a cancelled image
+            }
+            let (tx, ty) = (tile % bins.columns, tile / bins.columns);
+            let mut hits = Vec::new();
+            let mut used = Vec::new();
+            let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
+            for y in ty * TILE..((ty + 1) * TILE).min(height) {
+                for x in tx * TILE..((tx + 1) * TILE).min(width) {
+                    let ndc = Vec2::new(
+                        (x as f32 + 0.5) / width as f32 * 2.0 - 1.0,
+                        1.0 - (y as f32 + 0.5) / height as f32 * 2.0,
+                    );
+                    let ray = (ndc * lens).extend(-1.0);
+                    hits.clear();
+                    for &s in &bins.bins[tile as usize] {
+                        if let Some(hit) = intersect(&splats[s as usize], ray, &options.kernel, near, far) {
+                            hits.push(Hit { splat: s, ..hit });
+                        }
+                    }
+                    let (colour, layers, glass) = composite(&mut hits, &mut used, &splats, ray, options, glassy);
+                    pixels.push((colour, layers, glass));
+                }
+            }
+            bar.inc(1);
+            (tile, pixels)
+        })
+        .collect();
+    bar.finish();
+    let mut colours = vec![Vec3::ZERO; (width * height) as usize];
+    let mut glass = vec![None; (width * height) as usize];
+    let mut layer_counts = vec![0u32; (width * height) as usize];
+    for (tile, pixels) in tiles {
+        let (tx, ty) = (tile % bins.columns, tile / bins.columns);
+        let mut it = pixels.into_iter();
+        for y in ty * TILE..((ty + 1) * TILE).min(height) {
+            for x in tx * TILE..((tx + 1) * TILE).min(width) {
+                if let Some((colour, layers, g)) = it.next() {
+                    let at = (y * width + x) as usize;
+                    (colours[at], layer_counts[at], glass[at]) = (colour, layers, g);
+                }
+            }
+        }
+    }
+    if let Some(map) = environment {
+        let rays = (0..width * height)
+            .map(|i| {
+                let (x, y) = (i % width, i / width);
+                let ndc = Vec2::new(
+                    (x as f32 + 0.5) / width as f32 * 2.0 - 1.0,
+                    1.0 - (y as f32 + 0.5) / height as f32 * 2.0,
+                );
+                (ndc * lens).extend(-1.0).normalize()
+            })
+            .collect::<Vec<_>>();
+        let lookup = super::environment::Lookup { map, camera, settings: &options.environment, width, height };
+        lookup.apply(&rays, &glass, &layer_counts, &mut colours);
+    }
+    let mut image = image::RgbaImage::new(width, height);
+    for (i, c) in colours.iter().enumerate() {
+        image.put_pixel(i as u32 % width, i as u32 / width, image::Rgba(to_rgba8(*c)));
+    }
+    (image, layer_counts)
+}
+
+/// One pixel of a tile: its colour, how many layers it composited, and its
+/// nearest transparent layer for the environment effects.
+type TilePixel = (Vec3, u32, Option<GlassPixel>);
+
+/// Exact ray-disc intersection: the ray from the eye through `ray` (z = -1)
+/// meets the splat's footprint plane (see `SplatKernel::footprint_normal`) at
+/// view depth t; inside the disc it gets the Gaussian weight.
+fn intersect(s: &EyeSplat, ray: Vec3, kernel: &SplatKernel, near: f32, far: f32) -> Option<Hit> {
+    let denom = s.plane.dot(ray);
+    if denom.abs() < 1e-12 {
+        return None;
+    }
+    let t = s.plane.dot(s.centre) / denom;
+    if !(t > near && t < far) {
+        return None;
+    }
+    let rho2 = (ray * t - s.centre).length_squared() / (s.radius * s.radius);
+    (rho2 < 1.0).then(|| Hit { depth: t, weight: kernel.weight(rho2), splat: 0, facing: s.normal.dot(ray) < 0.0 })
+}
+
+/// Sorts the hits, groups them into ε-layers (by facing too when opacity is
+/// read), normalises and shades each layer, and composites the layers front
+/// to back over the background. Returns the colour, the number of layers,
+/// and, when `glassy` and the nearest layer is transparent, that layer and
+/// what lies behind it (for the environment effects).
+fn composite(
+    hits: &mut [Hit],
+    used: &mut Vec<bool>,
+    splats: &[EyeSplat],
+    ray: Vec3,
+    options: &ReferenceOptions,
+    glassy: bool,
+) -> (Vec3, u32, Option<GlassPixel>) {
+    let background = options.shading.background;
+    if hits.is_empty() {
+        return (background, 0, None);
+    }
+    hits.sort_unstable_by(|a, b| a.depth.total_cmp(&b.depth));
+    used.clear();
+    used.resize(hits.len(), false);
+    let to_eye = -ray.normalize();
+    let mut colour = Vec3::ZERO;
+    let mut transmittance = 1.0f32;
+    let mut layers = 0;
+    let mut glass: Option<GlassPixel> = None;
+    let mut start = 0;
+    while start < hits.len() {
+        let (front, facing) = (hits[start].depth, hits[start].facing);
+        let (mut sum_w, mut sum_c, mut sum_n, mut sum_a) = (0.0f32, Vec3::ZERO, Vec3::ZERO, 0.0f32);
+        for (h, taken) in
+            hits[start..].iter().zip(&mut used[start..]).take_while(|(h, _)| h.depth <= front + options.epsilon)
+        {
+            if *taken || (options.transparent && h.facing != facing) {
+                continue;
+            }
+            *taken = true;
+            let s = &splats[h.splat as usize];
+            sum_w += h.weight;
+            sum_c += s.color * h.weight;
+            sum_n += s.normal * h.weight;
+            sum_a += s.opacity * h.weight;
+        }
+        while start < hits.len() && used[start] {
+            start += 1;
+        }
+        if sum_w <= 0.0 || sum_w.is_nan() {
+            continue;
+        }
+        layers += 1;
+        let alpha = (sum_a / sum_w).clamp(0.0, 1.0);
+        if let Some(g) = glass.as_mut() {
+            // Counted even where too little shows through to change a colour.
+            if alpha < 1.0 { g.layers_behind += 1.0 } else { g.closed = true }
+        }
+        if transmittance <= 1e-6 {
+            continue; // too little shows through to change a colour; the layer is only counted
+        }
+        let normal = sum_n.try_normalize().unwrap_or(to_eye);
+        let albedo = sum_c / sum_w;
+        let shaded = if options.lighting {
+            options.shading.shade(albedo, normal, to_eye)
+        } else {
+            albedo.clamp(Vec3::ZERO, Vec3::ONE)
+        };
+        match glass.as_mut() {
+            Some(g) => {
+                g.behind += g.through * alpha * shaded;
+                g.through *= 1.0 - alpha;
+            }
+            None if glassy && layers == 1 && alpha < 1.0 => {
+                let normal = if normal.dot(to_eye) < 0.0 { -normal } else { normal };
+                glass = Some(GlassPixel {
+                    front: shaded,
+                    alpha,
+                    normal,
+                    behind: Vec3::ZERO,
+                    through: 1.0,
+                    layers_behind: 0.0,
+                    closed: false,
+                });
+            }
+            None => {}
+        }
+        colour += transmittance * alpha * shaded;
+        transmittance *= 1.0 - alpha;
+        if transmittance <= 0.0 {
+            if let Some(g) = glass.as_mut() {
+                g.closed = true;
+            }
+            break; // an opaque layer ends the ray
+        }
+    }
+    (colour + transmittance * background, layers, glass)
+}
+
+/// Quantises as the GPU's Rgba8Unorm target does (round to nearest).
+fn to_rgba8(c: Vec3) -> [u8; 4] {
+    let q = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+    [q(c.x), q(c.y), q(c.z), 255]
+}

@@ -1,0 +1,276 @@
+//! Scene files: a TOML file that lists objects, each a PLY file or a
+//! generated sphere, with a transform and a material, and the scene's
+//! background, environment map and camera.
+//!
+//! ```toml
+//! background = [28, 31, 36]          # optional, 0..255
+//! environment = "venice.exr"         # optional map to reflect and refract, relative to this file
+//!
+//! [camera]                           # optional; defaults frame every object
+//! azimuth = 20                       # degrees
+//! elevation = 10
+//! fov = 35
+//!
+//! [[object]]
+//! ply = "bunny.ply"                  # relative to this file
+//! opacity = 0.5                      # multiplies the splats' own, 0..1
+//! color = [230, 200, 160]            # replaces the splats' own
+//! two_sided = true                   # default: true when opacity < 1
+//!
+//! [[object]]
+//! sphere = { splats = 800, radius = 0.012, centre = [0.0, 0.03, 0.0] }
+//! color = [200, 40, 40]
+//! translate = [0.01, 0.0, 0.0]       # metres (the file's units)
+//! rotate = [0, 30, 0]                # degrees about x, then y, then z
+//! scale = 1.0
+//! ```
+//!
+//! TOML because people write these by hand (comments, no trailing-comma
+//! traps). Unknown keys are refused, and every problem (a syntax error, a
+//! missing PLY, an opacity outside 0..1) is reported on one line with the
+//! file, line and column; values keep their place in the file through
+//! `toml::Spanned`.
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use glam::{Affine3A, EulerRot, Quat, Vec3};
+use serde::Deserialize;
+use toml::Spanned;
+
+use super::primitives::sphere;
+use super::{Material, Scene, SceneCamera, SceneObject};
+use crate::cloud::{self, LoadOptions};
+use crate::frame::UpAxis;
+use crate::hash::{FNV_OFFSET, fnv1a};
+
+/// A problem with a scene file, with where it is.
+#[derive(Debug, thiserror::Error)]
+#[error("{path}{}: {message}", location.map(|(l, c)| format!(":{l}:{c}")).unwrap_or_default())]
+pub struct SceneError {
+    pub path: PathBuf,
+    /// Line and column (from 1), when the problem has a place in the file.
+    pub location: Option<(usize, usize)>,
+    pub message: String,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneFile {
+    background: Option<Spanned<[f32; 3]>>,
+    environment: Option<Spanned<String>>,
+    camera: Option<CameraEntry>,
+    #[serde(rename = "object", default)]
+    objects: Vec<Spanned<ObjectEntry>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CameraEntry {
+    azimuth: Option<f32>,
+    elevation: Option<f32>,
+    distance: Option<Spanned<f32>>,
+    fov: Option<Spanned<f32>>,
+    up: Option<Spanned<String>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ObjectEntry {
+    ply: Option<Spanned<String>>,
+    sphere: Option<Spanned<SphereEntry>>,
+    name: Option<String>,
+    opacity: Option<Spanned<f32>>,
+    color: Option<Spanned<[f32; 3]>>,
+    two_sided: Option<bool>,
+    translate: Option<[f32; 3]>,
+    rotate: Option<[f32; 3]>,
+    scale: Option<Spanned<f32>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SphereEntry {
+    splats: usize,
+    radius: f32,
+    centre: [f32; 3],
+}
+
+/// Most splats a generated sphere may have.
+const MAX_SPHERE_SPLATS: usize = 50_000_000;
+
+/// Reads the scene file at `path`; PLY paths in it are relative to its folder.
+/// Returns the scene and the load warnings of its objects.
+pub fn read(path: &Path, options: &LoadOptions) -> Result<(Scene, Vec<String>), SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        path: path.to_path_buf(),
+        location: None,
+        message: e.to_string(),
+    })?;
+    let reader = Reader { path, text: &text, folder: path.parent().unwrap_or(Path::new(".")), options };
+    let file: SceneFile = toml::from_str(&text).map_err(|e| reader.at(e.span(), one_line(e.message())))?;
+    if file.objects.is_empty() {
+        return Err(reader.at(None, "the scene has no [[object]]".into()));
+    }
+    let mut scene = Scene::default();
+    let mut warnings = Vec::new();
+    for entry in &file.objects {
+        scene.objects.push(reader.object(entry, &mut warnings)?);
+    }
+    if let Some(bg) = &file.background {
+        if !bg.get_ref().iter().all(|v| (0.0..=255.0).contains(v)) {
+            return Err(reader.at(Some(bg.span()), "background must be three values in 0..255".into()));
+        }
+        scene.background = Some(Vec3::from_array(*bg.get_ref()) / 255.0);
+    }
+    if let Some(env) = &file.environment {
+        let map_path = reader.folder.join(env.get_ref());
+        let map = super::environment::EnvironmentMap::load(&map_path)
+            .map_err(|e| reader.at(Some(env.span()), one_line(&e.to_string())))?;
+        if map.cleaned > 0 {
+            warnings.push(format!("{}: {} negative or non-finite values set to 0", map_path.display(), map.cleaned));
+        }
+        scene.environment = Some(Arc::new(map));
+    }
+    if let Some(c) = &file.camera {
+        scene.camera = Some(reader.camera(c)?);
+    }
+    Ok((scene, warnings))
+}
+
+/// The scene file being read: where it is, its text (for error locations),
+/// the folder its paths are relative to, and how its PLY files are loaded.
+struct Reader<'a> {
+    path: &'a Path,
+    text: &'a str,
+    folder: &'a Path,
+    options: &'a LoadOptions,
+}
+
+impl Reader<'_> {
+    /// An error at `span` of the file (at no place when `None`).
+    fn at(&self, span: Option<Range<usize>>, message: String) -> SceneError {
+        SceneError { path: self.path.to_path_buf(), location: span.map(|s| line_column(self.text, s.start)), message }
+    }
+
+    /// One `[[object]]`: its splats, transform and material.
+    fn object(&self, entry: &Spanned<ObjectEntry>, warnings: &mut Vec<String>) -> Result<SceneObject, SceneError> {
+        let span = entry.span();
+        let entry = entry.get_ref();
+        let (name, cloud, hash) = match (&entry.ply, &entry.sphere) {
+            (Some(ply), None) => self.ply(ply, warnings)?,
+            (None, Some(s)) => self.sphere(s)?,
+            _ => return Err(self.at(Some(span), "an object needs exactly one of `ply` or `sphere`".into())),
+        };
+        let opacity = match &entry.opacity {
+            Some(a) if !(0.0..=1.0).contains(a.get_ref()) => {
+                return Err(self.at(Some(a.span()), format!("opacity must be in 0..1, not {}", a.get_ref())));
+            }
+            Some(a) => *a.get_ref(),
+            None => 1.0,
+        };
+        let colour = match &entry.color {
+            Some(c) if !c.get_ref().iter().all(|v| (0.0..=255.0).contains(v)) => {
+                return Err(self.at(Some(c.span()), "color must be three values in 0..255".into()));
+            }
+            Some(c) => Some(c.get_ref().map(|v| v.round() as u8)),
+            None => None,
+        };
+        let scale = match &entry.scale {
+            Some(s) if !(s.get_ref().is_finite() && *s.get_ref() > 0.0) => {
+                return Err(self.at(Some(s.span()), format!("scale must be positive, not {}", s.get_ref())));
+            }
+            Some(s) => *s.get_ref(),
+            None => 1.0,
+        };
+        let [rx, ry, rz] = entry.rotate.unwrap_or([0.0; 3]).map(f32::to_radians);
+        let transform = Affine3A::from_scale_rotation_translation(
+            Vec3::splat(scale),
+            Quat::from_euler(EulerRot::ZYX, rz, ry, rx),
+            Vec3::from_array(entry.translate.unwrap_or([0.0; 3])),
+        );
+        if !transform.is_finite() {
+            return Err(self.at(Some(span), "the transform is not finite".into()));
+        }
+        let material = Material { colour, opacity, two_sided: entry.two_sided.unwrap_or(opacity < 1.0) };
+        Ok(SceneObject {
+            name: entry.name.clone().unwrap_or(name),
+            cloud: Arc::new(cloud),
+            transform,
+            material,
+            content_hash: hash,
+        })
+    }
+
+    /// A `ply` object: its name, cloud and content hash; its load warnings go to `warnings`.
+    fn ply(
+        &self,
+        ply: &Spanned<String>,
+        warnings: &mut Vec<String>,
+    ) -> Result<(String, cloud::PointCloud, u64), SceneError> {
+        let file = self.folder.join(ply.get_ref());
+        let (cloud, report) =
+            cloud::load_with(&file, self.options).map_err(|e| self.at(Some(ply.span()), one_line(&e.to_string())))?;
+        let hash =
+            crate::hash::file_hash(&file).map_err(|e| self.at(Some(ply.span()), format!("{}: {e}", file.display())))?;
+        warnings.extend(report.warnings.iter().map(|w| format!("{}: {w}", file.display())));
+        let name = file.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        Ok((name, cloud, hash))
+    }
+
+    /// A `sphere` object: its name, generated cloud and a hash of its parameters.
+    fn sphere(&self, s: &Spanned<SphereEntry>) -> Result<(String, cloud::PointCloud, u64), SceneError> {
+        let spec = s.get_ref();
+        if spec.splats == 0 || spec.splats > MAX_SPHERE_SPLATS || !(spec.radius.is_finite() && spec.radius > 0.0) {
+            return Err(
+                self.at(Some(s.span()), format!("a sphere needs 1..={MAX_SPHERE_SPLATS} splats and a positive radius"))
+            );
+        }
+        if !spec.centre.iter().all(|c| c.is_finite()) {
+            return Err(self.at(Some(s.span()), "the sphere's centre is not finite".into()));
+        }
+        let centre = Vec3::from_array(spec.centre);
+        let hash = [spec.splats as f32, spec.radius, centre.x, centre.y, centre.z]
+            .iter()
+            .fold(fnv1a(FNV_OFFSET, b"sphere"), |h, v| fnv1a(h, &v.to_le_bytes()));
+        Ok((format!("sphere of {} splats", spec.splats), sphere(spec.splats, spec.radius, centre), hash))
+    }
+
+    /// The `[camera]` table, checked.
+    fn camera(&self, c: &CameraEntry) -> Result<SceneCamera, SceneError> {
+        if let Some(fov) = &c.fov {
+            if !(*fov.get_ref() > 0.5 && *fov.get_ref() < 170.0) {
+                return Err(self.at(Some(fov.span()), "fov must be between 0.5 and 170 degrees".into()));
+            }
+        }
+        if let Some(d) = &c.distance {
+            if !(d.get_ref().is_finite() && *d.get_ref() > 0.0) {
+                return Err(self.at(Some(d.span()), "distance must be positive".into()));
+            }
+        }
+        let up = match &c.up {
+            Some(u) => Some(u.get_ref().parse::<UpAxis>().map_err(|e| self.at(Some(u.span()), e))?),
+            None => None,
+        };
+        Ok(SceneCamera {
+            azimuth: c.azimuth,
+            elevation: c.elevation,
+            distance: c.distance.as_ref().map(|d| *d.get_ref()),
+            fov: c.fov.as_ref().map(|f| *f.get_ref()),
+            up,
+        })
+    }
+}
+
+/// Line and column (from 1) of byte `offset` in `text`.
+fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
+}
+
+fn one_line(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
+}

@@ -1,0 +1,340 @@
+//! A scene: one or more objects, each a point cloud with a transform and a
+//! material, rendered together, with an optional background and camera.
+//! Opening one PLY file gives a scene of one object; a scene file ([`file`],
+//! TOML) lists several, PLY files or generated spheres. Every renderer (the
+//! GPU modes, the CPU reference, `bench`, the viewer) takes a scene.
+//!
+//! Renderers see a scene through [`Scene::flatten`]: all objects' splats in
+//! one frame (the first object's re-centred file coordinates; every other
+//! object is placed by its file coordinates, then transformed), materials
+//! applied, in object order, with the range and material of each object. A
+//! scene of one object with the identity transform and the default material
+//! flattens to its cloud as it is, without a copy.
+
+pub mod environment;
+pub mod file;
+mod material;
+pub mod primitives;
+
+use std::borrow::Cow;
+use std::ops::Range;
+use std::path::Path;
+use std::sync::Arc;
+
+use glam::{Affine3A, Vec3};
+
+use crate::cloud::{self, CloudError, LoadOptions, LoadReport, PointCloud};
+use crate::frame::UpAxis;
+use crate::hash::{FNV_OFFSET, fnv1a};
+pub use file::SceneError;
+pub use material::{Material, Materials};
+
+/// One object of a scene.
+#[derive(Debug, Clone)]
+pub struct SceneObject {
+    /// A name for messages (the file name).
+    pub name: String,
+    pub cloud: Arc<PointCloud>,
+    /// Object to world.
+    pub transform: Affine3A,
+    pub material: Material,
+    /// FNV-1a of the file the cloud came from (or of how it was generated).
+    pub content_hash: u64,
+}
+
+impl SceneObject {
+    fn is_plain(&self) -> bool {
+        self.transform == Affine3A::IDENTITY && self.material == Material::default()
+    }
+}
+
+/// How a scene file asks to be seen; what it leaves out, the defaults frame.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SceneCamera {
+    pub azimuth: Option<f32>,
+    pub elevation: Option<f32>,
+    pub distance: Option<f32>,
+    pub fov: Option<f32>,
+    pub up: Option<UpAxis>,
+}
+
+/// Objects rendered together.
+#[derive(Debug, Clone, Default)]
+pub struct Scene {
+    pub objects: Vec<SceneObject>,
+    /// Background colour (0..1), when the scene sets one.
+    pub background: Option<Vec3>,
+    pub camera: Option<SceneCamera>,
+    /// The environment map transparent surfaces reflect and refract (§5.2.3).
+    pub environment: Option<Arc<environment::EnvironmentMap>>,
+}
+
+/// A scene's splats in one frame, materials applied.
+#[derive(Debug, Clone)]
+pub struct FlatScene<'a> {
+    pub cloud: Cow<'a, PointCloud>,
+    /// The splats of each object, in `cloud`, and its material.
+    pub objects: Vec<(Range<u32>, Material)>,
+}
+
+/// Opening a scene: a PLY file or a scene file, by extension.
+#[derive(Debug, thiserror::Error)]
+pub enum OpenError {
+    #[error(transparent)]
+    Cloud(#[from] CloudError),
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+}
+
+/// Opens `path`: a scene file (`.toml`) or a PLY file (anything else, as a
+/// scene of one object). Returns the scene and the load warnings of its objects.
+pub fn open(path: &Path, options: &LoadOptions) -> Result<(Scene, Vec<String>), OpenError> {
+    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) {
+        return Ok(file::read(path, options)?);
+    }
+    let (scene, report) = Scene::load(path, options)?;
+    let warnings = report.warnings.iter().map(|w| format!("{}: {w}", path.display())).collect();
+    Ok((scene, warnings))
+}
+
+impl Scene {
+    /// A scene of `cloud` alone.
+    pub fn single(name: impl Into<String>, cloud: PointCloud, content_hash: u64) -> Self {
+        let object = SceneObject {
+            name: name.into(),
+            cloud: Arc::new(cloud),
+            transform: Affine3A::IDENTITY,
+            material: Material::default(),
+            content_hash,
+        };
+        Scene { objects: vec![object], ..Default::default() }
+    }
+
+    /// Loads the PLY file at `path` as a scene of one object.
+    pub fn load(path: &Path, options: &LoadOptions) -> Result<(Scene, LoadReport), CloudError> {
+        let (cloud, report) = cloud::load_with(path, options)?;
+        let hash = crate::hash::file_hash(path).map_err(|e| CloudError::io(path, e))?;
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());
+        Ok((Scene::single(name, cloud, hash), report))
+    }
+
+    /// Splats over all objects.
+    pub fn len(&self) -> usize {
+        self.objects.iter().map(|o| o.cloud.len()).sum()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// A name for the scene: its object's, or the first object's and how many more.
+    pub fn name(&self) -> String {
+        match self.objects.as_slice() {
+            [] => "empty scene".into(),
+            [one] => one.name.clone(),
+            [first, rest @ ..] => format!("{} and {} more", first.name, rest.len()),
+        }
+    }
+
+    /// Identifies the scene's geometry (files and transforms) for caches of
+    /// what materials do not change (groupings) and for sidecars: for one
+    /// object in place it is its file's hash.
+    pub fn geometry_hash(&self) -> u64 {
+        if let [one] = self.objects.as_slice() {
+            if one.transform == Affine3A::IDENTITY {
+                return one.content_hash;
+            }
+        }
+        self.objects.iter().fold(FNV_OFFSET, |h, o| {
+            let h = fnv1a(h, &o.content_hash.to_le_bytes());
+            fnv1a(h, bytemuck_floats(&o.transform.to_cols_array()).as_slice())
+        })
+    }
+
+    /// Identifies everything that decides the scene's splats (files,
+    /// transforms, materials), for caches of images.
+    pub fn content_hash(&self) -> u64 {
+        let geometry = self.geometry_hash();
+        if self.objects.iter().all(|o| o.material == Material::default()) {
+            return geometry;
+        }
+        self.objects.iter().fold(geometry, |h, o| fnv1a(h, format!("{:?}", o.material).as_bytes()))
+    }
+
+    /// All splats in one frame with the materials applied (see the module doc).
+    pub fn flatten(&self) -> FlatScene<'_> {
+        if let [one] = self.objects.as_slice() {
+            if one.is_plain() {
+                let all = 0..one.cloud.len() as u32;
+                return FlatScene { cloud: Cow::Borrowed(one.cloud.as_ref()), objects: vec![(all, one.material)] };
+            }
+        }
+        let mut out = PointCloud::default();
+        let mut objects = Vec::with_capacity(self.objects.len());
+        let (frame_origin, frame_unit) = self
+            .objects
+            .first()
+            .map_or((glam::DVec3::ZERO, 1.0), |o| (glam::DVec3::from_array(o.cloud.origin), o.cloud.unit()));
+        for o in &self.objects {
+            let start = out.len() as u32;
+            // From the object's stored coordinates to the scene frame, in f64: the file
+            // coordinates are stored · unit + origin.
+            let unit = o.cloud.unit();
+            let shift = (glam::DVec3::from_array(o.cloud.origin) - frame_origin) / frame_unit;
+            let to_frame = |p: Vec3| (p.as_dvec3() * (unit / frame_unit) + shift).as_vec3();
+            let scale = o.transform.matrix3.determinant().abs().cbrt() * (unit / frame_unit) as f32;
+            let normal_matrix = o.transform.matrix3.inverse().transpose();
+            out.positions.extend(o.cloud.positions.iter().map(|p| o.transform.transform_point3(to_frame(*p))));
+            out.normals.extend(
+                o.cloud.normals.iter().map(|n| Vec3::from(normal_matrix * glam::Vec3A::from(*n)).normalize_or_zero()),
+            );
+            out.radii.extend(o.cloud.radii.iter().map(|r| r * scale));
+            out.colors.extend(o.cloud.colors.iter().map(|c| o.material.colour(*c)));
+            out.opacity.extend(o.cloud.opacity.iter().map(|a| o.material.opacity(*a)));
+            objects.push((start..out.len() as u32, o.material));
+        }
+        if self.objects.iter().any(|o| o.material.two_sided) {
+            out.two_sided = objects.iter().flat_map(|(r, m)| std::iter::repeat_n(m.two_sided, r.len())).collect();
+        }
+        if let Some(first) = self.objects.first() {
+            out.origin = first.cloud.origin;
+            out.scale_exponent = first.cloud.scale_exponent;
+            // Only a scene of one object keeps the scanner's view.
+            if self.objects.len() == 1 && first.transform == Affine3A::IDENTITY {
+                out.scanner_position = first.cloud.scanner_position;
+            }
+        }
+        FlatScene { cloud: Cow::Owned(out), objects }
+    }
+
+    /// Sets every object's opacity (and makes transparent ones two-sided).
+    pub fn set_opacity(&mut self, opacity: f32) {
+        for o in &mut self.objects {
+            o.material.opacity = opacity;
+            o.material.two_sided = opacity < 1.0;
+        }
+    }
+
+    /// Sets every object's colour.
+    pub fn set_colour(&mut self, colour: [u8; 3]) {
+        for o in &mut self.objects {
+            o.material.colour = Some(colour);
+        }
+    }
+
+    /// Whether some splat is drawn less than opaque.
+    pub fn has_transparency(&self) -> bool {
+        self.objects
+            .iter()
+            .any(|o| o.material.opacity < 1.0 || (o.material.opacity > 0.0 && o.cloud.has_transparency()))
+    }
+}
+
+impl Scene {
+    /// [`Scene::flatten`] as a shared cloud (the object's own for a plain single object).
+    pub fn flattened(&self) -> Arc<PointCloud> {
+        if let [one] = self.objects.as_slice() {
+            if one.is_plain() {
+                return Arc::clone(&one.cloud);
+            }
+        }
+        Arc::new(self.flatten().cloud.into_owned())
+    }
+}
+
+impl From<PointCloud> for Scene {
+    /// A scene of one cloud made in memory, keyed for caches by its content.
+    fn from(cloud: PointCloud) -> Self {
+        let floats = |v: &[Vec3]| bytemuck_floats(&v.iter().flat_map(|p| p.to_array()).collect::<Vec<_>>());
+        let mut hash = fnv1a(FNV_OFFSET, &floats(&cloud.positions));
+        hash = fnv1a(hash, &floats(&cloud.normals));
+        hash = fnv1a(hash, &bytemuck_floats(&cloud.radii));
+        hash = fnv1a(hash, &cloud.colors.concat());
+        Scene::single("cloud", cloud, hash)
+    }
+}
+
+/// The bytes of some floats, for hashing.
+fn bytemuck_floats(values: &[f32]) -> Vec<u8> {
+    values.iter().flat_map(|v| v.to_le_bytes()).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dot(colour: [u8; 3]) -> PointCloud {
+        PointCloud {
+            positions: vec![Vec3::new(1.0, 0.0, 0.0)],
+            normals: vec![Vec3::X],
+            radii: vec![0.5],
+            colors: vec![colour],
+            opacity: vec![1.0],
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn one_plain_object_flattens_to_its_cloud_without_a_copy() {
+        let scene = Scene::single("a", dot([1, 2, 3]), 7);
+        let flat = scene.flatten();
+        assert!(matches!(flat.cloud, Cow::Borrowed(_)));
+        assert_eq!(scene.content_hash(), 7, "the file's hash keys the caches");
+    }
+
+    #[test]
+    fn objects_are_placed_scaled_and_coloured_in_world_space() {
+        let mut scene = Scene::single("a", dot([1, 2, 3]), 7);
+        let mut second = scene.objects[0].clone();
+        second.transform = Affine3A::from_scale_rotation_translation(
+            Vec3::splat(2.0),
+            glam::Quat::from_rotation_z(std::f32::consts::FRAC_PI_2),
+            Vec3::new(0.0, 0.0, 5.0),
+        );
+        second.material = Material { colour: Some([9, 9, 9]), ..Material::with_opacity(0.5) };
+        scene.objects.push(second);
+        let flat = scene.flatten();
+        let ranges: Vec<_> = flat.objects.iter().map(|(r, _)| r.clone()).collect();
+        assert_eq!(ranges, vec![0..1, 1..2]);
+        assert_eq!(flat.cloud.two_sided, vec![false, true], "the transparent object is two-sided");
+        let c = &flat.cloud;
+        assert!((c.positions[1] - Vec3::new(0.0, 2.0, 5.0)).length() < 1e-5);
+        assert!((c.normals[1] - Vec3::Y).length() < 1e-5);
+        assert!((c.radii[1] - 1.0).abs() < 1e-5);
+        assert_eq!((c.colors[1], c.opacity[1]), ([9, 9, 9], 0.5));
+        assert_eq!((c.colors[0], c.opacity[0]), ([1, 2, 3], 1.0));
+        assert_ne!(scene.content_hash(), 7);
+    }
+}
+
+#[cfg(test)]
+mod placement_tests {
+    use super::*;
+
+    #[test]
+    fn objects_keep_their_file_coordinates_relative_to_the_first() {
+        let at = |origin: [f64; 3], scale_exponent: i32| PointCloud {
+            positions: vec![Vec3::ZERO],
+            normals: vec![Vec3::Z],
+            radii: vec![1.0],
+            colors: vec![[0; 3]],
+            opacity: vec![1.0],
+            origin,
+            scale_exponent,
+            ..Default::default()
+        };
+        let mut scene = Scene::single("a", at([1000.0, 0.0, 0.0], 0), 1);
+        scene.objects.push(SceneObject {
+            content_hash: 2,
+            ..Scene::single("b", at([1003.0, 4.0, 0.0], 0), 2).objects.remove(0)
+        });
+        scene.objects.push(SceneObject {
+            content_hash: 3,
+            ..Scene::single("c", at([1000.0, 0.0, 20.0], 1), 3).objects.remove(0)
+        });
+        let flat = scene.flatten();
+        assert_eq!(flat.cloud.positions[1], Vec3::new(3.0, 4.0, 0.0));
+        assert_eq!(flat.cloud.positions[2], Vec3::new(0.0, 0.0, 20.0));
+        assert_eq!(flat.cloud.radii[2], 10.0, "a radius in units of 10 becomes 10 units");
+    }
+}

@@ -1,0 +1,118 @@
+//! `deferred`: Zhang & Pajarola 2007's deferred blending (§3, §5.1).
+//!
+//! The splats come grouped so that splats of one group barely overlap (§4).
+//! One geometry traversal draws group k into layer k of 2D array targets, each
+//! layer with its own z-buffer (so K is not bounded by the colour attachments
+//! a pass may have): in each pixel the group's nearest splat writes w·rgb, w,
+//! w·n and its true view depth (Fig. 11; Voronoi depth, Eq. 14, separates
+//! surface layers by the Eq. 10 low-precision depth and picks the nearest
+//! centre within one). A full-screen pass then takes d = min_k depth_k, sums
+//! the layers within d + ε, normalises and shades (Fig. 6).
+
+use super::{FrameDesc, GpuMode, depth_step_note, per_group};
+use crate::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, SplatPass};
+use crate::plan::{Layout, RenderPlan, Step, TargetId};
+use crate::shaders::Variant;
+use crate::targets::{ACCUM_FORMAT, DEPTH_FORMAT, VIEW_DEPTH_FORMAT, colour_format};
+
+pub struct Deferred;
+
+const COLOUR: TargetId = TargetId("group colour");
+const WEIGHT: TargetId = TargetId("group weight");
+const NORMAL: TargetId = TargetId("group normal");
+const VIEW_DEPTH: TargetId = TargetId("group depth");
+const Z_BUFFER: TargetId = TargetId("group z-buffer");
+
+/// Group layers K: at least one, so an ungrouped scene is one group.
+fn layers(frame: &FrameDesc<'_>) -> u32 {
+    frame.groups.len().max(1) as u32
+}
+
+fn colour(frame: &FrameDesc<'_>) -> TargetId {
+    if frame.weight_only() { WEIGHT } else { COLOUR }
+}
+
+/// What the group layers hold, in the order of the geometry pass's outputs.
+fn layer_outputs(frame: &FrameDesc<'_>) -> Vec<TargetId> {
+    let mut outputs = vec![colour(frame)];
+    if frame.settings.lighting {
+        outputs.push(NORMAL);
+    }
+    outputs.push(VIEW_DEPTH);
+    outputs
+}
+
+/// What the compositing pass reads, in the order of its bindings.
+fn composite_inputs(frame: &FrameDesc<'_>) -> Vec<TargetId> {
+    let mut inputs = vec![colour(frame), VIEW_DEPTH];
+    if frame.settings.lighting {
+        inputs.push(NORMAL);
+    }
+    inputs
+}
+
+impl GpuMode for Deferred {
+    fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan {
+        let k = layers(frame);
+        let target = |id, format, why| frame.target(id, format, Layout::Array { layers: k }, why);
+        let targets = vec![
+            target(WEIGHT, colour_format(true), "Eq. 4's weight per group; the scene has one colour"),
+            target(COLOUR, colour_format(false), "Eq. 4: each group's weighted colour w·rgb, w"),
+            target(NORMAL, ACCUM_FORMAT, "w·n, w·α for deferred shading"),
+            target(VIEW_DEPTH, VIEW_DEPTH_FORMAT, "true view depth for the ε-z test of Fig. 6"),
+            target(Z_BUFFER, DEPTH_FORMAT, "z-test within each group (Voronoi depth if on)"),
+        ];
+        let variant =
+            Variant::NONE.with(Variant::LIT, frame.settings.lighting).with(Variant::WEIGHT_ONLY, frame.weight_only());
+        let uniforms = |layer: u32| frame.uniforms(layer, k, frame.settings.voronoi as u32);
+        let colour: Vec<ColourOutput> =
+            layer_outputs(frame).into_iter().map(|target| ColourOutput { target, blend: Blend::Replace }).collect();
+        let z_test = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
+        let geometry = SplatPass {
+            label: "DeferredGeometry::pass",
+            shader: "deferred_geometry.wgsl",
+            entry: "fs_group",
+            variant,
+            colour,
+            depth: Some((Z_BUFFER, z_test)),
+            inputs: Vec::new(),
+            layer: 0,
+            splats: 0..0,
+            back_to_front: false,
+            uniforms: uniforms(0),
+        };
+        let composite = FullscreenPass {
+            label: "Composite::pass",
+            shader: "deferred_composite.wgsl",
+            entry: "fs_composite",
+            variant,
+            inputs: composite_inputs(frame),
+            output: Output::Frame,
+            blend: Blend::Replace,
+            clear: true,
+            uniforms: uniforms(0),
+        };
+        let steps = vec![
+            Step::new(
+                "group images",
+                "splats of group k -> layer k: w·rgb, w (+ w·n) + depth; z-test per group",
+                per_group(geometry, frame.groups, k, uniforms),
+            ),
+            Step::new(
+                "composite",
+                "full screen: d = min_k depth_k, sum the layers within d + ε, normalise, shade",
+                vec![Command::Fullscreen(composite)],
+            ),
+        ];
+        let variant = format!(
+            "{}, {}, Voronoi {}{}",
+            frame.settings.grouping,
+            if frame.settings.lighting { "lit" } else { "unlit" },
+            if frame.settings.voronoi { "on" } else { "off" },
+            if frame.weight_only() { ", weights only" } else { "" }
+        );
+        let mut plan = frame.plan(variant, k as usize, steps, targets);
+        plan.notes.extend(depth_step_note(frame, frame.settings.voronoi));
+        plan
+    }
+}

@@ -1,0 +1,196 @@
+//! `two-pass`: Botsch & Kobbelt 2003's standard pipeline.
+//!
+//! Filtered (2+1 passes): a visibility pass writes each pixel's nearest depth
+//! pushed back by ε (§3.3); an accumulation pass adds w·colour, w and w·normal
+//! of every fragment within ε of it (Eq. 3 weights, additive blending); a
+//! full-screen pass divides by Σw and shades (§3.4). Unfiltered (1+1, §5): the
+//! nearest splat wins each pixel with weight 1, then the same normalisation.
+//!
+//! The transparent grouped modes draw a scene's opaque splats with the same
+//! steps (`super::opaque_part`) into an image of their own, under their layers.
+
+use super::{FrameDesc, GpuMode};
+use crate::frame::Quality;
+use crate::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, SplatPass};
+use crate::plan::{Layout, RenderPlan, Step, TargetDesc, TargetId};
+use crate::shaders::Variant;
+use crate::targets::{ACCUM_FORMAT, DEPTH_FORMAT};
+use std::ops::Range;
+
+pub struct TwoPass;
+
+/// The targets of one two-pass rendering, and where its result goes.
+pub(super) struct Targets {
+    depth: TargetId,
+    colour: TargetId,
+    weight: TargetId,
+    normal: TargetId,
+    /// The shaded image's target, or `None` for the frame.
+    image: Option<TargetId>,
+}
+
+/// `two-pass` itself: into the frame.
+const OWN: Targets = Targets {
+    depth: TargetId("depth"),
+    colour: TargetId("accumulated colour"),
+    weight: TargetId("accumulated weight"),
+    normal: TargetId("accumulated normal"),
+    image: None,
+};
+
+/// The opaque splats of a transparent scene, drawn apart into [`OPAQUE_IMAGE`].
+pub(super) const OPAQUE_TARGETS: Targets = Targets {
+    depth: TargetId("opaque depth"),
+    colour: TargetId("opaque colour"),
+    weight: TargetId("opaque weight"),
+    normal: TargetId("opaque normal"),
+    image: Some(OPAQUE_IMAGE),
+};
+
+/// The opaque splats shaded over the background: what the transparent layers go over.
+pub(super) const OPAQUE_IMAGE: TargetId = TargetId("opaque image");
+/// Their front + ε: transparent fragments behind it are culled.
+pub(super) const OPAQUE_DEPTH: TargetId = OPAQUE_TARGETS.depth;
+
+impl Targets {
+    /// The colour target: (Σw·rgb, Σw), or Σw alone for a scene of one colour.
+    fn colour(&self, frame: &FrameDesc<'_>) -> TargetId {
+        if frame.weight_only() { self.weight } else { self.colour }
+    }
+
+    /// What the normalisation reads.
+    fn sums(&self, frame: &FrameDesc<'_>) -> Vec<TargetId> {
+        let mut sums = vec![self.colour(frame)];
+        if lit(frame) {
+            sums.push(self.normal);
+        }
+        sums
+    }
+}
+
+fn lit(frame: &FrameDesc<'_>) -> bool {
+    frame.settings.lighting
+}
+
+/// Whether `ids` are drawn filtered: `two-pass` as its quality says; the
+/// opaque part of a transparent frame always (the transparent passes cull
+/// behind its front + ε, which only the visibility pass leaves).
+fn filtered(frame: &FrameDesc<'_>, ids: &Targets) -> bool {
+    ids.image.is_some() || frame.settings.quality == Quality::Filtered
+}
+
+/// The targets a two-pass rendering into `ids` may bind.
+pub(super) fn targets(frame: &FrameDesc<'_>, ids: &Targets) -> Vec<TargetDesc> {
+    let target = |id, format, why| frame.target(id, format, Layout::Single, why);
+    let mut targets = vec![
+        target(ids.depth, DEPTH_FORMAT, "linear view depth for the ε test"),
+        if frame.weight_only() {
+            target(ids.weight, frame.sum_format(true), "additive Σw; the scene has one colour")
+        } else {
+            target(ids.colour, frame.sum_format(false), "additive Σw·rgb, Σw")
+        },
+    ];
+    if lit(frame) {
+        targets.push(target(ids.normal, frame.sum_format(false), "Σw·n, Σw·α for deferred shading"));
+    }
+    if let Some(image) = ids.image {
+        targets.push(target(image, ACCUM_FORMAT, "the opaque splats shaded over the background"));
+    }
+    targets
+}
+
+/// The steps of a two-pass rendering of `splats` into `ids`.
+pub(super) fn steps(frame: &FrameDesc<'_>, ids: &Targets, splats: Range<u32>) -> Vec<Step> {
+    let variant = Variant::NONE.with(Variant::LIT, lit(frame)).with(Variant::WEIGHT_ONLY, frame.weight_only());
+    let uniforms = frame.uniforms(0, 1, 0);
+    let outputs = |blend| {
+        let mut out = vec![ColourOutput { target: ids.colour(frame), blend }];
+        if lit(frame) {
+            out.push(ColourOutput { target: ids.normal, blend });
+        }
+        out
+    };
+    let pass = |label, shader, entry, variant, colour, depth| {
+        Command::Splats(SplatPass {
+            label,
+            shader,
+            entry,
+            variant,
+            colour,
+            depth: Some((ids.depth, depth)),
+            inputs: Vec::new(),
+            layer: 0,
+            splats: splats.clone(),
+            back_to_front: false,
+            uniforms,
+        })
+    };
+    let mut steps = Vec::new();
+    if filtered(frame, ids) {
+        let visibility = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
+        let within_epsilon = DepthTest { write: false, compare: wgpu::CompareFunction::LessEqual, clear: false };
+        steps.push(Step::new(
+            "visibility",
+            "splats -> depth (linear f32, +ε)",
+            vec![pass("Visibility::pass", "visibility.wgsl", "fs_visibility", Variant::NONE, Vec::new(), visibility)],
+        ));
+        steps.push(Step::new(
+            "accumulate",
+            "splats within ε of the front -> additive Σw·rgb, Σw (+ Σw·n when lit)",
+            vec![pass(
+                "Accumulate::pass",
+                "accumulate.wgsl",
+                "fs_accumulate",
+                variant,
+                outputs(Blend::Add),
+                within_epsilon,
+            )],
+        ));
+    } else {
+        let nearest = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
+        steps.push(Step::new(
+            "nearest-splat",
+            "splats -> rgb, 1 (+ n when lit); depth test and write, no blending",
+            vec![pass(
+                "NearestSplat::pass",
+                "accumulate.wgsl",
+                "fs_unfiltered",
+                variant,
+                outputs(Blend::Replace),
+                nearest,
+            )],
+        ));
+    }
+    let normalize = FullscreenPass {
+        label: "Normalize::pass",
+        shader: "normalize.wgsl",
+        entry: "fs_normalize",
+        // Into the opaque image, α says where an opaque splat was drawn.
+        variant: variant.with(Variant::OPAQUE_APART, ids.image.is_some()),
+        inputs: ids.sums(frame),
+        output: ids.image.map_or(Output::Frame, Output::Target),
+        blend: Blend::Replace,
+        clear: true,
+        uniforms,
+    };
+    let into = if ids.image.is_some() { "opaque image" } else { "output" };
+    steps.push(Step::new(
+        "normalize",
+        format!("full screen: divide by Σw, Phong shading -> {into}"),
+        vec![Command::Fullscreen(normalize)],
+    ));
+    steps
+}
+
+impl GpuMode for TwoPass {
+    fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan {
+        let variant = format!(
+            "{}, {}{}",
+            if filtered(frame, &OWN) { "filtered" } else { "unfiltered" },
+            if lit(frame) { "lit" } else { "unlit" },
+            if frame.weight_only() { ", weights only" } else { "" }
+        );
+        let steps = steps(frame, &OWN, 0..frame.splats as u32);
+        frame.plan(variant, 1, steps, targets(frame, &OWN))
+    }
+}

@@ -1,0 +1,110 @@
+//! The splat pass builder: every pass that draws splats (visibility,
+//! accumulation, nearest splat, group layers) is an instanced 4-vertex strip
+//! per splat through `vs_splat` (shaders/splat.wgsl), differing only in its
+//! fragment entry point, its outputs and blending, and its depth test.
+
+use super::{PipelineKind, SplatPass};
+use crate::gpu_data::SplatInstance;
+use crate::gpu_scene::GpuScene;
+
+/// Builds the pipeline of a splat pass described by `kind`.
+pub fn pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+    kind: &PipelineKind,
+) -> Option<wgpu::RenderPipeline> {
+    let PipelineKind::Splats { colour, depth, .. } = kind else { return None };
+    let targets: Vec<Option<wgpu::ColorTargetState>> = colour
+        .iter()
+        .map(|&(format, blend)| {
+            Some(wgpu::ColorTargetState { format, blend: blend.state(), write_mask: wgpu::ColorWrites::ALL })
+        })
+        .collect();
+    Some(device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_splat"),
+            compilation_options: Default::default(),
+            buffers: &[Some(SplatInstance::layout())],
+        },
+        primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleStrip, ..Default::default() },
+        depth_stencil: depth.map(|(format, write, compare)| wgpu::DepthStencilState {
+            format,
+            depth_write_enabled: Some(write),
+            depth_compare: Some(compare),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            targets: &targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    }))
+}
+
+/// The views a splat pass draws into.
+pub struct Attachments<'a> {
+    pub colour: Vec<&'a wgpu::TextureView>,
+    pub depth: Option<&'a wgpu::TextureView>,
+}
+
+/// Records `pass` into `encoder`.
+#[allow(clippy::too_many_arguments)]
+pub fn record(
+    encoder: &mut wgpu::CommandEncoder,
+    pass: &SplatPass,
+    pipeline: &wgpu::RenderPipeline,
+    frame: &wgpu::BindGroup,
+    uniform_offset: u32,
+    inputs: Option<&wgpu::BindGroup>,
+    attachments: &Attachments<'_>,
+    scene: &GpuScene,
+    timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+) {
+    let colour: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = attachments
+        .colour
+        .iter()
+        .map(|view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        })
+        .collect();
+    let depth = attachments.depth.zip(pass.depth).map(|(view, (_, test))| wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations {
+            load: if test.clear { wgpu::LoadOp::Clear(1.0) } else { wgpu::LoadOp::Load },
+            store: wgpu::StoreOp::Store,
+        }),
+        stencil_ops: None,
+    });
+    let mut render_pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(pass.label),
+        color_attachments: &colour,
+        depth_stencil_attachment: depth,
+        timestamp_writes: timestamps,
+        ..Default::default()
+    });
+    render_pass.set_pipeline(pipeline);
+    render_pass.set_bind_group(0, frame, &[uniform_offset]);
+    if let Some(inputs) = inputs {
+        render_pass.set_bind_group(1, inputs, &[]);
+    }
+    scene.draw_range(&mut render_pass, pass.splats.clone());
+}

@@ -1,0 +1,408 @@
+//! The renderer: runs a mode's plan into any view.
+//!
+//! A frame flows scene → plan → passes → image. The scene is uploaded once
+//! ([`GpuScene`]); for each frame the mode of the registry plans its steps
+//! ([`RenderPlan`]), each the commands of its render passes; the renderer
+//! allocates exactly the plan's targets ([`TargetPool`]), writes the frame's
+//! uniforms and one uniform slot per pass, takes each pass's pipeline from the
+//! cache ([`PipelineCache`]) and encodes the passes, timed per plan pass when
+//! timing is on. The window, the headless path, `bench` and the tests all call
+//! [`Renderer::render`]; only the output view differs.
+
+use glam::Mat4;
+use wgpu::util::DeviceExt;
+
+use super::context::{GpuContext, GpuError};
+use super::gpu_data::{FrameUniforms, PASS_SLOT_BYTES, PassUniforms};
+use super::gpu_scene::GpuScene;
+use super::modes::FrameDesc;
+use super::passes::{Command, Output, PipelineKey, PipelineKind, fullscreen, splat};
+use super::pipelines::PipelineCache;
+use super::plan::{Layout, RenderPlan, TargetDesc};
+use super::targets::TargetPool;
+use super::timer::PassTimer;
+use super::touches::{self, Touch};
+use crate::frame::{Camera, RenderSettings};
+
+pub struct Renderer {
+    cache: PipelineCache,
+    pool: TargetPool,
+    frame_buffer: wgpu::Buffer,
+    /// One [`PASS_SLOT_BYTES`] slot of [`PassUniforms`] per render pass of a frame.
+    pass_buffer: wgpu::Buffer,
+    pass_slots: u64,
+    /// Group 0: the frame's uniforms and, at a dynamic offset, one pass slot's.
+    frame_bind_group: wgpu::BindGroup,
+    timer: Option<PassTimer>,
+    timing: bool,
+    /// The targets the last frame's render passes bound.
+    touches: Vec<Touch>,
+}
+
+impl Renderer {
+    pub fn new(ctx: &GpuContext) -> Result<Self, GpuError> {
+        ctx.checked("building the renderer", || {
+            let device = &ctx.device;
+            let cache = PipelineCache::new(device);
+            let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("Frame::uniforms"),
+                contents: bytemuck::bytes_of(&FrameUniforms::zeroed()),
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            });
+            let slots = 8;
+            let pass_buffer = pass_buffer(device, slots);
+            let frame_bind_group = frame_bind_group(device, &cache, &frame_buffer, &pass_buffer);
+            Self {
+                cache,
+                pool: TargetPool::default(),
+                frame_buffer,
+                pass_buffer,
+                pass_slots: slots,
+                frame_bind_group,
+                timer: None,
+                timing: false,
+                touches: Vec::new(),
+            }
+        })
+    }
+
+    /// Turns per-pass GPU timestamps on; returns false when the adapter has none.
+    pub fn enable_pass_timing(&mut self, ctx: &GpuContext) -> bool {
+        self.timing = ctx.device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        self.timing
+    }
+
+    /// Milliseconds per plan pass of the last frame (waits for it), if timing is on.
+    pub fn pass_times(&self, ctx: &GpuContext, plan: &RenderPlan) -> Result<Option<Vec<f64>>, GpuError> {
+        self.timer.as_ref().filter(|_| self.timing).map(|t| t.read(ctx, plan.steps.len())).transpose()
+    }
+
+    /// The targets the pool holds now (those of the last frame's plan).
+    pub fn allocated_targets(&self) -> Vec<TargetDesc> {
+        self.pool.descs()
+    }
+
+    /// Bytes of the targets the pool holds now.
+    pub fn allocated_bytes(&self) -> u64 {
+        self.pool.bytes()
+    }
+
+    /// Pipelines built so far.
+    pub fn pipelines_built(&self) -> usize {
+        self.cache.len()
+    }
+
+    /// The shader modules built so far: (root file, variant).
+    pub fn modules_built(&self) -> Vec<(&'static str, super::shaders::Variant)> {
+        self.cache.modules()
+    }
+
+    /// Every target the last frame's render passes read or wrote, as the pool held it.
+    pub fn last_frame_touches(&self) -> &[Touch] {
+        &self.touches
+    }
+
+    /// What the frame's mode needs to know: settings, size and the scene.
+    fn frame_desc<'a>(
+        scene: &'a GpuScene,
+        camera: &Camera,
+        settings: &'a RenderSettings,
+        (width, height): (u32, u32),
+    ) -> FrameDesc<'a> {
+        let epsilon = settings.epsilon(scene.mean_radius);
+        let (near, far) = camera.near_far();
+        // Eq. 10 over the scene's depth range (near and far enclose its sphere).
+        let depth_steps = super::depth_steps::depth_steps(near, far, epsilon);
+        FrameDesc {
+            settings,
+            width,
+            height,
+            splats: scene.len,
+            groups: &scene.groups,
+            transparent_groups: &scene.transparent_groups,
+            opaque: scene.opaque.clone(),
+            uniform_colour: scene.uniform_color,
+            epsilon,
+            depth_steps,
+            transparent: scene.transparent,
+            environment: scene.environment.as_ref().filter(|_| settings.draws_environment()),
+            sums: scene.sums,
+        }
+    }
+
+    /// The plan a frame of `settings` would run, without running it.
+    pub fn plan(
+        scene: &GpuScene,
+        camera: &Camera,
+        settings: &RenderSettings,
+        size: (u32, u32),
+    ) -> Result<RenderPlan, GpuError> {
+        super::modes::plan(&Self::frame_desc(scene, camera, settings, size))
+            .ok_or_else(|| GpuError::Device(format!("mode {} does not run on the GPU", settings.mode)))
+    }
+
+    /// Renders `scene` into `output` (of `format`, `width` x `height`) and returns the plan it ran.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &GpuScene,
+        camera: &Camera,
+        settings: &RenderSettings,
+        output: &wgpu::TextureView,
+        format: wgpu::TextureFormat,
+        size: (u32, u32),
+    ) -> Result<RenderPlan, GpuError> {
+        ctx.check_size(size.0, size.1)?;
+        let plan = Self::plan(scene, camera, settings, size)?;
+        plan.check_fits(&ctx.device.limits(), ctx.target_budget())?;
+        if plan.back_to_front() {
+            scene.order_back_to_front(&ctx.queue, camera.view_ray(), settings.order);
+        }
+        let commands: Vec<(usize, &Command)> = plan.commands().collect();
+        let allocated =
+            ctx.allocating("allocating the render targets", || self.pool.prepare(&ctx.device, &plan.targets));
+        if let Err(e) = allocated {
+            self.pool.clear(); // do not keep textures whose allocation failed
+            return Err(e);
+        }
+        self.ensure_pass_slots(ctx, commands.len() as u64);
+        if self.timing && self.timer.as_ref().is_none_or(|t| t.capacity() < plan.steps.len()) {
+            self.timer = PassTimer::new(ctx, plan.steps.len());
+        }
+        ctx.queue.write_buffer(
+            &self.frame_buffer,
+            0,
+            bytemuck::bytes_of(&frame_uniforms(
+                camera,
+                settings,
+                size,
+                scene.environment.as_ref().map_or(0, |e| e.width),
+            )),
+        );
+        let mut slots = vec![0u8; commands.len() * PASS_SLOT_BYTES as usize];
+        for (i, (_, command)) in commands.iter().enumerate() {
+            let uniforms = command.uniforms();
+            let at = i * PASS_SLOT_BYTES as usize;
+            slots[at..at + std::mem::size_of::<PassUniforms>()].copy_from_slice(bytemuck::bytes_of(uniforms));
+        }
+        ctx.queue.write_buffer(&self.pass_buffer, 0, &slots);
+        ctx.checked("rendering", || self.encode(ctx, scene, &plan, &commands, output, format))??;
+        Ok(plan)
+    }
+
+    /// Grows the pass uniform buffer to at least `slots` slots.
+    fn ensure_pass_slots(&mut self, ctx: &GpuContext, slots: u64) {
+        if slots > self.pass_slots {
+            self.pass_slots = slots.next_power_of_two();
+            self.pass_buffer = pass_buffer(&ctx.device, self.pass_slots);
+            self.frame_bind_group = frame_bind_group(&ctx.device, &self.cache, &self.frame_buffer, &self.pass_buffer);
+        }
+    }
+
+    /// Encodes and submits the recorded passes.
+    fn encode(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &GpuScene,
+        plan: &RenderPlan,
+        commands: &[(usize, &Command)],
+        output: &wgpu::TextureView,
+        output_format: wgpu::TextureFormat,
+    ) -> Result<(), GpuError> {
+        let device = &ctx.device;
+        let missing = |what: &str| GpuError::Device(format!("the plan has no target '{what}'"));
+        let desc = |id: super::plan::TargetId| plan.target(id).ok_or_else(|| missing(id.0));
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("Renderer::encoder") });
+        let timer = self.timer.as_ref().filter(|_| self.timing);
+        self.touches.clear();
+        for (i, &(step, command)) in commands.iter().enumerate() {
+            for (id, layer, access) in touches::of(command) {
+                let target = self.pool.desc(id).ok_or_else(|| missing(id.0))?.clone();
+                let planned = desc(id)?.clone();
+                self.touches.push(Touch { pass: step, target, planned, layer, access });
+            }
+            let first = i == 0 || commands[i - 1].0 != step;
+            let last = i + 1 == commands.len() || commands[i + 1].0 != step;
+            let stamps = timer.and_then(|t| t.writes_span(step, first, last));
+            let (frame, offset) = (&self.frame_bind_group, (i as u64 * PASS_SLOT_BYTES) as u32);
+            match command {
+                Command::Splats(pass) => {
+                    let colour = pass.colour.iter().map(|c| Ok((desc(c.target)?.format, c.blend))).collect::<Result<
+                        _,
+                        GpuError,
+                    >>(
+                    )?;
+                    let depth = match pass.depth {
+                        Some((id, test)) => Some((desc(id)?.format, test.write, test.compare)),
+                        None => None,
+                    };
+                    let inputs = inputs(&mut self.cache, &self.pool, device, plan, &pass.inputs)?;
+                    let kind = PipelineKind::Splats {
+                        colour,
+                        depth,
+                        inputs: inputs.as_ref().map(|i| i.0.clone()).unwrap_or_default(),
+                    };
+                    let key = PipelineKey { shader: pass.shader, entry: pass.entry, variant: pass.variant, kind };
+                    let pipeline = self.cache.pipeline(device, &key)?;
+                    let layer_view = |id| self.pool.layer_view(id, pass.layer).ok_or_else(|| missing(id.0));
+                    let attachments = splat::Attachments {
+                        colour: pass.colour.iter().map(|c| layer_view(c.target)).collect::<Result<_, _>>()?,
+                        depth: pass.depth.map(|(id, _)| layer_view(id)).transpose()?,
+                    };
+                    let group = inputs.as_ref().map(|i| &i.1);
+                    splat::record(&mut encoder, pass, pipeline, frame, offset, group, &attachments, scene, stamps);
+                }
+                Command::Fullscreen(pass) => {
+                    let (target_view, target_format) = match pass.output {
+                        Output::Frame => (output, output_format),
+                        Output::Target(id) => (self.pool.view(id).ok_or_else(|| missing(id.0))?, desc(id)?.format),
+                    };
+                    let (dims, inputs) = inputs(&mut self.cache, &self.pool, device, plan, &pass.inputs)?
+                        .ok_or_else(|| GpuError::Device(format!("{} reads no target", pass.label)))?;
+                    let kind = PipelineKind::Fullscreen { inputs: dims, output: target_format, blend: pass.blend };
+                    let key = PipelineKey { shader: pass.shader, entry: pass.entry, variant: pass.variant, kind };
+                    let environment = if pass.variant.has(super::shaders::Variant::ENVIRONMENT) {
+                        let map = scene.environment.as_ref().ok_or_else(|| missing("environment map"))?;
+                        Some(map.bind_group(device, self.cache.environment_layout()))
+                    } else {
+                        None
+                    };
+                    let pipeline = self.cache.pipeline(device, &key)?;
+                    let environment = environment.as_ref();
+                    fullscreen::record(
+                        &mut encoder,
+                        pass,
+                        pipeline,
+                        frame,
+                        offset,
+                        &inputs,
+                        environment,
+                        target_view,
+                        stamps,
+                    );
+                }
+            }
+        }
+        if let Some(timer) = timer {
+            timer.resolve(&mut encoder, plan.steps.len());
+        }
+        ctx.queue.submit([encoder.finish()]);
+        Ok(())
+    }
+}
+
+/// The texture dimensions and the group-1 bind group of a pass that reads
+/// `ids` (none when it reads nothing).
+#[allow(clippy::type_complexity)]
+fn inputs(
+    cache: &mut PipelineCache,
+    pool: &TargetPool,
+    device: &wgpu::Device,
+    plan: &RenderPlan,
+    ids: &[super::plan::TargetId],
+) -> Result<Option<(Vec<wgpu::TextureViewDimension>, wgpu::BindGroup)>, GpuError> {
+    if ids.is_empty() {
+        return Ok(None);
+    }
+    let missing = |id: super::plan::TargetId| GpuError::Device(format!("the plan has no target '{}'", id.0));
+    let mut dims = Vec::with_capacity(ids.len());
+    let mut views = Vec::with_capacity(ids.len());
+    for &id in ids {
+        dims.push(match plan.target(id).ok_or_else(|| missing(id))?.layout {
+            Layout::Single => wgpu::TextureViewDimension::D2,
+            Layout::Array { .. } => wgpu::TextureViewDimension::D2Array,
+        });
+        views.push(pool.view(id).ok_or_else(|| missing(id))?);
+    }
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = views
+        .iter()
+        .enumerate()
+        .map(|(binding, view)| wgpu::BindGroupEntry {
+            binding: binding as u32,
+            resource: wgpu::BindingResource::TextureView(view),
+        })
+        .collect();
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("Pass::inputs"),
+        layout: cache.inputs_layout(device, &dims),
+        entries: &entries,
+    });
+    Ok(Some((dims, group)))
+}
+
+use bytemuck::Zeroable;
+
+fn pass_buffer(device: &wgpu::Device, slots: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("Pass::uniforms"),
+        size: slots * PASS_SLOT_BYTES,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+fn frame_bind_group(
+    device: &wgpu::Device,
+    cache: &PipelineCache,
+    frame: &wgpu::Buffer,
+    passes: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("Frame::bind_group"),
+        layout: cache.frame_layout(),
+        entries: &[
+            wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: passes,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(std::mem::size_of::<PassUniforms>() as u64),
+                }),
+            },
+        ],
+    })
+}
+
+/// The uniforms of one frame.
+fn frame_uniforms(
+    camera: &Camera,
+    settings: &RenderSettings,
+    (width, height): (u32, u32),
+    environment_width: u32,
+) -> FrameUniforms {
+    use crate::frame::environment::LayerEffects;
+    let env = &settings.environment;
+    let (up, front) = camera.up.frame();
+    let aspect = width as f32 / height as f32;
+    let (near, far) = camera.near_far();
+    let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
+    let shading = &settings.shading;
+    let to_cols = |m: Mat4| m.to_cols_array_2d();
+    FrameUniforms {
+        view: to_cols(camera.view_matrix()),
+        proj: to_cols(camera.projection(aspect)),
+        viewport: [width as f32, height as f32, 1.0 / width as f32, 1.0 / height as f32],
+        depth: [near, far, 0.0, 1.0 / (far - near).max(f32::MIN_POSITIVE)],
+        splat: [
+            0.0,
+            settings.kernel.sharpness(),
+            settings.kernel.min_normal_z,
+            if settings.backface_culling { 1.0 } else { 0.0 },
+        ],
+        light: shading.light_dir_eye.extend(shading.shininess).to_array(),
+        material: [shading.ambient, shading.diffuse, shading.specular, 0.0],
+        background: shading.background.extend(1.0).to_array(),
+        lens: [tan_y * aspect, tan_y, settings.radius_scale, 0.0],
+        environment: [
+            env.eta,
+            env.dispersion,
+            if env.layers == LayerEffects::Multi { 1.0 } else { 0.0 },
+            if env.skybox { 1.0 } else { 0.0 },
+        ],
+        environment_up: up.extend(std::f32::consts::TAU / environment_width.max(1) as f32).to_array(),
+        environment_front: front.extend(0.0).to_array(),
+    }
+}
