@@ -5,9 +5,11 @@ use std::time::Instant;
 
 use anyhow::{Result, bail};
 use clap::ValueEnum;
+use pointblend::cloud::PointCloud;
 use pointblend::frame::Camera;
-use pointblend::grouping::{self, Grouping, cache, extend, hash, metrics, mgc, wgc};
-use pointblend::spatial::overlap::OverlapOptions;
+use pointblend::grouping::{
+    self, Extension, Grouping, GroupingAlgo, GroupingReport, GroupingSpec, Relaxations, Tuning, cache, metrics,
+};
 use serde_json::json;
 
 #[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
@@ -71,6 +73,40 @@ pub struct Args {
     pub no_cache: bool,
 }
 
+impl Args {
+    /// The grouping these arguments name, and the knobs a spec's name does not hold.
+    fn spec(&self, cloud: &PointCloud) -> (GroupingSpec, Tuning) {
+        let k = self.k.unwrap_or(8);
+        let graph_relax = Relaxations { coplanar: self.relax_coplanar, opposite: self.relax_normals };
+        let mut tuning = Tuning::default();
+        let (algo, relax) = match self.algo {
+            Algo::Mgc => {
+                tuning.max_groups = self.k;
+                (GroupingAlgo::Mgc { c: self.c }, graph_relax)
+            }
+            Algo::Wgc => {
+                tuning.wgc_c = Some(self.c);
+                tuning.pure_area = self.pure_area;
+                (GroupingAlgo::Wgc { k, eq7: self.eq7 }, graph_relax)
+            }
+            Algo::Hash => {
+                if self.collisions == CollisionArg::Near {
+                    let camera = Camera::default_for(cloud, 1.0);
+                    tuning.near = Some((camera.eye(), camera.distance));
+                }
+                let resolve_collisions = self.collisions != CollisionArg::None;
+                (GroupingAlgo::Hash { k, resolve_collisions }, Relaxations::default())
+            }
+        };
+        let extension = match self.extend {
+            None => Extension::None,
+            Some(ExtendArg::Dup) => Extension::Duplicate,
+            Some(ExtendArg::Radius) => Extension::Enlarge,
+        };
+        (GroupingSpec { algo, relax, extension }, tuning)
+    }
+}
+
 pub fn run(args: &Args) -> Result<()> {
     if !(0.0..=1.0).contains(&args.c) {
         bail!("--c must be in 0..=1, not {}", args.c);
@@ -84,156 +120,134 @@ pub fn run(args: &Args) -> Result<()> {
     let t = Instant::now();
     let (cloud, _) = super::shared::load(&args.file)?;
     stages.push(("load", t.elapsed().as_secs_f64()));
-    let overlap = OverlapOptions {
-        c: args.c,
-        skip_opposite_normals: args.relax_normals,
-        skip_coplanar_same_colour: args.relax_coplanar,
-    };
-    let parameters = format!(
-        "{:?}|{:?}|{:?}|{}|{}|{:?}|{:?}|v3",
-        args.algo, args.k, overlap, args.pure_area, args.eq7, args.collisions, args.extend
-    );
+    let (spec, tuning) = args.spec(&cloud);
     let cache = cache::Cache::from_env();
-    let cache_key = if args.no_cache { None } else { cache::key(&args.file, &parameters).ok() };
+    let file_hash = if args.no_cache { None } else { pointblend::hash::file_hash(&args.file).ok() };
 
     let started = Instant::now();
-    let mut degrees = None;
-    let mut notes: Vec<String> = Vec::new();
-    let cached = cache_key.and_then(|key| cache.load(key, cloud.len()));
-    let from_cache = cached.is_some();
-    let result: Grouping = match cached {
-        Some(g) => {
-            stages.push(("cache", started.elapsed().as_secs_f64()));
-            g
-        }
+    let (result, report) = match file_hash {
+        Some(hash) => spec.compute_tuned_cached(&cache, hash, &cloud, &tuning)?,
         None => {
-            let t = Instant::now();
-            let base = match args.algo {
-                Algo::Mgc => {
-                    let options = match args.k {
-                        Some(k) => {
-                            let c = mgc::c_for_groups(&cloud, k, &overlap);
-                            notes.push(format!("c = {c:.4} is the largest relaxation with at most {k} groups"));
-                            OverlapOptions { c, ..overlap }
-                        }
-                        None => overlap,
-                    };
-                    let (g, graph) = mgc::group(&cloud, &options)?;
-                    degrees = Some((graph.max_degree(), graph.average_degree()));
-                    stages.push(("graph + colouring", t.elapsed().as_secs_f64()));
-                    g
-                }
-                Algo::Wgc => {
-                    let options = wgc::WgcOptions {
-                        k: args.k.unwrap_or(8),
-                        pure_area: args.pure_area,
-                        minimize_by_eq7: args.eq7,
-                        overlap,
-                        ..Default::default()
-                    };
-                    let (g, graph, report) = wgc::group(&cloud, &options)?;
-                    degrees = Some((graph.max_degree(), graph.average_degree()));
-                    let total = t.elapsed().as_secs_f64();
-                    stages.push((
-                        "graph",
-                        total - report.seconds_weights - report.seconds_initialise - report.seconds_optimise,
-                    ));
-                    stages.push(("weights", report.seconds_weights));
-                    stages.push(("initialise", report.seconds_initialise));
-                    stages.push(("optimise", report.seconds_optimise));
-                    notes.push(format!(
-                        "cost (Eq. 6) {:.4e} after initialisation, {:.4e} after {} moves",
-                        report.initial_cost, report.final_cost, report.moves
-                    ));
-                    g
-                }
-                Algo::Hash => {
-                    let collisions = match args.collisions {
-                        CollisionArg::None => hash::Collisions::None,
-                        CollisionArg::All => hash::Collisions::All,
-                        CollisionArg::Near => {
-                            let camera = Camera::default_for(&cloud, 1.0);
-                            hash::Collisions::Near { eye: camera.eye(), distance: camera.distance }
-                        }
-                    };
-                    let (g, resolved) = hash::group(&cloud, &hash::HashOptions { k: args.k.unwrap_or(8), collisions })?;
-                    stages.push(("hash grouping", t.elapsed().as_secs_f64()));
-                    notes.push(format!("{resolved} collisions resolved"));
-                    g
-                }
-            };
-            let t = Instant::now();
-            let extended = match args.extend {
-                None => base,
-                Some(ExtendArg::Dup) => {
-                    let g = extend::duplicate(&cloud, &base);
-                    stages.push(("extend: duplication", t.elapsed().as_secs_f64()));
-                    g
-                }
-                Some(ExtendArg::Radius) => {
-                    let (g, report) = extend::enlarge(&cloud, &base);
-                    stages.push(("extend: radius", t.elapsed().as_secs_f64()));
-                    let scales: Vec<String> = report.scales.iter().map(|s| format!("{s:.3}")).collect();
-                    let stopped = report.converged.iter().filter(|c| !**c).count();
-                    notes.push(format!(
-                        "enlarged radii x [{}] ({} of {} groups stopped at a bound; hash-table estimate x{:.3})",
-                        scales.join(", "),
-                        stopped,
-                        report.scales.len(),
-                        report.hash_table_scale
-                    ));
-                    g
-                }
-            };
-            if let Some(key) = cache_key {
-                if let Err(e) = cache.store(key, &extended, cloud.len()) {
-                    log::warn!("{e}");
-                }
-            }
-            extended
+            let (g, report) = spec.compute_tuned(&cloud, &tuning)?;
+            (g, Some(report))
         }
     };
+    let from_cache = report.is_none();
+    match &report {
+        Some(report) => stages.extend(report.stages.iter().copied()),
+        None => stages.push(("cache", started.elapsed().as_secs_f64())),
+    }
     let grouping_seconds = started.elapsed().as_secs_f64();
+    let notes = report.as_ref().map(|r| notes(args, r)).unwrap_or_default();
     let t = Instant::now();
     let m = metrics::measure(&cloud, &result);
     stages.push(("metrics", t.elapsed().as_secs_f64()));
-    let (max_degree, avg_degree) = degrees.unwrap_or((0, 0.0));
+    let degrees = report.as_ref().and_then(|r| r.degrees);
+    let outcome = Outcome {
+        cloud: &cloud,
+        grouping: &result,
+        metrics: &m,
+        from_cache,
+        seconds: grouping_seconds,
+        stages: &stages,
+        degrees,
+        notes: &notes,
+        cache_path: file_hash.map(|hash| cache.path_for(spec.cache_key(hash, &tuning))),
+    };
     if args.json {
-        let stage_seconds: serde_json::Map<String, serde_json::Value> =
-            stages.iter().map(|(s, t)| (s.to_string(), json!(t))).collect();
-        let object = json!({
-            "file": args.file.display().to_string(),
-            "points": cloud.len(),
-            "algo": format!("{:?}", args.algo).to_lowercase(),
-            "c": args.c,
-            "k": m.k,
-            "group_sizes": m.group_sizes,
-            "max_degree": max_degree,
-            "avg_degree": avg_degree,
-            "overlap_factor": m.overlap_factor,
-            "violations": m.violations,
-            "coverage": m.coverage,
-            "mean_coverage": m.mean_coverage,
-            "duplication_ratio": m.duplication_ratio,
-            "radius_scale": result.radius_scale,
-            "from_cache": from_cache,
-            "seconds": grouping_seconds,
-            "stage_seconds": stage_seconds,
-            "notes": notes,
-        });
-        println!("{object}");
-        return Ok(());
+        print_json(args, &outcome);
+    } else {
+        print_text(args, &outcome);
     }
+    Ok(())
+}
+
+/// The notes of a computed grouping: the c MGC found, WGC's costs, the
+/// collisions hashing resolved, the radius enlargement.
+fn notes(args: &Args, report: &GroupingReport) -> Vec<String> {
+    let mut notes = Vec::new();
+    if let (Some(c), Some(k)) = (report.c, args.k) {
+        notes.push(format!("c = {c:.4} is the largest relaxation with at most {k} groups"));
+    }
+    if let Some(wgc) = &report.wgc {
+        notes.push(format!(
+            "cost (Eq. 6) {:.4e} after initialisation, {:.4e} after {} moves",
+            wgc.initial_cost, wgc.final_cost, wgc.moves
+        ));
+    }
+    if let Some(resolved) = report.resolved {
+        notes.push(format!("{resolved} collisions resolved"));
+    }
+    if let Some(enlarged) = &report.enlarged {
+        let scales: Vec<String> = enlarged.scales.iter().map(|s| format!("{s:.3}")).collect();
+        let stopped = enlarged.converged.iter().filter(|c| !**c).count();
+        notes.push(format!(
+            "enlarged radii x [{}] ({} of {} groups stopped at a bound; hash-table estimate x{:.3})",
+            scales.join(", "),
+            stopped,
+            enlarged.scales.len(),
+            enlarged.hash_table_scale
+        ));
+    }
+    notes
+}
+
+/// What `group` prints, as JSON or as text.
+struct Outcome<'a> {
+    cloud: &'a PointCloud,
+    grouping: &'a Grouping,
+    metrics: &'a metrics::GroupingMetrics,
+    from_cache: bool,
+    /// Grouping (or reading the cache), without loading and metrics.
+    seconds: f64,
+    stages: &'a [(&'a str, f64)],
+    /// The overlap graph's largest and average degree, when one was built.
+    degrees: Option<(usize, f64)>,
+    notes: &'a [String],
+    /// The cache entry, unless the cache is off.
+    cache_path: Option<PathBuf>,
+}
+
+fn print_json(args: &Args, o: &Outcome<'_>) {
+    let m = o.metrics;
+    let (max_degree, avg_degree) = o.degrees.unwrap_or((0, 0.0));
+    let stage_seconds: serde_json::Map<String, serde_json::Value> =
+        o.stages.iter().map(|(s, t)| (s.to_string(), json!(t))).collect();
+    let object = json!({
+        "file": args.file.display().to_string(),
+        "points": o.cloud.len(),
+        "algo": format!("{:?}", args.algo).to_lowercase(),
+        "c": args.c,
+        "k": m.k,
+        "group_sizes": m.group_sizes,
+        "max_degree": max_degree,
+        "avg_degree": avg_degree,
+        "overlap_factor": m.overlap_factor,
+        "violations": m.violations,
+        "coverage": m.coverage,
+        "mean_coverage": m.mean_coverage,
+        "duplication_ratio": m.duplication_ratio,
+        "radius_scale": o.grouping.radius_scale,
+        "from_cache": o.from_cache,
+        "seconds": o.seconds,
+        "stage_seconds": stage_seconds,
+        "notes": o.notes,
+    });
+    println!("{object}");
+}
+
+fn print_text(args: &Args, o: &Outcome<'_>) {
+    let m = o.metrics;
     println!(
         "{}: {} splats, {:?}{}",
         args.file.display(),
-        cloud.len(),
+        o.cloud.len(),
         args.algo,
-        if from_cache { " (from the cache)" } else { "" }
+        if o.from_cache { " (from the cache)" } else { "" }
     );
     println!("K:               {}", m.k);
     println!("group sizes:     {:?}", m.group_sizes);
-    if degrees.is_some() {
+    if let Some((max_degree, avg_degree)) = o.degrees {
         println!("degree:          max {max_degree}, average {avg_degree:.2}");
     }
     println!("overlap factor:  {:.4}", m.overlap_factor);
@@ -243,15 +257,14 @@ pub fn run(args: &Args) -> Result<()> {
     if m.duplication_ratio > 0.0 {
         println!("duplication:     +{:.1}% splats", 100.0 * m.duplication_ratio);
     }
-    for note in &notes {
+    for note in o.notes {
         println!("note:            {note}");
     }
-    println!("time:            {grouping_seconds:.3} s grouping");
-    for (stage, seconds) in &stages {
+    println!("time:            {:.3} s grouping", o.seconds);
+    for (stage, seconds) in o.stages {
         println!("  {stage:<22} {seconds:.3} s");
     }
-    if let Some(key) = cache_key {
-        println!("cache:           {}", cache.path_for(key).display());
+    if let Some(path) = &o.cache_path {
+        println!("cache:           {}", path.display());
     }
-    Ok(())
 }

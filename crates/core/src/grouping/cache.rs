@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use std::time::SystemTime;
 
 use super::{Grouping, GroupingError};
-use crate::hash::{file_hash, fnv1a};
+use crate::hash::fnv1a;
 
 const MAGIC: &[u8; 8] = b"PBGROUP1";
 
@@ -108,11 +108,6 @@ pub fn directory() -> PathBuf {
         return PathBuf::from(home).join(".cache").join("pointblend");
     }
     std::env::temp_dir().join("pointblend")
-}
-
-/// FNV-1a over the file's bytes and the parameter text.
-pub fn key(model: &Path, parameters: &str) -> std::io::Result<u64> {
-    Ok(key_for_hash(file_hash(model)?, parameters))
 }
 
 /// The key for a model whose [`crate::hash::file_hash`] is already known.

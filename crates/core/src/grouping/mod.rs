@@ -20,7 +20,7 @@ pub mod mgc;
 pub mod spec;
 pub mod wgc;
 
-pub use spec::{Extension, GroupingAlgo, GroupingSpec, Relaxations};
+pub use spec::{Extension, GroupingAlgo, GroupingReport, GroupingSpec, Relaxations, Tuning};
 
 use std::ops::Range;
 

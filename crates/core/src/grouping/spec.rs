@@ -16,9 +16,20 @@
 //!
 //! E.g. `mgc-c0.4` (the opaque default), `wgc-k4-dup`, `hash-k8-radius`,
 //! `mgc-c1-coplanar-opposite`.
+//!
+//! `pointblend group` turns a few more knobs than a name holds ([`Tuning`]:
+//! MGC's search for K groups, WGC's graph c and plain-area weights, hashing's
+//! near-only collisions) and prints what the run measured on the way
+//! ([`GroupingReport`]); both go through the same computation and cache as a
+//! spec, whose cache key is `spec|NAME|v3` (`spec|NAME-TUNING|v3` when tuned).
+
+use std::time::Instant;
+
+use glam::Vec3;
 
 use super::{Grouping, GroupingError, MAX_GROUPS, cache, extend, hash, mgc, wgc};
-use crate::spatial::overlap::OverlapOptions;
+use crate::cloud::PointCloud;
+use crate::spatial::overlap::{OverlapGraph, OverlapOptions};
 
 /// The grouping algorithm and its own parameter.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -102,31 +113,110 @@ impl GroupingSpec {
     }
 
     /// Groups `cloud`.
-    pub fn compute(&self, cloud: &crate::cloud::PointCloud) -> Result<Grouping, GroupingError> {
+    pub fn compute(&self, cloud: &PointCloud) -> Result<Grouping, GroupingError> {
+        Ok(self.compute_tuned(cloud, &Tuning::default())?.0)
+    }
+
+    /// Groups `cloud` with `tuning`, and says what the run measured.
+    pub fn compute_tuned(
+        &self,
+        cloud: &PointCloud,
+        tuning: &Tuning,
+    ) -> Result<(Grouping, GroupingReport), GroupingError> {
         crate::progress::stage(&format!("grouping {self}"));
+        let mut report = GroupingReport::default();
         let base = match self.algo {
-            GroupingAlgo::Mgc { c } => mgc::group(cloud, &self.overlap(c))?.0,
-            GroupingAlgo::Wgc { k, eq7 } => {
-                let options =
-                    wgc::WgcOptions { k, minimize_by_eq7: eq7, overlap: self.overlap(1.0), ..Default::default() };
-                wgc::group(cloud, &options)?.0
-            }
+            GroupingAlgo::Mgc { c } => self.group_mgc(cloud, c, tuning, &mut report)?,
+            GroupingAlgo::Wgc { k, eq7 } => self.group_wgc(cloud, k, eq7, tuning, &mut report)?,
             GroupingAlgo::Hash { k, resolve_collisions } => {
-                let collisions = if resolve_collisions { hash::Collisions::All } else { hash::Collisions::None };
-                hash::group(cloud, &hash::HashOptions { k, collisions })?.0
+                let started = Instant::now();
+                let collisions = match (resolve_collisions, tuning.near) {
+                    (false, _) => hash::Collisions::None,
+                    (true, None) => hash::Collisions::All,
+                    (true, Some((eye, distance))) => hash::Collisions::Near { eye, distance },
+                };
+                let (g, resolved) = hash::group(cloud, &hash::HashOptions { k, collisions })?;
+                report.stages.push(("hash grouping", started.elapsed().as_secs_f64()));
+                report.resolved = Some(resolved);
+                g
             }
         };
-        Ok(match self.extension {
+        let started = Instant::now();
+        let grouping = match self.extension {
             Extension::None => base,
             Extension::Duplicate => {
                 crate::progress::stage("duplicating splats into the groups' holes");
-                extend::duplicate(cloud, &base)
+                let g = extend::duplicate(cloud, &base);
+                report.stages.push(("extend: duplication", started.elapsed().as_secs_f64()));
+                g
             }
             Extension::Enlarge => {
                 crate::progress::stage("enlarging the groups' radii");
-                extend::enlarge(cloud, &base).0
+                let (g, enlarged) = extend::enlarge(cloud, &base);
+                report.stages.push(("extend: radius", started.elapsed().as_secs_f64()));
+                report.enlarged = Some(enlarged);
+                g
             }
-        })
+        };
+        Ok((grouping, report))
+    }
+
+    /// MGC at `c`, or at the largest c with at most [`Tuning::max_groups`] groups.
+    fn group_mgc(
+        &self,
+        cloud: &PointCloud,
+        c: f32,
+        tuning: &Tuning,
+        report: &mut GroupingReport,
+    ) -> Result<Grouping, GroupingError> {
+        let started = Instant::now();
+        let mut options = self.overlap(c);
+        if let Some(k) = tuning.max_groups {
+            options.c = mgc::c_for_groups(cloud, k, &options);
+            report.c = Some(options.c);
+        }
+        let (g, graph) = mgc::group(cloud, &options)?;
+        report.degrees = Some(degrees(&graph));
+        report.stages.push(("graph + colouring", started.elapsed().as_secs_f64()));
+        Ok(g)
+    }
+
+    /// WGC with K = `k`, on the graph of [`Tuning::wgc_c`].
+    fn group_wgc(
+        &self,
+        cloud: &PointCloud,
+        k: usize,
+        eq7: bool,
+        tuning: &Tuning,
+        report: &mut GroupingReport,
+    ) -> Result<Grouping, GroupingError> {
+        let started = Instant::now();
+        let options = wgc::WgcOptions {
+            k,
+            pure_area: tuning.pure_area,
+            minimize_by_eq7: eq7,
+            overlap: self.overlap(tuning.wgc_c()),
+            ..Default::default()
+        };
+        let (g, graph, wgc) = wgc::group(cloud, &options)?;
+        report.degrees = Some(degrees(&graph));
+        let total = started.elapsed().as_secs_f64();
+        report.stages.extend([
+            ("graph", total - wgc.seconds_weights - wgc.seconds_initialise - wgc.seconds_optimise),
+            ("weights", wgc.seconds_weights),
+            ("initialise", wgc.seconds_initialise),
+            ("optimise", wgc.seconds_optimise),
+        ]);
+        report.wgc = Some(wgc);
+        Ok(g)
+    }
+
+    /// The cache key of this spec with `tuning`, for a model whose
+    /// [`crate::hash::file_hash`] is `file_hash`.
+    pub fn cache_key(&self, file_hash: u64, tuning: &Tuning) -> u64 {
+        // v2: WGC's MinimizeOverlap by area and its re-queueing changed its results;
+        // v3: duplication takes the most clipped splat first (§4.4.2).
+        cache::key_for_hash(file_hash, &format!("spec|{self}{tuning}|v3"))
     }
 
     /// Groups the cloud loaded from `model`, through `cache`; returns the
@@ -135,7 +225,7 @@ impl GroupingSpec {
         &self,
         cache: &cache::Cache,
         model: &std::path::Path,
-        cloud: &crate::cloud::PointCloud,
+        cloud: &PointCloud,
     ) -> Result<(Grouping, bool), GroupingError> {
         match crate::hash::file_hash(model) {
             Ok(hash) => self.compute_cached_for_hash(cache, hash, cloud),
@@ -148,20 +238,93 @@ impl GroupingSpec {
         &self,
         cache: &cache::Cache,
         file_hash: u64,
-        cloud: &crate::cloud::PointCloud,
+        cloud: &PointCloud,
     ) -> Result<(Grouping, bool), GroupingError> {
-        // v2: WGC's MinimizeOverlap by area and its re-queueing changed its results;
-        // v3: duplication takes the most clipped splat first (§4.4.2).
-        let key = cache::key_for_hash(file_hash, &format!("spec|{self}|v3"));
+        let (g, report) = self.compute_tuned_cached(cache, file_hash, cloud, &Tuning::default())?;
+        Ok((g, report.is_none()))
+    }
+
+    /// [`Self::compute_tuned`] through `cache`: the grouping, and its report
+    /// when it was computed (`None`: it came from the cache).
+    pub fn compute_tuned_cached(
+        &self,
+        cache: &cache::Cache,
+        file_hash: u64,
+        cloud: &PointCloud,
+        tuning: &Tuning,
+    ) -> Result<(Grouping, Option<GroupingReport>), GroupingError> {
+        let key = self.cache_key(file_hash, tuning);
         if let Some(g) = cache.load(key, cloud.len()) {
-            return Ok((g, true));
+            return Ok((g, None));
         }
-        let g = self.compute(cloud)?;
+        let (g, report) = self.compute_tuned(cloud, tuning)?;
         if let Err(e) = cache.store(key, &g, cloud.len()) {
             log::warn!("{e}");
         }
-        Ok((g, false))
+        Ok((g, Some(report)))
     }
+}
+
+/// The largest and the average degree of `graph`.
+fn degrees(graph: &OverlapGraph) -> (usize, f64) {
+    (graph.max_degree(), graph.average_degree())
+}
+
+/// The knobs of `pointblend group` that a spec's name does not hold; the
+/// default keeps the spec's own choices.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Tuning {
+    /// MGC: the largest c (to 1/64) at which it needs at most this many groups, in place of the spec's c.
+    pub max_groups: Option<usize>,
+    /// WGC: the overlap graph's relaxation c (1 when `None`).
+    pub wgc_c: Option<f32>,
+    /// WGC: weights are the plain overlap area, without Eq. 7's (1 - n_i·n_j).
+    pub pure_area: bool,
+    /// Hashing that resolves collisions: only for splats closer to this eye than this distance.
+    pub near: Option<(Vec3, f32)>,
+}
+
+impl Tuning {
+    /// The c of WGC's overlap graph.
+    fn wgc_c(&self) -> f32 {
+        self.wgc_c.unwrap_or(1.0)
+    }
+}
+
+/// Appended to the spec's name in cache keys: nothing for the default.
+impl std::fmt::Display for Tuning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if let Some(k) = self.max_groups {
+            write!(f, "-groups{k}")?;
+        }
+        if self.wgc_c() != 1.0 {
+            write!(f, "-graph-c{}", self.wgc_c())?;
+        }
+        if self.pure_area {
+            f.write_str("-pure-area")?;
+        }
+        if let Some((eye, distance)) = self.near {
+            write!(f, "-near{},{},{},{distance}", eye.x, eye.y, eye.z)?;
+        }
+        Ok(())
+    }
+}
+
+/// What a grouping run measured on the way ([`GroupingSpec::compute_tuned`]).
+#[derive(Debug, Clone, Default)]
+pub struct GroupingReport {
+    /// The stages and their seconds, in order.
+    pub stages: Vec<(&'static str, f64)>,
+    /// The overlap graph's largest and average degree (MGC, WGC).
+    pub degrees: Option<(usize, f64)>,
+    /// MGC with [`Tuning::max_groups`]: the c it found.
+    pub c: Option<f32>,
+    /// WGC's costs, moves and stage times.
+    pub wgc: Option<wgc::WgcReport>,
+    /// Hashing: how many collisions were resolved.
+    pub resolved: Option<usize>,
+    /// Radius enlargement: each group's scale and whether it converged.
+    pub enlarged: Option<extend::EnlargeReport>,
 }
 
 impl std::fmt::Display for GroupingSpec {
