@@ -157,13 +157,16 @@ struct Prepared {
     group_s: Option<f64>,
 }
 
-/// Every view and variant of one model.
-fn bench_model(
-    model: &Path,
-    config: &BenchConfig,
-    renderer: &mut HeadlessRenderer,
-) -> Result<(Vec<BenchRow>, Vec<OrderRow>), BenchError> {
-    let (w, h) = (config.width, config.height);
+/// A model's scene as the run sets it up: materials, environment, background.
+struct Opened {
+    scene: Scene,
+    /// The settings every variant starts from, with the scene's background.
+    base: RenderSettings,
+    load_s: f64,
+}
+
+/// Loads `model` and applies the run's materials and environment.
+fn open_model(model: &Path, config: &BenchConfig) -> Result<Opened, BenchError> {
     let started = Instant::now();
     let (mut scene, warnings) =
         crate::scene::open(model, &LoadOptions { progress: config.progress, ..Default::default() })
@@ -184,36 +187,195 @@ fn bench_model(
     if let (true, Some(bg)) = (config.materials.scene_background, scene.background) {
         base.shading.background = bg;
     }
-    let load_s = started.elapsed().as_secs_f64();
-    let flat = scene.flatten();
-    // One upload for the ungrouped variants, one per grouping (set-up, cached).
-    let mut uploads: Vec<(Option<crate::grouping::GroupingSpec>, GpuScene)> = Vec::new();
+    Ok(Opened { scene, base, load_s: started.elapsed().as_secs_f64() })
+}
+
+/// The uploads of a model: one for the ungrouped variants, one per grouping.
+type Uploads = Vec<(Option<crate::grouping::GroupingSpec>, GpuScene)>;
+
+/// Every GPU variant's settings, grouping (set-up, cached) and upload.
+fn prepare_variants(
+    config: &BenchConfig,
+    opened: &Opened,
+    cloud: &crate::cloud::PointCloud,
+    renderer: &HeadlessRenderer,
+) -> Result<(Uploads, Vec<Prepared>), BenchError> {
+    let scene = &opened.scene;
+    let mut uploads: Uploads = Vec::new();
     let mut prepared = Vec::new();
+    let upload = |grouping: Option<&crate::grouping::Grouping>| {
+        let mut gpu = GpuScene::upload_cloud(&renderer.ctx.device, cloud, grouping);
+        gpu.set_environment(&renderer.ctx.device, &renderer.ctx.queue, scene.environment.as_deref());
+        gpu
+    };
     for variant in config.variants.iter().filter(|v| v.mode.is_gpu()) {
-        let settings = variant.apply(&base).map_err(BenchError::Invalid)?;
+        let settings = variant.apply(&opened.base).map_err(BenchError::Invalid)?;
         let spec = variant.mode.needs_grouping_for(scene.has_transparency()).then_some(settings.grouping_for_mode());
         let (mut k, mut group_s) = (1, None);
         if let Some(spec) = spec {
             let t = Instant::now();
             let cache = GroupCache::from_env();
             let (grouping, cached) = spec
-                .compute_cached_for_hash(&cache, scene.geometry_hash(), &flat.cloud)
+                .compute_cached_for_hash(&cache, scene.geometry_hash(), cloud)
                 .map_err(|e| BenchError::Invalid(e.to_string()))?;
             k = grouping.k();
             group_s = Some(if cached { 0.0 } else { t.elapsed().as_secs_f64() });
             if !uploads.iter().any(|(s, _)| *s == Some(spec)) {
-                let mut gpu = GpuScene::upload_cloud(&renderer.ctx.device, &flat.cloud, Some(&grouping));
-                gpu.set_environment(&renderer.ctx.device, &renderer.ctx.queue, scene.environment.as_deref());
-                uploads.push((Some(spec), gpu));
+                uploads.push((Some(spec), upload(Some(&grouping))));
             }
         } else if !uploads.iter().any(|(s, _)| s.is_none()) {
-            let mut gpu = GpuScene::upload_cloud(&renderer.ctx.device, &flat.cloud, None);
-            gpu.set_environment(&renderer.ctx.device, &renderer.ctx.queue, scene.environment.as_deref());
-            uploads.push((None, gpu));
+            uploads.push((None, upload(None)));
         }
         let scene = uploads.iter().position(|(s, _)| *s == spec).unwrap_or(0);
         prepared.push(Prepared { variant: variant.clone(), settings, scene, k, group_s });
     }
+    Ok((uploads, prepared))
+}
+
+/// The exact references one view's rows are measured against.
+struct Rulers {
+    /// Every splat opaque (for opaque modes).
+    opaque: (image::RgbaImage, f64),
+    /// With the scene's opacities (for transparent modes and the reference mode itself).
+    with_opacity: (image::RgbaImage, f64),
+    /// With a map: the reference of what a transparent variant draws (its own
+    /// environment settings, or none), keyed by those settings.
+    own: Vec<(Option<EnvironmentSettings>, (image::RgbaImage, f64))>,
+}
+
+/// Whether (and with which settings) a frame of `settings` draws `scene`'s environment map.
+fn drawn_environment(scene: &Scene, settings: &RenderSettings) -> Option<EnvironmentSettings> {
+    (scene.environment.is_some() && settings.draws_environment()).then_some(settings.environment)
+}
+
+impl Rulers {
+    /// Renders (or reads from the cache) the rulers of one view.
+    fn of(config: &BenchConfig, opened: &Opened, prepared: &[Prepared], camera: &Camera) -> Result<Self, BenchError> {
+        let (scene, base) = (&opened.scene, &opened.base);
+        // One image when the scene is opaque.
+        let opaque = ruler(config, scene, base, camera, false)?;
+        // The reference mode's own image (with the scene's map, if any).
+        let reference = RenderSettings { mode: RenderMode::RULER, ..*base };
+        let with_opacity =
+            if scene.has_transparency() { ruler(config, scene, &reference, camera, true)? } else { opaque.clone() };
+        let mut own = Vec::new();
+        if scene.has_transparency() {
+            for p in prepared.iter().filter(|p| p.variant.mode.info().transparent) {
+                let key = drawn_environment(scene, &p.settings);
+                if key != drawn_environment(scene, &reference) && !own.iter().any(|(k, _)| *k == key) {
+                    let environment = EnvironmentSettings { enabled: key.is_some(), ..key.unwrap_or(base.environment) };
+                    let settings = RenderSettings { environment, ..reference };
+                    own.push((key, ruler(config, scene, &settings, camera, true)?));
+                }
+            }
+        }
+        Ok(Rulers { opaque, with_opacity, own })
+    }
+
+    /// The ruler of a mode that is `transparent` or not.
+    fn for_mode(&self, transparent: bool) -> &(image::RgbaImage, f64) {
+        if transparent { &self.with_opacity } else { &self.opaque }
+    }
+
+    /// The ruler of a prepared variant.
+    fn of_variant(&self, scene: &Scene, p: &Prepared) -> &(image::RgbaImage, f64) {
+        if !p.variant.mode.info().transparent {
+            return &self.opaque;
+        }
+        let key = drawn_environment(scene, &p.settings);
+        self.own.iter().find(|(k, _)| *k == key).map_or(&self.with_opacity, |(_, r)| r)
+    }
+}
+
+/// A row of `mode` from `view` with the model's facts filled in and nothing measured yet.
+fn blank_row(
+    name: &str,
+    opened: &Opened,
+    view: &str,
+    config: &BenchConfig,
+    variant: &str,
+    mode: RenderMode,
+) -> BenchRow {
+    BenchRow {
+        model: name.to_string(),
+        mode: mode.name().to_string(),
+        variant: variant.to_string(),
+        reference: ruler_name(mode.info().transparent).to_string(),
+        ruler: mode == RenderMode::RULER,
+        view: view.to_string(),
+        frame_ms: 0.0,
+        frame_ms_min: 0.0,
+        frame_ms_max: 0.0,
+        gpu_ms: None,
+        passes: Vec::new(),
+        eps: 0.0,
+        psnr: None,
+        bad_pixel_share: 0.0,
+        geometry_passes: 0,
+        points: opened.scene.len(),
+        width: config.width,
+        height: config.height,
+        load_s: opened.load_s,
+        k: 1,
+        group_s: None,
+        frames: config.frames,
+    }
+}
+
+/// Times one GPU variant from one view, measures it against `reference_image`
+/// and saves its image (and difference image) as `{stem}-{view}-{tag}.png`.
+fn measure_variant(
+    renderer: &mut HeadlessRenderer,
+    gpu_scene: &GpuScene,
+    view: &super::views::NamedView,
+    p: &Prepared,
+    config: &BenchConfig,
+    reference_image: &image::RgbaImage,
+    (stem, mut row): (&str, BenchRow),
+) -> Result<BenchRow, BenchError> {
+    let (image, plan, wall, per_pass) = time_frames(renderer, gpu_scene, &view.camera, p, config)
+        .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?;
+    let error = reference::compare(&image, reference_image)
+        .ok_or_else(|| BenchError::Invalid("image and reference sizes differ".into()))?;
+    let tag = p.variant.file_tag();
+    save_png(&image, &config.out.join(format!("{stem}-{}-{tag}.png", view.name)))?;
+    if let Some(diff) = reference::difference_image(&image, reference_image, 8.0) {
+        save_png(&diff, &config.out.join(format!("{stem}-{}-{tag}-diff.png", view.name)))?;
+    }
+    let frame = spread(&wall);
+    let passes: Vec<PassTime> = plan
+        .steps
+        .iter()
+        .zip(&per_pass)
+        .map(|(step, times)| {
+            let s = spread(times);
+            PassTime { pass: step.name.to_string(), ms: s.median, ms_min: s.min, ms_max: s.max }
+        })
+        .collect();
+    row.k = p.k;
+    row.group_s = p.group_s;
+    row.frame_ms = frame.median;
+    row.frame_ms_min = frame.min;
+    row.frame_ms_max = frame.max;
+    row.gpu_ms = (!passes.is_empty()).then(|| passes.iter().map(|p| p.ms).sum());
+    row.passes = passes;
+    row.eps = error.eps;
+    row.psnr = error.psnr.is_finite().then_some(error.psnr);
+    row.bad_pixel_share = error.bad_pixel_share;
+    row.geometry_passes = plan.geometry_passes();
+    Ok(row)
+}
+
+/// Every view and variant of one model.
+fn bench_model(
+    model: &Path,
+    config: &BenchConfig,
+    renderer: &mut HeadlessRenderer,
+) -> Result<(Vec<BenchRow>, Vec<OrderRow>), BenchError> {
+    let (w, h) = (config.width, config.height);
+    let opened = open_model(model, config)?;
+    let flat = opened.scene.flatten();
+    let (uploads, prepared) = prepare_variants(config, &opened, &flat.cloud, renderer)?;
     let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let stem = crate::output::safe_stem(model);
     let views = standard_views(&flat.cloud, w as f32 / h as f32, config.views);
@@ -230,114 +392,25 @@ fn bench_model(
         crate::progress::bar((views.len() * (prepared.len() + 1)) as u64, &format!("bench {stem}"), config.progress);
     let mut rows = Vec::new();
     for view in &views {
-        let row = |variant: &str, mode: RenderMode| BenchRow {
-            model: name.clone(),
-            mode: mode.name().to_string(),
-            variant: variant.to_string(),
-            reference: ruler_name(mode.info().transparent).to_string(),
-            ruler: mode == RenderMode::RULER,
-            view: view.name.to_string(),
-            frame_ms: 0.0,
-            frame_ms_min: 0.0,
-            frame_ms_max: 0.0,
-            gpu_ms: None,
-            passes: Vec::new(),
-            eps: 0.0,
-            psnr: None,
-            bad_pixel_share: 0.0,
-            geometry_passes: 0,
-            points: scene.len(),
-            width: w,
-            height: h,
-            load_s,
-            k: 1,
-            group_s: None,
-            frames: config.frames,
-        };
-
-        // The rulers: the exact reference with every splat opaque (for opaque
-        // modes) and with the scene's opacities (for transparent modes, and
-        // the reference mode itself); one image when the scene is opaque.
-        let opaque = ruler(config, &scene, &base, &view.camera, false)?;
-        // The reference mode's own image (with the scene's map, if any).
-        let reference = RenderSettings { mode: RenderMode::RULER, ..base };
-        let with_opacity = if scene.has_transparency() {
-            ruler(config, &scene, &reference, &view.camera, true)?
-        } else {
-            opaque.clone()
-        };
-        // With a map, a transparent variant is measured against the reference
-        // of what it draws: its own environment settings, or none for a mode
-        // without the effects (or env-layers=off).
-        let drawn =
-            |s: &RenderSettings| (scene.environment.is_some() && s.draws_environment()).then_some(s.environment);
-        let mut own_rulers = Vec::new();
-        if scene.has_transparency() {
-            for p in prepared.iter().filter(|p| p.variant.mode.info().transparent) {
-                let key = drawn(&p.settings);
-                if key != drawn(&reference) && !own_rulers.iter().any(|(k, _)| *k == key) {
-                    let environment = EnvironmentSettings { enabled: key.is_some(), ..key.unwrap_or(base.environment) };
-                    let settings = RenderSettings { environment, ..reference };
-                    own_rulers.push((key, ruler(config, &scene, &settings, &view.camera, true)?));
-                }
-            }
-        }
-        let ruler_of = |p: &Prepared| {
-            if !p.variant.mode.info().transparent {
-                return &opaque;
-            }
-            let key = drawn(&p.settings);
-            own_rulers.iter().find(|(k, _)| *k == key).map_or(&with_opacity, |(_, r)| r)
-        };
-        let ruler_for = |transparent: bool| if transparent { &with_opacity } else { &opaque };
-        let name = RenderMode::RULER.name();
-        save_png(&with_opacity.0, &config.out.join(format!("{stem}-{}-{name}.png", view.name)))?;
-        if scene.has_transparency() {
-            save_png(&opaque.0, &config.out.join(format!("{stem}-{}-{name}-opaque.png", view.name)))?;
+        let row = |variant: &str, mode| blank_row(&name, &opened, view.name, config, variant, mode);
+        let rulers = Rulers::of(config, &opened, &prepared, &view.camera)?;
+        let ruler_name = RenderMode::RULER.name();
+        save_png(&rulers.with_opacity.0, &config.out.join(format!("{stem}-{}-{ruler_name}.png", view.name)))?;
+        if opened.scene.has_transparency() {
+            save_png(&rulers.opaque.0, &config.out.join(format!("{stem}-{}-{ruler_name}-opaque.png", view.name)))?;
         }
         for variant in config.variants.iter().filter(|v| !v.mode.is_gpu()) {
             let mut row = row(&variant.label(), variant.mode);
-            let ms = ruler_for(variant.mode.info().transparent).1;
+            let ms = rulers.for_mode(variant.mode.info().transparent).1;
             (row.frame_ms, row.frame_ms_min, row.frame_ms_max, row.frames) = (ms, ms, ms, 1);
             rows.push(row);
         }
         bar.inc(1);
-
         for p in &prepared {
+            let reference_image = &rulers.of_variant(&opened.scene, p).0;
+            let blank = row(&p.variant.label(), p.variant.mode);
             let gpu_scene = &uploads[p.scene].1;
-            let (image, plan, wall, per_pass) = time_frames(renderer, gpu_scene, &view.camera, p, config)
-                .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?;
-            let reference_image = &ruler_of(p).0;
-            let error = reference::compare(&image, reference_image)
-                .ok_or_else(|| BenchError::Invalid("image and reference sizes differ".into()))?;
-            let tag = p.variant.file_tag();
-            save_png(&image, &config.out.join(format!("{stem}-{}-{tag}.png", view.name)))?;
-            if let Some(diff) = reference::difference_image(&image, reference_image, 8.0) {
-                save_png(&diff, &config.out.join(format!("{stem}-{}-{tag}-diff.png", view.name)))?;
-            }
-            let frame = spread(&wall);
-            let passes: Vec<PassTime> = plan
-                .steps
-                .iter()
-                .zip(&per_pass)
-                .map(|(pass, times)| {
-                    let s = spread(times);
-                    PassTime { pass: pass.name.to_string(), ms: s.median, ms_min: s.min, ms_max: s.max }
-                })
-                .collect();
-            let mut row = row(&p.variant.label(), p.variant.mode);
-            row.k = p.k;
-            row.group_s = p.group_s;
-            row.frame_ms = frame.median;
-            row.frame_ms_min = frame.min;
-            row.frame_ms_max = frame.max;
-            row.gpu_ms = (!passes.is_empty()).then(|| passes.iter().map(|p| p.ms).sum());
-            row.passes = passes;
-            row.eps = error.eps;
-            row.psnr = error.psnr.is_finite().then_some(error.psnr);
-            row.bad_pixel_share = error.bad_pixel_share;
-            row.geometry_passes = plan.geometry_passes();
-            rows.push(row);
+            rows.push(measure_variant(renderer, gpu_scene, view, p, config, reference_image, (&stem, blank))?);
             bar.inc(1);
         }
     }
