@@ -43,7 +43,7 @@ fn patch(n_side: usize) -> PointCloud {
                     .normalize(),
             );
             cloud.radii.push(1.6 / (n_side - 1) as f32);
-            cloud.colors.push([(40 + 25 * x) as u8, (200 - 20 * y) as u8, 120]);
+            cloud.colours.push([(40 + 25 * x) as u8, (200 - 20 * y) as u8, 120]);
             cloud.opacity.push(1.0);
         }
     }
@@ -101,7 +101,7 @@ fn deferred_gives_sane_images_in_extreme_views() {
     let base = PointCloud {
         normals: positions.iter().map(|p| p.normalize()).collect(),
         radii: vec![0.06; n],
-        colors: vec![[180, 120, 90]; n],
+        colours: vec![[180, 120, 90]; n],
         opacity: vec![1.0; n],
         positions,
         ..Default::default()
@@ -166,7 +166,7 @@ fn without_lighting_no_normal_target_is_planned_and_images_match_the_reference()
 fn a_cloud_of_one_colour_writes_only_weights_and_looks_the_same() {
     let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
     let mut full_colour = cloud.clone();
-    full_colour.colors[0][0] ^= 1; // one splat one unit off: the full colour path
+    full_colour.colours[0][0] ^= 1; // one splat one unit off: the full colour path
     let grouping = GroupingSpec::mgc(0.4).compute(&cloud).unwrap();
     let camera = Camera::default_for(&cloud, 1.0);
     for mode in [RenderMode::TwoPass, RenderMode::Deferred] {

@@ -88,7 +88,7 @@ fn plane(z: f32, colour: [u8; 3], opacity: f32) -> pointblend::cloud::PointCloud
             cloud.positions.push(Vec3::new(-2.2 + i as f32 * 0.1, -2.2 + j as f32 * 0.1, z));
             cloud.normals.push(Vec3::Z);
             cloud.radii.push(0.15);
-            cloud.colors.push(colour);
+            cloud.colours.push(colour);
             cloud.opacity.push(opacity);
         }
     }
@@ -108,7 +108,7 @@ fn slab(planes: &[Plane], env: [f32; 3]) -> pointblend::scene::Scene {
         cloud.positions.extend(p.positions);
         cloud.normals.extend(p.normals);
         cloud.radii.extend(p.radii);
-        cloud.colors.extend(p.colors);
+        cloud.colours.extend(p.colours);
         cloud.opacity.extend(p.opacity);
     }
     let mut scene = pointblend::scene::Scene::from(cloud);
@@ -148,7 +148,7 @@ fn a_transparent_slab_in_a_constant_environment_matches_the_closed_form() {
                 environment: EnvironmentSettings {
                     eta: 1.5,
                     dispersion: 0.0,
-                    layers,
+                    layer_effects: layers,
                     skybox: true,
                     ..Default::default()
                 },
@@ -207,7 +207,13 @@ fn alg2_with_an_environment_matches_the_closed_form_and_stays_finite_in_stiff_ca
         let settings = RenderSettings {
             mode: "alg2".parse().unwrap(),
             lighting: false,
-            environment: EnvironmentSettings { eta: 1.5, dispersion: 0.0, layers, skybox: true, ..Default::default() },
+            environment: EnvironmentSettings {
+                eta: 1.5,
+                dispersion: 0.0,
+                layer_effects: layers,
+                skybox: true,
+                ..Default::default()
+            },
             ..Default::default()
         };
         let gpu = renderer.upload(&scene, Some(&grouping_of(&scene)));
@@ -254,7 +260,13 @@ fn alg2_with_an_environment_matches_the_closed_form_and_stays_finite_in_stiff_ca
         for layers in [LayerEffects::Single, LayerEffects::Multi] {
             let settings = RenderSettings {
                 mode: "alg2".parse().unwrap(),
-                environment: EnvironmentSettings { eta, dispersion: 0.02, layers, skybox: true, ..Default::default() },
+                environment: EnvironmentSettings {
+                    eta,
+                    dispersion: 0.02,
+                    layer_effects: layers,
+                    skybox: true,
+                    ..Default::default()
+                },
                 ..Default::default()
             };
             let gpu = renderer.upload(&scene, Some(&grouping_of(&scene)));
@@ -328,7 +340,7 @@ fn glass_scene(planes: &[GlassPlane]) -> (pointblend::scene::Scene, pointblend::
                 cloud.positions.push(Vec3::new(x, y, p.z));
                 cloud.normals.push(Vec3::Z);
                 cloud.radii.push(0.15);
-                cloud.colors.push(p.colour);
+                cloud.colours.push(p.colour);
                 cloud.opacity.push(p.opacity);
                 labels.push((i % 2) * 2 + j % 2);
             }
@@ -469,7 +481,7 @@ fn glass_settings(
         environment: EnvironmentSettings {
             eta: GLASS_ETA,
             dispersion: GLASS_DISPERSION,
-            layers,
+            layer_effects: layers,
             skybox: true,
             ..Default::default()
         },

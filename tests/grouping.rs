@@ -29,7 +29,7 @@ fn random_cloud(seed: u64, n: usize, sheet: bool) -> PointCloud {
     }
     let normals = (0..n).map(|_| Vec3::new(rng.next() - 0.5, rng.next() - 0.5, 1.0).normalize()).collect();
     let radii = (0..n).map(|_| 0.15 + 0.3 * rng.next()).collect();
-    PointCloud { positions, normals, radii, colors: vec![[128; 3]; n], opacity: vec![1.0; n], ..Default::default() }
+    PointCloud { positions, normals, radii, colours: vec![[128; 3]; n], opacity: vec![1.0; n], ..Default::default() }
 }
 
 fn assert_valid(grouping: &Grouping, splats: usize, what: &str) {
@@ -218,7 +218,7 @@ fn tiny(positions: Vec<Vec3>) -> PointCloud {
         positions,
         normals: vec![Vec3::Z; n],
         radii: vec![0.5; n],
-        colors: vec![[1; 3]; n],
+        colours: vec![[1; 3]; n],
         opacity: vec![1.0; n],
         ..Default::default()
     }
@@ -357,7 +357,7 @@ fn thin_shell(gap: f32, same_colour: bool) -> PointCloud {
                 cloud.normals.push(normal);
                 cloud.radii.push(r);
                 let shade = if same_colour || (i + j) % 2 == 0 { 200 } else { 40 };
-                cloud.colors.push([shade, shade, shade]);
+                cloud.colours.push([shade, shade, shade]);
                 cloud.opacity.push(1.0);
             }
         }
@@ -376,7 +376,7 @@ fn mgc_relaxations_drop_the_edges_they_name() {
         c.positions.truncate(half);
         c.normals.truncate(half);
         c.radii.truncate(half);
-        c.colors.truncate(half);
+        c.colours.truncate(half);
         c.opacity.truncate(half);
         c
     };
@@ -432,7 +432,7 @@ fn patch(cloud: &PointCloud, centre: usize, count: usize) -> PointCloud {
         positions: order.iter().map(|&i| cloud.positions[i]).collect(),
         normals: order.iter().map(|&i| cloud.normals[i]).collect(),
         radii: order.iter().map(|&i| cloud.radii[i]).collect(),
-        colors: order.iter().map(|&i| cloud.colors[i]).collect(),
+        colours: order.iter().map(|&i| cloud.colours[i]).collect(),
         opacity: order.iter().map(|&i| cloud.opacity[i]).collect(),
         ..Default::default()
     }

@@ -101,9 +101,9 @@ fn colours_read_as_uchar_float_and_ushort() {
         };
         let path = temp_file(&dir, "colour.ply", &ply(Encoding::Little, &[vertex], &[], false));
         let (cloud, report) = cloud::load(&path).unwrap();
-        assert_eq!(report.colors, Provenance::FromFile);
+        assert_eq!(report.colours, Provenance::FromFile);
         for i in 0..xyz.len() {
-            assert_eq!(cloud.colors[i], [(i * 3) as u8, 128, 255], "{ty} colour of vertex {i}");
+            assert_eq!(cloud.colours[i], [(i * 3) as u8, 128, 255], "{ty} colour of vertex {i}");
         }
     }
 }
@@ -230,12 +230,12 @@ fn gaussian_splat_files_take_colour_opacity_radius_and_normal_from_their_paramet
         Element { name: "vertex", properties: names.iter().map(|n| ("float", *n)).collect(), rows: rows.clone() };
     let path = temp_file(&dir, "gaussians.ply", &ply(Encoding::Little, &[vertex], &[], false));
     let (cloud, report) = cloud::load(&path).unwrap();
-    assert_eq!(report.colors, Provenance::FromGaussians);
+    assert_eq!(report.colours, Provenance::FromGaussians);
     assert_eq!(report.radii, Provenance::FromGaussians);
     for (i, row) in rows.iter().enumerate() {
         let want =
             [row[3], row[4], row[5]].map(|dc| ((0.5 + c0 * dc as f32 as f64) * 255.0).round().clamp(0.0, 255.0) as u8);
-        assert_eq!(cloud.colors[i], want);
+        assert_eq!(cloud.colours[i], want);
         assert!((cloud.opacity[i] - 0.5).abs() < 1e-6);
         assert!((cloud.normals[i].z.abs() - 1.0).abs() < 1e-5, "thinnest axis is z");
         assert!(cloud.radii[i] > (-5.0f32).exp() && cloud.radii[i] < 4.0 * (-5.0f32).exp());

@@ -371,7 +371,7 @@ fn each_group_is_sorted_back_to_front_in_the_instance_buffers_only_when_the_view
                 group.positions.push(Vec3::from_array(s.position));
                 group.normals.push(Vec3::from_array(s.normal));
                 group.radii.push(s.radius.abs());
-                group.colors.push([0; 3]);
+                group.colours.push([0; 3]);
                 group.opacity.push(1.0);
             }
             let order: Vec<u32> = (0..run.len() as u32).collect();

@@ -50,7 +50,7 @@ fn discs(list: &[(Vec3, Vec3, f32, [u8; 3])]) -> Scene {
         positions: list.iter().map(|d| d.0).collect(),
         normals: list.iter().map(|d| d.1.normalize()).collect(),
         radii: list.iter().map(|d| d.2).collect(),
-        colors: list.iter().map(|d| d.3).collect(),
+        colours: list.iter().map(|d| d.3).collect(),
         opacity: vec![1.0; list.len()],
         ..Default::default()
     })
@@ -192,7 +192,7 @@ fn plane(z: f32, half: f32, colour: [u8; 3], opacity: f32) -> SceneObject {
             cloud.positions.push(Vec3::new(-half + i as f32 * spacing, -half + j as f32 * spacing, z));
             cloud.normals.push(Vec3::Z);
             cloud.radii.push(1.5 * spacing);
-            cloud.colors.push(colour);
+            cloud.colours.push(colour);
             cloud.opacity.push(1.0);
         }
     }

@@ -165,7 +165,7 @@ fn sphere(n: usize, radius: f32) -> PointCloud {
     PointCloud {
         normals: positions.iter().map(|p| p.normalize()).collect(),
         radii: vec![spacing * 1.2; n],
-        colors: vec![[180, 120, 90]; n],
+        colours: vec![[180, 120, 90]; n],
         opacity: vec![1.0; n],
         positions,
         ..Default::default()
@@ -247,7 +247,7 @@ fn extreme_views_and_sizes_give_sane_images() {
     let mut single = base.clone();
     single.positions.truncate(1);
     single.normals.truncate(1);
-    single.colors.truncate(1);
+    single.colours.truncate(1);
     single.opacity.truncate(1);
     single.radii = vec![0.5];
     let camera = Camera::default_for(&single, 1.0);

@@ -1,8 +1,12 @@
 //! The render core: for every mode of the registry the targets the recorded
 //! render passes really bind are the ones the pool allocated (as bound) and
-//! the ones the plan (and so `--explain`) says each pass reads and writes; a
-//! new plan frees what it does not use, each pipeline is built once, every
-//! plan pass is timed, and each render pass has its own uniforms.
+//! the ones the plan (and so `--explain`) says each pass reads and writes;
+//! each target a pass binds as input is one its shader's entry point really
+//! reads, as an array or not as the plan says, and each colour target it
+//! writes is one of the entry point's outputs (read from the WGSL by naga,
+//! not from the plan); a new plan frees what it does not use, each pipeline
+//! is built once, every plan pass is timed, and each render pass has its own
+//! uniforms.
 
 mod common;
 
@@ -11,7 +15,8 @@ use pointblend::frame::{Camera, Quality, RenderMode, RenderSettings};
 use pointblend::grouping::GroupingSpec;
 use pointblend::render::modes::FrameDesc;
 use pointblend::render::passes::Command;
-use pointblend::render::plan::TargetId;
+use pointblend::render::plan::{Layout, RenderPlan, TargetId};
+use pointblend::render::shaders;
 use pointblend::render::touches::{Access, Touch};
 use pointblend::render::{GpuScene, HeadlessRenderer};
 
@@ -47,6 +52,63 @@ fn bound(touches: &[Touch], pass: usize, access: Access) -> Vec<&'static str> {
     ids
 }
 
+/// Checks every render pass of `plan` against its composed WGSL: the group-1
+/// textures the entry point uses are exactly the pass's inputs, in binding
+/// order, each a 2D array exactly when the plan's target is one; a splat
+/// pass's colour targets are the entry point's `@location` outputs.
+fn check_against_shaders(plan: &RenderPlan, what: &str) {
+    use naga::{Binding, ImageDimension, TypeInner};
+    for (step, command) in plan.commands() {
+        let (shader, entry, variant, inputs, outputs) = match command {
+            Command::Splats(p) => (p.shader, p.entry, p.variant, &p.inputs, Some(p.colour.len())),
+            Command::Fullscreen(p) => (p.shader, p.entry, p.variant, &p.inputs, None),
+        };
+        let at = format!("{what}, pass {step} ({shader}:{entry}, {variant})");
+        let source = shaders::compose(shader, variant).unwrap();
+        let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{at}: {e}"));
+        let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{at}: {e:?}"));
+        let index =
+            module.entry_points.iter().position(|e| e.name == entry).unwrap_or_else(|| panic!("{at}: no entry"));
+        let uses = info.get_entry_point(index);
+        let mut read: Vec<(u32, bool)> = module
+            .global_variables
+            .iter()
+            .filter(|(handle, var)| var.binding.as_ref().is_some_and(|b| b.group == 1) && !uses[*handle].is_empty())
+            .map(|(_, var)| {
+                let arrayed = match module.types[var.ty].inner {
+                    TypeInner::Image { dim: ImageDimension::D2, arrayed, .. } => arrayed,
+                    ref other => panic!("{at}: group 1 holds {other:?}"),
+                };
+                (var.binding.as_ref().unwrap().binding, arrayed)
+            })
+            .collect();
+        read.sort_unstable();
+        let planned: Vec<(u32, bool)> = inputs
+            .iter()
+            .enumerate()
+            .map(|(i, id)| (i as u32, matches!(plan.target(*id).unwrap().layout, Layout::Array { .. })))
+            .collect();
+        assert_eq!(
+            read, planned,
+            "{at}: the textures the shader reads (binding, array) differ from the pass's inputs {inputs:?}"
+        );
+        if let Some(outputs) = outputs {
+            let result = module.entry_points[index].function.result.as_ref();
+            let locations = match result.map(|r| (&r.binding, &module.types[r.ty].inner)) {
+                None => 0,
+                Some((Some(Binding::Location { .. }), _)) => 1,
+                Some((_, TypeInner::Struct { members, .. })) => {
+                    members.iter().filter(|m| matches!(m.binding, Some(Binding::Location { .. }))).count()
+                }
+                Some(_) => 0,
+            };
+            assert_eq!(locations, outputs, "{at}: the entry point writes {locations} colour outputs");
+        }
+    }
+}
+
 fn sorted(ids: &[TargetId]) -> Vec<&'static str> {
     let mut ids: Vec<&'static str> = ids.iter().map(|t| t.0).collect();
     ids.sort_unstable();
@@ -57,7 +119,7 @@ fn sorted(ids: &[TargetId]) -> Vec<&'static str> {
 fn every_target_the_recorded_passes_bind_is_allocated_as_bound_explained_as_used_and_nothing_else_is() {
     let colour = bunny();
     let mut one_colour = colour.clone();
-    one_colour.colors.iter_mut().for_each(|c| *c = [90, 160, 200]);
+    one_colour.colours.iter_mut().for_each(|c| *c = [90, 160, 200]);
     // Transparent modes plan their layers only for a transparent scene.
     let mut see_through = colour.clone();
     see_through.opacity.iter_mut().for_each(|a| *a = 0.5);
@@ -114,6 +176,7 @@ fn every_target_the_recorded_passes_bind_is_allocated_as_bound_explained_as_used
                     );
                 }
                 assert!(touches.iter().all(|t| t.pass < plan.steps.len()), "{what}: a render pass outside the plan");
+                check_against_shaders(&plan, &what);
                 checked += 1;
             }
         }

@@ -23,7 +23,7 @@ fn scenes() -> Vec<(&'static str, Scene)> {
     let bunny = open("bunny.ply"); // one colour: weights only
     let mut coloured = bunny.clone();
     let mut cloud = coloured.flattened().as_ref().clone();
-    cloud.colors.iter_mut().enumerate().for_each(|(i, c)| *c = [(i % 251) as u8, 120, 200]);
+    cloud.colours.iter_mut().enumerate().for_each(|(i, c)| *c = [(i % 251) as u8, 120, 200]);
     coloured = Scene::from(cloud);
     let mut transparent = coloured.clone();
     transparent.set_opacity(0.5);

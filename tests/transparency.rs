@@ -25,7 +25,7 @@ fn mode(name: &str) -> RenderMode {
 }
 
 fn settings(name: &str, layers: u32) -> RenderSettings {
-    RenderSettings { mode: mode(name), layers, ..Default::default() }
+    RenderSettings { mode: mode(name), peel_layers: layers, ..Default::default() }
 }
 
 fn view(scene: &Scene, azimuth: f32, elevation: f32) -> Camera {
@@ -127,7 +127,7 @@ fn coincident(count: usize, opacity: f32, colour: [u8; 3]) -> Scene {
         cloud.positions.push(Vec3::ZERO);
         cloud.normals.push(Vec3::Z);
         cloud.radii.push(0.1);
-        cloud.colors.push(colour);
+        cloud.colours.push(colour);
         cloud.opacity.push(opacity);
     }
     let mut scene = Scene::from(cloud);
@@ -211,7 +211,7 @@ fn planes_in_groups(planes: &[Plane], radius: f32) -> (Scene, Grouping) {
                 cloud.positions.push(Vec3::new(-half + i as f32 * spacing, -half + j as f32 * spacing, z));
                 cloud.normals.push(Vec3::Z);
                 cloud.radii.push(radius * spacing);
-                cloud.colors.push(colour);
+                cloud.colours.push(colour);
                 cloud.opacity.push(opacity);
                 labels.push(((i % 2) * 2 + (j % 2)) as u32);
             }

@@ -1,6 +1,7 @@
 //! The benchmark loop: scenes x views x mode variants.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 use super::cache;
@@ -10,10 +11,9 @@ use super::views::standard_views;
 use crate::cloud::{CloudError, LoadOptions};
 use crate::frame::environment::EnvironmentSettings;
 use crate::frame::{Camera, ModeVariant, RenderMode, RenderSettings};
-use crate::grouping::cache::Cache as GroupCache;
 use crate::output::write_atomically;
 use crate::reference::{self, ReferenceOptions};
-use crate::render::{GpuError, GpuScene, HeadlessRenderer, RenderPlan};
+use crate::render::{GpuError, GpuScene, HeadlessRenderer, RenderPlan, SceneFrames};
 use crate::scene::{Materials, Scene};
 
 #[derive(Debug, thiserror::Error)]
@@ -148,18 +148,18 @@ pub fn run(
     Ok(outcome)
 }
 
-/// A GPU variant ready to run: its settings, its upload and its grouping's K and time.
+/// A GPU variant ready to run: its settings and its grouping's K and time
+/// (its upload is in the model's [`SceneFrames`]).
 struct Prepared {
     variant: ModeVariant,
     settings: RenderSettings,
-    scene: usize,
     k: usize,
     group_s: Option<f64>,
 }
 
 /// A model's scene as the run sets it up: materials, environment, background.
 struct Opened {
-    scene: Scene,
+    scene: Arc<Scene>,
     /// The settings every variant starts from, with the scene's background.
     base: RenderSettings,
     load_s: f64,
@@ -187,49 +187,31 @@ fn open_model(model: &Path, config: &BenchConfig) -> Result<Opened, BenchError> 
     if let (true, Some(bg)) = (config.materials.scene_background, scene.background) {
         base.shading.background = bg;
     }
-    Ok(Opened { scene, base, load_s: started.elapsed().as_secs_f64() })
+    Ok(Opened { scene: Arc::new(scene), base, load_s: started.elapsed().as_secs_f64() })
 }
 
-/// The uploads of a model: one for the ungrouped variants, one per grouping.
-type Uploads = Vec<(Option<crate::grouping::GroupingSpec>, GpuScene)>;
-
-/// Every GPU variant's settings, grouping (set-up, cached) and upload.
+/// Every GPU variant's settings, and its grouping (set up through the cache)
+/// and upload in `frames`.
 fn prepare_variants(
     config: &BenchConfig,
     opened: &Opened,
-    cloud: &crate::cloud::PointCloud,
+    frames: &mut SceneFrames,
     renderer: &HeadlessRenderer,
-) -> Result<(Uploads, Vec<Prepared>), BenchError> {
-    let scene = &opened.scene;
-    let mut uploads: Uploads = Vec::new();
+) -> Result<Vec<Prepared>, BenchError> {
     let mut prepared = Vec::new();
-    let upload = |grouping: Option<&crate::grouping::Grouping>| {
-        let mut gpu = GpuScene::upload_cloud(&renderer.ctx.device, cloud, grouping);
-        gpu.set_environment(&renderer.ctx.device, &renderer.ctx.queue, scene.environment.as_deref());
-        gpu
-    };
     for variant in config.variants.iter().filter(|v| v.mode.is_gpu()) {
         let settings = variant.apply(&opened.base).map_err(BenchError::Invalid)?;
-        let spec = variant.mode.needs_grouping_for(scene.has_transparency()).then_some(settings.grouping_for_mode());
-        let (mut k, mut group_s) = (1, None);
-        if let Some(spec) = spec {
-            let t = Instant::now();
-            let cache = GroupCache::from_env();
-            let (grouping, cached) = spec
-                .compute_cached_for_hash(&cache, scene.geometry_hash(), cloud)
-                .map_err(|e| BenchError::Invalid(e.to_string()))?;
-            k = grouping.k();
-            group_s = Some(if cached { 0.0 } else { t.elapsed().as_secs_f64() });
-            if !uploads.iter().any(|(s, _)| *s == Some(spec)) {
-                uploads.push((Some(spec), upload(Some(&grouping))));
+        let (k, group_s) = match frames.drawn_grouping(&settings) {
+            Some(spec) => {
+                let grouping = frames.grouping(spec).map_err(|e| BenchError::Invalid(e.to_string()))?;
+                (grouping.grouping.k(), Some(grouping.seconds))
             }
-        } else if !uploads.iter().any(|(s, _)| s.is_none()) {
-            uploads.push((None, upload(None)));
-        }
-        let scene = uploads.iter().position(|(s, _)| *s == spec).unwrap_or(0);
-        prepared.push(Prepared { variant: variant.clone(), settings, scene, k, group_s });
+            None => (1, None),
+        };
+        frames.gpu_scene(renderer, &settings).map_err(|e| BenchError::Invalid(e.to_string()))?;
+        prepared.push(Prepared { variant: variant.clone(), settings, k, group_s });
     }
-    Ok((uploads, prepared))
+    Ok(prepared)
 }
 
 /// The exact references one view's rows are measured against.
@@ -374,14 +356,15 @@ fn bench_model(
 ) -> Result<(Vec<BenchRow>, Vec<OrderRow>), BenchError> {
     let (w, h) = (config.width, config.height);
     let opened = open_model(model, config)?;
-    let flat = opened.scene.flatten();
-    let (uploads, prepared) = prepare_variants(config, &opened, &flat.cloud, renderer)?;
+    let mut frames = SceneFrames::of(Arc::clone(&opened.scene));
+    let cloud = Arc::clone(frames.cloud());
+    let prepared = prepare_variants(config, &opened, &mut frames, renderer)?;
     let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let stem = crate::output::safe_stem(model);
-    let views = standard_views(&flat.cloud, w as f32 / h as f32, config.views);
+    let views = standard_views(&cloud, w as f32 / h as f32, config.views);
     let orders = if config.orders {
         log::info!("timing the back-to-front orders of {name}");
-        time_orders(&name, &flat.cloud, &views, config.frames, config.warm_up)
+        time_orders(&name, &cloud, &views, config.frames, config.warm_up)
     } else {
         Vec::new()
     };
@@ -409,7 +392,7 @@ fn bench_model(
         for p in &prepared {
             let reference_image = &rulers.of_variant(&opened.scene, p).0;
             let blank = row(&p.variant.label(), p.variant.mode);
-            let gpu_scene = &uploads[p.scene].1;
+            let gpu_scene = frames.gpu_scene(renderer, &p.settings).map_err(|e| BenchError::Invalid(e.to_string()))?;
             rows.push(measure_variant(renderer, gpu_scene, view, p, config, reference_image, (&stem, blank))?);
             bar.inc(1);
         }

@@ -103,7 +103,7 @@ pub fn run(args: &Args) -> Result<()> {
         settings: args.view.base_settings(&pointblend::scene::Scene::default())?,
         materials: Materials {
             opacity: args.view.opacity,
-            colour: args.view.color,
+            colour: args.view.colour,
             scene_background: args.view.background.is_none(),
         },
         width: args.view.size.0,

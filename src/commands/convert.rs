@@ -36,7 +36,7 @@ pub fn run(args: &Args) -> Result<()> {
     super::shared::prepare_output(&args.output)?;
     let source = args.input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let mut comments = vec![format!("pointblend convert from {source}")];
-    comments.push(format!("normals {}, radii {}, colours {}", report.normals, report.radii, report.colors));
+    comments.push(format!("normals {}, radii {}, colours {}", report.normals, report.radii, report.colours));
     cloud::write::write_ply(&cloud, &args.output, &comments)?;
     println!(
         "{} -> {}: {} splats (normals {}, radii {}, mean radius {:.6})",

@@ -43,7 +43,7 @@ pub fn run(args: &Args) -> Result<()> {
     }
     println!("normals:     {}", report.normals);
     println!("radii:       {} (mean {:.6})", report.radii, cloud.mean_radius());
-    println!("colours:     {}", report.colors);
+    println!("colours:     {}", report.colours);
     println!(
         "opacity:     {}{}",
         report.opacity,

@@ -6,9 +6,8 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use pointblend::frame::environment::EnvironmentSettings;
 use pointblend::frame::{RenderMode, RenderSettings, Sidecar};
-use pointblend::grouping::cache::Cache;
 use pointblend::reference::{self, ReferenceOptions};
-use pointblend::render::{HeadlessRenderer, RenderPlan};
+use pointblend::render::{Frame, HeadlessRenderer, SceneFrames};
 use pointblend::scene::Scene;
 use pointblend::scene::environment::EnvironmentMap;
 
@@ -93,7 +92,7 @@ impl Args {
         settings.environment = EnvironmentSettings {
             eta: self.eta,
             dispersion: self.dispersion,
-            layers: self.env_layers,
+            layer_effects: self.env_layers,
             skybox: !self.flat_background,
             enabled: true,
         };
@@ -132,46 +131,25 @@ pub fn run(args: &Args) -> Result<()> {
         }
         None => args.view.camera(&scene)?,
     };
-    let reference_options = ReferenceOptions { progress: true, ..ReferenceOptions::matching(&settings, &scene) };
-    let render_started = Instant::now();
-    let (image, plan) = if settings.mode.is_gpu() {
-        let mut renderer = HeadlessRenderer::new().context("opening the GPU")?;
-        log::info!("GPU: {}", renderer.ctx.describe());
-        let grouping = if settings.mode.needs_grouping_for(scene.has_transparency()) {
-            let t = Instant::now();
-            let flat = scene.flatten();
-            let (grouping, cached) = settings.grouping_for_mode().compute_cached_for_hash(
-                &Cache::from_env(),
-                scene.geometry_hash(),
-                &flat.cloud,
-            )?;
-            log::info!(
-                "grouping {}: K = {} in {:.2} s{}",
-                settings.grouping_for_mode(),
-                grouping.k(),
-                t.elapsed().as_secs_f64(),
-                if cached { " (from the cache)" } else { "" }
-            );
-            Some(grouping)
-        } else {
-            None
-        };
-        let gpu_scene = renderer.upload(&scene, grouping.as_ref());
-        let render_started = Instant::now();
-        let frame = renderer.render_image(&gpu_scene, &camera, &settings, width, height)?;
-        log::info!("frame {:.0} ms", render_started.elapsed().as_secs_f64() * 1e3);
-        frame
-    } else {
-        let plan = RenderPlan::cpu(settings.mode, width, height, scene.len(), reference_options.epsilon);
-        (reference::render(&scene, &camera, &reference_options, width, height), plan)
+    let mut gpu = match settings.mode.is_gpu() {
+        true => Some(HeadlessRenderer::new().context("opening the GPU")?),
+        false => None,
     };
+    if let Some(gpu) = &gpu {
+        log::info!("GPU: {}", gpu.ctx.describe());
+    }
+    let render_started = Instant::now();
+    let mut frames = SceneFrames::of(std::sync::Arc::new(scene));
+    let Frame { image, plan } = frames.render(gpu.as_mut(), &camera, &settings, (width, height), true)?;
+    let scene = frames.scene();
     let render_seconds = render_started.elapsed().as_secs_f64();
     if args.explain {
         println!("{plan}");
     }
     shared::write_image(&image, &args.out)?;
     if let Some(diff_path) = &args.diff {
-        let exact = reference::render(&scene, &camera, &reference_options, width, height);
+        let options = ReferenceOptions { progress: true, ..ReferenceOptions::matching(&settings, scene) };
+        let exact = reference::render(scene, &camera, &options, width, height);
         let error = reference::compare(&image, &exact).context("image sizes differ")?;
         let diff = reference::difference_image(&image, &exact, 8.0).context("image sizes differ")?;
         shared::write_image(&diff, diff_path)?;

@@ -131,15 +131,15 @@ pub struct ViewArgs {
     #[arg(long)]
     pub order: Option<pointblend::spatial::order::OrderKind>,
     /// Transparent layers k of depth-peel (default 8) and approx-peel (default 3), 2..=64.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=pointblend::frame::settings::MAX_LAYERS as i64))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=pointblend::frame::settings::MAX_PEEL_LAYERS as i64))]
     pub layers: Option<u32>,
     /// Opacity of every object, 0..1 (transparent objects are drawn two-sided;
     /// only transparent modes and the reference show it).
     #[arg(long, value_parser = parse_opacity)]
     pub opacity: Option<f32>,
     /// Colour R,G,B (0..255) that replaces every object's own.
-    #[arg(long, value_parser = parse_rgb)]
-    pub color: Option<[u8; 3]>,
+    #[arg(long = "color", value_parser = parse_rgb)]
+    pub colour: Option<[u8; 3]>,
     /// Background colour R,G,B (0..255) [default: the scene's, else 28,31,36].
     #[arg(long, value_parser = parse_rgb)]
     pub background: Option<[u8; 3]>,
@@ -158,7 +158,7 @@ impl ViewArgs {
         if let Some(opacity) = self.opacity {
             scene.set_opacity(opacity);
         }
-        if let Some(colour) = self.color {
+        if let Some(colour) = self.colour {
             scene.set_colour(colour);
         }
     }
@@ -179,7 +179,7 @@ impl ViewArgs {
             grouping: self.group.unwrap_or_default(),
             voronoi: !self.no_voronoi,
             lighting: !self.unlit,
-            layers: self.layers.unwrap_or(0),
+            peel_layers: self.layers.unwrap_or(0),
             order: self.order.unwrap_or(pointblend::spatial::order::OrderKind::Bucket),
             ..Default::default()
         };
@@ -197,7 +197,7 @@ impl ViewArgs {
             ("--quality", self.quality.is_some(), Parameter::Quality),
             ("--group", self.group.is_some(), Parameter::Grouping),
             ("--no-voronoi", self.no_voronoi, Parameter::Voronoi),
-            ("--layers", self.layers.is_some(), Parameter::Layers),
+            ("--layers", self.layers.is_some(), Parameter::PeelLayers),
             ("--order", self.order.is_some(), Parameter::Order),
         ];
         for (option, is_given, parameter) in given {

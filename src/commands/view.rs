@@ -41,8 +41,8 @@ pub struct Args {
     #[arg(long, value_parser = super::shared::parse_opacity)]
     pub opacity: Option<f32>,
     /// Colour R,G,B (0..255) that replaces every object's own.
-    #[arg(long, value_parser = super::shared::parse_rgb)]
-    pub color: Option<[u8; 3]>,
+    #[arg(long = "color", value_parser = super::shared::parse_rgb)]
+    pub colour: Option<[u8; 3]>,
     /// Background colour R,G,B (0..255) [default: the scene's, else 28,31,36].
     #[arg(long, value_parser = super::shared::parse_rgb)]
     pub background: Option<[u8; 3]>,
@@ -66,7 +66,11 @@ pub fn run(args: &Args) -> Result<()> {
         view,
         mode: args.mode,
         cache: None,
-        materials: Materials { opacity: args.opacity, colour: args.color, scene_background: args.background.is_none() },
+        materials: Materials {
+            opacity: args.opacity,
+            colour: args.colour,
+            scene_background: args.background.is_none(),
+        },
         background: args.background.map(|c| glam::Vec3::from_array(c.map(f32::from)) / 255.0),
         environment: args.env.clone(),
     };
@@ -107,7 +111,11 @@ fn headless_main_job(args: &Args) -> Result<()> {
         environment,
         variants,
         settings,
-        materials: Materials { opacity: args.opacity, colour: args.color, scene_background: args.background.is_none() },
+        materials: Materials {
+            opacity: args.opacity,
+            colour: args.colour,
+            scene_background: args.background.is_none(),
+        },
         width: 512,
         height: 512,
         frames: 5,

@@ -85,7 +85,7 @@ mod tests {
             positions: vec![Vec3::new(0.0, 0.0, 0.5), Vec3::new(0.0, 0.0, -0.5)],
             normals: vec![Vec3::Z; 2],
             radii: vec![0.2; 2],
-            colors: vec![[0; 3]; 2],
+            colours: vec![[0; 3]; 2],
             opacity: vec![1.0; 2],
             ..Default::default()
         };

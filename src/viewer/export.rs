@@ -8,7 +8,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use super::app::{MeasuredImages, ViewerApp};
-use super::frames::color_image;
+use super::frames::colour_image;
 use super::jobs::Job;
 use super::render_thread::Purpose;
 use super::state::Measurement;
@@ -74,7 +74,7 @@ impl ViewerApp {
             self.measure = None;
             match result.and_then(|r| r) {
                 Ok(m) => {
-                    let difference = ctx.load_texture("difference", color_image(&m.difference), Default::default());
+                    let difference = ctx.load_texture("difference", colour_image(&m.difference), Default::default());
                     self.measure_error = None;
                     self.measurement =
                         Some(Measurement { key: m.key, error: m.error, reference_seconds: m.seconds, difference });

@@ -69,6 +69,7 @@ impl ViewerApp {
             let started = Instant::now();
             let (grouping, cached) =
                 spec.compute_cached_for_hash(&cache, model.hash, &model.cloud).map_err(|e| e.to_string())?;
+            let grouping = std::sync::Arc::new(grouping);
             Ok(GroupedModel { generation, spec, grouping, seconds: started.elapsed().as_secs_f64(), cached })
         });
         self.grouping_job = Some((spec, job));
@@ -148,7 +149,7 @@ impl ViewerApp {
                     // Requests before this one were skipped by the renderer.
                     let key = self.in_flight[at].1.clone();
                     self.in_flight.drain(..=at);
-                    let colour = color_image(&image);
+                    let colour = colour_image(&image);
                     match &mut self.shown {
                         Some(shown) => {
                             shown.texture.set(colour, egui::TextureOptions::LINEAR);
@@ -170,6 +171,6 @@ impl ViewerApp {
     }
 }
 
-pub(super) fn color_image(image: &image::RgbaImage) -> egui::ColorImage {
+pub(super) fn colour_image(image: &image::RgbaImage) -> egui::ColorImage {
     egui::ColorImage::from_rgba_unmultiplied([image.width() as usize, image.height() as usize], image.as_raw())
 }

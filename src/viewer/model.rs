@@ -37,7 +37,8 @@ pub struct Model {
 pub struct GroupedModel {
     pub generation: u64,
     pub spec: GroupingSpec,
-    pub grouping: Grouping,
+    /// Shared with the render thread's copy of the scene (never copied per frame).
+    pub grouping: Arc<Grouping>,
     pub seconds: f64,
     pub cached: bool,
 }
@@ -121,7 +122,7 @@ pub fn subsample(cloud: &PointCloud, count: usize) -> PointCloud {
         positions: picks.iter().map(|&i| cloud.positions[i]).collect(),
         normals: picks.iter().map(|&i| cloud.normals[i]).collect(),
         radii: picks.iter().map(|&i| cloud.radii[i] * grow).collect(),
-        colors: picks.iter().map(|&i| cloud.colors[i]).collect(),
+        colours: picks.iter().map(|&i| cloud.colours[i]).collect(),
         opacity: picks.iter().map(|&i| cloud.opacity[i]).collect(),
         two_sided: if cloud.two_sided.is_empty() {
             Vec::new()
@@ -146,7 +147,7 @@ mod tests {
             positions: (0..n).map(|i| Vec3::new(i as f32, 0.0, 0.0)).collect(),
             normals: vec![Vec3::Z; n],
             radii: vec![1.0; n],
-            colors: vec![[1, 2, 3]; n],
+            colours: vec![[1, 2, 3]; n],
             opacity: vec![1.0; n],
             ..Default::default()
         };

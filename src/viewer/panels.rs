@@ -185,11 +185,12 @@ fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, para
                 );
             }
         }
-        Parameter::Layers => {
+        Parameter::PeelLayers => {
             // Written only when moved, so each mode keeps its own default until then.
-            let mut k = s.layers_or_default();
-            if ui.add(egui::Slider::new(&mut k, 2..=crate::frame::settings::MAX_LAYERS).text("layers k")).changed() {
-                s.layers = k;
+            let mut k = s.peel_layers_or_default();
+            if ui.add(egui::Slider::new(&mut k, 2..=crate::frame::settings::MAX_PEEL_LAYERS).text("layers k")).changed()
+            {
+                s.peel_layers = k;
             }
         }
         Parameter::EnvironmentLayers => {
@@ -199,8 +200,8 @@ fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, para
                 ui.checkbox(&mut s.environment.skybox, "skybox");
             });
             ui.horizontal(|ui| {
-                ui.radio_value(&mut s.environment.layers, LayerEffects::Single, "single");
-                ui.radio_value(&mut s.environment.layers, LayerEffects::Multi, "multi-layer");
+                ui.radio_value(&mut s.environment.layer_effects, LayerEffects::Single, "single");
+                ui.radio_value(&mut s.environment.layer_effects, LayerEffects::Multi, "multi-layer");
             });
             ui.label(RichText::new("with a map (Model panel)").weak());
         }

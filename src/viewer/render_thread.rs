@@ -18,9 +18,7 @@ use std::time::Instant;
 
 use crate::frame::{Camera, RenderSettings, Sidecar};
 use crate::progress::{self, Tracker};
-use crate::reference::{self, ReferenceOptions};
-use crate::render::{GpuScene, HeadlessRenderer, RenderPlan};
-use crate::scene::Scene;
+use crate::render::{Frame, HeadlessRenderer, RenderPlan, SceneFrames, SceneGrouping};
 
 use super::model::{GroupedModel, Model};
 
@@ -127,12 +125,11 @@ impl RenderThread {
     }
 }
 
-/// GPU copies of the scene, kept while the model and grouping stay the same.
+/// The model ready to render (and its preview subsample), kept while the model stays the same.
 #[derive(Default)]
-struct Uploads {
-    full: Option<(u64, GpuScene)>,
-    preview: Option<(u64, GpuScene)>,
-    grouped: Option<(u64, String, GpuScene)>,
+struct Scenes {
+    full: Option<(u64, SceneFrames)>,
+    preview: Option<(u64, SceneFrames)>,
 }
 
 fn serve(inbox: Receiver<FrameRequest>, outbox: Sender<FrameResult>, repaint: egui::Context) {
@@ -141,7 +138,7 @@ fn serve(inbox: Receiver<FrameRequest>, outbox: Sender<FrameResult>, repaint: eg
         log::info!("viewer GPU: {}", r.ctx.describe());
         r.renderer.enable_pass_timing(&r.ctx);
     }
-    let mut uploads = Uploads::default();
+    let mut scenes = Scenes::default();
     while let Ok(first) = inbox.recv() {
         let mut pending = vec![first];
         pending.extend(inbox.try_iter());
@@ -152,7 +149,7 @@ fn serve(inbox: Receiver<FrameRequest>, outbox: Sender<FrameResult>, repaint: eg
                 continue;
             }
             let result = match &mut renderer {
-                Ok(r) => draw(r, &mut uploads, &request),
+                Ok(r) => draw(r, &mut scenes, &request),
                 Err(e) => FrameResult {
                     id: request.id,
                     purpose: request.purpose.clone(),
@@ -183,70 +180,49 @@ fn finish(mut result: FrameResult) -> FrameResult {
     result
 }
 
-fn draw(r: &mut HeadlessRenderer, uploads: &mut Uploads, request: &FrameRequest) -> FrameResult {
+fn draw(r: &mut HeadlessRenderer, scenes: &mut Scenes, request: &FrameRequest) -> FrameResult {
     let started = Instant::now();
-    let (width, height) = request.size;
-    let model = &request.model;
     let mut stats = FrameStats { preview: request.preview, ..Default::default() };
     let mut settings = request.settings;
-    let image = if request.preview || settings.mode.is_gpu() {
-        let scene = gpu_scene(r, uploads, request, &mut settings);
-        stats.splats_drawn = scene.as_ref().map(|c| c.len).unwrap_or(0);
-        match scene {
-            None => Err(format!("{} has no grouping yet", settings.mode)),
-            Some(scene) => {
-                let frame = r.render_image(scene, &request.camera, &settings, width, height);
-                frame.map_err(|e| e.to_string()).map(|(image, plan)| {
-                    stats.pass_ms = pass_times(r, &plan);
-                    describe_plan(&mut stats, &plan);
-                    image
-                })
-            }
-        }
-    } else {
-        stats.splats_drawn = model.cloud.len();
-        reference_frame(&model.scene, request)
-    };
+    if request.preview {
+        settings.mode = settings.mode.info().preview;
+    }
+    let frames = scene_frames(scenes, request);
+    let frame = frames.render(Some(&mut *r), &request.camera, &settings, request.size, false);
+    let image = frame.map_err(|e| e.to_string()).map(|Frame { image, plan }| {
+        stats.splats_drawn = plan.splats;
+        stats.pass_ms = if plan.steps.is_empty() { Vec::new() } else { pass_times(r, &plan) };
+        describe_plan(&mut stats, &plan);
+        image
+    });
     stats.frame_ms = started.elapsed().as_secs_f64() * 1e3;
     FrameResult { id: request.id, purpose: request.purpose.clone(), image: image.map(Arc::new), stats }
 }
 
-/// The GPU scene this request draws (uploading it if needed); a preview
-/// request switches `settings` to the mode's preview mode.
-fn gpu_scene<'a>(
-    r: &HeadlessRenderer,
-    uploads: &'a mut Uploads,
-    request: &FrameRequest,
-    settings: &mut RenderSettings,
-) -> Option<&'a GpuScene> {
+/// The model (or, for a preview, its subsample) this request draws, with the
+/// request's grouping handed in; one grouped GPU copy is kept at a time.
+fn scene_frames<'a>(scenes: &'a mut Scenes, request: &FrameRequest) -> &'a mut SceneFrames {
     let model = &request.model;
     let generation = model.generation;
-    let device = &r.ctx.device;
-    if request.preview {
-        settings.mode = settings.mode.info().preview;
-    }
-    if request.grouping.is_some() && !request.preview {
-        let grouped = request.grouping.as_ref().filter(|g| g.generation == generation)?;
-        let key = grouped.spec.to_string();
-        if uploads.grouped.as_ref().is_none_or(|(g, k, _)| *g != generation || *k != key) {
-            uploads.grouped = None; // free the old copy first
-            let mut upload = GpuScene::upload_cloud(device, &model.cloud, Some(&grouped.grouping));
-            upload.set_environment(device, &r.ctx.queue, model.scene.environment.as_deref());
-            uploads.grouped = Some((generation, key, upload));
-        }
-        return uploads.grouped.as_ref().map(|(_, _, c)| c);
-    }
     let (slot, cloud) = match (request.preview, &model.preview) {
-        (true, Some(preview)) => (&mut uploads.preview, preview),
-        _ => (&mut uploads.full, &model.cloud),
+        (true, Some(preview)) => (&mut scenes.preview, preview),
+        _ => (&mut scenes.full, &model.cloud),
     };
     if slot.as_ref().is_none_or(|(g, _)| *g != generation) {
-        *slot = None;
-        let mut upload = GpuScene::upload_cloud(device, cloud, None);
-        upload.set_environment(device, &r.ctx.queue, model.scene.environment.as_deref());
-        *slot = Some((generation, upload));
+        *slot = None; // free the old copies first
+        let frames = SceneFrames::new(Arc::clone(&model.scene), Arc::clone(cloud)).handed_groupings(1);
+        *slot = Some((generation, frames));
     }
-    slot.as_ref().map(|(_, c)| c)
+    let (_, frames) = slot.as_mut().expect("filled above");
+    if let Some(grouped) = request.grouping.as_ref().filter(|g| g.generation == generation && !request.preview) {
+        frames.add_grouping(SceneGrouping {
+            spec: grouped.spec,
+            grouping: Arc::clone(&grouped.grouping),
+            seconds: grouped.seconds,
+            cached: grouped.cached,
+        });
+    }
+    frames
 }
 
 fn pass_times(r: &HeadlessRenderer, plan: &RenderPlan) -> Vec<(String, f64)> {
@@ -264,10 +240,4 @@ fn describe_plan(stats: &mut FrameStats, plan: &RenderPlan) {
     stats.plan = Some(plan.to_string());
     stats.plan_bytes = plan.target_bytes();
     stats.geometry_passes = plan.geometry_passes();
-}
-
-fn reference_frame(scene: &Scene, request: &FrameRequest) -> Result<image::RgbaImage, String> {
-    let options = ReferenceOptions::matching(&request.settings, scene);
-    let (w, h) = request.size;
-    Ok(reference::render(scene, &request.camera, &options, w, h))
 }

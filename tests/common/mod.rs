@@ -175,7 +175,7 @@ pub fn floor_crossing_the_near_plane() -> (pointblend::cloud::PointCloud, Camera
             cloud.positions.push(Vec3::new(x, 0.0, z));
             cloud.normals.push(Vec3::Y);
             cloud.radii.push(0.012);
-            cloud.colors.push(if (i / 10 + j / 10) % 2 == 0 { [200, 80, 80] } else { [80, 200, 80] });
+            cloud.colours.push(if (i / 10 + j / 10) % 2 == 0 { [200, 80, 80] } else { [80, 200, 80] });
             cloud.opacity.push(1.0);
         }
     }

@@ -7,7 +7,7 @@
 
 struct Accumulated {
     // sum of w * rgb, sum of w
-    @location(0) color: vec4<f32>,
+    @location(0) colour: vec4<f32>,
 #ifdef LIT
     // sum of w * eye-space normal, sum of w * opacity
     @location(1) normal: vec4<f32>,
@@ -17,9 +17,9 @@ struct Accumulated {
 
 fn accumulated(v: SplatVarying, s: SplatSample, w: f32) -> Accumulated {
     var out: Accumulated;
-    out.color = colour_output(v.color.rgb, w);
+    out.colour = colour_output(v.colour.rgb, w);
 #ifdef LIT
-    out.normal = vec4<f32>(v.normal * w, v.color.a * w);
+    out.normal = vec4<f32>(v.normal * w, v.colour.a * w);
 #endif
     out.depth = depth_to_buffer(s.view_depth);
     return out;

@@ -1,5 +1,6 @@
 #include "shading.wgsl"
 #include "opaque_under.wgsl"
+#include "group_images.wgsl"
 #ifdef ENVIRONMENT
 #include "environment.wgsl"
 #endif
@@ -14,14 +15,14 @@
 //
 // With an environment map (ENVIRONMENT, §5.2.3-5.2.4) the nearest layer's
 // composited normal reflects and refracts it (shaders/environment.wgsl) and
-// the pixel follows src/view/environment.rs: I = F·E_R + (1 - F)·(α·C_F +
+// the pixel follows crates/core/src/frame/environment.rs: I = F·E_R + (1 - F)·(α·C_F +
 // (1 - α)·B), B = C_b + a·E_T, with C_b the mean of the O_k (premultiplied),
 // a = 1 - C_b's coverage (single-layer) or (1 - α)^l (multi-layer, Eq. 15,
 // l = Σα/α from the O_k's summed opacities), and the opaque image in place
 // of E_T where an opaque splat lies behind. Where nothing is drawn, the map
 // itself shows (a skybox) unless the flat background is asked for.
 
-@group(1) @binding(0) var nearest_color: texture_2d_array<f32>;
+@group(1) @binding(0) var nearest_colour: texture_2d_array<f32>;
 @group(1) @binding(1) var nearest_depth: texture_2d_array<f32>;
 @group(1) @binding(2) var nearest_normal_alpha: texture_2d_array<f32>;
 @group(1) @binding(3) var other_images: texture_2d_array<f32>;
@@ -32,32 +33,16 @@
 @fragment
 fn fs_alg2_composite(f: Fullscreen) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(f.position.xy);
-    let layers = i32(this_pass.layers.y);
     // The other layers: the mean of the O_k that cover the pixel.
-    var others = vec4<f32>(0.0);
-    var covering = 0.0;
-    for (var k = 0; k < layers; k++) {
-        let image = textureLoad(other_images, pixel, k, 0);
-        if image.a > 0.0 {
-            others += image;
-            covering += 1.0;
-        }
-    }
-    // Zero where no O_k covers the pixel.
-    let mean = others / max(covering, 1.0);
+    let mean = mean_of_covering(other_images, pixel);
     // C_F and its opacity.
-    var nearest = 3.0e38;
-    for (var k = 0; k < layers; k++) {
-        if textureLoad(nearest_color, pixel, k, 0).a > 0.0 {
-            nearest = min(nearest, textureLoad(nearest_depth, pixel, k, 0).r);
-        }
-    }
+    let nearest = nearest_group_depth(nearest_colour, nearest_depth, pixel);
     var sums = vec4<f32>(0.0);
     var normal_alpha = vec4<f32>(0.0);
-    for (var k = 0; k < layers; k++) {
-        let color = textureLoad(nearest_color, pixel, k, 0);
-        if color.a > 0.0 && textureLoad(nearest_depth, pixel, k, 0).r <= nearest + this_pass.depth.x {
-            sums += color;
+    for (var k = 0; k < i32(this_pass.layers.y); k++) {
+        let colour = colour_sums(textureLoad(nearest_colour, pixel, k, 0));
+        if in_nearest_layer(colour, textureLoad(nearest_depth, pixel, k, 0).r, nearest) {
+            sums += colour;
             normal_alpha += textureLoad(nearest_normal_alpha, pixel, k, 0);
         }
     }

@@ -12,7 +12,7 @@
 #endif
 
 struct NearestImage {
-    @location(0) color: vec4<f32>,
+    @location(0) colour: vec4<f32>,
     @location(1) normal_alpha: vec4<f32>,
     @location(2) depth: f32,
     @builtin(frag_depth) z: f32,
@@ -27,5 +27,5 @@ fn fs_alg2_nearest(v: SplatVarying) -> NearestImage {
     let w = splat_weight(s.rho2);
     // Shaded from the side the viewer sees.
     let n = select(v.normal, -v.normal, dot(v.normal, pixel_ray(v.clip.xy)) > 0.0);
-    return NearestImage(vec4<f32>(v.color.rgb * w, w), vec4<f32>(n * w, v.color.a * w), s.view_depth, group_z(s));
+    return NearestImage(vec4<f32>(v.colour.rgb * w, w), vec4<f32>(n * w, v.colour.a * w), s.view_depth, group_z(s));
 }

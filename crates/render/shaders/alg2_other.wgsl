@@ -7,7 +7,7 @@
 // layer, drawn in high quality by pass 1, is not counted twice; and, as
 // pass 1 does, every fragment behind the opaque splats drawn apart.
 
-@group(1) @binding(0) var nearest_color: texture_2d_array<f32>;
+@group(1) @binding(0) var nearest_colour: texture_2d_array<f32>;
 @group(1) @binding(1) var nearest_depth: texture_2d_array<f32>;
 #ifdef OPAQUE_APART
 @group(1) @binding(2) var opaque_depth: texture_2d<f32>;
@@ -18,7 +18,7 @@ fn fs_alg2_other(v: SplatVarying) -> GroupFragment {
     let pixel = vec2<i32>(v.clip.xy);
     var nearest = 3.0e38;
     for (var k = 0; k < i32(this_pass.layers.y); k++) {
-        if textureLoad(nearest_color, pixel, k, 0).a > 0.0 {
+        if textureLoad(nearest_colour, pixel, k, 0).a > 0.0 {
             nearest = min(nearest, textureLoad(nearest_depth, pixel, k, 0).r);
         }
     }

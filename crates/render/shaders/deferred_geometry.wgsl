@@ -9,7 +9,7 @@
 // surface layers, and within a layer the splat whose centre is nearest wins.
 
 struct GroupImage {
-    @location(0) color: vec4<f32>,
+    @location(0) colour: vec4<f32>,
 #ifdef LIT
     @location(1) normal: vec4<f32>,
     @location(2) depth: f32,
@@ -34,9 +34,9 @@ fn fs_group(v: SplatVarying) -> GroupImage {
     let s = splat_sample(v);
     let w = splat_weight(s.rho2);
     var out: GroupImage;
-    out.color = colour_output(v.color.rgb, w);
+    out.colour = colour_output(v.colour.rgb, w);
 #ifdef LIT
-    out.normal = vec4<f32>(v.normal * w, v.color.a * w);
+    out.normal = vec4<f32>(v.normal * w, v.colour.a * w);
 #endif
     out.depth = s.view_depth;
     out.z = group_z(s);

@@ -13,7 +13,7 @@
 // face the viewer (§5.2.4).
 
 struct GroupFragment {
-    @location(0) color: vec4<f32>,
+    @location(0) colour: vec4<f32>,
     @builtin(frag_depth) z: f32,
 }
 
@@ -28,11 +28,11 @@ fn group_fragment(v: SplatVarying, s: SplatSample) -> GroupFragment {
 // α-blending's, shaders/alpha_blend.wgsl). Inside the disc only: splat_sample
 // discards outside it.
 fn premultiplied_fragment(v: SplatVarying) -> vec4<f32> {
-    var rgb = v.color.rgb;
+    var rgb = v.colour.rgb;
 #ifdef LIT
     // shade() turns the normal towards the eye.
     rgb = shade(rgb, v.normal, normalize(-pixel_ray(v.clip.xy)));
 #endif
-    let alpha = v.color.a;
+    let alpha = v.colour.a;
     return vec4<f32>(rgb * alpha, alpha);
 }

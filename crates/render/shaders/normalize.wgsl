@@ -5,7 +5,7 @@
 // the normalised normal with Phong lighting (src/view/shading.rs has the same
 // formula for the CPU). Pixels with no weight show the background.
 
-@group(1) @binding(0) var accumulated_color: texture_2d<f32>;
+@group(1) @binding(0) var accumulated_colour: texture_2d<f32>;
 #ifdef LIT
 @group(1) @binding(1) var accumulated_normal: texture_2d<f32>;
 #endif
@@ -13,7 +13,7 @@
 @fragment
 fn fs_normalize(f: Fullscreen) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(f.position.xy);
-    let sums = colour_sums(textureLoad(accumulated_color, pixel, 0));
+    let sums = colour_sums(textureLoad(accumulated_colour, pixel, 0));
     if !(sums.a > 1e-6) {
 #ifdef OPAQUE_APART
         // The opaque image of a transparent scene: α = 0 where nothing opaque is.

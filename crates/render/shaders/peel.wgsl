@@ -37,7 +37,7 @@ fn fs_front_visibility(v: SplatVarying) -> @builtin(frag_depth) f32 {
 
 struct LayerSums {
     // sum of w * rgb, sum of w (or w alone, WEIGHT_ONLY)
-    @location(0) color: vec4<f32>,
+    @location(0) colour: vec4<f32>,
     // sum of w * opacity
     @location(1) opacity: f32,
 #ifdef LIT
@@ -50,8 +50,8 @@ struct LayerSums {
 fn layer_sums(v: SplatVarying, s: SplatSample) -> LayerSums {
     let w = splat_weight(s.rho2);
     var out: LayerSums;
-    out.color = colour_output(v.color.rgb, w);
-    out.opacity = v.color.a * w;
+    out.colour = colour_output(v.colour.rgb, w);
+    out.opacity = v.colour.a * w;
 #ifdef LIT
     // Shaded from the side the viewer sees: a back face counts with its normal flipped.
     let n = select(v.normal, -v.normal, dot(v.normal, pixel_ray(v.clip.xy)) > 0.0);

@@ -11,27 +11,23 @@
 // that two half-transparent layers behind the exact ones dim by 1 - 0.25
 // rather than by 1 - 0.5.
 
-@group(1) @binding(0) var rest_color: texture_2d<f32>;
-@group(1) @binding(1) var rest_opacity: texture_2d<f32>;
-@group(1) @binding(2) var last_layer_color: texture_2d<f32>;
+#include "peel_sums.wgsl"
+// The last exact layer's colour sums, bound after the rest's own.
 #ifdef LIT
-@group(1) @binding(3) var rest_normal: texture_2d<f32>;
+@group(1) @binding(3) var last_layer_colour: texture_2d<f32>;
+#else
+@group(1) @binding(2) var last_layer_colour: texture_2d<f32>;
 #endif
 
 @fragment
 fn fs_rest(f: Fullscreen) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(f.position.xy);
-    let sums = colour_sums(textureLoad(rest_color, pixel, 0));
-    if !(sums.a > 1e-6) {
+    let rest = peeled_sums(pixel);
+    if !(rest.colour.a > 1e-6) {
         return vec4<f32>(0.0);
     }
-    var normal_sum = vec3<f32>(0.0);
-#ifdef LIT
-    normal_sum = textureLoad(rest_normal, pixel, 0).xyz;
-#endif
-    let mean_alpha = clamp(textureLoad(rest_opacity, pixel, 0).r / sums.a, 0.0, 1.0);
-    let one_layer = colour_sums(textureLoad(last_layer_color, pixel, 0)).a;
-    let layers = select(1.0, max(sums.a / one_layer, 1.0), one_layer > 1e-6);
-    let alpha = 1.0 - pow(1.0 - mean_alpha, layers);
-    return vec4<f32>(shade_sums(f.position.xy, sums, normal_sum) * alpha, alpha);
+    let one_layer = colour_sums(textureLoad(last_layer_colour, pixel, 0)).a;
+    let layers = select(1.0, max(rest.colour.a / one_layer, 1.0), one_layer > 1e-6);
+    let alpha = 1.0 - pow(1.0 - rest.alpha, layers);
+    return vec4<f32>(shade_sums(f.position.xy, rest.colour, rest.normal) * alpha, alpha);
 }

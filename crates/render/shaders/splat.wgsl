@@ -27,7 +27,7 @@ struct SplatIn {
     @location(1) radius: f32,
     @location(2) normal: vec3<f32>,
     // rgb; the fourth byte is unused.
-    @location(3) color: vec4<f32>,
+    @location(3) colour: vec4<f32>,
     // Opacity in f32 (the reference's precision).
     @location(4) opacity: f32,
 }
@@ -40,7 +40,7 @@ struct SplatVarying {
     @location(1) @interpolate(flat) normal: vec3<f32>,
     // Unit normal of the plane the footprint is cast on (tilted if grazing), and 1/r².
     @location(2) @interpolate(flat) plane: vec4<f32>,
-    @location(3) @interpolate(flat) color: vec4<f32>,
+    @location(3) @interpolate(flat) colour: vec4<f32>,
 }
 
 const CULLED: vec4<f32> = vec4<f32>(2.0, 2.0, 2.0, 1.0);
@@ -61,7 +61,7 @@ fn footprint_normal(n: vec3<f32>, v: vec3<f32>, min_cos: f32) -> vec3<f32> {
 fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying {
     var out: SplatVarying;
     let corner = vec2<f32>(f32(vertex & 1u) * 2.0 - 1.0, f32(vertex >> 1u) * 2.0 - 1.0);
-    out.color = vec4<f32>(splat.color.rgb, splat.opacity);
+    out.colour = vec4<f32>(splat.colour.rgb, splat.opacity);
     let centre = (frame.view * vec4<f32>(splat.position, 1.0)).xyz;
     let normal_eye = (frame.view * vec4<f32>(splat.normal, 0.0)).xyz;
     let normal_length = length(normal_eye);

@@ -35,7 +35,7 @@ pub struct GpuScene {
     pub opaque: std::ops::Range<u32>,
     /// The colour of every splat, when they all have the same one: colour
     /// targets then hold only the weights.
-    pub uniform_color: Option<[u8; 3]>,
+    pub uniform_colour: Option<[u8; 3]>,
     /// Whether some splat is less than opaque.
     pub transparent: bool,
     /// For a transparent scene, the records to sort each group (or the one
@@ -80,7 +80,7 @@ impl GpuScene {
             let instances: Vec<SplatInstance> = (start..end)
                 .map(|slot| {
                     let i = order[slot] as usize;
-                    let [r, g, b] = cloud.colors[i];
+                    let [r, g, b] = cloud.colours[i];
                     // A two-sided splat carries a negative radius (see `SplatInstance`).
                     let side = if cloud.is_two_sided(i) { -1.0 } else { 1.0 };
                     SplatInstance {
@@ -105,8 +105,8 @@ impl GpuScene {
         }
         let instance_order =
             keep_for_order.then(|| std::sync::Mutex::new(InstanceOrder::new(kept, transparent_groups.clone())));
-        let first = cloud.colors.first().copied();
-        let uniform_color = first.filter(|c| cloud.colors.iter().all(|x| x == c));
+        let first = cloud.colours.first().copied();
+        let uniform_colour = first.filter(|c| cloud.colours.iter().all(|x| x == c));
         Self {
             chunks,
             len: opaque.start as usize,
@@ -114,7 +114,7 @@ impl GpuScene {
             groups,
             transparent_groups,
             opaque,
-            uniform_color,
+            uniform_colour,
             transparent: cloud.has_transparency(),
             order: instance_order,
             environment: None,

@@ -121,7 +121,7 @@ impl Renderer {
             groups: &scene.groups,
             transparent_groups: &scene.transparent_groups,
             opaque: scene.opaque.clone(),
-            uniform_colour: scene.uniform_color,
+            uniform_colour: scene.uniform_colour,
             epsilon,
             depth_steps,
             transparent: scene.transparent,
@@ -399,7 +399,7 @@ fn frame_uniforms(
         environment: [
             env.eta,
             env.dispersion,
-            if env.layers == LayerEffects::Multi { 1.0 } else { 0.0 },
+            if env.layer_effects == LayerEffects::Multi { 1.0 } else { 0.0 },
             if env.skybox { 1.0 } else { 0.0 },
         ],
         environment_up: up.extend(std::f32::consts::TAU / environment_width.max(1) as f32).to_array(),

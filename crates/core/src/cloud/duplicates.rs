@@ -48,7 +48,7 @@ pub fn merge(cloud: &mut PointCloud, needs_normal: &mut Vec<bool>, needs_radius:
     for (i, &r) in representative.iter().enumerate() {
         let s = &mut sums[r as usize];
         for c in 0..3 {
-            s.0[c] += cloud.colors[i][c] as u64;
+            s.0[c] += cloud.colours[i][c] as u64;
         }
         s.1 += cloud.opacity[i] as f64;
         s.2 += 1;
@@ -62,7 +62,7 @@ pub fn merge(cloud: &mut PointCloud, needs_normal: &mut Vec<bool>, needs_radius:
         cloud.positions[write] = cloud.positions[i];
         cloud.normals[write] = cloud.normals[i];
         cloud.radii[write] = cloud.radii[i];
-        cloud.colors[write] = colour.map(|c| ((c as f64 / count as f64).round()).min(255.0) as u8);
+        cloud.colours[write] = colour.map(|c| ((c as f64 / count as f64).round()).min(255.0) as u8);
         cloud.opacity[write] = (opacity / count as f64) as f32;
         if !cloud.two_sided.is_empty() {
             cloud.two_sided[write] = cloud.two_sided[i];
@@ -74,7 +74,7 @@ pub fn merge(cloud: &mut PointCloud, needs_normal: &mut Vec<bool>, needs_radius:
     cloud.positions.truncate(write);
     cloud.normals.truncate(write);
     cloud.radii.truncate(write);
-    cloud.colors.truncate(write);
+    cloud.colours.truncate(write);
     cloud.opacity.truncate(write);
     if !cloud.two_sided.is_empty() {
         cloud.two_sided.truncate(write);
@@ -94,7 +94,7 @@ mod tests {
             positions: points.iter().map(|p| p.0).collect(),
             normals: vec![Vec3::Z; points.len()],
             radii: vec![1.0; points.len()],
-            colors: points.iter().map(|p| p.1).collect(),
+            colours: points.iter().map(|p| p.1).collect(),
             opacity: points.iter().map(|p| p.2).collect(),
             ..Default::default()
         }
@@ -109,7 +109,7 @@ mod tests {
         let (mut nn, mut nr) = (vec![false; 3], vec![false; 3]);
         assert_eq!(merge(&mut c, &mut nn, &mut nr), 1);
         assert_eq!(c.positions, vec![a, b], "the first copy's place, the others kept in order");
-        assert_eq!(c.colors, vec![[150, 100, 151], [9, 9, 9]]);
+        assert_eq!(c.colours, vec![[150, 100, 151], [9, 9, 9]]);
         assert!((c.opacity[0] - 0.4).abs() < 1e-6);
         assert_eq!(nn.len(), 2);
     }
@@ -122,6 +122,6 @@ mod tests {
         assert_eq!(merge(&mut c.clone(), &mut nn.clone(), &mut nr.clone()), 0);
         nn = vec![true; 2];
         assert_eq!(merge(&mut c, &mut nn, &mut nr), 1);
-        assert_eq!(c.colors, vec![[2, 2, 2]]);
+        assert_eq!(c.colours, vec![[2, 2, 2]]);
     }
 }

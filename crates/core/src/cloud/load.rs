@@ -136,7 +136,7 @@ fn build(
     let mut needs = Needs { normal: vec![true; kept.len()], radius: vec![true; kept.len()] };
     let (mut normals_from, mut radii_from) =
         source.normals(&mut cloud, &mut needs, face_normals.as_deref(), &mut warnings);
-    let colors_from = source.colours(&mut cloud);
+    let colours_from = source.colours(&mut cloud);
     let opacity_from = source.opacity(&mut cloud, &mut warnings);
     if let Some(from) = source.radii(&mut cloud, &mut needs, frame.diagonal, &mut warnings) {
         radii_from = from;
@@ -165,7 +165,7 @@ fn build(
         faces_in_file: data.face_count + data.strip_triangles,
         normals: normals_from,
         radii: radii_from,
-        colors: colors_from,
+        colours: colours_from,
         opacity: opacity_from,
         warnings,
         decode_seconds,
@@ -367,26 +367,26 @@ impl Source<'_> {
     /// Colours: the file's, else the Gaussians' SH DC term, else [`DEFAULT_COLOR`].
     fn colours(&self, cloud: &mut PointCloud) -> Provenance {
         let (data, kept) = (self.data, self.kept);
-        let mut colors_from = Provenance::Default;
-        cloud.colors = vec![DEFAULT_COLOR; kept.len()];
+        let mut colours_from = Provenance::Default;
+        cloud.colours = vec![DEFAULT_COLOR; kept.len()];
         if let Some((names, cols)) = COLOR_NAMES.iter().find_map(|names| Some((names, columns(data, names)?))) {
-            colors_from = Provenance::FromFile;
+            colours_from = Provenance::FromFile;
             let scale = 255.0 / data.vertex_types.get(names[0]).map_or(1.0, |t: &Scalar| t.unit_max());
             let floats_above_one = data.vertex_types.get(names[0]).is_some_and(|t| t.is_float())
                 && kept.iter().any(|&i| cols[0][i] > 1.0 || cols[1][i] > 1.0 || cols[2][i] > 1.0);
             // Float colours above 1 are taken as 0-255 values.
             let scale = if floats_above_one { 1.0 } else { scale };
             for (k, &i) in kept.iter().enumerate() {
-                cloud.colors[k] = [0, 1, 2].map(|c| to_u8(cols[c][i] * scale));
+                cloud.colours[k] = [0, 1, 2].map(|c| to_u8(cols[c][i] * scale));
             }
         } else if self.gaussians {
-            colors_from = Provenance::FromGaussians;
+            colours_from = Provenance::FromGaussians;
             let c = &data.vertex_columns;
             for (k, &i) in kept.iter().enumerate() {
-                cloud.colors[k] = gaussians::colour([c["f_dc_0"][i], c["f_dc_1"][i], c["f_dc_2"][i]]);
+                cloud.colours[k] = gaussians::colour([c["f_dc_0"][i], c["f_dc_1"][i], c["f_dc_2"][i]]);
             }
         }
-        colors_from
+        colours_from
     }
 
     /// Opacity: an alpha column, else the Gaussians' logit, else opaque (and

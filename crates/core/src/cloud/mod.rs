@@ -34,7 +34,7 @@ pub struct PointCloud {
     /// Disc radii, in the same units as the positions.
     pub radii: Vec<f32>,
     /// sRGB colours, 0-255.
-    pub colors: Vec<[u8; 3]>,
+    pub colours: Vec<[u8; 3]>,
     /// Opacity in 0..=1 (1 = opaque).
     pub opacity: Vec<f32>,
     /// Splats never back-face culled (of two-sided objects); empty when none is.
@@ -79,7 +79,7 @@ impl PointCloud {
 
     /// The splats as the overlap graph reads them.
     pub fn discs(&self) -> Discs<'_> {
-        Discs { positions: &self.positions, normals: &self.normals, radii: &self.radii, colours: &self.colors }
+        Discs { positions: &self.positions, normals: &self.normals, radii: &self.radii, colours: &self.colours }
     }
 
     /// Bounds of the splat centres, or `None` for an empty cloud.
@@ -117,7 +117,7 @@ impl PointCloud {
         let n = self.positions.len();
         self.normals.len() == n
             && self.radii.len() == n
-            && self.colors.len() == n
+            && self.colours.len() == n
             && self.opacity.len() == n
             && (self.two_sided.is_empty() || self.two_sided.len() == n)
     }
@@ -161,7 +161,7 @@ pub struct LoadReport {
     pub faces_in_file: usize,
     pub normals: Provenance,
     pub radii: Provenance,
-    pub colors: Provenance,
+    pub colours: Provenance,
     pub opacity: Provenance,
     /// One line per repair or skip, each with its count.
     pub warnings: Vec<String>,

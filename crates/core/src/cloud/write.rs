@@ -65,7 +65,7 @@ pub fn write_ply(cloud: &PointCloud, path: &Path, comments: &[String]) -> Result
             } else {
                 record.extend_from_slice(&(radius as f32).to_le_bytes());
             }
-            record.extend_from_slice(&cloud.colors[i]);
+            record.extend_from_slice(&cloud.colours[i]);
             if with_alpha {
                 record.push((cloud.opacity[i] * 255.0).round() as u8);
             }

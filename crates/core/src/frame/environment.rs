@@ -61,7 +61,7 @@ pub struct EnvironmentSettings {
     pub eta: f32,
     /// Chromatic dispersion δ: red sees η - δ, blue η + δ.
     pub dispersion: f32,
-    pub layers: LayerEffects,
+    pub layer_effects: LayerEffects,
     /// Show the map behind everything (a skybox) instead of the flat background.
     pub skybox: bool,
     /// Draw the effects when the scene has a map (off: as if it had none,
@@ -71,7 +71,7 @@ pub struct EnvironmentSettings {
 
 impl Default for EnvironmentSettings {
     fn default() -> Self {
-        Self { eta: 1.5, dispersion: 0.02, layers: LayerEffects::Single, skybox: true, enabled: true }
+        Self { eta: 1.5, dispersion: 0.02, layer_effects: LayerEffects::Single, skybox: true, enabled: true }
     }
 }
 
@@ -86,7 +86,7 @@ impl EnvironmentSettings {
 
     /// The layers the transmitted ray crosses for Eq. 16: 1, or 1 + those behind.
     pub fn crossings(&self, behind: f32) -> f32 {
-        match self.layers {
+        match self.layer_effects {
             LayerEffects::Single => 1.0,
             LayerEffects::Multi => 1.0 + behind.max(0.0),
         }
@@ -175,7 +175,7 @@ pub fn glass_colour(
     let reaching = if pixel.closed {
         0.0
     } else {
-        match settings.layers {
+        match settings.layer_effects {
             LayerEffects::Single => pixel.through,
             LayerEffects::Multi => absorption(pixel.alpha, pixel.layers_behind),
         }

@@ -62,8 +62,8 @@ pub struct ModeInfo {
     /// What a plain `bench --modes NAME` runs: one row per entry, each a
     /// list of `key=value` settings (see [`Parameter::key`]); "" is the defaults.
     pub bench_variants: &'static [&'static str],
-    /// Layers k it draws when the settings leave it open (modes that read `Parameter::Layers`).
-    pub default_layers: u32,
+    /// Layers k it draws when the settings leave it open (modes that read `Parameter::PeelLayers`).
+    pub default_peel_layers: u32,
     /// For modes whose groups must each cover the surface (§4.4.2): the
     /// grouping drawn when the settings hold the opaque default, and whose
     /// extension is added to any other grouping that names none.
@@ -99,7 +99,7 @@ const REGISTRY: [ModeInfo; 8] = [
         transparent: false,
         preview: RenderMode::TwoPass,
         bench_variants: &["", "quality=unfiltered"],
-        default_layers: 1,
+        default_peel_layers: 1,
         covering_grouping: None,
         environment: false,
     },
@@ -120,7 +120,7 @@ const REGISTRY: [ModeInfo; 8] = [
         transparent: false,
         preview: RenderMode::TwoPass,
         bench_variants: &[""],
-        default_layers: 1,
+        default_peel_layers: 1,
         covering_grouping: None,
         environment: false,
     },
@@ -129,7 +129,7 @@ const REGISTRY: [ModeInfo; 8] = [
         name: "depth-peel",
         description: "Depth peeling: k layers, each a full splat render behind the one before, composited front to back (k × (2+1) passes).",
         parameters: &[
-            Parameter::Layers,
+            Parameter::PeelLayers,
             Parameter::Epsilon,
             Parameter::RadiusScale,
             Parameter::BackfaceCulling,
@@ -140,7 +140,7 @@ const REGISTRY: [ModeInfo; 8] = [
         transparent: true,
         preview: RenderMode::ApproxPeel,
         bench_variants: &["", "layers=4", "layers=2"],
-        default_layers: 8,
+        default_peel_layers: 8,
         covering_grouping: None,
         environment: false,
     },
@@ -149,7 +149,7 @@ const REGISTRY: [ModeInfo; 8] = [
         name: "approx-peel",
         description: "Guennebaud: k - 1 exactly peeled layers, then all the rest blended into one approximate layer.",
         parameters: &[
-            Parameter::Layers,
+            Parameter::PeelLayers,
             Parameter::Epsilon,
             Parameter::RadiusScale,
             Parameter::BackfaceCulling,
@@ -160,7 +160,7 @@ const REGISTRY: [ModeInfo; 8] = [
         transparent: true,
         preview: RenderMode::ApproxPeel,
         bench_variants: &["", "layers=2"],
-        default_layers: 3,
+        default_peel_layers: 3,
         covering_grouping: None,
         environment: false,
     },
@@ -181,7 +181,7 @@ const REGISTRY: [ModeInfo; 8] = [
         transparent: true,
         preview: RenderMode::ApproxPeel,
         bench_variants: &[""],
-        default_layers: 1,
+        default_peel_layers: 1,
         covering_grouping: Some(ALG1_GROUPING),
         environment: false,
     },
@@ -206,7 +206,7 @@ const REGISTRY: [ModeInfo; 8] = [
         transparent: true,
         preview: RenderMode::ApproxPeel,
         bench_variants: &[""],
-        default_layers: 1,
+        default_peel_layers: 1,
         covering_grouping: Some(ALG1_GROUPING),
         environment: true,
     },
@@ -225,7 +225,7 @@ const REGISTRY: [ModeInfo; 8] = [
         transparent: true,
         preview: RenderMode::AlphaBlend,
         bench_variants: &[""],
-        default_layers: 1,
+        default_peel_layers: 1,
         covering_grouping: None,
         environment: false,
     },
@@ -249,7 +249,7 @@ const REGISTRY: [ModeInfo; 8] = [
         // camera moves, and runs the two-pass plan for an opaque one.
         preview: RenderMode::ApproxPeel,
         bench_variants: &[""],
-        default_layers: 1,
+        default_peel_layers: 1,
         covering_grouping: None,
         environment: true,
     },

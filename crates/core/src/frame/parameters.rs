@@ -26,7 +26,7 @@ pub enum Parameter {
     Voronoi,
     Background,
     /// Transparent layers k a peeling mode draws.
-    Layers,
+    PeelLayers,
     /// Environment effects at the nearest layer, through all layers, or off (§5.2.3).
     EnvironmentLayers,
     /// Index of refraction η of the environment effects.
@@ -48,7 +48,7 @@ impl Parameter {
         Parameter::Grouping,
         Parameter::Voronoi,
         Parameter::Background,
-        Parameter::Layers,
+        Parameter::PeelLayers,
         Parameter::EnvironmentLayers,
         Parameter::Eta,
         Parameter::Dispersion,
@@ -66,7 +66,7 @@ impl Parameter {
             Parameter::Grouping => "group",
             Parameter::Voronoi => "voronoi",
             Parameter::Background => "background",
-            Parameter::Layers => "layers",
+            Parameter::PeelLayers => "layers",
             Parameter::EnvironmentLayers => "env-layers",
             Parameter::Eta => "eta",
             Parameter::Dispersion => "dispersion",
@@ -85,7 +85,7 @@ impl Parameter {
                 "mgc-cC, wgc-kK or hash-kK, then any of -kept, -eq7, -coplanar, -opposite, -dup, -radius"
             }
             Parameter::Background => "R,G,B (or R/G/B) in 0..255",
-            Parameter::Layers => "a number of layers, 2..=64",
+            Parameter::PeelLayers => "a number of layers, 2..=64",
             Parameter::EnvironmentLayers => "single, multi or off",
             Parameter::Eta => "a positive index of refraction",
             Parameter::Dispersion => "a dispersion of 0 or more",
@@ -122,14 +122,14 @@ impl Parameter {
             Parameter::Grouping => {
                 settings.grouping = value.parse::<GroupingSpec>().map_err(|e| format!("group={e}"))?
             }
-            Parameter::Layers => {
-                let max = super::settings::MAX_LAYERS;
-                settings.layers = value.parse::<u32>().ok().filter(|k| (2..=max).contains(k)).ok_or_else(bad)?;
+            Parameter::PeelLayers => {
+                let max = super::settings::MAX_PEEL_LAYERS;
+                settings.peel_layers = value.parse::<u32>().ok().filter(|k| (2..=max).contains(k)).ok_or_else(bad)?;
             }
             Parameter::EnvironmentLayers => {
                 let env = &mut settings.environment;
-                (env.enabled, env.layers) = match value {
-                    "off" => (false, env.layers),
+                (env.enabled, env.layer_effects) = match value {
+                    "off" => (false, env.layer_effects),
                     other => (true, other.parse().map_err(|_| bad())?),
                 };
             }

@@ -32,7 +32,7 @@ pub struct RenderSettings {
     /// normal targets are allocated or written.
     pub lighting: bool,
     /// Transparent layers k of a peeling mode; 0 leaves it to the mode's default.
-    pub layers: u32,
+    pub peel_layers: u32,
     pub kernel: SplatKernel,
     pub shading: Shading,
     /// Reflection and refraction of the scene's environment map, when it has one.
@@ -42,12 +42,12 @@ pub struct RenderSettings {
 }
 
 /// Most layers a peeling mode draws.
-pub const MAX_LAYERS: u32 = 64;
+pub const MAX_PEEL_LAYERS: u32 = 64;
 
 impl RenderSettings {
     /// The layers k the mode draws: the setting, else the registry's default for the mode.
-    pub fn layers_or_default(&self) -> u32 {
-        if self.layers == 0 { self.mode.info().default_layers } else { self.layers }
+    pub fn peel_layers_or_default(&self) -> u32 {
+        if self.peel_layers == 0 { self.mode.info().default_peel_layers } else { self.peel_layers }
     }
 
     /// The grouping the mode draws. Modes whose groups must cover the surface
@@ -87,7 +87,7 @@ impl Default for RenderSettings {
             grouping: GroupingSpec::default(),
             voronoi: true,
             lighting: true,
-            layers: 0,
+            peel_layers: 0,
             kernel: SplatKernel::default(),
             shading: Shading::default(),
             environment: Default::default(),

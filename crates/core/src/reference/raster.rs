@@ -98,13 +98,13 @@ pub fn render_with_layers(
             if culled || !usable {
                 return None;
             }
-            let [r, g, b] = cloud.colors[i];
+            let [r, g, b] = cloud.colours[i];
             Some(EyeSplat {
                 centre,
                 normal,
                 plane: options.kernel.footprint_normal(normal, centre.normalize_or_zero()),
                 radius,
-                color: Vec3::new(r as f32, g as f32, b as f32) / 255.0,
+                colour: Vec3::new(r as f32, g as f32, b as f32) / 255.0,
                 opacity: if options.transparent { cloud.opacity[i].clamp(0.0, 1.0) } else { 1.0 },
             })
         })
@@ -241,7 +241,7 @@ fn composite(
             *taken = true;
             let s = &splats[h.splat as usize];
             sum_w += h.weight;
-            sum_c += s.color * h.weight;
+            sum_c += s.colour * h.weight;
             sum_n += s.normal * h.weight;
             sum_a += s.opacity * h.weight;
         }

@@ -18,7 +18,7 @@ pub struct EyeSplat {
     /// Unit normal of the plane the footprint is cast on (tilted when grazing).
     pub plane: Vec3,
     pub radius: f32,
-    pub color: Vec3,
+    pub colour: Vec3,
     pub opacity: f32,
 }
 

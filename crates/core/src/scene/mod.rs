@@ -189,7 +189,7 @@ impl Scene {
                 o.cloud.normals.iter().map(|n| Vec3::from(normal_matrix * glam::Vec3A::from(*n)).normalize_or_zero()),
             );
             out.radii.extend(o.cloud.radii.iter().map(|r| r * scale));
-            out.colors.extend(o.cloud.colors.iter().map(|c| o.material.colour(*c)));
+            out.colours.extend(o.cloud.colours.iter().map(|c| o.material.colour(*c)));
             out.opacity.extend(o.cloud.opacity.iter().map(|a| o.material.opacity(*a)));
             objects.push((start..out.len() as u32, o.material));
         }
@@ -249,7 +249,7 @@ impl From<PointCloud> for Scene {
         let mut hash = fnv1a(FNV_OFFSET, &floats(&cloud.positions));
         hash = fnv1a(hash, &floats(&cloud.normals));
         hash = fnv1a(hash, &bytemuck_floats(&cloud.radii));
-        hash = fnv1a(hash, &cloud.colors.concat());
+        hash = fnv1a(hash, &cloud.colours.concat());
         Scene::single("cloud", cloud, hash)
     }
 }
@@ -268,7 +268,7 @@ mod tests {
             positions: vec![Vec3::new(1.0, 0.0, 0.0)],
             normals: vec![Vec3::X],
             radii: vec![0.5],
-            colors: vec![colour],
+            colours: vec![colour],
             opacity: vec![1.0],
             ..Default::default()
         }
@@ -301,8 +301,8 @@ mod tests {
         assert!((c.positions[1] - Vec3::new(0.0, 2.0, 5.0)).length() < 1e-5);
         assert!((c.normals[1] - Vec3::Y).length() < 1e-5);
         assert!((c.radii[1] - 1.0).abs() < 1e-5);
-        assert_eq!((c.colors[1], c.opacity[1]), ([9, 9, 9], 0.5));
-        assert_eq!((c.colors[0], c.opacity[0]), ([1, 2, 3], 1.0));
+        assert_eq!((c.colours[1], c.opacity[1]), ([9, 9, 9], 0.5));
+        assert_eq!((c.colours[0], c.opacity[0]), ([1, 2, 3], 1.0));
         assert_ne!(scene.content_hash(), 7);
     }
 }
@@ -317,7 +317,7 @@ mod placement_tests {
             positions: vec![Vec3::ZERO],
             normals: vec![Vec3::Z],
             radii: vec![1.0],
-            colors: vec![[0; 3]],
+            colours: vec![[0; 3]],
             opacity: vec![1.0],
             origin,
             scale_exponent,

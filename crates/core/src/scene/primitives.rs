@@ -27,7 +27,7 @@ pub fn sphere(splats: usize, radius: f32, centre: Vec3) -> PointCloud {
         positions: directions.iter().map(|d| centre + *d * radius).collect(),
         normals: directions,
         radii: vec![1.2 * spacing; n],
-        colors: vec![DEFAULT_COLOR; n],
+        colours: vec![DEFAULT_COLOR; n],
         opacity: vec![1.0; n],
         ..Default::default()
     }

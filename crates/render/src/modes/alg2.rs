@@ -36,7 +36,7 @@ const OTHERS_Z: TargetId = TargetId("other layers Eq. 10 z-buffer");
 /// Whether the other layers count themselves for the multi-layer
 /// environment effects (an environment map, `--env-layers multi`).
 fn multi_layer(frame: &FrameDesc<'_>) -> bool {
-    frame.environment.is_some() && frame.settings.environment.layers == LayerEffects::Multi
+    frame.environment.is_some() && frame.settings.environment.layer_effects == LayerEffects::Multi
 }
 
 /// Says which environment map the composite samples and how.
@@ -52,7 +52,7 @@ fn environment_note(frame: &FrameDesc<'_>) -> Option<String> {
         map.bytes(),
         env.eta,
         env.dispersion,
-        env.layers,
+        env.layer_effects,
         if multi_layer(frame) { "; O_k sum their opacities (Eq. 15-16's layer count)" } else { "" }
     ))
 }

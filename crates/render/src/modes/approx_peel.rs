@@ -20,7 +20,7 @@ const REST: [TargetId; 4] =
 
 impl GpuMode for ApproxPeel {
     fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan {
-        let k = peeling::layers(frame);
+        let k = peeling::peel_layers(frame);
         let exact = k - 1;
         let mut steps = peeling::layer_steps(frame, exact);
         // Layer `exact` peels what lies behind the last exact layer, with no depth test (the
@@ -29,8 +29,9 @@ impl GpuMode for ApproxPeel {
         let free = peeling::DEPTH[exact as usize % 2];
         let outputs = peeling::additive(peeling::sums(frame, REST));
         let rest = peeling::splat_pass(frame, exact, peeling::LayerPass::Accumulate, outputs, Some((free, any_depth)));
+        // The rest's sums, then the last exact layer's colour sums (shaders/peel_rest.wgsl).
         let mut inputs = peeling::sums(frame, REST);
-        inputs.insert(2, peeling::layer_sums(frame)[0]);
+        inputs.push(peeling::layer_sums(frame)[0]);
         let composite = FullscreenPass {
             label: "PeelRest::pass",
             shader: "peel_rest.wgsl",

@@ -24,7 +24,7 @@ const VIEW_DEPTH: TargetId = TargetId("group depth");
 const Z_BUFFER: TargetId = TargetId("group z-buffer");
 
 /// Group layers K: at least one, so an ungrouped scene is one group.
-fn layers(frame: &FrameDesc<'_>) -> u32 {
+fn groups(frame: &FrameDesc<'_>) -> u32 {
     frame.groups.len().max(1) as u32
 }
 
@@ -53,7 +53,7 @@ fn composite_inputs(frame: &FrameDesc<'_>) -> Vec<TargetId> {
 
 impl GpuMode for Deferred {
     fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan {
-        let k = layers(frame);
+        let k = groups(frame);
         let target = |id, format, why| frame.target(id, format, Layout::Array { layers: k }, why);
         let targets = vec![
             target(WEIGHT, colour_format(true), "Eq. 4's weight per group; the scene has one colour"),

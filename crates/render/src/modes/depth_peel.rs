@@ -14,7 +14,7 @@ pub struct DepthPeel;
 
 impl GpuMode for DepthPeel {
     fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan {
-        let k = peeling::layers(frame);
+        let k = peeling::peel_layers(frame);
         let mut steps = peeling::layer_steps(frame, k);
         steps.push(peeling::final_step(frame));
         frame.plan(peeling::describe(frame, k), 1, steps, peeling::targets(frame))

@@ -205,6 +205,6 @@ pub fn describe(frame: &FrameDesc<'_>, layers: u32) -> String {
 
 /// Layers k: the setting, or the registry's default; at least 2 (one layer
 /// is not transparency; approx-peel needs one exact and one approximate).
-pub fn layers(frame: &FrameDesc<'_>) -> u32 {
-    frame.settings.layers_or_default().max(2)
+pub fn peel_layers(frame: &FrameDesc<'_>) -> u32 {
+    frame.settings.peel_layers_or_default().max(2)
 }

@@ -1,0 +1,39 @@
+// What the compositing passes read from K group images (2D array textures,
+// layer k = group k), shared by deferred blending, Algorithm-1 and
+// Algorithm-2 (Zhang & Pajarola 2007 §3, §5.2.1-5.2.2). Needs shading.wgsl
+// (colour_sums) and frame.wgsl (this_pass).
+
+// Fig. 6's ε-z test, first half: d = min_k depth_k over the group layers
+// that hold a splat at `pixel` (3e38 where none does).
+fn nearest_group_depth(colour: texture_2d_array<f32>, depth: texture_2d_array<f32>, pixel: vec2<i32>) -> f32 {
+    var nearest = 3.0e38;
+    for (var k = 0; k < i32(this_pass.layers.y); k++) {
+        if colour_sums(textureLoad(colour, pixel, k, 0)).a > 0.0 {
+            nearest = min(nearest, textureLoad(depth, pixel, k, 0).r);
+        }
+    }
+    return nearest;
+}
+
+// Fig. 6's ε-z test, second half: whether a layer with colour sums `sums` at
+// view depth `depth` belongs to the nearest surface layer, within d + ε.
+fn in_nearest_layer(sums: vec4<f32>, depth: f32, nearest: f32) -> bool {
+    return sums.a > 0.0 && depth <= nearest + this_pass.depth.x;
+}
+
+// The mean of the group images that cover `pixel` (premultiplied colour and
+// coverage α > 0): a group that left the pixel empty is left out of the mean
+// rather than counted as transparent black, which would darken the colour
+// and thin the opacity by 1/K. Zero where no group covers the pixel.
+fn mean_of_covering(images: texture_2d_array<f32>, pixel: vec2<i32>) -> vec4<f32> {
+    var sum = vec4<f32>(0.0);
+    var covering = 0.0;
+    for (var k = 0; k < i32(this_pass.layers.y); k++) {
+        let image = textureLoad(images, pixel, k, 0);
+        if image.a > 0.0 {
+            sum += image;
+            covering += 1.0;
+        }
+    }
+    return sum / max(covering, 1.0);
+}

@@ -1,0 +1,195 @@
+//! The one way to render a scene in any mode: `pointblend render`, `bench`
+//! and the viewer's render thread all go through [`SceneFrames`].
+//!
+//! A [`SceneFrames`] holds a scene, its splats in world space, the groupings
+//! its modes draw and its GPU copies (one ungrouped, one per grouping). A
+//! frame asks it for `settings`, a camera and a size; the registry says where
+//! the mode runs: a GPU mode takes the grouping it draws (from the scene's
+//! groupings, computed through the grouping cache when the front end lets
+//! it), the matching upload, and its plan on the [`HeadlessRenderer`]; the
+//! exact reference (a CPU mode) renders the scene itself. Either way the
+//! frame comes back as an image and the plan that made it.
+
+use std::sync::Arc;
+
+use super::context::GpuError;
+use super::gpu_scene::GpuScene;
+use super::headless::HeadlessRenderer;
+use super::plan::RenderPlan;
+use crate::cloud::PointCloud;
+use crate::frame::{Camera, RenderSettings};
+use crate::grouping::{Grouping, GroupingError, GroupingSpec, cache::Cache};
+use crate::scene::Scene;
+use pointblend_core::reference::{self, ReferenceOptions};
+
+#[derive(Debug, thiserror::Error)]
+pub enum FrameError {
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    #[error("grouping {spec}: {source}")]
+    Grouping {
+        spec: GroupingSpec,
+        #[source]
+        source: GroupingError,
+    },
+    #[error("grouping {0} is not ready yet")]
+    NoGrouping(GroupingSpec),
+    #[error("mode {0} runs on the GPU, and no GPU was opened")]
+    NoGpu(&'static str),
+}
+
+/// A grouping of the scene, with what it cost.
+#[derive(Debug, Clone)]
+pub struct SceneGrouping {
+    pub spec: GroupingSpec,
+    pub grouping: Arc<Grouping>,
+    /// Seconds it took to compute (0 when it came from the cache).
+    pub seconds: f64,
+    pub cached: bool,
+}
+
+/// A rendered frame and the plan that made it (a CPU plan for the reference).
+pub struct Frame {
+    pub image: image::RgbaImage,
+    pub plan: RenderPlan,
+}
+
+/// A scene ready to render in any mode.
+pub struct SceneFrames {
+    scene: Arc<Scene>,
+    /// The splats in world space (the scene's, or a preview subsample of them).
+    cloud: Arc<PointCloud>,
+    /// The content hash that keys the grouping cache.
+    hash: u64,
+    /// Groupings the front end handed in, or computed through the cache.
+    groupings: Vec<SceneGrouping>,
+    /// Whether a grouping missing here is computed (through the cache) rather than refused.
+    compute_groupings: bool,
+    /// GPU copies: ungrouped (`None`) and one per grouping drawn.
+    uploads: Vec<(Option<GroupingSpec>, GpuScene)>,
+    /// Most grouped copies kept; the oldest goes first (the viewer keeps one).
+    max_grouped: usize,
+}
+
+impl SceneFrames {
+    /// `scene` with its splats in world space, `cloud` (`scene.flatten()`'s, or a
+    /// subsample of them for previews). Missing groupings are computed through
+    /// the grouping cache, and every upload is kept.
+    pub fn new(scene: Arc<Scene>, cloud: Arc<PointCloud>) -> Self {
+        let hash = scene.geometry_hash();
+        Self {
+            scene,
+            cloud,
+            hash,
+            groupings: Vec::new(),
+            compute_groupings: true,
+            uploads: Vec::new(),
+            max_grouped: usize::MAX,
+        }
+    }
+
+    /// A scene with its own splats ([`Scene::flattened`]: shared, not copied, for a plain single object).
+    pub fn of(scene: Arc<Scene>) -> Self {
+        let cloud = scene.flattened();
+        Self::new(scene, cloud)
+    }
+
+    /// Groupings come only from [`Self::add_grouping`] (the viewer computes
+    /// them in a job of its own), and at most `max_grouped` grouped copies stay on the GPU.
+    pub fn handed_groupings(mut self, max_grouped: usize) -> Self {
+        self.compute_groupings = false;
+        self.max_grouped = max_grouped.max(1);
+        self
+    }
+
+    pub fn scene(&self) -> &Arc<Scene> {
+        &self.scene
+    }
+
+    pub fn cloud(&self) -> &Arc<PointCloud> {
+        &self.cloud
+    }
+
+    /// The grouping a frame of `settings` draws, if any: the mode draws groups
+    /// and (for a transparent mode) the scene has something transparent.
+    pub fn drawn_grouping(&self, settings: &RenderSettings) -> Option<GroupingSpec> {
+        settings.mode.needs_grouping_for(self.cloud.has_transparency()).then(|| settings.grouping_for_mode())
+    }
+
+    /// Hands in a grouping computed elsewhere (nothing happens when it is here
+    /// already); past `max_grouped` of them, the oldest is dropped.
+    pub fn add_grouping(&mut self, grouping: SceneGrouping) {
+        if !self.groupings.iter().any(|g| g.spec == grouping.spec) {
+            self.groupings.push(grouping);
+            if self.groupings.len() > self.max_grouped {
+                let dropped = self.groupings.remove(0).spec;
+                self.uploads.retain(|(s, _)| *s != Some(dropped));
+            }
+        }
+    }
+
+    /// The grouping `spec`, computed through the cache when it is not here.
+    pub fn grouping(&mut self, spec: GroupingSpec) -> Result<&SceneGrouping, FrameError> {
+        if let Some(at) = self.groupings.iter().position(|g| g.spec == spec) {
+            return Ok(&self.groupings[at]);
+        }
+        if !self.compute_groupings {
+            return Err(FrameError::NoGrouping(spec));
+        }
+        let started = std::time::Instant::now();
+        let (grouping, cached) = spec
+            .compute_cached_for_hash(&Cache::from_env(), self.hash, &self.cloud)
+            .map_err(|source| FrameError::Grouping { spec, source })?;
+        let seconds = if cached { 0.0 } else { started.elapsed().as_secs_f64() };
+        log::info!(
+            "grouping {spec}: K = {} in {seconds:.2} s{}",
+            grouping.k(),
+            if cached { " (from the cache)" } else { "" }
+        );
+        self.groupings.push(SceneGrouping { spec, grouping: Arc::new(grouping), seconds, cached });
+        Ok(self.groupings.last().expect("just pushed"))
+    }
+
+    /// The GPU copy a frame of `settings` draws, uploaded (and its grouping
+    /// computed) on first use.
+    pub fn gpu_scene(&mut self, gpu: &HeadlessRenderer, settings: &RenderSettings) -> Result<&GpuScene, FrameError> {
+        let spec = self.drawn_grouping(settings);
+        if let Some(at) = self.uploads.iter().position(|(s, _)| *s == spec) {
+            return Ok(&self.uploads[at].1);
+        }
+        let grouping = spec.map(|spec| self.grouping(spec).map(|g| Arc::clone(&g.grouping))).transpose()?;
+        if spec.is_some() {
+            // Free the oldest grouped copy first when the limit is reached.
+            while self.uploads.iter().filter(|(s, _)| s.is_some()).count() >= self.max_grouped {
+                let oldest = self.uploads.iter().position(|(s, _)| s.is_some()).expect("counted above");
+                self.uploads.remove(oldest);
+            }
+        }
+        let mut upload = GpuScene::upload_cloud(&gpu.ctx.device, &self.cloud, grouping.as_deref());
+        upload.set_environment(&gpu.ctx.device, &gpu.ctx.queue, self.scene.environment.as_deref());
+        self.uploads.push((spec, upload));
+        Ok(&self.uploads.last().expect("just pushed").1)
+    }
+
+    /// One frame of `settings.mode` from `camera` at `size`: a GPU mode on
+    /// `gpu`, the exact reference on the CPU (with a progress bar when `progress`).
+    pub fn render(
+        &mut self,
+        gpu: Option<&mut HeadlessRenderer>,
+        camera: &Camera,
+        settings: &RenderSettings,
+        (width, height): (u32, u32),
+        progress: bool,
+    ) -> Result<Frame, FrameError> {
+        if !settings.mode.is_gpu() {
+            let options = ReferenceOptions { progress, ..ReferenceOptions::matching(settings, &self.scene) };
+            let image = reference::render(&self.scene, camera, &options, width, height);
+            let plan = RenderPlan::cpu(settings.mode, width, height, self.scene.len(), options.epsilon);
+            return Ok(Frame { image, plan });
+        }
+        let gpu = gpu.ok_or(FrameError::NoGpu(settings.mode.name()))?;
+        let scene = self.gpu_scene(gpu, settings)?;
+        let (image, plan) = gpu.render_image(scene, camera, settings, width, height)?;
+        Ok(Frame { image, plan })
+    }
+}
