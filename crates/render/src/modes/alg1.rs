@@ -18,7 +18,7 @@
 use super::covering::{describe, groups, variant};
 use super::opaque_part::{self, OPAQUE_DEPTH, OPAQUE_IMAGE, with_opaque};
 use super::{FrameDesc, GpuMode, depth_step_note, per_group};
-use crate::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, SplatPass};
+use crate::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, SplatPass};
 use crate::plan::{Layout, RenderPlan, Step, TargetId};
 use crate::shaders::Variant;
 use crate::targets::{ACCUM_FORMAT, DEPTH_FORMAT};
@@ -52,17 +52,13 @@ impl GpuMode for Alg1 {
             back_to_front: true,
             uniforms: uniforms(0),
         };
-        let average = FullscreenPass {
-            label: "Alg1Average::pass",
-            shader: "alg1_average.wgsl",
-            entry: "fs_alg1_average",
-            variant: Variant::NONE.with(Variant::OPAQUE_APART, opaque_part::present(frame)),
-            inputs: with_opaque(frame, vec![IMAGES], OPAQUE_IMAGE),
-            output: Output::Frame,
-            blend: Blend::Replace,
-            clear: true,
-            uniforms: uniforms(0),
-        };
+        let average = FullscreenPass::into_frame(
+            "Alg1Average::pass",
+            ("alg1_average.wgsl", "fs_alg1_average"),
+            Variant::NONE.with(Variant::OPAQUE_APART, opaque_part::present(frame)),
+            with_opaque(frame, vec![IMAGES], OPAQUE_IMAGE),
+            uniforms(0),
+        );
         steps.extend([
             Step::new(
                 "group layers",

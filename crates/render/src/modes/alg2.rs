@@ -19,7 +19,7 @@ use super::covering::{describe, groups, variant};
 use super::opaque_part::{self, OPAQUE_DEPTH, OPAQUE_IMAGE, with_opaque};
 use super::{FrameDesc, GpuMode, depth_step_note, per_group};
 use crate::frame::environment::LayerEffects;
-use crate::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, SplatPass};
+use crate::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, SplatPass};
 use crate::plan::{Layout, RenderPlan, Step, TargetId};
 use crate::shaders::Variant;
 use crate::targets::{ACCUM_FORMAT, DEPTH_FORMAT, VIEW_DEPTH_FORMAT};
@@ -97,17 +97,13 @@ impl GpuMode for Alg2 {
             back_to_front: true,
             ..nearest.clone()
         };
-        let composite = FullscreenPass {
-            label: "Alg2Composite::pass",
-            shader: "alg2_composite.wgsl",
-            entry: "fs_alg2_composite",
-            variant: variant(frame).with(Variant::ENVIRONMENT, frame.environment.is_some()),
-            inputs: with_opaque(frame, vec![NEAR_COLOUR, NEAR_DEPTH, NEAR_NORMAL, OTHERS], OPAQUE_IMAGE),
-            output: Output::Frame,
-            blend: Blend::Replace,
-            clear: true,
-            uniforms: uniforms(0),
-        };
+        let composite = FullscreenPass::into_frame(
+            "Alg2Composite::pass",
+            ("alg2_composite.wgsl", "fs_alg2_composite"),
+            variant(frame).with(Variant::ENVIRONMENT, frame.environment.is_some()),
+            with_opaque(frame, vec![NEAR_COLOUR, NEAR_DEPTH, NEAR_NORMAL, OTHERS], OPAQUE_IMAGE),
+            uniforms(0),
+        );
         steps.extend([
             Step::new(
                 "nearest layer",

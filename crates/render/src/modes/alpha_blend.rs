@@ -11,7 +11,7 @@
 //! background (`shaders/alg1_average.wgsl` with K = 1).
 
 use super::{FrameDesc, GpuMode};
-use crate::passes::{Blend, ColourOutput, Command, FullscreenPass, Output, SplatPass};
+use crate::passes::{Blend, ColourOutput, Command, FullscreenPass, SplatPass};
 use crate::plan::{Layout, RenderPlan, Step, TargetId};
 use crate::shaders::Variant;
 use crate::targets::ACCUM_FORMAT;
@@ -42,17 +42,13 @@ impl GpuMode for AlphaBlend {
             back_to_front: true,
             uniforms,
         };
-        let over = FullscreenPass {
-            label: "AlphaBlendOver::pass",
-            shader: "alg1_average.wgsl",
-            entry: "fs_alg1_average",
-            variant: Variant::NONE,
-            inputs: vec![IMAGE],
-            output: Output::Frame,
-            blend: Blend::Replace,
-            clear: true,
+        let over = FullscreenPass::into_frame(
+            "AlphaBlendOver::pass",
+            ("alg1_average.wgsl", "fs_alg1_average"),
+            Variant::NONE,
+            vec![IMAGE],
             uniforms,
-        };
+        );
         let steps = vec![
             Step::new(
                 "blend",

@@ -10,7 +10,7 @@
 //! splats are drawn 2(k - 1) + 1 times, whatever the depth complexity.
 
 use super::{FrameDesc, GpuMode, peeling};
-use crate::passes::{Blend, Command, DepthTest, FullscreenPass, Output};
+use crate::passes::{Command, DepthTest, FullscreenPass};
 use crate::plan::{RenderPlan, Step, TargetId};
 
 pub struct ApproxPeel;
@@ -32,17 +32,14 @@ impl GpuMode for ApproxPeel {
         // The rest's sums, then the last exact layer's colour sums (shaders/peel_rest.wgsl).
         let mut inputs = peeling::sums(frame, REST);
         inputs.push(peeling::layer_sums(frame)[0]);
-        let composite = FullscreenPass {
-            label: "PeelRest::pass",
-            shader: "peel_rest.wgsl",
-            entry: "fs_rest",
-            variant: peeling::variant(frame),
+        let composite = FullscreenPass::under(
+            "PeelRest::pass",
+            ("peel_rest.wgsl", "fs_rest"),
+            peeling::variant(frame),
             inputs,
-            output: Output::Target(peeling::COMPOSITE),
-            blend: Blend::Under,
-            clear: false,
-            uniforms: peeling::uniforms(frame, exact),
-        };
+            (peeling::COMPOSITE, false),
+            peeling::uniforms(frame, exact),
+        );
         steps.push(Step::new(
             "accumulate rest",
             format!("splats behind layer {exact}: Σw·rgb, Σw, Σw·α (+ Σw·n), in any order"),

@@ -10,7 +10,7 @@
 //! the layers within d + ε, normalises and shades (Fig. 6).
 
 use super::{FrameDesc, GpuMode, depth_step_note, per_group};
-use crate::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, SplatPass};
+use crate::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, SplatPass};
 use crate::plan::{Layout, RenderPlan, Step, TargetId};
 use crate::shaders::Variant;
 use crate::targets::{ACCUM_FORMAT, DEPTH_FORMAT, VIEW_DEPTH_FORMAT, colour_format};
@@ -81,17 +81,13 @@ impl GpuMode for Deferred {
             back_to_front: false,
             uniforms: uniforms(0),
         };
-        let composite = FullscreenPass {
-            label: "Composite::pass",
-            shader: "deferred_composite.wgsl",
-            entry: "fs_composite",
+        let composite = FullscreenPass::into_frame(
+            "Composite::pass",
+            ("deferred_composite.wgsl", "fs_composite"),
             variant,
-            inputs: composite_inputs(frame),
-            output: Output::Frame,
-            blend: Blend::Replace,
-            clear: true,
-            uniforms: uniforms(0),
-        };
+            composite_inputs(frame),
+            uniforms(0),
+        );
         let steps = vec![
             Step::new(
                 "group images",

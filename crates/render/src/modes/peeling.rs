@@ -14,7 +14,7 @@
 
 use super::FrameDesc;
 use crate::gpu_data::PassUniforms;
-use crate::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, SplatPass};
+use crate::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, SplatPass};
 use crate::plan::{Layout, Step, TargetDesc, TargetId};
 use crate::shaders::Variant;
 use crate::targets::DEPTH_FORMAT;
@@ -147,17 +147,14 @@ pub fn layer_steps(frame: &FrameDesc<'_>, layers: u32) -> Vec<Step> {
         let accumulate =
             splat_pass(frame, i, LayerPass::Accumulate, additive(layer_sums(frame)), Some((depth, within_epsilon)));
         // Blending under what the layers in front left (from layer 2 on) reads it.
-        let composite = FullscreenPass {
-            label: "PeelLayer::pass",
-            shader: "peel_layer.wgsl",
-            entry: "fs_layer",
-            variant: variant(frame),
-            inputs: layer_sums(frame),
-            output: Output::Target(COMPOSITE),
-            blend: Blend::Under,
-            clear: i == 0,
-            uniforms: uniforms(frame, i),
-        };
+        let composite = FullscreenPass::under(
+            "PeelLayer::pass",
+            ("peel_layer.wgsl", "fs_layer"),
+            variant(frame),
+            layer_sums(frame),
+            (COMPOSITE, i == 0),
+            uniforms(frame, i),
+        );
         let n = i + 1;
         out.push(Step::new(
             "visibility",
@@ -180,17 +177,13 @@ pub fn layer_steps(frame: &FrameDesc<'_>, layers: u32) -> Vec<Step> {
 
 /// The final step: the composite over the background.
 pub fn final_step(frame: &FrameDesc<'_>) -> Step {
-    let command = FullscreenPass {
-        label: "PeelFinal::pass",
-        shader: "peel_final.wgsl",
-        entry: "fs_final",
-        variant: Variant::NONE,
-        inputs: vec![COMPOSITE],
-        output: Output::Frame,
-        blend: Blend::Replace,
-        clear: true,
-        uniforms: uniforms(frame, 0),
-    };
+    let command = FullscreenPass::into_frame(
+        "PeelFinal::pass",
+        ("peel_final.wgsl", "fs_final"),
+        Variant::NONE,
+        vec![COMPOSITE],
+        uniforms(frame, 0),
+    );
     Step::new("final", "full screen: the composite over the background -> output", vec![Command::Fullscreen(command)])
 }
 

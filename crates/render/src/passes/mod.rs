@@ -102,6 +102,53 @@ pub struct FullscreenPass {
     pub uniforms: PassUniforms,
 }
 
+impl FullscreenPass {
+    /// A compositing pass into the frame's output: it reads `inputs` and
+    /// replaces what the output held.
+    pub fn into_frame(
+        label: &'static str,
+        (shader, entry): (&'static str, &'static str),
+        variant: Variant,
+        inputs: Vec<TargetId>,
+        uniforms: PassUniforms,
+    ) -> Self {
+        Self {
+            label,
+            shader,
+            entry,
+            variant,
+            inputs,
+            output: Output::Frame,
+            blend: Blend::Replace,
+            clear: true,
+            uniforms,
+        }
+    }
+
+    /// A layer composited front to back under what `target` holds (cleared
+    /// to transparent first when `clear`).
+    pub fn under(
+        label: &'static str,
+        (shader, entry): (&'static str, &'static str),
+        variant: Variant,
+        inputs: Vec<TargetId>,
+        (target, clear): (TargetId, bool),
+        uniforms: PassUniforms,
+    ) -> Self {
+        Self {
+            label,
+            shader,
+            entry,
+            variant,
+            inputs,
+            output: Output::Target(target),
+            blend: Blend::Under,
+            clear,
+            uniforms,
+        }
+    }
+}
+
 /// One render pass of a recorded frame.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Command {
