@@ -24,13 +24,17 @@ fn bunny() -> PointCloud {
     cloud::load(&common::bundled_bunny()).unwrap().0
 }
 
-/// Every setting that changes a plan's targets: quality, lighting, colours, and the grouping's K.
+/// Every setting that changes a plan's targets: quality, lighting, colours,
+/// the grouping's K, and the peel layers k (2: one exact layer, whose depth
+/// buffers alternate differently from the default's).
 fn settings_of(mode: RenderMode) -> Vec<RenderSettings> {
     let mut all = Vec::new();
     for quality in [Quality::Filtered, Quality::Unfiltered] {
         for lighting in [true, false] {
             for grouping in [GroupingSpec::mgc(0.4), GroupingSpec::mgc(1.0)] {
-                all.push(RenderSettings { mode, quality, lighting, grouping, ..Default::default() });
+                for peel_layers in [0, 2] {
+                    all.push(RenderSettings { mode, quality, lighting, grouping, peel_layers, ..Default::default() });
+                }
             }
         }
     }

@@ -12,6 +12,10 @@ use super::plan::{TargetDesc, TargetId};
 pub enum Access {
     Read,
     Write,
+    /// Bound but neither read nor written: a depth attachment a pass needs
+    /// only because its shader writes depth (approx-peel's rest). It must be
+    /// allocated, and is in no step's reads or writes.
+    Attached,
 }
 
 /// One target one render pass bound.
@@ -38,14 +42,18 @@ pub fn of(command: &Command) -> Vec<(TargetId, Option<u32>, Access)> {
             // Colour attachments are cleared first: written only.
             out.extend(pass.colour.iter().map(|c| (c.target, Some(pass.layer), Access::Write)));
             // A depth attachment is read when fragments test against what it
-            // held, written when they write it; one that does neither (a pass
-            // whose shader writes depth nobody tests) touches nothing.
+            // held, written when they write it, and only attached when it does
+            // neither (a pass whose shader writes depth nobody tests).
             if let Some((id, test)) = pass.depth {
-                if !test.clear && test.compare != wgpu::CompareFunction::Always {
+                let read = !test.clear && test.compare != wgpu::CompareFunction::Always;
+                if read {
                     out.push((id, Some(pass.layer), Access::Read));
                 }
                 if test.write {
                     out.push((id, Some(pass.layer), Access::Write));
+                }
+                if !read && !test.write {
+                    out.push((id, Some(pass.layer), Access::Attached));
                 }
             }
         }
