@@ -12,7 +12,6 @@ use super::gpu_data::SplatInstance;
 use super::instance_order::InstanceOrder;
 use crate::cloud::PointCloud;
 use crate::grouping::Grouping;
-use crate::scene::Scene;
 
 /// Largest vertex buffer made for one chunk of splats.
 pub const MAX_CHUNK_BYTES: usize = 32 << 20;
@@ -49,14 +48,9 @@ pub struct GpuScene {
 }
 
 impl GpuScene {
-    /// Uploads `scene`'s splats in scene order, or group by group (each group
-    /// contiguous, with its radius scale) when a grouping of the flattened
-    /// scene is given.
-    pub fn upload(device: &wgpu::Device, scene: &Scene, grouping: Option<&Grouping>) -> Self {
-        Self::upload_cloud(device, &scene.flatten().cloud, grouping)
-    }
-
-    /// [`Self::upload`] of a scene's flattened cloud (see `Scene::flatten`).
+    /// Uploads a scene's splats in world space (`Scene::flatten`) in scene
+    /// order, or group by group (each group contiguous, with its radius scale)
+    /// when a grouping of them is given.
     pub fn upload_cloud(device: &wgpu::Device, cloud: &PointCloud, grouping: Option<&Grouping>) -> Self {
         // Only a transparent scene is ever drawn in order (opaque ones run opaque plans).
         let transparent = cloud.has_transparency();

@@ -30,8 +30,18 @@ impl HeadlessRenderer {
     /// Uploads `scene`, group by group when a grouping of it is given, with
     /// its environment map if it has one.
     pub fn upload(&self, scene: &Scene, grouping: Option<&Grouping>) -> GpuScene {
-        let mut gpu = GpuScene::upload(&self.ctx.device, scene, grouping);
-        gpu.set_environment(&self.ctx.device, &self.ctx.queue, scene.environment.as_deref());
+        self.upload_in(&scene.flattened(), scene.environment.as_deref(), grouping)
+    }
+
+    /// Uploads a scene's splats in world space, `cloud`, with the scene's environment map.
+    pub fn upload_in(
+        &self,
+        cloud: &crate::cloud::PointCloud,
+        environment: Option<&crate::scene::environment::EnvironmentMap>,
+        grouping: Option<&Grouping>,
+    ) -> GpuScene {
+        let mut gpu = GpuScene::upload_cloud(&self.ctx.device, cloud, grouping);
+        gpu.set_environment(&self.ctx.device, &self.ctx.queue, environment);
         gpu
     }
 

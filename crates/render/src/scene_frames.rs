@@ -165,8 +165,7 @@ impl SceneFrames {
                 self.uploads.remove(oldest);
             }
         }
-        let mut upload = GpuScene::upload_cloud(&gpu.ctx.device, &self.cloud, grouping.as_deref());
-        upload.set_environment(&gpu.ctx.device, &gpu.ctx.queue, self.scene.environment.as_deref());
+        let upload = gpu.upload_in(&self.cloud, self.scene.environment.as_deref(), grouping.as_deref());
         self.uploads.push((spec, upload));
         Ok(&self.uploads.last().expect("just pushed").1)
     }
