@@ -52,6 +52,13 @@ fn bench_writes_json_markdown_plot_and_images_and_reuses_the_reference_cache() {
         if variant != "reference" {
             assert!(row["frame_ms_min"].as_f64() <= row["frame_ms"].as_f64());
             assert!(row["frame_ms"].as_f64() <= row["frame_ms_max"].as_f64());
+            // ε split by the reference's layer count per pixel adds up to ε,
+            // over every pixel, and the background (no layer) is one of them.
+            let split = row["eps_by_layers"].as_array().expect("eps_by_layers");
+            let sum = |key: &str| split.iter().map(|b| b[key].as_f64().unwrap()).sum::<f64>();
+            assert!((sum("eps") - eps).abs() < 1e-9, "{variant} {view}: {} against ε {eps}", sum("eps"));
+            assert!((sum("pixel_share") - 1.0).abs() < 1e-9, "{variant} {view}: {split:?}");
+            assert!(split.iter().any(|b| b["layers"] == 0) && split.iter().any(|b| b["layers"] == 1), "{split:?}");
         }
     }
     let table = std::fs::read_to_string(out.join("bench.md")).unwrap();
@@ -59,7 +66,9 @@ fn bench_writes_json_markdown_plot_and_images_and_reuses_the_reference_cache() {
     assert_eq!(table.lines().filter(|l| l.contains("| reference (the ruler) |")).count(), 2, "{table}");
     assert!(!table.contains('∞'), "{table}");
     let cached: Vec<_> = std::fs::read_dir(out.join("cache")).unwrap().map(|e| e.unwrap().path()).collect();
-    assert_eq!(cached.iter().filter(|p| p.extension().is_some_and(|e| e == "png")).count(), 2);
+    for extension in ["png", "ms", "layers"] {
+        assert_eq!(cached.iter().filter(|p| p.extension().is_some_and(|e| e == extension)).count(), 2, "{extension}");
+    }
     let stamps: Vec<_> = cached.iter().map(|p| std::fs::metadata(p).unwrap().modified().unwrap()).collect();
 
     // A second run takes the references from the cache instead of rendering them again.

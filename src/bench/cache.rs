@@ -4,7 +4,8 @@
 //! (its files' bytes, transforms and materials), the camera, the image size,
 //! every render parameter and whether opacity was read; the image is stored as
 //! `cache/reference-KEY.png` with the time it took to render in
-//! `cache/reference-KEY.ms`.
+//! `cache/reference-KEY.ms` and the number of ε-layers each pixel's ray met
+//! in `cache/reference-KEY.layers` (little-endian u32, row-major).
 
 use std::path::{Path, PathBuf};
 
@@ -14,6 +15,15 @@ use crate::frame::{Camera, RenderSettings};
 pub struct CacheEntry {
     pub image: PathBuf,
     pub millis: PathBuf,
+    pub layers: PathBuf,
+}
+
+/// A reference image, the milliseconds it took, and its layers per pixel.
+#[derive(Debug, Clone)]
+pub struct Ruler {
+    pub image: image::RgbaImage,
+    pub ms: f64,
+    pub layers: Vec<u32>,
 }
 
 use crate::hash::{FNV_OFFSET, fnv1a};
@@ -43,14 +53,20 @@ pub fn entry(
     );
     let name = format!("reference-{:016x}", fnv1a(FNV_OFFSET, key.as_bytes()));
     let dir = dir.join("cache");
-    CacheEntry { image: dir.join(format!("{name}.png")), millis: dir.join(format!("{name}.ms")) }
+    CacheEntry {
+        image: dir.join(format!("{name}.png")),
+        millis: dir.join(format!("{name}.ms")),
+        layers: dir.join(format!("{name}.layers")),
+    }
 }
 
 impl CacheEntry {
-    /// The cached image and its render time, if both are there and readable.
-    pub fn load(&self) -> Option<(image::RgbaImage, f64)> {
+    /// The cached ruler, if its three files are there, readable and of one size.
+    pub fn load(&self) -> Option<Ruler> {
         let ms = std::fs::read_to_string(&self.millis).ok()?.trim().parse().ok()?;
         let image = image::open(&self.image).ok()?.to_rgba8();
-        Some((image, ms))
+        let bytes = std::fs::read(&self.layers).ok()?;
+        let layers: Vec<u32> = bytes.chunks_exact(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
+        (bytes.len() == 4 * image.width() as usize * image.height() as usize).then_some(Ruler { image, ms, layers })
     }
 }

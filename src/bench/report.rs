@@ -38,6 +38,10 @@ pub struct BenchRow {
     pub passes: Vec<PassTime>,
     /// ε of Zhang & Pajarola §6.3 against the reference, 0..255 units.
     pub eps: f64,
+    /// ε split by the number of ε-layers each pixel's reference ray met
+    /// (0: background; the last bucket counts that many or more): which
+    /// pixels carry the error. Empty for the ruler's own rows.
+    pub eps_by_layers: Vec<crate::reference::LayerError>,
     /// PSNR in dB; `null` for an image identical to the reference.
     pub psnr: Option<f64>,
     pub bad_pixel_share: f64,

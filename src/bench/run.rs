@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::cache;
+use super::cache::{self, Ruler};
 use super::orders::{OrderRow, time_orders};
 use super::report::{BenchRow, PassTime};
 use super::views::standard_views;
@@ -217,12 +217,12 @@ fn prepare_variants(
 /// The exact references one view's rows are measured against.
 struct Rulers {
     /// Every splat opaque (for opaque modes).
-    opaque: (image::RgbaImage, f64),
+    opaque: Ruler,
     /// With the scene's opacities (for transparent modes and the reference mode itself).
-    with_opacity: (image::RgbaImage, f64),
+    with_opacity: Ruler,
     /// With a map: the reference of what a transparent variant draws (its own
     /// environment settings, or none), keyed by those settings.
-    own: Vec<(Option<EnvironmentSettings>, (image::RgbaImage, f64))>,
+    own: Vec<(Option<EnvironmentSettings>, Ruler)>,
 }
 
 /// Whether (and with which settings) a frame of `settings` draws `scene`'s environment map.
@@ -255,12 +255,12 @@ impl Rulers {
     }
 
     /// The ruler of a mode that is `transparent` or not.
-    fn for_mode(&self, transparent: bool) -> &(image::RgbaImage, f64) {
+    fn for_mode(&self, transparent: bool) -> &Ruler {
         if transparent { &self.with_opacity } else { &self.opaque }
     }
 
     /// The ruler of a prepared variant.
-    fn of_variant(&self, scene: &Scene, p: &Prepared) -> &(image::RgbaImage, f64) {
+    fn of_variant(&self, scene: &Scene, p: &Prepared) -> &Ruler {
         if !p.variant.mode.info().transparent {
             return &self.opaque;
         }
@@ -291,6 +291,7 @@ fn blank_row(
         gpu_ms: None,
         passes: Vec::new(),
         eps: 0.0,
+        eps_by_layers: Vec::new(),
         psnr: None,
         bad_pixel_share: 0.0,
         geometry_passes: 0,
@@ -304,24 +305,27 @@ fn blank_row(
     }
 }
 
-/// Times one GPU variant from one view, measures it against `reference_image`
-/// and saves its image (and difference image) as `{stem}-{view}-{tag}.png`.
+/// Times one GPU variant from one view, measures it against `reference`
+/// (ε, and ε by the reference's layer count per pixel) and saves its image
+/// (and difference image) as `{stem}-{view}-{tag}.png`.
 fn measure_variant(
     renderer: &mut HeadlessRenderer,
     gpu_scene: &GpuScene,
     view: &super::views::NamedView,
     p: &Prepared,
     config: &BenchConfig,
-    reference_image: &image::RgbaImage,
+    reference: &Ruler,
     (stem, mut row): (&str, BenchRow),
 ) -> Result<BenchRow, BenchError> {
     let (image, plan, wall, per_pass) = time_frames(renderer, gpu_scene, &view.camera, p, config)
         .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?;
-    let error = reference::compare(&image, reference_image)
-        .ok_or_else(|| BenchError::Invalid("image and reference sizes differ".into()))?;
+    let sizes_differ = || BenchError::Invalid("image and reference sizes differ".into());
+    let error = reference::compare(&image, &reference.image).ok_or_else(sizes_differ)?;
+    row.eps_by_layers =
+        reference::error_by_layers(&image, &reference.image, &reference.layers).ok_or_else(sizes_differ)?;
     let tag = p.variant.file_tag();
     save_png(&image, &config.out.join(format!("{stem}-{}-{tag}.png", view.name)))?;
-    if let Some(diff) = reference::difference_image(&image, reference_image, 8.0) {
+    if let Some(diff) = reference::difference_image(&image, &reference.image, 8.0) {
         save_png(&diff, &config.out.join(format!("{stem}-{}-{tag}-diff.png", view.name)))?;
     }
     let frame = spread(&wall);
@@ -378,22 +382,22 @@ fn bench_model(
         let row = |variant: &str, mode| blank_row(&name, &opened, view.name, config, variant, mode);
         let rulers = Rulers::of(config, &opened, &prepared, &view.camera)?;
         let ruler_name = RenderMode::RULER.name();
-        save_png(&rulers.with_opacity.0, &config.out.join(format!("{stem}-{}-{ruler_name}.png", view.name)))?;
+        save_png(&rulers.with_opacity.image, &config.out.join(format!("{stem}-{}-{ruler_name}.png", view.name)))?;
         if opened.scene.has_transparency() {
-            save_png(&rulers.opaque.0, &config.out.join(format!("{stem}-{}-{ruler_name}-opaque.png", view.name)))?;
+            save_png(&rulers.opaque.image, &config.out.join(format!("{stem}-{}-{ruler_name}-opaque.png", view.name)))?;
         }
         for variant in config.variants.iter().filter(|v| !v.mode.is_gpu()) {
             let mut row = row(&variant.label(), variant.mode);
-            let ms = rulers.for_mode(variant.mode.info().transparent).1;
+            let ms = rulers.for_mode(variant.mode.info().transparent).ms;
             (row.frame_ms, row.frame_ms_min, row.frame_ms_max, row.frames) = (ms, ms, ms, 1);
             rows.push(row);
         }
         bar.inc(1);
         for p in &prepared {
-            let reference_image = &rulers.of_variant(&opened.scene, p).0;
+            let reference = rulers.of_variant(&opened.scene, p);
             let blank = row(&p.variant.label(), p.variant.mode);
             let gpu_scene = frames.gpu_scene(renderer, &p.settings).map_err(|e| BenchError::Invalid(e.to_string()))?;
-            rows.push(measure_variant(renderer, gpu_scene, view, p, config, reference_image, (&stem, blank))?);
+            rows.push(measure_variant(renderer, gpu_scene, view, p, config, reference, (&stem, blank))?);
             bar.inc(1);
         }
     }
@@ -407,14 +411,14 @@ fn ruler_name(transparent: bool) -> &'static str {
 }
 
 /// The exact reference of `scene` from `camera`, reading opacity or not,
-/// from the cache when it is there; and the milliseconds it took.
+/// from the cache when it is there; the milliseconds it took and its layers per pixel.
 fn ruler(
     config: &BenchConfig,
     scene: &Scene,
     settings: &RenderSettings,
     camera: &Camera,
     transparent: bool,
-) -> Result<(image::RgbaImage, f64), BenchError> {
+) -> Result<Ruler, BenchError> {
     let size = (config.width, config.height);
     let environment = scene.environment.as_deref();
     let entry = cache::entry(&config.out, scene.content_hash(), camera, settings, transparent, size, environment);
@@ -423,11 +427,13 @@ fn ruler(
     }
     let options = ReferenceOptions { transparent, ..ReferenceOptions::matching(settings, scene) };
     let t = Instant::now();
-    let image = reference::render(scene, camera, &options, size.0, size.1);
+    let (image, layers) = reference::render_with_layers(scene, camera, &options, size.0, size.1);
     let ms = t.elapsed().as_secs_f64() * 1e3;
     save_png(&image, &entry.image)?;
+    let bytes: Vec<u8> = layers.iter().flat_map(|l| l.to_le_bytes()).collect();
+    write_atomically(&entry.layers, &bytes).map_err(io_error(&entry.layers))?;
     write_atomically(&entry.millis, format!("{ms}").as_bytes()).map_err(io_error(&entry.millis))?;
-    Ok((image, ms))
+    Ok(Ruler { image, ms, layers })
 }
 
 /// Warm-up and timed frames of one variant from one view: the last image,

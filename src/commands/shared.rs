@@ -115,6 +115,9 @@ pub struct ViewArgs {
     /// ε of the depth test that decides which splats blend, in multiples of the mean splat radius (> 0).
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub epsilon: f32,
+    /// Eq. 10's low-precision depth step of deferred, alg1 and alg2, in multiples of ε (> 0) [default: 1.25].
+    #[arg(long, allow_negative_numbers = true)]
+    pub depth_step: Option<f32>,
     /// Keep back-facing splats.
     #[arg(long)]
     pub no_cull: bool,
@@ -171,8 +174,12 @@ impl ViewArgs {
                 self.epsilon
             );
         }
+        if let Some(step) = self.depth_step.filter(|s| !(s.is_finite() && *s > 0.0)) {
+            bail!("--depth-step must be a positive multiple of ε, not {step}");
+        }
         let mut settings = RenderSettings {
             mode: self.mode,
+            depth_step: self.depth_step.unwrap_or(pointblend::frame::settings::DEFAULT_DEPTH_STEP),
             quality: self.quality.map_or(Quality::Filtered, QualityArg::quality),
             epsilon_scale: self.epsilon,
             backface_culling: !self.no_cull,
@@ -199,6 +206,7 @@ impl ViewArgs {
             ("--no-voronoi", self.no_voronoi, Parameter::Voronoi),
             ("--layers", self.layers.is_some(), Parameter::PeelLayers),
             ("--order", self.order.is_some(), Parameter::Order),
+            ("--depth-step", self.depth_step.is_some(), Parameter::DepthStep),
         ];
         for (option, is_given, parameter) in given {
             if is_given && !reads.contains(&parameter) {

@@ -148,6 +148,9 @@ fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, para
         Parameter::Epsilon => {
             ui.add(egui::Slider::new(&mut s.epsilon_scale, 0.05..=5.0).text("ε (× mean radius)"));
         }
+        Parameter::DepthStep => {
+            ui.add(egui::Slider::new(&mut s.depth_step, 0.25..=4.0).text("Eq. 10 depth step (× ε)"));
+        }
         Parameter::RadiusScale => {
             ui.add(egui::Slider::new(&mut s.radius_scale, 0.25..=3.0).text("splat radius scale"));
         }

@@ -1,4 +1,4 @@
-#include "shading.wgsl"
+#include "alg2_front_facing.wgsl"
 #include "opaque_under.wgsl"
 #include "group_images.wgsl"
 #ifdef ENVIRONMENT
@@ -7,7 +7,8 @@
 
 // The compositing pass of Algorithm-2 (§5.2.2), the three blends in one go:
 // C_F, the nearest layer: Fig. 6's ε-z compositing of the I_k (d = min_k
-// depth_k, the layers within d + ε summed), normalised and shaded per pixel
+// depth_k and its facing, found by shaders/alg2_front.wgsl; the layers
+// within d + ε that face as it does summed), normalised and shaded per pixel
 // (deferred shading), with its opacity α = Σw·α / Σw; C_O, the other layers:
 // the average of the O_k that cover the pixel (as in Algorithm-1), over the
 // background or the opaque splats drawn apart (shaders/opaque_under.wgsl);
@@ -26,8 +27,10 @@
 @group(1) @binding(1) var nearest_depth: texture_2d_array<f32>;
 @group(1) @binding(2) var nearest_normal_alpha: texture_2d_array<f32>;
 @group(1) @binding(3) var other_images: texture_2d_array<f32>;
+// d of the nearest layer and its facing (shaders/alg2_front.wgsl).
+@group(1) @binding(4) var front_depth: texture_2d<f32>;
 #ifdef OPAQUE_APART
-@group(1) @binding(4) var opaque_image: texture_2d<f32>;
+@group(1) @binding(5) var opaque_image: texture_2d<f32>;
 #endif
 
 @fragment
@@ -36,14 +39,16 @@ fn fs_alg2_composite(f: Fullscreen) -> @location(0) vec4<f32> {
     // The other layers: the mean of the O_k that cover the pixel.
     let mean = mean_of_covering(other_images, pixel);
     // C_F and its opacity.
-    let nearest = nearest_group_depth(nearest_colour, nearest_depth, pixel);
+    let nearest_layer = textureLoad(front_depth, pixel, 0);
     var sums = vec4<f32>(0.0);
     var normal_alpha = vec4<f32>(0.0);
     for (var k = 0; k < i32(this_pass.layers.y); k++) {
         let colour = colour_sums(textureLoad(nearest_colour, pixel, k, 0));
-        if in_nearest_layer(colour, textureLoad(nearest_depth, pixel, k, 0).r, nearest) {
+        let group_normal_alpha = textureLoad(nearest_normal_alpha, pixel, k, 0);
+        let same_facing = faces_away(f.position.xy, group_normal_alpha.xyz) == (nearest_layer.g > 0.5);
+        if same_facing && in_nearest_layer(colour, textureLoad(nearest_depth, pixel, k, 0).r, nearest_layer.r) {
             sums += colour;
-            normal_alpha += textureLoad(nearest_normal_alpha, pixel, k, 0);
+            normal_alpha += group_normal_alpha;
         }
     }
     let has_front = sums.a > 1e-6;

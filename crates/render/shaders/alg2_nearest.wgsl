@@ -18,6 +18,20 @@ struct NearestImage {
     @builtin(frag_depth) z: f32,
 }
 
+// The z-test value: Eq. 14's Voronoi depth with the facing split of
+// Algorithm-1's layers (shaders/group_layer.wgsl): within a step, fragments
+// facing the viewer come first (the first half step), those facing away
+// after them, and within each half the splat whose centre is nearest wins.
+// Without Voronoi, plain depth.
+fn nearest_z(s: SplatSample, faces_away: bool) -> f32 {
+    if this_pass.layers.z != 1u {
+        return group_z(s);
+    }
+    let n = this_pass.depth.y;
+    let step = floor(depth_to_buffer(s.view_depth) * n) / n + select(0.0, 0.5 / n, faces_away);
+    return min(step + 0.5 * sqrt(s.rho2) / n, 1.0);
+}
+
 @fragment
 fn fs_alg2_nearest(v: SplatVarying) -> NearestImage {
     let s = splat_sample(v);
@@ -25,7 +39,13 @@ fn fs_alg2_nearest(v: SplatVarying) -> NearestImage {
         discard;
     }
     let w = splat_weight(s.rho2);
-    // Shaded from the side the viewer sees.
-    let n = select(v.normal, -v.normal, dot(v.normal, pixel_ray(v.clip.xy)) > 0.0);
-    return NearestImage(vec4<f32>(v.colour.rgb * w, w), vec4<f32>(n * w, v.colour.a * w), s.view_depth, group_z(s));
+    // The normal as it is: its side tells the layer's facing
+    // (shaders/alg2_front.wgsl); shading turns it towards the viewer.
+    let faces_away = dot(v.normal, pixel_ray(v.clip.xy)) > 0.0;
+    return NearestImage(
+        vec4<f32>(v.colour.rgb * w, w),
+        vec4<f32>(v.normal * w, v.colour.a * w),
+        s.view_depth,
+        nearest_z(s, faces_away),
+    );
 }

@@ -25,15 +25,30 @@ fn in_nearest_layer(sums: vec4<f32>, depth: f32, nearest: f32) -> bool {
 // coverage α > 0): a group that left the pixel empty is left out of the mean
 // rather than counted as transparent black, which would darken the colour
 // and thin the opacity by 1/K. Zero where no group covers the pixel.
+//
+// The opacity is a trimmed mean: with three or more covering groups, the
+// most and the least opaque are left out. A group that blended one layer
+// twice (its fragments straddled an Eq. 10 step) is the most opaque, one
+// with a hole in a layer the least; the others agree. The colour is the
+// α-weighted mean over every covering group (Σ rgb·α / Σ α), so the shading
+// of all K groups' splats still averages.
 fn mean_of_covering(images: texture_2d_array<f32>, pixel: vec2<i32>) -> vec4<f32> {
     var sum = vec4<f32>(0.0);
     var covering = 0.0;
+    var least = 3.0e38;
+    var most = -1.0;
     for (var k = 0; k < i32(this_pass.layers.y); k++) {
         let image = textureLoad(images, pixel, k, 0);
         if image.a > 0.0 {
             sum += image;
             covering += 1.0;
+            least = min(least, image.a);
+            most = max(most, image.a);
         }
     }
-    return sum / max(covering, 1.0);
+    if covering < 3.0 {
+        return sum / max(covering, 1.0);
+    }
+    let alpha = (sum.a - least - most) / (covering - 2.0);
+    return vec4<f32>(sum.rgb / sum.a * alpha, alpha);
 }

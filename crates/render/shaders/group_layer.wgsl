@@ -6,10 +6,13 @@
 // own image I_k (layer k), α-blended over what is there (premultiplied, blend
 // ONE, ONE_MINUS_SRC_ALPHA), with enlarged or duplicated splats so that the
 // group covers the surface. The z-test runs on Eq. 10's low-precision depth
-// floor(z·n)/n with n = (d_max - d_min)/ε: a later fragment of the same
-// surface layer falls in the same step and fails the strict test, so where a
-// group's splats overlap the layer is blended once; a fragment of a nearer
-// layer passes. Each fragment is shaded with its splat's own normal turned to
+// floor(z·n)/n with n = (d_max - d_min)/(step·ε): a later fragment of the
+// same surface layer falls in the same step and fails the strict test, so
+// where a group's splats overlap the layer is blended once; a fragment of a
+// nearer layer passes. Within a step, a fragment whose splat faces away from
+// the viewer counts half a step farther than one facing it: the two sides of
+// a thin shell closer than ε stay two layers, as the reference splits layers
+// by facing. Each fragment is shaded with its splat's own normal turned to
 // face the viewer (§5.2.4).
 
 struct GroupFragment {
@@ -20,8 +23,9 @@ struct GroupFragment {
 // `s`: the fragment's splat sample (splat_sample, which discards outside the disc).
 fn group_fragment(v: SplatVarying, s: SplatSample) -> GroupFragment {
     let n = this_pass.depth.y;
-    let z = min(floor(depth_to_buffer(s.view_depth) * n) / n, 1.0);
-    return GroupFragment(premultiplied_fragment(v), z);
+    let faces_away = dot(v.normal, pixel_ray(v.clip.xy)) > 0.0;
+    let z = floor(depth_to_buffer(s.view_depth) * n) / n + select(0.0, 0.5 / n, faces_away);
+    return GroupFragment(premultiplied_fragment(v), min(z, 1.0));
 }
 
 // A splat's fragment, shaded, premultiplied by its opacity (also plain

@@ -2,7 +2,10 @@
 //! the depth range [d_min, d_max], n ≥ (d_max − d_min)/ε, so that two
 //! surface layers more than ε apart fall into different steps, while the
 //! fragments of one layer share a step (the Voronoi z-test of Eq. 14 and the
-//! fragment culling of the transparent algorithms rely on this).
+//! fragment culling of the transparent algorithms rely on this). The
+//! renderer passes the step it wants as ε here: `RenderSettings::depth_step`
+//! × ε (a layer whose fragments straddle a boundary counts twice, so a step
+//! a little thicker than ε measured better; docs/BENCHMARKS.md).
 //!
 //! Guards: n is at least 1 (a range thinner than ε, d_max = d_min, or a
 //! non-finite input); and at most [`MAX_DEPTH_STEPS`], because the z-test

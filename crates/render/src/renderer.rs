@@ -112,7 +112,7 @@ impl Renderer {
         let epsilon = settings.epsilon(scene.mean_radius);
         let (near, far) = camera.near_far();
         // Eq. 10 over the scene's depth range (near and far enclose its sphere).
-        let depth_steps = super::depth_steps::depth_steps(near, far, epsilon);
+        let depth_steps = super::depth_steps::depth_steps(near, far, epsilon * settings.depth_step);
         FrameDesc {
             settings,
             width,

@@ -15,6 +15,8 @@ pub enum Parameter {
     Quality,
     /// ε of the depth test that decides which splats blend.
     Epsilon,
+    /// Eq. 10's low-precision depth step, as a multiple of ε.
+    DepthStep,
     /// A factor on every splat radius.
     RadiusScale,
     BackfaceCulling,
@@ -39,9 +41,10 @@ pub enum Parameter {
 }
 
 impl Parameter {
-    pub const ALL: [Parameter; 13] = [
+    pub const ALL: [Parameter; 14] = [
         Parameter::Quality,
         Parameter::Epsilon,
+        Parameter::DepthStep,
         Parameter::RadiusScale,
         Parameter::BackfaceCulling,
         Parameter::Lighting,
@@ -60,6 +63,7 @@ impl Parameter {
         match self {
             Parameter::Quality => "quality",
             Parameter::Epsilon => "epsilon",
+            Parameter::DepthStep => "step",
             Parameter::RadiusScale => "radius-scale",
             Parameter::BackfaceCulling => "cull",
             Parameter::Lighting => "lighting",
@@ -79,6 +83,7 @@ impl Parameter {
         match self {
             Parameter::Quality => "filtered or unfiltered",
             Parameter::Epsilon => "a positive multiple of the mean splat radius",
+            Parameter::DepthStep => "a positive multiple of ε",
             Parameter::RadiusScale => "a positive factor",
             Parameter::BackfaceCulling | Parameter::Lighting | Parameter::Voronoi => "on or off",
             Parameter::Grouping => {
@@ -115,6 +120,7 @@ impl Parameter {
                 }
             }
             Parameter::Epsilon => settings.epsilon_scale = positive(value)?,
+            Parameter::DepthStep => settings.depth_step = positive(value)?,
             Parameter::RadiusScale => settings.radius_scale = positive(value)?,
             Parameter::BackfaceCulling => settings.backface_culling = on_off(value)?,
             Parameter::Lighting => settings.lighting = on_off(value)?,
@@ -172,11 +178,16 @@ mod tests {
         Parameter::Grouping.apply(&mut s, "wgc-k8").unwrap();
         Parameter::Voronoi.apply(&mut s, "off").unwrap();
         Parameter::Background.apply(&mut s, "255,0,51").unwrap();
+        Parameter::DepthStep.apply(&mut s, "2.5").unwrap();
+        assert_eq!(s.depth_step, 2.5);
         assert_eq!(s.quality, crate::frame::Quality::Unfiltered);
         assert_eq!(s.grouping, GroupingSpec::wgc(8));
         assert!(!s.voronoi);
         assert!((s.shading.background - glam::Vec3::new(1.0, 0.0, 0.2)).length() < 1e-6);
         assert!(Parameter::Epsilon.apply(&mut s, "0").is_err());
+        for bad in ["0", "-1", "NaN", "inf", "x"] {
+            assert!(Parameter::DepthStep.apply(&mut s, bad).is_err(), "step={bad}");
+        }
         assert!(Parameter::Lighting.apply(&mut s, "maybe").is_err());
     }
 }

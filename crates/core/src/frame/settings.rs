@@ -21,6 +21,9 @@ pub struct RenderSettings {
     pub quality: Quality,
     /// ε of the visibility pass, as a multiple of the cloud's mean splat radius.
     pub epsilon_scale: f32,
+    /// Eq. 10's low-precision depth step, as a multiple of ε: n = (d_max −
+    /// d_min)/(step·ε). 1 is the paper's n; see [`DEFAULT_DEPTH_STEP`].
+    pub depth_step: f32,
     pub backface_culling: bool,
     /// Every splat radius is multiplied by this (1: as loaded).
     pub radius_scale: f32,
@@ -40,6 +43,14 @@ pub struct RenderSettings {
     /// How modes that blend in order sort the splats back to front.
     pub order: crate::spatial::order::OrderKind,
 }
+
+/// The default Eq. 10 step, in multiples of ε. A layer whose fragments
+/// straddle a step boundary is blended twice in one group image (alg1,
+/// alg2's other layers); a coarser step straddles less often but merges
+/// layers less than a step apart. Measured on six scenes (docs/BENCHMARKS.md,
+/// 2026-11-24, "Eq. 10's step"), with the facing split and the α-trimmed
+/// mean in place.
+pub const DEFAULT_DEPTH_STEP: f32 = 1.25;
 
 /// Most layers a peeling mode draws.
 pub const MAX_PEEL_LAYERS: u32 = 64;
@@ -82,6 +93,7 @@ impl Default for RenderSettings {
             mode: RenderMode::DEFAULT,
             quality: Quality::Filtered,
             epsilon_scale: 1.0,
+            depth_step: DEFAULT_DEPTH_STEP,
             backface_culling: true,
             radius_scale: 1.0,
             grouping: GroupingSpec::default(),

@@ -46,6 +46,9 @@ pub struct SidecarCamera {
 pub struct SidecarSettings {
     pub filtered: bool,
     pub epsilon_scale: f32,
+    /// Eq. 10's step in multiples of ε (1 in sidecars written before it was a setting).
+    #[serde(default = "one")]
+    pub depth_step: f32,
     pub radius_scale: f32,
     pub backface_culling: bool,
     pub voronoi: bool,
@@ -56,6 +59,10 @@ pub struct SidecarSettings {
     /// The back-to-front order (`bucket` in sidecars written before it was a choice).
     #[serde(default = "bucket")]
     pub order: String,
+}
+
+fn one() -> f32 {
+    1.0
 }
 
 fn bucket() -> String {
@@ -102,6 +109,7 @@ impl Sidecar {
             settings: SidecarSettings {
                 filtered: settings.quality == Quality::Filtered,
                 epsilon_scale: settings.epsilon_scale,
+                depth_step: settings.depth_step,
                 radius_scale: settings.radius_scale,
                 backface_culling: settings.backface_culling,
                 voronoi: settings.voronoi,
@@ -172,6 +180,7 @@ impl Sidecar {
             mode: self.mode.parse::<RenderMode>()?,
             quality: if s.filtered { Quality::Filtered } else { Quality::Unfiltered },
             epsilon_scale: s.epsilon_scale,
+            depth_step: s.depth_step,
             radius_scale: s.radius_scale,
             backface_culling: s.backface_culling,
             grouping: s.grouping.parse::<GroupingSpec>()?,
@@ -198,6 +207,7 @@ mod tests {
         let settings = RenderSettings {
             mode: RenderMode::ALL[1],
             radius_scale: 1.3,
+            depth_step: 2.0,
             grouping: GroupingSpec::wgc(6),
             ..Default::default()
         };
@@ -210,6 +220,17 @@ mod tests {
         assert_eq!(back, sidecar);
         assert_eq!(back.camera(), camera);
         assert_eq!(back.settings(), Ok(settings));
+    }
+
+    #[test]
+    fn a_sidecar_from_before_the_depth_step_setting_reads_as_step_1() {
+        let settings = RenderSettings { depth_step: 3.0, ..Default::default() };
+        let model = SidecarModel { name: "m.ply".into(), path: "/x/m.ply".into(), hash: "00ff".into(), splats: 7 };
+        let sidecar = Sidecar::new(model, &Camera::framing(Vec3::ZERO, 1.0, 1.0), &settings, (30, 20));
+        let mut json: serde_json::Value = serde_json::to_value(&sidecar).unwrap();
+        json["settings"].as_object_mut().unwrap().remove("depth_step");
+        let old: Sidecar = serde_json::from_value(json).unwrap();
+        assert_eq!(old.settings().unwrap().depth_step, 1.0, "what such a sidecar's frame was rendered with");
     }
 
     #[test]

@@ -15,5 +15,5 @@ pub mod metrics;
 mod raster;
 mod tiles;
 
-pub use metrics::{ImageError, compare, difference_image};
+pub use metrics::{ImageError, LayerError, compare, difference_image, error_by_layers};
 pub use raster::{ReferenceOptions, render, render_with_layers};

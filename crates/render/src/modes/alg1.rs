@@ -7,9 +7,14 @@
 //! (the scene's instances are re-sorted per view, `render::instance_order`)
 //! into its own layer I_k of a 2D array, α-blended with each splat's opacity
 //! and culled by a z-test on Eq. 10's low-precision depth so that one surface
-//! layer is blended once per group (`shaders/alg1_group.wgsl`). A full-screen
-//! pass averages the K images over the background; groups that left a pixel
-//! empty are left out of its average (`shaders/alg1_average.wgsl`).
+//! layer is blended once per group (`shaders/alg1_group.wgsl`; the step is
+//! `RenderSettings::depth_step` × ε, and a fragment facing away from the
+//! viewer counts half a step farther, so the two sides of a thin shell stay
+//! two layers). A full-screen pass averages the K images over the
+//! background (`shaders/alg1_average.wgsl`): groups that left a pixel empty
+//! are left out, and the opacity is a trimmed mean without the most and the
+//! least opaque group, which are the ones that blended a layer twice (its
+//! fragments straddled a step) or missed one (a hole in the group).
 //! In a scene of transparent and opaque splats, the opaque ones are drawn
 //! first, apart and in high quality (`two-pass`, `super::opaque_part`): the group
 //! passes cull fragments behind their depth and the average goes over their

@@ -4,13 +4,16 @@
 //!
 //! Pass 1 is `deferred`'s geometry pass (group k into I_k: w·rgb, w, w·n,
 //! w·α, true depth; nearest splat per group by Voronoi depth,
-//! `shaders/alg2_nearest.wgsl`). Pass 2 is Algorithm-1's geometry pass into
-//! O_k (each group back to front, α-blended, Eq. 10 culling), which drops
-//! every fragment within ε of the nearest layer's depth read from pass 1
-//! (`shaders/alg2_other.wgsl`). The compositing pass does the three blends of
+//! `shaders/alg2_nearest.wgsl`). A full-screen pass then finds the nearest
+//! layer's depth d = min_k depth_k once per pixel (`shaders/alg2_front.wgsl`),
+//! so that neither pass 2's fragments nor the composite read all K layers
+//! for it. Pass 2 is Algorithm-1's geometry pass into O_k (each group back
+//! to front, α-blended, Eq. 10 culling), which drops every fragment within ε
+//! of d (`shaders/alg2_other.wgsl`). The compositing pass does the three blends of
 //! §5.2.2 at once (`shaders/alg2_composite.wgsl`): C_F, the ε-z composited,
 //! normalised and shaded nearest layer with its opacity α = Σw·α/Σw; C_O, the
-//! average of the O_k over the background; and I = α·C_F + (1 - α)·C_O. The
+//! average of the O_k over the background (with Algorithm-1's trimmed
+//! opacity); and I = α·C_F + (1 - α)·C_O. The
 //! groups are those of `alg1` (covering, `RenderSettings::grouping_for_mode`).
 //! Opaque splats of a mixed scene are drawn apart first as in `alg1`: both
 //! geometry passes cull behind them, and C_O goes over their image.
@@ -30,6 +33,9 @@ const NEAR_COLOUR: TargetId = TargetId("nearest layer I_k: w·rgb, w");
 const NEAR_NORMAL: TargetId = TargetId("nearest layer I_k: w·n, w·α");
 const NEAR_DEPTH: TargetId = TargetId("nearest layer I_k: depth");
 const NEAR_Z: TargetId = TargetId("nearest layer z-buffer");
+const FRONT: TargetId = TargetId("nearest layer depth d and facing");
+/// d in f32 (the ε-z test's precision) and the facing (0/1).
+const FRONT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 const OTHERS: TargetId = TargetId("other layers O_k");
 const OTHERS_Z: TargetId = TargetId("other layers Eq. 10 z-buffer");
 
@@ -67,6 +73,12 @@ impl GpuMode for Alg2 {
             target(NEAR_NORMAL, ACCUM_FORMAT, "pass 1: w·n for deferred shading, w·α for the nearest layer's opacity"),
             target(NEAR_DEPTH, VIEW_DEPTH_FORMAT, "pass 1: true view depth for ε-z compositing and pass 2's culling"),
             target(NEAR_Z, DEPTH_FORMAT, "pass 1: z-test within each group (Voronoi depth)"),
+            frame.target(
+                FRONT,
+                FRONT_FORMAT,
+                Layout::Single,
+                "d = min_k depth_k of pass 1 and its facing, once per pixel: what pass 2 culls and C_F sums",
+            ),
             target(OTHERS, ACCUM_FORMAT, "pass 2 (Algorithm-1): the layers behind the nearest, per group"),
             target(OTHERS_Z, DEPTH_FORMAT, "pass 2: Eq. 10 low-precision depth per group"),
         ]);
@@ -93,7 +105,7 @@ impl GpuMode for Alg2 {
             entry: "fs_alg2_other",
             colour: vec![ColourOutput { target: OTHERS, blend: others_blend }],
             depth: Some((OTHERS_Z, z_test)),
-            inputs: with_opaque(frame, vec![NEAR_COLOUR, NEAR_DEPTH], OPAQUE_DEPTH),
+            inputs: with_opaque(frame, vec![FRONT], OPAQUE_DEPTH),
             back_to_front: true,
             ..nearest.clone()
         };
@@ -101,7 +113,15 @@ impl GpuMode for Alg2 {
             "Alg2Composite::pass",
             ("alg2_composite.wgsl", "fs_alg2_composite"),
             variant(frame).with(Variant::ENVIRONMENT, frame.environment.is_some()),
-            with_opaque(frame, vec![NEAR_COLOUR, NEAR_DEPTH, NEAR_NORMAL, OTHERS], OPAQUE_IMAGE),
+            with_opaque(frame, vec![NEAR_COLOUR, NEAR_DEPTH, NEAR_NORMAL, OTHERS, FRONT], OPAQUE_IMAGE),
+            uniforms(0),
+        );
+        let front = FullscreenPass::into_target(
+            "Alg2Front::pass",
+            ("alg2_front.wgsl", "fs_alg2_front"),
+            variant(frame),
+            vec![NEAR_COLOUR, NEAR_DEPTH, NEAR_NORMAL],
+            FRONT,
             uniforms(0),
         );
         steps.extend([
@@ -111,8 +131,13 @@ impl GpuMode for Alg2 {
                 per_group(nearest, frame.transparent_groups, k, uniforms),
             ),
             Step::new(
+                "nearest depth",
+                "full screen: d = min_k depth_k of the groups that drew, and its facing, once per pixel",
+                vec![Command::Fullscreen(front)],
+            ),
+            Step::new(
                 "other layers",
-                "group k back to front -> O_k, without fragments within ε of the nearest layer",
+                "group k back to front -> O_k, without the nearest layer's fragments (within ε of d, its facing)",
                 per_group(others, frame.transparent_groups, k, uniforms),
             ),
             Step::new(

@@ -125,6 +125,19 @@ impl FullscreenPass {
         }
     }
 
+    /// A pass that computes an image into `target` from `inputs`, replacing
+    /// what it held.
+    pub fn into_target(
+        label: &'static str,
+        (shader, entry): (&'static str, &'static str),
+        variant: Variant,
+        inputs: Vec<TargetId>,
+        target: TargetId,
+        uniforms: PassUniforms,
+    ) -> Self {
+        Self { output: Output::Target(target), ..Self::into_frame(label, (shader, entry), variant, inputs, uniforms) }
+    }
+
     /// A layer composited front to back under what `target` holds (cleared
     /// to transparent first when `clear`).
     pub fn under(
