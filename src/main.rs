@@ -1,7 +1,8 @@
 //! The `pointblend` command line: view | info | render | convert | bench | group.
 //!
-//! With no subcommand it opens the viewer on the bundled bunny (or, with no
-//! display, renders it in every mode to `./out/`).
+//! With no subcommand it opens the viewer on the demo scene in alg2 (or, with
+//! no display, renders the opaque modes on the bundled bunny and the
+//! transparent ones on the demo scene to `./out/`).
 
 mod commands;
 

@@ -7,7 +7,7 @@
 //! image of the same view (ε of Zhang & Pajarola 2007 §6.3, PSNR, bad-pixel
 //! share). Reference images are cached in the output folder, keyed by file,
 //! view, size and parameters. [`report`] writes `bench.json` and `bench.md`,
-//! [`plot`] the error-against-time plot. With `--orders`, [`orders`] times
+//! [`plot`] the error-against-time plot, [`sheet`] the main job's contact sheet. With `--orders`, [`orders`] times
 //! the back-to-front orders on the same views.
 
 pub mod cache;
@@ -15,6 +15,7 @@ pub mod orders;
 pub mod plot;
 pub mod report;
 pub mod run;
+pub mod sheet;
 pub mod views;
 
 pub use report::{BenchRow, PassTime};

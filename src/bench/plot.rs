@@ -61,14 +61,19 @@ pub fn mode_points(rows: &[BenchRow]) -> Vec<ModePoint> {
         .collect()
 }
 
-/// Draws the plot to a PNG at `path` (written atomically).
-pub fn write(rows: &[BenchRow], title: &str, path: &Path) -> Result<(), String> {
+/// Makes the bundled font the "sans-serif" of `plotters` (once per process).
+pub fn register_font() {
     static REGISTER: Once = Once::new();
     REGISTER.call_once(|| {
         if plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_err() {
             log::warn!("the bundled plot font could not be read; labels may be missing");
         }
     });
+}
+
+/// Draws the plot to a PNG at `path` (written atomically).
+pub fn write(rows: &[BenchRow], title: &str, path: &Path) -> Result<(), String> {
+    register_font();
     let points = mode_points(rows);
     if points.is_empty() {
         return Err("nothing to plot".into());

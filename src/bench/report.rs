@@ -24,6 +24,11 @@ pub struct BenchRow {
     /// What the error is measured against: the reference with every splat
     /// opaque (opaque modes) or with the scene's opacity (transparent modes).
     pub reference: String,
+    /// Set when a transparent mode ran on a scene with nothing transparent:
+    /// it then runs the opaque two-pass plan, and the row says so
+    /// ("opaque scene: ran two-pass") rather than repeat two-pass's figures unexplained.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fallback: Option<String>,
     /// Whether this row is the reference itself: the ruler the other rows
     /// are measured against. Its ε (0) and PSNR (none) compare it with
     /// itself and say nothing; its time is the exact answer's cost.
@@ -78,11 +83,15 @@ pub fn markdown(rows: &[BenchRow]) -> String {
             ));
             continue;
         }
+        let variant = match &r.fallback {
+            Some(note) => format!("{} ({note})", r.variant),
+            None => r.variant.clone(),
+        };
         out.push_str(&format!(
             "| {} | {} | {} | {} | {} | {}x{} | {} | {:.1} ({:.1}-{:.1}) | {} | {:.3} | {} | {:.2}% | {} |\n",
             r.model,
             r.view,
-            r.variant,
+            variant,
             r.k,
             r.points,
             r.width,

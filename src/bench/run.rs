@@ -269,6 +269,9 @@ impl Rulers {
     }
 }
 
+/// The mark of a row whose transparent mode ran on an opaque scene.
+pub const OPAQUE_FALLBACK: &str = "opaque scene: ran two-pass";
+
 /// A row of `mode` from `view` with the model's facts filled in and nothing measured yet.
 fn blank_row(
     name: &str,
@@ -284,6 +287,8 @@ fn blank_row(
         variant: variant.to_string(),
         reference: ruler_name(mode.info().transparent).to_string(),
         ruler: mode == RenderMode::RULER,
+        fallback: (mode.info().transparent && mode.is_gpu() && !opened.scene.has_transparency())
+            .then(|| OPAQUE_FALLBACK.to_string()),
         view: view.to_string(),
         frame_ms: 0.0,
         frame_ms_min: 0.0,

@@ -1,9 +1,11 @@
-//! One module per subcommand, plus the options they share.
+//! One module per subcommand, plus the options they share and the headless
+//! main job of `view`.
 
 pub mod bench;
 pub mod convert;
 pub mod group;
 pub mod info;
+pub mod main_job;
 pub mod render;
 pub mod shared;
 pub mod view;

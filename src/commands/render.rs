@@ -146,6 +146,13 @@ pub fn run(args: &Args) -> Result<()> {
     if args.explain {
         println!("{plan}");
     }
+    if settings.mode.info().transparent && settings.mode.is_gpu() && !scene.has_transparency() {
+        println!(
+            "{}: this model is opaque, so {} ran two-pass; set --opacity below 1 to see through it",
+            args.file.display(),
+            settings.mode
+        );
+    }
     shared::write_image(&image, &args.out)?;
     if let Some(diff_path) = &args.diff {
         let options = ReferenceOptions { progress: true, ..ReferenceOptions::matching(&settings, scene) };

@@ -1,16 +1,19 @@
 //! `pointblend view [FILE]`: the interactive viewer, and the main job.
 //!
+//! Without FILE the window opens on the demo scene (`assets/bunny-balls.toml`)
+//! in `alg2`, so that the first frame shows see-through surfaces.
+//!
 //! With no display (no `DISPLAY`/`WAYLAND_DISPLAY`) or when the window cannot
-//! open, it says why and does the headless main job instead: it renders the
-//! model in every mode to `./out/` and prints the error-against-time table.
+//! open, it says why and does the headless main job instead: the opaque modes
+//! on the bundled bunny and the transparent modes on the demo scene (or every
+//! mode on FILE), into `./out/`, with one compact table, `bench.json`, the
+//! error-against-time plot and a contact sheet of every mode (`modes.png`).
 
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use pointblend::bench::{self, BenchConfig};
-use pointblend::frame::ModeVariant;
-use pointblend::frame::{RenderSettings, Sidecar};
-use pointblend::render::{HeadlessRenderer, RenderMode};
+use pointblend::frame::Sidecar;
+use pointblend::render::RenderMode;
 use pointblend::scene::Materials;
 use pointblend::viewer::{self, ViewerError, ViewerOptions};
 
@@ -37,6 +40,9 @@ pub struct Args {
     /// Output folder of the headless main job (when no window can open).
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
+    /// Image size of the headless main job.
+    #[arg(long, default_value = "512x512", value_parser = super::shared::parse_size)]
+    pub size: (u32, u32),
     /// Opacity of every object, 0..1.
     #[arg(long, value_parser = super::shared::parse_opacity)]
     pub opacity: Option<f32>,
@@ -58,13 +64,15 @@ pub fn run(args: &Args) -> Result<()> {
         // Fail early and on one line, before a window opens, when the file is not there.
         std::fs::metadata(file).with_context(|| format!("{}: cannot open", file.display()))?;
     }
+    // A first window shows what pointblend is for: see-through surfaces.
+    let first_run = args.file.is_none() && args.camera.is_none();
     let options = ViewerOptions {
-        file: args.file.clone(),
+        file: args.file.clone().or_else(|| first_run.then(|| viewer::DEMO_SCENE.into())),
         screenshot: args.screenshot.clone(),
         exit_after_frames: args.exit_after_frames,
         screenshot_dir: args.screenshot_dir.clone(),
         view,
-        mode: args.mode,
+        mode: args.mode.or_else(|| first_run.then_some(RenderMode::FIRST_RUN)),
         cache: None,
         materials: Materials {
             opacity: args.opacity,
@@ -85,51 +93,7 @@ pub fn run(args: &Args) -> Result<()> {
                 ViewerError::NoDisplay => eprintln!("pointblend: no window: {e}; rendering headless instead"),
                 ViewerError::Window(_) => eprintln!("pointblend: {e}; rendering headless instead"),
             }
-            headless_main_job(args)
+            super::main_job::run(args)
         }
     }
-}
-
-/// Renders the model in every mode into `args.out` and prints the error-against-time table.
-fn headless_main_job(args: &Args) -> Result<()> {
-    let model = args.file.clone().unwrap_or_else(|| PathBuf::from(viewer::BUNDLED_MODEL));
-    let mut renderer = HeadlessRenderer::new().context("opening the GPU")?;
-    eprintln!("GPU: {}", renderer.ctx.describe());
-    let mut variants = Vec::new();
-    for mode in RenderMode::ALL {
-        variants.extend(ModeVariant::expand(mode.name()).map_err(anyhow::Error::msg)?);
-    }
-    let mut settings = RenderSettings::default();
-    if let Some(bg) = args.background {
-        settings.shading.background = glam::Vec3::from_array(bg.map(f32::from)) / 255.0;
-    }
-    let environment = match &args.env {
-        Some(path) => Some(std::sync::Arc::new(pointblend::scene::environment::EnvironmentMap::load(path)?)),
-        None => None,
-    };
-    let config = BenchConfig {
-        environment,
-        variants,
-        settings,
-        materials: Materials {
-            opacity: args.opacity,
-            colour: args.colour,
-            scene_background: args.background.is_none(),
-        },
-        width: 512,
-        height: 512,
-        frames: 5,
-        warm_up: 2,
-        views: 1,
-        out: args.out.clone(),
-        progress: true,
-        orders: false,
-    };
-    let outcome = bench::run(&[model], &config, &mut renderer)?;
-    print!("{}", bench::report::markdown(&outcome.rows));
-    println!(
-        "wrote one image per mode, the difference images, bench.json and error_vs_time.png to {}/",
-        args.out.display()
-    );
-    Ok(())
 }

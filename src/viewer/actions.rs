@@ -31,6 +31,7 @@ impl ViewerApp {
                 splats: m.cloud.len(),
                 warnings: &m.warnings,
                 opacity: m.opacity(),
+                transparent: m.transparent,
                 environment: m.scene.environment.as_ref().map(|e| e.name.as_str()),
             }),
             load_error: self.load_error.as_deref(),

@@ -38,6 +38,9 @@ fn model_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, actions
             ui.label(RichText::new(m.name).strong()).on_hover_text(m.path.display().to_string());
             ui.label(format!("{} splats", thousands(m.splats)));
             opacity_widget(ui, &mut state.opacity_pending, m.opacity, actions);
+            if state.settings.mode.info().transparent && !m.transparent && state.opacity_pending.is_none() {
+                ui.label(RichText::new(OPAQUE_MODEL_HINT).color(ui.visuals().warn_fg_color));
+            }
             environment_widget(ui, m.environment, actions);
             if !m.warnings.is_empty() {
                 ui.collapsing(format!("{} load warnings", m.warnings.len()), |ui| {
@@ -99,6 +102,10 @@ fn environment_widget(ui: &mut Ui, current: Option<&str>, actions: &mut Vec<Acti
         }
     });
 }
+
+/// Shown beside the opacity slider when a transparent mode is chosen and
+/// nothing is transparent: the mode then draws what two-pass draws.
+pub const OPAQUE_MODEL_HINT: &str = "this model is opaque: set its opacity below 1 to see through it";
 
 /// Opacity of every object: applied when the slider is let go (a new upload).
 /// Transparent modes and the reference show it; opaque modes draw α = 1.

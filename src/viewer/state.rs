@@ -135,6 +135,8 @@ pub struct ModelInfo<'a> {
     pub warnings: &'a [String],
     /// The first object's opacity, and whether every object shares it.
     pub opacity: (f32, bool),
+    /// Whether any splat is transparent (opacity below 1).
+    pub transparent: bool,
     /// The environment map's name, if the model has one.
     pub environment: Option<&'a str>,
 }

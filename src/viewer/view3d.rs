@@ -105,12 +105,18 @@ impl ViewerApp {
             return;
         };
         let close = ctx.clone();
+        // What the window shows, for the line that reports the shot.
+        let shown = self.shown_frame().map(|(_, key)| key.settings.mode);
+        let showing = match (self.model(), shown) {
+            (Some(model), Some(mode)) => format!(" ({} in {mode})", model.name),
+            _ => String::new(),
+        };
         ctx.request_screenshot(move |shot| {
             let [w, h] = shot.size;
             let bytes: Vec<u8> = shot.pixels.iter().flat_map(|c| c.to_array()).collect();
             match image::RgbaImage::from_raw(w as u32, h as u32, bytes) {
                 Some(image) => match crate::output::save_png(&image, &path) {
-                    Ok(()) => eprintln!("saved the window to {}", path.display()),
+                    Ok(()) => eprintln!("saved the window to {}{showing}", path.display()),
                     Err(e) => eprintln!("error: {}: {e}", path.display()),
                 },
                 None => eprintln!("error: the window screenshot has the wrong size"),

@@ -276,6 +276,11 @@ impl RenderMode {
     /// The mode that measures every other: the exact reference.
     pub const RULER: RenderMode = RenderMode::Reference;
 
+    /// The mode `pointblend view` opens the demo scene in when given no
+    /// file: the transparent mode whose first frame shows best what
+    /// pointblend is for (see-through surfaces, near the reference, fast).
+    pub const FIRST_RUN: RenderMode = RenderMode::Alg2;
+
     pub fn info(self) -> &'static ModeInfo {
         // The registry lists the modes in the order of `ALL`.
         &REGISTRY[RenderMode::ALL.iter().position(|m| *m == self).unwrap_or(0)]
