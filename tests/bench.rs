@@ -41,6 +41,8 @@ fn bench_writes_json_markdown_plot_and_images_and_reuses_the_reference_cache() {
         let view = row["view"].as_str().unwrap();
         println!("{variant} {view}: ε {eps}");
         assert_eq!(row["ruler"].as_bool(), Some(variant == "reference"), "{variant}: the reference rows are the ruler");
+        let image = row["image"].as_str().unwrap();
+        assert!(image.contains(view) && out.join(image).is_file(), "{variant} {view}: its image {image} is not there");
         match variant {
             "reference" => assert_eq!(eps, 0.0, "the ruler measured against itself"),
             "two-pass" => assert!(eps <= MAX_BENCH_TWO_PASS_EPS, "{variant} {view}: ε {eps}"),

@@ -34,6 +34,9 @@ pub struct BenchRow {
     /// itself and say nothing; its time is the exact answer's cost.
     pub ruler: bool,
     pub view: String,
+    /// The row's image, a file in the output folder (its difference image
+    /// beside it as `…-diff.png`, except for the ruler's own rows).
+    pub image: String,
     /// Wall time per frame, submission to `poll(wait)`, median over the timed frames.
     pub frame_ms: f64,
     pub frame_ms_min: f64,

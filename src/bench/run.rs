@@ -287,8 +287,7 @@ fn blank_row(
         variant: variant.to_string(),
         reference: ruler_name(mode.info().transparent).to_string(),
         ruler: mode == RenderMode::RULER,
-        fallback: (mode.info().transparent && mode.is_gpu() && !opened.scene.has_transparency())
-            .then(|| OPAQUE_FALLBACK.to_string()),
+        fallback: mode.runs_opaque(opened.scene.has_transparency()).then(|| OPAQUE_FALLBACK.to_string()),
         view: view.to_string(),
         frame_ms: 0.0,
         frame_ms_min: 0.0,
@@ -297,6 +296,7 @@ fn blank_row(
         passes: Vec::new(),
         eps: 0.0,
         eps_by_layers: Vec::new(),
+        image: String::new(),
         psnr: None,
         bad_pixel_share: 0.0,
         geometry_passes: 0,
@@ -329,7 +329,9 @@ fn measure_variant(
     row.eps_by_layers =
         reference::error_by_layers(&image, &reference.image, &reference.layers).ok_or_else(sizes_differ)?;
     let tag = p.variant.file_tag();
-    save_png(&image, &config.out.join(format!("{stem}-{}-{tag}.png", view.name)))?;
+    let file = format!("{stem}-{}-{tag}.png", view.name);
+    save_png(&image, &config.out.join(&file))?;
+    row.image = file;
     if let Some(diff) = reference::difference_image(&image, &reference.image, 8.0) {
         save_png(&diff, &config.out.join(format!("{stem}-{}-{tag}-diff.png", view.name)))?;
     }
@@ -387,14 +389,19 @@ fn bench_model(
         let row = |variant: &str, mode| blank_row(&name, &opened, view.name, config, variant, mode);
         let rulers = Rulers::of(config, &opened, &prepared, &view.camera)?;
         let ruler_name = RenderMode::RULER.name();
-        save_png(&rulers.with_opacity.image, &config.out.join(format!("{stem}-{}-{ruler_name}.png", view.name)))?;
+        let with_opacity = format!("{stem}-{}-{ruler_name}.png", view.name);
+        let opaque = format!("{stem}-{}-{ruler_name}-opaque.png", view.name);
+        save_png(&rulers.with_opacity.image, &config.out.join(&with_opacity))?;
         if opened.scene.has_transparency() {
-            save_png(&rulers.opaque.image, &config.out.join(format!("{stem}-{}-{ruler_name}-opaque.png", view.name)))?;
+            save_png(&rulers.opaque.image, &config.out.join(&opaque))?;
         }
         for variant in config.variants.iter().filter(|v| !v.mode.is_gpu()) {
             let mut row = row(&variant.label(), variant.mode);
-            let ms = rulers.for_mode(variant.mode.info().transparent).ms;
+            let transparent = variant.mode.info().transparent;
+            let ms = rulers.for_mode(transparent).ms;
             (row.frame_ms, row.frame_ms_min, row.frame_ms_max, row.frames) = (ms, ms, ms, 1);
+            let apart = !transparent && opened.scene.has_transparency();
+            row.image = if apart { opaque.clone() } else { with_opacity.clone() };
             rows.push(row);
         }
         bar.inc(1);

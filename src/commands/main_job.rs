@@ -35,12 +35,8 @@ pub fn run(args: &Args) -> Result<()> {
         Some(file) => vec![Part { model: file.clone(), modes: RenderMode::ALL.to_vec(), out: args.out.clone() }],
         None => {
             let (transparent, opaque): (Vec<RenderMode>, Vec<RenderMode>) =
-                RenderMode::ALL.into_iter().partition(|m| m.info().transparent);
-            let with_ruler = |mut modes: Vec<RenderMode>| {
-                modes.push(RenderMode::RULER);
-                modes.dedup();
-                modes
-            };
+                RenderMode::ALL.into_iter().filter(|m| m.is_gpu()).partition(|m| m.info().transparent);
+            let with_ruler = |modes: Vec<RenderMode>| [modes, vec![RenderMode::RULER]].concat();
             vec![
                 Part { model: viewer::BUNDLED_MODEL.into(), modes: with_ruler(opaque), out: args.out.join("bunny") },
                 Part {
@@ -151,25 +147,18 @@ fn compact_table(rows: &[BenchRow]) -> String {
 
 /// The contact sheet's row of one part: its reference, then each mode at its defaults.
 fn sheet_row(part: &Part, rows: &[BenchRow]) -> bench::sheet::SheetRow {
-    let stem = pointblend::output::safe_stem(&part.model);
     let tiles = default_rows(rows)
         .into_iter()
         .map(|r| {
-            // Rows at their defaults: the variant is the mode's name, as the image's.
-            let tag = if r.ruler { "reference".to_string() } else { r.variant.clone() };
             let figures = match (&r.fallback, r.ruler) {
                 (_, true) => format!("exact, {:.0} ms (CPU)", r.frame_ms),
                 (Some(note), _) => format!("ε {}, {:.0} ms: {note}", eps_text(r.eps), r.frame_ms),
                 (None, _) => format!("ε {}, {:.0} ms", eps_text(r.eps), r.frame_ms),
             };
-            bench::sheet::Tile {
-                image: part.out.join(format!("{stem}-{}-{tag}.png", r.view)),
-                title: r.variant.clone(),
-                figures,
-            }
+            bench::sheet::Tile { image: part.out.join(&r.image), title: r.variant.clone(), figures }
         })
         .collect();
-    let model = rows.first().map_or_else(|| stem.clone(), |r| r.model.clone());
+    let model = rows.first().map_or_else(|| part.model.display().to_string(), |r| r.model.clone());
     let kinds = match (rows.iter().any(transparent_mode), rows.iter().any(|r| !r.ruler && !transparent_mode(r))) {
         (true, false) => "transparent modes",
         (false, true) => "opaque modes",

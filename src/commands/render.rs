@@ -146,7 +146,7 @@ pub fn run(args: &Args) -> Result<()> {
     if args.explain {
         println!("{plan}");
     }
-    if settings.mode.info().transparent && settings.mode.is_gpu() && !scene.has_transparency() {
+    if settings.mode.runs_opaque(scene.has_transparency()) {
         println!(
             "{}: this model is opaque, so {} ran two-pass; set --opacity below 1 to see through it",
             args.file.display(),

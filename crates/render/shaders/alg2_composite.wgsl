@@ -1,4 +1,4 @@
-#include "alg2_front_facing.wgsl"
+#include "shading.wgsl"
 #include "opaque_under.wgsl"
 #include "group_images.wgsl"
 #ifdef ENVIRONMENT
@@ -45,7 +45,7 @@ fn fs_alg2_composite(f: Fullscreen) -> @location(0) vec4<f32> {
     for (var k = 0; k < i32(this_pass.layers.y); k++) {
         let colour = colour_sums(textureLoad(nearest_colour, pixel, k, 0));
         let group_normal_alpha = textureLoad(nearest_normal_alpha, pixel, k, 0);
-        let same_facing = faces_away(f.position.xy, group_normal_alpha.xyz) == (nearest_layer.g > 0.5);
+        let same_facing = faces_away(group_normal_alpha.xyz, f.position.xy) == (nearest_layer.g > 0.5);
         if same_facing && in_nearest_layer(colour, textureLoad(nearest_depth, pixel, k, 0).r, nearest_layer.r) {
             sums += colour;
             normal_alpha += group_normal_alpha;
@@ -78,8 +78,7 @@ fn glass(
     normal_sum: vec3<f32>,
     mean: vec4<f32>,
 ) -> vec4<f32> {
-    let ndc = vec2<f32>(position.x * frame.viewport.z * 2.0 - 1.0, 1.0 - position.y * frame.viewport.w * 2.0);
-    let d = normalize(vec3<f32>(ndc * frame.lens.xy, -1.0));
+    let d = normalize(pixel_ray(position));
     let normal_length = length(normal_sum);
     var n = select(-d, normal_sum / normal_length, normal_length > 1e-20);
     n = select(n, -n, dot(n, d) > 0.0);

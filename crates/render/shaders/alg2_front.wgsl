@@ -1,4 +1,5 @@
-#include "alg2_front_facing.wgsl"
+#include "shading.wgsl"
+#include "group_images.wgsl"
 
 // Between the two geometry passes of Algorithm-2 (§5.2.2): the nearest
 // transparent layer, found once per pixel. Its view depth d = min_k depth_k
@@ -18,14 +19,10 @@
 @fragment
 fn fs_alg2_front(f: Fullscreen) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(f.position.xy);
-    var nearest = 3.0e38;
-    var away = false;
-    for (var k = 0; k < i32(this_pass.layers.y); k++) {
-        let depth = textureLoad(nearest_depth, pixel, k, 0).r;
-        if textureLoad(nearest_colour, pixel, k, 0).a > 0.0 && depth < nearest {
-            nearest = depth;
-            away = faces_away(f.position.xy, textureLoad(nearest_normal_alpha, pixel, k, 0).xyz);
-        }
+    let group = nearest_group(nearest_colour, nearest_depth, pixel);
+    if group < 0 {
+        return vec4<f32>(3.0e38, 0.0, 0.0, 1.0);
     }
-    return vec4<f32>(nearest, select(0.0, 1.0, away), 0.0, 1.0);
+    let away = faces_away(textureLoad(nearest_normal_alpha, pixel, group, 0).xyz, f.position.xy);
+    return vec4<f32>(textureLoad(nearest_depth, pixel, group, 0).r, select(0.0, 1.0, away), 0.0, 1.0);
 }

@@ -23,12 +23,12 @@ struct NearestImage {
 // facing the viewer come first (the first half step), those facing away
 // after them, and within each half the splat whose centre is nearest wins.
 // Without Voronoi, plain depth.
-fn nearest_z(s: SplatSample, faces_away: bool) -> f32 {
+fn nearest_z(s: SplatSample, away: bool) -> f32 {
     if this_pass.layers.z != 1u {
         return group_z(s);
     }
     let n = this_pass.depth.y;
-    let step = floor(depth_to_buffer(s.view_depth) * n) / n + select(0.0, 0.5 / n, faces_away);
+    let step = floor(depth_to_buffer(s.view_depth) * n) / n + select(0.0, 0.5 / n, away);
     return min(step + 0.5 * sqrt(s.rho2) / n, 1.0);
 }
 
@@ -41,11 +41,10 @@ fn fs_alg2_nearest(v: SplatVarying) -> NearestImage {
     let w = splat_weight(s.rho2);
     // The normal as it is: its side tells the layer's facing
     // (shaders/alg2_front.wgsl); shading turns it towards the viewer.
-    let faces_away = dot(v.normal, pixel_ray(v.clip.xy)) > 0.0;
     return NearestImage(
         vec4<f32>(v.colour.rgb * w, w),
         vec4<f32>(v.normal * w, v.colour.a * w),
         s.view_depth,
-        nearest_z(s, faces_away),
+        nearest_z(s, faces_away(v.normal, v.clip.xy)),
     );
 }

@@ -18,8 +18,8 @@ fn fs_alg2_other(v: SplatVarying) -> GroupFragment {
     let pixel = vec2<i32>(v.clip.xy);
     let nearest = textureLoad(front_depth, pixel, 0);
     let s = splat_sample(v);
-    let faces_away = dot(v.normal, pixel_ray(v.clip.xy)) > 0.0;
-    let in_nearest = s.view_depth <= nearest.r + this_pass.depth.x && faces_away == (nearest.g > 0.5);
+    let away = faces_away(v.normal, v.clip.xy);
+    let in_nearest = s.view_depth <= nearest.r + this_pass.depth.x && away == (nearest.g > 0.5);
     if in_nearest || behind_opaque(pixel, s.view_depth) {
         discard;
     }

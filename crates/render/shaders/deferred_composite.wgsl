@@ -16,7 +16,11 @@
 @fragment
 fn fs_composite(f: Fullscreen) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(f.position.xy);
-    let nearest = nearest_group_depth(group_colour, group_depth, pixel);
+    let group = nearest_group(group_colour, group_depth, pixel);
+    if group < 0 {
+        return vec4<f32>(frame.background.rgb, 1.0);
+    }
+    let nearest = textureLoad(group_depth, pixel, group, 0).r;
     var sums = vec4<f32>(0.0);
     var normal_sum = vec3<f32>(0.0);
     for (var k = 0; k < i32(this_pass.layers.y); k++) {

@@ -42,3 +42,15 @@ struct Pass {
 fn depth_to_buffer(view_depth: f32) -> f32 {
     return (view_depth - frame.depth.x) * frame.depth.w;
 }
+
+// The eye-space direction of the view ray through pixel `position`, scaled to view depth 1.
+fn pixel_ray(position: vec2<f32>) -> vec3<f32> {
+    let ndc = vec2<f32>(position.x * frame.viewport.z * 2.0 - 1.0, 1.0 - position.y * frame.viewport.w * 2.0);
+    return vec3<f32>(ndc * frame.lens.xy, -1.0);
+}
+
+// Whether `normal` (eye space; a splat's, or a layer's Σw·n) points away
+// from the viewer at pixel `position`: what splits ε-layers by facing.
+fn faces_away(normal: vec3<f32>, position: vec2<f32>) -> bool {
+    return dot(normal, pixel_ray(position)) > 0.0;
+}

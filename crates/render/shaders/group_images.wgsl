@@ -3,16 +3,22 @@
 // Algorithm-2 (Zhang & Pajarola 2007 §3, §5.2.1-5.2.2). Needs shading.wgsl
 // (colour_sums) and frame.wgsl (this_pass).
 
-// Fig. 6's ε-z test, first half: d = min_k depth_k over the group layers
-// that hold a splat at `pixel` (3e38 where none does).
-fn nearest_group_depth(colour: texture_2d_array<f32>, depth: texture_2d_array<f32>, pixel: vec2<i32>) -> f32 {
+// Fig. 6's ε-z test, first half: the group layer k that holds the nearest
+// splat at `pixel`, d = min_k depth_k over the layers that hold one (-1
+// where none does).
+fn nearest_group(colour: texture_2d_array<f32>, depth: texture_2d_array<f32>, pixel: vec2<i32>) -> i32 {
     var nearest = 3.0e38;
+    var group = -1;
     for (var k = 0; k < i32(this_pass.layers.y); k++) {
         if colour_sums(textureLoad(colour, pixel, k, 0)).a > 0.0 {
-            nearest = min(nearest, textureLoad(depth, pixel, k, 0).r);
+            let d = textureLoad(depth, pixel, k, 0).r;
+            if d < nearest {
+                nearest = d;
+                group = k;
+            }
         }
     }
-    return nearest;
+    return group;
 }
 
 // Fig. 6's ε-z test, second half: whether a layer with colour sums `sums` at

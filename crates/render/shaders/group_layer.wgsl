@@ -23,8 +23,8 @@ struct GroupFragment {
 // `s`: the fragment's splat sample (splat_sample, which discards outside the disc).
 fn group_fragment(v: SplatVarying, s: SplatSample) -> GroupFragment {
     let n = this_pass.depth.y;
-    let faces_away = dot(v.normal, pixel_ray(v.clip.xy)) > 0.0;
-    let z = floor(depth_to_buffer(s.view_depth) * n) / n + select(0.0, 0.5 / n, faces_away);
+    let away = faces_away(v.normal, v.clip.xy);
+    let z = floor(depth_to_buffer(s.view_depth) * n) / n + select(0.0, 0.5 / n, away);
     return GroupFragment(premultiplied_fragment(v), min(z, 1.0));
 }
 

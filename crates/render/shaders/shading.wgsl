@@ -43,8 +43,7 @@ fn shade_sums(position: vec2<f32>, sums: vec4<f32>, normal_sum: vec3<f32>) -> ve
     let albedo = sums.rgb / sums.a;
 #ifdef LIT
     // Eye-space direction of this pixel's view ray.
-    let ndc = vec2<f32>(position.x * frame.viewport.z * 2.0 - 1.0, 1.0 - position.y * frame.viewport.w * 2.0);
-    let to_eye = normalize(vec3<f32>(-ndc * frame.lens.xy, 1.0));
+    let to_eye = normalize(-pixel_ray(position));
     let length_sq = dot(normal_sum, normal_sum);
     let normal = select(to_eye, normal_sum * inverseSqrt(length_sq), length_sq > 1e-20);
     return shade(albedo, normal, to_eye);

@@ -94,12 +94,6 @@ struct SplatSample {
     view_depth: f32,
 }
 
-// The eye-space direction of the view ray through pixel `position`, scaled to view depth 1.
-fn pixel_ray(position: vec2<f32>) -> vec3<f32> {
-    let ndc = vec2<f32>(position.x * frame.viewport.z * 2.0 - 1.0, 1.0 - position.y * frame.viewport.w * 2.0);
-    return vec3<f32>(ndc * frame.lens.xy, -1.0);
-}
-
 // Casts the pixel's ray on the splat; discards pixels outside the disc or the depth range.
 fn splat_sample(v: SplatVarying) -> SplatSample {
     let ray = pixel_ray(v.clip.xy);

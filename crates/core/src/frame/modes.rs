@@ -281,6 +281,14 @@ impl RenderMode {
     /// pointblend is for (see-through surfaces, near the reference, fast).
     pub const FIRST_RUN: RenderMode = RenderMode::Alg2;
 
+    /// Whether this mode, given a scene with transparency or not, runs the
+    /// opaque two-pass plan instead of its own: a transparent GPU mode on a
+    /// scene with nothing transparent. The render core, bench and `render`
+    /// all ask this.
+    pub fn runs_opaque(self, scene_has_transparency: bool) -> bool {
+        self.info().transparent && self.is_gpu() && !scene_has_transparency
+    }
+
     pub fn info(self) -> &'static ModeInfo {
         // The registry lists the modes in the order of `ALL`.
         &REGISTRY[RenderMode::ALL.iter().position(|m| *m == self).unwrap_or(0)]

@@ -186,7 +186,7 @@ pub fn gpu_mode(mode: RenderMode) -> Option<&'static dyn GpuMode> {
 pub fn plan(frame: &FrameDesc<'_>) -> Option<RenderPlan> {
     let mode = frame.settings.mode;
     let implementation = gpu_mode(mode)?;
-    if mode.info().transparent && !frame.transparent {
+    if mode.runs_opaque(frame.transparent) {
         let mut plan = two_pass::TwoPass.plan(frame);
         plan.notes.push(format!(
             "nothing in the scene is transparent, so {mode} runs the opaque two-pass plan: no peeling pass, no layer target"
