@@ -131,7 +131,7 @@ fn environment_maps_that_cannot_be_drawn_fail_with_one_line_and_write_nothing() 
         // A mode that does not draw environment effects says which do.
         (
             vec!["--mode".as_ref(), "two-pass".as_ref(), "--env".as_ref(), venice.as_os_str()],
-            "modes that do: alg2, reference",
+            "modes that do: alg2, tiled, reference",
         ),
         (vec!["--mode".as_ref(), "reference".as_ref(), "--env".as_ref(), missing.as_os_str()], "missing.exr"),
         (

@@ -66,6 +66,10 @@ fn check_against_shaders(plan: &RenderPlan, what: &str) {
         let (shader, entry, variant, inputs, outputs) = match command {
             Command::Splats(p) => (p.shader, p.entry, p.variant, &p.inputs, Some(p.colour.len())),
             Command::Fullscreen(p) => (p.shader, p.entry, p.variant, &p.inputs, None),
+            Command::Compute(p) => {
+                check_compute_against_shader(plan, p, &format!("{what}, pass {step}"));
+                continue;
+            }
         };
         let at = format!("{what}, pass {step} ({shader}:{entry}, {variant})");
         let source = shaders::compose(shader, variant).unwrap();
@@ -111,6 +115,48 @@ fn check_against_shaders(plan: &RenderPlan, what: &str) {
             assert_eq!(locations, outputs, "{at}: the entry point writes {locations} colour outputs");
         }
     }
+}
+
+/// A compute pass of the tile pipeline: the storage textures its entry
+/// point writes at group 1 are exactly the pass's outputs, in binding order,
+/// and every group-1 binding it uses is one the engine binds.
+fn check_compute_against_shader(plan: &RenderPlan, pass: &pointblend::render::passes::ComputePass, at: &str) {
+    use naga::TypeInner;
+    use pointblend::render::passes::compute::Binding;
+    let at = format!("{at} ({}:{}, {})", pass.shader, pass.entry, pass.variant);
+    let source = shaders::compose(pass.shader, pass.variant).unwrap();
+    let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{at}: {e}"));
+    let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{at}: {e:?}"));
+    let index = module.entry_points.iter().position(|e| e.name == pass.entry).unwrap_or_else(|| panic!("{at}"));
+    let uses = info.get_entry_point(index);
+    let format = pass.outputs.first().map_or(wgpu::TextureFormat::Rgba32Float, |&id| plan.target(id).unwrap().format);
+    let bound = pointblend::render::tile_engine::bindings(pass.work, pass.variant, format);
+    let mut textures = Vec::new();
+    for (handle, var) in module.global_variables.iter() {
+        let Some(binding) = var.binding.as_ref().filter(|b| b.group == 1) else { continue };
+        if uses[handle].is_empty() {
+            continue;
+        }
+        let kind = bound.get(binding.binding as usize).unwrap_or_else(|| panic!("{at}: binding {binding:?} unbound"));
+        match module.types[var.ty].inner {
+            TypeInner::Image { .. } => {
+                assert!(matches!(kind, Binding::StorageTexture(_)), "{at}: binding {} is {kind:?}", binding.binding);
+                textures.push(binding.binding);
+            }
+            _ => assert!(!matches!(kind, Binding::StorageTexture(_)), "{at}: binding {} is a texture", binding.binding),
+        }
+    }
+    textures.sort_unstable();
+    let planned: Vec<u32> = bound
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| matches!(b, Binding::StorageTexture(_)))
+        .map(|(i, _)| i as u32)
+        .collect();
+    assert_eq!(textures, planned, "{at}: the images it writes");
+    assert_eq!(planned.len(), pass.outputs.len(), "{at}: one binding per output {:?}", pass.outputs);
 }
 
 fn sorted(ids: &[TargetId]) -> Vec<&'static str> {
@@ -258,7 +304,7 @@ fn each_group_layer_pass_carries_its_own_layer_in_its_uniforms() {
         .commands()
         .filter_map(|(_, c)| match c {
             Command::Splats(pass) => Some(pass.uniforms.layers[0]),
-            Command::Fullscreen(_) => None,
+            Command::Fullscreen(_) | Command::Compute(_) => None,
         })
         .collect();
     assert_eq!(layers, (0..grouping.k() as u32).collect::<Vec<_>>());

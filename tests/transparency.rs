@@ -121,25 +121,10 @@ fn opacity_one_draws_the_opaque_picture_without_peeling_as_the_reference_does() 
     }
 }
 
-/// `count` splats at one point facing the camera, each of `opacity`.
-fn coincident(count: usize, opacity: f32, colour: [u8; 3]) -> Scene {
-    let mut cloud = PointCloud::default();
-    for _ in 0..count {
-        cloud.positions.push(Vec3::ZERO);
-        cloud.normals.push(Vec3::Z);
-        cloud.radii.push(0.1);
-        cloud.colours.push(colour);
-        cloud.opacity.push(opacity);
-    }
-    let mut scene = Scene::from(cloud);
-    scene.objects[0].material.two_sided = true;
-    scene
-}
-
 #[test]
 fn a_thousand_coincident_transparent_splats_blend_as_one_layer_without_overflow() {
     let colour = [240, 120, 30];
-    let scene = coincident(1000, 0.5, colour);
+    let scene = common::coincident(1000, 0.5, colour);
     assert!(scene.has_transparency());
     let camera =
         Camera { target: Vec3::ZERO, distance: 1.0, azimuth_deg: 0.0, elevation_deg: 0.0, ..view(&scene, 0.0, 0.0) };

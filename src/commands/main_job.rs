@@ -139,7 +139,12 @@ fn compact_table(rows: &[BenchRow]) -> String {
     let mut out = String::from("| mode | renders | ε | ms | geometry passes |\n|---|---|---:|---:|---:|\n");
     for r in default_rows(rows) {
         let eps = if r.ruler { "ruler".to_string() } else { eps_text(r.eps) };
-        let passes = if r.ruler { "CPU".to_string() } else { r.geometry_passes.to_string() };
+        let passes = match (r.ruler, r.geometry_passes) {
+            (true, _) => "CPU".to_string(),
+            // A GPU mode that draws no splat pass rasterises in compute passes.
+            (false, 0) => "0 (compute)".to_string(),
+            (false, n) => n.to_string(),
+        };
         out.push_str(&format!("| {} | {} | {eps} | {:.0} | {passes} |\n", r.variant, renders(r), r.frame_ms));
     }
     out

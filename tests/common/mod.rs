@@ -207,3 +207,19 @@ pub fn splats_crossing_the_near_plane(cloud: &pointblend::cloud::PointCloud, cam
         })
         .count()
 }
+
+/// `count` two-sided splats at the origin facing +z (the camera of a
+/// default view), of radius 0.1, each of `opacity` and `colour`.
+pub fn coincident(count: usize, opacity: f32, colour: [u8; 3]) -> pointblend::scene::Scene {
+    let mut cloud = pointblend::cloud::PointCloud::default();
+    for _ in 0..count {
+        cloud.positions.push(Vec3::ZERO);
+        cloud.normals.push(Vec3::Z);
+        cloud.radii.push(0.1);
+        cloud.colours.push(colour);
+        cloud.opacity.push(opacity);
+    }
+    let mut scene = pointblend::scene::Scene::from(cloud);
+    scene.objects[0].material.two_sided = true;
+    scene
+}

@@ -116,17 +116,20 @@ fn glass(
     let seen_reflected = environment_sample(reflected, levels.w);
     let refracted = vec3<f32>(red.w, green.w, blue.w);
     let reaching = select(1.0 - mean.a, environment_absorption(alpha, layers_behind), multi);
-    let cos_i = clamp(-dot(d, n), 0.0, 1.0);
-    var out = vec3<f32>(0.0);
-    for (var c = 0; c < 3; c++) {
-        let seen_through = environment_sample(through[c], levels[c])[c];
-        // Behind an opaque splat, `under` is the opaque image.
-        let beyond = select(seen_through, under[c], closed);
-        let fresnel = select(1.0, environment_schlick(environment_eta(c), cos_i), refracted[c] > 0.5);
-        let transmitted = mean[c] + reaching * beyond;
-        let surface = alpha * front[c] + (1.0 - alpha) * transmitted;
-        out[c] = fresnel * seen_reflected[c] + (1.0 - fresnel) * surface;
-    }
+    // Behind an opaque splat, `under` (the opaque image) is seen instead of the map.
+    let out = environment_glass_pixel(
+        d,
+        n,
+        alpha,
+        front,
+        mean.rgb,
+        reaching,
+        through,
+        levels.xyz,
+        refracted,
+        seen_reflected,
+        vec4<f32>(under, select(0.0, 1.0, closed)),
+    );
     return vec4<f32>(out, 1.0);
 }
 #endif

@@ -25,7 +25,11 @@ fn environment_uv(d: vec3<f32>) -> vec2<f32> {
     let front = frame.environment_front.xyz;
     let right = cross(up, front);
     let u = 0.5 + atan2(dot(d, right), dot(d, front)) / TAU;
-    let v = acos(clamp(dot(d, up), -1.0, 1.0)) / PI;
+    // The angle to up as atan2 of its sine and cosine: acos is approximated
+    // coarsely by some shader compilers (Mesa's to about 1e-4), which moves
+    // a lookup by a fraction of a texel and shows as noise on a sharp map.
+    let along = dot(d, up);
+    let v = atan2(length(d - along * up), along) / PI;
     return vec2<f32>(u, v);
 }
 
@@ -80,4 +84,37 @@ fn environment_absorption(alpha: f32, layers: f32) -> f32 {
         return 1.0;
     }
     return exp2(layers * log2(max(1.0 - clamp(alpha, 0.0, 1.0), 1e-30)));
+}
+
+// The colour of a pixel whose nearest layer is glass, per channel c
+// (crates/core/src/frame/environment.rs, glass_colour): F·E_R + (1 - F)·(α·C_F
+// + (1 - α)·(C_b + a·E_T)), with Schlick's F (1 under total internal
+// reflection, where `refracted` is 0), E_R the map along the reflection,
+// E_T the map along channel c's refracted ray `through[c]` at `levels[c]`,
+// unless `instead.a` > 0.5: then `instead.rgb` is seen beyond (an opaque
+// image behind the glass).
+fn environment_glass_pixel(
+    d: vec3<f32>,
+    n: vec3<f32>,
+    alpha: f32,
+    front: vec3<f32>,
+    behind: vec3<f32>,
+    reaching: f32,
+    through: array<vec3<f32>, 3>,
+    levels: vec3<f32>,
+    refracted: vec3<f32>,
+    seen_reflected: vec3<f32>,
+    instead: vec4<f32>,
+) -> vec3<f32> {
+    let cos_i = clamp(-dot(d, n), 0.0, 1.0);
+    var out = vec3<f32>(0.0);
+    for (var c = 0; c < 3; c++) {
+        let seen_through = environment_sample(through[c], levels[c])[c];
+        let beyond = select(seen_through, instead[c], instead.a > 0.5);
+        let fresnel = select(1.0, environment_schlick(environment_eta(c), cos_i), refracted[c] > 0.5);
+        let transmitted = behind[c] + reaching * beyond;
+        let surface = alpha * front[c] + (1.0 - alpha) * transmitted;
+        out[c] = fresnel * seen_reflected[c] + (1.0 - fresnel) * surface;
+    }
+    return out;
 }

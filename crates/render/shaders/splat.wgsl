@@ -1,4 +1,5 @@
 #include "frame.wgsl"
+#include "footprint.wgsl"
 
 // Splat geometry, shared by the splat passes: perspective-correct splat
 // rasterisation by ray casting (Guennebaud, "Approximate depth peeling",
@@ -44,18 +45,6 @@ struct SplatVarying {
 }
 
 const CULLED: vec4<f32> = vec4<f32>(2.0, 2.0, 2.0, 1.0);
-
-// The normal of the plane a disc is rasterised in: `n` tilted towards the
-// view ray `v` (unit, eye to centre) until |n·v| >= min_cos, keeping its side.
-fn footprint_normal(n: vec3<f32>, v: vec3<f32>, min_cos: f32) -> vec3<f32> {
-    let k = dot(n, v);
-    if abs(k) >= min_cos {
-        return n;
-    }
-    let side = select(1.0, -1.0, k < 0.0);
-    let across = normalize(n - k * v);
-    return across * sqrt(1.0 - min_cos * min_cos) + v * (side * min_cos);
-}
 
 @vertex
 fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying {

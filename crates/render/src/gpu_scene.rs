@@ -5,6 +5,8 @@
 //! because lavapipe caps a storage binding at 128 MiB. Buffers are split into
 //! chunks of at most [`MAX_CHUNK_BYTES`] so that no single allocation nears a
 //! driver's buffer-size limit; a 2.3M-point cloud takes three 32 MiB chunks.
+//! The same buffers are bound as storage by the tile pipeline (`tiled`),
+//! one chunk per dispatch.
 
 use wgpu::util::DeviceExt;
 
@@ -89,7 +91,11 @@ impl GpuScene {
             let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("GpuScene::splats"),
                 contents: bytemuck::cast_slice(&instances),
-                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+                // STORAGE: the tile pipeline reads the instances in compute passes.
+                usage: wgpu::BufferUsages::VERTEX
+                    | wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC,
             });
             chunks.push((buffer, (end - start) as u32));
             if keep_for_order {

@@ -11,7 +11,7 @@ use std::collections::HashMap;
 
 use super::context::GpuError;
 use super::gpu_data::{FrameUniforms, PassUniforms};
-use super::passes::{PipelineKey, PipelineKind, fullscreen, splat};
+use super::passes::{PipelineKey, PipelineKind, compute, fullscreen, splat};
 use super::shaders::{self, Variant};
 
 pub struct PipelineCache {
@@ -24,13 +24,18 @@ pub struct PipelineCache {
     layouts: HashMap<(Vec<wgpu::TextureViewDimension>, bool), wgpu::PipelineLayout>,
     environment_layout: wgpu::BindGroupLayout,
     pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
+    /// Compute pipelines by (file, entry, variant, group-1 bindings), with their group-1 layout.
+    computes: HashMap<ComputeKey, (wgpu::ComputePipeline, wgpu::BindGroupLayout)>,
 }
+
+/// What makes two compute pipelines the same.
+type ComputeKey = (&'static str, &'static str, Variant, Vec<compute::Binding>);
 
 impl PipelineCache {
     pub fn new(device: &wgpu::Device) -> Self {
         let uniform = |binding, dynamic: bool, size: usize| wgpu::BindGroupLayoutEntry {
             binding,
-            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
             ty: wgpu::BindingType::Buffer {
                 ty: wgpu::BufferBindingType::Uniform,
                 has_dynamic_offset: dynamic,
@@ -52,6 +57,7 @@ impl PipelineCache {
             input_layouts: HashMap::new(),
             layouts: HashMap::new(),
             pipelines: HashMap::new(),
+            computes: HashMap::new(),
         }
     }
 
@@ -83,13 +89,50 @@ impl PipelineCache {
         self.pipelines.get(key).ok_or_else(|| GpuError::Device("pipeline cache".into()))
     }
 
+    /// The compute pipeline of `entry` in `shader` built with `variant`,
+    /// whose group 1 holds `bindings`, and that group's layout; built on first use.
+    pub fn compute(
+        &mut self,
+        device: &wgpu::Device,
+        (shader, entry, variant): (&'static str, &'static str, Variant),
+        bindings: &[compute::Binding],
+    ) -> Result<&(wgpu::ComputePipeline, wgpu::BindGroupLayout), GpuError> {
+        let key: ComputeKey = (shader, entry, variant, bindings.to_vec());
+        if !self.computes.contains_key(&key) {
+            self.module(device, shader, variant)?;
+            let group = compute::layout(device, bindings);
+            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("Compute::pipeline_layout"),
+                bind_group_layouts: &[Some(&self.frame_layout), Some(&group)],
+                immediate_size: 0,
+            });
+            let label = format!("{shader}::{entry} ({variant})");
+            let pipeline = compute::pipeline(device, &label, &layout, &self.modules[&(shader, variant)], entry);
+            self.computes.insert(key.clone(), (pipeline, group));
+        }
+        self.computes.get(&key).ok_or_else(|| GpuError::Device("compute pipeline cache".into()))
+    }
+
+    /// Builds the module of `shader` in `variant` unless it is there.
+    fn module(&mut self, device: &wgpu::Device, shader: &'static str, variant: Variant) -> Result<(), GpuError> {
+        if let std::collections::hash_map::Entry::Vacant(slot) = self.modules.entry((shader, variant)) {
+            let source = shaders::compose(shader, variant)
+                .map_err(|message| GpuError::Validation { stage: "composing a shader".into(), message })?;
+            slot.insert(device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(shader),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            }));
+        }
+        Ok(())
+    }
+
     /// Pipelines built so far.
     pub fn len(&self) -> usize {
-        self.pipelines.len()
+        self.pipelines.len() + self.computes.len()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.pipelines.is_empty()
+        self.pipelines.is_empty() && self.computes.is_empty()
     }
 
     /// The shader modules built so far: (root file, variant).
@@ -98,14 +141,7 @@ impl PipelineCache {
     }
 
     fn build(&mut self, device: &wgpu::Device, key: &PipelineKey) -> Result<wgpu::RenderPipeline, GpuError> {
-        if let std::collections::hash_map::Entry::Vacant(slot) = self.modules.entry((key.shader, key.variant)) {
-            let source = shaders::compose(key.shader, key.variant)
-                .map_err(|message| GpuError::Validation { stage: "composing a shader".into(), message })?;
-            slot.insert(device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(key.shader),
-                source: wgpu::ShaderSource::Wgsl(source.into()),
-            }));
-        }
+        self.module(device, key.shader, key.variant)?;
         let environment = key.variant.has(Variant::ENVIRONMENT);
         let layout_key = (key.kind.inputs().to_vec(), environment);
         if !self.layouts.contains_key(&layout_key) {

@@ -40,6 +40,8 @@ pub struct TargetDesc {
     pub layout: Layout,
     /// Why the frame needs it.
     pub why: &'static str,
+    /// Whether a compute pass writes it as a storage texture.
+    pub storage: bool,
 }
 
 impl TargetDesc {
@@ -62,6 +64,16 @@ impl TargetDesc {
     pub fn bytes(&self) -> u64 {
         self.bytes_per_pixel() as u64 * self.width as u64 * self.height as u64 * self.layers() as u64
     }
+}
+
+/// A GPU buffer a frame's compute passes use (the tile pipeline's), for
+/// `--explain`'s memory account.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct BufferDesc {
+    pub name: &'static str,
+    pub bytes: u64,
+    /// What it holds and how its size follows from the frame.
+    pub why: String,
 }
 
 /// One step of a frame: the render passes it records (K of them for the
@@ -108,6 +120,11 @@ impl Step {
         self.commands.iter().any(|c| matches!(c, Command::Splats(_)))
     }
 
+    /// Whether it runs compute passes (the tile pipeline).
+    pub fn computes(&self) -> bool {
+        self.commands.iter().any(|c| matches!(c, Command::Compute(_)))
+    }
+
     /// Whether some pass of it draws its splats back to front.
     pub fn back_to_front(&self) -> bool {
         self.commands.iter().any(|c| matches!(c, Command::Splats(p) if p.back_to_front))
@@ -135,6 +152,8 @@ pub struct RenderPlan {
     pub steps: Vec<Step>,
     /// The targets the steps bind: what the pool allocates.
     pub targets: Vec<TargetDesc>,
+    /// The buffers its compute passes use (besides the scene's splats).
+    pub buffers: Vec<BufferDesc>,
     /// Remarks on the choices the plan made.
     pub notes: Vec<String>,
 }
@@ -152,6 +171,7 @@ impl RenderPlan {
             groups: 1,
             steps: Vec::new(),
             targets: Vec::new(),
+            buffers: Vec::new(),
             notes: Vec::new(),
         }
     }
@@ -171,7 +191,19 @@ impl RenderPlan {
         let bound: Vec<TargetId> =
             steps.iter().flat_map(|s| &s.commands).flat_map(touches::of).map(|(id, _, _)| id).collect();
         let targets = targets.into_iter().filter(|t| bound.contains(&t.id)).collect();
-        RenderPlan { mode, variant, width, height, splats, epsilon, groups, steps, targets, notes: Vec::new() }
+        RenderPlan {
+            mode,
+            variant,
+            width,
+            height,
+            splats,
+            epsilon,
+            groups,
+            steps,
+            targets,
+            buffers: Vec::new(),
+            notes: Vec::new(),
+        }
     }
 
     /// The render passes in order, each with the index of its step.
@@ -198,6 +230,16 @@ impl RenderPlan {
     /// Bytes of all targets.
     pub fn target_bytes(&self) -> u64 {
         self.targets.iter().map(TargetDesc::bytes).sum()
+    }
+
+    /// Bytes of the compute passes' buffers.
+    pub fn buffer_bytes(&self) -> u64 {
+        self.buffers.iter().map(|b| b.bytes).sum()
+    }
+
+    /// Steps that run compute passes.
+    pub fn compute_passes(&self) -> usize {
+        self.steps.iter().filter(|s| s.computes()).count()
     }
 
     pub fn target(&self, id: TargetId) -> Option<&TargetDesc> {
@@ -249,13 +291,15 @@ impl fmt::Display for RenderPlan {
             );
         }
         let geometry = self.geometry_passes();
+        let compute = self.compute_passes();
+        let computing = if compute > 0 { format!(" + {compute} compute") } else { String::new() };
         writeln!(
             f,
-            "mode {} ({}): {} geometry + {} full-screen passes, {} splats, {}x{}, ε = {:.4e}",
+            "mode {} ({}): {} geometry + {} full-screen{computing} passes, {} splats, {}x{}, ε = {:.4e}",
             self.mode,
             self.variant,
             geometry,
-            self.steps.len() - geometry,
+            self.steps.len() - geometry - compute,
             self.splats,
             self.width,
             self.height,
@@ -287,6 +331,20 @@ impl fmt::Display for RenderPlan {
                 t.why
             )?;
         }
-        write!(f, "  target memory: {:.1} MiB ({} bytes)", mib(self.target_bytes()), self.target_bytes())
+        for b in &self.buffers {
+            writeln!(f, "  buffer: {:<26} {:>7.1} MiB ({} bytes)  ({})", b.name, mib(b.bytes), b.bytes, b.why)?;
+        }
+        write!(f, "  target memory: {:.1} MiB ({} bytes)", mib(self.target_bytes()), self.target_bytes())?;
+        if !self.buffers.is_empty() {
+            let total = self.target_bytes() + self.buffer_bytes();
+            write!(
+                f,
+                "\n  buffer memory: {:.1} MiB; GPU memory of the frame: {:.1} MiB ({} bytes), besides the scene's splats",
+                mib(self.buffer_bytes()),
+                mib(total),
+                total
+            )?;
+        }
+        Ok(())
     }
 }

@@ -16,10 +16,11 @@ use super::context::{GpuContext, GpuError};
 use super::gpu_data::{FrameUniforms, PASS_SLOT_BYTES, PassUniforms};
 use super::gpu_scene::GpuScene;
 use super::modes::FrameDesc;
-use super::passes::{Command, Output, PipelineKey, PipelineKind, fullscreen, splat};
+use super::passes::{Command, Output, PipelineKey, PipelineKind, TileWork, fullscreen, splat};
 use super::pipelines::PipelineCache;
 use super::plan::{Layout, RenderPlan, TargetDesc};
 use super::targets::TargetPool;
+use super::tile_engine::{self, TileEngine};
 use super::timer::PassTimer;
 use super::touches::{self, Touch};
 use crate::frame::{Camera, RenderSettings};
@@ -37,6 +38,8 @@ pub struct Renderer {
     timing: bool,
     /// The targets the last frame's render passes bound.
     touches: Vec<Touch>,
+    /// The tile pipeline's buffers, made by the first frame that runs it.
+    tiles: Option<TileEngine>,
 }
 
 impl Renderer {
@@ -62,6 +65,7 @@ impl Renderer {
                 timer: None,
                 timing: false,
                 touches: Vec::new(),
+                tiles: None,
             }
         })
     }
@@ -73,7 +77,13 @@ impl Renderer {
     }
 
     /// Milliseconds per plan pass of the last frame (waits for it), if timing is on.
+    /// None as well for a plan of compute passes on a software adapter:
+    /// lavapipe's timestamps around a compute pass do not enclose its
+    /// dispatches (they read 0.01-3 ms around a raster that takes a second).
     pub fn pass_times(&self, ctx: &GpuContext, plan: &RenderPlan) -> Result<Option<Vec<f64>>, GpuError> {
+        if plan.compute_passes() > 0 && ctx.adapter.get_info().device_type == wgpu::DeviceType::Cpu {
+            return Ok(None);
+        }
         self.timer.as_ref().filter(|_| self.timing).map(|t| t.read(ctx, plan.steps.len())).transpose()
     }
 
@@ -95,6 +105,11 @@ impl Renderer {
     /// The shader modules built so far: (root file, variant).
     pub fn modules_built(&self) -> Vec<(&'static str, super::shaders::Variant)> {
         self.cache.modules()
+    }
+
+    /// The tile pipeline's buffers, if a frame has run it.
+    pub fn tile_engine(&self) -> Option<&TileEngine> {
+        self.tiles.as_ref()
     }
 
     /// Every target the last frame's render passes read or wrote, as the pool held it.
@@ -154,8 +169,12 @@ impl Renderer {
         size: (u32, u32),
     ) -> Result<RenderPlan, GpuError> {
         ctx.check_size(size.0, size.1)?;
-        let plan = Self::plan(scene, camera, settings, size)?;
+        let mut plan = Self::plan(scene, camera, settings, size)?;
         plan.check_fits(&ctx.device.limits(), ctx.target_budget())?;
+        if plan.compute_passes() > 0 && !self.tiles.as_ref().is_some_and(|t| t.fits(scene, size)) {
+            self.tiles = None; // free the old buffers first
+            self.tiles = Some(TileEngine::new(ctx, scene, size)?);
+        }
         if plan.back_to_front() {
             scene.order_back_to_front(&ctx.queue, camera.view_ray(), settings.order);
         }
@@ -188,6 +207,15 @@ impl Renderer {
         }
         ctx.queue.write_buffer(&self.pass_buffer, 0, &slots);
         ctx.checked("rendering", || self.encode(ctx, scene, &plan, &commands, output, format))??;
+        if let Some(tiles) = self.tiles.as_ref().filter(|_| plan.compute_passes() > 0) {
+            // The entries' size is known now: the plan says what the frame used.
+            let entries = (tiles.last.entries, tiles.entry_capacity());
+            plan.buffers = tile_engine::planned_buffers(scene.len, size, Some(entries));
+            plan.notes.push(format!(
+                "tile lists: {} entries, the longest {} splats",
+                tiles.last.entries, tiles.last.longest_list
+            ));
+        }
         Ok(plan)
     }
 
@@ -213,8 +241,10 @@ impl Renderer {
         let device = &ctx.device;
         let missing = |what: &str| GpuError::Device(format!("the plan has no target '{what}'"));
         let desc = |id: super::plan::TargetId| plan.target(id).ok_or_else(|| missing(id.0));
-        let mut encoder =
-            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("Renderer::encoder") });
+        let new_encoder =
+            || device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("Renderer::encoder") });
+        let mut encoder = new_encoder();
+        let budget = ctx.target_budget().saturating_sub(plan.target_bytes() + plan.buffer_bytes());
         let timer = self.timer.as_ref().filter(|_| self.timing);
         self.touches.clear();
         for (i, &(step, command)) in commands.iter().enumerate() {
@@ -253,6 +283,33 @@ impl Renderer {
                     };
                     let group = inputs.as_ref().map(|i| &i.1);
                     splat::record(&mut encoder, pass, pipeline, frame, offset, group, &attachments, scene, stamps);
+                }
+                Command::Compute(pass) => {
+                    let tiles = self.tiles.as_mut().ok_or_else(|| missing("tile pipeline"))?;
+                    if pass.work == TileWork::Bin {
+                        // The counts must come back before the entries can be placed.
+                        ctx.queue.submit([std::mem::replace(&mut encoder, new_encoder()).finish()]);
+                        tiles.bin_offsets(ctx, budget)?;
+                    }
+                    let outputs = pass
+                        .outputs
+                        .iter()
+                        .map(|&id| self.pool.view(id).ok_or_else(|| missing(id.0)))
+                        .collect::<Result<Vec<_>, _>>()?;
+                    let format = match pass.outputs.first() {
+                        Some(&id) => desc(id)?.format,
+                        None => wgpu::TextureFormat::Rgba32Float,
+                    };
+                    let bindings = tile_engine::bindings(pass.work, pass.variant, format);
+                    let (pipeline, layout) =
+                        self.cache.compute(device, (pass.shader, pass.entry, pass.variant), &bindings)?;
+                    let stamps = stamps.map(|s| wgpu::ComputePassTimestampWrites {
+                        query_set: s.query_set,
+                        beginning_of_pass_write_index: s.beginning_of_pass_write_index,
+                        end_of_pass_write_index: s.end_of_pass_write_index,
+                    });
+                    let frame = (&self.frame_bind_group, offset);
+                    tiles.record(device, &mut encoder, pass, (pipeline, layout), frame, scene, &outputs, stamps);
                 }
                 Command::Fullscreen(pass) => {
                     let (target_view, target_format) = match pass.output {

@@ -16,9 +16,9 @@
 include!(concat!(env!("OUT_DIR"), "/shader_files.rs"));
 
 /// Whether `name` is a file passes build modules from (it has a fragment
-/// entry point) rather than one that is only included.
+/// or compute entry point) rather than one that is only included.
 pub fn is_root(name: &str) -> bool {
-    FILES.iter().any(|(n, source)| *n == name && source.contains("@fragment"))
+    FILES.iter().any(|(n, source)| *n == name && (source.contains("@fragment") || source.contains("@compute")))
 }
 
 /// The root files: those a pass can build a module from.

@@ -137,7 +137,11 @@ fn create(device: &wgpu::Device, desc: &TargetDesc) -> PooledTarget {
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: desc.format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        usage: if desc.storage {
+            wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING
+        } else {
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING
+        },
         view_formats: &[],
     });
     let view = |dimension, base_array_layer, array_layer_count| {

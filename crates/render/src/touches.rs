@@ -57,6 +57,9 @@ pub fn of(command: &Command) -> Vec<(TargetId, Option<u32>, Access)> {
                 }
             }
         }
+        Command::Compute(pass) => {
+            out.extend(pass.outputs.iter().map(|&id| (id, Some(0), Access::Write)));
+        }
         Command::Fullscreen(pass) => {
             out.extend(pass.inputs.iter().map(|&id| (id, None, Access::Read)));
             if let Output::Target(id) = pass.output {

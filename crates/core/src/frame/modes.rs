@@ -33,6 +33,10 @@ pub enum RenderMode {
     /// Plain α-blending: every splat back to front over the ones behind, no
     /// culling; the double-blending baseline of Zhang & Pajarola §5.2.
     AlphaBlend,
+    /// The exact reference's algorithm on the GPU: splats binned into screen
+    /// tiles by compute passes, per-pixel ε-layers in depth order, composited
+    /// front to back.
+    Tiled,
     /// The exact A-buffer renderer on the CPU: the ground truth for error.
     Reference,
 }
@@ -68,6 +72,9 @@ pub struct ModeInfo {
     /// grouping drawn when the settings hold the opaque default, and whose
     /// extension is added to any other grouping that names none.
     pub covering_grouping: Option<GroupingSpec>,
+    /// For a transparent mode: whether it draws a scene with nothing
+    /// transparent with its own plan (else it runs the two-pass plan).
+    pub draws_opaque_scenes: bool,
     /// Whether it draws the environment effects (reflection, refraction,
     /// Fresnel, dispersion, absorption; Zhang & Pajarola §5.2.3) of a scene
     /// with an environment map. The others refuse such a scene.
@@ -82,7 +89,7 @@ const ALG1_GROUPING: GroupingSpec = GroupingSpec {
     extension: Extension::Enlarge,
 };
 
-const REGISTRY: [ModeInfo; 8] = [
+const REGISTRY: [ModeInfo; 9] = [
     ModeInfo {
         mode: RenderMode::TwoPass,
         name: "two-pass",
@@ -101,6 +108,7 @@ const REGISTRY: [ModeInfo; 8] = [
         bench_variants: &["", "quality=unfiltered"],
         default_peel_layers: 1,
         covering_grouping: None,
+        draws_opaque_scenes: false,
         environment: false,
     },
     ModeInfo {
@@ -123,6 +131,7 @@ const REGISTRY: [ModeInfo; 8] = [
         bench_variants: &[""],
         default_peel_layers: 1,
         covering_grouping: None,
+        draws_opaque_scenes: false,
         environment: false,
     },
     ModeInfo {
@@ -143,6 +152,7 @@ const REGISTRY: [ModeInfo; 8] = [
         bench_variants: &["", "layers=4", "layers=2"],
         default_peel_layers: 8,
         covering_grouping: None,
+        draws_opaque_scenes: false,
         environment: false,
     },
     ModeInfo {
@@ -163,6 +173,7 @@ const REGISTRY: [ModeInfo; 8] = [
         bench_variants: &["", "layers=2"],
         default_peel_layers: 3,
         covering_grouping: None,
+        draws_opaque_scenes: false,
         environment: false,
     },
     ModeInfo {
@@ -185,6 +196,7 @@ const REGISTRY: [ModeInfo; 8] = [
         bench_variants: &[""],
         default_peel_layers: 1,
         covering_grouping: Some(ALG1_GROUPING),
+        draws_opaque_scenes: false,
         environment: false,
     },
     ModeInfo {
@@ -211,6 +223,7 @@ const REGISTRY: [ModeInfo; 8] = [
         bench_variants: &[""],
         default_peel_layers: 1,
         covering_grouping: Some(ALG1_GROUPING),
+        draws_opaque_scenes: false,
         environment: true,
     },
     ModeInfo {
@@ -230,7 +243,31 @@ const REGISTRY: [ModeInfo; 8] = [
         bench_variants: &[""],
         default_peel_layers: 1,
         covering_grouping: None,
+        draws_opaque_scenes: false,
         environment: false,
+    },
+    ModeInfo {
+        mode: RenderMode::Tiled,
+        name: "tiled",
+        description: "The exact reference on the GPU: splats binned into screen tiles and sorted by compute passes, every pixel's hits grouped into ε-layers in depth order and composited front to back, with no layer cap.",
+        parameters: &[
+            Parameter::Epsilon,
+            Parameter::RadiusScale,
+            Parameter::BackfaceCulling,
+            Parameter::Lighting,
+            Parameter::Background,
+            Parameter::EnvironmentLayers,
+            Parameter::Eta,
+            Parameter::Dispersion,
+        ],
+        device: Device::Gpu,
+        transparent: true,
+        preview: RenderMode::Tiled,
+        bench_variants: &[""],
+        default_peel_layers: 1,
+        covering_grouping: None,
+        draws_opaque_scenes: true,
+        environment: true,
     },
     ModeInfo {
         mode: RenderMode::Reference,
@@ -254,12 +291,13 @@ const REGISTRY: [ModeInfo; 8] = [
         bench_variants: &[""],
         default_peel_layers: 1,
         covering_grouping: None,
+        draws_opaque_scenes: false,
         environment: true,
     },
 ];
 
 impl RenderMode {
-    pub const ALL: [RenderMode; 8] = [
+    pub const ALL: [RenderMode; 9] = [
         RenderMode::TwoPass,
         RenderMode::Deferred,
         RenderMode::DepthPeel,
@@ -267,6 +305,7 @@ impl RenderMode {
         RenderMode::Alg1,
         RenderMode::Alg2,
         RenderMode::AlphaBlend,
+        RenderMode::Tiled,
         RenderMode::Reference,
     ];
 
@@ -283,10 +322,11 @@ impl RenderMode {
 
     /// Whether this mode, given a scene with transparency or not, runs the
     /// opaque two-pass plan instead of its own: a transparent GPU mode on a
-    /// scene with nothing transparent. The render core, bench and `render`
-    /// all ask this.
+    /// scene with nothing transparent, unless it draws opaque scenes itself.
+    /// The render core, bench and `render` all ask this.
     pub fn runs_opaque(self, scene_has_transparency: bool) -> bool {
-        self.info().transparent && self.is_gpu() && !scene_has_transparency
+        let info = self.info();
+        info.transparent && self.is_gpu() && !info.draws_opaque_scenes && !scene_has_transparency
     }
 
     pub fn info(self) -> &'static ModeInfo {

@@ -47,7 +47,8 @@ impl ReferenceOptions {
             shading: settings.shading,
             lighting: settings.lighting,
             radius_scale: settings.radius_scale,
-            transparent: settings.mode.info().transparent,
+            // An opaque scene is measured as opaque modes draw it: facing is not split.
+            transparent: settings.mode.info().transparent && scene.has_transparency(),
             progress: false,
             // Only what the mode draws: a mode without the effects is measured without them.
             environment: EnvironmentSettings { enabled: settings.draws_environment(), ..settings.environment },

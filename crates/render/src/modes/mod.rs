@@ -21,6 +21,7 @@ mod deferred;
 mod depth_peel;
 mod opaque_part;
 mod peeling;
+mod tiled;
 mod two_pass;
 
 use std::ops::Range;
@@ -107,7 +108,17 @@ impl FrameDesc<'_> {
         layout: super::plan::Layout,
         why: &'static str,
     ) -> super::plan::TargetDesc {
-        super::plan::TargetDesc { id, format, width: self.width, height: self.height, layout, why }
+        super::plan::TargetDesc { id, format, width: self.width, height: self.height, layout, why, storage: false }
+    }
+
+    /// A single image of the frame's size that a compute pass writes.
+    pub fn storage_target(
+        &self,
+        id: super::plan::TargetId,
+        format: wgpu::TextureFormat,
+        why: &'static str,
+    ) -> super::plan::TargetDesc {
+        super::plan::TargetDesc { storage: true, ..self.target(id, format, super::plan::Layout::Single, why) }
     }
 
     /// The instances of group `k` among `groups` (none past the last group).
@@ -176,6 +187,7 @@ pub fn gpu_mode(mode: RenderMode) -> Option<&'static dyn GpuMode> {
         RenderMode::Alg1 => Some(&alg1::Alg1),
         RenderMode::Alg2 => Some(&alg2::Alg2),
         RenderMode::AlphaBlend => Some(&alpha_blend::AlphaBlend),
+        RenderMode::Tiled => Some(&tiled::Tiled),
         RenderMode::Reference => None,
     }
 }

@@ -1,6 +1,7 @@
-//! The two kinds of pass every mode is built from, as data: a splat pass
+//! The kinds of pass every mode is built from, as data: a splat pass
 //! ([`SplatPass`]) draws splats into targets, a full-screen pass
-//! ([`FullscreenPass`]) reads targets and writes the frame (or a target).
+//! ([`FullscreenPass`]) reads targets and writes the frame (or a target),
+//! and a compute pass ([`ComputePass`]) runs one stage of the tile pipeline.
 //!
 //! Visibility, accumulation, nearest-splat and group-layer passes differ only
 //! in their fragment entry point, what they write, how they depth-test and
@@ -9,6 +10,7 @@
 //! A mode's plan holds its frame as steps of [`Command`]s; the renderer runs
 //! them, taking pipelines from the cache by their [`PipelineKey`].
 
+pub mod compute;
 pub mod fullscreen;
 pub mod splat;
 
@@ -162,11 +164,43 @@ impl FullscreenPass {
     }
 }
 
-/// One render pass of a recorded frame.
+/// What a compute pass of the tile pipeline does (`tiled`; the buffers it
+/// binds and the size of its dispatch are the tile engine's, see
+/// `tile_engine.rs`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum TileWork {
+    /// Per splat: eye space, footprint, covered tiles counted.
+    Project,
+    /// Per splat: an entry in every covered tile's list.
+    Bin,
+    /// Per tile of a short list: sorted by nearest depth, one invocation each.
+    SortShort,
+    /// Per tile of a long list: sorted by nearest depth, one workgroup each.
+    SortLong,
+    /// Per tile, per pixel: ε-layers in depth order, composited.
+    Raster,
+}
+
+/// A compute pass of the tile pipeline.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ComputePass {
+    pub label: &'static str,
+    pub shader: &'static str,
+    pub entry: &'static str,
+    pub variant: Variant,
+    pub work: TileWork,
+    /// Targets it writes as storage textures, at group 1 from binding 4 on
+    /// (the raster's image and, with an environment map, its glass layers).
+    pub outputs: Vec<TargetId>,
+    pub uniforms: PassUniforms,
+}
+
+/// One pass of a recorded frame.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Command {
     Splats(SplatPass),
     Fullscreen(FullscreenPass),
+    Compute(ComputePass),
 }
 
 impl Command {
@@ -174,6 +208,7 @@ impl Command {
         match self {
             Command::Splats(pass) => &pass.uniforms,
             Command::Fullscreen(pass) => &pass.uniforms,
+            Command::Compute(pass) => &pass.uniforms,
         }
     }
 
@@ -182,6 +217,7 @@ impl Command {
         match self {
             Command::Splats(pass) => pass.shader,
             Command::Fullscreen(pass) => pass.shader,
+            Command::Compute(pass) => pass.shader,
         }
     }
 }

@@ -1,0 +1,53 @@
+#include "frame.wgsl"
+
+// What the passes of the tile pipeline share (`tiled`: the exact reference's
+// algorithm as GPU compute; crates/render/src/tile_engine.rs records them):
+// the tile size, the splat record the projection writes for the per-pixel
+// pass, the grid constants, and the sort key.
+
+// Side of a square screen tile in pixels; one workgroup of TILE² invocations
+// (one per pixel) rasterises a tile. Mirrors TILE in tile_engine.rs, where
+// the choice is measured.
+const TILE: u32 = 8u;
+// Invocations of the per-splat and per-tile passes.
+const GROUP: u32 = 256u;
+
+// A splat in eye space, as the per-pixel pass intersects it (48 bytes).
+struct EyeSplat {
+    centre: vec3<f32>,
+    // 1/r² of the (scaled) radius.
+    inv_r2: f32,
+    // Unit normal of the plane the footprint is cast on (tilted when grazing).
+    plane: vec3<f32>,
+    opacity: f32,
+    // Unit shading normal.
+    normal: vec3<f32>,
+    // rgb8 in the low three bytes.
+    colour: u32,
+}
+
+struct Tiles {
+    // tile columns, tile rows, the first splat this dispatch handles, how many
+    grid: vec4<u32>,
+}
+
+// The index of this invocation among a dispatch of GROUP-wide workgroups
+// laid out in two dimensions (a dimension holds at most 65535 workgroups).
+fn invocation(workgroup: vec3<u32>, workgroups: vec3<u32>, local: u32) -> u32 {
+    return (workgroup.y * workgroups.x + workgroup.x) * GROUP + local;
+}
+
+// The workgroup's index in a two-dimensional dispatch.
+fn workgroup_index(workgroup: vec3<u32>, workgroups: vec3<u32>) -> u32 {
+    return workgroup.y * workgroups.x + workgroup.x;
+}
+
+// A view depth as a u32 whose unsigned order is the float's order.
+fn depth_key(depth: f32) -> u32 {
+    let bits = bitcast<u32>(depth);
+    return select(bits | 0x80000000u, ~bits, (bits & 0x80000000u) != 0u);
+}
+
+fn key_depth(key: u32) -> f32 {
+    return bitcast<f32>(select(~key, key & 0x7fffffffu, (key & 0x80000000u) != 0u));
+}

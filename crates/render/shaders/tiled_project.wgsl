@@ -1,0 +1,102 @@
+#include "tiled_common.wgsl"
+#include "footprint.wgsl"
+
+// `tiled`, pass 1, per splat: into eye space (culled as the reference culls:
+// back faces when asked, discs wholly outside the near and far planes), the
+// footprint plane with bounded foreshortening, and the tiles its disc may
+// cover: the exact eye-space box of the disc (c ± r·sqrt(1 - n_i²) per axis)
+// projected at its 8 corners, or the whole screen when the box reaches the
+// near plane (crates/core/src/reference/tiles.rs bins the same box). Each
+// covered tile's count goes up by one; the CPU turns the counts into offsets
+// (a prefix sum over the tiles) before pass 2 writes the entries. The sort
+// key is the smallest view depth on the disc, -(c.z + half.z): no ray meets
+// the disc nearer than it, which the per-pixel pass relies on.
+
+@group(1) @binding(0) var<uniform> tiles: Tiles;
+// The scene's splat instances (36 bytes each, see gpu_data.rs), read as words.
+@group(1) @binding(1) var<storage, read> splats: array<f32>;
+@group(1) @binding(2) var<storage, read_write> eye: array<EyeSplat>;
+// Per splat: pixel columns x0 | x1 << 16, pixel rows y0 | y1 << 16, sort key; x0 > x1 when none.
+@group(1) @binding(3) var<storage, read_write> rects: array<vec4<u32>>;
+@group(1) @binding(4) var<storage, read_write> counts: array<atomic<u32>>;
+
+const NO_TILES: vec4<u32> = vec4<u32>(1u, 0u, 0u, 0u);
+
+@compute @workgroup_size(256)
+fn cs_project(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) workgroups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let at = invocation(workgroup, workgroups, local);
+    if at >= tiles.grid.w {
+        return;
+    }
+    let i = tiles.grid.z + at;
+    let b = at * 9u;
+    let position = vec3<f32>(splats[b], splats[b + 1u], splats[b + 2u]);
+    let signed_radius = splats[b + 3u];
+    let normal_in = vec3<f32>(splats[b + 4u], splats[b + 5u], splats[b + 6u]);
+    let centre = (frame.view * vec4<f32>(position, 1.0)).xyz;
+    let normal_eye = (frame.view * vec4<f32>(normal_in, 0.0)).xyz;
+    let normal_length = length(normal_eye);
+    let normal = select(vec3<f32>(0.0, 0.0, 1.0), normal_eye / normal_length, normal_length > 1e-20);
+    let depth = -centre.z;
+    let radius = abs(signed_radius) * frame.lens.z;
+    let distance = length(centre);
+    let towards = select(vec3<f32>(0.0), centre / distance, distance > 0.0);
+    let plane = footprint_normal(normal, towards, frame.splat.z);
+    eye[i] = EyeSplat(
+        centre,
+        1.0 / max(radius * radius, 1e-30),
+        plane,
+        clamp(splats[b + 8u], 0.0, 1.0),
+        normal,
+        bitcast<u32>(splats[b + 7u]),
+    );
+    // Back faces of one-sided splats (a two-sided one has a negative radius).
+    let culled = frame.splat.w > 0.5 && signed_radius > 0.0 && dot(normal, centre) > 0.0;
+    let usable = depth - radius < frame.depth.y && depth + radius > frame.depth.x && radius > 0.0;
+    if culled || !usable {
+        rects[i] = NO_TILES;
+        return;
+    }
+    let half = sqrt(max(vec3<f32>(1.0) - plane * plane, vec3<f32>(0.0))) * radius;
+    let lo = centre - half;
+    let hi = centre + half;
+    let size = frame.viewport.xy;
+    var low = vec2<f32>(0.0);
+    var high = size;
+    if hi.z < -frame.depth.x {
+        low = vec2<f32>(3.4e38);
+        high = vec2<f32>(-3.4e38);
+        for (var corner = 0u; corner < 8u; corner++) {
+            let p = select(lo, hi, vec3<bool>((corner & 1u) != 0u, (corner & 2u) != 0u, (corner & 4u) != 0u));
+            let clip = frame.proj * vec4<f32>(p, 1.0);
+            let ndc = clip.xy / clip.w;
+            let px = vec2<f32>((ndc.x * 0.5 + 0.5) * size.x, (0.5 - ndc.y * 0.5) * size.y);
+            low = min(low, px);
+            high = max(high, px);
+        }
+        if high.x < 0.0 || high.y < 0.0 || low.x > size.x || low.y > size.y {
+            rects[i] = NO_TILES;
+            return;
+        }
+    }
+    let last = vec2<u32>(size) - vec2<u32>(1u);
+    let first_pixel = min(vec2<u32>(max(floor(low), vec2<f32>(0.0))), last);
+    let last_pixel = min(vec2<u32>(max(floor(high), vec2<f32>(0.0))), last);
+    let t0 = first_pixel / TILE;
+    let t1 = last_pixel / TILE;
+    rects[i] = vec4<u32>(
+        first_pixel.x | (last_pixel.x << 16u),
+        first_pixel.y | (last_pixel.y << 16u),
+        depth_key(-hi.z),
+        0u,
+    );
+    for (var ty = t0.y; ty <= t1.y; ty++) {
+        for (var tx = t0.x; tx <= t1.x; tx++) {
+            atomicAdd(&counts[ty * tiles.grid.x + tx], 1u);
+        }
+    }
+}

@@ -1,0 +1,348 @@
+#include "tiled_common.wgsl"
+#include "shading.wgsl"
+
+// `tiled`, pass 4, one workgroup per tile and one invocation per pixel: the
+// exact reference (crates/core/src/reference/raster.rs) on the GPU. Each
+// invocation walks its tile's list on its own, with no barrier: staging the
+// list in workgroup memory behind barriers measured slower on lavapipe,
+// whose barriers spill every invocation's state.
+//
+// The tile's entries arrive sorted by the nearest depth on each disc (pass
+// 3). Each pixel casts its ray on every disc in that order (Eq. 3 weight,
+// Eq. 4 depth). A hit waits in a small sorted window until the next disc's
+// key is beyond it: no later disc can be hit nearer than its key, so hits
+// leave the window in exact depth order. (Should more than WINDOW hits wait
+// at once, the nearest leaves early; `stats` counts these.)
+//
+// Ordered hits are grouped into ε-layers as the reference groups them: a
+// layer is the hits of one facing within ε of its first hit (facing is not
+// split in an opaque scene), so at most two layers are open at once, one
+// per facing; a hit beyond a layer's reach closes it, older layers first.
+// A closed layer is normalised (Eq. 1: weighted colour, normal, opacity),
+// shaded facing the viewer and composited front to back; the pixel stops
+// at an opaque layer or when less than 1/1024 of the light gets through.
+// There is no cap on the number of layers. With an environment map
+// (ENVIRONMENT) the pixel also keeps its nearest transparent layer and what
+// lies behind it, counting layers to the end when the multi-layer effects
+// need the exact count; tiled_present.wgsl looks the map up.
+
+@group(1) @binding(0) var<uniform> tiles: Tiles;
+@group(1) @binding(1) var<storage, read> offsets: array<u32>;
+@group(1) @binding(2) var<storage, read> entries: array<vec2<u32>>;
+@group(1) @binding(3) var<storage, read> eye: array<EyeSplat>;
+// Per splat: the pixels its disc may cover (x0 | x1 << 16, y0 | y1 << 16, key).
+@group(1) @binding(6) var<storage, read> rects: array<vec4<u32>>;
+// rgb composited over the background, layers met
+@group(1) @binding(4) var colour_out: texture_storage_2d<rgba32float, write>;
+// [0]: hits that left a full window before their turn (see above).
+@group(1) @binding(5) var<storage, read_write> stats: array<atomic<u32>>;
+#ifdef ENVIRONMENT
+// The nearest transparent layer: shaded colour and opacity; unit normal (zero: none) and layers behind;
+// the layers behind composited and their transmittance (-1 when an opaque layer ends the ray).
+@group(1) @binding(7) var glass_front_out: texture_storage_2d<rgba32float, write>;
+@group(1) @binding(8) var glass_normal_out: texture_storage_2d<rgba32float, write>;
+@group(1) @binding(9) var glass_behind_out: texture_storage_2d<rgba32float, write>;
+#endif
+
+const WINDOW: u32 = 8u;
+// Below this transmittance the layers behind cannot change an 8-bit colour.
+const LAST_LIGHT: f32 = 0.0009765625;
+
+
+struct Layer {
+    front: f32,
+    facing: bool,
+    w: f32,
+    colour: vec3<f32>,
+    normal: vec3<f32>,
+    alpha: f32,
+}
+
+// The pixel's state. Every array is indexed by constants only (its loops
+// unroll), so the shader compiler keeps it in registers: a window indexed by
+// a per-pixel count was twice as slow on lavapipe.
+var<private> ray: vec3<f32>;
+var<private> split_facing: bool;
+// Hits waiting, nearest first; empty slots hold NO_HIT.
+var<private> window_depth: array<f32, WINDOW>;
+var<private> window_weight: array<f32, WINDOW>;
+var<private> window_splat: array<u32, WINDOW>;
+// The open layers, the older first (at most one per facing).
+var<private> older: Layer;
+var<private> newer: Layer;
+var<private> open_count: u32;
+var<private> colour: vec3<f32>;
+var<private> through: f32;
+var<private> layers: u32;
+var<private> done: bool;
+var<private> early: u32;
+#ifdef ENVIRONMENT
+var<private> glass: bool;
+var<private> glass_front: vec4<f32>;
+var<private> glass_normal: vec3<f32>;
+var<private> glass_behind: vec3<f32>;
+var<private> glass_through: f32;
+var<private> glass_layers_behind: f32;
+var<private> glass_closed: bool;
+#endif
+
+const NO_HIT: f32 = 3.4e38;
+
+fn unpack_colour(c: u32) -> vec3<f32> {
+    return vec3<f32>(f32(c & 0xffu), f32((c >> 8u) & 0xffu), f32((c >> 16u) & 0xffu)) / 255.0;
+}
+
+fn close_layer(layer: Layer) {
+    if !(layer.w > 0.0) {
+        return;
+    }
+    layers += 1u;
+    let alpha = clamp(layer.alpha / layer.w, 0.0, 1.0);
+#ifdef ENVIRONMENT
+    if glass {
+        if alpha < 1.0 {
+            glass_layers_behind += 1.0;
+        } else {
+            glass_closed = true;
+        }
+    }
+#endif
+    if through <= 1e-6 {
+        return; // only counted
+    }
+    let to_eye = -normalize(ray);
+    let normal_length = length(layer.normal);
+    let normal = select(to_eye, layer.normal / normal_length, normal_length > 1e-20);
+    let albedo = layer.colour / layer.w;
+#ifdef LIT
+    let shaded = shade(albedo, normal, to_eye);
+#else
+    let shaded = clamp(albedo, vec3<f32>(0.0), vec3<f32>(1.0));
+#endif
+#ifdef ENVIRONMENT
+    if glass {
+        glass_behind += glass_through * alpha * shaded;
+        glass_through *= 1.0 - alpha;
+    } else if layers == 1u && alpha < 1.0 {
+        glass = true;
+        glass_front = vec4<f32>(shaded, alpha);
+        glass_normal = select(normal, -normal, dot(normal, to_eye) < 0.0);
+        glass_behind = vec3<f32>(0.0);
+        glass_through = 1.0;
+        glass_layers_behind = 0.0;
+        glass_closed = false;
+    }
+#endif
+    colour += through * alpha * shaded;
+    through *= 1.0 - alpha;
+    if through <= 0.0 {
+#ifdef ENVIRONMENT
+        if glass {
+            glass_closed = true;
+        }
+#endif
+        done = true;
+        return;
+    }
+    var counting = false;
+#ifdef ENVIRONMENT
+    // The multi-layer effects need every layer behind the glass counted.
+    counting = glass && frame.environment.z > 0.5;
+#endif
+    if through < LAST_LIGHT && !counting {
+        done = true;
+    }
+}
+
+// Closes the oldest open layer.
+fn close_oldest() {
+    let oldest = older;
+    older = newer;
+    open_count -= 1u;
+    close_layer(oldest);
+}
+
+fn add_to(layer: ptr<private, Layer>, weight: f32, s: EyeSplat) {
+    (*layer).w += weight;
+    (*layer).colour += unpack_colour(s.colour) * weight;
+    (*layer).normal += s.normal * weight;
+    (*layer).alpha += s.opacity * weight;
+}
+
+// One hit, in depth order, into its ε-layer.
+fn add_hit(depth: f32, weight: f32, splat: u32) {
+    let epsilon = this_pass.depth.x;
+    while open_count > 0u && depth > older.front + epsilon && !done {
+        close_oldest();
+    }
+    if done {
+        return;
+    }
+    let s = eye[splat];
+    let facing = dot(s.normal, ray) < 0.0;
+    if open_count > 0u && (!split_facing || older.facing == facing) {
+        add_to(&older, weight, s);
+    } else if open_count > 1u && newer.facing == facing {
+        add_to(&newer, weight, s);
+    } else if open_count == 0u {
+        older = Layer(depth, facing, 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
+        add_to(&older, weight, s);
+        open_count = 1u;
+    } else {
+        newer = Layer(depth, facing, 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
+        add_to(&newer, weight, s);
+        open_count = 2u;
+    }
+}
+
+// The nearest waiting hit leaves the window.
+fn release() {
+    let depth = window_depth[0];
+    let weight = window_weight[0];
+    let splat = window_splat[0];
+    for (var i = 0u; i < WINDOW - 1u; i++) {
+        window_depth[i] = window_depth[i + 1u];
+        window_weight[i] = window_weight[i + 1u];
+        window_splat[i] = window_splat[i + 1u];
+    }
+    window_depth[WINDOW - 1u] = NO_HIT;
+    add_hit(depth, weight, splat);
+}
+
+// A hit waits for its turn, in order of depth (the window has room).
+fn wait(depth: f32, weight: f32, splat: u32) {
+    var d = depth;
+    var w = weight;
+    var s = splat;
+    for (var i = 0u; i < WINDOW; i++) {
+        let here = window_depth[i];
+        let ahead = d < here;
+        let kept_w = window_weight[i];
+        let kept_s = window_splat[i];
+        window_depth[i] = select(here, d, ahead);
+        window_weight[i] = select(kept_w, w, ahead);
+        window_splat[i] = select(kept_s, s, ahead);
+        d = select(d, here, ahead);
+        w = select(w, kept_w, ahead);
+        s = select(s, kept_s, ahead);
+    }
+}
+
+// Casts the pixel's ray on disc `s`; a hit waits in the window.
+fn meet(s: EyeSplat, splat: u32) {
+    let denom = dot(s.plane, ray);
+    if abs(denom) < 1e-12 {
+        return;
+    }
+    let t = dot(s.plane, s.centre) / denom;
+    if !(t > frame.depth.x && t < frame.depth.y) {
+        return;
+    }
+    let offset = ray * t - s.centre;
+    let rho2 = dot(offset, offset) * s.inv_r2;
+    if rho2 < 1.0 {
+        wait(t, exp(-rho2 * frame.splat.y), splat);
+    }
+}
+
+fn finish() {
+    while open_count > 0u && !done {
+        close_oldest();
+    }
+}
+
+@compute @workgroup_size(TILE, TILE)
+fn cs_raster(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) workgroups: vec3<u32>,
+    @builtin(local_invocation_id) local_id: vec3<u32>,
+) {
+    let tile = workgroup_index(workgroup, workgroups);
+    let columns = tiles.grid.x;
+    let inside_grid = tile < columns * tiles.grid.y;
+    let pixel = vec2<u32>(tile % columns, tile / columns) * TILE + local_id.xy;
+    let size = vec2<u32>(frame.viewport.xy);
+    let inside = inside_grid && pixel.x < size.x && pixel.y < size.y;
+    ray = pixel_ray(vec2<f32>(pixel) + vec2<f32>(0.5));
+    split_facing = this_pass.layers.z != 0u;
+    for (var i = 0u; i < WINDOW; i++) {
+        window_depth[i] = NO_HIT;
+    }
+    open_count = 0u;
+    colour = vec3<f32>(0.0);
+    through = 1.0;
+    layers = 0u;
+    done = !inside;
+    early = 0u;
+#ifdef ENVIRONMENT
+    glass = false;
+    glass_front = vec4<f32>(0.0);
+    glass_normal = vec3<f32>(0.0);
+    glass_behind = vec3<f32>(0.0);
+    glass_through = 1.0;
+    glass_layers_behind = 0.0;
+    glass_closed = false;
+#endif
+    var start = 0u;
+    var end = 0u;
+    if inside {
+        start = offsets[tile];
+        end = offsets[tile + 1u];
+    }
+    // Hits are released lazily: a pixel reads its list until its window is
+    // full (or the list ends), then releases every hit no later disc can
+    // precede. The pixel's heavy work (layers, shading) then runs once per
+    // burst of hits rather than once per disc: on a SIMD device that runs
+    // both sides of a branch (lavapipe), code in the per-disc loop costs
+    // every lane every disc.
+    var at = start;
+    loop {
+        loop {
+            if at >= end || done || window_depth[WINDOW - 1u] < NO_HIT {
+                break;
+            }
+            let entry = entries[at];
+            at += 1u;
+            // A disc whose pixel bounds miss this pixel gives no hit.
+            let bounds = rects[entry.y].xy;
+            let inside_x = pixel.x >= (bounds.x & 0xffffu) && pixel.x <= (bounds.x >> 16u);
+            let inside_y = pixel.y >= (bounds.y & 0xffffu) && pixel.y <= (bounds.y >> 16u);
+            if inside_x && inside_y {
+                meet(eye[entry.y], entry.y);
+            }
+        }
+        var key = NO_HIT;
+        if at < end {
+            key = key_depth(entries[at].x);
+        }
+        // A full window with nothing ready: the nearest leaves early.
+        var forced = window_depth[WINDOW - 1u] < NO_HIT && window_depth[0] > key;
+        loop {
+            if done || !(window_depth[0] < NO_HIT && (window_depth[0] <= key || forced)) {
+                break;
+            }
+            if forced {
+                early += 1u;
+                forced = false;
+            }
+            release();
+        }
+        if done || (at >= end && window_depth[0] == NO_HIT) {
+            break;
+        }
+    }
+    if !inside {
+        return;
+    }
+    finish();
+    if early > 0u {
+        atomicAdd(&stats[0], early);
+    }
+    textureStore(colour_out, pixel, vec4<f32>(colour + through * frame.background.rgb, f32(layers)));
+#ifdef ENVIRONMENT
+    var behind_through = select(glass_through, -1.0, glass_closed);
+    textureStore(glass_front_out, pixel, glass_front);
+    textureStore(glass_normal_out, pixel, vec4<f32>(glass_normal, glass_layers_behind));
+    textureStore(glass_behind_out, pixel, vec4<f32>(glass_behind, behind_through));
+#endif
+}

@@ -1,0 +1,457 @@
+//! The tile pipeline behind `tiled`: the exact reference's algorithm
+//! (crates/core/src/reference/raster.rs) as GPU compute, in four passes
+//! over buffers this engine owns.
+//!
+//! 1. **Project** (per splat, one dispatch per chunk of the scene's
+//!    instance buffers, bound as storage): eye space, footprint plane,
+//!    the tiles the disc may cover, counted per tile with atomics.
+//! 2. The counts come back to the CPU, which takes their prefix sum over
+//!    the tiles (a few thousand numbers) into offsets and sizes the entry
+//!    buffer to the exact total, so no tile list is ever cut short. A
+//!    total beyond what one storage binding holds is a clear error naming
+//!    the figure, never a dropped splat. This costs one wait for the GPU
+//!    per frame; a GPU scan with a fixed capacity and a retry would avoid
+//!    it on a real GPU.
+//! 3. **Bin** (per splat): an entry (nearest depth on the disc, splat) in
+//!    each covered tile's list.
+//! 4. **Sort** (per tile): the list in order of nearest depth: a short list
+//!    by one invocation, a long one by a workgroup, in workgroup memory or,
+//!    longer still, in place.
+//! 5. **Raster** (per tile, per pixel): hits in depth order, ε-layers,
+//!    front-to-back compositing (shaders/tiled_raster.wgsl).
+//!
+//! The sort is per tile on the GPU because no GPU sort crate is correct and
+//! faster than the CPU here (wgpu_sort 0.1 misorders 100K keys on lavapipe;
+//! lampshade is slower than a CPU sort), and a tile's list is short enough
+//! for a bitonic network in one workgroup.
+
+use wgpu::util::DeviceExt;
+
+use super::context::{GpuContext, GpuError};
+use super::gpu_scene::GpuScene;
+use super::passes::compute::Binding;
+use super::passes::{ComputePass, TileWork};
+use super::plan::BufferDesc;
+use super::shaders::Variant;
+
+/// Side of a square tile in pixels. Mirrors `TILE` in shaders/tiled_common.wgsl.
+/// Every pixel of a tile tests every disc binned to it, so smaller tiles
+/// test fewer discs that miss, and bin more entries. Measured on the
+/// transparent bunny at 512² (lavapipe): 16 px 702 ms, 8 px 485 ms, 4 px 908 ms.
+pub const TILE: u32 = 8;
+/// Bytes of one splat in eye space (`EyeSplat` in shaders/tiled_common.wgsl).
+pub const EYE_SPLAT_BYTES: u64 = 48;
+/// Bytes of a splat's pixel rectangle and sort key.
+pub const RECT_BYTES: u64 = 16;
+/// Bytes of one (key, splat) entry of a tile list.
+pub const ENTRY_BYTES: u64 = 8;
+/// Lists up to this long are sorted by one invocation, by insertion; longer
+/// ones by a workgroup (`SHORT` in shaders/tiled_sort.wgsl). A workgroup's
+/// barriers cost more than a short list's insertion sort on lavapipe: with
+/// a workgroup for every list the sort took 40 of 350 ms on the bunny.
+pub const SHORT_LIST: u32 = 4096;
+/// Invocations per workgroup of the per-splat and per-tile passes (`GROUP`).
+const GROUP: u32 = 256;
+/// Workgroups per dispatch dimension that every device allows.
+const MAX_WORKGROUPS: u32 = 65535;
+
+/// Tile columns and rows of a `width` x `height` frame.
+pub fn grid(width: u32, height: u32) -> (u32, u32) {
+    (width.div_ceil(TILE), height.div_ceil(TILE))
+}
+
+/// The buffers a frame of `splats` splats at `width` x `height` uses, as the
+/// plan states them; the entries' size is known only once the splats are
+/// projected, and the renderer fills it in after the frame.
+/// `entries` is (this frame's entries, the room allocated for them).
+pub fn planned_buffers(splats: usize, (width, height): (u32, u32), entries: Option<(u64, u64)>) -> Vec<BufferDesc> {
+    let (columns, rows) = grid(width, height);
+    let tiles = (columns * rows) as u64;
+    let n = splats as u64;
+    vec![
+        BufferDesc {
+            name: "eye splats",
+            bytes: n * EYE_SPLAT_BYTES,
+            why: "48 B per splat: eye space, plane, colour".into(),
+        },
+        BufferDesc { name: "splat tiles", bytes: n * RECT_BYTES, why: "16 B per splat: pixel bounds, sort key".into() },
+        BufferDesc {
+            name: "tile tables",
+            bytes: (5 * tiles + 1) * 4,
+            why: format!(
+                "{columns}x{rows} tiles of {TILE} px: counts, their readback, offsets, cursors, the long lists"
+            ),
+        },
+        BufferDesc {
+            name: "tile entries",
+            bytes: entries.map_or(0, |(_, room)| room * ENTRY_BYTES),
+            why: match entries {
+                Some((used, room)) => format!("8 B per (tile, splat) pair: {used} this frame, room for {room}"),
+                None => "8 B per (tile, splat) pair, counted when the splats are projected".into(),
+            },
+        },
+        BufferDesc {
+            name: "sort scratch",
+            bytes: entries.map_or(0, |(_, room)| room * ENTRY_BYTES),
+            why: "as large as the entries: the merge sort's other half".into(),
+        },
+    ]
+}
+
+/// The group-1 bindings of a pass, in binding order.
+pub fn bindings(work: TileWork, variant: Variant, output: wgpu::TextureFormat) -> Vec<Binding> {
+    let (ro, rw) = (Binding::Storage { read_only: true }, Binding::Storage { read_only: false });
+    match work {
+        TileWork::Project => vec![Binding::Uniform, ro, rw, rw, rw],
+        TileWork::Bin => vec![Binding::Uniform, ro, ro, rw, rw],
+        TileWork::SortShort => vec![Binding::Uniform, ro, rw, rw],
+        TileWork::SortLong => vec![Binding::Uniform, ro, rw, rw, ro],
+        TileWork::Raster => {
+            let mut b = vec![Binding::Uniform, ro, ro, ro, Binding::StorageTexture(output), rw, ro];
+            if variant.has(Variant::ENVIRONMENT) {
+                b.extend([Binding::StorageTexture(output); 3]);
+            }
+            b
+        }
+    }
+}
+
+/// What the last frame's tile pipeline met.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TileStats {
+    /// (tile, splat) entries binned.
+    pub entries: u64,
+    /// Longest tile list.
+    pub longest_list: u32,
+}
+
+/// The buffers of the tile pipeline, sized for the last frame.
+pub struct TileEngine {
+    splats: u64,
+    grid: (u32, u32),
+    eye: wgpu::Buffer,
+    rects: wgpu::Buffer,
+    counts: wgpu::Buffer,
+    counts_readback: wgpu::Buffer,
+    offsets: wgpu::Buffer,
+    cursors: wgpu::Buffer,
+    entries: wgpu::Buffer,
+    /// As large as `entries`: the merge sort's other half.
+    scratch: wgpu::Buffer,
+    entry_capacity: u64,
+    stats: wgpu::Buffer,
+    stats_readback: wgpu::Buffer,
+    /// The tiles whose lists are longer than [`SHORT_LIST`], and how many.
+    long_tiles: wgpu::Buffer,
+    long_count: u32,
+    /// Per chunk of the scene: the project pass's grid uniforms; then one over every splat.
+    uniforms: Vec<(wgpu::Buffer, u32)>,
+    all: wgpu::Buffer,
+    pub last: TileStats,
+}
+
+fn buffer(device: &wgpu::Device, label: &'static str, bytes: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(16),
+        usage,
+        mapped_at_creation: false,
+    })
+}
+
+const STORAGE: wgpu::BufferUsages =
+    wgpu::BufferUsages::STORAGE.union(wgpu::BufferUsages::COPY_DST).union(wgpu::BufferUsages::COPY_SRC);
+const READBACK: wgpu::BufferUsages = wgpu::BufferUsages::MAP_READ.union(wgpu::BufferUsages::COPY_DST);
+
+fn grid_uniform(device: &wgpu::Device, (columns, rows): (u32, u32), first: u32, count: u32) -> wgpu::Buffer {
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("Tiles::grid"),
+        contents: bytemuck::cast_slice(&[columns, rows, first, count]),
+        usage: wgpu::BufferUsages::UNIFORM,
+    })
+}
+
+/// Workgroups for `items` items of one invocation each, as a 2D dispatch.
+fn dispatch(items: u64, per_group: u32) -> (u32, u32) {
+    let groups = items.div_ceil(per_group as u64).max(1);
+    let x = groups.min(MAX_WORKGROUPS as u64) as u32;
+    (x, groups.div_ceil(x as u64) as u32)
+}
+
+impl TileEngine {
+    /// An engine sized for `scene` at `size`: checks first that its per-splat
+    /// buffers fit one storage binding each.
+    pub fn new(ctx: &GpuContext, scene: &GpuScene, size: (u32, u32)) -> Result<Self, GpuError> {
+        let device = &ctx.device;
+        let n = scene.len as u64;
+        let limit = device.limits().max_storage_buffer_binding_size;
+        if n * EYE_SPLAT_BYTES > limit {
+            return Err(GpuError::TooLarge(format!(
+                "tiled keeps {EYE_SPLAT_BYTES} bytes per splat in one storage buffer: {n} splats need {} MiB, more than the {} MiB this GPU binds; use another mode",
+                (n * EYE_SPLAT_BYTES) >> 20,
+                limit >> 20
+            )));
+        }
+        let grid = grid(size.0, size.1);
+        let tiles = (grid.0 * grid.1) as u64;
+        ctx.allocating("allocating the tile pipeline", || {
+            let mut uniforms = Vec::new();
+            let mut first = 0u32;
+            for (_, count) in &scene.chunks {
+                uniforms.push((grid_uniform(device, grid, first, *count), *count));
+                first += count;
+            }
+            Self {
+                splats: n,
+                grid,
+                eye: buffer(device, "Tiles::eye", n * EYE_SPLAT_BYTES, STORAGE),
+                rects: buffer(device, "Tiles::rects", n * RECT_BYTES, STORAGE),
+                counts: buffer(device, "Tiles::counts", tiles * 4, STORAGE),
+                counts_readback: buffer(device, "Tiles::counts_readback", tiles * 4, READBACK),
+                offsets: buffer(device, "Tiles::offsets", (tiles + 1) * 4, STORAGE),
+                cursors: buffer(device, "Tiles::cursors", tiles * 4, STORAGE),
+                entries: buffer(device, "Tiles::entries", 0, STORAGE),
+                scratch: buffer(device, "Tiles::scratch", 0, STORAGE),
+                entry_capacity: 0,
+                stats: buffer(device, "Tiles::stats", 16, STORAGE),
+                stats_readback: buffer(device, "Tiles::stats_readback", 16, READBACK),
+                long_tiles: buffer(device, "Tiles::long_tiles", tiles * 4, STORAGE),
+                long_count: 0,
+                all: grid_uniform(device, grid, 0, n as u32),
+                uniforms,
+                last: TileStats::default(),
+            }
+        })
+    }
+
+    /// Whether this engine was sized for `scene` at `size`.
+    pub fn fits(&self, scene: &GpuScene, size: (u32, u32)) -> bool {
+        self.splats == scene.len as u64
+            && self.grid == grid(size.0, size.1)
+            && self.uniforms.len() == scene.chunks.len()
+            && self.uniforms.iter().zip(&scene.chunks).all(|((_, a), (_, b))| a == b)
+    }
+
+    /// Records one pass of the pipeline. `outputs` are the storage views a
+    /// raster writes (its image, then the glass layers).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        pass: &ComputePass,
+        (pipeline, layout): (&wgpu::ComputePipeline, &wgpu::BindGroupLayout),
+        (frame, offset): (&wgpu::BindGroup, u32),
+        scene: &GpuScene,
+        outputs: &[&wgpu::TextureView],
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let group = |resources: Vec<wgpu::BindingResource<'_>>| {
+            let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+                .into_iter()
+                .enumerate()
+                .map(|(binding, resource)| wgpu::BindGroupEntry { binding: binding as u32, resource })
+                .collect();
+            device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(pass.label), layout, entries: &entries })
+        };
+        let tiles = (self.grid.0 * self.grid.1) as u64;
+        let mut groups: Vec<(wgpu::BindGroup, (u32, u32))> = Vec::new();
+        match pass.work {
+            TileWork::Project => {
+                encoder.clear_buffer(&self.counts, 0, None);
+                for ((uniform, count), (chunk, _)) in self.uniforms.iter().zip(&scene.chunks) {
+                    let bind = group(vec![
+                        uniform.as_entire_binding(),
+                        chunk.as_entire_binding(),
+                        self.eye.as_entire_binding(),
+                        self.rects.as_entire_binding(),
+                        self.counts.as_entire_binding(),
+                    ]);
+                    groups.push((bind, dispatch(*count as u64, GROUP)));
+                }
+            }
+            TileWork::Bin => {
+                encoder.clear_buffer(&self.cursors, 0, None);
+                let bind = group(vec![
+                    self.all.as_entire_binding(),
+                    self.rects.as_entire_binding(),
+                    self.offsets.as_entire_binding(),
+                    self.cursors.as_entire_binding(),
+                    self.entries.as_entire_binding(),
+                ]);
+                groups.push((bind, dispatch(self.splats, GROUP)));
+            }
+            TileWork::SortShort => {
+                let bind = group(vec![
+                    self.all.as_entire_binding(),
+                    self.offsets.as_entire_binding(),
+                    self.entries.as_entire_binding(),
+                    self.scratch.as_entire_binding(),
+                ]);
+                groups.push((bind, dispatch(tiles, GROUP)));
+            }
+            TileWork::SortLong => {
+                let bind = group(vec![
+                    self.all.as_entire_binding(),
+                    self.offsets.as_entire_binding(),
+                    self.entries.as_entire_binding(),
+                    self.scratch.as_entire_binding(),
+                    self.long_tiles.as_entire_binding(),
+                ]);
+                if self.long_count > 0 {
+                    groups.push((bind, dispatch(self.long_count as u64, 1)));
+                }
+            }
+            TileWork::Raster => {
+                encoder.clear_buffer(&self.stats, 0, None);
+                let mut resources = vec![
+                    self.all.as_entire_binding(),
+                    self.offsets.as_entire_binding(),
+                    self.entries.as_entire_binding(),
+                    self.eye.as_entire_binding(),
+                ];
+                let mut views = outputs.iter().map(|v| wgpu::BindingResource::TextureView(v));
+                resources.extend(views.next());
+                resources.push(self.stats.as_entire_binding());
+                resources.push(self.rects.as_entire_binding());
+                resources.extend(views);
+                groups.push((group(resources), dispatch(tiles, 1)));
+            }
+        }
+        {
+            let mut compute = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(pass.label),
+                timestamp_writes: timestamps,
+            });
+            compute.set_pipeline(pipeline);
+            compute.set_bind_group(0, frame, &[offset]);
+            for (bind, (x, y)) in &groups {
+                compute.set_bind_group(1, bind, &[]);
+                compute.dispatch_workgroups(*x, *y, 1);
+            }
+        }
+        match pass.work {
+            TileWork::Project => encoder.copy_buffer_to_buffer(&self.counts, 0, &self.counts_readback, 0, tiles * 4),
+            TileWork::Raster => encoder.copy_buffer_to_buffer(&self.stats, 0, &self.stats_readback, 0, 16),
+            _ => {}
+        }
+    }
+
+    /// After the projection has run: reads the tile counts back, writes their
+    /// prefix sum as the tile offsets and makes the entry buffer hold them all.
+    /// `budget` is the memory left to the frame beside its targets.
+    pub fn bin_offsets(&mut self, ctx: &GpuContext, budget: u64) -> Result<TileStats, GpuError> {
+        let mut counts: Vec<u32> = read(ctx, &self.counts_readback)?;
+        counts.truncate((self.grid.0 * self.grid.1) as usize);
+        let mut offsets = Vec::with_capacity(counts.len() + 1);
+        let mut total = 0u64;
+        for &c in &counts {
+            offsets.push(total as u32);
+            total += c as u64;
+            if total > u32::MAX as u64 {
+                break;
+            }
+        }
+        offsets.push(total.min(u32::MAX as u64) as u32);
+        let binding = ctx.device.limits().max_storage_buffer_binding_size;
+        // The entries and the sort's scratch: one binding each, both within the budget.
+        if total * ENTRY_BYTES > binding || 2 * total * ENTRY_BYTES > budget {
+            return Err(GpuError::TooLarge(format!(
+                "tiled would bin {total} (tile, splat) entries ({} MiB, twice over with the sort's scratch), more than \
+                 one storage binding ({} MiB) or the memory left to the frame ({} MiB) holds; the splats cover too many \
+                 tiles: use a smaller --size or --radius-scale, or another mode",
+                (total * ENTRY_BYTES) >> 20,
+                binding >> 20,
+                budget >> 20
+            )));
+        }
+        let limit = binding.min(budget / 2);
+        if total > self.entry_capacity {
+            // A quarter more than needed, so that a slowly moving camera does not reallocate every frame.
+            let capacity = total + total / 4;
+            let bytes = (capacity * ENTRY_BYTES).min(limit);
+            (self.entries, self.scratch) = ctx.allocating("allocating the tile entries", || {
+                (
+                    buffer(&ctx.device, "Tiles::entries", bytes, STORAGE),
+                    buffer(&ctx.device, "Tiles::scratch", bytes, STORAGE),
+                )
+            })?;
+            self.entry_capacity = (capacity * ENTRY_BYTES).min(limit) / ENTRY_BYTES;
+        }
+        ctx.queue.write_buffer(&self.offsets, 0, bytemuck::cast_slice(&offsets));
+        let long: Vec<u32> = (0..counts.len() as u32).filter(|&t| counts[t as usize] > SHORT_LIST).collect();
+        if !long.is_empty() {
+            ctx.queue.write_buffer(&self.long_tiles, 0, bytemuck::cast_slice(&long));
+        }
+        self.long_count = long.len() as u32;
+        self.last = TileStats { entries: total, longest_list: counts.iter().copied().max().unwrap_or(0) };
+        Ok(self.last)
+    }
+
+    /// Entries the entry buffer has room for.
+    pub fn entry_capacity(&self) -> u64 {
+        self.entry_capacity
+    }
+
+    /// Bytes of the buffers it holds (the entry buffer at its capacity).
+    pub fn bytes(&self) -> u64 {
+        [
+            &self.eye,
+            &self.rects,
+            &self.counts,
+            &self.counts_readback,
+            &self.offsets,
+            &self.cursors,
+            &self.entries,
+            &self.scratch,
+            &self.long_tiles,
+        ]
+        .iter()
+        .map(|b| b.size())
+        .sum()
+    }
+
+    /// Hits of the last frame that left a pixel's sorting window before
+    /// their turn (see shaders/tiled_raster.wgsl); waits for the frame.
+    pub fn window_overflows(&self, ctx: &GpuContext) -> Result<u32, GpuError> {
+        Ok(read::<u32>(ctx, &self.stats_readback)?.first().copied().unwrap_or(0))
+    }
+}
+
+/// Maps `buffer` and reads it as `T`s (waits for the GPU).
+fn read<T: bytemuck::Pod>(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<T>, GpuError> {
+    let (sender, receiver) = std::sync::mpsc::channel();
+    buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+        let _ = sender.send(r);
+    });
+    ctx.wait_idle()?;
+    receiver.recv().map_err(|e| GpuError::Readback(e.to_string()))?.map_err(|e| GpuError::Readback(e.to_string()))?;
+    let values = {
+        let mapped = buffer.get_mapped_range(..).map_err(|e| GpuError::Readback(e.to_string()))?;
+        bytemuck::pod_collect_to_vec::<u8, T>(&mapped)
+    };
+    buffer.unmap();
+    Ok(values)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_shaders_use_the_tile_size_and_list_limit_given_here() {
+        let common = crate::shaders::compose("tiled_common.wgsl", Variant::NONE).unwrap();
+        assert!(common.contains(&format!("const TILE: u32 = {TILE}u;")), "TILE differs from the shader's");
+        let sort = crate::shaders::compose("tiled_sort.wgsl", Variant::NONE).unwrap();
+        assert!(sort.contains(&format!("const SHORT: u32 = {SHORT_LIST}u;")), "SHORT_LIST differs from the shader's");
+    }
+
+    #[test]
+    fn dispatches_cover_every_item_within_the_per_dimension_limit() {
+        for items in [1u64, 255, 256, 257, 65535 * 256, 65535 * 256 + 1, 40_000_000] {
+            let (x, y) = dispatch(items, GROUP);
+            assert!(x <= MAX_WORKGROUPS && y <= MAX_WORKGROUPS, "{items}: {x}x{y}");
+            assert!(x as u64 * y as u64 * GROUP as u64 >= items, "{items}: {x}x{y} too few");
+        }
+    }
+}
