@@ -187,9 +187,9 @@ impl TileEngine {
         let limit = device.limits().max_storage_buffer_binding_size;
         if n * EYE_SPLAT_BYTES > limit {
             return Err(GpuError::TooLarge(format!(
-                "tiled keeps {EYE_SPLAT_BYTES} bytes per splat in one storage buffer: {n} splats need {} MiB, more than the {} MiB this GPU binds; use another mode",
-                (n * EYE_SPLAT_BYTES) >> 20,
-                limit >> 20
+                "tiled keeps {EYE_SPLAT_BYTES} bytes per splat in one storage buffer: {n} splats need {:.1} MiB, more than the {:.1} MiB this GPU binds; use another mode",
+                mib(n * EYE_SPLAT_BYTES),
+                mib(limit)
             )));
         }
         let grid = grid(size.0, size.1);
@@ -357,12 +357,12 @@ impl TileEngine {
         // The entries and the sort's scratch: one binding each, both within the budget.
         if total * ENTRY_BYTES > binding || 2 * total * ENTRY_BYTES > budget {
             return Err(GpuError::TooLarge(format!(
-                "tiled would bin {total} (tile, splat) entries ({} MiB, twice over with the sort's scratch), more than \
-                 one storage binding ({} MiB) or the memory left to the frame ({} MiB) holds; the splats cover too many \
-                 tiles: use a smaller --size or --radius-scale, or another mode",
-                (total * ENTRY_BYTES) >> 20,
-                binding >> 20,
-                budget >> 20
+                "tiled would bin {total} (tile, splat) entries ({:.1} MiB, twice over with the sort's scratch), more than \
+                 one storage binding ({:.1} MiB) or the memory left to the frame ({:.1} MiB) holds; the splats cover too \
+                 many tiles: use a smaller --size, or another mode",
+                mib(total * ENTRY_BYTES),
+                mib(binding),
+                mib(budget)
             )));
         }
         let limit = binding.min(budget / 2);
@@ -416,6 +416,10 @@ impl TileEngine {
     pub fn window_overflows(&self, ctx: &GpuContext) -> Result<u32, GpuError> {
         Ok(read::<u32>(ctx, &self.stats_readback)?.first().copied().unwrap_or(0))
     }
+}
+
+fn mib(bytes: u64) -> f64 {
+    bytes as f64 / (1u64 << 20) as f64
 }
 
 /// Maps `buffer` and reads it as `T`s (waits for the GPU).
