@@ -238,6 +238,7 @@ fn pass_times(r: &HeadlessRenderer, plan: &RenderPlan) -> Vec<(String, f64)> {
 
 fn describe_plan(stats: &mut FrameStats, plan: &RenderPlan) {
     stats.plan = Some(plan.to_string());
-    stats.plan_bytes = plan.target_bytes();
+    // Targets, and the buffers of a mode that computes (the tile pipeline's).
+    stats.plan_bytes = plan.target_bytes() + plan.buffer_bytes();
     stats.geometry_passes = plan.geometry_passes();
 }

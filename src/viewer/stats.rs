@@ -29,11 +29,12 @@ pub fn stats_section(ui: &mut Ui, info: &PanelInfo<'_>) {
             }
         });
     } else if mode.is_gpu() {
-        ui.label(RichText::new("no GPU timestamps on this adapter").weak());
+        // No timestamps, or (lavapipe) none that enclose a compute pass's dispatches.
+        ui.label(RichText::new("no per-pass GPU times on this adapter").weak());
     }
     if let Some(plan) = &stats.plan {
         ui.collapsing(
-            format!("render plan ({:.1} MiB of targets)", stats.plan_bytes as f64 / (1 << 20) as f64),
+            format!("render plan ({:.1} MiB of GPU memory)", stats.plan_bytes as f64 / (1 << 20) as f64),
             |ui| {
                 ui.label(RichText::new(plan).monospace().size(10.0));
             },
