@@ -85,18 +85,9 @@ fn glass(
     let multi = frame.environment.z > 0.5;
     let layers_behind = select(0.0, mean.a / max(alpha, 1e-6), multi && alpha > 0.0);
     let crossings = select(1.0, 1.0 + layers_behind, multi);
-    let reflected = environment_world(reflect(d, n));
-    let red = environment_refract(d, n, environment_eta(0), crossings);
-    let green = environment_refract(d, n, environment_eta(1), crossings);
-    let blue = environment_refract(d, n, environment_eta(2), crossings);
+    let rays = environment_glass_rays(d, n, crossings);
+    let levels = environment_glass_levels(rays, vec2<bool>(true));
     let sky = environment_world(d);
-    let through = array<vec3<f32>, 3>(environment_world(red.xyz), environment_world(green.xyz), environment_world(blue.xyz));
-    let levels = vec4<f32>(
-        environment_level(through[0]),
-        environment_level(through[1]),
-        environment_level(through[2]),
-        environment_level(reflected),
-    );
     let sky_level = environment_level(sky);
     // Beneath everything: the opaque splats drawn apart, else the map or the background.
     var under = select(frame.background.rgb, environment_sample(sky, sky_level), frame.environment.w > 0.5);
@@ -113,23 +104,10 @@ fn glass(
     if alpha >= 1.0 {
         return vec4<f32>(front, 1.0);
     }
-    let seen_reflected = environment_sample(reflected, levels.w);
-    let refracted = vec3<f32>(red.w, green.w, blue.w);
     let reaching = select(1.0 - mean.a, environment_absorption(alpha, layers_behind), multi);
     // Behind an opaque splat, `under` (the opaque image) is seen instead of the map.
-    let out = environment_glass_pixel(
-        d,
-        n,
-        alpha,
-        front,
-        mean.rgb,
-        reaching,
-        through,
-        levels.xyz,
-        refracted,
-        seen_reflected,
-        vec4<f32>(under, select(0.0, 1.0, closed)),
-    );
+    let instead = vec4<f32>(under, select(0.0, 1.0, closed));
+    let out = environment_glass_pixel(d, n, rays, levels, alpha, front, mean.rgb, reaching, instead);
     return vec4<f32>(out, 1.0);
 }
 #endif

@@ -37,8 +37,16 @@ fn environment_uv(d: vec3<f32>) -> vec2<f32> {
 // next pixel of the 2x2 quad (fine derivatives), in texels of level 0. Must
 // run in uniform control flow.
 fn environment_level(d: vec3<f32>) -> f32 {
-    let spread = max(length(dpdxFine(d)), length(dpdyFine(d)));
-    return log2(max(spread / frame.environment_up.w, 1.0));
+    return environment_level_among(d, vec2<bool>(true));
+}
+
+// environment_level over the other pixel of the quad's row (`partners.x`)
+// and of its column (`partners.y`) only where they are true: the reference
+// leaves out a neighbour that looks along no direction of this kind.
+fn environment_level_among(d: vec3<f32>, partners: vec2<bool>) -> f32 {
+    let across = select(0.0, length(dpdxFine(d)), partners.x);
+    let down = select(0.0, length(dpdyFine(d)), partners.y);
+    return log2(max(max(across, down) / frame.environment_up.w, 1.0));
 }
 
 fn environment_sample(d: vec3<f32>, level: f32) -> vec3<f32> {
@@ -86,32 +94,63 @@ fn environment_absorption(alpha: f32, layers: f32) -> f32 {
     return exp2(layers * log2(max(1.0 - clamp(alpha, 0.0, 1.0), 1e-30)));
 }
 
-// The colour of a pixel whose nearest layer is glass, per channel c
-// (crates/core/src/frame/environment.rs, glass_colour): F·E_R + (1 - F)·(α·C_F
-// + (1 - α)·(C_b + a·E_T)), with Schlick's F (1 under total internal
-// reflection, where `refracted` is 0), E_R the map along the reflection,
-// E_T the map along channel c's refracted ray `through[c]` at `levels[c]`,
-// unless `instead.a` > 0.5: then `instead.rgb` is seen beyond (an opaque
-// image behind the glass).
+// The world directions a glass pixel looks the map up along
+// (crates/core/src/frame/environment.rs, glass_directions): the reflection
+// of d at n, and each channel's refraction through `crossings` interfaces,
+// the reflection where it is totally reflected (`refracted` 0 there).
+struct GlassRays {
+    reflected: vec3<f32>,
+    through: array<vec3<f32>, 3>,
+    refracted: vec3<f32>,
+}
+
+fn environment_glass_rays(d: vec3<f32>, n: vec3<f32>, crossings: f32) -> GlassRays {
+    let red = environment_refract(d, n, environment_eta(0), crossings);
+    let green = environment_refract(d, n, environment_eta(1), crossings);
+    let blue = environment_refract(d, n, environment_eta(2), crossings);
+    return GlassRays(
+        environment_world(reflect(d, n)),
+        array<vec3<f32>, 3>(environment_world(red.xyz), environment_world(green.xyz), environment_world(blue.xyz)),
+        vec3<f32>(red.w, green.w, blue.w),
+    );
+}
+
+// The mip levels of the rays (refracted red, green, blue, reflected), over
+// the quad's neighbours in `partners` (see environment_level_among). Must
+// run in uniform control flow.
+fn environment_glass_levels(rays: GlassRays, partners: vec2<bool>) -> vec4<f32> {
+    return vec4<f32>(
+        environment_level_among(rays.through[0], partners),
+        environment_level_among(rays.through[1], partners),
+        environment_level_among(rays.through[2], partners),
+        environment_level_among(rays.reflected, partners),
+    );
+}
+
+// The colour of a pixel whose nearest layer is glass (crates/core/src/frame/
+// environment.rs, glass_colour), per channel c: F·E_R + (1 - F)·(α·C_F + (1 -
+// α)·(C_b + a·E_T)), with Schlick's F (1 where the channel is totally
+// reflected), E_R the map along the reflection, E_T along channel c's
+// refracted ray, unless `instead.a` > 0.5: then `instead.rgb` is seen beyond
+// (an opaque image behind the glass). `behind` is C_b, `reaching` a.
 fn environment_glass_pixel(
     d: vec3<f32>,
     n: vec3<f32>,
+    rays: GlassRays,
+    levels: vec4<f32>,
     alpha: f32,
     front: vec3<f32>,
     behind: vec3<f32>,
     reaching: f32,
-    through: array<vec3<f32>, 3>,
-    levels: vec3<f32>,
-    refracted: vec3<f32>,
-    seen_reflected: vec3<f32>,
     instead: vec4<f32>,
 ) -> vec3<f32> {
     let cos_i = clamp(-dot(d, n), 0.0, 1.0);
+    let seen_reflected = environment_sample(rays.reflected, levels.w);
     var out = vec3<f32>(0.0);
     for (var c = 0; c < 3; c++) {
-        let seen_through = environment_sample(through[c], levels[c])[c];
+        let seen_through = environment_sample(rays.through[c], levels[c])[c];
         let beyond = select(seen_through, instead[c], instead.a > 0.5);
-        let fresnel = select(1.0, environment_schlick(environment_eta(c), cos_i), refracted[c] > 0.5);
+        let fresnel = select(1.0, environment_schlick(environment_eta(c), cos_i), rays.refracted[c] > 0.5);
         let transmitted = behind[c] + reaching * beyond;
         let surface = alpha * front[c] + (1.0 - alpha) * transmitted;
         out[c] = fresnel * seen_reflected[c] + (1.0 - fresnel) * surface;

@@ -32,14 +32,6 @@ fn fs_tiled_present(f: Fullscreen) -> @location(0) vec4<f32> {
 }
 
 #ifdef ENVIRONMENT
-// environment_level over the neighbours of the quad in `partners` only
-// (x, y). Must run in uniform control flow.
-fn glass_level(d: vec3<f32>, partners: vec2<bool>) -> f32 {
-    let across = select(0.0, length(dpdxFine(d)), partners.x);
-    let down = select(0.0, length(dpdyFine(d)), partners.y);
-    return log2(max(max(across, down) / frame.environment_up.w, 1.0));
-}
-
 // Every lookup direction and its level is found before any branch:
 // derivatives need uniform control flow.
 fn glass(position: vec2<f32>, pixel: vec2<i32>, image: vec4<f32>) -> vec4<f32> {
@@ -51,22 +43,12 @@ fn glass(position: vec2<f32>, pixel: vec2<i32>, image: vec4<f32>) -> vec4<f32> {
     let n = select(-d, normal_behind.xyz, has_glass);
     let multi = frame.environment.z > 0.5;
     let crossings = select(1.0, 1.0 + normal_behind.w, multi);
-    let reflected = environment_world(reflect(d, n));
-    let red = environment_refract(d, n, environment_eta(0), crossings);
-    let green = environment_refract(d, n, environment_eta(1), crossings);
-    let blue = environment_refract(d, n, environment_eta(2), crossings);
+    let rays = environment_glass_rays(d, n, crossings);
     let sky = environment_world(d);
-    let through = array<vec3<f32>, 3>(environment_world(red.xyz), environment_world(green.xyz), environment_world(blue.xyz));
     // As the reference: a neighbour of the quad counts only when it looks
     // along the same kind of direction (glass next to glass).
     let glass_flag = select(0.0, 1.0, has_glass);
-    let partners = vec2<bool>(dpdxFine(glass_flag) == 0.0, dpdyFine(glass_flag) == 0.0);
-    let levels = vec4<f32>(
-        glass_level(through[0], partners),
-        glass_level(through[1], partners),
-        glass_level(through[2], partners),
-        glass_level(reflected, partners),
-    );
+    let levels = environment_glass_levels(rays, vec2<bool>(dpdxFine(glass_flag) == 0.0, dpdyFine(glass_flag) == 0.0));
     let sky_level = environment_level(sky);
     if !has_glass {
         let skybox = image.a < 0.5 && frame.environment.w > 0.5;
@@ -75,21 +57,7 @@ fn glass(position: vec2<f32>, pixel: vec2<i32>, image: vec4<f32>) -> vec4<f32> {
     let alpha = clamp(front.a, 0.0, 1.0);
     let closed = behind.w < 0.0;
     let reaching = select(select(behind.w, environment_absorption(alpha, normal_behind.w), multi), 0.0, closed);
-    let seen_reflected = environment_sample(reflected, levels.w);
-    let refracted = vec3<f32>(red.w, green.w, blue.w);
-    let out = environment_glass_pixel(
-        d,
-        n,
-        alpha,
-        front.rgb,
-        behind.rgb,
-        reaching,
-        through,
-        levels.xyz,
-        refracted,
-        seen_reflected,
-        vec4<f32>(0.0),
-    );
+    let out = environment_glass_pixel(d, n, rays, levels, alpha, front.rgb, behind.rgb, reaching, vec4<f32>(0.0));
     return vec4<f32>(out, 1.0);
 }
 #endif

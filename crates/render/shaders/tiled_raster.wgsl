@@ -62,6 +62,8 @@ struct Layer {
 // unroll), so the shader compiler keeps it in registers: a window indexed by
 // a per-pixel count was twice as slow on lavapipe.
 var<private> ray: vec3<f32>;
+// Unit, from the surface to the eye: what layers are shaded facing.
+var<private> to_eye: vec3<f32>;
 var<private> split_facing: bool;
 // Hits waiting, nearest first; empty slots hold NO_HIT.
 var<private> window_depth: array<f32, WINDOW>;
@@ -110,7 +112,6 @@ fn close_layer(layer: Layer) {
     if through <= 1e-6 {
         return; // only counted
     }
-    let to_eye = -normalize(ray);
     let normal_length = length(layer.normal);
     let normal = select(to_eye, layer.normal / normal_length, normal_length > 1e-20);
     let albedo = layer.colour / layer.w;
@@ -264,6 +265,7 @@ fn cs_raster(
     let size = vec2<u32>(frame.viewport.xy);
     let inside = inside_grid && pixel.x < size.x && pixel.y < size.y;
     ray = pixel_ray(vec2<f32>(pixel) + vec2<f32>(0.5));
+    to_eye = -normalize(ray);
     split_facing = this_pass.layers.z != 0u;
     for (var i = 0u; i < WINDOW; i++) {
         window_depth[i] = NO_HIT;
