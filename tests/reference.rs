@@ -28,6 +28,7 @@ fn options(epsilon: f32) -> ReferenceOptions {
         transparent: true,
         progress: false,
         environment: Default::default(),
+        lights: Default::default(),
     }
 }
 

@@ -298,6 +298,7 @@ fn each_group_layer_pass_carries_its_own_layer_in_its_uniforms() {
         transparent: false,
         environment: None,
         sums: pointblend::render::targets::SumPrecision::F32,
+        lights: false,
     };
     let plan = pointblend::render::modes::plan(&frame).unwrap();
     let layers: Vec<u32> = plan

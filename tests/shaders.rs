@@ -1,7 +1,7 @@
 //! naga validates exactly the shader modules the renderer builds: every mode
 //! is rendered in every setting that picks another module (lighting,
 //! quality, a cloud of one colour or of many, transparency, opaque splats
-//! drawn apart, an environment map), the pipeline cache says which (root
+//! drawn apart, an environment map, scene lights), the pipeline cache says which (root
 //! file, variant) pairs it built, and each of those is composed and
 //! validated. Every root file must be among them, and every WGSL file must
 //! be part of one of them, so none escapes validation.
@@ -55,6 +55,19 @@ fn built_modules() -> BTreeSet<(&'static str, String)> {
                         .unwrap_or_else(|e| panic!("{mode} on {what}: {e}"));
                 }
             }
+        }
+    }
+    // Scene lights: splats lit once each with their shadow coefficients (LIGHTS).
+    for (what, scene) in scenes().into_iter().filter(|(what, _)| *what != "one colour") {
+        let light = pointblend::frame::Light::point(glam::Vec3::new(0.0, 0.5, 0.3));
+        let mut frames = pointblend::render::SceneFrames::of(std::sync::Arc::new(scene));
+        let camera = Camera::default_for(frames.cloud(), 1.0);
+        for mode in RenderMode::ALL.into_iter().filter(|m| m.is_gpu()) {
+            let lights = pointblend::frame::Lights::new(&[light]).unwrap();
+            let settings = RenderSettings { mode, lights, ..Default::default() };
+            frames
+                .render(Some(&mut renderer), &camera, &settings, (48, 48), false)
+                .unwrap_or_else(|e| panic!("{mode} lit by a scene light on {what}: {e}"));
         }
     }
     renderer.renderer.modules_built().into_iter().map(|(root, variant)| (root, variant.to_string())).collect()

@@ -221,3 +221,33 @@ fn an_environment_map_picked_in_the_viewer_is_reflected_and_refracted_by_alg2() 
     assert!(share > 0.5, "the map shows: {share}");
     assert!(in_venice.pixels().all(|p| p.0[..3] != [0, 0, 0]), "no black (NaN) pixels");
 }
+
+#[test]
+fn a_scene_lights_the_view_and_lights_move_and_go() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/shadow-floor.toml");
+    let mut h = harness(ViewerOptions { file: Some(file), ..options(dir.path()) });
+    let lit_by = |n: usize| {
+        move |app: &ViewerApp| app.is_settled() && app.shown_frame().is_some_and(|(_, k)| k.settings.lights.len() == n)
+    };
+    wait_for(&mut h, "the floor scene lit by its light", lit_by(1));
+    // The panel's width follows its rows, so frames are compared over their common centre.
+    let centre = |image: &image::RgbaImage| {
+        image::imageops::crop_imm(image, (image.width() - 400) / 2, 0, 400, image.height()).to_image()
+    };
+    let lit = centre(h.state().shown_frame().unwrap().0);
+    assert!(h.query_by_label("light 1").is_some(), "the light's row is shown");
+    assert!(h.query_by_label("TSM").is_some(), "the shadow method is offered");
+
+    // Deleting it brings the headlight back: another image.
+    h.get_by_label("delete").click();
+    wait_for(&mut h, "the headlight", lit_by(0));
+    let headlight = centre(h.state().shown_frame().unwrap().0);
+    assert!(changed_share(&lit, &headlight) > 0.01, "the light and its shadow changed the image");
+
+    // Adding one lights it again, with shadows.
+    h.get_by_label("add a light").click();
+    wait_for(&mut h, "a new light", lit_by(1));
+    let again = centre(h.state().shown_frame().unwrap().0);
+    assert!(changed_share(&headlight, &again) > 0.01);
+}

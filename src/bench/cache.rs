@@ -43,13 +43,14 @@ pub fn entry(
         None => "-".into(),
     };
     let key = format!(
-        "v2|{scene_hash:016x}|{transparent}|{camera:?}|{size:?}|{environment}|{:?}|{:?}|{}|{}|{}|{}",
+        "v2|{scene_hash:016x}|{transparent}|{camera:?}|{size:?}|{environment}|{:?}|{:?}|{}|{}|{}|{}|{:?}",
         settings.kernel,
         settings.shading,
         settings.epsilon_scale,
         settings.backface_culling,
         settings.lighting,
-        settings.radius_scale
+        settings.radius_scale,
+        settings.lights
     );
     let name = format!("reference-{:016x}", fnv1a(FNV_OFFSET, key.as_bytes()));
     let dir = dir.join("cache");

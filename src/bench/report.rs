@@ -63,6 +63,12 @@ pub struct BenchRow {
     pub k: usize,
     /// Seconds to group the splats (set-up of deferred variants; 0 when cached).
     pub group_s: Option<f64>,
+    /// In a scene lit by scene lights: milliseconds to compute the shadow
+    /// coefficients of every splat (a TSM build per light, or exact rays),
+    /// done once per light position, not per frame.
+    pub shadow_ms: Option<f64>,
+    /// The TSM tables' memory at their largest, MiB (0 for exact rays).
+    pub shadow_table_mib: Option<f64>,
     /// Timed frames behind the medians.
     pub frames: usize,
 }
@@ -109,6 +115,21 @@ pub fn markdown(rows: &[BenchRow]) -> String {
             100.0 * r.bad_pixel_share,
             r.reference
         ));
+    }
+    if rows.iter().any(|r| r.shadow_ms.is_some()) {
+        out.push_str("\nShadow coefficients (once per light position, not per frame):\n\n| model | variant | shadows ms | TSM tables MiB |\n|---|---|---:|---:|\n");
+        let mut seen = std::collections::HashSet::new();
+        for r in rows.iter().filter(|r| r.shadow_ms.is_some()) {
+            if seen.insert((&r.model, &r.variant)) {
+                out.push_str(&format!(
+                    "| {} | {} | {:.1} | {:.1} |\n",
+                    r.model,
+                    r.variant,
+                    r.shadow_ms.unwrap_or(0.0),
+                    r.shadow_table_mib.unwrap_or(0.0)
+                ));
+            }
+        }
     }
     out
 }

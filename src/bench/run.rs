@@ -155,6 +155,8 @@ struct Prepared {
     settings: RenderSettings,
     k: usize,
     group_s: Option<f64>,
+    /// Milliseconds the shadow coefficients took and the MiB of their TSM tables (lit by scene lights).
+    shadows: Option<(f64, f64)>,
 }
 
 /// A model's scene as the run sets it up: materials, environment, background.
@@ -187,6 +189,11 @@ fn open_model(model: &Path, config: &BenchConfig) -> Result<Opened, BenchError> 
     if let (true, Some(bg)) = (config.materials.scene_background, scene.background) {
         base.shading.background = bg;
     }
+    // The scene file's lights and `--light`s, both in file coordinates, in the scene's frame.
+    let lights: Vec<_> =
+        scene.lights.iter().chain(config.settings.lights.as_slice()).map(|l| scene.light_in_frame(l)).collect();
+    base.lights = crate::frame::Lights::new(&lights)
+        .map_err(|e| BenchError::Invalid(format!("{}: lights: {e}", model.display())))?;
     Ok(Opened { scene: Arc::new(scene), base, load_s: started.elapsed().as_secs_f64() })
 }
 
@@ -209,7 +216,11 @@ fn prepare_variants(
             None => (1, None),
         };
         frames.gpu_scene(renderer, &settings).map_err(|e| BenchError::Invalid(e.to_string()))?;
-        prepared.push(Prepared { variant: variant.clone(), settings, k, group_s });
+        let shadows = frames.shadow_key(&settings).and(frames.last_shadows()).map(|c| {
+            let table_bytes: u64 = c.tables.iter().map(|t| t.bytes).sum();
+            (c.seconds * 1e3, table_bytes as f64 / (1u64 << 20) as f64)
+        });
+        prepared.push(Prepared { variant: variant.clone(), settings, k, group_s, shadows });
     }
     Ok(prepared)
 }
@@ -306,6 +317,8 @@ fn blank_row(
         load_s: opened.load_s,
         k: 1,
         group_s: None,
+        shadow_ms: None,
+        shadow_table_mib: None,
         frames: config.frames,
     }
 }
@@ -347,6 +360,7 @@ fn measure_variant(
         .collect();
     row.k = p.k;
     row.group_s = p.group_s;
+    (row.shadow_ms, row.shadow_table_mib) = (p.shadows.map(|s| s.0), p.shadows.map(|s| s.1));
     row.frame_ms = frame.median;
     row.frame_ms_min = frame.min;
     row.frame_ms_max = frame.max;

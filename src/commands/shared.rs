@@ -146,6 +146,26 @@ pub struct ViewArgs {
     /// Background colour R,G,B (0..255) [default: the scene's, else 28,31,36].
     #[arg(long, value_parser = parse_rgb)]
     pub background: Option<[u8; 3]>,
+    /// A white point light at X,Y,Z in the model's file coordinates (repeatable, at most 8 with the scene's);
+    /// any light replaces the headlight, and casts translucent shadows.
+    #[arg(long = "light", value_parser = parse_light, allow_hyphen_values = true)]
+    pub lights: Vec<pointblend::frame::Light>,
+    /// How lit splats find their light: tsm (Gunjee's translucent shadow map), exact (a shadow ray per splat) or off [default: tsm].
+    #[arg(long, value_parser = parse_shadow_method)]
+    pub shadows: Option<pointblend::frame::ShadowMethod>,
+    /// TSM table size per light, POLxAZ cells (or N for NxN) [default: 512x512].
+    #[arg(long, value_parser = pointblend::frame::lights::parse_cells)]
+    pub shadow_cells: Option<[u32; 2]>,
+}
+
+/// `--light X,Y,Z`.
+fn parse_light(text: &str) -> Result<pointblend::frame::Light, String> {
+    pointblend::frame::Light::parse_point(text).map_err(|e| e.to_string())
+}
+
+/// `--shadows tsm|exact|off`.
+fn parse_shadow_method(text: &str) -> Result<pointblend::frame::ShadowMethod, String> {
+    text.parse()
 }
 
 impl ViewArgs {
@@ -193,6 +213,13 @@ impl ViewArgs {
         if let Some(bg) = self.background.map(|c| glam::Vec3::from_array(c.map(f32::from)) / 255.0).or(scene.background)
         {
             settings.shading.background = bg;
+        }
+        // Lights are given in file coordinates, like the objects.
+        let lights: Vec<_> = scene.lights.iter().chain(&self.lights).map(|l| scene.light_in_frame(l)).collect();
+        settings.lights = pointblend::frame::Lights::new(&lights).map_err(|e| anyhow::anyhow!("lights: {e}"))?;
+        settings.shadows.method = self.shadows.unwrap_or_default();
+        if let Some(cells) = self.shadow_cells {
+            settings.shadows.cells = cells;
         }
         Ok(settings)
     }

@@ -56,6 +56,14 @@ pub struct Args {
     /// or JPEG; assets/venice.exr is bundled); alg2 and the reference draw it.
     #[arg(long, value_name = "FILE")]
     pub env: Option<PathBuf>,
+    /// A white point light at X,Y,Z in the model's file coordinates (repeatable, at most 8 with the scene's);
+    /// lights replace the headlight and cast translucent shadows. The viewer adds, moves and deletes them too.
+    #[arg(long = "light", value_parser = parse_light, allow_hyphen_values = true)]
+    pub lights: Vec<pointblend::frame::Light>,
+}
+
+fn parse_light(text: &str) -> Result<pointblend::frame::Light, String> {
+    pointblend::frame::Light::parse_point(text).map_err(|e| e.to_string())
 }
 
 pub fn run(args: &Args) -> Result<()> {
@@ -81,6 +89,7 @@ pub fn run(args: &Args) -> Result<()> {
         },
         background: args.background.map(|c| glam::Vec3::from_array(c.map(f32::from)) / 255.0),
         environment: args.env.clone(),
+        lights: args.lights.clone(),
     };
     match viewer::run_window(options) {
         Ok(()) => Ok(()),

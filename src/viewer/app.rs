@@ -47,6 +47,8 @@ pub struct ViewerOptions {
     pub background: Option<glam::Vec3>,
     /// Environment map every model opened is set in (in place of a scene file's).
     pub environment: Option<PathBuf>,
+    /// Point lights (file coordinates) every model opened is lit by, with its scene file's.
+    pub lights: Vec<crate::frame::Light>,
 }
 
 /// The frame on screen.

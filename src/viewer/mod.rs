@@ -20,6 +20,7 @@ mod camera_input;
 mod export;
 mod frames;
 mod jobs;
+mod lights_panel;
 mod loading;
 mod model;
 mod panels;

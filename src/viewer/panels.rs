@@ -167,10 +167,14 @@ fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, para
         Parameter::Lighting => {
             ui.checkbox(&mut s.lighting, "lighting");
             if s.lighting {
-                ui.add(egui::Slider::new(&mut state.light_angles.0, -90.0..=90.0).text("light azimuth °"));
-                ui.add(egui::Slider::new(&mut state.light_angles.1, -90.0..=90.0).text("light elevation °"));
+                if s.lights.is_empty() {
+                    ui.add(egui::Slider::new(&mut state.light_angles.0, -90.0..=90.0).text("headlight azimuth °"));
+                    ui.add(egui::Slider::new(&mut state.light_angles.1, -90.0..=90.0).text("headlight elevation °"));
+                }
+                super::lights_panel::lights_widget(ui, s, &state.camera);
             }
         }
+        Parameter::Shadows => super::lights_panel::shadows_widget(ui, s),
         Parameter::Background => {
             ui.horizontal(|ui| {
                 let mut rgb = s.shading.background.to_array();

@@ -6,9 +6,10 @@
 //! clouds, [`grouping`] splits splats into groups, [`frame`] holds the camera,
 //! the splat kernel, the shading model, the render settings and the mode
 //! registry that every renderer (GPU or CPU) shares, [`scene`] places clouds
-//! with transforms and materials, and [`reference`] renders exactly on the
-//! CPU. Under them all, [`hash`], [`memory`], [`output`] and [`progress`] are
-//! small helpers. No module imports one above it (`tests/architecture.rs`).
+//! with transforms and materials, [`shadow`] finds the light each splat
+//! receives (translucent shadow maps and exact shadow rays), and
+//! [`reference`] renders exactly on the CPU. Under them all, [`hash`],
+//! [`memory`], [`output`] and [`progress`] are small helpers. No module imports one above it (`tests/architecture.rs`).
 
 pub mod cloud;
 pub mod frame;
@@ -19,4 +20,5 @@ pub mod output;
 pub mod progress;
 pub mod reference;
 pub mod scene;
+pub mod shadow;
 pub mod spatial;

@@ -23,6 +23,11 @@ struct Frame {
     environment_up: vec4<f32>,
     // The world direction of the map's centre column, unused
     environment_front: vec4<f32>,
+    // Scene lights in eye space, two rows each: position (w = 1) or the
+    // direction towards the light (w = 0); colour × intensity, inverse-square (0/1).
+    lights: array<vec4<f32>, 16>,
+    // The number of lights, unused ×3.
+    light_count: vec4<u32>,
 }
 
 struct Pass {

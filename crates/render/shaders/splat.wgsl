@@ -1,5 +1,8 @@
 #include "frame.wgsl"
 #include "footprint.wgsl"
+#ifdef LIGHTS
+#include "lights.wgsl"
+#endif
 
 // Splat geometry, shared by the splat passes: perspective-correct splat
 // rasterisation by ray casting (Guennebaud, "Approximate depth peeling",
@@ -31,6 +34,11 @@ struct SplatIn {
     @location(3) colour: vec4<f32>,
     // Opacity in f32 (the reference's precision).
     @location(4) opacity: f32,
+#ifdef LIGHTS
+    // Shadow coefficients of lights 0-3 and 4-7 (a second instance buffer).
+    @location(5) shadow_a: vec4<f32>,
+    @location(6) shadow_b: vec4<f32>,
+#endif
 }
 
 struct SplatVarying {
@@ -55,6 +63,10 @@ fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying 
     let normal_eye = (frame.view * vec4<f32>(splat.normal, 0.0)).xyz;
     let normal_length = length(normal_eye);
     let normal = select(vec3<f32>(0.0, 0.0, 1.0), normal_eye / normal_length, normal_length > 1e-20);
+#ifdef LIGHTS
+    // Lit once per splat: what the passes blend is the lit colour.
+    out.colour = vec4<f32>(light_splat(splat.colour.rgb, normal, centre, splat.shadow_a, splat.shadow_b), splat.opacity);
+#endif
     let distance = length(centre);
     // Back-face culling: the normal points away from the eye (two-sided splats are kept).
     let back_facing = dot(normal, centre) > 0.0 && frame.splat.w > 0.5 && splat.radius > 0.0;

@@ -1,5 +1,8 @@
 #include "tiled_common.wgsl"
 #include "footprint.wgsl"
+#ifdef LIGHTS
+#include "lights.wgsl"
+#endif
 
 // `tiled`, pass 1, per splat: into eye space (culled as the reference culls:
 // back faces when asked, discs wholly outside the near and far planes), the
@@ -19,6 +22,10 @@
 // Per splat: pixel columns x0 | x1 << 16, pixel rows y0 | y1 << 16, sort key; x0 > x1 when none.
 @group(1) @binding(3) var<storage, read_write> rects: array<vec4<u32>>;
 @group(1) @binding(4) var<storage, read_write> counts: array<atomic<u32>>;
+#ifdef LIGHTS
+// Per splat of the chunk: its shadow coefficients, lights 0-3 and 4-7 as unorm8.
+@group(1) @binding(5) var<storage, read> splat_lights: array<u32>;
+#endif
 
 const NO_TILES: vec4<u32> = vec4<u32>(1u, 0u, 0u, 0u);
 
@@ -46,13 +53,21 @@ fn cs_project(
     let distance = length(centre);
     let towards = select(vec3<f32>(0.0), centre / distance, distance > 0.0);
     let plane = footprint_normal(normal, towards, frame.splat.z);
+    var colour = bitcast<u32>(splats[b + 7u]);
+#ifdef LIGHTS
+    // Scene lights: the splat is lit once, here, and the raster blends the lit colour.
+    let albedo = unpack4x8unorm(colour).rgb;
+    let shadow_a = unpack4x8unorm(splat_lights[2u * at]);
+    let shadow_b = unpack4x8unorm(splat_lights[2u * at + 1u]);
+    colour = pack4x8unorm(vec4<f32>(light_splat(albedo, normal, centre, shadow_a, shadow_b), 1.0));
+#endif
     eye[i] = EyeSplat(
         centre,
         1.0 / max(radius * radius, 1e-30),
         plane,
         clamp(splats[b + 8u], 0.0, 1.0),
         normal,
-        bitcast<u32>(splats[b + 7u]),
+        colour,
     );
     // Back faces of one-sided splats (a two-sided one has a negative radius).
     let culled = frame.splat.w > 0.5 && signed_radius > 0.0 && dot(normal, centre) > 0.0;

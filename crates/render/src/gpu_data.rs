@@ -67,8 +67,31 @@ pub struct FrameUniforms {
     pub environment_up: [f32; 4],
     /// The world direction the map's centre column looks along, unused
     pub environment_front: [f32; 4],
+    /// Scene lights in eye space, two rows each: position (w = 1) or the
+    /// direction towards the light (w = 0); colour × intensity, and 1 for
+    /// inverse-square falloff.
+    pub lights: [[f32; 4]; 2 * MAX_LIGHTS],
+    /// The number of lights, unused ×3.
+    pub light_count: [u32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 288);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 288 + 32 * MAX_LIGHTS + 16);
+
+use pointblend_core::frame::lights::MAX_LIGHTS;
+
+/// A splat's shadow coefficients, one unorm8 per light: a second
+/// per-instance vertex buffer beside [`SplatInstance`], present only in a
+/// frame lit by scene lights (locations 5-6 of `SplatIn`, `Variant::LIGHTS`).
+pub type SplatLight = [u8; MAX_LIGHTS];
+
+/// The vertex layout of [`SplatLight`].
+pub fn splat_light_layout() -> wgpu::VertexBufferLayout<'static> {
+    const ATTRIBUTES: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![5 => Unorm8x4, 6 => Unorm8x4];
+    wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<SplatLight>() as u64,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &ATTRIBUTES,
+    }
+}
 
 /// The constants of one pass, in its own slot of a buffer bound with a
 /// dynamic offset. Mirrors `Pass` in `shaders/frame.wgsl`.

@@ -10,7 +10,7 @@
 
 use wgpu::util::DeviceExt;
 
-use super::gpu_data::SplatInstance;
+use super::gpu_data::{SplatInstance, SplatLight};
 use super::instance_order::InstanceOrder;
 use crate::cloud::PointCloud;
 use crate::grouping::Grouping;
@@ -47,6 +47,11 @@ pub struct GpuScene {
     pub environment: Option<super::environment::EnvTexture>,
     /// How the device it lives on can keep sums of fragments.
     pub sums: super::targets::SumPrecision,
+    /// The cloud index of each instance slot (as uploaded).
+    slots: Vec<u32>,
+    /// In a frame lit by scene lights: each chunk's shadow coefficients
+    /// (`SplatLight` per instance), and what they were computed for.
+    lights: Option<(Vec<wgpu::Buffer>, u64)>,
 }
 
 impl GpuScene {
@@ -119,7 +124,67 @@ impl GpuScene {
             order: instance_order,
             environment: None,
             sums: super::targets::SumPrecision::of(device),
+            slots: order,
+            lights: None,
         }
+    }
+
+    /// Uploads each splat's shadow coefficients (`key` names what they were
+    /// computed for), or drops them (`None`: a frame without lights).
+    pub fn set_shadows(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        shadows: Option<(&crate::shadow::ShadowCoefficients, u64)>,
+    ) {
+        let Some((coefficients, key)) = shadows else {
+            self.lights = None;
+            return;
+        };
+        if self.shadow_key() == Some(key) {
+            return;
+        }
+        let per_slot: Vec<SplatLight> = self.slots.iter().map(|&i| coefficients.bytes(i as usize)).collect();
+        let buffers = match self.lights.take() {
+            Some((buffers, _)) => buffers,
+            None => self
+                .chunks
+                .iter()
+                .map(|(_, count)| {
+                    device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some("GpuScene::shadow_coefficients"),
+                        size: (*count as u64 * std::mem::size_of::<SplatLight>() as u64).max(4),
+                        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                        mapped_at_creation: false,
+                    })
+                })
+                .collect(),
+        };
+        match &self.order {
+            Some(order) => {
+                let mut order = order.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+                order.set_lights(queue, per_slot, &self.chunks, &buffers);
+            }
+            None => {
+                let mut start = 0usize;
+                for ((_, count), buffer) in self.chunks.iter().zip(&buffers) {
+                    let end = start + *count as usize;
+                    queue.write_buffer(buffer, 0, bytemuck::cast_slice(&per_slot[start..end]));
+                    start = end;
+                }
+            }
+        }
+        self.lights = Some((buffers, key));
+    }
+
+    /// What the uploaded shadow coefficients were computed for, if any are.
+    pub fn shadow_key(&self) -> Option<u64> {
+        self.lights.as_ref().map(|(_, key)| *key)
+    }
+
+    /// Each chunk's shadow-coefficient buffer, in a frame lit by scene lights.
+    pub fn light_chunks(&self) -> Option<&[wgpu::Buffer]> {
+        self.lights.as_ref().map(|(buffers, _)| buffers.as_slice())
     }
 
     /// Uploads the environment map transparent surfaces reflect and refract
@@ -144,7 +209,7 @@ impl GpuScene {
     ) -> bool {
         let Some(order) = &self.order else { return false };
         let mut order = order.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-        order.apply(queue, &self.chunks, view, kind)
+        order.apply(queue, &self.chunks, self.light_chunks(), view, kind)
     }
 
     /// Runs `look` on the scene's instance order, if it keeps one.
@@ -162,11 +227,14 @@ impl GpuScene {
     /// strips; the pipeline must be set.
     pub fn draw_range(&self, pass: &mut wgpu::RenderPass<'_>, range: std::ops::Range<u32>) {
         let mut chunk_start = 0u32;
-        for (buffer, count) in &self.chunks {
+        for (k, (buffer, count)) in self.chunks.iter().enumerate() {
             let chunk_end = chunk_start + count;
             let (from, to) = (range.start.max(chunk_start), range.end.min(chunk_end));
             if from < to {
                 pass.set_vertex_buffer(0, buffer.slice(..));
+                if let Some(lights) = self.light_chunks() {
+                    pass.set_vertex_buffer(1, lights[k].slice(..));
+                }
                 pass.draw(0..4, from - chunk_start..to - chunk_start);
             }
             chunk_start = chunk_end;

@@ -18,7 +18,7 @@ use std::ops::Range;
 
 use glam::Vec3;
 
-use super::gpu_data::SplatInstance;
+use super::gpu_data::{SplatInstance, SplatLight};
 use crate::spatial::order::{OrderKind, Orderer, ViewRay};
 
 /// The eye and view direction an order was made for, as bits (so any change
@@ -51,6 +51,11 @@ pub struct InstanceOrder {
     order: Vec<u32>,
     /// What the buffers hold now.
     current: Vec<SplatInstance>,
+    /// The uploaded index of each current record.
+    source: Vec<u32>,
+    /// Each uploaded instance's shadow coefficients, in a frame lit by
+    /// scene lights (empty otherwise): they follow their splat's record.
+    lights: Vec<SplatLight>,
     view: Option<ViewKey>,
     uploads: u64,
     slab: f32,
@@ -66,6 +71,8 @@ impl InstanceOrder {
         }
         Self {
             group_of,
+            source: (0..instances.len() as u32).collect(),
+            lights: Vec::new(),
             current: instances.clone(),
             uploaded: instances,
             groups,
@@ -86,6 +93,7 @@ impl InstanceOrder {
         &mut self,
         queue: &wgpu::Queue,
         chunks: &[(wgpu::Buffer, u32)],
+        light_chunks: Option<&[wgpu::Buffer]>,
         view: ViewRay,
         kind: OrderKind,
     ) -> bool {
@@ -112,6 +120,7 @@ impl InstanceOrder {
             }
             let g = g as usize;
             self.current[fill[g] as usize] = self.uploaded[i as usize];
+            self.source[fill[g] as usize] = i;
             fill[g] += 1;
         }
         let mut start = 0usize;
@@ -120,9 +129,38 @@ impl InstanceOrder {
             queue.write_buffer(buffer, 0, bytemuck::cast_slice(&self.current[start..end]));
             start = end;
         }
+        if let Some(light_chunks) = light_chunks {
+            self.write_lights(queue, chunks, light_chunks);
+        }
         self.view = Some(key);
         self.uploads += 1;
         true
+    }
+
+    /// Takes each uploaded instance's shadow coefficients and writes them,
+    /// in the current order, over `light_chunks` (beside `chunks`).
+    pub fn set_lights(
+        &mut self,
+        queue: &wgpu::Queue,
+        lights: Vec<SplatLight>,
+        chunks: &[(wgpu::Buffer, u32)],
+        light_chunks: &[wgpu::Buffer],
+    ) {
+        self.lights = lights;
+        self.write_lights(queue, chunks, light_chunks);
+    }
+
+    fn write_lights(&self, queue: &wgpu::Queue, chunks: &[(wgpu::Buffer, u32)], light_chunks: &[wgpu::Buffer]) {
+        if self.lights.len() != self.uploaded.len() {
+            return;
+        }
+        let mut start = 0usize;
+        for ((_, count), buffer) in chunks.iter().zip(light_chunks) {
+            let end = start + *count as usize;
+            let run: Vec<SplatLight> = self.source[start..end].iter().map(|&i| self.lights[i as usize]).collect();
+            queue.write_buffer(buffer, 0, bytemuck::cast_slice(&run));
+            start = end;
+        }
     }
 
     /// The records the buffers hold now.

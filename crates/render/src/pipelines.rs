@@ -165,7 +165,9 @@ impl PipelineCache {
         let (module, layout) = (&self.modules[&(key.shader, key.variant)], &self.layouts[&layout_key]);
         let label = format!("{}::{} ({})", key.shader, key.entry, key.variant);
         let built = match &key.kind {
-            PipelineKind::Splats { .. } => splat::pipeline(device, &label, layout, module, key.entry, &key.kind),
+            PipelineKind::Splats { .. } => {
+                splat::pipeline(device, &label, layout, module, key.entry, &key.kind, key.variant.has(Variant::LIGHTS))
+            }
             PipelineKind::Fullscreen { .. } => {
                 fullscreen::pipeline(device, &label, layout, module, key.entry, &key.kind)
             }

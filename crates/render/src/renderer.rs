@@ -128,6 +128,7 @@ impl Renderer {
         let (near, far) = camera.near_far();
         // Eq. 10 over the scene's depth range (near and far enclose its sphere).
         let depth_steps = super::depth_steps::depth_steps(near, far, epsilon * settings.depth_step);
+        let lights = settings.lit_by_lights() && scene.light_chunks().is_some();
         FrameDesc {
             settings,
             width,
@@ -136,12 +137,14 @@ impl Renderer {
             groups: &scene.groups,
             transparent_groups: &scene.transparent_groups,
             opaque: scene.opaque.clone(),
-            uniform_colour: scene.uniform_colour,
+            // Lit colours differ per splat even where the albedo does not.
+            uniform_colour: scene.uniform_colour.filter(|_| !lights),
             epsilon,
             depth_steps,
             transparent: scene.transparent,
             environment: scene.environment.as_ref().filter(|_| settings.draws_environment()),
             sums: scene.sums,
+            lights,
         }
     }
 
@@ -274,7 +277,10 @@ impl Renderer {
                         depth,
                         inputs: inputs.as_ref().map(|i| i.0.clone()).unwrap_or_default(),
                     };
-                    let key = PipelineKey { shader: pass.shader, entry: pass.entry, variant: pass.variant, kind };
+                    // A pass that writes only depth reads no colour: its splats are not lit.
+                    let lights = super::shaders::Variant::LIGHTS;
+                    let variant = pass.variant.with(lights, pass.variant.has(lights) && !pass.colour.is_empty());
+                    let key = PipelineKey { shader: pass.shader, entry: pass.entry, variant, kind };
                     let pipeline = self.cache.pipeline(device, &key)?;
                     let layer_view = |id| self.pool.layer_view(id, pass.layer).ok_or_else(|| missing(id.0));
                     let attachments = splat::Attachments {
@@ -461,5 +467,25 @@ fn frame_uniforms(
         ],
         environment_up: up.extend(std::f32::consts::TAU / environment_width.max(1) as f32).to_array(),
         environment_front: front.extend(0.0).to_array(),
+        lights: eye_lights(camera, settings),
+        light_count: [if settings.lit_by_lights() { settings.lights.len() as u32 } else { 0 }, 0, 0, 0],
     }
+}
+
+/// The scene lights in eye space, as `FrameUniforms::lights` holds them.
+fn eye_lights(
+    camera: &Camera,
+    settings: &RenderSettings,
+) -> [[f32; 4]; 2 * pointblend_core::frame::lights::MAX_LIGHTS] {
+    use crate::frame::LightKind;
+    let view = camera.view_matrix();
+    let mut rows = [[0.0; 4]; 2 * pointblend_core::frame::lights::MAX_LIGHTS];
+    for (k, light) in settings.lights.as_slice().iter().enumerate() {
+        rows[2 * k] = match light.kind {
+            LightKind::Point(p) => view.transform_point3(p).extend(1.0).to_array(),
+            LightKind::Directional(d) => view.transform_vector3(-d).normalize_or_zero().extend(0.0).to_array(),
+        };
+        rows[2 * k + 1] = (light.colour * light.intensity).extend(light.inverse_square as u32 as f32).to_array();
+    }
+    rows
 }

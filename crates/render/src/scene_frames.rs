@@ -20,6 +20,7 @@ use crate::cloud::PointCloud;
 use crate::frame::{Camera, RenderSettings};
 use crate::grouping::{Grouping, GroupingError, GroupingSpec, cache::Cache};
 use crate::scene::Scene;
+use crate::shadow::{self, ShadowCoefficients, ShadowInput};
 use pointblend_core::reference::{self, ReferenceOptions};
 
 #[derive(Debug, thiserror::Error)]
@@ -36,6 +37,8 @@ pub enum FrameError {
     NoGrouping(GroupingSpec),
     #[error("mode {0} runs on the GPU, and no GPU was opened")]
     NoGpu(&'static str),
+    #[error(transparent)]
+    Shadow(#[from] crate::shadow::ShadowError),
 }
 
 /// A grouping of the scene, with what it cost.
@@ -69,6 +72,8 @@ pub struct SceneFrames {
     uploads: Vec<(Option<GroupingSpec>, GpuScene)>,
     /// Most grouped copies kept; the oldest goes first (the viewer keeps one).
     max_grouped: usize,
+    /// The last shadow coefficients computed, and what for (see [`Self::shadow_key`]).
+    shadows: Option<(u64, Arc<ShadowCoefficients>)>,
 }
 
 impl SceneFrames {
@@ -85,6 +90,7 @@ impl SceneFrames {
             compute_groupings: true,
             uploads: Vec::new(),
             max_grouped: usize::MAX,
+            shadows: None,
         }
     }
 
@@ -150,12 +156,77 @@ impl SceneFrames {
         Ok(self.groupings.last().expect("just pushed"))
     }
 
+    /// Whether a frame of `settings` reads opacity (what its shadows see too).
+    fn reads_opacity(&self, settings: &RenderSettings) -> bool {
+        settings.mode.info().transparent && self.cloud.has_transparency()
+    }
+
+    /// What the shadow coefficients of a frame of `settings` depend on, as a
+    /// key; `None` for a frame not lit by scene lights.
+    pub fn shadow_key(&self, settings: &RenderSettings) -> Option<u64> {
+        settings.lit_by_lights().then(|| {
+            let what = format!(
+                "{:?}{:?}{}{}{:?}{}",
+                settings.lights,
+                settings.shadows,
+                settings.epsilon_scale,
+                settings.radius_scale,
+                settings.kernel,
+                self.reads_opacity(settings)
+            );
+            pointblend_core::hash::fnv1a(pointblend_core::hash::FNV_OFFSET, what.as_bytes())
+        })
+    }
+
+    /// The shadow coefficients of a frame of `settings` (none without scene
+    /// lights), computed when the lights, the shadow settings or what the
+    /// splats are drawn as changed since the last ones.
+    pub fn shadows(&mut self, settings: &RenderSettings) -> Result<Option<Arc<ShadowCoefficients>>, FrameError> {
+        let Some(key) = self.shadow_key(settings) else { return Ok(None) };
+        if let Some((k, c)) = &self.shadows {
+            if *k == key {
+                return Ok(Some(Arc::clone(c)));
+            }
+        }
+        let input = ShadowInput::new(&self.cloud, settings, self.reads_opacity(settings));
+        let computed = Arc::new(shadow::coefficients(
+            &input,
+            settings.lights.as_slice(),
+            settings.shadows.method,
+            settings.shadows.cells,
+        )?);
+        log::info!(
+            "shadows ({}) of {} lights over {} splats in {:.1} ms",
+            settings.shadows.method.name(),
+            settings.lights.len(),
+            self.cloud.len(),
+            computed.seconds * 1e3
+        );
+        self.shadows = Some((key, Arc::clone(&computed)));
+        Ok(Some(computed))
+    }
+
+    /// The last shadow coefficients computed, if any.
+    pub fn last_shadows(&self) -> Option<&Arc<ShadowCoefficients>> {
+        self.shadows.as_ref().map(|(_, c)| c)
+    }
+
     /// The GPU copy a frame of `settings` draws, uploaded (and its grouping
-    /// computed) on first use.
+    /// computed) on first use, with the frame's shadow coefficients beside its splats.
     pub fn gpu_scene(&mut self, gpu: &HeadlessRenderer, settings: &RenderSettings) -> Result<&GpuScene, FrameError> {
+        let shadows = self.shadows(settings)?;
+        let key = self.shadow_key(settings);
+        let at = self.upload(gpu, settings)?;
+        let upload = &mut self.uploads[at].1;
+        upload.set_shadows(&gpu.ctx.device, &gpu.ctx.queue, shadows.as_deref().zip(key));
+        Ok(&self.uploads[at].1)
+    }
+
+    /// The index of the upload a frame of `settings` draws, made on first use.
+    fn upload(&mut self, gpu: &HeadlessRenderer, settings: &RenderSettings) -> Result<usize, FrameError> {
         let spec = self.drawn_grouping(settings);
         if let Some(at) = self.uploads.iter().position(|(s, _)| *s == spec) {
-            return Ok(&self.uploads[at].1);
+            return Ok(at);
         }
         let grouping = spec.map(|spec| self.grouping(spec).map(|g| Arc::clone(&g.grouping))).transpose()?;
         if spec.is_some() {
@@ -167,7 +238,7 @@ impl SceneFrames {
         }
         let upload = gpu.upload_in(&self.cloud, self.scene.environment.as_deref(), grouping.as_deref());
         self.uploads.push((spec, upload));
-        Ok(&self.uploads.last().expect("just pushed").1)
+        Ok(self.uploads.len() - 1)
     }
 
     /// One frame of `settings.mode` from `camera` at `size`: a GPU mode on
@@ -188,7 +259,32 @@ impl SceneFrames {
         }
         let gpu = gpu.ok_or(FrameError::NoGpu(settings.mode.name()))?;
         let scene = self.gpu_scene(gpu, settings)?;
-        let (image, plan) = gpu.render_image(scene, camera, settings, width, height)?;
+        let (image, mut plan) = gpu.render_image(scene, camera, settings, width, height)?;
+        plan.notes.extend(self.shadow_notes(settings));
         Ok(Frame { image, plan })
+    }
+
+    /// What the frame's shadows took, in words, for the plan's notes.
+    pub fn shadow_notes(&self, settings: &RenderSettings) -> Vec<String> {
+        let Some(c) = self.shadow_key(settings).and(self.last_shadows()) else { return Vec::new() };
+        let mut notes = vec![format!(
+            "{} scene light(s), shadows by {}: {:.1} ms; shadow coefficients {:.1} MiB on the GPU (8 B per splat)",
+            settings.lights.len(),
+            settings.shadows.method.name(),
+            c.seconds * 1e3,
+            (self.cloud.len() * 8) as f64 / (1 << 20) as f64
+        )];
+        for (k, t) in c.tables.iter().enumerate() {
+            notes.push(format!(
+                "TSM table of light {}: {}x{} cells, {} entries, {:.1} MiB, built in {:.1} ms",
+                k + 1,
+                t.cells[0],
+                t.cells[1],
+                t.entries,
+                t.bytes as f64 / (1 << 20) as f64,
+                t.build_ms
+            ));
+        }
+        notes
     }
 }

@@ -3,7 +3,7 @@
 //! Shader variants come from one mechanism: a small preprocessor with
 //! `#include "file.wgsl"` (each file included once), `#ifdef NAME`,
 //! `#ifndef NAME`, `#else` and `#endif`. A [`Variant`] is a set of names
-//! (`LIT`, `WEIGHT_ONLY`, `OPAQUE_APART`, `ENVIRONMENT`).
+//! (`LIT`, `WEIGHT_ONLY`, `OPAQUE_APART`, `ENVIRONMENT`, `LIGHTS`).
 //! Chosen over WGSL `override` constants, which cannot remove a binding, a
 //! fragment output or a struct field (an unlit pass must neither declare nor
 //! write a normal target), and over `naga_oil`, which composes into naga IR
@@ -42,9 +42,14 @@ impl Variant {
     /// The scene has an environment map: it is bound at group 2 (texture,
     /// filtering sampler) and the compositing pass reflects and refracts it.
     pub const ENVIRONMENT: Variant = Variant(8);
+    /// Scene lights instead of the headlight: splats are lit once each, at
+    /// their centre, with their shadow coefficients (a second instance
+    /// buffer), and the passes blend lit colours (no normal targets, no
+    /// shading when normalising). Never with `LIT`.
+    pub const LIGHTS: Variant = Variant(16);
 
     /// Every name, by bit.
-    const NAMES: [&'static str; 4] = ["LIT", "WEIGHT_ONLY", "OPAQUE_APART", "ENVIRONMENT"];
+    const NAMES: [&'static str; 5] = ["LIT", "WEIGHT_ONLY", "OPAQUE_APART", "ENVIRONMENT", "LIGHTS"];
 
     pub const NONE: Variant = Variant(0);
 
@@ -138,6 +143,6 @@ mod tests {
         assert_eq!(lit.matches("struct Frame {").count(), 1, "frame.wgsl is included once");
         assert!(compose("missing.wgsl", Variant::NONE).is_err());
         assert_eq!(Variant::LIT.with(Variant::WEIGHT_ONLY, true).defines(), ["LIT", "WEIGHT_ONLY"]);
-        assert_eq!(Variant::all().count(), 16);
+        assert_eq!(Variant::all().count(), 32);
     }
 }

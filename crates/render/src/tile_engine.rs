@@ -102,6 +102,7 @@ pub fn planned_buffers(splats: usize, (width, height): (u32, u32), entries: Opti
 pub fn bindings(work: TileWork, variant: Variant, output: wgpu::TextureFormat) -> Vec<Binding> {
     let (ro, rw) = (Binding::Storage { read_only: true }, Binding::Storage { read_only: false });
     match work {
+        TileWork::Project if variant.has(Variant::LIGHTS) => vec![Binding::Uniform, ro, rw, rw, rw, ro],
         TileWork::Project => vec![Binding::Uniform, ro, rw, rw, rw],
         TileWork::Bin => vec![Binding::Uniform, ro, ro, rw, rw],
         TileWork::SortShort => vec![Binding::Uniform, ro, rw, rw],
@@ -259,14 +260,19 @@ impl TileEngine {
         match pass.work {
             TileWork::Project => {
                 encoder.clear_buffer(&self.counts, 0, None);
-                for ((uniform, count), (chunk, _)) in self.uniforms.iter().zip(&scene.chunks) {
-                    let bind = group(vec![
+                let lights = scene.light_chunks().filter(|_| pass.variant.has(Variant::LIGHTS));
+                for (k, ((uniform, count), (chunk, _))) in self.uniforms.iter().zip(&scene.chunks).enumerate() {
+                    let mut resources = vec![
                         uniform.as_entire_binding(),
                         chunk.as_entire_binding(),
                         self.eye.as_entire_binding(),
                         self.rects.as_entire_binding(),
                         self.counts.as_entire_binding(),
-                    ]);
+                    ];
+                    if let Some(lights) = lights {
+                        resources.push(lights[k].as_entire_binding());
+                    }
+                    let bind = group(resources);
                     groups.push((bind, dispatch(*count as u64, GROUP)));
                 }
             }

@@ -15,6 +15,7 @@ pub mod gaussians;
 pub mod load;
 pub mod mesh;
 pub mod ply;
+pub mod volume;
 pub mod write;
 
 pub use error::CloudError;

@@ -6,6 +6,7 @@
 pub mod camera;
 pub mod environment;
 pub mod kernel;
+pub mod lights;
 pub mod modes;
 pub mod parameters;
 pub mod settings;
@@ -15,6 +16,7 @@ pub mod variant;
 
 pub use camera::{Camera, UpAxis};
 pub use kernel::SplatKernel;
+pub use lights::{Light, LightKind, Lights, ShadowMethod, ShadowSettings};
 pub use modes::{ModeInfo, RenderMode};
 pub use parameters::Parameter;
 pub use settings::{Quality, RenderSettings};

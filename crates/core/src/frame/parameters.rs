@@ -38,10 +38,13 @@ pub enum Parameter {
     /// The back-to-front order of modes that blend in order: Gunjee's bucket
     /// sort or Zhang & Pajarola's BSP traversal (§5.2.1).
     Order,
+    /// How splats lit by scene lights find their light: Gunjee's translucent
+    /// shadow map (with its table size), exact shadow rays, or none.
+    Shadows,
 }
 
 impl Parameter {
-    pub const ALL: [Parameter; 14] = [
+    pub const ALL: [Parameter; 15] = [
         Parameter::Quality,
         Parameter::Epsilon,
         Parameter::DepthStep,
@@ -56,6 +59,7 @@ impl Parameter {
         Parameter::Eta,
         Parameter::Dispersion,
         Parameter::Order,
+        Parameter::Shadows,
     ];
 
     /// The name in `key=value` settings (bench variants).
@@ -75,6 +79,7 @@ impl Parameter {
             Parameter::Eta => "eta",
             Parameter::Dispersion => "dispersion",
             Parameter::Order => "order",
+            Parameter::Shadows => "shadows",
         }
     }
 
@@ -85,7 +90,8 @@ impl Parameter {
             Parameter::Epsilon => "a positive multiple of the mean splat radius",
             Parameter::DepthStep => "a positive multiple of ε",
             Parameter::RadiusScale => "a positive factor",
-            Parameter::BackfaceCulling | Parameter::Lighting | Parameter::Voronoi => "on or off",
+            Parameter::BackfaceCulling | Parameter::Voronoi => "on or off",
+            Parameter::Lighting => "on, off or headlight (the camera's light instead of the scene's lights)",
             Parameter::Grouping => {
                 "mgc-cC, wgc-kK or hash-kK, then any of -kept, -eq7, -coplanar, -opposite, -dup, -radius"
             }
@@ -95,6 +101,7 @@ impl Parameter {
             Parameter::Eta => "a positive index of refraction",
             Parameter::Dispersion => "a dispersion of 0 or more",
             Parameter::Order => "bucket, bsp or sort",
+            Parameter::Shadows => "tsm, tsm-POLxAZ (table cells), exact or off",
         }
     }
 
@@ -123,6 +130,11 @@ impl Parameter {
             Parameter::DepthStep => settings.depth_step = positive(value)?,
             Parameter::RadiusScale => settings.radius_scale = positive(value)?,
             Parameter::BackfaceCulling => settings.backface_culling = on_off(value)?,
+            // `headlight`: lit, but by the camera's light rather than the scene's lights.
+            Parameter::Lighting if value == "headlight" => {
+                settings.lighting = true;
+                settings.lights = Default::default();
+            }
             Parameter::Lighting => settings.lighting = on_off(value)?,
             Parameter::Voronoi => settings.voronoi = on_off(value)?,
             Parameter::Grouping => {
@@ -141,6 +153,17 @@ impl Parameter {
             }
             Parameter::Eta => settings.environment.eta = positive(value)?,
             Parameter::Order => settings.order = value.parse().map_err(|_| bad())?,
+            Parameter::Shadows => {
+                let (method, cells) = match value.split_once('-') {
+                    Some(("tsm", cells)) => ("tsm", Some(super::lights::parse_cells(cells).map_err(|_| bad())?)),
+                    Some(_) => return Err(bad()),
+                    None => (value, None),
+                };
+                settings.shadows.method = method.parse().map_err(|_| bad())?;
+                if let Some(cells) = cells {
+                    settings.shadows.cells = cells;
+                }
+            }
             // Checked alone (not against η, which may come later in the
             // variant): η - δ is kept above MIN_ETA where it is used.
             Parameter::Dispersion => {

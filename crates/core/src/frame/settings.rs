@@ -42,6 +42,10 @@ pub struct RenderSettings {
     pub environment: crate::frame::environment::EnvironmentSettings,
     /// How modes that blend in order sort the splats back to front.
     pub order: crate::spatial::order::OrderKind,
+    /// Scene lights (world space); none: the headlight of `shading`.
+    pub lights: super::Lights,
+    /// How lit splats find the light that reaches them.
+    pub shadows: super::ShadowSettings,
 }
 
 /// The default Eq. 10 step, in multiples of ε. A layer whose fragments
@@ -81,6 +85,12 @@ impl RenderSettings {
         self.environment.enabled && self.mode.info().environment
     }
 
+    /// Whether the frame is lit by scene lights (and their shadows) rather
+    /// than the headlight.
+    pub fn lit_by_lights(&self) -> bool {
+        self.lighting && !self.lights.is_empty()
+    }
+
     /// ε in view-depth units for a cloud whose mean splat radius is `mean_radius`.
     pub fn epsilon(&self, mean_radius: f32) -> f32 {
         self.epsilon_scale * mean_radius
@@ -104,6 +114,8 @@ impl Default for RenderSettings {
             shading: Shading::default(),
             environment: Default::default(),
             order: crate::spatial::order::OrderKind::Bucket,
+            lights: Default::default(),
+            shadows: Default::default(),
         }
     }
 }

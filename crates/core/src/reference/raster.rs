@@ -13,8 +13,9 @@ use rayon::prelude::*;
 
 use super::tiles::{self, EyeSplat, TILE};
 use crate::frame::environment::{EnvironmentSettings, GlassPixel};
-use crate::frame::{Camera, Shading, SplatKernel};
+use crate::frame::{Camera, Lights, Shading, SplatKernel};
 use crate::scene::Scene;
+use crate::shadow::{ShadowInput, rays::ShadowRays};
 
 /// Parameters of a reference frame; the same values a GPU frame uses.
 #[derive(Debug, Clone, Copy)]
@@ -35,6 +36,10 @@ pub struct ReferenceOptions {
     /// How the scene's environment map, if any, is reflected and refracted
     /// (read only with opacity, on the nearest transparent layer).
     pub environment: EnvironmentSettings,
+    /// Scene lights (world space). With lighting on and lights given, each
+    /// layer is lit by them, each through an exact shadow ray from the
+    /// layer's point to the light ([`crate::shadow::rays`]); else the headlight.
+    pub lights: Lights,
 }
 
 impl ReferenceOptions {
@@ -52,6 +57,7 @@ impl ReferenceOptions {
             progress: false,
             // Only what the mode draws: a mode without the effects is measured without them.
             environment: EnvironmentSettings { enabled: settings.draws_environment(), ..settings.environment },
+            lights: settings.lights,
         }
     }
 }
@@ -115,6 +121,18 @@ pub fn render_with_layers(
     let lens = Vec2::new(tan_y * aspect, tan_y);
     let environment = scene.environment.as_deref().filter(|_| options.transparent && options.environment.enabled);
     let glassy = environment.is_some();
+    let lit = (options.lighting && !options.lights.is_empty()).then(|| LitLayers {
+        rays: ShadowRays::new(&ShadowInput {
+            cloud,
+            radius_scale: options.radius_scale,
+            transparent: options.transparent,
+            epsilon: options.epsilon,
+            kernel: options.kernel,
+        }),
+        view,
+        eye_to_world: view.inverse(),
+        lights: &options.lights,
+    });
     let bar = crate::progress::bar(bins.bins.len() as u64, "reference render", options.progress);
     let tiles: Vec<(u32, Vec<TilePixel>)> = (0..bins.bins.len() as u32)
         .into_par_iter()
@@ -139,7 +157,8 @@ pub fn render_with_layers(
                             hits.push(Hit { splat: s, ..hit });
                         }
                     }
-                    let (colour, layers, glass) = composite(&mut hits, &mut used, &splats, ray, options, glassy);
+                    let (colour, layers, glass) =
+                        composite(&mut hits, &mut used, &splats, ray, options, glassy, lit.as_ref());
                     pixels.push((colour, layers, glass));
                 }
             }
@@ -216,6 +235,7 @@ fn composite(
     ray: Vec3,
     options: &ReferenceOptions,
     glassy: bool,
+    lit: Option<&LitLayers>,
 ) -> (Vec3, u32, Option<GlassPixel>) {
     let background = options.shading.background;
     if hits.is_empty() {
@@ -232,7 +252,7 @@ fn composite(
     let mut start = 0;
     while start < hits.len() {
         let (front, facing) = (hits[start].depth, hits[start].facing);
-        let (mut sum_w, mut sum_c, mut sum_n, mut sum_a) = (0.0f32, Vec3::ZERO, Vec3::ZERO, 0.0f32);
+        let (mut sum_w, mut sum_c, mut sum_n, mut sum_a, mut sum_d) = (0.0f32, Vec3::ZERO, Vec3::ZERO, 0.0f32, 0.0f32);
         for (h, taken) in
             hits[start..].iter().zip(&mut used[start..]).take_while(|(h, _)| h.depth <= front + options.epsilon)
         {
@@ -245,6 +265,7 @@ fn composite(
             sum_c += s.colour * h.weight;
             sum_n += s.normal * h.weight;
             sum_a += s.opacity * h.weight;
+            sum_d += h.depth * h.weight;
         }
         while start < hits.len() && used[start] {
             start += 1;
@@ -263,7 +284,9 @@ fn composite(
         }
         let normal = sum_n.try_normalize().unwrap_or(to_eye);
         let albedo = sum_c / sum_w;
-        let shaded = if options.lighting {
+        let shaded = if let Some(lit) = lit {
+            lit.shade(&options.shading, albedo, normal, to_eye, ray * (sum_d / sum_w))
+        } else if options.lighting {
             options.shading.shade(albedo, normal, to_eye)
         } else {
             albedo.clamp(Vec3::ZERO, Vec3::ONE)
@@ -297,6 +320,30 @@ fn composite(
         }
     }
     (colour + transmittance * background, layers, glass)
+}
+
+/// Scene lights and the exact shadow rays the reference lights a layer with.
+struct LitLayers<'a> {
+    rays: ShadowRays<'a>,
+    view: glam::Mat4,
+    eye_to_world: glam::Mat4,
+    lights: &'a Lights,
+}
+
+impl LitLayers<'_> {
+    /// Shades a layer (eye-space `normal`, Σw·n unflipped, and mean point
+    /// `point`) lit by each light through an exact shadow ray.
+    fn shade(&self, shading: &Shading, albedo: Vec3, normal: Vec3, to_eye: Vec3, point: Vec3) -> Vec3 {
+        let world = self.eye_to_world.transform_point3(point);
+        let normal_world = self.eye_to_world.transform_vector3(normal);
+        let mut incident = [(Vec3::ZERO, Vec3::ZERO); crate::frame::lights::MAX_LIGHTS];
+        for (slot, light) in incident.iter_mut().zip(self.lights.as_slice()) {
+            let (l, radiance) = light.incident(world);
+            let t = self.rays.transmittance(world, normal_world.dot(l) > 0.0, light);
+            *slot = (self.view.transform_vector3(l), radiance * t);
+        }
+        shading.shade_lit(albedo, normal, to_eye, &incident[..self.lights.len()])
+    }
 }
 
 /// Quantises as the GPU's Rgba8Unorm target does (round to nearest).

@@ -23,7 +23,20 @@
 //! translate = [0.01, 0.0, 0.0]       # metres (the file's units)
 //! rotate = [0, 30, 0]                # degrees about x, then y, then z
 //! scale = 1.0
+//!
+//! [[object]]
+//! plane = { splats = 40000, size = 0.4, centre = [0.0, -0.08, 0.0], normal = [0, 1, 0] }
+//!
+//! [[light]]                          # any lights replace the headlight; at most 8
+//! position = [0.0, 0.3, 0.1]         # a point light, in file coordinates (or `direction`)
+//! color = [255, 240, 220]            # optional, 0..255 (default white)
+//! intensity = 1.0                    # optional (default 1)
+//! falloff = "inverse-square"         # optional (default "none")
 //! ```
+//!
+//! Light positions are in file coordinates, like the objects' PLY files and
+//! the generated objects' centres (what `--light` takes too). A `direction`
+//! is the way a directional light's rays travel.
 //!
 //! TOML because people write these by hand (comments, no trailing-comma
 //! traps). Unknown keys are refused, and every problem (a syntax error, a
@@ -39,10 +52,11 @@ use glam::{Affine3A, EulerRot, Quat, Vec3};
 use serde::Deserialize;
 use toml::Spanned;
 
-use super::primitives::sphere;
+use super::primitives::{plane, sphere};
 use super::{Material, Scene, SceneCamera, SceneObject};
 use crate::cloud::{self, LoadOptions};
 use crate::frame::UpAxis;
+use crate::frame::{Light, LightKind};
 use crate::hash::{FNV_OFFSET, fnv1a};
 
 /// A problem with a scene file, with where it is.
@@ -63,6 +77,27 @@ struct SceneFile {
     camera: Option<CameraEntry>,
     #[serde(rename = "object", default)]
     objects: Vec<Spanned<ObjectEntry>>,
+    #[serde(rename = "light", default)]
+    lights: Vec<Spanned<LightEntry>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightEntry {
+    position: Option<[f32; 3]>,
+    direction: Option<[f32; 3]>,
+    color: Option<[f32; 3]>,
+    intensity: Option<f32>,
+    falloff: Option<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PlaneEntry {
+    splats: usize,
+    size: f32,
+    centre: [f32; 3],
+    normal: Option<[f32; 3]>,
 }
 
 #[derive(Deserialize)]
@@ -80,6 +115,7 @@ struct CameraEntry {
 struct ObjectEntry {
     ply: Option<Spanned<String>>,
     sphere: Option<Spanned<SphereEntry>>,
+    plane: Option<Spanned<PlaneEntry>>,
     name: Option<String>,
     opacity: Option<Spanned<f32>>,
     color: Option<Spanned<[f32; 3]>>,
@@ -136,6 +172,13 @@ pub fn read(path: &Path, options: &LoadOptions) -> Result<(Scene, Vec<String>), 
     if let Some(c) = &file.camera {
         scene.camera = Some(reader.camera(c)?);
     }
+    if file.lights.len() > crate::frame::lights::MAX_LIGHTS {
+        let message = crate::frame::lights::LightError::TooMany(file.lights.len()).to_string();
+        return Err(reader.at(Some(file.lights[crate::frame::lights::MAX_LIGHTS].span()), message));
+    }
+    for entry in &file.lights {
+        scene.lights.push(reader.light(entry)?);
+    }
     Ok((scene, warnings))
 }
 
@@ -158,10 +201,11 @@ impl Reader<'_> {
     fn object(&self, entry: &Spanned<ObjectEntry>, warnings: &mut Vec<String>) -> Result<SceneObject, SceneError> {
         let span = entry.span();
         let entry = entry.get_ref();
-        let (name, cloud, hash) = match (&entry.ply, &entry.sphere) {
-            (Some(ply), None) => self.ply(ply, warnings)?,
-            (None, Some(s)) => self.sphere(s)?,
-            _ => return Err(self.at(Some(span), "an object needs exactly one of `ply` or `sphere`".into())),
+        let (name, cloud, hash) = match (&entry.ply, &entry.sphere, &entry.plane) {
+            (Some(ply), None, None) => self.ply(ply, warnings)?,
+            (None, Some(s), None) => self.sphere(s)?,
+            (None, None, Some(p)) => self.plane(p)?,
+            _ => return Err(self.at(Some(span), "an object needs exactly one of `ply`, `sphere` or `plane`".into())),
         };
         let opacity = match &entry.opacity {
             Some(a) if !(0.0..=1.0).contains(a.get_ref()) => {
@@ -235,6 +279,49 @@ impl Reader<'_> {
             .iter()
             .fold(fnv1a(FNV_OFFSET, b"sphere"), |h, v| fnv1a(h, &v.to_le_bytes()));
         Ok((format!("sphere of {} splats", spec.splats), sphere(spec.splats, spec.radius, centre), hash))
+    }
+
+    /// A `plane` object: its name, generated cloud and a hash of its parameters.
+    fn plane(&self, p: &Spanned<PlaneEntry>) -> Result<(String, cloud::PointCloud, u64), SceneError> {
+        let spec = p.get_ref();
+        if spec.splats == 0 || spec.splats > MAX_SPHERE_SPLATS || !(spec.size.is_finite() && spec.size > 0.0) {
+            return Err(
+                self.at(Some(p.span()), format!("a plane needs 1..={MAX_SPHERE_SPLATS} splats and a positive size"))
+            );
+        }
+        let normal = Vec3::from_array(spec.normal.unwrap_or([0.0, 1.0, 0.0]));
+        if !spec.centre.iter().all(|c| c.is_finite()) || !normal.is_finite() || normal.length_squared() < 1e-12 {
+            return Err(
+                self.at(Some(p.span()), "the plane's centre and normal must be finite, the normal not zero".into())
+            );
+        }
+        let centre = Vec3::from_array(spec.centre);
+        let hash = [spec.splats as f32, spec.size, centre.x, centre.y, centre.z, normal.x, normal.y, normal.z]
+            .iter()
+            .fold(fnv1a(FNV_OFFSET, b"plane"), |h, v| fnv1a(h, &v.to_le_bytes()));
+        Ok((format!("plane of {} splats", spec.splats), plane(spec.splats, spec.size, centre, normal), hash))
+    }
+
+    /// One `[[light]]`, checked.
+    fn light(&self, entry: &Spanned<LightEntry>) -> Result<Light, SceneError> {
+        let span = Some(entry.span());
+        let e = entry.get_ref();
+        let kind = match (e.position, e.direction) {
+            (Some(p), None) => LightKind::Point(Vec3::from_array(p)),
+            (None, Some(d)) => LightKind::Directional(Vec3::from_array(d).normalize_or_zero()),
+            _ => return Err(self.at(span, "a light needs exactly one of `position` or `direction`".into())),
+        };
+        let inverse_square = match e.falloff.as_deref() {
+            None | Some("none") => false,
+            Some("inverse-square") => true,
+            Some(other) => {
+                return Err(self.at(span, format!("falloff must be \"none\" or \"inverse-square\", not \"{other}\"")));
+            }
+        };
+        let colour = e.color.map_or(Vec3::ONE, |c| Vec3::from_array(c) / 255.0);
+        let light = Light { kind, colour, intensity: e.intensity.unwrap_or(1.0), inverse_square };
+        light.validate().map_err(|err| self.at(span, err.to_string()))?;
+        Ok(light)
     }
 
     /// The `[camera]` table, checked.

@@ -67,6 +67,8 @@ pub struct Scene {
     pub camera: Option<SceneCamera>,
     /// The environment map transparent surfaces reflect and refract (§5.2.3).
     pub environment: Option<Arc<environment::EnvironmentMap>>,
+    /// The scene file's `[[light]]`s, in file coordinates (see [`Scene::light_in_frame`]).
+    pub lights: Vec<crate::frame::Light>,
 }
 
 /// A scene's splats in one frame, materials applied.
@@ -159,6 +161,20 @@ impl Scene {
             return geometry;
         }
         self.objects.iter().fold(geometry, |h, o| fnv1a(h, format!("{:?}", o.material).as_bytes()))
+    }
+
+    /// A light given in file coordinates (those of the PLY files and of the
+    /// generated objects' centres), moved into the flattened frame.
+    pub fn light_in_frame(&self, light: &crate::frame::Light) -> crate::frame::Light {
+        let Some(first) = self.objects.first() else { return *light };
+        match light.kind {
+            crate::frame::LightKind::Point(p) => {
+                let origin = glam::DVec3::from_array(first.cloud.origin);
+                let at = ((p.as_dvec3() - origin) / first.cloud.unit()).as_vec3();
+                crate::frame::Light { kind: crate::frame::LightKind::Point(at), ..*light }
+            }
+            crate::frame::LightKind::Directional(_) => *light,
+        }
     }
 
     /// All splats in one frame with the materials applied (see the module doc).

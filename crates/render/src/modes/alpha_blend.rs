@@ -33,7 +33,7 @@ impl GpuMode for AlphaBlend {
             label: "AlphaBlend::pass",
             shader: "alpha_blend.wgsl",
             entry: "fs_alpha_blend",
-            variant: Variant::NONE.with(Variant::LIT, frame.settings.lighting),
+            variant: frame.shading_variant(),
             colour: vec![ColourOutput { target: IMAGE, blend: Blend::Over }],
             depth: None,
             inputs: Vec::new(),
@@ -57,6 +57,6 @@ impl GpuMode for AlphaBlend {
             ),
             Step::new("over background", "full screen: the image over the background", vec![Command::Fullscreen(over)]),
         ];
-        frame.plan((if frame.settings.lighting { "lit" } else { "unlit" }).into(), 1, steps, targets)
+        frame.plan(frame.lighting_name().into(), 1, steps, targets)
     }
 }

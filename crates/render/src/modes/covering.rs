@@ -12,7 +12,7 @@ pub(super) fn groups(frame: &FrameDesc<'_>) -> u32 {
 
 /// The shader variant: lit or not, opaque splats drawn apart or not; colours are always full.
 pub(super) fn variant(frame: &FrameDesc<'_>) -> Variant {
-    Variant::NONE.with(Variant::LIT, frame.settings.lighting).with(Variant::OPAQUE_APART, opaque_part::present(frame))
+    frame.shading_variant().with(Variant::OPAQUE_APART, opaque_part::present(frame))
 }
 
 /// The plan's variant in words: the grouping drawn, lit or not, the
@@ -21,7 +21,7 @@ pub(super) fn describe(frame: &FrameDesc<'_>) -> String {
     format!(
         "{}, {}{}",
         frame.settings.grouping_for_mode(),
-        if frame.settings.lighting { "lit" } else { "unlit" },
+        frame.lighting_name(),
         if opaque_part::present(frame) { ", opaque splats apart (two-pass)" } else { "" }
     )
 }

@@ -35,7 +35,7 @@ fn colour(frame: &FrameDesc<'_>) -> TargetId {
 /// What the group layers hold, in the order of the geometry pass's outputs.
 fn layer_outputs(frame: &FrameDesc<'_>) -> Vec<TargetId> {
     let mut outputs = vec![colour(frame)];
-    if frame.settings.lighting {
+    if frame.normals() {
         outputs.push(NORMAL);
     }
     outputs.push(VIEW_DEPTH);
@@ -45,7 +45,7 @@ fn layer_outputs(frame: &FrameDesc<'_>) -> Vec<TargetId> {
 /// What the compositing pass reads, in the order of its bindings.
 fn composite_inputs(frame: &FrameDesc<'_>) -> Vec<TargetId> {
     let mut inputs = vec![colour(frame), VIEW_DEPTH];
-    if frame.settings.lighting {
+    if frame.normals() {
         inputs.push(NORMAL);
     }
     inputs
@@ -62,8 +62,7 @@ impl GpuMode for Deferred {
             target(VIEW_DEPTH, VIEW_DEPTH_FORMAT, "true view depth for the ε-z test of Fig. 6"),
             target(Z_BUFFER, DEPTH_FORMAT, "z-test within each group (Voronoi depth if on)"),
         ];
-        let variant =
-            Variant::NONE.with(Variant::LIT, frame.settings.lighting).with(Variant::WEIGHT_ONLY, frame.weight_only());
+        let variant = frame.shading_variant().with(Variant::WEIGHT_ONLY, frame.weight_only());
         let uniforms = |layer: u32| frame.uniforms(layer, k, frame.settings.voronoi as u32);
         let colour: Vec<ColourOutput> =
             layer_outputs(frame).into_iter().map(|target| ColourOutput { target, blend: Blend::Replace }).collect();
@@ -103,7 +102,7 @@ impl GpuMode for Deferred {
         let variant = format!(
             "{}, {}, Voronoi {}{}",
             frame.settings.grouping,
-            if frame.settings.lighting { "lit" } else { "unlit" },
+            frame.lighting_name(),
             if frame.settings.voronoi { "on" } else { "off" },
             if frame.weight_only() { ", weights only" } else { "" }
         );

@@ -58,9 +58,33 @@ pub struct FrameDesc<'a> {
     pub environment: Option<&'a super::environment::EnvTexture>,
     /// How targets that sum every fragment of a pixel store their sums.
     pub sums: super::targets::SumPrecision,
+    /// Lit by scene lights: the splats are lit once each with their shadow
+    /// coefficients (uploaded beside them), and the passes blend lit colours.
+    pub lights: bool,
 }
 
 impl FrameDesc<'_> {
+    /// Whether normals are kept and shaded per pixel (the headlight): lighting on, no scene lights.
+    pub fn normals(&self) -> bool {
+        self.settings.lighting && !self.lights
+    }
+
+    /// The shading names of a pass's variant: `LIT` (the headlight, per
+    /// pixel), `LIGHTS` (scene lights, per splat) or neither (unlit).
+    pub fn shading_variant(&self) -> super::shaders::Variant {
+        use super::shaders::Variant;
+        Variant::NONE.with(Variant::LIT, self.normals()).with(Variant::LIGHTS, self.lights)
+    }
+
+    /// The lighting, in words, for the plan's variant.
+    pub fn lighting_name(&self) -> &'static str {
+        match (self.lights, self.settings.lighting) {
+            (true, _) => "lit by scene lights",
+            (false, true) => "lit",
+            (false, false) => "unlit",
+        }
+    }
+
     /// Whether colour targets hold only weights (a scene of one colour).
     pub fn weight_only(&self) -> bool {
         self.uniform_colour.is_some()

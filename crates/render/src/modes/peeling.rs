@@ -32,7 +32,7 @@ const COMPOSITE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// The shader variant of a frame: lighting, and colours or weights only.
 pub fn variant(frame: &FrameDesc<'_>) -> Variant {
-    Variant::NONE.with(Variant::LIT, frame.settings.lighting).with(Variant::WEIGHT_ONLY, frame.weight_only())
+    frame.shading_variant().with(Variant::WEIGHT_ONLY, frame.weight_only())
 }
 
 /// The colour sums target of one set of layer sums: (Σw·rgb, Σw), or Σw alone.
@@ -44,7 +44,7 @@ fn colour(frame: &FrameDesc<'_>, colour: TargetId, weight: TargetId) -> TargetId
 /// the layer shader's bindings: colour, opacity, normal (when lit).
 pub fn sums(frame: &FrameDesc<'_>, [c, w, a, n]: [TargetId; 4]) -> Vec<TargetId> {
     let mut out = vec![colour(frame, c, w), a];
-    if frame.settings.lighting {
+    if frame.normals() {
         out.push(n);
     }
     out
@@ -69,7 +69,7 @@ pub fn sum_targets(frame: &FrameDesc<'_>, ids: [TargetId; 4], what: &'static str
         target(frame, c, frame.sum_format(false), what)
     }];
     out.push(target(frame, a, frame.sum_format(true), "Σw·α: the layer's opacity"));
-    if frame.settings.lighting {
+    if frame.normals() {
         out.push(target(frame, n, frame.sum_format(false), "Σw·n, turned to the viewer, for shading"));
     }
     out
@@ -189,11 +189,7 @@ pub fn final_step(frame: &FrameDesc<'_>) -> Step {
 
 /// The variant in words.
 pub fn describe(frame: &FrameDesc<'_>, layers: u32) -> String {
-    format!(
-        "{layers} layers, {}{}",
-        if frame.settings.lighting { "lit" } else { "unlit" },
-        if frame.weight_only() { ", weights only" } else { "" }
-    )
+    format!("{layers} layers, {}{}", frame.lighting_name(), if frame.weight_only() { ", weights only" } else { "" })
 }
 
 /// Layers k: the setting, or the registry's default; at least 2 (one layer

@@ -35,7 +35,9 @@ const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 impl GpuMode for Tiled {
     fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan {
         let glassy = frame.environment.is_some() && frame.transparent;
-        let variant = Variant::NONE.with(Variant::LIT, frame.settings.lighting).with(Variant::ENVIRONMENT, glassy);
+        // Scene lights light each splat once, when it is projected; the raster blends lit colours.
+        let variant = frame.shading_variant().with(Variant::LIGHTS, false).with(Variant::ENVIRONMENT, glassy);
+        let project_variant = Variant::NONE.with(Variant::LIGHTS, frame.lights);
         let uniforms = frame.uniforms(0, 1, frame.transparent as u32);
         let mut targets =
             vec![frame.storage_target(IMAGE, FORMAT, "rgb composited over the background, layers per pixel")];
@@ -53,7 +55,11 @@ impl GpuMode for Tiled {
                 label,
                 shader,
                 entry,
-                variant: if work == TileWork::Raster { variant } else { Variant::NONE },
+                variant: match work {
+                    TileWork::Raster => variant,
+                    TileWork::Project => project_variant,
+                    _ => Variant::NONE,
+                },
                 work,
                 outputs,
                 uniforms,
@@ -106,8 +112,8 @@ impl GpuMode for Tiled {
             ),
         ];
         let what = format!(
-            "exact per-pixel ε-layers{}{}",
-            if frame.settings.lighting { ", lit" } else { "" },
+            "exact per-pixel ε-layers, {}{}",
+            frame.lighting_name(),
             if frame.transparent { "" } else { ", first layer (opaque scene)" }
         );
         let mut plan = frame.plan(what, 1, steps, targets);

@@ -69,7 +69,7 @@ impl Targets {
 }
 
 fn lit(frame: &FrameDesc<'_>) -> bool {
-    frame.settings.lighting
+    frame.normals()
 }
 
 /// Whether `ids` are drawn filtered: `two-pass` as its quality says; the
@@ -101,7 +101,7 @@ pub(super) fn targets(frame: &FrameDesc<'_>, ids: &Targets) -> Vec<TargetDesc> {
 
 /// The steps of a two-pass rendering of `splats` into `ids`.
 pub(super) fn steps(frame: &FrameDesc<'_>, ids: &Targets, splats: Range<u32>) -> Vec<Step> {
-    let variant = Variant::NONE.with(Variant::LIT, lit(frame)).with(Variant::WEIGHT_ONLY, frame.weight_only());
+    let variant = frame.shading_variant().with(Variant::WEIGHT_ONLY, frame.weight_only());
     let uniforms = frame.uniforms(0, 1, 0);
     let outputs = |blend| {
         let mut out = vec![ColourOutput { target: ids.colour(frame), blend }];
@@ -187,7 +187,7 @@ impl GpuMode for TwoPass {
         let variant = format!(
             "{}, {}{}",
             if filtered(frame, &OWN) { "filtered" } else { "unfiltered" },
-            if lit(frame) { "lit" } else { "unlit" },
+            frame.lighting_name(),
             if frame.weight_only() { ", weights only" } else { "" }
         );
         let steps = steps(frame, &OWN, 0..frame.splats as u32);

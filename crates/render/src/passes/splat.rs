@@ -15,8 +15,11 @@ pub fn pipeline(
     module: &wgpu::ShaderModule,
     entry: &str,
     kind: &PipelineKind,
+    lights: bool,
 ) -> Option<wgpu::RenderPipeline> {
     let PipelineKind::Splats { colour, depth, .. } = kind else { return None };
+    // A frame lit by scene lights reads each splat's shadow coefficients from a second instance buffer.
+    let with_lights = [Some(SplatInstance::layout()), Some(crate::gpu_data::splat_light_layout())];
     let targets: Vec<Option<wgpu::ColorTargetState>> = colour
         .iter()
         .map(|&(format, blend)| {
@@ -30,7 +33,7 @@ pub fn pipeline(
             module,
             entry_point: Some("vs_splat"),
             compilation_options: Default::default(),
-            buffers: &[Some(SplatInstance::layout())],
+            buffers: if lights { &with_lights } else { &with_lights[..1] },
         },
         primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleStrip, ..Default::default() },
         depth_stencil: depth.map(|(format, write, compare)| wgpu::DepthStencilState {
