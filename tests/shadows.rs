@@ -204,6 +204,14 @@ fn stiff_cases_give_finite_coefficients_and_images() {
     let (off, _) = worst(&base, &t, under, 1.0 - a);
     assert!(off <= MAX_SHADOW_COEFFICIENT_ERROR, "a light 1e6 radii above: off 1 - a by {off}");
 
+    // Directional light straight down, tables not square: the same 1 - a under the square.
+    let sun = Light::directional(Vec3::new(0.0, 0.0, -1.0));
+    for cells in [[128, 512], [512, 128]] {
+        let t = coefficients(&cloud, sun, ShadowMethod::Tsm, cells);
+        let (off, _) = worst(&base, &t, under, 1.0 - a);
+        assert!(off <= MAX_SHADOW_COEFFICIENT_ERROR, "a directional light, {cells:?} cells: off 1 - a by {off}");
+    }
+
     // 10,000 coincident translucent splats are one layer, not 10,000.
     let mut stack = common::coincident(10_000, a, [200, 100, 50]).flattened().as_ref().clone();
     // A probe splat under the stack.

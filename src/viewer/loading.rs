@@ -109,13 +109,14 @@ impl ViewerApp {
         }
         // The scene file's lights and `--light`s, moved into the scene's frame (a
         // new model only: the same geometry again keeps the lights as they were moved).
-        if !same_geometry && (!model.scene.lights.is_empty() || !self.options.lights.is_empty()) {
+        // Another model's lights sit in its coordinates: a new model starts from its own (or none).
+        if !same_geometry {
             let lights: Vec<_> =
                 model.scene.lights.iter().chain(&self.options.lights).map(|l| model.scene.light_in_frame(l)).collect();
-            match crate::frame::Lights::new(&lights) {
-                Ok(lights) => self.ui.settings.lights = lights,
-                Err(e) => self.load_error = Some(format!("{}: lights: {e}", model.path.display())),
-            }
+            self.ui.settings.lights = crate::frame::Lights::new(&lights).unwrap_or_else(|e| {
+                self.load_error = Some(format!("{}: lights: {e}", model.path.display()));
+                Default::default()
+            });
         }
         for warning in &model.warnings {
             log::warn!("{}: {warning}", model.path.display());

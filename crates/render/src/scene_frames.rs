@@ -51,6 +51,9 @@ pub struct SceneGrouping {
     pub cached: bool,
 }
 
+/// Shadow coefficient sets kept per scene (each 4 bytes per splat and light).
+const KEPT_SHADOWS: usize = 4;
+
 /// A rendered frame and the plan that made it (a CPU plan for the reference).
 pub struct Frame {
     pub image: image::RgbaImage,
@@ -72,8 +75,8 @@ pub struct SceneFrames {
     uploads: Vec<(Option<GroupingSpec>, GpuScene)>,
     /// Most grouped copies kept; the oldest goes first (the viewer keeps one).
     max_grouped: usize,
-    /// The last shadow coefficients computed, and what for (see [`Self::shadow_key`]).
-    shadows: Option<(u64, Arc<ShadowCoefficients>)>,
+    /// The last shadow coefficients computed, newest last, and what for (see [`Self::shadow_key`]).
+    shadows: Vec<(u64, Arc<ShadowCoefficients>)>,
 }
 
 impl SceneFrames {
@@ -90,7 +93,7 @@ impl SceneFrames {
             compute_groupings: true,
             uploads: Vec::new(),
             max_grouped: usize::MAX,
-            shadows: None,
+            shadows: Vec::new(),
         }
     }
 
@@ -166,7 +169,7 @@ impl SceneFrames {
     pub fn shadow_key(&self, settings: &RenderSettings) -> Option<u64> {
         settings.lit_by_lights().then(|| {
             let what = format!(
-                "{:?}{:?}{}{}{:?}{}",
+                "{:?}|{:?}|{}|{}|{:?}|{}",
                 settings.lights,
                 settings.shadows,
                 settings.epsilon_scale,
@@ -183,10 +186,10 @@ impl SceneFrames {
     /// splats are drawn as changed since the last ones.
     pub fn shadows(&mut self, settings: &RenderSettings) -> Result<Option<Arc<ShadowCoefficients>>, FrameError> {
         let Some(key) = self.shadow_key(settings) else { return Ok(None) };
-        if let Some((k, c)) = &self.shadows {
-            if *k == key {
-                return Ok(Some(Arc::clone(c)));
-            }
+        if let Some(at) = self.shadows.iter().position(|(k, _)| *k == key) {
+            let hit = self.shadows.remove(at);
+            self.shadows.push(hit);
+            return Ok(self.shadows.last().map(|(_, c)| Arc::clone(c)));
         }
         let input = ShadowInput::new(&self.cloud, settings, self.reads_opacity(settings));
         let computed = Arc::new(shadow::coefficients(
@@ -202,13 +205,17 @@ impl SceneFrames {
             self.cloud.len(),
             computed.seconds * 1e3
         );
-        self.shadows = Some((key, Arc::clone(&computed)));
+        // A few are kept: bench alternates variants, the viewer a preview and a full frame.
+        if self.shadows.len() == KEPT_SHADOWS {
+            self.shadows.remove(0);
+        }
+        self.shadows.push((key, Arc::clone(&computed)));
         Ok(Some(computed))
     }
 
     /// The last shadow coefficients computed, if any.
     pub fn last_shadows(&self) -> Option<&Arc<ShadowCoefficients>> {
-        self.shadows.as_ref().map(|(_, c)| c)
+        self.shadows.last().map(|(_, c)| c)
     }
 
     /// The GPU copy a frame of `settings` draws, uploaded (and its grouping

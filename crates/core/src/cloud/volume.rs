@@ -163,7 +163,8 @@ struct Slices {
 
 impl Slices {
     fn open(path: &Path) -> Result<(Self, nifti::NiftiHeader), VolumeError> {
-        let object = ReaderStreamedOptions::new().read_file(path).map_err(|e| read_error(path, e))?;
+        // Slices of rank 2 whatever the volume's rank, so a 4D file of one time step reads as 3D.
+        let object = ReaderStreamedOptions::new().read_file_rank(path, 2).map_err(|e| read_error(path, e))?;
         let header = object.header().clone();
         let volume = object.into_volume();
         let dim = volume.dim().to_vec();

@@ -124,7 +124,7 @@ impl<'a> ShadowRays<'a> {
             LightKind::Point(position) => {
                 let d = position - p;
                 let l = d.length();
-                if l.is_nan() || l <= 0.0 {
+                if !l.is_finite() || l <= 0.0 {
                     return 1.0;
                 }
                 (d / l, l)
@@ -210,7 +210,9 @@ impl<'a> ShadowRays<'a> {
             next[axis] = (boundary - p[axis]) / dir[axis];
             delta[axis] = self.cell / dir[axis].abs();
         }
-        loop {
+        // A segment crosses at most this many cells; the cap also ends a walk on non-finite input.
+        let most = (self.dims.x + self.dims.y + self.dims.z) as usize + 1;
+        for _ in 0..most {
             let c = (cell.x + self.dims.x * (cell.y + self.dims.y * cell.z)) as usize;
             for &i in &self.items[self.start[c] as usize..self.start[c + 1] as usize] {
                 visit(i, cell);

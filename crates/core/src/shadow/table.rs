@@ -103,7 +103,8 @@ enum Projection {
         across: [DVec3; 2],
         /// The corner of the square the rays start from.
         origin: DVec3,
-        cell: f64,
+        /// A cell's width along each axis (rows, columns).
+        cell: [f64; 2],
     },
 }
 
@@ -158,7 +159,7 @@ impl Projection {
                 let helper = if dir.y.abs() < 0.9 { DVec3::Y } else { DVec3::X };
                 let a = helper.cross(dir).normalize();
                 let b = dir.cross(a);
-                let cell = 2.0 * radius / k[0].max(k[1]) as f64;
+                let cell = [2.0 * radius / k[0] as f64, 2.0 * radius / k[1] as f64];
                 Projection::Parallel { dir, across: [a, b], origin: centre - (a + b + dir) * radius, cell }
             }
         }
@@ -204,12 +205,12 @@ impl Projection {
             }
             Projection::Parallel { across, origin, cell, .. } => {
                 let rel = p - *origin;
-                let (u, v) = (rel.dot(across[0]) / cell, rel.dot(across[1]) / cell);
-                let s = r / cell;
+                let (u, v) = (rel.dot(across[0]) / cell[0], rel.dot(across[1]) / cell[1]);
+                let (su, sv) = (r / cell[0], r / cell[1]);
                 Some(Footprint {
                     at: (u, v),
-                    rows: clamp(u - s, k[0])..=clamp(u + s, k[0]),
-                    columns: Some((clamp(v - s, k[1]), clamp(v + s, k[1]))),
+                    rows: clamp(u - su, k[0])..=clamp(u + su, k[0]),
+                    columns: Some((clamp(v - sv, k[1]), clamp(v + sv, k[1]))),
                 })
             }
         }
@@ -225,7 +226,8 @@ impl Projection {
                 (DVec3::ZERO, DVec3::new(sp * ca, sp * sa, cp))
             }
             Projection::Parallel { dir, across, origin, cell } => {
-                let o = *origin + across[0] * (row as f64 + 0.5) * cell + across[1] * (column as f64 + 0.5) * cell;
+                let o =
+                    *origin + across[0] * (row as f64 + 0.5) * cell[0] + across[1] * (column as f64 + 0.5) * cell[1];
                 (o, *dir)
             }
         }
@@ -276,7 +278,7 @@ fn columns(span: Option<(i64, i64)>, k_az: u32) -> impl Iterator<Item = u32> {
 /// k_az] cells and returns each splat's shadow coefficient.
 pub fn build(input: &ShadowInput, light: &Light, k: [u32; 2]) -> Result<(Vec<f32>, TableStats), ShadowError> {
     let started = std::time::Instant::now();
-    let k = [k[0].max(1), k[1].max(1)];
+    let k = k.map(|c| c.clamp(1, crate::frame::lights::MAX_TSM_CELLS));
     let cloud = input.cloud;
     let n = cloud.len();
     let (centre, radius) = input.bounds();
@@ -313,13 +315,10 @@ pub fn build(input: &ShadowInput, light: &Light, k: [u32; 2]) -> Result<(Vec<f32
         .par_chunks(8192)
         .map(|chunk| {
             let mut out = Vec::with_capacity(chunk.len() * 4);
-            if made.load(Ordering::Relaxed) > max_entries {
-                return out;
-            }
-            for &i in chunk {
+            let insert = |i: usize, out: &mut Vec<RawEntry>| {
                 let p = cloud.positions[i].as_dvec3();
                 let r = input.radius(i) as f64;
-                let Some(f) = projection.footprint(p, r, k) else { continue };
+                let Some(f) = projection.footprint(p, r, k) else { return };
                 let (q, normal) = projection.to_frame(p, cloud.normals[i].as_dvec3());
                 // The cell the centre falls in: the splat's light is read there
                 // too, as a probe, in case no cell's ray meets its disc.
@@ -359,8 +358,17 @@ pub fn build(input: &ShadowInput, light: &Light, k: [u32; 2]) -> Result<(Vec<f32
                         });
                     }
                 }
+            };
+            for &i in chunk {
+                // Every splat's entries count at once, so insertion stops within one
+                // splat's entries (at most one table) of the limit.
+                if made.load(Ordering::Relaxed) > max_entries {
+                    break;
+                }
+                let before = out.len();
+                insert(i, &mut out);
+                made.fetch_add((out.len() - before) as u64, Ordering::Relaxed);
             }
-            made.fetch_add(out.len() as u64, Ordering::Relaxed);
             out
         })
         .collect();
