@@ -159,7 +159,7 @@ pub struct ViewArgs {
 }
 
 /// `--light X,Y,Z`.
-fn parse_light(text: &str) -> Result<pointblend::frame::Light, String> {
+pub fn parse_light(text: &str) -> Result<pointblend::frame::Light, String> {
     pointblend::frame::Light::parse_point(text).map_err(|e| e.to_string())
 }
 

@@ -58,12 +58,8 @@ pub struct Args {
     pub env: Option<PathBuf>,
     /// A white point light at X,Y,Z in the model's file coordinates (repeatable, at most 8 with the scene's);
     /// lights replace the headlight and cast translucent shadows. The viewer adds, moves and deletes them too.
-    #[arg(long = "light", value_parser = parse_light, allow_hyphen_values = true)]
+    #[arg(long = "light", value_parser = super::shared::parse_light, allow_hyphen_values = true)]
     pub lights: Vec<pointblend::frame::Light>,
-}
-
-fn parse_light(text: &str) -> Result<pointblend::frame::Light, String> {
-    pointblend::frame::Light::parse_point(text).map_err(|e| e.to_string())
 }
 
 pub fn run(args: &Args) -> Result<()> {

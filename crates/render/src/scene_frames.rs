@@ -75,6 +75,8 @@ pub struct SceneFrames {
     uploads: Vec<(Option<GroupingSpec>, GpuScene)>,
     /// Most grouped copies kept; the oldest goes first (the viewer keeps one).
     max_grouped: usize,
+    /// Whether some splat of `cloud` is less than opaque (asked every frame, so kept).
+    transparent: bool,
     /// The last shadow coefficients computed, newest last, and what for (see [`Self::shadow_key`]).
     shadows: Vec<(u64, Arc<ShadowCoefficients>)>,
 }
@@ -85,6 +87,7 @@ impl SceneFrames {
     /// the grouping cache, and every upload is kept.
     pub fn new(scene: Arc<Scene>, cloud: Arc<PointCloud>) -> Self {
         let hash = scene.geometry_hash();
+        let transparent = cloud.has_transparency();
         Self {
             scene,
             cloud,
@@ -94,6 +97,7 @@ impl SceneFrames {
             uploads: Vec::new(),
             max_grouped: usize::MAX,
             shadows: Vec::new(),
+            transparent,
         }
     }
 
@@ -122,7 +126,7 @@ impl SceneFrames {
     /// The grouping a frame of `settings` draws, if any: the mode draws groups
     /// and (for a transparent mode) the scene has something transparent.
     pub fn drawn_grouping(&self, settings: &RenderSettings) -> Option<GroupingSpec> {
-        settings.mode.needs_grouping_for(self.cloud.has_transparency()).then(|| settings.grouping_for_mode())
+        settings.mode.needs_grouping_for(self.transparent).then(|| settings.grouping_for_mode())
     }
 
     /// Hands in a grouping computed elsewhere (nothing happens when it is here
@@ -161,7 +165,7 @@ impl SceneFrames {
 
     /// Whether a frame of `settings` reads opacity (what its shadows see too).
     fn reads_opacity(&self, settings: &RenderSettings) -> bool {
-        settings.mode.info().transparent && self.cloud.has_transparency()
+        settings.mode.info().transparent && self.transparent
     }
 
     /// What the shadow coefficients of a frame of `settings` depend on, as a
@@ -185,11 +189,19 @@ impl SceneFrames {
     /// lights), computed when the lights, the shadow settings or what the
     /// splats are drawn as changed since the last ones.
     pub fn shadows(&mut self, settings: &RenderSettings) -> Result<Option<Arc<ShadowCoefficients>>, FrameError> {
+        Ok(self.keyed_shadows(settings)?.map(|(_, c)| c))
+    }
+
+    /// [`Self::shadows`] with their key.
+    fn keyed_shadows(
+        &mut self,
+        settings: &RenderSettings,
+    ) -> Result<Option<(u64, Arc<ShadowCoefficients>)>, FrameError> {
         let Some(key) = self.shadow_key(settings) else { return Ok(None) };
         if let Some(at) = self.shadows.iter().position(|(k, _)| *k == key) {
             let hit = self.shadows.remove(at);
             self.shadows.push(hit);
-            return Ok(self.shadows.last().map(|(_, c)| Arc::clone(c)));
+            return Ok(self.shadows.last().cloned());
         }
         let input = ShadowInput::new(&self.cloud, settings, self.reads_opacity(settings));
         let computed = Arc::new(shadow::coefficients(
@@ -210,7 +222,7 @@ impl SceneFrames {
             self.shadows.remove(0);
         }
         self.shadows.push((key, Arc::clone(&computed)));
-        Ok(Some(computed))
+        Ok(Some((key, computed)))
     }
 
     /// The last shadow coefficients computed, if any.
@@ -221,11 +233,10 @@ impl SceneFrames {
     /// The GPU copy a frame of `settings` draws, uploaded (and its grouping
     /// computed) on first use, with the frame's shadow coefficients beside its splats.
     pub fn gpu_scene(&mut self, gpu: &HeadlessRenderer, settings: &RenderSettings) -> Result<&GpuScene, FrameError> {
-        let shadows = self.shadows(settings)?;
-        let key = self.shadow_key(settings);
+        let shadows = self.keyed_shadows(settings)?;
         let at = self.upload(gpu, settings)?;
         let upload = &mut self.uploads[at].1;
-        upload.set_shadows(&gpu.ctx.device, &gpu.ctx.queue, shadows.as_deref().zip(key));
+        upload.set_shadows(&gpu.ctx.device, &gpu.ctx.queue, shadows.as_ref().map(|(key, c)| (c.as_ref(), *key)));
         Ok(&self.uploads[at].1)
     }
 

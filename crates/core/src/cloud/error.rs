@@ -35,7 +35,7 @@ impl CloudError {
 }
 
 /// Collapses a multi-line message (ply-rs reports several lines) into one.
-fn one_line(text: &str) -> String {
+pub(crate) fn one_line(text: &str) -> String {
     let words: Vec<&str> = text.split_whitespace().collect();
     let mut line = words.join(" ");
     const MAX_LEN: usize = 300;

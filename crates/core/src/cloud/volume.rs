@@ -22,6 +22,7 @@ use nifti::volume::RandomAccessNiftiVolume;
 use nifti::{NiftiObject, ReaderStreamedOptions};
 
 use super::PointCloud;
+use super::error::one_line;
 
 /// A volume that cannot be turned into points, said in one line.
 #[derive(Debug, thiserror::Error)]
@@ -149,10 +150,6 @@ pub struct VolumeReport {
 
 fn read_error(path: &Path, e: impl std::fmt::Display) -> VolumeError {
     VolumeError::Read { path: path.display().to_string(), message: one_line(&e.to_string()) }
-}
-
-fn one_line(text: &str) -> String {
-    text.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
 /// The slices of a volume, one after another, as f32 (z = slice index).

@@ -71,14 +71,9 @@ impl<'a> ShadowInput<'a> {
 
     /// The centre and radius of a sphere around every splat.
     fn bounds(&self) -> (Vec3, f32) {
+        let Some(bounds) = self.cloud.bounds() else { return (Vec3::ZERO, 1.0) };
+        let centre = bounds.center();
         let positions = &self.cloud.positions;
-        if positions.is_empty() {
-            return (Vec3::ZERO, 1.0);
-        }
-        let (lo, hi) = positions
-            .iter()
-            .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
-        let centre = (lo + hi) * 0.5;
         let max_radius = (0..self.cloud.len()).map(|i| self.radius(i)).fold(0.0f32, f32::max);
         let reach = positions.iter().map(|p| p.distance(centre)).fold(0.0f32, f32::max);
         (centre, (reach + max_radius).max(1e-6))
