@@ -6,6 +6,7 @@ mod common;
 use glam::Vec3;
 use pointblend::cloud::{self, PointCloud};
 use pointblend::grouping::area::overlap_weight;
+use pointblend::grouping::regroup::{HashRegrouper, Lattice};
 use pointblend::grouping::{Grouping, cache, extend, hash, metrics, mgc, wgc};
 use pointblend::spatial::overlap::{OverlapGraph, OverlapOptions};
 
@@ -121,10 +122,12 @@ fn hash_grouping_with_collisions_puts_no_two_splats_of_a_cell_in_one_group() {
         hash::group(&cloud, &hash::HashOptions { k, collisions: hash::Collisions::All }).unwrap();
     assert!(resolved > 0);
     assert_valid(&grouping, cloud.len(), "hash");
-    let cells = hash::cells(&cloud);
+    let mut regrouper =
+        HashRegrouper::new(Lattice::of(&cloud), hash::HashOptions { k, collisions: hash::Collisions::All }).unwrap();
+    assert_eq!(regrouper.regroup(&cloud), grouping, "a regrouper's first frame is the one-off grouping");
     let labels = grouping.labels(cloud.len());
-    let mut per_cell: std::collections::HashMap<u64, Vec<u32>> = std::collections::HashMap::new();
-    for (&key, &label) in cells.key.iter().zip(&labels) {
+    let mut per_cell: std::collections::HashMap<u32, Vec<u32>> = std::collections::HashMap::new();
+    for (&key, &label) in regrouper.cells().iter().zip(&labels) {
         per_cell.entry(key).or_default().push(label);
     }
     for (cell, groups) in per_cell {
@@ -550,4 +553,90 @@ fn overlap_areas_match_a_monte_carlo_estimate_on_real_neighbours() {
     }
     println!("{checked} overlapping pairs checked");
     assert!(checked > 1000, "{checked} pairs");
+}
+
+/// The bundled bunny with the splats of one region (its 1 % nearest an
+/// ear tip) pushed along their normals: a local deformation.
+fn locally_deformed(cloud: &PointCloud, push: f32) -> (PointCloud, usize) {
+    let tip = cloud.positions.iter().copied().max_by(|a, b| a.y.total_cmp(&b.y)).unwrap();
+    let mut by_distance: Vec<f32> = cloud.positions.iter().map(|p| p.distance(tip)).collect();
+    let cut = *by_distance.select_nth_unstable_by(cloud.len() / 100, f32::total_cmp).1;
+    let mut moved = cloud.clone();
+    let mut count = 0;
+    for i in 0..cloud.len() {
+        if cloud.positions[i].distance(tip) <= cut {
+            moved.positions[i] += cloud.normals[i] * push;
+            count += 1;
+        }
+    }
+    (moved, count)
+}
+
+#[test]
+fn incremental_regrouping_after_a_local_deformation_gives_the_full_regroups_groups() {
+    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let options = hash::HashOptions { k: 8, collisions: hash::Collisions::All };
+    let lattice = Lattice::of(&cloud);
+    let mut incremental = HashRegrouper::new(lattice, options).unwrap();
+    incremental.regroup(&cloud);
+    let radius = pointblend::spatial::overlap::median_radius(&cloud.radii);
+    for (frame, push) in [1.5f32, 4.0, -2.0].into_iter().enumerate() {
+        let (moved, count) = locally_deformed(&cloud, push * radius);
+        let started = std::time::Instant::now();
+        let grouping = incremental.regroup(&moved);
+        let incremental_ms = started.elapsed().as_secs_f64() * 1e3;
+        let stats = incremental.stats();
+        let started = std::time::Instant::now();
+        let full = HashRegrouper::new(lattice, options).unwrap().regroup_full(&moved);
+        let full_ms = started.elapsed().as_secs_f64() * 1e3;
+        println!(
+            "frame {frame}: {count} splats moved, {stats:?}; {incremental_ms:.1} ms, a full regroup {full_ms:.1} ms"
+        );
+        assert!(stats.incremental && stats.changed == count, "{stats:?}");
+        assert!(stats.labelled < cloud.len() / 2, "only the leaves near the change are labelled: {stats:?}");
+        assert_eq!(grouping, full, "frame {frame}: incremental and full regroups differ");
+    }
+    // Nothing moved: nothing is labelled, and the groups stay.
+    let before = incremental.labels().to_vec();
+    let (moved, _) = locally_deformed(&cloud, -2.0 * radius);
+    incremental.regroup(&moved);
+    assert_eq!(incremental.stats().labelled, 0);
+    assert_eq!(incremental.labels(), before.as_slice());
+}
+
+#[test]
+fn regrouping_does_not_depend_on_the_number_of_threads() {
+    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let options = hash::HashOptions { k: 8, collisions: hash::Collisions::All };
+    let group_on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| HashRegrouper::new(Lattice::of(&cloud), options).unwrap().regroup(&cloud))
+    };
+    let one = group_on(1);
+    for threads in [2, 3, 7] {
+        assert_eq!(group_on(threads), one, "{threads} threads");
+    }
+}
+
+#[test]
+fn regrouping_survives_collapsed_and_empty_frames() {
+    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let options = hash::HashOptions { k: 8, collisions: hash::Collisions::All };
+    let mut regrouper = HashRegrouper::new(Lattice::of(&cloud), options).unwrap();
+    regrouper.regroup(&cloud);
+    // Every splat on one spot, with a zero radius: one cell of 35,947 splats.
+    let mut collapsed = cloud.clone();
+    collapsed.positions.iter_mut().for_each(|p| *p = Vec3::splat(0.01));
+    collapsed.radii.iter_mut().for_each(|r| *r = 0.0);
+    let started = std::time::Instant::now();
+    let g = regrouper.regroup(&collapsed);
+    assert_valid(&g, cloud.len(), "collapsed");
+    assert!(started.elapsed().as_secs() < 20, "a collapsed frame took {:?}", started.elapsed());
+    // Not-a-number positions and normals, then no splats at all, then the model again.
+    let mut broken = cloud.clone();
+    broken.positions[0] = Vec3::NAN;
+    broken.normals[1] = Vec3::NAN;
+    assert_valid(&regrouper.regroup(&broken), cloud.len(), "NaN");
+    assert_valid(&regrouper.regroup(&tiny(Vec::new())), 0, "empty");
+    assert_eq!(regrouper.regroup(&cloud), HashRegrouper::new(Lattice::of(&cloud), options).unwrap().regroup(&cloud));
 }

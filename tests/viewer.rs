@@ -251,3 +251,35 @@ fn a_scene_lights_the_view_and_lights_move_and_go() {
     let again = centre(h.state().shown_frame().unwrap().0);
     assert!(changed_share(&headlight, &again) > 0.01);
 }
+
+#[test]
+fn a_moving_scene_plays_and_pauses_and_states_its_regroup_cost() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/bunny-wave.toml");
+    let mut h = harness(ViewerOptions { file: Some(file), mode: Some(RenderMode::Deferred), ..options(dir.path()) });
+    let shown_at = |app: &ViewerApp| app.shown_frame().and_then(|(_, k)| k.time);
+    wait_for(&mut h, "the first frame of the moving scene", |app| shown_at(app) == Some(0.0));
+    let first = h.state().shown_frame().unwrap().0.clone();
+    h.get_by_label("play").click();
+    wait_for(&mut h, "a later frame", |app| shown_at(app).is_some_and(|t| t > 0.2));
+    let later = h.state().shown_frame().unwrap().0.clone();
+    assert!(changed_share(&first, &later) > 0.005, "the bunny moved");
+    assert!(h.query_all_by_label_contains("regrouped").next().is_some(), "the statistics state the regroup cost");
+    h.get_by_label("pause").click();
+    h.step();
+    let paused = shown_at(h.state());
+    for _ in 0..20 {
+        h.step();
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    wait_for(&mut h, "the paused frame", |app| app.is_settled());
+    let still = shown_at(h.state());
+    assert!(still.is_some() && still >= paused, "paused at {paused:?}, shown {still:?}");
+    let settled = h.state().shown_frame().unwrap().0.clone();
+    for _ in 0..10 {
+        h.step();
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert_eq!(shown_at(h.state()), still, "a paused animation stays where it is");
+    assert_eq!(changed_share(&settled, h.state().shown_frame().unwrap().0), 0.0);
+}

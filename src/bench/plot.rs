@@ -132,3 +132,106 @@ pub fn write(rows: &[BenchRow], title: &str, path: &Path) -> Result<(), String> 
     let rgba = image::DynamicImage::ImageRgb8(rgb).to_rgba8();
     crate::output::save_png(&rgba, path).map_err(|e| format!("{}: {e}", path.display()))
 }
+
+/// (frame, frame ms, regroup + upload ms, ε) of one variant.
+type FramePoint = (usize, f64, Option<f64>, f64);
+
+/// Per animation frame and variant (means over views): frame time and, for a
+/// variant that regroups, regroup + upload (left); ε against that frame's
+/// reference (right). Written atomically to `path`.
+pub fn write_animation(rows: &[BenchRow], title: &str, path: &Path) -> Result<(), String> {
+    register_font();
+    let mut variants: Vec<String> = Vec::new();
+    for r in rows.iter().filter(|r| r.frame.is_some() && !r.ruler) {
+        if !variants.contains(&r.variant) {
+            variants.push(r.variant.clone());
+        }
+    }
+    if variants.is_empty() {
+        return Err("no animation frames to plot".into());
+    }
+    let frame_count = rows.iter().filter_map(|r| r.frame).max().unwrap_or(0) + 1;
+    let series: Vec<Vec<FramePoint>> = variants
+        .iter()
+        .map(|v| {
+            (0..frame_count)
+                .filter_map(|f| {
+                    let of: Vec<&BenchRow> = rows.iter().filter(|r| &r.variant == v && r.frame == Some(f)).collect();
+                    let n = of.len() as f64;
+                    (!of.is_empty()).then(|| {
+                        let cost = match (of[0].regroup_ms, of[0].upload_ms) {
+                            (Some(g), Some(u)) => Some(g + u),
+                            _ => None,
+                        };
+                        let ms = of.iter().map(|r| r.frame_ms).sum::<f64>() / n;
+                        (f, ms, cost, of.iter().map(|r| r.eps).sum::<f64>() / n)
+                    })
+                })
+                .collect()
+        })
+        .collect();
+    let size = (1300u32, 560u32);
+    let mut buffer = vec![255u8; (size.0 * size.1 * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buffer, size).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let root = root.titled(title, ("sans-serif", 22)).map_err(|e| e.to_string())?;
+        let (left, right) = root.split_horizontally(size.0 / 2);
+        let max_ms = series.iter().flatten().map(|s| s.1.max(s.2.unwrap_or(0.0))).fold(1.0, f64::max) * 1.15;
+        let max_eps = series.iter().flatten().map(|s| s.3).fold(0.5, f64::max) * 1.15;
+        let frames = -0.5..(frame_count as f64 - 0.5);
+        let mut time = ChartBuilder::on(&left)
+            .margin(20)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d(frames.clone(), 0.0..max_ms)
+            .map_err(|e| e.to_string())?;
+        time.configure_mesh()
+            .x_desc("frame")
+            .x_label_formatter(&|x| format!("{x:.0}"))
+            .y_desc("ms: frame (circles), regroup + upload (triangles)")
+            .label_style(("sans-serif", 14))
+            .draw()
+            .map_err(|e| e.to_string())?;
+        let mut error = ChartBuilder::on(&right)
+            .margin(20)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d(frames, 0.0..max_eps)
+            .map_err(|e| e.to_string())?;
+        error
+            .configure_mesh()
+            .x_desc("frame")
+            .x_label_formatter(&|x| format!("{x:.0}"))
+            .y_desc("ε against that frame's reference")
+            .label_style(("sans-serif", 14))
+            .draw()
+            .map_err(|e| e.to_string())?;
+        for (i, (variant, points)) in variants.iter().zip(&series).enumerate() {
+            let colour = Palette99::pick(i).to_rgba();
+            let frame_ms: Vec<(f64, f64)> = points.iter().map(|p| (p.0 as f64, p.1)).collect();
+            time.draw_series(LineSeries::new(frame_ms.clone(), colour.stroke_width(2)))
+                .map_err(|e| e.to_string())?
+                .label(variant.clone())
+                .legend(move |(x, y)| Circle::new((x + 8, y), 5, colour.filled()));
+            time.draw_series(frame_ms.iter().map(|&p| Circle::new(p, 4, colour.filled())))
+                .map_err(|e| e.to_string())?;
+            let cost: Vec<(f64, f64)> = points.iter().filter_map(|p| p.2.map(|c| (p.0 as f64, c))).collect();
+            time.draw_series(cost.iter().map(|&p| TriangleMarker::new(p, 6, colour.filled())))
+                .map_err(|e| e.to_string())?;
+            let eps: Vec<(f64, f64)> = points.iter().map(|p| (p.0 as f64, p.3)).collect();
+            error.draw_series(LineSeries::new(eps.clone(), colour.stroke_width(2))).map_err(|e| e.to_string())?;
+            error.draw_series(eps.iter().map(|&p| Circle::new(p, 4, colour.filled()))).map_err(|e| e.to_string())?;
+        }
+        time.configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .draw()
+            .map_err(|e| e.to_string())?;
+        root.present().map_err(|e| e.to_string())?;
+    }
+    let rgb = image::RgbImage::from_raw(size.0, size.1, buffer).ok_or("plot buffer size")?;
+    let rgba = image::DynamicImage::ImageRgb8(rgb).to_rgba8();
+    crate::output::save_png(&rgba, path).map_err(|e| format!("{}: {e}", path.display()))
+}

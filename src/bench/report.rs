@@ -71,6 +71,19 @@ pub struct BenchRow {
     pub shadow_table_mib: Option<f64>,
     /// Timed frames behind the medians.
     pub frames: usize,
+    /// With `--animate`: the animation frame (from 0) and its time in seconds.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frame: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time: Option<f64>,
+    /// With `--animate`: milliseconds to regroup the splats for this frame
+    /// (the hash grouping this variant draws; none for a mode without groups).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub regroup_ms: Option<f64>,
+    /// With `--animate`: milliseconds to write this frame's splats to the
+    /// variant's GPU copy (none on frame 0, the first upload).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub upload_ms: Option<f64>,
 }
 
 /// Writes `rows` as a JSON array, atomically.
@@ -116,6 +129,9 @@ pub fn markdown(rows: &[BenchRow]) -> String {
             r.reference
         ));
     }
+    if rows.iter().any(|r| r.frame.is_some()) {
+        out.push_str(&animation_markdown(rows));
+    }
     if rows.iter().any(|r| r.shadow_ms.is_some()) {
         out.push_str("\nShadow coefficients (once per light position, not per frame):\n\n| model | variant | shadows ms | TSM tables MiB |\n|---|---|---:|---:|\n");
         let mut seen = std::collections::HashSet::new();
@@ -130,6 +146,42 @@ pub fn markdown(rows: &[BenchRow]) -> String {
                 ));
             }
         }
+    }
+    out
+}
+
+/// Per animation frame and variant, the means over views: frame time, regroup
+/// and upload, their share of the frame, and ε against that frame's reference.
+pub fn animation_markdown(rows: &[BenchRow]) -> String {
+    let mut out = String::from(
+        "\nPer animation frame (means over the views; the regroup and upload are once per frame):\n\n| model | frame | time s | variant | frame ms | regroup ms | upload ms | (regroup + upload) / frame | ε |\n|---|---:|---:|---|---:|---:|---:|---:|---:|\n",
+    );
+    let mut keys: Vec<(String, usize, String)> = Vec::new();
+    for r in rows.iter().filter(|r| r.frame.is_some() && !r.ruler) {
+        let key = (r.model.clone(), r.frame.unwrap_or(0), r.variant.clone());
+        if !keys.contains(&key) {
+            keys.push(key);
+        }
+    }
+    for (model, frame, variant) in keys {
+        let of: Vec<&BenchRow> =
+            rows.iter().filter(|r| r.model == model && r.frame == Some(frame) && r.variant == variant).collect();
+        let mean = |f: &dyn Fn(&BenchRow) -> f64| of.iter().map(|r| f(r)).sum::<f64>() / of.len().max(1) as f64;
+        let frame_ms = mean(&|r| r.frame_ms);
+        let regroup = of[0].regroup_ms;
+        let upload = of[0].upload_ms;
+        let share = match (regroup, upload) {
+            (Some(g), Some(u)) => format!("{:.0}%", 100.0 * (g + u) / frame_ms.max(1e-9)),
+            _ => "-".into(),
+        };
+        let ms = |v: Option<f64>| v.map_or("-".into(), |v| format!("{v:.1}"));
+        out.push_str(&format!(
+            "| {model} | {frame} | {:.3} | {variant} | {frame_ms:.1} | {} | {} | {share} | {:.3} |\n",
+            of[0].time.unwrap_or(0.0),
+            ms(regroup),
+            ms(upload),
+            mean(&|r| r.eps)
+        ));
     }
     out
 }

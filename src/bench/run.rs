@@ -11,6 +11,7 @@ use super::views::standard_views;
 use crate::cloud::{CloudError, LoadOptions};
 use crate::frame::environment::EnvironmentSettings;
 use crate::frame::{Camera, ModeVariant, RenderMode, RenderSettings};
+use crate::grouping::GroupingSpec;
 use crate::output::write_atomically;
 use crate::reference::{self, ReferenceOptions};
 use crate::render::{GpuError, GpuScene, HeadlessRenderer, RenderPlan, SceneFrames};
@@ -51,6 +52,8 @@ pub struct BenchConfig {
     pub progress: bool,
     /// Also time the back-to-front orders (`orders.json`, a table in `bench.md`).
     pub orders: bool,
+    /// `--animate N`: N frames over one period of a moving scene's longest animation.
+    pub animate: Option<usize>,
     /// The environment map every model is set in, if any (§5.2.3).
     pub environment: Option<std::sync::Arc<crate::scene::environment::EnvironmentMap>>,
 }
@@ -143,6 +146,11 @@ pub fn run(
     if !outcome.rows.is_empty() {
         let title = format!("error against frame time, {}x{}", config.width, config.height);
         super::plot::write(&outcome.rows, &title, &config.out.join("error_vs_time.png"))
+            .map_err(BenchError::Invalid)?;
+    }
+    if outcome.rows.iter().any(|r| r.frame.is_some()) {
+        let title = format!("per animation frame, {}x{}", config.width, config.height);
+        super::plot::write_animation(&outcome.rows, &title, &config.out.join("animation.png"))
             .map_err(BenchError::Invalid)?;
     }
     Ok(outcome)
@@ -320,6 +328,10 @@ fn blank_row(
         shadow_ms: None,
         shadow_table_mib: None,
         frames: config.frames,
+        frame: None,
+        time: None,
+        regroup_ms: None,
+        upload_ms: None,
     }
 }
 
@@ -379,9 +391,18 @@ fn bench_model(
     config: &BenchConfig,
     renderer: &mut HeadlessRenderer,
 ) -> Result<(Vec<BenchRow>, Vec<OrderRow>), BenchError> {
+    if let Some(count) = config.animate {
+        return Ok((bench_animation(model, config, renderer, count)?, Vec::new()));
+    }
     let (w, h) = (config.width, config.height);
-    let opened = open_model(model, config)?;
-    let mut frames = SceneFrames::of(Arc::clone(&opened.scene));
+    let mut opened = open_model(model, config)?;
+    let moving = opened.scene.is_animated();
+    if moving {
+        log::info!("{}: the scene moves; it is measured at 0 s (--animate N measures its frames)", model.display());
+        opened.scene = Arc::new(opened.scene.at_time(0.0).map_err(BenchError::Invalid)?.scene);
+    }
+    let frames = SceneFrames::of(Arc::clone(&opened.scene));
+    let mut frames = if moving { frames.moving() } else { frames };
     let cloud = Arc::clone(frames.cloud());
     let prepared = prepare_variants(config, &opened, &mut frames, renderer)?;
     let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
@@ -429,6 +450,89 @@ fn bench_model(
     }
     bar.finish();
     Ok((rows, orders))
+}
+
+/// `count` frames of a moving scene spread over one period of its longest
+/// animation, each measured from every view against its own reference; the
+/// splats are regrouped and rewritten between frames ([`SceneFrames::advance`]).
+fn bench_animation(
+    model: &Path,
+    config: &BenchConfig,
+    renderer: &mut HeadlessRenderer,
+    count: usize,
+) -> Result<Vec<BenchRow>, BenchError> {
+    let opened = open_model(model, config)?;
+    let period = opened.scene.animation_period();
+    if period <= 0.0 {
+        return Err(BenchError::Invalid(format!(
+            "{}: nothing in the scene moves, so --animate has nothing to time",
+            model.display()
+        )));
+    }
+    let at = |i: usize| {
+        let t = i as f64 * period / count as f64;
+        opened.scene.at_time(t).map(|s| (t, Arc::new(s.scene))).map_err(BenchError::Invalid)
+    };
+    let (_, first) = at(0)?;
+    let mut frames = SceneFrames::of(Arc::clone(&first)).moving();
+    let framed = Opened { scene: first, base: opened.base, load_s: opened.load_s };
+    let prepared = prepare_variants(config, &framed, &mut frames, renderer)?;
+    let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let views = standard_views(frames.cloud(), config.width as f32 / config.height as f32, config.views);
+    let bar = crate::progress::bar(
+        (count * views.len() * (prepared.len() + 1)) as u64,
+        &format!("bench {} frames", crate::output::safe_stem(model)),
+        config.progress,
+    );
+    let mut rows = Vec::new();
+    for i in 0..count {
+        let (t, scene) = at(i)?;
+        let update = if i == 0 {
+            None
+        } else {
+            let cloud = scene.flattened();
+            Some(frames.advance(Some(renderer), scene, cloud).map_err(|e| BenchError::Invalid(e.to_string()))?)
+        };
+        let now = Opened { scene: Arc::clone(frames.scene()), base: opened.base, load_s: opened.load_s };
+        let stem = format!("{}-f{i:02}", crate::output::safe_stem(model));
+        for view in &views {
+            let rulers = Rulers::of(config, &now, &prepared, &view.camera)?;
+            let ruler_file = format!("{stem}-{}-{}.png", view.name, RenderMode::RULER.name());
+            save_png(&rulers.with_opacity.image, &config.out.join(&ruler_file))?;
+            let mut ruler_row = blank_row(&name, &now, view.name, config, RenderMode::RULER.name(), RenderMode::RULER);
+            let ms = rulers.with_opacity.ms;
+            (ruler_row.frame_ms, ruler_row.frame_ms_min, ruler_row.frame_ms_max, ruler_row.frames) = (ms, ms, ms, 1);
+            (ruler_row.image, ruler_row.frame, ruler_row.time) = (ruler_file, Some(i), Some(t));
+            rows.push(ruler_row);
+            bar.inc(1);
+            for p in &prepared {
+                let reference = rulers.of_variant(&now.scene, p);
+                let blank = blank_row(&name, &now, view.name, config, &p.variant.label(), p.variant.mode);
+                let spec = frames.drawn_grouping(&p.settings);
+                let gpu_scene =
+                    frames.gpu_scene(renderer, &p.settings).map_err(|e| BenchError::Invalid(e.to_string()))?;
+                let mut row = measure_variant(renderer, gpu_scene, view, p, config, reference, (&stem, blank))?;
+                (row.frame, row.time) = (Some(i), Some(t));
+                row.regroup_ms = match &update {
+                    Some(u) => spec.map(|s| u.regroup_ms_for(Some(s))),
+                    // Frame 0: the first grouping of this algorithm (variants of one share it).
+                    None => spec.map(|s| first_regroup_ms(&frames, &prepared, s)),
+                };
+                row.upload_ms = update.as_ref().map(|u| u.upload_for(spec).0);
+                rows.push(row);
+                bar.inc(1);
+            }
+        }
+    }
+    bar.finish();
+    Ok(rows)
+}
+
+/// The milliseconds of the first grouping by `spec`'s algorithm among the
+/// prepared variants (the later ones of one algorithm reuse its groups).
+fn first_regroup_ms(frames: &SceneFrames, prepared: &[Prepared], spec: GroupingSpec) -> f64 {
+    let same = |p: &&Prepared| frames.drawn_grouping(&p.settings).is_some_and(|s| s.algo == spec.algo);
+    prepared.iter().filter(same).filter_map(|p| p.group_s).fold(0.0, f64::max) * 1e3
 }
 
 /// What a row's error is measured against.

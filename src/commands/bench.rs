@@ -44,6 +44,11 @@ pub struct Args {
     /// Output folder for bench.json, bench.md, error_vs_time.png, images and the reference cache.
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
+    /// Renders N frames spread evenly over one period of a moving scene's
+    /// longest animation (or its whole sequence): each row gets its frame,
+    /// time, regroup and upload milliseconds and ε against that frame's reference.
+    #[arg(long, value_name = "N")]
+    pub animate: Option<usize>,
     /// Environment map every model is set in (equirectangular OpenEXR, HDR,
     /// PNG or JPEG); variants choose the effects with env-layers=single|multi|off.
     #[arg(long, value_name = "FILE")]
@@ -53,6 +58,9 @@ pub struct Args {
 pub fn run(args: &Args) -> Result<()> {
     if args.frames == 0 || args.loads == 0 {
         bail!("--frames and --loads must be at least 1");
+    }
+    if args.animate == Some(0) {
+        bail!("--animate needs at least 1 frame");
     }
     if args.views == 0 || args.views > bench::views::MAX_VIEWS {
         bail!("--views must be 1..={}", bench::views::MAX_VIEWS);
@@ -114,6 +122,7 @@ pub fn run(args: &Args) -> Result<()> {
         out: args.out.clone(),
         progress: true,
         orders: args.orders,
+        animate: args.animate,
     };
     let outcome = bench::run(&args.files, &config, &mut renderer)?;
     if !outcome.rows.is_empty() {

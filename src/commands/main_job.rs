@@ -81,6 +81,7 @@ pub fn run(args: &Args) -> Result<()> {
             out: part.out.clone(),
             progress: true,
             orders: false,
+            animate: None,
         };
         let outcome = bench::run(std::slice::from_ref(&part.model), &config, &mut renderer)?;
         sheet.push(sheet_row(part, &outcome.rows));

@@ -50,6 +50,9 @@ pub struct Args {
     /// Keep the flat background colour where nothing is drawn, instead of the environment map.
     #[arg(long)]
     pub flat_background: bool,
+    /// Renders a moving scene at this time, in seconds (animations loop)
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub time: Option<f64>,
 }
 
 impl Args {
@@ -100,6 +103,25 @@ impl Args {
     }
 }
 
+/// The scene's frames at `--time` (0 for a moving scene without it), and a
+/// note when a still scene is given a time.
+fn moving_frames(scene: Scene, time: Option<f64>) -> Result<SceneFrames> {
+    if let Some(t) = time {
+        if !(t.is_finite() && t >= 0.0) {
+            bail!("--time must be a number of seconds ≥ 0, not {t}");
+        }
+    }
+    if !scene.is_animated() {
+        if time.is_some() {
+            log::warn!("{}: nothing in the scene moves, so --time changes nothing", scene.name());
+        }
+        return Ok(SceneFrames::of(std::sync::Arc::new(scene)));
+    }
+    let at = scene.at_time(time.unwrap_or(0.0)).map_err(anyhow::Error::msg)?;
+    log::info!("the scene at {:.3} s of its {:.3} s period", at.time, scene.animation_period());
+    Ok(SceneFrames::of(std::sync::Arc::new(at.scene)).moving())
+}
+
 pub fn run(args: &Args) -> Result<()> {
     let sidecar = args.camera.as_deref().map(Sidecar::read).transpose()?;
     // Every output is checked before the work starts, so none is written when another cannot be.
@@ -139,7 +161,7 @@ pub fn run(args: &Args) -> Result<()> {
         log::info!("GPU: {}", gpu.ctx.describe());
     }
     let render_started = Instant::now();
-    let mut frames = SceneFrames::of(std::sync::Arc::new(scene));
+    let mut frames = moving_frames(scene, args.time)?;
     let Frame { image, plan } = frames.render(gpu.as_mut(), &camera, &settings, (width, height), true)?;
     let scene = frames.scene();
     let render_seconds = render_started.elapsed().as_secs_f64();

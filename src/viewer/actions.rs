@@ -33,6 +33,7 @@ impl ViewerApp {
                 opacity: m.opacity(),
                 transparent: m.transparent,
                 environment: m.scene.environment.as_ref().map(|e| e.name.as_str()),
+                period: m.period,
             }),
             load_error: self.load_error.as_deref(),
             jobs,

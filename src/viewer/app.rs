@@ -98,6 +98,8 @@ pub struct ViewerApp {
     pub(super) last_ui_frame: Option<Instant>,
     pub(super) frames_since_ready: u64,
     pub(super) window_shot_requested: bool,
+    /// While an animation plays: when it started playing, and from which time.
+    pub(super) play_clock: Option<(Instant, f64)>,
 }
 
 impl ViewerApp {
@@ -115,6 +117,8 @@ impl ViewerApp {
             camera,
             screenshot_size: ScreenshotSize::Window,
             opacity_pending: None,
+            time: 0.0,
+            playing: false,
         };
         let mut app = Self {
             ui,
@@ -144,6 +148,7 @@ impl ViewerApp {
             last_ui_frame: None,
             frames_since_ready: 0,
             window_shot_requested: false,
+            play_clock: None,
             options,
         };
         let file = app.options.file.clone().unwrap_or_else(|| PathBuf::from(super::BUNDLED_MODEL));
@@ -192,6 +197,23 @@ impl ViewerApp {
         self.camera_moved();
     }
 
+    /// Moves a playing animation on to the time of this UI frame (looping),
+    /// and keeps the window repainting while it plays.
+    fn play(&mut self, ctx: &egui::Context) {
+        let period = self.model.as_ref().map_or(0.0, |m| m.period);
+        match (self.ui.playing && period > 0.0, self.play_clock) {
+            (true, Some((started, from))) => {
+                self.ui.time = (from + started.elapsed().as_secs_f64()).rem_euclid(period);
+                ctx.request_repaint();
+            }
+            (true, None) => {
+                self.play_clock = Some((Instant::now(), self.ui.time));
+                ctx.request_repaint();
+            }
+            (false, _) => self.play_clock = None,
+        }
+    }
+
     /// Polls jobs and the render thread.
     fn poll(&mut self, ctx: &egui::Context) {
         self.poll_load();
@@ -207,6 +229,7 @@ impl eframe::App for ViewerApp {
         self.count_ui_frame();
         self.poll(&ctx);
         self.handle_input(&ctx);
+        self.play(&ctx);
         self.ui.apply_light_angles();
         let mut actions = Vec::new();
         egui::Panel::left("controls").resizable(true).default_size(310.0).show(ui, |ui| {

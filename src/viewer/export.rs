@@ -55,8 +55,13 @@ impl ViewerApp {
         let (key, image) = (shown.key.clone(), Arc::clone(&shown.image));
         let job = Job::spawn(RenderMode::RULER.name(), ctx.clone(), move || {
             let started = Instant::now();
-            let options = ReferenceOptions::matching(&key.settings, &model.scene);
-            let exact = reference::render(&model.scene, &key.camera, &options, image.width(), image.height());
+            // A moving scene is measured at the time on screen.
+            let scene = match key.time {
+                Some(t) => Arc::new(model.scene.at_time(t)?.scene),
+                None => Arc::clone(&model.scene),
+            };
+            let options = ReferenceOptions::matching(&key.settings, &scene);
+            let exact = reference::render(&scene, &key.camera, &options, image.width(), image.height());
             if crate::progress::cancelled() {
                 return Err("cancelled".to_string());
             }

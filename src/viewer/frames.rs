@@ -22,7 +22,8 @@ impl ViewerApp {
         let model = self.model.as_ref()?;
         let preview = model.preview.is_some() && self.last_camera_move.is_some_and(|t| t.elapsed() < SETTLE);
         let settings = self.ui.settings;
-        let grouping = (settings.mode.needs_grouping_for(model.transparent) && !preview)
+        // A moving scene regroups by hashing in the render thread, every frame.
+        let grouping = (settings.mode.needs_grouping_for(model.transparent) && !preview && !model.is_animated())
             .then(|| settings.grouping_for_mode().to_string());
         Some(FrameKey {
             generation: model.generation,
@@ -31,6 +32,7 @@ impl ViewerApp {
             settings,
             size: self.view_size,
             preview,
+            time: model.is_animated().then_some(self.ui.time),
         })
     }
 
@@ -51,7 +53,7 @@ impl ViewerApp {
     /// Starts a grouping when the mode draws groups and the one it needs is not there.
     pub(super) fn ensure_grouping(&mut self, ctx: &egui::Context) {
         let Some(model) = self.model.clone() else { return };
-        if !self.ui.settings.mode.needs_grouping_for(model.transparent) {
+        if !self.ui.settings.mode.needs_grouping_for(model.transparent) || model.is_animated() {
             return;
         }
         let spec = self.ui.settings.grouping_for_mode();
@@ -127,6 +129,7 @@ impl ViewerApp {
             settings: key.settings,
             size,
             preview: key.preview,
+            time: key.time,
             purpose,
         })
     }

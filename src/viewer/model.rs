@@ -30,6 +30,8 @@ pub struct Model {
     pub warnings: Vec<String>,
     /// Tells models apart, also two loads of the same file.
     pub generation: u64,
+    /// Seconds after which the scene's animations repeat (0: nothing moves).
+    pub period: f64,
 }
 
 /// A model's grouping for the deferred mode.
@@ -90,7 +92,10 @@ impl Model {
         let hash = scene.geometry_hash();
         let cloud = scene.flattened();
         crate::progress::stage("building the preview");
-        let preview = (cloud.len() > PREVIEW_SPLATS).then(|| Arc::new(subsample(&cloud, PREVIEW_SPLATS)));
+        let period = scene.animation_period();
+        // A moving scene has no preview: its subsample would have to move too.
+        let preview =
+            (cloud.len() > PREVIEW_SPLATS && period <= 0.0).then(|| Arc::new(subsample(&cloud, PREVIEW_SPLATS)));
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());
         let transparent = scene.has_transparency();
         Model {
@@ -103,7 +108,13 @@ impl Model {
             transparent,
             warnings,
             generation,
+            period,
         }
+    }
+
+    /// Whether something in the scene moves.
+    pub fn is_animated(&self) -> bool {
+        self.period > 0.0
     }
 
     pub fn hash_hex(&self) -> String {

@@ -31,6 +31,22 @@ pub fn controls(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>) -> Vec<A
     actions
 }
 
+/// Play/pause and the time of a moving scene (it loops over `period` seconds).
+fn animation_widget(ui: &mut Ui, state: &mut UiState, period: f64) {
+    ui.horizontal(|ui| {
+        let label = if state.playing { "pause" } else { "play" };
+        if ui.button(label).on_hover_text("play the scene's animation (it loops)").clicked() {
+            state.playing = !state.playing;
+        }
+        let slider = egui::Slider::new(&mut state.time, 0.0..=period).text("s").fixed_decimals(2);
+        let response = ui.add(slider);
+        // Taking the slider pauses; a value the slider rounds while playing does not.
+        if response.drag_started() || response.clicked() || response.gained_focus() {
+            state.playing = false;
+        }
+    });
+}
+
 fn model_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, actions: &mut Vec<Action>) {
     ui.heading("Model");
     match &info.model {
@@ -42,6 +58,9 @@ fn model_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, actions
                 ui.label(RichText::new(OPAQUE_MODEL_HINT).color(ui.visuals().warn_fg_color));
             }
             environment_widget(ui, m.environment, actions);
+            if m.period > 0.0 {
+                animation_widget(ui, state, m.period);
+            }
             if !m.warnings.is_empty() {
                 ui.collapsing(format!("{} load warnings", m.warnings.len()), |ui| {
                     for w in m.warnings {
@@ -188,7 +207,13 @@ fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, para
         }
         Parameter::Grouping => {
             grouping_widget(ui, &mut s.grouping, info);
-            if s.grouping_for_mode() != s.grouping {
+            let moving = info.model.as_ref().is_some_and(|m| m.period > 0.0);
+            if moving {
+                let drawn = crate::render::per_frame_grouping(s.grouping_for_mode());
+                ui.label(
+                    RichText::new(format!("the scene moves: {} draws {drawn}, regrouped every frame", s.mode)).weak(),
+                );
+            } else if s.grouping_for_mode() != s.grouping {
                 ui.label(
                     RichText::new(format!(
                         "{} draws {}: its groups must cover the surface",
@@ -276,9 +301,10 @@ fn grouping_widget(ui: &mut Ui, spec: &mut GroupingSpec, info: &PanelInfo<'_>) {
         Extension::None => "none",
         Extension::Duplicate => "duplication",
         Extension::Enlarge => "radius enlargement",
+        Extension::Estimate => "radius x√50/4 (hash estimate)",
     };
     egui::ComboBox::new("extension", "extension").selected_text(extension_name(&spec.extension)).show_ui(ui, |ui| {
-        for choice in [Extension::None, Extension::Duplicate, Extension::Enlarge] {
+        for choice in [Extension::None, Extension::Duplicate, Extension::Enlarge, Extension::Estimate] {
             ui.selectable_value(&mut spec.extension, choice, extension_name(&choice));
         }
     });

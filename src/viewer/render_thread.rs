@@ -43,6 +43,8 @@ pub struct FrameRequest {
     pub size: (u32, u32),
     /// Draw the preview cloud with the mode's preview mode (while the camera moves).
     pub preview: bool,
+    /// The time to draw a moving scene at, in seconds.
+    pub time: Option<f64>,
     pub purpose: Purpose,
 }
 
@@ -58,6 +60,12 @@ pub struct FrameStats {
     pub plan: Option<String>,
     pub plan_bytes: u64,
     pub geometry_passes: usize,
+    /// A moving scene's frame: milliseconds to regroup its splats and to
+    /// write them to the GPU (none when the time did not change).
+    pub regroup_ms: Option<f64>,
+    pub upload_ms: Option<f64>,
+    /// Splats whose group was computed for this frame.
+    pub regrouped: Option<usize>,
 }
 
 /// A drawn frame, or why it failed.
@@ -130,6 +138,8 @@ impl RenderThread {
 struct Scenes {
     full: Option<(u64, SceneFrames)>,
     preview: Option<(u64, SceneFrames)>,
+    /// The time the full scene is at, when it moves.
+    time: Option<f64>,
 }
 
 fn serve(inbox: Receiver<FrameRequest>, outbox: Sender<FrameResult>, repaint: egui::Context) {
@@ -187,9 +197,14 @@ fn draw(r: &mut HeadlessRenderer, scenes: &mut Scenes, request: &FrameRequest) -
     if request.preview {
         settings.mode = settings.mode.info().preview;
     }
-    let frames = scene_frames(scenes, request);
-    let frame = frames.render(Some(&mut *r), &request.camera, &settings, request.size, false);
-    let image = frame.map_err(|e| e.to_string()).map(|Frame { image, plan }| {
+    let frames = match request.time {
+        Some(t) => moving_frames(r, scenes, request, t, &mut stats),
+        None => Ok(scene_frames(scenes, request)),
+    };
+    let frame = frames.and_then(|frames| {
+        frames.render(Some(&mut *r), &request.camera, &settings, request.size, false).map_err(|e| e.to_string())
+    });
+    let image = frame.map(|Frame { image, plan }| {
         stats.splats_drawn = plan.splats;
         stats.pass_ms = if plan.steps.is_empty() { Vec::new() } else { pass_times(r, &plan) };
         describe_plan(&mut stats, &plan);
@@ -223,6 +238,34 @@ fn scene_frames<'a>(scenes: &'a mut Scenes, request: &FrameRequest) -> &'a mut S
         });
     }
     frames
+}
+
+/// A moving scene at time `t`: made at that time for a new model, else moved
+/// on to it ([`SceneFrames::advance`]: regrouped and rewritten, with the costs in `stats`).
+fn moving_frames<'a>(
+    r: &HeadlessRenderer,
+    scenes: &'a mut Scenes,
+    request: &FrameRequest,
+    t: f64,
+    stats: &mut FrameStats,
+) -> Result<&'a mut SceneFrames, String> {
+    let model = &request.model;
+    let fresh = scenes.full.as_ref().is_none_or(|(g, _)| *g != model.generation);
+    if fresh || scenes.time != Some(t) {
+        let at = model.scene.at_time(t)?;
+        let scene = Arc::new(at.scene);
+        let cloud = scene.flattened();
+        if fresh {
+            scenes.full = None; // free the old copies first
+            scenes.full = Some((model.generation, SceneFrames::new(scene, cloud).moving()));
+        } else if let Some((_, frames)) = scenes.full.as_mut() {
+            let update = frames.advance(Some(r), scene, cloud).map_err(|e| e.to_string())?;
+            (stats.regroup_ms, stats.upload_ms, stats.regrouped) =
+                (Some(update.regroup_ms), Some(update.upload_ms), Some(update.regrouped));
+        }
+        scenes.time = Some(t);
+    }
+    Ok(&mut scenes.full.as_mut().expect("filled above").1)
 }
 
 fn pass_times(r: &HeadlessRenderer, plan: &RenderPlan) -> Vec<(String, f64)> {

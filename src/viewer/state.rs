@@ -56,6 +56,8 @@ pub struct FrameKey {
     pub settings: RenderSettings,
     pub size: (u32, u32),
     pub preview: bool,
+    /// The time shown, in seconds, for a moving scene.
+    pub time: Option<f64>,
 }
 
 /// A finished error measurement.
@@ -77,6 +79,9 @@ pub struct UiState {
     /// The opacity slider's value while it is dragged, and until the model
     /// holds the value it was let go at.
     pub opacity_pending: Option<f32>,
+    /// A moving scene's time (seconds) and whether it plays.
+    pub time: f64,
+    pub playing: bool,
 }
 
 impl UiState {
@@ -139,6 +144,8 @@ pub struct ModelInfo<'a> {
     pub transparent: bool,
     /// The environment map's name, if the model has one.
     pub environment: Option<&'a str>,
+    /// Seconds after which the scene's animations repeat (0: nothing moves).
+    pub period: f64,
 }
 
 /// The frame on screen, as the panels show it.

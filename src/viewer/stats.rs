@@ -20,6 +20,13 @@ pub fn stats_section(ui: &mut Ui, info: &PanelInfo<'_>) {
         if stats.preview { format!("preview ({} on a subsample)", mode.info().preview) } else { mode.to_string() };
     ui.label(format!("{what}, {w}×{h}: {:.1} ms per frame", stats.frame_ms));
     ui.label(format!("{} splats drawn, {} geometry pass(es)", thousands(stats.splats_drawn), stats.geometry_passes));
+    if let (Some(regroup), Some(upload)) = (stats.regroup_ms, stats.upload_ms) {
+        let time = shown.key.time.unwrap_or(0.0);
+        ui.label(format!(
+            "at {time:.2} s: regrouped {} splats in {regroup:.1} ms, uploaded in {upload:.1} ms",
+            thousands(stats.regrouped.unwrap_or(0))
+        ));
+    }
     if !stats.pass_ms.is_empty() {
         egui::Grid::new("passes").striped(true).show(ui, |ui| {
             for (pass, ms) in &stats.pass_ms {

@@ -52,6 +52,18 @@ pub struct GpuScene {
     /// In a frame lit by scene lights: each chunk's shadow coefficients
     /// (`SplatLight` per instance), and what they were computed for.
     lights: Option<(Vec<wgpu::Buffer>, u64)>,
+    /// The records as last written by [`Self::rewrite`] (empty until a scene
+    /// moves), so the next frame writes only what changed.
+    records: Vec<SplatInstance>,
+}
+
+/// Unchanged records a rewrite writes over rather than start a new write.
+const REWRITE_GAP: usize = 64;
+
+/// The colour of every splat, when they all have the same one.
+fn uniform_colour(cloud: &PointCloud) -> Option<[u8; 3]> {
+    let first = cloud.colours.first().copied();
+    first.filter(|c| cloud.colours.iter().all(|x| x == c))
 }
 
 impl GpuScene {
@@ -69,30 +81,15 @@ impl GpuScene {
     }
 
     fn upload_layout(device: &wgpu::Device, cloud: &PointCloud, layout: InstanceLayout, keep_for_order: bool) -> Self {
-        let InstanceLayout { order, scale_of, groups, transparent_groups, opaque } = layout;
         let per_chunk = (MAX_CHUNK_BYTES / std::mem::size_of::<SplatInstance>())
             .min(device.limits().max_buffer_size as usize / std::mem::size_of::<SplatInstance>())
             .max(1);
         let mut chunks = Vec::new();
         let mut kept = Vec::new();
         let mut start = 0;
-        while start < order.len() {
-            let end = (start + per_chunk).min(order.len());
-            let instances: Vec<SplatInstance> = (start..end)
-                .map(|slot| {
-                    let i = order[slot] as usize;
-                    let [r, g, b] = cloud.colours[i];
-                    // A two-sided splat carries a negative radius (see `SplatInstance`).
-                    let side = if cloud.is_two_sided(i) { -1.0 } else { 1.0 };
-                    SplatInstance {
-                        position: cloud.positions[i].to_array(),
-                        radius: side * cloud.radii[i] * scale_of[slot],
-                        normal: cloud.normals[i].to_array(),
-                        colour: [r, g, b, 255],
-                        opacity: cloud.opacity[i].clamp(0.0, 1.0),
-                    }
-                })
-                .collect();
+        while start < layout.order.len() {
+            let end = (start + per_chunk).min(layout.order.len());
+            let instances = layout.instances(cloud, start..end);
             let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("GpuScene::splats"),
                 contents: bytemuck::cast_slice(&instances),
@@ -108,10 +105,9 @@ impl GpuScene {
             }
             start = end;
         }
+        let InstanceLayout { order, groups, transparent_groups, opaque, .. } = layout;
         let instance_order =
             keep_for_order.then(|| std::sync::Mutex::new(InstanceOrder::new(kept, transparent_groups.clone())));
-        let first = cloud.colours.first().copied();
-        let uniform_colour = first.filter(|c| cloud.colours.iter().all(|x| x == c));
         Self {
             chunks,
             len: opaque.start as usize,
@@ -119,14 +115,92 @@ impl GpuScene {
             groups,
             transparent_groups,
             opaque,
-            uniform_colour,
+            uniform_colour: uniform_colour(cloud),
             transparent: cloud.has_transparency(),
             order: instance_order,
             environment: None,
             sums: super::targets::SumPrecision::of(device),
             slots: order,
             lights: None,
+            records: Vec::new(),
         }
+    }
+
+    /// Replaces the splats with another frame's (`cloud`, grouped by
+    /// `grouping` when given) in the same buffers when the instance count
+    /// and chunks stay (a deforming model: only the runs of records that
+    /// changed are written), else in new ones. Returns the bytes written.
+    /// Shadow coefficients are dropped: the next [`Self::set_shadows`] writes them.
+    pub fn rewrite(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        cloud: &PointCloud,
+        grouping: Option<&Grouping>,
+    ) -> u64 {
+        let layout = match grouping {
+            Some(g) => InstanceLayout::grouped(cloud, &g.order, &g.radius_scale, &g.ranges),
+            None => InstanceLayout::plain(cloud),
+        };
+        let slots: usize = self.chunks.iter().map(|(_, n)| *n as usize).sum();
+        let transparent = cloud.has_transparency();
+        let record = std::mem::size_of::<SplatInstance>() as u64;
+        if layout.order.len() != slots || transparent != self.transparent || slots == 0 {
+            let environment = self.environment.take();
+            *self = Self::upload_layout(device, cloud, layout, transparent);
+            self.environment = environment;
+            return self.slots.len() as u64 * record;
+        }
+        let instances = layout.instances(cloud, 0..slots);
+        let first_rewrite = self.records.len() != slots;
+        let mut written = 0u64;
+        let mut chunk_start = 0usize;
+        for (buffer, count) in &self.chunks {
+            let chunk_end = chunk_start + *count as usize;
+            // Runs of changed records, joined across short unchanged gaps (one write each).
+            let mut at = chunk_start;
+            while at < chunk_end {
+                let changed = |i: usize| first_rewrite || instances[i] != self.records[i];
+                if !changed(at) {
+                    at += 1;
+                    continue;
+                }
+                let mut end = at + 1;
+                let mut unchanged = 0;
+                while end < chunk_end && unchanged < REWRITE_GAP {
+                    if changed(end) {
+                        unchanged = 0;
+                    } else {
+                        unchanged += 1;
+                    }
+                    end += 1;
+                }
+                let end = end - unchanged;
+                queue.write_buffer(
+                    buffer,
+                    ((at - chunk_start) as u64) * record,
+                    bytemuck::cast_slice(&instances[at..end]),
+                );
+                written += (end - at) as u64 * record;
+                at = end;
+            }
+            chunk_start = chunk_end;
+        }
+        if let Some(order) = &mut self.order {
+            let groups = layout.transparent_groups.clone();
+            *order = std::sync::Mutex::new(InstanceOrder::new(instances.clone(), groups));
+        }
+        let InstanceLayout { order, groups, transparent_groups, opaque, .. } = layout;
+        self.len = opaque.start as usize;
+        self.mean_radius = cloud.mean_radius();
+        self.groups = groups;
+        self.transparent_groups = transparent_groups;
+        self.opaque = opaque;
+        self.uniform_colour = uniform_colour(cloud);
+        self.slots = order;
+        self.lights = None;
+        self.records = instances;
+        written
     }
 
     /// Uploads each splat's shadow coefficients (`key` names what they were
@@ -253,6 +327,25 @@ struct InstanceLayout {
 }
 
 impl InstanceLayout {
+    /// The instance records of slots `range`.
+    fn instances(&self, cloud: &PointCloud, range: std::ops::Range<usize>) -> Vec<SplatInstance> {
+        range
+            .map(|slot| {
+                let i = self.order[slot] as usize;
+                let [r, g, b] = cloud.colours[i];
+                // A two-sided splat carries a negative radius (see `SplatInstance`).
+                let side = if cloud.is_two_sided(i) { -1.0 } else { 1.0 };
+                SplatInstance {
+                    position: cloud.positions[i].to_array(),
+                    radius: side * cloud.radii[i] * self.scale_of[slot],
+                    normal: cloud.normals[i].to_array(),
+                    colour: [r, g, b, 255],
+                    opacity: cloud.opacity[i].clamp(0.0, 1.0),
+                }
+            })
+            .collect()
+    }
+
     /// The cloud in its own order, one group of everything.
     fn plain(cloud: &PointCloud) -> Self {
         let n = cloud.len() as u32;

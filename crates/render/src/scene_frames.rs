@@ -18,7 +18,9 @@ use super::headless::HeadlessRenderer;
 use super::plan::RenderPlan;
 use crate::cloud::PointCloud;
 use crate::frame::{Camera, RenderSettings};
-use crate::grouping::{Grouping, GroupingError, GroupingSpec, cache::Cache};
+use crate::grouping::hash::{Collisions, HashOptions};
+use crate::grouping::regroup::{HashRegrouper, Lattice};
+use crate::grouping::{Extension, Grouping, GroupingAlgo, GroupingError, GroupingSpec, cache::Cache};
 use crate::scene::Scene;
 use crate::shadow::{self, ShadowCoefficients, ShadowInput};
 use pointblend_core::reference::{self, ReferenceOptions};
@@ -79,6 +81,63 @@ pub struct SceneFrames {
     transparent: bool,
     /// The last shadow coefficients computed, newest last, and what for (see [`Self::shadow_key`]).
     shadows: Vec<(u64, Arc<ShadowCoefficients>)>,
+    /// For a moving scene: a hash regrouper per grouping algorithm drawn
+    /// (specs that differ only in their extension share one), redone every frame.
+    regroupers: Option<Vec<(GroupingAlgo, HashRegrouper)>>,
+    /// Counts the frames a moving scene has shown (keys the shadows).
+    generation: u64,
+    /// What the last [`Self::advance`] cost.
+    last_update: FrameUpdate,
+}
+
+/// What moving a scene to its next frame cost.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FrameUpdate {
+    /// Hash regrouping of every grouping drawn, in milliseconds.
+    pub regroup_ms: f64,
+    /// Writing the splats to the GPU (the records built and the buffers written), in milliseconds.
+    pub upload_ms: f64,
+    /// Splats whose group was computed (all of them unless the change was local).
+    pub regrouped: usize,
+    pub uploaded_bytes: u64,
+    /// Per grouping kept: the milliseconds of its regroup (shared by specs of one algorithm).
+    pub regroup_ms_of: Vec<(GroupingSpec, f64)>,
+    /// Per GPU copy (by the grouping it draws): milliseconds of its rewrite and bytes written.
+    pub upload_of: Vec<(Option<GroupingSpec>, f64, u64)>,
+}
+
+impl FrameUpdate {
+    /// The regroup milliseconds of grouping `spec` (0 for none, or one not kept).
+    pub fn regroup_ms_for(&self, spec: Option<GroupingSpec>) -> f64 {
+        self.regroup_ms_of.iter().find(|(s, _)| Some(*s) == spec).map_or(0.0, |(_, ms)| *ms)
+    }
+
+    /// The upload milliseconds and bytes of the GPU copy drawing `spec`.
+    pub fn upload_for(&self, spec: Option<GroupingSpec>) -> (f64, u64) {
+        self.upload_of.iter().find(|(s, _, _)| *s == spec).map_or((0.0, 0), |(_, ms, bytes)| (*ms, *bytes))
+    }
+}
+
+/// A hash grouping with `spec`'s extension: §4.4.2's radius estimate, or none.
+fn with_extension(mut grouping: Grouping, spec: GroupingSpec) -> Grouping {
+    let scale = if spec.extension == Extension::Estimate { crate::grouping::extend::HASH_TABLE_SCALE } else { 1.0 };
+    grouping.radius_scale = vec![scale; grouping.k()];
+    grouping
+}
+
+/// The grouping a moving scene draws in place of `spec`: the same hash
+/// grouping, or hash with K = 8 for MGC and WGC (which cannot run every
+/// frame), with §4.4.2's radius estimate in place of an extension.
+pub fn per_frame_grouping(spec: GroupingSpec) -> GroupingSpec {
+    let algo = match spec.algo {
+        GroupingAlgo::Hash { .. } => spec.algo,
+        _ => GroupingAlgo::Hash { k: 8, resolve_collisions: true },
+    };
+    let extension = match spec.extension {
+        Extension::None => Extension::None,
+        _ => Extension::Estimate,
+    };
+    GroupingSpec { algo, relax: Default::default(), extension }
 }
 
 impl SceneFrames {
@@ -98,7 +157,115 @@ impl SceneFrames {
             max_grouped: usize::MAX,
             shadows: Vec::new(),
             transparent,
+            regroupers: None,
+            generation: 0,
+            last_update: FrameUpdate::default(),
         }
+    }
+
+    /// The scene moves: its groupings are hash groupings redone every frame
+    /// (see [`per_frame_grouping`]), never cached, and [`Self::advance`] moves it on.
+    pub fn moving(mut self) -> Self {
+        self.regroupers = Some(Vec::new());
+        self
+    }
+
+    /// Whether the scene moves.
+    pub fn is_moving(&self) -> bool {
+        self.regroupers.is_some()
+    }
+
+    /// What the last [`Self::advance`] cost.
+    pub fn last_update(&self) -> &FrameUpdate {
+        &self.last_update
+    }
+
+    /// Moves a moving scene on to another frame: `scene` at that time and
+    /// its splats in world space. Every grouping kept is regrouped (only
+    /// near what moved), every GPU copy rewritten in place (only the records
+    /// that changed), the shadows recomputed on their next use.
+    pub fn advance(
+        &mut self,
+        gpu: Option<&HeadlessRenderer>,
+        scene: Arc<Scene>,
+        cloud: Arc<PointCloud>,
+    ) -> Result<FrameUpdate, FrameError> {
+        self.hash = scene.geometry_hash();
+        self.transparent = cloud.has_transparency();
+        self.scene = scene;
+        self.cloud = cloud;
+        self.generation += 1;
+        self.shadows.clear();
+        if self.regroupers.is_none() {
+            self.regroupers = Some(Vec::new());
+        }
+        let mut update = FrameUpdate::default();
+        let specs: Vec<GroupingSpec> = self.groupings.iter().map(|g| g.spec).collect();
+        let mut fresh: Vec<SceneGrouping> = Vec::with_capacity(specs.len());
+        for spec in specs {
+            // A spec whose algorithm was regrouped this frame takes those groups.
+            let shared = fresh.iter().find(|g| g.spec.algo == spec.algo).map(|g| (Arc::clone(&g.grouping), g.seconds));
+            let grouping = match shared {
+                Some((grouping, seconds)) => SceneGrouping {
+                    spec,
+                    grouping: Arc::new(with_extension(grouping.as_ref().clone(), spec)),
+                    seconds,
+                    cached: false,
+                },
+                None => {
+                    let (grouping, labelled) = self.regroup(spec)?;
+                    update.regrouped += labelled;
+                    update.regroup_ms += grouping.seconds * 1e3;
+                    grouping
+                }
+            };
+            update.regroup_ms_of.push((spec, grouping.seconds * 1e3));
+            fresh.push(grouping);
+        }
+        self.groupings = fresh;
+        match gpu {
+            Some(gpu) => {
+                for (spec, upload) in &mut self.uploads {
+                    let started = std::time::Instant::now();
+                    let grouping = spec.and_then(|s| self.groupings.iter().find(|g| g.spec == s));
+                    let grouping = grouping.map(|g| g.grouping.as_ref());
+                    let bytes = upload.rewrite(&gpu.ctx.device, &gpu.ctx.queue, &self.cloud, grouping);
+                    let ms = started.elapsed().as_secs_f64() * 1e3;
+                    update.upload_of.push((*spec, ms, bytes));
+                    update.upload_ms += ms;
+                    update.uploaded_bytes += bytes;
+                }
+            }
+            None => self.uploads.clear(),
+        }
+        self.last_update = update.clone();
+        Ok(update)
+    }
+
+    /// Hash grouping `spec` of the current splats by its regrouper (made on
+    /// first use); returns it and the splats labelled.
+    fn regroup(&mut self, spec: GroupingSpec) -> Result<(SceneGrouping, usize), FrameError> {
+        let GroupingAlgo::Hash { k, resolve_collisions } = spec.algo else {
+            return Err(FrameError::NoGrouping(spec));
+        };
+        let collisions = if resolve_collisions { Collisions::All } else { Collisions::None };
+        let options = HashOptions { k, collisions };
+        let regroupers = self.regroupers.get_or_insert_with(Vec::new);
+        let at = match regroupers.iter().position(|(a, _)| *a == spec.algo) {
+            Some(at) => at,
+            None => {
+                let regrouper = HashRegrouper::new(Lattice::of(&self.cloud), options)
+                    .map_err(|source| FrameError::Grouping { spec, source })?;
+                regroupers.push((spec.algo, regrouper));
+                regroupers.len() - 1
+            }
+        };
+        let started = std::time::Instant::now();
+        let regrouper = &mut regroupers[at].1;
+        let grouping = with_extension(regrouper.regroup(&self.cloud), spec);
+        let seconds = started.elapsed().as_secs_f64();
+        let labelled = regrouper.stats().labelled;
+        Ok((SceneGrouping { spec, grouping: Arc::new(grouping), seconds, cached: false }, labelled))
     }
 
     /// A scene with its own splats ([`Scene::flattened`]: shared, not copied, for a plain single object).
@@ -126,7 +293,18 @@ impl SceneFrames {
     /// The grouping a frame of `settings` draws, if any: the mode draws groups
     /// and (for a transparent mode) the scene has something transparent.
     pub fn drawn_grouping(&self, settings: &RenderSettings) -> Option<GroupingSpec> {
-        settings.mode.needs_grouping_for(self.transparent).then(|| settings.grouping_for_mode())
+        let spec = settings.mode.needs_grouping_for(self.transparent).then(|| settings.grouping_for_mode())?;
+        if !self.is_moving() {
+            return Some(spec);
+        }
+        let per_frame = per_frame_grouping(spec);
+        if per_frame != spec {
+            pointblend_core::progress::warn_once(format!(
+                "the scene moves: {} cannot be redone every frame, so {} is drawn instead",
+                spec, per_frame
+            ));
+        }
+        Some(per_frame)
     }
 
     /// Hands in a grouping computed elsewhere (nothing happens when it is here
@@ -145,6 +323,11 @@ impl SceneFrames {
     pub fn grouping(&mut self, spec: GroupingSpec) -> Result<&SceneGrouping, FrameError> {
         if let Some(at) = self.groupings.iter().position(|g| g.spec == spec) {
             return Ok(&self.groupings[at]);
+        }
+        if self.is_moving() {
+            let (grouping, _) = self.regroup(spec)?;
+            self.groupings.push(grouping);
+            return Ok(self.groupings.last().expect("just pushed"));
         }
         if !self.compute_groupings {
             return Err(FrameError::NoGrouping(spec));
@@ -173,7 +356,8 @@ impl SceneFrames {
     pub fn shadow_key(&self, settings: &RenderSettings) -> Option<u64> {
         settings.lit_by_lights().then(|| {
             let what = format!(
-                "{:?}|{:?}|{}|{}|{:?}|{}",
+                "{}|{:?}|{:?}|{}|{}|{:?}|{}",
+                self.generation,
                 settings.lights,
                 settings.shadows,
                 settings.epsilon_scale,

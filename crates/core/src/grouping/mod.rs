@@ -3,7 +3,8 @@
 //!
 //! - [`mgc`]: minimal graph colouring, largest first (§4.1); K comes out of it.
 //! - [`wgc`]: weighted graph colouring with a given K (§4.2, Eq. 6-8).
-//! - [`hash`]: dynamic hash grouping (§4.3, Eq. 9, Fig. 9), fast enough per frame.
+//! - [`hash`]: dynamic hash grouping (§4.3, Eq. 9, Fig. 9), fast enough per frame;
+//!   [`regroup`] does it frame after frame, incrementally.
 //! - [`extend`]: extended grouping for transparency (§4.4.2): duplication or radius enlargement.
 //! - [`metrics`]: overlap factor (§6.1), violations, coverage.
 //! - [`spec`]: a grouping by name (`wgc-k4-dup`): algorithm, relaxations, extension.
@@ -17,6 +18,7 @@ pub mod extend;
 pub mod hash;
 pub mod metrics;
 pub mod mgc;
+pub mod regroup;
 pub mod spec;
 pub mod wgc;
 

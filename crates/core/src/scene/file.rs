@@ -27,6 +27,19 @@
 //! [[object]]
 //! plane = { splats = 40000, size = 0.4, centre = [0.0, -0.08, 0.0], normal = [0, 1, 0] }
 //!
+//! [[object]]                         # a moving object
+//! ply = "bunny.ply"                  # or sequence = "frames/*.ply" (a folder or a name pattern), fps = 30
+//! interpolate = "smooth"             # between keyframes: "linear" (default) or "smooth"
+//! deform = { kind = "wave", amount = 0.004, period = 2.0 }   # or "twist", "bend" (radians); wavelength = …
+//! [[object.keyframe]]                # after the object's own transform; times in seconds, increasing
+//! time = 0.0
+//! translate = [0.0, 0.0, 0.0]
+//! [[object.keyframe]]
+//! time = 1.5
+//! translate = [0.05, 0.0, 0.0]
+//! rotate = [0, 90, 0]
+//! scale = 1.0
+//!
 //! [[light]]                          # any lights replace the headlight; at most 8
 //! position = [0.0, 0.3, 0.1]         # a point light, in file coordinates (or `direction`)
 //! color = [255, 240, 220]            # optional, 0..255 (default white)
@@ -52,6 +65,7 @@ use glam::{Affine3A, EulerRot, Quat, Vec3};
 use serde::Deserialize;
 use toml::Spanned;
 
+use super::animation::{Animation, Deform, DeformFrame, Interpolation, Keyframe, Sequence};
 use super::primitives::{plane, sphere};
 use super::{Material, Scene, SceneCamera, SceneObject};
 use crate::cloud::{self, LoadOptions};
@@ -123,6 +137,30 @@ struct ObjectEntry {
     translate: Option<[f32; 3]>,
     rotate: Option<[f32; 3]>,
     scale: Option<Spanned<f32>>,
+    sequence: Option<Spanned<String>>,
+    fps: Option<Spanned<f32>>,
+    #[serde(rename = "keyframe", default)]
+    keyframes: Vec<Spanned<KeyframeEntry>>,
+    interpolate: Option<Spanned<String>>,
+    deform: Option<Spanned<DeformEntry>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct KeyframeEntry {
+    time: f32,
+    translate: Option<[f32; 3]>,
+    rotate: Option<[f32; 3]>,
+    scale: Option<f32>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DeformEntry {
+    kind: String,
+    amount: f32,
+    period: f32,
+    wavelength: Option<f32>,
 }
 
 #[derive(Deserialize)]
@@ -145,14 +183,18 @@ pub fn read(path: &Path, options: &LoadOptions) -> Result<(Scene, Vec<String>), 
         message: e.to_string(),
     })?;
     let reader = Reader { path, text: &text, folder: path.parent().unwrap_or(Path::new(".")), options };
-    let file: SceneFile = toml::from_str(&text).map_err(|e| reader.at(e.span(), one_line(e.message())))?;
+    let file: SceneFile = toml::from_str(&text).map_err(|e| reader.at(e.span(), cloud::one_line(e.message())))?;
     if file.objects.is_empty() {
         return Err(reader.at(None, "the scene has no [[object]]".into()));
     }
     let mut scene = Scene::default();
+    if let Some(c) = &file.camera {
+        scene.camera = Some(reader.camera(c)?);
+    }
+    let up = scene.camera.and_then(|c| c.up).unwrap_or_default().frame().0;
     let mut warnings = Vec::new();
     for entry in &file.objects {
-        scene.objects.push(reader.object(entry, &mut warnings)?);
+        scene.objects.push(reader.object(entry, up, &mut warnings)?);
     }
     if let Some(bg) = &file.background {
         if !bg.get_ref().iter().all(|v| (0.0..=255.0).contains(v)) {
@@ -163,14 +205,11 @@ pub fn read(path: &Path, options: &LoadOptions) -> Result<(Scene, Vec<String>), 
     if let Some(env) = &file.environment {
         let map_path = reader.folder.join(env.get_ref());
         let map = super::environment::EnvironmentMap::load(&map_path)
-            .map_err(|e| reader.at(Some(env.span()), one_line(&e.to_string())))?;
+            .map_err(|e| reader.at(Some(env.span()), cloud::one_line(&e.to_string())))?;
         if map.cleaned > 0 {
             warnings.push(format!("{}: {} negative or non-finite values set to 0", map_path.display(), map.cleaned));
         }
         scene.environment = Some(Arc::new(map));
-    }
-    if let Some(c) = &file.camera {
-        scene.camera = Some(reader.camera(c)?);
     }
     if file.lights.len() > crate::frame::lights::MAX_LIGHTS {
         let message = crate::frame::lights::LightError::TooMany(file.lights.len()).to_string();
@@ -197,16 +236,34 @@ impl Reader<'_> {
         SceneError { path: self.path.to_path_buf(), location: span.map(|s| line_column(self.text, s.start)), message }
     }
 
-    /// One `[[object]]`: its splats, transform and material.
-    fn object(&self, entry: &Spanned<ObjectEntry>, warnings: &mut Vec<String>) -> Result<SceneObject, SceneError> {
+    /// One `[[object]]`: its splats, transform, material and animation (`up`: the scene's up axis).
+    fn object(
+        &self,
+        entry: &Spanned<ObjectEntry>,
+        up: Vec3,
+        warnings: &mut Vec<String>,
+    ) -> Result<SceneObject, SceneError> {
         let span = entry.span();
         let entry = entry.get_ref();
-        let (name, cloud, hash) = match (&entry.ply, &entry.sphere, &entry.plane) {
-            (Some(ply), None, None) => self.ply(ply, warnings)?,
-            (None, Some(s), None) => self.sphere(s)?,
-            (None, None, Some(p)) => self.plane(p)?,
-            _ => return Err(self.at(Some(span), "an object needs exactly one of `ply`, `sphere` or `plane`".into())),
+        let mut sequence = None;
+        let (name, cloud, hash) = match (&entry.ply, &entry.sphere, &entry.plane, &entry.sequence) {
+            (Some(ply), None, None, None) => self.ply(ply, warnings)?,
+            (None, Some(s), None, None) => self.sphere(s)?,
+            (None, None, Some(p), None) => self.plane(p)?,
+            (None, None, None, Some(pattern)) => {
+                let (found, first) = self.sequence(pattern, entry.fps.as_ref())?;
+                sequence = Some(found);
+                first
+            }
+            _ => {
+                return Err(
+                    self.at(Some(span), "an object needs exactly one of `ply`, `sphere`, `plane` or `sequence`".into())
+                );
+            }
         };
+        if let (Some(fps), None) = (&entry.fps, &entry.sequence) {
+            return Err(self.at(Some(fps.span()), "`fps` belongs to an object with a `sequence`".into()));
+        }
         let opacity = match &entry.opacity {
             Some(a) if !(0.0..=1.0).contains(a.get_ref()) => {
                 return Err(self.at(Some(a.span()), format!("opacity must be in 0..1, not {}", a.get_ref())));
@@ -238,13 +295,94 @@ impl Reader<'_> {
             return Err(self.at(Some(span), "the transform is not finite".into()));
         }
         let material = Material { colour, opacity, two_sided: entry.two_sided.unwrap_or(opacity < 1.0) };
+        let mut animation = self.animation(entry, &cloud, up, sequence)?;
+        let mut transform = transform;
+        if let Some(still) = animation.take_if(|a| a.period() <= 0.0) {
+            // Keys that never move (one key at 0 s) place the object once.
+            transform = still.keyed(0.0) * transform;
+        }
         Ok(SceneObject {
             name: entry.name.clone().unwrap_or(name),
             cloud: Arc::new(cloud),
             transform,
             material,
             content_hash: hash,
+            animation,
         })
+    }
+
+    /// A `sequence` object's frames and its first frame (name, cloud, hash).
+    fn sequence(
+        &self,
+        pattern: &Spanned<String>,
+        fps: Option<&Spanned<f32>>,
+    ) -> Result<(Sequence, (String, cloud::PointCloud, u64)), SceneError> {
+        let fps_value = fps.map_or(30.0, |f| *f.get_ref());
+        let at = |message: String| {
+            let span = match fps {
+                Some(f) if message.starts_with("fps") => f.span(),
+                _ => pattern.span(),
+            };
+            self.at(Some(span), message)
+        };
+        let found = Sequence::find(&self.folder.join(pattern.get_ref()), fps_value, self.options).map_err(at)?;
+        let (index, first) = found.frame(0).map_err(|e| self.at(Some(pattern.span()), e))?;
+        let path = &found.frames[index];
+        let hash = crate::hash::file_hash(path)
+            .map_err(|e| self.at(Some(pattern.span()), format!("{}: {e}", path.display())))?;
+        let name = format!("{} ({} frames)", pattern.get_ref(), found.frames.len());
+        Ok((found, (name, first.as_ref().clone(), hash)))
+    }
+
+    /// The object's keyframes, deformation and sequence, checked; `None` when it has none.
+    fn animation(
+        &self,
+        entry: &ObjectEntry,
+        cloud: &cloud::PointCloud,
+        up: Vec3,
+        sequence: Option<Sequence>,
+    ) -> Result<Option<Arc<Animation>>, SceneError> {
+        let keyframes: Vec<Keyframe> = entry
+            .keyframes
+            .iter()
+            .map(|k| {
+                let k = k.get_ref();
+                let [rx, ry, rz] = k.rotate.unwrap_or([0.0; 3]).map(f32::to_radians);
+                Keyframe {
+                    time: k.time,
+                    translate: Vec3::from_array(k.translate.unwrap_or([0.0; 3])),
+                    rotate: Quat::from_euler(EulerRot::ZYX, rz, ry, rx),
+                    scale: k.scale.unwrap_or(1.0),
+                }
+            })
+            .collect();
+        Animation::check_keyframes(&keyframes)
+            .map_err(|(k, message)| self.at(Some(entry.keyframes[k].span()), message))?;
+        let interpolate = match &entry.interpolate {
+            None => Interpolation::Linear,
+            Some(i) => match i.get_ref().as_str() {
+                "linear" => Interpolation::Linear,
+                "smooth" => Interpolation::Smooth,
+                other => {
+                    return Err(self
+                        .at(Some(i.span()), format!("interpolate must be \"linear\" or \"smooth\", not \"{other}\"")));
+                }
+            },
+        };
+        let deform = match &entry.deform {
+            None => None,
+            Some(d) => {
+                let e = d.get_ref();
+                let kind = e.kind.parse().map_err(|m| self.at(Some(d.span()), m))?;
+                let deform = Deform { kind, amount: e.amount, period: e.period, wavelength: e.wavelength };
+                deform.validate().map_err(|m| self.at(Some(d.span()), m))?;
+                Some((deform, DeformFrame::of(cloud, up)))
+            }
+        };
+        if keyframes.is_empty() && deform.is_none() && sequence.is_none() {
+            return Ok(None);
+        }
+        Ok(Some(Arc::new(Animation { keyframes, interpolate, deform, sequence })))
     }
 
     /// A `ply` object: its name, cloud and content hash; its load warnings go to `warnings`.
@@ -254,8 +392,8 @@ impl Reader<'_> {
         warnings: &mut Vec<String>,
     ) -> Result<(String, cloud::PointCloud, u64), SceneError> {
         let file = self.folder.join(ply.get_ref());
-        let (cloud, report) =
-            cloud::load_with(&file, self.options).map_err(|e| self.at(Some(ply.span()), one_line(&e.to_string())))?;
+        let (cloud, report) = cloud::load_with(&file, self.options)
+            .map_err(|e| self.at(Some(ply.span()), cloud::one_line(&e.to_string())))?;
         let hash =
             crate::hash::file_hash(&file).map_err(|e| self.at(Some(ply.span()), format!("{}: {e}", file.display())))?;
         warnings.extend(report.warnings.iter().map(|w| format!("{}: {w}", file.display())));
@@ -356,8 +494,4 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
     let line = before.matches('\n').count() + 1;
     let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
     (line, column)
-}
-
-fn one_line(text: &str) -> String {
-    text.split_whitespace().collect::<Vec<_>>().join(" ")
 }
