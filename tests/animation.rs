@@ -383,3 +383,33 @@ fn per_frame_hash_groups_of_the_waving_bunny_overlap_about_as_little_as_the_stil
         assert!(per_frame <= still * MAX_PER_FRAME_OVERLAP_GROWTH, "t {t}: per frame {per_frame}, still {still}");
     }
 }
+
+#[test]
+fn a_sequence_with_an_empty_frame_plays_through_it_in_every_grouped_mode() {
+    let dir = tempfile::tempdir().unwrap();
+    let frames = dir.path().join("frames");
+    std::fs::create_dir(&frames).unwrap();
+    let (bunny, _) = pointblend::cloud::load(&common::bundled_bunny()).unwrap();
+    write_frame(&frames.join("f_0.ply"), &bunny);
+    let empty =
+        "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+    std::fs::write(frames.join("f_1.ply"), empty).unwrap();
+    write_frame(&frames.join("f_2.ply"), &bunny);
+    let path = scene_file(dir.path(), "seq.toml", "[[object]]\nsequence = \"frames\"\nfps = 1\nopacity = 0.5\n");
+    let (scene, _) = scene::open(&path, &Default::default()).unwrap();
+    let camera = Camera::framing(Vec3::ZERO, 0.12, 1.0);
+    let mut gpu = common::renderer();
+    for mode in [RenderMode::Deferred, RenderMode::Alg2, RenderMode::Tiled] {
+        let settings = RenderSettings { mode, ..Default::default() };
+        let mut frames = SceneFrames::of(Arc::new(scene.at_time(0.0).unwrap().scene)).moving();
+        for t in [0.0, 1.0, 2.0, 1.0] {
+            let at = scene.at_time(t).unwrap();
+            println!("{mode} at {t} s: frame {:?} of {} splats", at.frames[0], at.scene.len());
+            let at = Arc::new(at.scene);
+            frames.advance(Some(&gpu), Arc::clone(&at), at.flattened()).unwrap();
+            let image = frames.render(Some(&mut gpu), &camera, &settings, (64, 64), false).unwrap().image;
+            let drawn = image.pixels().filter(|p| p.0 != image.get_pixel(0, 0).0).count();
+            assert_eq!(drawn > 0, !at.is_empty(), "{mode} at {t} s: {drawn} pixels drawn of {} splats", at.len());
+        }
+    }
+}

@@ -282,4 +282,31 @@ fn a_moving_scene_plays_and_pauses_and_states_its_regroup_cost() {
     }
     assert_eq!(shown_at(h.state()), still, "a paused animation stays where it is");
     assert_eq!(changed_share(&settled, h.state().shown_frame().unwrap().0), 0.0);
+
+    // A screenshot names its time, and `render --camera` draws that frame again.
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
+    wait_for(&mut h, "the screenshot", |app| app.status().is_some_and(|s| s.starts_with("saved")));
+    let png = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "png"))
+        .expect("a PNG in the screenshot folder");
+    let sidecar: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(png.with_extension("json")).unwrap()).unwrap();
+    assert_eq!(sidecar["time"].as_f64(), still, "the sidecar's time");
+    let again = dir.path().join("again.png");
+    let wave = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/bunny-wave.toml");
+    let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .arg("render")
+        .arg(&wave)
+        .arg("--camera")
+        .arg(png.with_extension("json"))
+        .arg("--out")
+        .arg(&again)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let (shot, rendered) = (image::open(&png).unwrap().to_rgba8(), image::open(&again).unwrap().to_rgba8());
+    let differing = rendered.pixels().zip(shot.pixels()).filter(|(a, b)| a != b).count();
+    assert_eq!(differing, 0, "{differing} pixels differ between the screenshot and its re-render at its time");
 }

@@ -396,13 +396,16 @@ fn bench_model(
     }
     let (w, h) = (config.width, config.height);
     let mut opened = open_model(model, config)?;
-    let moving = opened.scene.is_animated();
-    if moving {
+    let moving = opened.scene.is_animated().then(|| crate::render::rest_lattice(&opened.scene));
+    if moving.is_some() {
         log::info!("{}: the scene moves; it is measured at 0 s (--animate N measures its frames)", model.display());
         opened.scene = Arc::new(opened.scene.at_time(0.0).map_err(BenchError::Invalid)?.scene);
     }
     let frames = SceneFrames::of(Arc::clone(&opened.scene));
-    let mut frames = if moving { frames.moving() } else { frames };
+    let mut frames = match moving {
+        Some(lattice) => frames.moving_on(lattice.map_err(BenchError::Invalid)?),
+        None => frames,
+    };
     let cloud = Arc::clone(frames.cloud());
     let prepared = prepare_variants(config, &opened, &mut frames, renderer)?;
     let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
@@ -474,7 +477,8 @@ fn bench_animation(
         opened.scene.at_time(t).map(|s| (t, Arc::new(s.scene))).map_err(BenchError::Invalid)
     };
     let (_, first) = at(0)?;
-    let mut frames = SceneFrames::of(Arc::clone(&first)).moving();
+    let lattice = crate::render::rest_lattice(&opened.scene).map_err(BenchError::Invalid)?;
+    let mut frames = SceneFrames::of(Arc::clone(&first)).moving_on(lattice);
     let framed = Opened { scene: first, base: opened.base, load_s: opened.load_s };
     let prepared = prepare_variants(config, &framed, &mut frames, renderer)?;
     let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();

@@ -119,7 +119,8 @@ fn moving_frames(scene: Scene, time: Option<f64>) -> Result<SceneFrames> {
     }
     let at = scene.at_time(time.unwrap_or(0.0)).map_err(anyhow::Error::msg)?;
     log::info!("the scene at {:.3} s of its {:.3} s period", at.time, scene.animation_period());
-    Ok(SceneFrames::of(std::sync::Arc::new(at.scene)).moving())
+    let lattice = pointblend::render::rest_lattice(&scene).map_err(anyhow::Error::msg)?;
+    Ok(SceneFrames::of(std::sync::Arc::new(at.scene)).moving_on(lattice))
 }
 
 pub fn run(args: &Args) -> Result<()> {
@@ -161,7 +162,9 @@ pub fn run(args: &Args) -> Result<()> {
         log::info!("GPU: {}", gpu.ctx.describe());
     }
     let render_started = Instant::now();
-    let mut frames = moving_frames(scene, args.time)?;
+    // A screenshot of a moving scene names its time; --time overrides it.
+    let time = args.time.or(sidecar.as_ref().and_then(|s| s.time));
+    let mut frames = moving_frames(scene, time)?;
     let Frame { image, plan } = frames.render(gpu.as_mut(), &camera, &settings, (width, height), true)?;
     let scene = frames.scene();
     let render_seconds = render_started.elapsed().as_secs_f64();

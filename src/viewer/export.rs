@@ -25,8 +25,9 @@ impl ViewerApp {
         };
         let settings = self.ui.settings;
         key.preview = false;
-        key.grouping =
-            settings.mode.needs_grouping_for(model.transparent).then(|| settings.grouping_for_mode().to_string());
+        // A moving scene groups itself in the render thread (see `current_key`).
+        key.grouping = (settings.mode.needs_grouping_for(model.transparent) && !model.is_animated())
+            .then(|| settings.grouping_for_mode().to_string());
         let size = self.ui.screenshot_size.pixels(self.view_size);
         let png = next_free_path(&self.options.screenshot_dir, &model.name, settings.mode);
         let model_info = SidecarModel {
@@ -35,7 +36,8 @@ impl ViewerApp {
             hash: model.hash_hex(),
             splats: model.cloud.len(),
         };
-        let sidecar = Box::new(Sidecar::new(model_info, &self.ui.camera, &settings, size));
+        let sidecar =
+            Box::new(Sidecar { time: key.time, ..Sidecar::new(model_info, &self.ui.camera, &settings, size) });
         if let Err(e) = std::fs::create_dir_all(&self.options.screenshot_dir) {
             self.status = Some(format!("{}: {e}", self.options.screenshot_dir.display()));
             return;

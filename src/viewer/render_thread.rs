@@ -257,7 +257,8 @@ fn moving_frames<'a>(
         let cloud = scene.flattened();
         if fresh {
             scenes.full = None; // free the old copies first
-            scenes.full = Some((model.generation, SceneFrames::new(scene, cloud).moving()));
+            let lattice = crate::render::rest_lattice(&model.scene)?;
+            scenes.full = Some((model.generation, SceneFrames::new(scene, cloud).moving_on(lattice)));
         } else if let Some((_, frames)) = scenes.full.as_mut() {
             let update = frames.advance(Some(r), scene, cloud).map_err(|e| e.to_string())?;
             (stats.regroup_ms, stats.upload_ms, stats.regrouped) =

@@ -50,4 +50,4 @@ pub use gpu_scene::GpuScene;
 pub use headless::HeadlessRenderer;
 pub use plan::RenderPlan;
 pub use renderer::Renderer;
-pub use scene_frames::{Frame, FrameError, FrameUpdate, SceneFrames, SceneGrouping, per_frame_grouping};
+pub use scene_frames::{Frame, FrameError, FrameUpdate, SceneFrames, SceneGrouping, per_frame_grouping, rest_lattice};

@@ -84,6 +84,9 @@ pub struct SceneFrames {
     /// For a moving scene: a hash regrouper per grouping algorithm drawn
     /// (specs that differ only in their extension share one), redone every frame.
     regroupers: Option<Vec<(GroupingAlgo, HashRegrouper)>>,
+    /// The lattice a moving scene's hash groups are counted on (see [`rest_lattice`]);
+    /// the first frame's when none is given.
+    lattice: Option<Lattice>,
     /// Counts the frames a moving scene has shown (keys the shadows).
     generation: u64,
     /// What the last [`Self::advance`] cost.
@@ -116,6 +119,12 @@ impl FrameUpdate {
     pub fn upload_for(&self, spec: Option<GroupingSpec>) -> (f64, u64) {
         self.upload_of.iter().find(|(s, _, _)| *s == spec).map_or((0.0, 0), |(_, ms, bytes)| (*ms, *bytes))
     }
+}
+
+/// The lattice of a moving scene's hash groups: that of its splats at 0 s
+/// (the rest pose, or a sequence's first frame).
+pub fn rest_lattice(scene: &Scene) -> Result<Lattice, String> {
+    Ok(Lattice::of(&scene.at_time(0.0)?.scene.flattened()))
 }
 
 /// A hash grouping with `spec`'s extension: §4.4.2's radius estimate, or none.
@@ -158,6 +167,7 @@ impl SceneFrames {
             shadows: Vec::new(),
             transparent,
             regroupers: None,
+            lattice: None,
             generation: 0,
             last_update: FrameUpdate::default(),
         }
@@ -168,6 +178,14 @@ impl SceneFrames {
     pub fn moving(mut self) -> Self {
         self.regroupers = Some(Vec::new());
         self
+    }
+
+    /// A moving scene whose hash groups are counted on `lattice` (its rest
+    /// pose's, [`rest_lattice`]), so that a frame's groups depend on that
+    /// frame alone, not on the frame the scene was first shown at.
+    pub fn moving_on(mut self, lattice: Lattice) -> Self {
+        self.lattice = Some(lattice);
+        self.moving()
     }
 
     /// Whether the scene moves.
@@ -254,8 +272,9 @@ impl SceneFrames {
         let at = match regroupers.iter().position(|(a, _)| *a == spec.algo) {
             Some(at) => at,
             None => {
-                let regrouper = HashRegrouper::new(Lattice::of(&self.cloud), options)
-                    .map_err(|source| FrameError::Grouping { spec, source })?;
+                let lattice = self.lattice.unwrap_or_else(|| Lattice::of(&self.cloud));
+                let regrouper =
+                    HashRegrouper::new(lattice, options).map_err(|source| FrameError::Grouping { spec, source })?;
                 regroupers.push((spec.algo, regrouper));
                 regroupers.len() - 1
             }
@@ -453,7 +472,9 @@ impl SceneFrames {
         (width, height): (u32, u32),
         progress: bool,
     ) -> Result<Frame, FrameError> {
-        if !settings.mode.is_gpu() {
+        // A frame with no splats (an empty frame of a sequence) is the background,
+        // which the reference draws at no cost; GPU passes need splats to bind.
+        if !settings.mode.is_gpu() || self.cloud.is_empty() {
             let options = ReferenceOptions { progress, ..ReferenceOptions::matching(settings, &self.scene) };
             let image = reference::render(&self.scene, camera, &options, width, height);
             let plan = RenderPlan::cpu(settings.mode, width, height, self.scene.len(), options.epsilon);

@@ -78,6 +78,9 @@ pub struct Sidecar {
     pub size: [u32; 2],
     pub camera: SidecarCamera,
     pub settings: SidecarSettings,
+    /// The time shown, in seconds, for a moving scene (absent for a still one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<f64>,
 }
 
 const UP_AXES: [(UpAxis, [f32; 3]); 6] = [
@@ -119,6 +122,7 @@ impl Sidecar {
                 background: settings.shading.background.to_array(),
                 order: settings.order.to_string(),
             },
+            time: None,
         }
     }
 

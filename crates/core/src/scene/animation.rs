@@ -25,7 +25,8 @@
 //! - **Sequences**: PLY frames from a folder or a pattern (`frames/*.ply`),
 //!   in name order, at `fps`; frames are read when first shown and a few
 //!   are kept. A frame that cannot be read is reported once, naming it, and
-//!   the nearest readable frame before it is shown.
+//!   the nearest readable frame before it is shown; a frame whose header
+//!   declares no points is an empty frame.
 //!
 //! Every animation loops: keyframes over their last time, deformations
 //! over their period, sequences over their frames.
@@ -317,7 +318,12 @@ impl Sequence {
             }
         }
         let path = &self.frames[index];
-        let (cloud, _) = cloud::load_with(path, &self.options).map_err(|e| cloud::one_line(&e.to_string()))?;
+        let cloud = match cloud::load_with(path, &self.options) {
+            Ok((cloud, _)) => cloud,
+            // A frame of no points (a capture with nothing in view) shows nothing.
+            Err(_) if declares_no_vertices(path) => PointCloud::default(),
+            Err(e) => return Err(cloud::one_line(&e.to_string())),
+        };
         let cloud = Arc::new(cloud);
         let mut kept = self.kept.lock().unwrap_or_else(|p| p.into_inner());
         if kept.len() >= KEPT_FRAMES {
@@ -410,6 +416,16 @@ impl Animation {
         };
         Ok((cloud, shown))
     }
+}
+
+/// Whether the PLY header at `path` declares `element vertex 0`.
+fn declares_no_vertices(path: &Path) -> bool {
+    use std::io::Read;
+    let mut head = [0u8; 4096];
+    let Ok(read) = std::fs::File::open(path).and_then(|mut f| f.read(&mut head)) else { return false };
+    let text = String::from_utf8_lossy(&head[..read]);
+    let header = text.split("end_header").next().unwrap_or("");
+    header.lines().any(|l| l.split_whitespace().collect::<Vec<_>>() == ["element", "vertex", "0"])
 }
 
 /// Whether `name` matches `pattern` (`*`: any run of characters, `?`: one).
