@@ -164,7 +164,13 @@ impl ViewerApp {
                         }
                     }
                 }
-                (Purpose::Display, Err(e)) => self.frame_error = Some(e),
+                (Purpose::Display, Err(e)) => {
+                    // The requests up to this one are answered (or were skipped) too.
+                    if let Some(at) = self.in_flight.iter().position(|(id, _)| *id == result.id) {
+                        self.in_flight.drain(..=at);
+                    }
+                    self.frame_error = Some(e);
+                }
                 (Purpose::Screenshot { png, .. }, Ok(_)) => {
                     self.status = Some(format!("saved {} and its .json", png.display()));
                 }

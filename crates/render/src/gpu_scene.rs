@@ -152,7 +152,9 @@ impl GpuScene {
             return self.slots.len() as u64 * record;
         }
         let instances = layout.instances(cloud, 0..slots);
-        let first_rewrite = self.records.len() != slots;
+        // A transparent scene's buffers hold its records sorted for the last
+        // view (`InstanceOrder`), not `records`: every record is written then.
+        let first_rewrite = self.records.len() != slots || self.order.is_some();
         let mut written = 0u64;
         let mut chunk_start = 0usize;
         for (buffer, count) in &self.chunks {

@@ -223,8 +223,9 @@ impl GroupingSpec {
     /// [`crate::hash::file_hash`] is `file_hash`.
     pub fn cache_key(&self, file_hash: u64, tuning: &Tuning) -> u64 {
         // v2: WGC's MinimizeOverlap by area and its re-queueing changed its results;
-        // v3: duplication takes the most clipped splat first (§4.4.2).
-        cache::key_for_hash(file_hash, &format!("spec|{self}{tuning}|v3"))
+        // v3: duplication takes the most clipped splat first (§4.4.2);
+        // v4: hash grouping resolves collisions by a fixed rule on dense leaf lattices.
+        cache::key_for_hash(file_hash, &format!("spec|{self}{tuning}|v4"))
     }
 
     /// Groups the cloud loaded from `model`, through `cache`; returns the
