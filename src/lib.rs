@@ -10,7 +10,9 @@
 //! core's modules and the renderer are re-exported here under their own
 //! names, so `pointblend::cloud` and `pointblend::render` read as before.
 
-pub use pointblend_core::{cloud, frame, grouping, hash, memory, output, progress, reference, scene, shadow, spatial};
+pub use pointblend_core::{
+    cloud, frame, grouping, hash, lod, memory, output, progress, reference, scene, shadow, spatial,
+};
 pub use pointblend_render as render;
 
 pub mod bench;

@@ -29,6 +29,7 @@ fn options(epsilon: f32) -> ReferenceOptions {
         progress: false,
         environment: Default::default(),
         lights: Default::default(),
+        supersample: 1,
     }
 }
 

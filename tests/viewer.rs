@@ -310,3 +310,48 @@ fn a_moving_scene_plays_and_pauses_and_states_its_regroup_cost() {
     let differing = rendered.pixels().zip(shot.pixels()).filter(|(a, b)| a != b).count();
     assert_eq!(differing, 0, "{differing} pixels differ between the screenshot and its re-render at its time");
 }
+
+/// Drags across the 3D view (the right part of the window): an orbit.
+fn orbit(h: &mut Harness<'_, ViewerApp>) {
+    let start = egui::pos2(700.0, 300.0);
+    let press = |pos, pressed| egui::Event::PointerButton {
+        pos,
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: Default::default(),
+    };
+    h.input_mut().events.push(egui::Event::PointerMoved(start));
+    h.input_mut().events.push(press(start, true));
+    h.step();
+    for k in 1..=6 {
+        h.input_mut().events.push(egui::Event::PointerMoved(start + egui::vec2(12.0 * k as f32, 4.0 * k as f32)));
+        h.step();
+    }
+    h.input_mut().events.push(press(start + egui::vec2(72.0, 24.0), false));
+    h.step();
+}
+
+#[test]
+fn a_large_model_is_drawn_under_the_point_budget_while_the_camera_moves_then_in_full() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = common::data("bunny_range_scans_merged.ply");
+    let mut h = harness(ViewerOptions { file: Some(file), ..options(dir.path()) });
+    wait_for(&mut h, "the merged scans in two-pass", settled_in(RenderMode::TwoPass));
+    let total = h.state().model().unwrap().cloud.len();
+    assert_eq!(h.state().shown_splats(), Some(total), "a still frame draws every splat");
+    orbit(&mut h);
+    // 362,272 splats are over the default budget while moving: the frames drawn then keep to it.
+    wait_for(&mut h, "a preview under the budget", |app| {
+        app.shown_frame().is_some_and(|(_, key)| key.preview && key.settings.point_budget.is_some())
+    });
+    let budget = h.state().shown_frame().unwrap().1.settings.point_budget.unwrap() as usize;
+    let drawn = h.state().shown_splats().unwrap();
+    assert!(drawn <= budget && drawn * 2 > budget, "{drawn} splats drawn under a budget of {budget}");
+    assert!(budget < total);
+    // When the camera stops, the full frame follows.
+    wait_for(&mut h, "the full frame after the orbit", |app| {
+        settled_in(RenderMode::TwoPass)(app) && app.shown_frame().is_some_and(|(_, key)| !key.preview)
+    });
+    assert_eq!(h.state().shown_splats(), Some(total));
+    assert!(h.state().shown_frame().unwrap().1.settings.point_budget.is_none());
+}

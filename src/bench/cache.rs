@@ -43,14 +43,16 @@ pub fn entry(
         None => "-".into(),
     };
     let key = format!(
-        "v2|{scene_hash:016x}|{transparent}|{camera:?}|{size:?}|{environment}|{:?}|{:?}|{}|{}|{}|{}|{:?}",
+        "v2|{scene_hash:016x}|{transparent}|{camera:?}|{size:?}|{environment}|{:?}|{:?}|{}|{}|{}|{}|{:?}{}",
         settings.kernel,
         settings.shading,
         settings.epsilon_scale,
         settings.backface_culling,
         settings.lighting,
         settings.radius_scale,
-        settings.lights
+        settings.lights,
+        // One ray per pixel keeps the key it had before supersampling was a choice.
+        if settings.supersample > 1 { format!("|ss{}", settings.supersample) } else { String::new() }
     );
     let name = format!("reference-{:016x}", fnv1a(FNV_OFFSET, key.as_bytes()));
     let dir = dir.join("cache");

@@ -84,6 +84,10 @@ pub struct BenchRow {
     /// variant's GPU copy (none on frame 0, the first upload).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub upload_ms: Option<f64>,
+    /// Under a point budget: milliseconds of the node selection in each
+    /// timed frame (part of `frame_ms`); `points` is then the splats drawn.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub budget_select_ms: Option<f64>,
 }
 
 /// Writes `rows` as a JSON array, atomically.

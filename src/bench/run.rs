@@ -14,7 +14,7 @@ use crate::frame::{Camera, ModeVariant, RenderMode, RenderSettings};
 use crate::grouping::GroupingSpec;
 use crate::output::write_atomically;
 use crate::reference::{self, ReferenceOptions};
-use crate::render::{GpuError, GpuScene, HeadlessRenderer, RenderPlan, SceneFrames};
+use crate::render::{FrameError, GpuError, HeadlessRenderer, RenderPlan, SceneFrames};
 use crate::scene::{Materials, Scene};
 
 #[derive(Debug, thiserror::Error)]
@@ -214,8 +214,27 @@ fn prepare_variants(
     renderer: &HeadlessRenderer,
 ) -> Result<Vec<Prepared>, BenchError> {
     let mut prepared = Vec::new();
+    // The reference's rows are the rulers: one number of rays for all of them.
+    for variant in config.variants.iter().filter(|v| !v.mode.is_gpu()) {
+        let settings = variant.apply(&opened.base).map_err(BenchError::Invalid)?;
+        if settings.supersample != opened.base.supersample {
+            return Err(BenchError::Invalid(format!(
+                "{variant}: the reference is every row's ruler, so its rays are set for all rows: use --supersample {}",
+                settings.supersample
+            )));
+        }
+    }
     for variant in config.variants.iter().filter(|v| v.mode.is_gpu()) {
         let settings = variant.apply(&opened.base).map_err(BenchError::Invalid)?;
+        if frames.applied_budget(&settings).is_some() {
+            // Its splats, groups and shadows depend on the view: made by each frame (see time_frames).
+            let k = match frames.drawn_grouping(&settings).map(|s| crate::render::per_frame_grouping(s).algo) {
+                Some(crate::grouping::GroupingAlgo::Hash { k, .. }) => k,
+                _ => 1,
+            };
+            prepared.push(Prepared { variant: variant.clone(), settings, k, group_s: None, shadows: None });
+            continue;
+        }
         let (k, group_s) = match frames.drawn_grouping(&settings) {
             Some(spec) => {
                 let grouping = frames.grouping(spec).map_err(|e| BenchError::Invalid(e.to_string()))?;
@@ -304,7 +323,7 @@ fn blank_row(
         model: name.to_string(),
         mode: mode.name().to_string(),
         variant: variant.to_string(),
-        reference: ruler_name(mode.info().transparent).to_string(),
+        reference: ruler_name(mode.info().transparent, config.settings.supersample),
         ruler: mode == RenderMode::RULER,
         fallback: mode.runs_opaque(opened.scene.has_transparency()).then(|| OPAQUE_FALLBACK.to_string()),
         view: view.to_string(),
@@ -331,6 +350,7 @@ fn blank_row(
         frame: None,
         time: None,
         regroup_ms: None,
+        budget_select_ms: None,
         upload_ms: None,
     }
 }
@@ -340,15 +360,19 @@ fn blank_row(
 /// (and difference image) as `{stem}-{view}-{tag}.png`.
 fn measure_variant(
     renderer: &mut HeadlessRenderer,
-    gpu_scene: &GpuScene,
+    frames: &mut SceneFrames,
     view: &super::views::NamedView,
     p: &Prepared,
     config: &BenchConfig,
     reference: &Ruler,
     (stem, mut row): (&str, BenchRow),
 ) -> Result<BenchRow, BenchError> {
-    let (image, plan, wall, per_pass) = time_frames(renderer, gpu_scene, &view.camera, p, config)
+    let (image, plan, wall, per_pass) = time_frames(renderer, frames, &view.camera, p, config)
         .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?;
+    if let Some(budget) = frames.applied_budget(&p.settings).and(frames.last_budget()) {
+        row.points = budget.splats;
+        row.budget_select_ms = Some(budget.select_ms);
+    }
     let sizes_differ = || BenchError::Invalid("image and reference sizes differ".into());
     let error = reference::compare(&image, &reference.image).ok_or_else(sizes_differ)?;
     row.eps_by_layers =
@@ -446,8 +470,7 @@ fn bench_model(
         for p in &prepared {
             let reference = rulers.of_variant(&opened.scene, p);
             let blank = row(&p.variant.label(), p.variant.mode);
-            let gpu_scene = frames.gpu_scene(renderer, &p.settings).map_err(|e| BenchError::Invalid(e.to_string()))?;
-            rows.push(measure_variant(renderer, gpu_scene, view, p, config, reference, (&stem, blank))?);
+            rows.push(measure_variant(renderer, &mut frames, view, p, config, reference, (&stem, blank))?);
             bar.inc(1);
         }
     }
@@ -513,9 +536,7 @@ fn bench_animation(
                 let reference = rulers.of_variant(&now.scene, p);
                 let blank = blank_row(&name, &now, view.name, config, &p.variant.label(), p.variant.mode);
                 let spec = frames.drawn_grouping(&p.settings);
-                let gpu_scene =
-                    frames.gpu_scene(renderer, &p.settings).map_err(|e| BenchError::Invalid(e.to_string()))?;
-                let mut row = measure_variant(renderer, gpu_scene, view, p, config, reference, (&stem, blank))?;
+                let mut row = measure_variant(renderer, &mut frames, view, p, config, reference, (&stem, blank))?;
                 (row.frame, row.time) = (Some(i), Some(t));
                 row.regroup_ms = match &update {
                     Some(u) => spec.map(|s| u.regroup_ms_for(Some(s))),
@@ -540,8 +561,12 @@ fn first_regroup_ms(frames: &SceneFrames, prepared: &[Prepared], spec: GroupingS
 }
 
 /// What a row's error is measured against.
-fn ruler_name(transparent: bool) -> &'static str {
-    if transparent { "reference with the scene's opacity" } else { "reference with every splat opaque" }
+fn ruler_name(transparent: bool, supersample: u32) -> String {
+    let what = if transparent { "reference with the scene's opacity" } else { "reference with every splat opaque" };
+    match supersample {
+        0 | 1 => what.to_string(),
+        n => format!("{what}, {n}×{n} rays per pixel"),
+    }
 }
 
 /// The exact reference of `scene` from `camera`, reading opacity or not,
@@ -575,17 +600,19 @@ fn ruler(
 #[allow(clippy::type_complexity)]
 fn time_frames(
     renderer: &mut HeadlessRenderer,
-    scene: &GpuScene,
+    frames: &mut SceneFrames,
     camera: &Camera,
     p: &Prepared,
     config: &BenchConfig,
-) -> Result<(image::RgbaImage, RenderPlan, Vec<f64>, Vec<Vec<f64>>), GpuError> {
+) -> Result<(image::RgbaImage, RenderPlan, Vec<f64>, Vec<Vec<f64>>), FrameError> {
     let (w, h) = (config.width, config.height);
     let mut wall = Vec::new();
     let mut per_pass: Vec<Vec<f64>> = Vec::new();
     for frame in 0..config.warm_up + config.frames {
         let t = Instant::now();
-        let plan = renderer.render(scene, camera, &p.settings, w, h)?;
+        // Under a point budget the frame selects its splats first (part of its time).
+        let (scene, settings) = frames.frame_scene(renderer, camera, &p.settings, (w, h))?;
+        let plan = renderer.render(scene, camera, &settings, w, h)?;
         renderer.ctx.wait_idle()?;
         let ms = t.elapsed().as_secs_f64() * 1e3;
         if frame >= config.warm_up {
@@ -598,6 +625,10 @@ fn time_frames(
             }
         }
     }
-    let (image, plan) = renderer.render_image(scene, camera, &p.settings, w, h)?;
+    let (scene, settings) = frames.frame_scene(renderer, camera, &p.settings, (w, h))?;
+    let (image, mut plan) = renderer.render_image(scene, camera, &settings, w, h)?;
+    if frames.applied_budget(&p.settings).is_some() {
+        plan.notes.extend(frames.last_budget().map(|b| b.describe()));
+    }
     Ok((image, plan, wall, per_pass))
 }

@@ -139,6 +139,17 @@ pub fn run(args: &Args) -> Result<()> {
         None => (args.view.settings(&scene)?, args.view.size),
     };
     args.apply_environment(&mut scene, &mut settings)?;
+    if let (Some(_), Some(n)) = (&sidecar, args.view.supersample) {
+        // The sidecar sets the view; --supersample still sets the reference's rays (and --diff's ruler).
+        settings.supersample = n;
+    }
+    let reads_supersample = settings.mode.parameters().contains(&pointblend::frame::Parameter::Supersample);
+    if args.view.supersample.is_some() && !reads_supersample && args.diff.is_none() {
+        log::warn!(
+            "--supersample is ignored: mode {} does not use it (the reference does, and the ruler of --diff)",
+            settings.mode
+        );
+    }
     let camera = match &sidecar {
         Some(s) => {
             let hash = format!("{:016x}", scene.geometry_hash());

@@ -153,6 +153,19 @@ pub struct ViewArgs {
     /// How lit splats find their light: tsm (Gunjee's translucent shadow map), exact (a shadow ray per splat) or off [default: tsm].
     #[arg(long, value_parser = parse_shadow_method)]
     pub shadows: Option<pointblend::frame::ShadowMethod>,
+    /// Screen-space low-pass filter of the splat passes: ewa (Guennebaud's EWA approximation: splats
+    /// smaller than a pixel are stretched to the filter's size, so far models do not alias) or none.
+    #[arg(long, value_parser = parse_prefilter)]
+    pub prefilter: Option<pointblend::frame::Prefilter>,
+    /// Rays per pixel side of the reference, 1..=16: N×N rays per pixel, box-filtered (the exact
+    /// answer to aliasing; in bench and --diff, the ruler) [default: 1].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=pointblend::frame::settings::MAX_SUPERSAMPLE as i64))]
+    pub supersample: Option<u32>,
+    /// Most splats a GPU frame draws (≥ 1; the octree's root, up to 1,728 splats, is always drawn): nodes of
+    /// a multi-resolution octree (built once per model and cached) chosen by screen-space error; the
+    /// reference always draws every splat [default: all].
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(1..))]
+    pub point_budget: Option<u32>,
     /// TSM table size per light, POLxAZ cells (or N for NxN) [default: 512x512].
     #[arg(long, value_parser = pointblend::frame::lights::parse_cells)]
     pub shadow_cells: Option<[u32; 2]>,
@@ -161,6 +174,11 @@ pub struct ViewArgs {
 /// `--light X,Y,Z`.
 pub fn parse_light(text: &str) -> Result<pointblend::frame::Light, String> {
     pointblend::frame::Light::parse_point(text).map_err(|e| e.to_string())
+}
+
+/// `--prefilter ewa|none`.
+fn parse_prefilter(text: &str) -> Result<pointblend::frame::Prefilter, String> {
+    text.parse()
 }
 
 /// `--shadows tsm|exact|off`.
@@ -208,6 +226,9 @@ impl ViewArgs {
             lighting: !self.unlit,
             peel_layers: self.layers.unwrap_or(0),
             order: self.order.unwrap_or(pointblend::spatial::order::OrderKind::Bucket),
+            prefilter: self.prefilter.unwrap_or_default(),
+            supersample: self.supersample.unwrap_or(1),
+            point_budget: self.point_budget,
             ..Default::default()
         };
         if let Some(bg) = self.background.map(|c| glam::Vec3::from_array(c.map(f32::from)) / 255.0).or(scene.background)
@@ -234,6 +255,8 @@ impl ViewArgs {
             ("--layers", self.layers.is_some(), Parameter::PeelLayers),
             ("--order", self.order.is_some(), Parameter::Order),
             ("--depth-step", self.depth_step.is_some(), Parameter::DepthStep),
+            ("--prefilter", self.prefilter.is_some(), Parameter::Prefilter),
+            ("--point-budget", self.point_budget.is_some(), Parameter::PointBudget),
         ];
         for (option, is_given, parameter) in given {
             if is_given && !reads.contains(&parameter) {

@@ -119,6 +119,7 @@ impl ViewerApp {
             opacity_pending: None,
             time: 0.0,
             playing: false,
+            moving_budget: super::state::DEFAULT_MOVING_BUDGET,
         };
         let mut app = Self {
             ui,
@@ -131,7 +132,7 @@ impl ViewerApp {
             grouped: None,
             grouping_job: None,
             grouping_error: None,
-            renderer: RenderThread::start(ctx.clone()),
+            renderer: RenderThread::start(ctx.clone(), options.cache.clone().unwrap_or_else(Cache::from_env)),
             next_request: 0,
             requested: None,
             in_flight: Vec::new(),
@@ -172,6 +173,11 @@ impl ViewerApp {
     /// The frame on screen: its image and what it was drawn with.
     pub fn shown_frame(&self) -> Option<(&image::RgbaImage, &FrameKey)> {
         self.shown.as_ref().map(|s| (s.image.as_ref(), &s.key))
+    }
+
+    /// How many splats the frame on screen drew.
+    pub fn shown_splats(&self) -> Option<usize> {
+        self.shown.as_ref().map(|s| s.stats.splats_drawn)
     }
 
     pub fn status(&self) -> Option<&str> {

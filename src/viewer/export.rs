@@ -24,10 +24,10 @@ impl ViewerApp {
             return;
         };
         let settings = self.ui.settings;
+        // The full frame, never the preview's budget: what the sidecar says.
         key.preview = false;
-        // A moving scene groups itself in the render thread (see `current_key`).
-        key.grouping = (settings.mode.needs_grouping_for(model.transparent) && !model.is_animated())
-            .then(|| settings.grouping_for_mode().to_string());
+        key.settings = settings;
+        key.grouping = super::frames::drawn_grouping(&model, &settings);
         let size = self.ui.screenshot_size.pixels(self.view_size);
         let png = next_free_path(&self.options.screenshot_dir, &model.name, settings.mode);
         let model_info = SidecarModel {

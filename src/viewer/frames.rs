@@ -13,18 +13,31 @@ use super::render_thread::{FrameRequest, Purpose};
 use super::state::FrameKey;
 use crate::grouping::cache::Cache;
 
-/// How long after the last camera move large models still draw their preview.
+/// How long after the last camera move large models still draw their budgeted preview.
 pub(super) const SETTLE: Duration = Duration::from_millis(300);
+
+/// The grouping (from the grouping job) a full frame of `settings` waits
+/// for, if any. A moving scene regroups by hashing in the render thread,
+/// every frame, and so does a frame under a point budget (the splats it
+/// draws change with the view).
+pub(super) fn drawn_grouping(model: &super::model::Model, settings: &crate::render::RenderSettings) -> Option<String> {
+    let budgeted = settings.point_budget.is_some_and(|b| (b as usize) < model.cloud.len());
+    (settings.mode.needs_grouping_for(model.transparent) && !model.is_animated() && !budgeted)
+        .then(|| settings.grouping_for_mode().to_string())
+}
 
 impl ViewerApp {
     /// The frame the view should show now, if a model is loaded.
     pub fn current_key(&self) -> Option<FrameKey> {
         let model = self.model.as_ref()?;
-        let preview = model.preview.is_some() && self.last_camera_move.is_some_and(|t| t.elapsed() < SETTLE);
-        let settings = self.ui.settings;
-        // A moving scene regroups by hashing in the render thread, every frame.
-        let grouping = (settings.mode.needs_grouping_for(model.transparent) && !preview && !model.is_animated())
-            .then(|| settings.grouping_for_mode().to_string());
+        let budget = self.ui.moving_budget.min(self.ui.settings.point_budget.unwrap_or(u32::MAX));
+        let large = model.cloud.len() > budget as usize && !model.is_animated();
+        let preview = large && self.last_camera_move.is_some_and(|t| t.elapsed() < SETTLE);
+        let mut settings = self.ui.settings;
+        if preview {
+            settings.point_budget = Some(budget);
+        }
+        let grouping = if preview { None } else { drawn_grouping(model, &settings) };
         Some(FrameKey {
             generation: model.generation,
             grouping,
@@ -53,7 +66,7 @@ impl ViewerApp {
     /// Starts a grouping when the mode draws groups and the one it needs is not there.
     pub(super) fn ensure_grouping(&mut self, ctx: &egui::Context) {
         let Some(model) = self.model.clone() else { return };
-        if !self.ui.settings.mode.needs_grouping_for(model.transparent) || model.is_animated() {
+        if drawn_grouping(&model, &self.ui.settings).is_none() {
             return;
         }
         let spec = self.ui.settings.grouping_for_mode();

@@ -1,7 +1,7 @@
 //! A model as the viewer holds it: the loaded scene and its splats in world
-//! space, its file's name and content hash (for screenshot sidecars), its
-//! load warnings, and a subsampled preview cloud that large models draw while
-//! the camera moves.
+//! space, its file's name and content hash (for screenshot sidecars), and
+//! its load warnings. While the camera moves, a large model is drawn under a
+//! point budget (its multi-resolution hierarchy, see [`crate::lod`]).
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -9,9 +9,6 @@ use std::sync::Arc;
 use crate::cloud::{LoadOptions, PointCloud};
 use crate::grouping::{Grouping, GroupingSpec};
 use crate::scene::{Materials, Scene};
-
-/// Models with more splats than this get a preview cloud of this many.
-pub const PREVIEW_SPLATS: usize = 200_000;
 
 /// A loaded model.
 #[derive(Debug)]
@@ -23,10 +20,8 @@ pub struct Model {
     pub scene: Arc<Scene>,
     /// The scene's splats in world space (see [`Scene::flatten`]).
     pub cloud: Arc<PointCloud>,
-    /// A subsample with enlarged splats, for models above [`PREVIEW_SPLATS`].
     /// Whether some splat is drawn less than opaque (known once, not per frame).
     pub transparent: bool,
-    pub preview: Option<Arc<PointCloud>>,
     pub warnings: Vec<String>,
     /// Tells models apart, also two loads of the same file.
     pub generation: u64,
@@ -91,11 +86,7 @@ impl Model {
     pub fn of_scene(path: &Path, scene: Scene, warnings: Vec<String>, generation: u64) -> Model {
         let hash = scene.geometry_hash();
         let cloud = scene.flattened();
-        crate::progress::stage("building the preview");
         let period = scene.animation_period();
-        // A moving scene has no preview: its subsample would have to move too.
-        let preview =
-            (cloud.len() > PREVIEW_SPLATS && period <= 0.0).then(|| Arc::new(subsample(&cloud, PREVIEW_SPLATS)));
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());
         let transparent = scene.has_transparency();
         Model {
@@ -104,7 +95,6 @@ impl Model {
             hash,
             scene: Arc::new(scene),
             cloud,
-            preview,
             transparent,
             warnings,
             generation,
@@ -119,55 +109,5 @@ impl Model {
 
     pub fn hash_hex(&self) -> String {
         format!("{:016x}", self.hash)
-    }
-}
-
-/// Every (n/count)-th splat, with radii grown by sqrt(n/count) so that the
-/// subsample still covers the surface.
-pub fn subsample(cloud: &PointCloud, count: usize) -> PointCloud {
-    let n = cloud.len();
-    let count = count.clamp(1, n.max(1));
-    let picks: Vec<usize> = (0..count).map(|i| i * n / count).collect();
-    let grow = (n as f32 / count as f32).sqrt();
-    PointCloud {
-        positions: picks.iter().map(|&i| cloud.positions[i]).collect(),
-        normals: picks.iter().map(|&i| cloud.normals[i]).collect(),
-        radii: picks.iter().map(|&i| cloud.radii[i] * grow).collect(),
-        colours: picks.iter().map(|&i| cloud.colours[i]).collect(),
-        opacity: picks.iter().map(|&i| cloud.opacity[i]).collect(),
-        two_sided: if cloud.two_sided.is_empty() {
-            Vec::new()
-        } else {
-            picks.iter().map(|&i| cloud.two_sided[i]).collect()
-        },
-        origin: cloud.origin,
-        scale_exponent: cloud.scale_exponent,
-        scanner_position: cloud.scanner_position,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use glam::Vec3;
-
-    #[test]
-    fn a_subsample_keeps_the_coverage_of_the_surface() {
-        let n = 10_000;
-        let cloud = PointCloud {
-            positions: (0..n).map(|i| Vec3::new(i as f32, 0.0, 0.0)).collect(),
-            normals: vec![Vec3::Z; n],
-            radii: vec![1.0; n],
-            colours: vec![[1, 2, 3]; n],
-            opacity: vec![1.0; n],
-            ..Default::default()
-        };
-        let sub = subsample(&cloud, 2_500);
-        assert_eq!(sub.len(), 2_500);
-        assert!(sub.is_consistent());
-        // Total disc area (Σ r²) is preserved.
-        let area = |c: &PointCloud| c.radii.iter().map(|r| r * r).sum::<f32>();
-        assert!((area(&sub) / area(&cloud) - 1.0).abs() < 1e-3);
-        assert_eq!(sub.positions[1].x, 4.0);
     }
 }

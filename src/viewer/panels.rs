@@ -161,6 +161,9 @@ fn mode_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>) {
     }
 }
 
+/// The budget the "point budget" switch starts at.
+const DEFAULT_STILL_BUDGET: u32 = 250_000;
+
 fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, parameter: Parameter) {
     let s = &mut state.settings;
     match parameter {
@@ -179,6 +182,38 @@ fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, para
         }
         Parameter::RadiusScale => {
             ui.add(egui::Slider::new(&mut s.radius_scale, 0.25..=3.0).text("splat radius scale"));
+        }
+        Parameter::Prefilter => {
+            use crate::frame::Prefilter;
+            let mut ewa = s.prefilter == Prefilter::Ewa;
+            ui.checkbox(&mut ewa, "EWA prefilter").on_hover_text(
+                "Guennebaud's EWA approximation: splats smaller than a pixel are stretched to the low-pass filter, so a far model does not alias",
+            );
+            s.prefilter = if ewa { Prefilter::Ewa } else { Prefilter::None };
+        }
+        Parameter::PointBudget => {
+            let mut on = s.point_budget.is_some();
+            ui.checkbox(&mut on, "point budget").on_hover_text(
+                "draw at most this many splats, chosen from a multi-resolution octree by screen-space error",
+            );
+            s.point_budget = match (on, s.point_budget) {
+                (false, _) => None,
+                (true, Some(n)) => Some(n),
+                (true, None) => Some(DEFAULT_STILL_BUDGET),
+            };
+            if let Some(n) = &mut s.point_budget {
+                ui.add(egui::Slider::new(n, 1_000..=10_000_000).logarithmic(true).text("splats"));
+            }
+            ui.add(
+                egui::Slider::new(&mut state.moving_budget, 10_000..=2_000_000).logarithmic(true).text("while moving"),
+            )
+            .on_hover_text("splats drawn while the camera moves; the full frame follows when it stops");
+        }
+        Parameter::Supersample => {
+            ui.add(
+                egui::Slider::new(&mut s.supersample, 1..=crate::frame::settings::MAX_SUPERSAMPLE)
+                    .text("supersample N×N"),
+            );
         }
         Parameter::BackfaceCulling => {
             ui.checkbox(&mut s.backface_culling, "back-face culling");

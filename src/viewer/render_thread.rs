@@ -17,6 +17,7 @@ use std::sync::mpsc::{self, Receiver, Sender};
 use std::time::Instant;
 
 use crate::frame::{Camera, RenderSettings, Sidecar};
+use crate::grouping::cache::Cache;
 use crate::progress::{self, Tracker};
 use crate::render::{Frame, HeadlessRenderer, RenderPlan, SceneFrames, SceneGrouping};
 
@@ -41,7 +42,7 @@ pub struct FrameRequest {
     pub camera: Camera,
     pub settings: RenderSettings,
     pub size: (u32, u32),
-    /// Draw the preview cloud with the mode's preview mode (while the camera moves).
+    /// Draw with the mode's preview mode, under the moving budget in the settings (while the camera moves).
     pub preview: bool,
     /// The time to draw a moving scene at, in seconds.
     pub time: Option<f64>,
@@ -109,14 +110,15 @@ impl Drop for RenderThread {
 
 impl RenderThread {
     /// Starts the thread; `repaint` is woken after each frame.
-    pub fn start(repaint: egui::Context) -> Self {
+    /// Groupings and hierarchies the thread makes are cached in `cache`.
+    pub fn start(repaint: egui::Context, cache: Cache) -> Self {
         let (requests, inbox) = mpsc::channel::<FrameRequest>();
         let (outbox, results) = mpsc::channel::<FrameResult>();
         let tracker = Tracker::new();
         let thread_tracker = Arc::clone(&tracker);
         let spawned = std::thread::Builder::new()
             .name("pointblend renderer".into())
-            .spawn(move || progress::track(thread_tracker, || serve(inbox, outbox, repaint)));
+            .spawn(move || progress::track(thread_tracker, || serve(inbox, outbox, repaint, cache)));
         let thread = spawned.map_err(|e| log::error!("could not start the render thread: {e}")).ok();
         Self { requests, results, tracker, thread }
     }
@@ -133,22 +135,21 @@ impl RenderThread {
     }
 }
 
-/// The model ready to render (and its preview subsample), kept while the model stays the same.
-#[derive(Default)]
+/// The model ready to render, kept while the model stays the same.
 struct Scenes {
+    cache: Cache,
     full: Option<(u64, SceneFrames)>,
-    preview: Option<(u64, SceneFrames)>,
     /// The time the full scene is at, when it moves.
     time: Option<f64>,
 }
 
-fn serve(inbox: Receiver<FrameRequest>, outbox: Sender<FrameResult>, repaint: egui::Context) {
+fn serve(inbox: Receiver<FrameRequest>, outbox: Sender<FrameResult>, repaint: egui::Context, cache: Cache) {
     let mut renderer = HeadlessRenderer::new().map_err(|e| format!("opening the GPU: {e}"));
     if let Ok(r) = &mut renderer {
         log::info!("viewer GPU: {}", r.ctx.describe());
         r.renderer.enable_pass_timing(&r.ctx);
     }
-    let mut scenes = Scenes::default();
+    let mut scenes = Scenes { cache, full: None, time: None };
     while let Ok(first) = inbox.recv() {
         let mut pending = vec![first];
         pending.extend(inbox.try_iter());
@@ -214,18 +215,18 @@ fn draw(r: &mut HeadlessRenderer, scenes: &mut Scenes, request: &FrameRequest) -
     FrameResult { id: request.id, purpose: request.purpose.clone(), image: image.map(Arc::new), stats }
 }
 
-/// The model (or, for a preview, its subsample) this request draws, with the
-/// request's grouping handed in; one grouped GPU copy is kept at a time.
+/// The model this request draws, with the request's grouping handed in; one
+/// grouped GPU copy is kept at a time. A preview draws the same model under a
+/// point budget (its hierarchy is built on first use and kept with it).
 fn scene_frames<'a>(scenes: &'a mut Scenes, request: &FrameRequest) -> &'a mut SceneFrames {
     let model = &request.model;
     let generation = model.generation;
-    let (slot, cloud) = match (request.preview, &model.preview) {
-        (true, Some(preview)) => (&mut scenes.preview, preview),
-        _ => (&mut scenes.full, &model.cloud),
-    };
+    let (slot, cloud) = (&mut scenes.full, &model.cloud);
     if slot.as_ref().is_none_or(|(g, _)| *g != generation) {
         *slot = None; // free the old copies first
-        let frames = SceneFrames::new(Arc::clone(&model.scene), Arc::clone(cloud)).handed_groupings(1);
+        let frames = SceneFrames::new(Arc::clone(&model.scene), Arc::clone(cloud))
+            .handed_groupings(1)
+            .with_cache(scenes.cache.clone());
         *slot = Some((generation, frames));
     }
     let (_, frames) = slot.as_mut().expect("filled above");
@@ -258,7 +259,8 @@ fn moving_frames<'a>(
         if fresh {
             scenes.full = None; // free the old copies first
             let lattice = crate::render::rest_lattice(&model.scene)?;
-            scenes.full = Some((model.generation, SceneFrames::new(scene, cloud).moving_on(lattice)));
+            let frames = SceneFrames::new(scene, cloud).moving_on(lattice).with_cache(scenes.cache.clone());
+            scenes.full = Some((model.generation, frames));
         } else if let Some((_, frames)) = scenes.full.as_mut() {
             let update = frames.advance(Some(r), scene, cloud).map_err(|e| e.to_string())?;
             (stats.regroup_ms, stats.upload_ms, stats.regrouped) =

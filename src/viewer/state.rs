@@ -82,7 +82,14 @@ pub struct UiState {
     /// A moving scene's time (seconds) and whether it plays.
     pub time: f64,
     pub playing: bool,
+    /// Most splats a frame draws while the camera moves (a still scene with
+    /// more splats is drawn from its hierarchy under this budget until the camera stops).
+    pub moving_budget: u32,
 }
+
+/// The budget while the camera moves, measured to keep the preview of a
+/// 1M-splat model near 100 ms a frame on lavapipe (docs/BENCHMARKS.md).
+pub const DEFAULT_MOVING_BUDGET: u32 = 100_000;
 
 impl UiState {
     /// Light angles (degrees) of the light direction in `settings`.

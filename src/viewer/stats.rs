@@ -16,8 +16,12 @@ pub fn stats_section(ui: &mut Ui, info: &PanelInfo<'_>) {
     let stats = shown.stats;
     let (w, h) = shown.key.size;
     let mode = shown.key.settings.mode;
-    let what =
-        if stats.preview { format!("preview ({} on a subsample)", mode.info().preview) } else { mode.to_string() };
+    let what = match shown.key.settings.point_budget.filter(|_| stats.preview) {
+        Some(budget) => {
+            format!("preview ({} under a budget of {} splats)", mode.info().preview, thousands(budget as usize))
+        }
+        None => mode.to_string(),
+    };
     ui.label(format!("{what}, {w}×{h}: {:.1} ms per frame", stats.frame_ms));
     ui.label(format!("{} splats drawn, {} geometry pass(es)", thousands(stats.splats_drawn), stats.geometry_passes));
     if let (Some(regroup), Some(upload)) = (stats.regroup_ms, stats.upload_ms) {

@@ -187,3 +187,13 @@ pub const MAX_SHADOW_COEFFICIENT_ERROR: f32 = 1e-5;
 /// splat at its centre (the light direction turns by about r/d across one
 /// floor splat) where the reference lights each pixel. Measured: 0.62.
 pub const MAX_LIT_FLOOR_ERROR_8BIT: f32 = 1.5;
+
+/// ε of two-pass with the EWA prefilter against the 4×4-supersampled
+/// reference, as a share of ε without it, on a far checkerboard at a grazing
+/// angle (the goal: at most half). Measured at 160²: see
+/// tests/prefilter.rs's output and docs/BENCHMARKS.md.
+pub const MAX_EWA_ALIASING_RATIO: f64 = 0.5;
+
+/// Share of the pixels inside the reference's eroded silhouette that a
+/// budgeted frame may leave as background (holes between coarse splats).
+pub const MAX_BUDGET_HOLE_SHARE: f64 = 0.001;

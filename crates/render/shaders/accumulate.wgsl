@@ -28,7 +28,7 @@ fn accumulated(v: SplatVarying, s: SplatSample, w: f32) -> Accumulated {
 @fragment
 fn fs_accumulate(v: SplatVarying) -> Accumulated {
     let s = splat_sample(v);
-    return accumulated(v, s, splat_weight(s.rho2));
+    return accumulated(v, s, splat_weight(s));
 }
 
 @fragment

@@ -38,7 +38,7 @@ fn fs_alg2_nearest(v: SplatVarying) -> NearestImage {
     if behind_opaque(vec2<i32>(v.clip.xy), s.view_depth) {
         discard;
     }
-    let w = splat_weight(s.rho2);
+    let w = splat_weight(s);
     // The normal as it is: its side tells the layer's facing
     // (shaders/alg2_front.wgsl); shading turns it towards the viewer.
     return NearestImage(

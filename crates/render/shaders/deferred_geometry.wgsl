@@ -32,7 +32,7 @@ fn group_z(s: SplatSample) -> f32 {
 @fragment
 fn fs_group(v: SplatVarying) -> GroupImage {
     let s = splat_sample(v);
-    let w = splat_weight(s.rho2);
+    let w = splat_weight(s);
     var out: GroupImage;
     out.colour = colour_output(v.colour.rgb, w);
 #ifdef LIT

@@ -8,7 +8,7 @@ struct Frame {
     viewport: vec4<f32>,
     // near, far, unused, 1/(far - near)
     depth: vec4<f32>,
-    // unused, Gaussian sharpness k, min |cos| of a footprint (foreshortening bound), back-face culling (0/1)
+    // EWA low-pass radius in pixels (0: no prefilter), Gaussian sharpness k, min |cos| of a footprint (foreshortening bound), back-face culling (0/1)
     splat: vec4<f32>,
     // direction to the light (eye space), shininess
     light: vec4<f32>,

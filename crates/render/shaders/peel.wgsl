@@ -48,7 +48,7 @@ struct LayerSums {
 }
 
 fn layer_sums(v: SplatVarying, s: SplatSample) -> LayerSums {
-    let w = splat_weight(s.rho2);
+    let w = splat_weight(s);
     var out: LayerSums;
     out.colour = colour_output(v.colour.rgb, w);
     out.opacity = v.colour.a * w;

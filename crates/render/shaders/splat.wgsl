@@ -24,6 +24,19 @@
 // tilted towards the viewer until |n·v| >= min (the B&K bound on |n_z|, here
 // relative to the ray to the centre), so edge-on splats stay slivers instead
 // of vanishing; src/view/kernel.rs applies the same tilt for the reference.
+//
+// Prefilter (frame.splat.x > 0): Guennebaud's EWA filtering approximation
+// (crates/core/src/frame/prefilter.rs). The footprint's tangents are the
+// slides' s = p × n and t = n × s, and each is stretched until its
+// screen-space length at the centre is at least the low-pass radius h, so a
+// splat smaller than a pixel covers the pixels around it. The stretched
+// footprint is the ellipse ρ² = (o·S)² + (o·T)² (S = s/(r·a_s), T = t/(r·a_t)),
+// and its Gaussian's peak is divided by a_s·a_t. The stretched disc stays in
+// its plane, so every fragment's depth is the exact depth of the plane on its
+// ray, as for an unstretched splat: coplanar neighbours stay within ε of one
+// another and blend (a depth clamped to the original disc would set rows of
+// a grazing plane apart by more than ε, and the filter would not filter). A
+// splat already larger than h on screen is drawn exactly as without it.
 
 struct SplatIn {
     @location(0) position: vec3<f32>,
@@ -50,6 +63,20 @@ struct SplatVarying {
     // Unit normal of the plane the footprint is cast on (tilted if grazing), and 1/r².
     @location(2) @interpolate(flat) plane: vec4<f32>,
     @location(3) @interpolate(flat) colour: vec4<f32>,
+    // A prefiltered splat's stretched axes S (xyz) and the weight's scale
+    // 1/(a_s·a_t) (w); w = 0 when the splat is not stretched.
+    @location(4) @interpolate(flat) axis_s: vec4<f32>,
+    // T (xyz); w unused.
+    @location(5) @interpolate(flat) axis_t: vec4<f32>,
+}
+
+// The length in pixels of the eye-space vector `d` at the point `c` (z < 0)
+// on screen, to first order (the perspective projection's Jacobian at c).
+fn screen_length(c: vec3<f32>, d: vec3<f32>) -> f32 {
+    let z = -c.z;
+    let along = d.xy / z + c.xy * (d.z / (z * z));
+    let pixels_per_unit = frame.viewport.xy / (2.0 * frame.lens.xy);
+    return length(along * pixels_per_unit);
 }
 
 const CULLED: vec4<f32> = vec4<f32>(2.0, 2.0, 2.0, 1.0);
@@ -78,21 +105,41 @@ fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying 
     let plane = footprint_normal(normal, centre / distance, frame.splat.z);
     // Two unit tangents of the footprint plane.
     let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(plane.x) > 0.9);
-    let s = normalize(cross(plane, helper));
-    let t = cross(plane, s);
-    let corner_eye = centre + (s * corner.x + t * corner.y) * radius;
+    var s = normalize(cross(plane, helper));
+    var t = cross(plane, s);
+    var stretch = vec2<f32>(1.0);
+    let low_pass = frame.splat.x;
+    if low_pass > 0.0 && -centre.z > frame.depth.x {
+        // The slides' heuristic for discs: s = p × n is parallel to the
+        // screen, t = n × s the most foreshortened direction.
+        let across = cross(centre, plane);
+        let across_length = length(across);
+        if across_length > 1e-6 * distance {
+            s = across / across_length;
+            t = cross(plane, s);
+        }
+        let lengths = vec2<f32>(screen_length(centre, s * radius), screen_length(centre, t * radius));
+        stretch = max(vec2<f32>(1.0), low_pass / max(lengths, vec2<f32>(1e-6)));
+    }
+    let corner_eye = centre + (s * (stretch.x * corner.x) + t * (stretch.y * corner.y)) * radius;
     out.clip = frame.proj * vec4<f32>(corner_eye, 1.0);
     out.centre = centre;
     out.normal = normal;
     out.plane = vec4<f32>(plane, 1.0 / (radius * radius));
+    let stretched = stretch.x > 1.0 || stretch.y > 1.0;
+    out.axis_s = vec4<f32>(s / (radius * stretch.x), select(0.0, 1.0 / (stretch.x * stretch.y), stretched));
+    out.axis_t = vec4<f32>(t / (radius * stretch.y), 0.0);
     return out;
 }
 
 struct SplatSample {
-    // Squared distance from the centre in units of the radius.
+    // Squared distance from the centre in units of the radius (of the
+    // stretched footprint when prefiltered).
     rho2: f32,
     // Exact view depth of the ray-plane intersection (Eq. 4).
     view_depth: f32,
+    // The factor on the Gaussian weight: 1, or 1/(a_s·a_t) when prefiltered.
+    scale: f32,
 }
 
 // Casts the pixel's ray on the splat; discards pixels outside the disc or the depth range.
@@ -102,11 +149,17 @@ fn splat_sample(v: SplatVarying) -> SplatSample {
     let facing = dot(ray, n);
     let t = dot(v.centre, n) / facing;
     let offset = ray * t - v.centre;
-    let rho2 = dot(offset, offset) * v.plane.w;
+    var rho2 = dot(offset, offset) * v.plane.w;
+    var scale = 1.0;
+    if v.axis_s.w > 0.0 {
+        let along = vec2<f32>(dot(offset, v.axis_s.xyz), dot(offset, v.axis_t.xyz));
+        rho2 = dot(along, along);
+        scale = v.axis_s.w;
+    }
     if !(rho2 < 1.0) || !(t > frame.depth.x && t < frame.depth.y) {
         discard;
     }
-    return SplatSample(rho2, t);
+    return SplatSample(rho2, t, scale);
 }
 
 // What a splat writes to its colour target: (w·rgb, w), or, in the
@@ -120,7 +173,7 @@ fn colour_output(rgb: vec3<f32>, w: f32) -> vec4<f32> {
 #endif
 }
 
-// Eq. 3: Gaussian weight of the normalised distance.
-fn splat_weight(rho2: f32) -> f32 {
-    return exp(-rho2 * frame.splat.y);
+// Eq. 3: Gaussian weight of the normalised distance (its peak lowered by a prefilter's stretch).
+fn splat_weight(s: SplatSample) -> f32 {
+    return exp(-s.rho2 * frame.splat.y) * s.scale;
 }

@@ -51,7 +51,7 @@ pub struct FrameUniforms {
     pub viewport: [f32; 4],
     /// near, far, unused, 1/(far - near)
     pub depth: [f32; 4],
-    /// unused, Gaussian sharpness k (Eq. 3), min |cos| of a footprint, back-face culling (0/1)
+    /// EWA low-pass radius in pixels (0: none), Gaussian sharpness k (Eq. 3), min |cos| of a footprint, back-face culling (0/1)
     pub splat: [f32; 4],
     /// direction to the light in eye space, shininess
     pub light: [f32; 4],

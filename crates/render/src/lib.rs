@@ -22,7 +22,7 @@
 //!    back ([`readback`]); the viewer does the same on its render thread.
 
 // The core modules the renderer reads, reachable as `crate::cloud` and so on.
-use pointblend_core::{cloud, frame, grouping, memory, scene, shadow, spatial};
+use pointblend_core::{cloud, frame, grouping, lod, memory, scene, shadow, spatial};
 
 pub mod context;
 pub mod depth_steps;

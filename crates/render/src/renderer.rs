@@ -450,7 +450,12 @@ fn frame_uniforms(
         viewport: [width as f32, height as f32, 1.0 / width as f32, 1.0 / height as f32],
         depth: [near, far, 0.0, 1.0 / (far - near).max(f32::MIN_POSITIVE)],
         splat: [
-            0.0,
+            // Only modes whose passes weight their fragments filter (the registry lists them).
+            if settings.mode.parameters().contains(&crate::frame::Parameter::Prefilter) {
+                settings.prefilter.radius_px()
+            } else {
+                0.0
+            },
             settings.kernel.sharpness(),
             settings.kernel.min_normal_z,
             if settings.backface_culling { 1.0 } else { 0.0 },

@@ -10,7 +10,11 @@
 //! exact reference (a CPU mode) renders the scene itself. Either way the
 //! frame comes back as an image and the plan that made it.
 
+mod budget;
+
 use std::sync::Arc;
+
+pub use budget::BudgetStats;
 
 use super::context::GpuError;
 use super::gpu_scene::GpuScene;
@@ -91,6 +95,12 @@ pub struct SceneFrames {
     generation: u64,
     /// What the last [`Self::advance`] cost.
     last_update: FrameUpdate,
+    /// Frames under a point budget (see `budget.rs`), made on first use.
+    budget: Option<Box<budget::BudgetFrames>>,
+    /// Why its groupings are redone every frame, for the one warning that says so.
+    regroup_reason: &'static str,
+    /// Where groupings and hierarchies are cached.
+    cache: Cache,
 }
 
 /// What moving a scene to its next frame cost.
@@ -150,9 +160,9 @@ pub fn per_frame_grouping(spec: GroupingSpec) -> GroupingSpec {
 }
 
 impl SceneFrames {
-    /// `scene` with its splats in world space, `cloud` (`scene.flatten()`'s, or a
-    /// subsample of them for previews). Missing groupings are computed through
-    /// the grouping cache, and every upload is kept.
+    /// `scene` with its splats in world space, `cloud` (`scene.flatten()`'s).
+    /// Missing groupings are computed through the grouping cache, and every
+    /// upload is kept.
     pub fn new(scene: Arc<Scene>, cloud: Arc<PointCloud>) -> Self {
         let hash = scene.geometry_hash();
         let transparent = cloud.has_transparency();
@@ -170,7 +180,16 @@ impl SceneFrames {
             lattice: None,
             generation: 0,
             last_update: FrameUpdate::default(),
+            budget: None,
+            regroup_reason: "the scene moves",
+            cache: Cache::from_env(),
         }
+    }
+
+    /// Groupings and hierarchies are cached in `cache` (default: [`Cache::from_env`]).
+    pub fn with_cache(mut self, cache: Cache) -> Self {
+        self.cache = cache;
+        self
     }
 
     /// The scene moves: its groupings are hash groupings redone every frame
@@ -319,8 +338,8 @@ impl SceneFrames {
         let per_frame = per_frame_grouping(spec);
         if per_frame != spec {
             pointblend_core::progress::warn_once(format!(
-                "the scene moves: {} cannot be redone every frame, so {} is drawn instead",
-                spec, per_frame
+                "{}: {} cannot be redone every frame, so {} is drawn instead",
+                self.regroup_reason, spec, per_frame
             ));
         }
         Some(per_frame)
@@ -353,7 +372,7 @@ impl SceneFrames {
         }
         let started = std::time::Instant::now();
         let (grouping, cached) = spec
-            .compute_cached_for_hash(&Cache::from_env(), self.hash, &self.cloud)
+            .compute_cached_for_hash(&self.cache, self.hash, &self.cloud)
             .map_err(|source| FrameError::Grouping { spec, source })?;
         let seconds = if cached { 0.0 } else { started.elapsed().as_secs_f64() };
         log::info!(
@@ -481,6 +500,13 @@ impl SceneFrames {
             return Ok(Frame { image, plan });
         }
         let gpu = gpu.ok_or(FrameError::NoGpu(settings.mode.name()))?;
+        if let Some(budget) = self.applied_budget(settings) {
+            let unbudgeted = RenderSettings { point_budget: None, ..*settings };
+            let frames = self.select_for(Some(gpu), camera, settings, (width, height), budget)?;
+            let mut frame = frames.render(Some(gpu), camera, &unbudgeted, (width, height), progress)?;
+            frame.plan.notes.extend(self.last_budget().map(BudgetStats::describe));
+            return Ok(frame);
+        }
         let scene = self.gpu_scene(gpu, settings)?;
         let (image, mut plan) = gpu.render_image(scene, camera, settings, width, height)?;
         plan.notes.extend(self.shadow_notes(settings));

@@ -41,10 +41,16 @@ pub enum Parameter {
     /// How splats lit by scene lights find their light: Gunjee's translucent
     /// shadow map (with its table size), exact shadow rays, or none.
     Shadows,
+    /// The splat passes' screen-space low-pass filter: Guennebaud's EWA approximation or none.
+    Prefilter,
+    /// Rays per pixel side of the reference (N×N, box-filtered).
+    Supersample,
+    /// Most splats a frame draws, from the multi-resolution hierarchy.
+    PointBudget,
 }
 
 impl Parameter {
-    pub const ALL: [Parameter; 15] = [
+    pub const ALL: [Parameter; 18] = [
         Parameter::Quality,
         Parameter::Epsilon,
         Parameter::DepthStep,
@@ -60,6 +66,9 @@ impl Parameter {
         Parameter::Dispersion,
         Parameter::Order,
         Parameter::Shadows,
+        Parameter::Prefilter,
+        Parameter::Supersample,
+        Parameter::PointBudget,
     ];
 
     /// The name in `key=value` settings (bench variants).
@@ -80,6 +89,9 @@ impl Parameter {
             Parameter::Dispersion => "dispersion",
             Parameter::Order => "order",
             Parameter::Shadows => "shadows",
+            Parameter::Prefilter => "prefilter",
+            Parameter::Supersample => "supersample",
+            Parameter::PointBudget => "point-budget",
         }
     }
 
@@ -102,6 +114,9 @@ impl Parameter {
             Parameter::Dispersion => "a dispersion of 0 or more",
             Parameter::Order => "bucket, bsp or sort",
             Parameter::Shadows => "tsm, tsm-POLxAZ (table cells), exact or off",
+            Parameter::Prefilter => "ewa or none",
+            Parameter::Supersample => "rays per pixel side, 1..=16",
+            Parameter::PointBudget => "a number of splats, 1 or more, or all",
         }
     }
 
@@ -153,6 +168,17 @@ impl Parameter {
             }
             Parameter::Eta => settings.environment.eta = positive(value)?,
             Parameter::Order => settings.order = value.parse().map_err(|_| bad())?,
+            Parameter::Prefilter => settings.prefilter = value.parse().map_err(|_| bad())?,
+            Parameter::PointBudget => {
+                settings.point_budget = match value {
+                    "all" => None,
+                    _ => Some(value.parse::<u32>().ok().filter(|n| *n >= 1).ok_or_else(bad)?),
+                }
+            }
+            Parameter::Supersample => {
+                let max = super::settings::MAX_SUPERSAMPLE;
+                settings.supersample = value.parse::<u32>().ok().filter(|n| (1..=max).contains(n)).ok_or_else(bad)?;
+            }
             Parameter::Shadows => {
                 let (method, cells) = match value.split_once('-') {
                     Some(("tsm", cells)) => ("tsm", Some(super::lights::parse_cells(cells).map_err(|_| bad())?)),
@@ -212,5 +238,17 @@ mod tests {
             assert!(Parameter::DepthStep.apply(&mut s, bad).is_err(), "step={bad}");
         }
         assert!(Parameter::Lighting.apply(&mut s, "maybe").is_err());
+        Parameter::Prefilter.apply(&mut s, "ewa").unwrap();
+        assert_eq!(s.prefilter, crate::frame::Prefilter::Ewa);
+        Parameter::Supersample.apply(&mut s, "4").unwrap();
+        assert_eq!(s.supersample, 4);
+        for bad in ["0", "17", "-1", "x"] {
+            assert!(Parameter::Supersample.apply(&mut s, bad).is_err(), "supersample={bad}");
+            assert!(bad == "17" || Parameter::PointBudget.apply(&mut s, bad).is_err(), "point-budget={bad}");
+        }
+        Parameter::PointBudget.apply(&mut s, "250000").unwrap();
+        assert_eq!(s.point_budget, Some(250_000));
+        Parameter::PointBudget.apply(&mut s, "all").unwrap();
+        assert_eq!(s.point_budget, None);
     }
 }

@@ -46,7 +46,17 @@ pub struct RenderSettings {
     pub lights: super::Lights,
     /// How lit splats find the light that reaches them.
     pub shadows: super::ShadowSettings,
+    /// The splat passes' screen-space low-pass filter (Guennebaud's EWA approximation).
+    pub prefilter: super::Prefilter,
+    /// Rays per pixel of the reference, per side (N×N, box-filtered); 1 casts one through the centre.
+    pub supersample: u32,
+    /// Most splats a GPU frame draws, chosen from the multi-resolution
+    /// hierarchy ([`crate::lod`]) by screen-space error; `None` draws every splat.
+    pub point_budget: Option<u32>,
 }
+
+/// Most rays per pixel side of a supersampled reference.
+pub const MAX_SUPERSAMPLE: u32 = 16;
 
 /// The default Eq. 10 step, in multiples of ε. A layer whose fragments
 /// straddle a step boundary is blended twice in one group image (alg1,
@@ -116,6 +126,9 @@ impl Default for RenderSettings {
             order: crate::spatial::order::OrderKind::Bucket,
             lights: Default::default(),
             shadows: Default::default(),
+            prefilter: Default::default(),
+            supersample: 1,
+            point_budget: None,
         }
     }
 }

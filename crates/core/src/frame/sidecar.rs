@@ -59,6 +59,27 @@ pub struct SidecarSettings {
     /// The back-to-front order (`bucket` in sidecars written before it was a choice).
     #[serde(default = "bucket")]
     pub order: String,
+    /// The splat passes' prefilter (`none` in sidecars written before it was a choice).
+    #[serde(default = "no_prefilter")]
+    pub prefilter: String,
+    /// The point budget, if the frame had one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub point_budget: Option<u32>,
+    /// Rays per pixel side of a reference frame (1 when absent).
+    #[serde(default = "one_ray", skip_serializing_if = "is_one_ray")]
+    pub supersample: u32,
+}
+
+fn one_ray() -> u32 {
+    1
+}
+
+fn is_one_ray(n: &u32) -> bool {
+    *n == 1
+}
+
+fn no_prefilter() -> String {
+    super::Prefilter::None.to_string()
 }
 
 fn one() -> f32 {
@@ -121,6 +142,9 @@ impl Sidecar {
                 light_dir_eye: settings.shading.light_dir_eye.to_array(),
                 background: settings.shading.background.to_array(),
                 order: settings.order.to_string(),
+                prefilter: settings.prefilter.to_string(),
+                point_budget: settings.point_budget,
+                supersample: settings.supersample,
             },
             time: None,
         }
@@ -191,6 +215,9 @@ impl Sidecar {
             voronoi: s.voronoi,
             lighting: s.lighting,
             order: s.order.parse()?,
+            prefilter: s.prefilter.parse()?,
+            point_budget: s.point_budget,
+            supersample: s.supersample.clamp(1, super::settings::MAX_SUPERSAMPLE),
             ..RenderSettings::default()
         };
         settings.shading.light_dir_eye = Vec3::from_array(s.light_dir_eye);

@@ -71,13 +71,16 @@ impl Cache {
         Ok(())
     }
 
-    /// Deletes the least recently used entries (never `keep`) until the
-    /// entries fit the cap.
-    fn evict(&self, keep: &Path) {
+    /// Deletes the least recently used entries (groupings and hierarchies,
+    /// never `keep`) until the entries fit the cap.
+    pub fn evict(&self, keep: &Path) {
         let Ok(dir) = std::fs::read_dir(&self.dir) else { return };
         let mut entries: Vec<(SystemTime, u64, PathBuf)> = dir
             .flatten()
-            .filter(|e| e.file_name().to_string_lossy().starts_with("groups-"))
+            .filter(|e| {
+                let name = e.file_name().to_string_lossy().into_owned();
+                name.starts_with("groups-") || name.starts_with("lod-")
+            })
             .filter_map(|e| {
                 let meta = e.metadata().ok()?;
                 Some((meta.modified().unwrap_or(SystemTime::UNIX_EPOCH), meta.len(), e.path()))

@@ -40,6 +40,11 @@ pub struct ReferenceOptions {
     /// layer is lit by them, each through an exact shadow ray from the
     /// layer's point to the light ([`crate::shadow::rays`]); else the headlight.
     pub lights: Lights,
+    /// Rays per pixel side: N×N rays on a regular grid inside each pixel,
+    /// averaged (a box filter) before the colour is quantised. 1 casts one
+    /// ray through the pixel's centre. The exact answer to aliasing, which
+    /// the splat passes' prefilter approximates.
+    pub supersample: u32,
 }
 
 impl ReferenceOptions {
@@ -58,6 +63,7 @@ impl ReferenceOptions {
             // Only what the mode draws: a mode without the effects is measured without them.
             environment: EnvironmentSettings { enabled: settings.draws_environment(), ..settings.environment },
             lights: settings.lights,
+            supersample: settings.supersample.max(1),
         }
     }
 }
@@ -77,7 +83,8 @@ pub fn render(scene: &Scene, camera: &Camera, options: &ReferenceOptions, width:
     render_with_layers(scene, camera, options, width, height).0
 }
 
-/// [`render`], and per pixel (row-major) the number of layers its ray met.
+/// [`render`], and per pixel (row-major) the number of layers its ray met
+/// (the most of its rays when supersampled).
 pub fn render_with_layers(
     scene: &Scene,
     camera: &Camera,
@@ -85,6 +92,52 @@ pub fn render_with_layers(
     width: u32,
     height: u32,
 ) -> (image::RgbaImage, Vec<u32>) {
+    let (width, height) = (width.max(1), height.max(1));
+    let n = options.supersample.max(1);
+    let pixels = width as usize * height as usize;
+    let mut sums = vec![Vec3::ZERO; pixels];
+    let mut layer_counts = vec![0u32; pixels];
+    // N×N rays per pixel are the pixels of an N× larger image of the same
+    // view: ray (i, j) of pixel (x, y) passes through (x + (i + ½)/N, y + (j + ½)/N).
+    // They are cast a band of rows at a time, so memory stays bounded.
+    render_samples(scene, camera, options, (width * n, height * n), n, |rows, colours, layers| {
+        let sample_width = (width * n) as usize;
+        for (r, y) in rows.enumerate() {
+            let out_row = (y / n) as usize * width as usize;
+            for x in 0..sample_width {
+                let at = out_row + x / n as usize;
+                let sample = r * sample_width + x;
+                sums[at] += colours[sample].clamp(Vec3::ZERO, Vec3::ONE);
+                layer_counts[at] = layer_counts[at].max(layers[sample]);
+            }
+        }
+    });
+    let mut image = image::RgbaImage::new(width, height);
+    for (i, sum) in sums.iter().enumerate() {
+        image.put_pixel(
+            (i % width as usize) as u32,
+            (i / width as usize) as u32,
+            image::Rgba(to_rgba8(*sum / (n * n) as f32)),
+        );
+    }
+    (image, layer_counts)
+}
+
+/// Most rays a band of [`render_samples`] holds at once.
+const BAND_RAYS: usize = 1 << 22;
+
+/// One ray through the centre of each pixel of a `width`×`height` image,
+/// a band of rows at a time (whole tiles, and whole groups of `row_multiple`
+/// rows): `emit` gets each band's rows and their linear colours and layer
+/// counts, row-major.
+fn render_samples(
+    scene: &Scene,
+    camera: &Camera,
+    options: &ReferenceOptions,
+    (width, height): (u32, u32),
+    row_multiple: u32,
+    mut emit: impl FnMut(std::ops::Range<u32>, &[Vec3], &[u32]),
+) {
     let flat = scene.flatten();
     let cloud = flat.cloud.as_ref();
     let (width, height) = (width.max(1), height.max(1));
@@ -134,73 +187,87 @@ pub fn render_with_layers(
         lights: &options.lights,
     });
     let bar = crate::progress::bar(bins.bins.len() as u64, "reference render", options.progress);
-    let tiles: Vec<(u32, Vec<TilePixel>)> = (0..bins.bins.len() as u32)
-        .into_par_iter()
-        .map(|tile| {
-            if bar.is_cancelled() {
-                return (tile, Vec::new()); // the caller drops a cancelled image
-            }
+    // Whole tile rows and whole output pixels per band.
+    let unit = TILE * row_multiple / gcd(TILE, row_multiple);
+    let band = unit * (BAND_RAYS / (width as usize * unit as usize)).max(1) as u32;
+    let mut start = 0;
+    while start < height {
+        let rows = start..(start + band).min(height);
+        start = rows.end;
+        let tile_rows = rows.start / TILE..rows.end.div_ceil(TILE);
+        let first_tile = tile_rows.start * bins.columns;
+        let tiles: Vec<(u32, Vec<TilePixel>)> = (first_tile..tile_rows.end * bins.columns)
+            .into_par_iter()
+            .map(|tile| {
+                if bar.is_cancelled() {
+                    return (tile, Vec::new()); // the caller drops a cancelled image
+                }
+                let (tx, ty) = (tile % bins.columns, tile / bins.columns);
+                let mut hits = Vec::new();
+                let mut used = Vec::new();
+                let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
+                for y in ty * TILE..((ty + 1) * TILE).min(height) {
+                    for x in tx * TILE..((tx + 1) * TILE).min(width) {
+                        let ndc = Vec2::new(
+                            (x as f32 + 0.5) / width as f32 * 2.0 - 1.0,
+                            1.0 - (y as f32 + 0.5) / height as f32 * 2.0,
+                        );
+                        let ray = (ndc * lens).extend(-1.0);
+                        hits.clear();
+                        for &s in &bins.bins[tile as usize] {
+                            if let Some(hit) = intersect(&splats[s as usize], ray, &options.kernel, near, far) {
+                                hits.push(Hit { splat: s, ..hit });
+                            }
+                        }
+                        let (colour, layers, glass) =
+                            composite(&mut hits, &mut used, &splats, ray, options, glassy, lit.as_ref());
+                        pixels.push((colour, layers, glass));
+                    }
+                }
+                bar.inc(1);
+                (tile, pixels)
+            })
+            .collect();
+        let band_pixels = rows.len() * width as usize;
+        let mut colours = vec![Vec3::ZERO; band_pixels];
+        let mut glass = vec![None; band_pixels];
+        let mut layer_counts = vec![0u32; band_pixels];
+        for (tile, pixels) in tiles {
             let (tx, ty) = (tile % bins.columns, tile / bins.columns);
-            let mut hits = Vec::new();
-            let mut used = Vec::new();
-            let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
+            let mut it = pixels.into_iter();
             for y in ty * TILE..((ty + 1) * TILE).min(height) {
                 for x in tx * TILE..((tx + 1) * TILE).min(width) {
+                    if let Some((colour, layers, g)) = it.next() {
+                        let at = (y - rows.start) as usize * width as usize + x as usize;
+                        (colours[at], layer_counts[at], glass[at]) = (colour, layers, g);
+                    }
+                }
+            }
+        }
+        if let Some(map) = environment {
+            let band_height = rows.len() as u32;
+            let rays = (0..width * band_height)
+                .map(|i| {
+                    let (x, y) = (i % width, rows.start + i / width);
                     let ndc = Vec2::new(
                         (x as f32 + 0.5) / width as f32 * 2.0 - 1.0,
                         1.0 - (y as f32 + 0.5) / height as f32 * 2.0,
                     );
-                    let ray = (ndc * lens).extend(-1.0);
-                    hits.clear();
-                    for &s in &bins.bins[tile as usize] {
-                        if let Some(hit) = intersect(&splats[s as usize], ray, &options.kernel, near, far) {
-                            hits.push(Hit { splat: s, ..hit });
-                        }
-                    }
-                    let (colour, layers, glass) =
-                        composite(&mut hits, &mut used, &splats, ray, options, glassy, lit.as_ref());
-                    pixels.push((colour, layers, glass));
-                }
-            }
-            bar.inc(1);
-            (tile, pixels)
-        })
-        .collect();
-    bar.finish();
-    let mut colours = vec![Vec3::ZERO; (width * height) as usize];
-    let mut glass = vec![None; (width * height) as usize];
-    let mut layer_counts = vec![0u32; (width * height) as usize];
-    for (tile, pixels) in tiles {
-        let (tx, ty) = (tile % bins.columns, tile / bins.columns);
-        let mut it = pixels.into_iter();
-        for y in ty * TILE..((ty + 1) * TILE).min(height) {
-            for x in tx * TILE..((tx + 1) * TILE).min(width) {
-                if let Some((colour, layers, g)) = it.next() {
-                    let at = (y * width + x) as usize;
-                    (colours[at], layer_counts[at], glass[at]) = (colour, layers, g);
-                }
-            }
+                    (ndc * lens).extend(-1.0).normalize()
+                })
+                .collect::<Vec<_>>();
+            // The band starts on a tile row (even), so the lookup's 2×2 pixel quads stay whole.
+            let lookup =
+                super::environment::Lookup { map, camera, settings: &options.environment, width, height: band_height };
+            lookup.apply(&rays, &glass, &layer_counts, &mut colours);
         }
+        emit(rows, &colours, &layer_counts);
     }
-    if let Some(map) = environment {
-        let rays = (0..width * height)
-            .map(|i| {
-                let (x, y) = (i % width, i / width);
-                let ndc = Vec2::new(
-                    (x as f32 + 0.5) / width as f32 * 2.0 - 1.0,
-                    1.0 - (y as f32 + 0.5) / height as f32 * 2.0,
-                );
-                (ndc * lens).extend(-1.0).normalize()
-            })
-            .collect::<Vec<_>>();
-        let lookup = super::environment::Lookup { map, camera, settings: &options.environment, width, height };
-        lookup.apply(&rays, &glass, &layer_counts, &mut colours);
-    }
-    let mut image = image::RgbaImage::new(width, height);
-    for (i, c) in colours.iter().enumerate() {
-        image.put_pixel(i as u32 % width, i as u32 / width, image::Rgba(to_rgba8(*c)));
-    }
-    (image, layer_counts)
+    bar.finish();
+}
+
+fn gcd(a: u32, b: u32) -> u32 {
+    if b == 0 { a } else { gcd(b, a % b) }
 }
 
 /// One pixel of a tile: its colour, how many layers it composited, and its

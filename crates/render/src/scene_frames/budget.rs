@@ -1,0 +1,221 @@
+//! Frames under a point budget: the splats a frame draws are chosen from
+//! the scene's multi-resolution hierarchy ([`crate::lod`]) by screen-space
+//! error, then drawn by the frame's mode like any scene.
+//!
+//! The hierarchy is built on first use (through the cache beside the
+//! groupings) over the scene's splats in world space. Each frame selects
+//! its nodes (part of the frame's time); when the selection changed, its
+//! splats are gathered into one cloud and handed to a [`SceneFrames`] of
+//! their own as a moving scene's next frame: modes that draw groups get
+//! Zhang & Pajarola's hash grouping of the selected splats, redone in
+//! milliseconds on the lattice of the whole scene (cells of the originals'
+//! median radius: coarse nodes' larger splats overlap more within a group),
+//! and the GPU copies are rewritten (reallocated when the count changed).
+//! A frame lit by scene lights keeps the nodes outside the view, which still
+//! cast shadows. A budget at or above the scene's splats, a moving scene and
+//! the reference draw every splat.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use super::{FrameError, SceneFrames};
+use crate::frame::{Camera, RenderSettings};
+use crate::gpu_scene::GpuScene;
+use crate::grouping::regroup::Lattice;
+use crate::headless::HeadlessRenderer;
+use crate::lod::{self, Hierarchy, Selection};
+use crate::scene::Scene;
+
+/// What the last budgeted frame drew and cost.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BudgetStats {
+    pub budget: u32,
+    /// Nodes and splats drawn.
+    pub nodes: usize,
+    pub splats: usize,
+    /// Node selection, in milliseconds.
+    pub select_ms: f64,
+    /// Gathering the selected splats, regrouping and rewriting the GPU copies
+    /// (only when the selection changed), in milliseconds.
+    pub update_ms: f64,
+    /// Whether the selection changed.
+    pub changed: bool,
+    /// The hierarchy: its build seconds (0 when it came from the cache), nodes and bytes.
+    pub build_s: f64,
+    pub hierarchy_nodes: usize,
+    pub hierarchy_bytes: usize,
+}
+
+impl BudgetStats {
+    /// One line for the plan's notes and `--explain`.
+    pub fn describe(&self) -> String {
+        format!(
+            "point budget {}: {} splats of {} nodes drawn; selection {:.2} ms, update {:.1} ms{}; hierarchy {} nodes, {:.1} MiB, {}",
+            self.budget,
+            self.splats,
+            self.nodes,
+            self.select_ms,
+            self.update_ms,
+            if self.changed { "" } else { " (unchanged)" },
+            self.hierarchy_nodes,
+            self.hierarchy_bytes as f64 / (1 << 20) as f64,
+            if self.build_s > 0.0 { format!("built in {:.2} s", self.build_s) } else { "from the cache".into() },
+        )
+    }
+}
+
+/// What keys a scene's hierarchy in the cache: its geometry hash, and the
+/// splat count, opacities, colours and sidedness of its splats in world space.
+fn hierarchy_key(geometry: u64, cloud: &crate::cloud::PointCloud) -> u64 {
+    use pointblend_core::hash::fnv1a;
+    let mut key = fnv1a(geometry, &(cloud.len() as u64).to_le_bytes());
+    let opacity: Vec<u8> = cloud.opacity.iter().flat_map(|a| a.to_le_bytes()).collect();
+    key = fnv1a(key, &opacity);
+    key = fnv1a(key, &cloud.colours.concat());
+    let sides: Vec<u8> = cloud.two_sided.iter().map(|&t| t as u8).collect();
+    fnv1a(key, &sides)
+}
+
+/// The hierarchy of a scene and the frames of its last selection.
+pub(super) struct BudgetFrames {
+    /// The hierarchy's cache key (what its splats are).
+    key: u64,
+    hierarchy: Arc<Hierarchy>,
+    selected: Option<Selection>,
+    frames: Option<Box<SceneFrames>>,
+    lattice: Lattice,
+    last: BudgetStats,
+}
+
+impl SceneFrames {
+    /// The budget a frame of `settings` keeps, if one applies: a GPU mode,
+    /// a still scene, and fewer splats than the scene has.
+    pub fn applied_budget(&self, settings: &RenderSettings) -> Option<u32> {
+        let budget = settings.point_budget?;
+        let applies = settings.mode.is_gpu() && !self.is_moving() && (budget as usize) < self.cloud.len();
+        if settings.mode.is_gpu() && self.is_moving() {
+            pointblend_core::progress::warn_once(
+                "the scene moves: every splat is drawn (a point budget applies to still scenes)".to_string(),
+            );
+        }
+        applies.then_some(budget)
+    }
+
+    /// The hierarchy of the scene's splats, built (or read from the cache) on first use.
+    pub fn hierarchy(&mut self) -> Arc<Hierarchy> {
+        self.budget_frames().hierarchy.clone()
+    }
+
+    fn budget_frames(&mut self) -> &mut BudgetFrames {
+        if self.budget.is_none() {
+            // The geometry hash leaves out materials (opacity, colour, sidedness),
+            // which the hierarchy's splats carry: they are keyed too.
+            let key = hierarchy_key(self.hash, &self.cloud);
+            let (hierarchy, note) = lod::cache::cached(&self.cache, key, &self.cloud);
+            if let Some(note) = note {
+                log::warn!("{note}");
+            }
+            log::info!(
+                "hierarchy of {} splats: {} nodes, {:.1} MiB{}",
+                hierarchy.originals,
+                hierarchy.nodes.len(),
+                hierarchy.bytes() as f64 / (1 << 20) as f64,
+                if hierarchy.seconds > 0.0 { format!(", built in {:.2} s", hierarchy.seconds) } else { String::new() }
+            );
+            self.budget = Some(Box::new(BudgetFrames {
+                key,
+                hierarchy: Arc::new(hierarchy),
+                selected: None,
+                frames: None,
+                lattice: Lattice::of(&self.cloud),
+                last: BudgetStats::default(),
+            }));
+        }
+        self.budget.as_mut().expect("made above")
+    }
+
+    /// What the last budgeted frame drew and cost.
+    pub fn last_budget(&self) -> Option<&BudgetStats> {
+        self.budget.as_ref().map(|b| &b.last)
+    }
+
+    /// Selects the nodes a frame from `camera` at `size` draws under
+    /// `budget` and, when they changed, hands their splats to the budget's
+    /// frames. Returns those frames.
+    pub(super) fn select_for(
+        &mut self,
+        gpu: Option<&HeadlessRenderer>,
+        camera: &Camera,
+        settings: &RenderSettings,
+        size: (u32, u32),
+        budget: u32,
+    ) -> Result<&mut SceneFrames, FrameError> {
+        let environment = self.scene.environment.clone();
+        let cache = self.cache.clone();
+        let state = self.budget_frames();
+        let started = Instant::now();
+        let options = lod::SelectOptions {
+            budget: budget as usize,
+            radius_scale: settings.radius_scale,
+            cull: !settings.lit_by_lights(),
+        };
+        let selection = lod::select(&state.hierarchy, camera, size, options);
+        let select_ms = started.elapsed().as_secs_f64() * 1e3;
+        let changed = state.selected.as_ref() != Some(&selection);
+        let started = Instant::now();
+        if changed || state.frames.is_none() {
+            let cloud = lod::gather(&state.hierarchy, &selection);
+            // Keyed by what it is (the hierarchy and the nodes chosen), not by hashing every splat.
+            let nodes: Vec<u8> = selection.nodes.iter().flat_map(|n| n.to_le_bytes()).collect();
+            let key = pointblend_core::hash::fnv1a(state.key, &nodes);
+            let mut scene = Scene::single("budget", cloud, key);
+            scene.environment = environment;
+            let scene = Arc::new(scene);
+            let cloud = scene.flattened();
+            match &mut state.frames {
+                Some(frames) => {
+                    frames.advance(gpu, scene, cloud)?;
+                }
+                None => {
+                    let mut frames = SceneFrames::new(scene, cloud).moving_on(state.lattice).with_cache(cache);
+                    frames.regroup_reason = "under a point budget the splats drawn change with the view";
+                    state.frames = Some(Box::new(frames));
+                }
+            }
+        }
+        let h = &state.hierarchy;
+        state.last = BudgetStats {
+            budget,
+            nodes: selection.nodes.len(),
+            splats: selection.splats,
+            select_ms,
+            update_ms: started.elapsed().as_secs_f64() * 1e3,
+            changed,
+            build_s: h.seconds,
+            hierarchy_nodes: h.nodes.len(),
+            hierarchy_bytes: h.bytes(),
+        };
+        state.selected = Some(selection);
+        Ok(state.frames.as_mut().expect("made above"))
+    }
+
+    /// The GPU copy a frame of `settings` from `camera` at `size` draws, and
+    /// the settings to draw it with: under a point budget, the selected
+    /// splats (selected here: part of the frame), else [`Self::gpu_scene`].
+    pub fn frame_scene(
+        &mut self,
+        gpu: &HeadlessRenderer,
+        camera: &Camera,
+        settings: &RenderSettings,
+        size: (u32, u32),
+    ) -> Result<(&GpuScene, RenderSettings), FrameError> {
+        match self.applied_budget(settings) {
+            Some(budget) => {
+                let unbudgeted = RenderSettings { point_budget: None, ..*settings };
+                let frames = self.select_for(Some(gpu), camera, settings, size, budget)?;
+                Ok((frames.gpu_scene(gpu, &unbudgeted)?, unbudgeted))
+            }
+            None => Ok((self.gpu_scene(gpu, settings)?, *settings)),
+        }
+    }
+}

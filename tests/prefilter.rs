@@ -1,0 +1,143 @@
+//! The splat passes' EWA prefilter (Guennebaud's tangent-vector stretch) and
+//! the supersampled reference it is measured against.
+
+mod common;
+
+use common::tolerances::*;
+use glam::Vec3;
+use pointblend::cloud::{self, PointCloud};
+use pointblend::frame::{Camera, Prefilter};
+use pointblend::reference::{self, ReferenceOptions};
+use pointblend::render::RenderSettings;
+use pointblend::scene::Scene;
+
+const SIZE: u32 = 160;
+
+/// A 2×2 plane of 40,000 splats coloured as a checkerboard of 4×4-splat
+/// squares, black and white: detail far below a pixel when seen from afar.
+fn checkerboard() -> PointCloud {
+    let mut plane = pointblend::scene::primitives::plane(40_000, 2.0, Vec3::ZERO, Vec3::Y);
+    let spacing = 2.0 / 200.0;
+    for (colour, p) in plane.colours.iter_mut().zip(&plane.positions) {
+        let square = |v: f32| ((v + 1.0) / (4.0 * spacing)).floor() as i32;
+        *colour = if (square(p.x) + square(p.z)).rem_euclid(2) == 0 { [230; 3] } else { [25; 3] };
+    }
+    plane
+}
+
+/// The plane from `distance` at 20° above it: a grazing view where each
+/// pixel holds several squares.
+fn far_grazing(cloud: &PointCloud, distance: f32) -> Camera {
+    let mut camera = Camera::default_for(cloud, 1.0);
+    camera.elevation_deg = 20.0;
+    camera.distance = distance;
+    camera
+}
+
+fn render(cloud: &PointCloud, camera: &Camera, settings: &RenderSettings) -> image::RgbaImage {
+    let mut renderer = common::renderer();
+    let gpu = renderer.upload_cloud(cloud, None);
+    renderer.render_image(&gpu, camera, settings, SIZE, SIZE).expect("render").0
+}
+
+fn settings(prefilter: Prefilter) -> RenderSettings {
+    RenderSettings { prefilter, lighting: false, ..Default::default() }
+}
+
+fn supersampled(scene: &Scene, camera: &Camera, settings: &RenderSettings, n: u32, size: u32) -> image::RgbaImage {
+    let options = ReferenceOptions { supersample: n, ..ReferenceOptions::matching(settings, scene) };
+    reference::render(scene, camera, &options, size, size)
+}
+
+#[test]
+fn a_far_checkerboard_is_closer_to_the_supersampled_reference_with_the_prefilter() {
+    let cloud = checkerboard();
+    let scene = Scene::from(cloud.clone());
+    for distance in [5.0, 9.0] {
+        let camera = far_grazing(&cloud, distance);
+        let exact = supersampled(&scene, &camera, &settings(Prefilter::None), 4, SIZE);
+        let eps = |p: Prefilter| reference::compare(&render(&cloud, &camera, &settings(p)), &exact).unwrap().eps;
+        let (none, ewa) = (eps(Prefilter::None), eps(Prefilter::Ewa));
+        println!("distance {distance}: ε none {none:.3}, ewa {ewa:.3}, ratio {:.3}", ewa / none);
+        assert!(ewa <= MAX_EWA_ALIASING_RATIO * none, "distance {distance}: ε ewa {ewa} against none {none}");
+    }
+}
+
+#[test]
+fn splats_larger_than_the_filter_are_drawn_as_without_it() {
+    // The checkerboard from above, close: every disc is over a pixel in radius on screen.
+    let cloud = checkerboard();
+    let mut camera = far_grazing(&cloud, 1.2);
+    camera.elevation_deg = 89.0;
+    let (none, ewa) =
+        (render(&cloud, &camera, &settings(Prefilter::None)), render(&cloud, &camera, &settings(Prefilter::Ewa)));
+    let differing = none.pixels().zip(ewa.pixels()).filter(|(a, b)| a != b).count();
+    assert_eq!(differing, 0, "a close-up (every splat above the low-pass radius) changed in {differing} pixels");
+}
+
+#[test]
+fn a_supersampled_reference_is_the_box_filter_of_its_rays() {
+    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let scene = Scene::from(cloud.clone());
+    let mut camera = Camera::default_for(&cloud, 1.0);
+    camera.distance = camera.fit_distance(&cloud.positions, 1.0) * 3.0;
+    let s = RenderSettings::default();
+    let size = 48;
+    let fine = supersampled(&scene, &camera, &s, 1, size * 3);
+    let coarse = supersampled(&scene, &camera, &s, 3, size);
+    let mut worst = 0u8;
+    let mut blended = 0;
+    for (x, y, p) in coarse.enumerate_pixels() {
+        for c in 0..3 {
+            let sum: u32 = (0..9).map(|k| fine.get_pixel(3 * x + k % 3, 3 * y + k / 3).0[c] as u32).sum();
+            // The coarse pixel averages before quantising, the fine pixels after: ±1.
+            worst = worst.max(
+                (sum as f32 / 9.0).round().max(p.0[c] as f32) as u8
+                    - (sum as f32 / 9.0).round().min(p.0[c] as f32) as u8,
+            );
+        }
+        let corner = fine.get_pixel(3 * x, 3 * y);
+        blended += (0..9).any(|k| fine.get_pixel(3 * x + k % 3, 3 * y + k / 3) != corner) as usize;
+    }
+    assert!(worst <= 1, "a supersampled pixel is off the mean of its rays by {worst}/255");
+    assert!(blended > 50, "the view has too few pixels whose rays differ ({blended}) to test the filter");
+    let one = supersampled(&scene, &camera, &s, 1, size);
+    assert_ne!(one, coarse, "3×3 rays per pixel gave the one-ray image");
+}
+
+#[test]
+fn bad_supersample_and_prefilter_values_are_one_line_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never.png");
+    let bunny = common::bundled_bunny();
+    for bad in [
+        ["--mode", "reference", "--supersample", "0"],
+        ["--mode", "reference", "--supersample", "17"],
+        ["--mode", "reference", "--supersample", "two"],
+        ["--mode", "two-pass", "--prefilter", "gauss"],
+    ] {
+        let result = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
+            .arg("render")
+            .arg(&bunny)
+            .args(bad)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert!(!result.status.success(), "{bad:?} was accepted");
+        let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
+        assert_eq!(errors.len(), 1, "{bad:?}: {stderr}");
+        assert!(errors[0].contains(bad[2]), "{bad:?}: the error names the option: {stderr}");
+        assert!(!out.exists(), "{bad:?} wrote an image");
+    }
+    let good = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .arg("render")
+        .arg(&bunny)
+        .args(["--mode", "reference", "--supersample", "2", "--size", "64x48", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(good.status.success(), "{}", String::from_utf8_lossy(&good.stderr));
+    assert_eq!(image::open(&out).unwrap().width(), 64);
+}
