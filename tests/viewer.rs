@@ -339,6 +339,8 @@ fn a_large_model_is_drawn_under_the_point_budget_while_the_camera_moves_then_in_
     wait_for(&mut h, "the merged scans in two-pass", settled_in(RenderMode::TwoPass));
     let total = h.state().model().unwrap().cloud.len();
     assert_eq!(h.state().shown_splats(), Some(total), "a still frame draws every splat");
+    let hierarchy = h.state().model().unwrap().hierarchy.clone().expect("built while loading");
+    assert_eq!(hierarchy.originals, total);
     orbit(&mut h);
     // 362,272 splats are over the default budget while moving: the frames drawn then keep to it.
     wait_for(&mut h, "a preview under the budget", |app| {

@@ -24,15 +24,17 @@ impl ViewerApp {
         let label = format!("loading {}", path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default());
         let materials = self.options.materials;
         let environment = self.options.environment.clone();
+        let cache = self.cache();
         self.load = Some(Job::spawn(label, ctx.clone(), move || {
             let model = Model::load(&path, generation, &materials)?;
-            match environment {
+            let model = match environment {
                 Some(env) => {
                     let map = EnvironmentMap::load(&env).map_err(|e| e.to_string())?;
-                    Ok(model.with_environment(Some(Arc::new(map)), generation))
+                    model.with_environment(Some(Arc::new(map)), generation)
                 }
-                None => Ok(model),
-            }
+                None => model,
+            };
+            Ok(model.with_hierarchy(&cache))
         }));
     }
 
@@ -47,7 +49,10 @@ impl ViewerApp {
         self.generations += 1;
         let generation = self.generations;
         let label = format!("opacity {opacity:.2}");
-        self.load = Some(Job::spawn(label, ctx.clone(), move || Ok(model.with_opacity(opacity, generation))));
+        let cache = self.cache();
+        self.load = Some(Job::spawn(label, ctx.clone(), move || {
+            Ok(model.with_opacity(opacity, generation).with_hierarchy(&cache))
+        }));
     }
 
     /// Sets the model on screen in the environment map at `path` (loaded in
@@ -64,13 +69,20 @@ impl ViewerApp {
             Some(p) => format!("environment {}", p.file_name().map(|n| n.to_string_lossy()).unwrap_or_default()),
             None => "no environment".into(),
         };
+        let hierarchy = model.hierarchy.clone();
         self.load = Some(Job::spawn(label, ctx.clone(), move || {
             let map = match path {
                 Some(p) => Some(Arc::new(EnvironmentMap::load(&p).map_err(|e| e.to_string())?)),
                 None => None,
             };
-            Ok(model.with_environment(map, generation))
+            // The same splats: the same hierarchy.
+            Ok(Model { hierarchy, ..model.with_environment(map, generation) })
         }));
+    }
+
+    /// Where groupings and hierarchies are cached.
+    fn cache(&self) -> crate::grouping::cache::Cache {
+        self.options.cache.clone().unwrap_or_else(crate::grouping::cache::Cache::from_env)
     }
 
     /// Takes the model the load job returned, if it has finished.

@@ -27,6 +27,10 @@ pub struct Model {
     pub generation: u64,
     /// Seconds after which the scene's animations repeat (0: nothing moves).
     pub period: f64,
+    /// The multi-resolution hierarchy frames under a point budget draw from,
+    /// built while loading a still model above the default moving budget
+    /// (else built by the render thread when first needed).
+    pub hierarchy: Option<Arc<crate::lod::Hierarchy>>,
 }
 
 /// A model's grouping for the deferred mode.
@@ -99,7 +103,23 @@ impl Model {
             warnings,
             generation,
             period,
+            hierarchy: None,
         }
+    }
+
+    /// This model with its hierarchy, when it is still and larger than the
+    /// default moving budget: read from `cache`, or built (with a progress stage) and stored.
+    pub fn with_hierarchy(mut self, cache: &crate::grouping::cache::Cache) -> Model {
+        if self.is_animated() || self.cloud.len() <= super::state::DEFAULT_MOVING_BUDGET as usize {
+            return self;
+        }
+        crate::progress::stage("building the multi-resolution hierarchy");
+        let (hierarchy, note) = crate::render::scene_frames::load_hierarchy(cache, self.hash, &self.cloud);
+        if let Some(note) = note {
+            log::warn!("{note}");
+        }
+        self.hierarchy = Some(Arc::new(hierarchy));
+        self
     }
 
     /// Whether something in the scene moves.

@@ -224,9 +224,12 @@ fn scene_frames<'a>(scenes: &'a mut Scenes, request: &FrameRequest) -> &'a mut S
     let (slot, cloud) = (&mut scenes.full, &model.cloud);
     if slot.as_ref().is_none_or(|(g, _)| *g != generation) {
         *slot = None; // free the old copies first
-        let frames = SceneFrames::new(Arc::clone(&model.scene), Arc::clone(cloud))
+        let mut frames = SceneFrames::new(Arc::clone(&model.scene), Arc::clone(cloud))
             .handed_groupings(1)
             .with_cache(scenes.cache.clone());
+        if let Some(hierarchy) = &model.hierarchy {
+            frames = frames.with_hierarchy(Arc::clone(hierarchy));
+        }
         *slot = Some((generation, frames));
     }
     let (_, frames) = slot.as_mut().expect("filled above");

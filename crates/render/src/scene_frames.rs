@@ -14,7 +14,7 @@ mod budget;
 
 use std::sync::Arc;
 
-pub use budget::BudgetStats;
+pub use budget::{BudgetStats, load_hierarchy};
 
 use super::context::GpuError;
 use super::gpu_scene::GpuScene;

@@ -19,8 +19,10 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use super::{FrameError, SceneFrames};
+use crate::cloud::PointCloud;
 use crate::frame::{Camera, RenderSettings};
 use crate::gpu_scene::GpuScene;
+use crate::grouping::cache::Cache;
 use crate::grouping::regroup::Lattice;
 use crate::headless::HeadlessRenderer;
 use crate::lod::{self, Hierarchy, Selection};
@@ -64,9 +66,16 @@ impl BudgetStats {
     }
 }
 
+/// The hierarchy of `cloud`, a scene's splats in world space whose scene
+/// has geometry hash `geometry`: from `cache`, else built and stored; and a
+/// line to show when a cache entry was there but not used.
+pub fn load_hierarchy(cache: &Cache, geometry: u64, cloud: &PointCloud) -> (Hierarchy, Option<String>) {
+    lod::cache::cached(cache, hierarchy_key(geometry, cloud), cloud)
+}
+
 /// What keys a scene's hierarchy in the cache: its geometry hash, and the
 /// splat count, opacities, colours and sidedness of its splats in world space.
-fn hierarchy_key(geometry: u64, cloud: &crate::cloud::PointCloud) -> u64 {
+fn hierarchy_key(geometry: u64, cloud: &PointCloud) -> u64 {
     use pointblend_core::hash::fnv1a;
     let mut key = fnv1a(geometry, &(cloud.len() as u64).to_le_bytes());
     let opacity: Vec<u8> = cloud.opacity.iter().flat_map(|a| a.to_le_bytes()).collect();
@@ -106,12 +115,27 @@ impl SceneFrames {
         self.budget_frames().hierarchy.clone()
     }
 
+    /// Frames under a budget draw from `hierarchy`, made elsewhere (the
+    /// viewer builds it while loading) from these splats ([`load_hierarchy`]).
+    pub fn with_hierarchy(mut self, hierarchy: Arc<Hierarchy>) -> Self {
+        let key = hierarchy_key(self.hash, &self.cloud);
+        if hierarchy.originals == self.cloud.len() {
+            self.budget = Some(Box::new(BudgetFrames {
+                key,
+                hierarchy,
+                selected: None,
+                frames: None,
+                lattice: Lattice::of(&self.cloud),
+                last: BudgetStats::default(),
+            }));
+        }
+        self
+    }
+
     fn budget_frames(&mut self) -> &mut BudgetFrames {
         if self.budget.is_none() {
-            // The geometry hash leaves out materials (opacity, colour, sidedness),
-            // which the hierarchy's splats carry: they are keyed too.
+            let (hierarchy, note) = load_hierarchy(&self.cache, self.hash, &self.cloud);
             let key = hierarchy_key(self.hash, &self.cloud);
-            let (hierarchy, note) = lod::cache::cached(&self.cache, key, &self.cloud);
             if let Some(note) = note {
                 log::warn!("{note}");
             }
