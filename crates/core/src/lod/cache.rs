@@ -105,9 +105,19 @@ pub fn load(path: &Path, hash: u64, splats: usize) -> Result<Hierarchy, EntryErr
         (n.first as usize + n.count as usize) <= splat_count
             && (n.child_count == 0
                 || (n.children as usize > i && n.children as usize + n.child_count as usize <= node_count))
+            && n.centre.is_finite()
             && [n.half, n.reach, n.radius].iter().all(|v| v.is_finite())
     });
-    if !valid {
+    // A tree: every node but the root is the child of exactly one node.
+    let mut parents = vec![0u32; node_count];
+    for n in &nodes {
+        for c in n.children..n.children + n.child_count {
+            if let Some(p) = parents.get_mut(c as usize) {
+                *p += 1;
+            }
+        }
+    }
+    if !valid || parents[0] != 0 || parents[1..].iter().any(|&p| p != 1) {
         return Err(EntryError::Corrupt);
     }
     let two_sided_any = rest[node_count * NODE_WORDS..].chunks_exact(SPLAT_WORDS).any(|w| w[9] >> 24 != 0);
@@ -123,7 +133,11 @@ pub fn load(path: &Path, hash: u64, splats: usize) -> Result<Hierarchy, EntryErr
             cloud.two_sided.push(w[9] >> 24 != 0);
         }
     }
-    if !cloud.positions.iter().all(|p| p.is_finite()) || !cloud.radii.iter().all(|r| r.is_finite() && *r >= 0.0) {
+    let finite = cloud.positions.iter().all(|p| p.is_finite())
+        && cloud.normals.iter().all(|n| n.is_finite())
+        && cloud.radii.iter().all(|r| r.is_finite() && *r >= 0.0)
+        && cloud.opacity.iter().all(|a| a.is_finite());
+    if !finite {
         return Err(EntryError::Corrupt);
     }
     Ok(Hierarchy { nodes, splats: cloud, originals, seconds: 0.0 })
@@ -203,6 +217,12 @@ mod tests {
         assert!(note.contains("another model") && note.contains("lod-"), "{note}");
         assert_eq!(rebuilt.nodes, built.nodes);
         assert!(load(&path_for(&cache, 8), 8, cloud.len()).is_ok(), "the rebuilt entry replaced it");
+        // Two parents for one node: not a tree.
+        let mut shared = built.clone();
+        let last = shared.nodes.len() as u32 - 1;
+        (shared.nodes[1].children, shared.nodes[1].child_count) = (last, 1);
+        store(&path_for(&cache, 10), 10, &shared).unwrap();
+        assert_eq!(load(&path_for(&cache, 10), 10, cloud.len()).unwrap_err(), EntryError::Corrupt);
         std::fs::write(path_for(&cache, 9), b"PBLOD001 short").unwrap();
         assert!(cached(&cache, 9, &cloud).1.unwrap().contains("corrupt"));
     }
