@@ -35,8 +35,12 @@
 // its plane, so every fragment's depth is the exact depth of the plane on its
 // ray, as for an unstretched splat: coplanar neighbours stay within ε of one
 // another and blend (a depth clamped to the original disc would set rows of
-// a grazing plane apart by more than ε, and the filter would not filter). A
-// splat already larger than h on screen is drawn exactly as without it.
+// a grazing plane apart by more than ε, and the filter would not filter).
+// Only splats smaller than h along s (the screen-parallel tangent, which
+// foreshortening does not shorten) are filtered, in both directions: a
+// larger splat seen at a grazing angle, thin along t, is drawn exactly as
+// without the filter. Stretching those too widened every silhouette of the
+// bench views (ε against the one-ray reference 0.06-1.19, docs/BENCHMARKS.md).
 
 struct SplatIn {
     @location(0) position: vec3<f32>,
@@ -119,7 +123,9 @@ fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying 
             t = cross(plane, s);
         }
         let lengths = vec2<f32>(screen_length(centre, s * radius), screen_length(centre, t * radius));
-        stretch = max(vec2<f32>(1.0), low_pass / max(lengths, vec2<f32>(1e-6)));
+        // Minification only: a splat at least h wide along s is left as it is.
+        let stretched = max(vec2<f32>(1.0), low_pass / max(lengths, vec2<f32>(1e-6)));
+        stretch = select(vec2<f32>(1.0), stretched, lengths.x < low_pass);
     }
     let corner_eye = centre + (s * (stretch.x * corner.x) + t * (stretch.y * corner.y)) * radius;
     out.clip = frame.proj * vec4<f32>(corner_eye, 1.0);

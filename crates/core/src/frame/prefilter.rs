@@ -10,7 +10,10 @@
 //! tangents s = p × n and t = n × s (p the centre, n the normal): s is
 //! parallel to the screen and t is the direction of greatest
 //! foreshortening, so checking the two lengths is exact at the screen centre
-//! and for splats parallel to the screen. A stretched splat keeps its total
+//! and for splats parallel to the screen. Only splats shorter than the
+//! radius along s are stretched (in both directions): a large splat seen at
+//! a grazing angle is left alone, so silhouettes of models whose splats are
+//! large on screen do not widen (measured: docs/BENCHMARKS.md). A stretched splat keeps its total
 //! weight (its Gaussian's peak is divided by the stretch, as the convolution
 //! of two Gaussians is). The stretched disc stays in its own plane, so its
 //! depth on every ray is well defined and coplanar neighbours stay within ε
