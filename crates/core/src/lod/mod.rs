@@ -128,15 +128,9 @@ const SPLAT_BYTES: usize = 12 + 12 + 4 + 3 + 4 + 1;
 
 /// The cube around the cloud's bounds (a point's cube has a small side).
 fn bounding_cube(cloud: &PointCloud) -> (Vec3, f32) {
-    if cloud.is_empty() {
-        return (Vec3::ZERO, 1.0);
-    }
-    let (min, max) = cloud
-        .positions
-        .iter()
-        .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
-    let half = ((max - min).max_element() * 0.5).max(1e-6) * 1.0001;
-    ((min + max) * 0.5, half)
+    let Some(bounds) = cloud.bounds() else { return (Vec3::ZERO, 1.0) };
+    let half = ((bounds.max - bounds.min).max_element() * 0.5).max(1e-6) * 1.0001;
+    (bounds.center(), half)
 }
 
 fn octant(p: Vec3, centre: Vec3) -> usize {
@@ -289,7 +283,7 @@ fn flatten(root: Built, cloud: &PointCloud) -> Hierarchy {
     while let Some(built) = queue.pop_front() {
         let first = splats.len() as u32;
         let count = built.own.len() as u32;
-        append(&mut splats, &built.own, two_sided);
+        append_range(&mut splats, &built.own, 0..built.own.len(), two_sided);
         // Children are queued in order, so they take the next indices after the queue ahead of them.
         let children = (nodes.len() + 1 + queue.len()) as u32;
         let child_count = built.children.len() as u32;
@@ -308,17 +302,19 @@ fn flatten(root: Built, cloud: &PointCloud) -> Hierarchy {
     Hierarchy { nodes, splats, originals: 0, seconds: 0.0 }
 }
 
-fn append(to: &mut PointCloud, from: &PointCloud, two_sided: bool) {
-    to.positions.extend_from_slice(&from.positions);
-    to.normals.extend_from_slice(&from.normals);
-    to.radii.extend_from_slice(&from.radii);
-    to.colours.extend_from_slice(&from.colours);
-    to.opacity.extend_from_slice(&from.opacity);
+/// Appends splats `range` of `from` to `to`; with `two_sided`, their
+/// sidedness too (false where `from` keeps none).
+fn append_range(to: &mut PointCloud, from: &PointCloud, range: std::ops::Range<usize>, two_sided: bool) {
+    to.positions.extend_from_slice(&from.positions[range.clone()]);
+    to.normals.extend_from_slice(&from.normals[range.clone()]);
+    to.radii.extend_from_slice(&from.radii[range.clone()]);
+    to.colours.extend_from_slice(&from.colours[range.clone()]);
+    to.opacity.extend_from_slice(&from.opacity[range.clone()]);
     if two_sided {
         if from.two_sided.is_empty() {
-            to.two_sided.extend(std::iter::repeat_n(false, from.len()));
+            to.two_sided.extend(std::iter::repeat_n(false, range.len()));
         } else {
-            to.two_sided.extend_from_slice(&from.two_sided);
+            to.two_sided.extend_from_slice(&from.two_sided[range]);
         }
     }
 }

@@ -141,15 +141,7 @@ pub fn gather(hierarchy: &Hierarchy, selection: &Selection) -> PointCloud {
     };
     for &at in &selection.nodes {
         let node = &hierarchy.nodes[at as usize];
-        let range = node.first as usize..(node.first + node.count) as usize;
-        out.positions.extend_from_slice(&all.positions[range.clone()]);
-        out.normals.extend_from_slice(&all.normals[range.clone()]);
-        out.radii.extend_from_slice(&all.radii[range.clone()]);
-        out.colours.extend_from_slice(&all.colours[range.clone()]);
-        out.opacity.extend_from_slice(&all.opacity[range.clone()]);
-        if two_sided {
-            out.two_sided.extend_from_slice(&all.two_sided[range]);
-        }
+        super::append_range(&mut out, all, node.first as usize..(node.first + node.count) as usize, two_sided);
     }
     out
 }

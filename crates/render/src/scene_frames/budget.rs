@@ -96,6 +96,14 @@ pub(super) struct BudgetFrames {
     last: BudgetStats,
 }
 
+impl BudgetFrames {
+    /// Nothing selected yet from `hierarchy` (cache key `key`) of `cloud`.
+    fn new(key: u64, hierarchy: Arc<Hierarchy>, cloud: &PointCloud) -> Box<Self> {
+        let lattice = Lattice::of(cloud);
+        Box::new(Self { key, hierarchy, selected: None, frames: None, lattice, last: BudgetStats::default() })
+    }
+}
+
 impl SceneFrames {
     /// The budget a frame of `settings` keeps, if one applies: a GPU mode,
     /// a still scene, and fewer splats than the scene has.
@@ -118,24 +126,16 @@ impl SceneFrames {
     /// Frames under a budget draw from `hierarchy`, made elsewhere (the
     /// viewer builds it while loading) from these splats ([`load_hierarchy`]).
     pub fn with_hierarchy(mut self, hierarchy: Arc<Hierarchy>) -> Self {
-        let key = hierarchy_key(self.hash, &self.cloud);
         if hierarchy.originals == self.cloud.len() {
-            self.budget = Some(Box::new(BudgetFrames {
-                key,
-                hierarchy,
-                selected: None,
-                frames: None,
-                lattice: Lattice::of(&self.cloud),
-                last: BudgetStats::default(),
-            }));
+            self.budget = Some(BudgetFrames::new(hierarchy_key(self.hash, &self.cloud), hierarchy, &self.cloud));
         }
         self
     }
 
     fn budget_frames(&mut self) -> &mut BudgetFrames {
         if self.budget.is_none() {
-            let (hierarchy, note) = load_hierarchy(&self.cache, self.hash, &self.cloud);
             let key = hierarchy_key(self.hash, &self.cloud);
+            let (hierarchy, note) = lod::cache::cached(&self.cache, key, &self.cloud);
             if let Some(note) = note {
                 log::warn!("{note}");
             }
@@ -146,14 +146,7 @@ impl SceneFrames {
                 hierarchy.bytes() as f64 / (1 << 20) as f64,
                 if hierarchy.seconds > 0.0 { format!(", built in {:.2} s", hierarchy.seconds) } else { String::new() }
             );
-            self.budget = Some(Box::new(BudgetFrames {
-                key,
-                hierarchy: Arc::new(hierarchy),
-                selected: None,
-                frames: None,
-                lattice: Lattice::of(&self.cloud),
-                last: BudgetStats::default(),
-            }));
+            self.budget = Some(BudgetFrames::new(key, Arc::new(hierarchy), &self.cloud));
         }
         self.budget.as_mut().expect("made above")
     }
