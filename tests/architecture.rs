@@ -58,7 +58,7 @@ fn no_core_module_imports_one_above_it() {
         &["cloud"],
         &["grouping"],
         &["frame"],
-        &["scene", "shadow", "lod"],
+        &["scene", "shadow", "lod", "hybrid"],
         &["reference"],
     ];
     let mut checked = 0;

@@ -88,6 +88,10 @@ pub struct BenchRow {
     /// timed frame (part of `frame_ms`); `points` is then the splats drawn.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub budget_select_ms: Option<f64>,
+    /// In a frame that draws mesh triangles: the triangles drawn (`points`
+    /// is then the splats drawn beside them, Guennebaud's hybrid rules).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub triangles: Option<u32>,
 }
 
 /// Writes `rows` as a JSON array, atomically.
@@ -119,7 +123,10 @@ pub fn markdown(rows: &[BenchRow]) -> String {
             r.view,
             variant,
             r.k,
-            r.points,
+            match r.triangles {
+                Some(t) => format!("{} + {t} triangles", r.points),
+                None => r.points.to_string(),
+            },
             r.width,
             r.height,
             r.geometry_passes,

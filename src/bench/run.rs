@@ -353,6 +353,7 @@ fn blank_row(
         time: None,
         regroup_ms: None,
         budget_select_ms: None,
+        triangles: None,
         upload_ms: None,
     }
 }
@@ -374,6 +375,10 @@ fn measure_variant(
     if let Some(budget) = frames.applied_budget(&p.settings).and(frames.last_budget()) {
         row.points = budget.splats;
         row.budget_select_ms = Some(budget.select_ms);
+    }
+    if let Some(hybrid) = frames.last_hybrid().filter(|_| frames.draws_triangles(&p.settings)) {
+        row.points = hybrid.splats;
+        row.triangles = Some(hybrid.triangles);
     }
     let sizes_differ = || BenchError::Invalid("image and reference sizes differ".into());
     let error = reference::compare(&image, &reference.image).ok_or_else(sizes_differ)?;
@@ -629,7 +634,9 @@ fn time_frames(
     }
     let (scene, settings) = frames.frame_scene(renderer, camera, &p.settings, (w, h))?;
     let (image, mut plan) = renderer.render_image(scene, camera, &settings, w, h)?;
-    if frames.applied_budget(&p.settings).is_some() {
+    if frames.draws_triangles(&p.settings) {
+        plan.notes.extend(frames.last_hybrid().map(|h| h.describe(p.settings.hybrid_pixels)));
+    } else if frames.applied_budget(&p.settings).is_some() {
         plan.notes.extend(frames.last_budget().map(|b| b.describe()));
     }
     Ok((image, plan, wall, per_pass))

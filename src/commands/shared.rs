@@ -166,9 +166,20 @@ pub struct ViewArgs {
     /// reference always draws every splat [default: all].
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(1..))]
     pub point_budget: Option<u32>,
+    /// Hybrid objects (`hybrid = "x.ply"` in a scene file): a leaf of the mesh is drawn as triangles
+    /// where its largest splat would be wider than this radius in pixels, as splats elsewhere; 0 draws
+    /// every leaf as triangles, inf none [default: 3].
+    #[arg(long = "hybrid-px", value_name = "PX", value_parser = parse_hybrid_pixels)]
+    pub hybrid_pixels: Option<f32>,
     /// TSM table size per light, POLxAZ cells (or N for NxN) [default: 512x512].
     #[arg(long, value_parser = pointblend::frame::lights::parse_cells)]
     pub shadow_cells: Option<[u32; 2]>,
+}
+
+/// `--hybrid-px PX`: 0 or more, or inf.
+fn parse_hybrid_pixels(text: &str) -> Result<f32, String> {
+    let mut settings = RenderSettings::default();
+    Parameter::HybridPixels.apply(&mut settings, text).map(|()| settings.hybrid_pixels)
 }
 
 /// `--light X,Y,Z`.
@@ -229,6 +240,7 @@ impl ViewArgs {
             prefilter: self.prefilter.unwrap_or_default(),
             supersample: self.supersample.unwrap_or(1),
             point_budget: self.point_budget,
+            hybrid_pixels: self.hybrid_pixels.unwrap_or(pointblend::frame::settings::DEFAULT_HYBRID_PIXELS),
             ..Default::default()
         };
         if let Some(bg) = self.background.map(|c| glam::Vec3::from_array(c.map(f32::from)) / 255.0).or(scene.background)
@@ -257,6 +269,7 @@ impl ViewArgs {
             ("--depth-step", self.depth_step.is_some(), Parameter::DepthStep),
             ("--prefilter", self.prefilter.is_some(), Parameter::Prefilter),
             ("--point-budget", self.point_budget.is_some(), Parameter::PointBudget),
+            ("--hybrid-px", self.hybrid_pixels.is_some(), Parameter::HybridPixels),
         ];
         for (option, is_given, parameter) in given {
             if is_given && !reads.contains(&parameter) {

@@ -197,3 +197,13 @@ pub const MAX_EWA_ALIASING_RATIO: f64 = 0.5;
 /// Share of the pixels inside the reference's eroded silhouette that a
 /// budgeted frame may leave as background (holes between coarse splats).
 pub const MAX_BUDGET_HOLE_SHARE: f64 = 0.001;
+
+/// ε of a hybrid frame against the reference on the mesh's triangles, as a
+/// share of ε of the same object drawn as splats alone (the goal for
+/// the close-up: at most half). Measured: see tests/hybrid.rs's output.
+pub const MAX_HYBRID_EPS_RATIO: f64 = 0.5;
+
+/// ε of a mesh drawn as triangles by a GPU mode against the reference's
+/// exact triangles: the same surface, interpolated alike; what is left is
+/// f32 rasterisation against f32 ray casting, as for `tiled` (MAX_TILED_EPS).
+pub const MAX_MESH_EPS: f64 = 0.1;

@@ -6,7 +6,8 @@
 //! clouds, [`grouping`] splits splats into groups, [`frame`] holds the camera,
 //! the splat kernel, the shading model, the render settings and the mode
 //! registry that every renderer (GPU or CPU) shares, [`scene`] places clouds
-//! with transforms and materials, [`lod`] builds the multi-resolution
+//! with transforms and materials (and meshes, whose triangles [`hybrid`]
+//! splits into leaves drawn as triangles or splats), [`lod`] builds the multi-resolution
 //! hierarchy that frames under a point budget draw from, [`shadow`] finds the light each splat
 //! receives (translucent shadow maps and exact shadow rays), and
 //! [`reference`] renders exactly on the CPU. Under them all, [`hash`],
@@ -16,6 +17,7 @@ pub mod cloud;
 pub mod frame;
 pub mod grouping;
 pub mod hash;
+pub mod hybrid;
 pub mod lod;
 pub mod memory;
 pub mod output;

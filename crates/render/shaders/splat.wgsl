@@ -60,17 +60,27 @@ struct SplatIn {
 
 struct SplatVarying {
     @builtin(position) clip: vec4<f32>,
+#ifdef TRIANGLES
+    // A triangle's eye-space point, normal and colour, interpolated across it.
+    @location(0) centre: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+#else
     // Eye-space centre of the disc.
     @location(0) @interpolate(flat) centre: vec3<f32>,
     // Eye-space unit normal (for shading).
     @location(1) @interpolate(flat) normal: vec3<f32>,
+#endif
     // Unit normal of the plane the footprint is cast on (tilted if grazing), and 1/r².
     @location(2) @interpolate(flat) plane: vec4<f32>,
+#ifdef TRIANGLES
+    @location(3) colour: vec4<f32>,
+#else
     @location(3) @interpolate(flat) colour: vec4<f32>,
+#endif
     // A prefiltered splat's stretched axes S (xyz) and the weight's scale
     // 1/(a_s·a_t) (w); w = 0 when the splat is not stretched.
     @location(4) @interpolate(flat) axis_s: vec4<f32>,
-    // T (xyz); w unused.
+    // T (xyz); w: 1 for a one-sided triangle that is back-face culled per fragment.
     @location(5) @interpolate(flat) axis_t: vec4<f32>,
 }
 
@@ -138,6 +148,50 @@ fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying 
     return out;
 }
 
+#ifdef TRIANGLES
+// Mesh triangles (crates/core/src/hybrid), drawn by the same fragment
+// entries as splats: each vertex carries its triangle's plane normal (the
+// winding's), so the fragment stage's ray-plane depth is the triangle's
+// exact depth; the plane's 1/r² is 0, so every fragment has ρ² = 0 and the
+// weight of a splat's centre, and blends with any splat within ε of it
+// (Guennebaud's hybrid transition). Normal and colour are interpolated, as
+// the reference does by barycentric coordinates (src/reference/triangles.rs).
+// A one-sided triangle facing away is discarded per fragment: the sign of
+// n·p is the same over a plane, so the test is exact without the triangle's
+// other vertices.
+struct TriangleIn {
+    @location(0) position: vec3<f32>,
+    // Negative for a vertex of a two-sided object (never back-face culled).
+    @location(1) sided: f32,
+    @location(2) normal: vec3<f32>,
+    @location(3) colour: vec4<f32>,
+    @location(4) opacity: f32,
+    @location(5) face: vec3<f32>,
+}
+
+@vertex
+fn vs_triangle(vertex: TriangleIn) -> SplatVarying {
+    var out: SplatVarying;
+    let centre = (frame.view * vec4<f32>(vertex.position, 1.0)).xyz;
+    let normal_eye = (frame.view * vec4<f32>(vertex.normal, 0.0)).xyz;
+    let face_eye = (frame.view * vec4<f32>(vertex.face, 0.0)).xyz;
+    let normal = select(vec3<f32>(0.0, 0.0, 1.0), normalize(normal_eye), length(normal_eye) > 1e-20);
+    let face = select(normal, normalize(face_eye), length(face_eye) > 1e-20);
+    out.colour = vec4<f32>(vertex.colour.rgb, vertex.opacity);
+#ifdef LIGHTS
+    // Lit per vertex, unshadowed: shadow coefficients are per splat.
+    out.colour = vec4<f32>(light_splat(vertex.colour.rgb, normal, centre, vec4<f32>(1.0), vec4<f32>(1.0)), vertex.opacity);
+#endif
+    out.clip = frame.proj * vec4<f32>(centre, 1.0);
+    out.centre = centre;
+    out.normal = normal;
+    out.plane = vec4<f32>(face, 0.0);
+    out.axis_s = vec4<f32>(0.0);
+    out.axis_t = vec4<f32>(0.0, 0.0, 0.0, select(0.0, 1.0, frame.splat.w > 0.5 && vertex.sided > 0.0));
+    return out;
+}
+#endif
+
 struct SplatSample {
     // Squared distance from the centre in units of the radius (of the
     // stretched footprint when prefiltered).
@@ -152,6 +206,11 @@ struct SplatSample {
 fn splat_sample(v: SplatVarying) -> SplatSample {
     let ray = pixel_ray(v.clip.xy);
     let n = v.plane.xyz;
+#ifdef TRIANGLES
+    if v.axis_t.w > 0.5 && dot(n, v.centre) > 0.0 {
+        discard;
+    }
+#endif
     let facing = dot(ray, n);
     let t = dot(v.centre, n) / facing;
     let offset = ray * t - v.centre;

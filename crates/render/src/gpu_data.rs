@@ -41,6 +41,42 @@ impl SplatInstance {
     }
 }
 
+/// One vertex of a mesh triangle (three per triangle, not shared: each
+/// carries its triangle's plane normal). Mirrors `TriangleIn` in `shaders/splat.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct TriangleVertex {
+    pub position: [f32; 3],
+    /// Negative for a vertex of a two-sided object (never back-face culled), else 1.
+    pub sided: f32,
+    /// The vertex normal (interpolated for shading).
+    pub normal: [f32; 3],
+    pub colour: [u8; 4],
+    pub opacity: f32,
+    /// The triangle's plane normal, by its winding.
+    pub face: [f32; 3],
+}
+const _: () = assert!(std::mem::size_of::<TriangleVertex>() == 48);
+
+impl TriangleVertex {
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![
+        0 => Float32x3,
+        1 => Float32,
+        2 => Float32x3,
+        3 => Unorm8x4,
+        4 => Float32,
+        5 => Float32x3,
+    ];
+
+    pub fn layout() -> wgpu::VertexBufferLayout<'static> {
+        wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<TriangleVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &Self::ATTRIBUTES,
+        }
+    }
+}
+
 /// Per-frame constants. Mirrors `Frame` in `shaders/frame.wgsl`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]

@@ -10,7 +10,7 @@
 
 use wgpu::util::DeviceExt;
 
-use super::gpu_data::{SplatInstance, SplatLight};
+use super::gpu_data::{SplatInstance, SplatLight, TriangleVertex};
 use super::instance_order::InstanceOrder;
 use crate::cloud::PointCloud;
 use crate::grouping::Grouping;
@@ -55,6 +55,57 @@ pub struct GpuScene {
     /// The records as last written by [`Self::rewrite`] (empty until a scene
     /// moves), so the next frame writes only what changed.
     records: Vec<SplatInstance>,
+    /// The mesh triangles a frame draws beside the splats, if any.
+    pub triangles: Option<TriangleDraw>,
+}
+
+/// A scene's mesh triangles on the GPU (three unshared vertices each, see
+/// [`TriangleVertex`]) and the ranges of them a frame draws.
+#[derive(Debug, Clone)]
+pub struct TriangleDraw {
+    pub buffer: std::sync::Arc<wgpu::Buffer>,
+    /// Triangle ranges drawn.
+    pub ranges: Vec<std::ops::Range<u32>>,
+    /// Cull triangles facing away by their winding before rasterising them:
+    /// every triangle is one-sided and the frame culls back faces (the
+    /// fragment stage culls them exactly anyway; this saves their fragments).
+    pub cull_back: bool,
+}
+
+impl TriangleDraw {
+    /// Uploads `triangles` (indices of `cloud`, the flattened scene: materials applied).
+    pub fn upload(
+        device: &wgpu::Device,
+        cloud: &PointCloud,
+        triangles: impl Iterator<Item = [u32; 3]>,
+    ) -> wgpu::Buffer {
+        let mut vertices = Vec::new();
+        for t in triangles {
+            let [a, b, c] = t.map(|v| cloud.positions[v as usize]);
+            let face = (b - a).cross(c - a).normalize_or_zero().to_array();
+            for v in t.map(|v| v as usize) {
+                let [r, g, b] = cloud.colours[v];
+                vertices.push(TriangleVertex {
+                    position: cloud.positions[v].to_array(),
+                    sided: if cloud.is_two_sided(v) { -1.0 } else { 1.0 },
+                    normal: cloud.normals[v].to_array(),
+                    colour: [r, g, b, 255],
+                    opacity: cloud.opacity[v],
+                    face,
+                });
+            }
+        }
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("GpuScene::triangles"),
+            contents: bytemuck::cast_slice(&vertices),
+            usage: wgpu::BufferUsages::VERTEX,
+        })
+    }
+
+    /// Triangles drawn.
+    pub fn count(&self) -> u32 {
+        self.ranges.iter().map(|r| r.len() as u32).sum()
+    }
 }
 
 /// Unchanged records a rewrite writes over rather than start a new write.
@@ -123,7 +174,20 @@ impl GpuScene {
             slots: order,
             lights: None,
             records: Vec::new(),
+            triangles: None,
         }
+    }
+
+    /// Draws `triangles` beside the splats from now on; `whole` is the whole
+    /// flattened scene they belong to, whose mean radius (for ε), single
+    /// colour and transparency the frame takes, as a frame of every splat would.
+    pub fn set_triangles(&mut self, triangles: Option<TriangleDraw>, whole: &PointCloud) {
+        if triangles.is_some() {
+            self.mean_radius = whole.mean_radius();
+            self.uniform_colour = uniform_colour(whole);
+            self.transparent |= whole.has_transparency();
+        }
+        self.triangles = triangles;
     }
 
     /// Replaces the splats with another frame's (`cloud`, grouped by

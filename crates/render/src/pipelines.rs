@@ -89,6 +89,11 @@ impl PipelineCache {
         self.pipelines.get(key).ok_or_else(|| GpuError::Device("pipeline cache".into()))
     }
 
+    /// The pipeline for `key`, if it was built.
+    pub fn built(&self, key: &PipelineKey) -> Option<&wgpu::RenderPipeline> {
+        self.pipelines.get(key)
+    }
+
     /// The compute pipeline of `entry` in `shader` built with `variant`,
     /// whose group 1 holds `bindings`, and that group's layout; built on first use.
     pub fn compute(
@@ -166,7 +171,7 @@ impl PipelineCache {
         let label = format!("{}::{} ({})", key.shader, key.entry, key.variant);
         let built = match &key.kind {
             PipelineKind::Splats { .. } => {
-                splat::pipeline(device, &label, layout, module, key.entry, &key.kind, key.variant.has(Variant::LIGHTS))
+                splat::pipeline(device, &label, layout, module, key.entry, &key.kind, key.variant)
             }
             PipelineKind::Fullscreen { .. } => {
                 fullscreen::pipeline(device, &label, layout, module, key.entry, &key.kind)

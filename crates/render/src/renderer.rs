@@ -276,19 +276,51 @@ impl Renderer {
                         colour,
                         depth,
                         inputs: inputs.as_ref().map(|i| i.0.clone()).unwrap_or_default(),
+                        cull_back: false,
                     };
                     // A pass that writes only depth reads no colour: its splats are not lit.
                     let lights = super::shaders::Variant::LIGHTS;
                     let variant = pass.variant.with(lights, pass.variant.has(lights) && !pass.colour.is_empty());
                     let key = PipelineKey { shader: pass.shader, entry: pass.entry, variant, kind };
-                    let pipeline = self.cache.pipeline(device, &key)?;
+                    // The frame's mesh triangles, through the same fragment entry.
+                    let triangle_key = scene.triangles.as_ref().filter(|_| pass.triangles).map(|draw| {
+                        let kind = match key.kind.clone() {
+                            PipelineKind::Splats { colour, depth, inputs, .. } => {
+                                PipelineKind::Splats { colour, depth, inputs, cull_back: draw.cull_back }
+                            }
+                            other => other,
+                        };
+                        PipelineKey {
+                            variant: variant.with(super::shaders::Variant::TRIANGLES, true),
+                            kind,
+                            ..key.clone()
+                        }
+                    });
+                    if let Some(triangle_key) = &triangle_key {
+                        self.cache.pipeline(device, triangle_key)?;
+                    }
+                    self.cache.pipeline(device, &key)?;
+                    let built = |key: &PipelineKey| self.cache.built(key).ok_or_else(|| missing(key.entry));
+                    let pipeline = built(&key)?;
+                    let triangles = triangle_key.as_ref().map(built).transpose()?;
                     let layer_view = |id| self.pool.layer_view(id, pass.layer).ok_or_else(|| missing(id.0));
                     let attachments = splat::Attachments {
                         colour: pass.colour.iter().map(|c| layer_view(c.target)).collect::<Result<_, _>>()?,
                         depth: pass.depth.map(|(id, _)| layer_view(id)).transpose()?,
                     };
                     let group = inputs.as_ref().map(|i| &i.1);
-                    splat::record(&mut encoder, pass, pipeline, frame, offset, group, &attachments, scene, stamps);
+                    splat::record(
+                        &mut encoder,
+                        pass,
+                        pipeline,
+                        frame,
+                        offset,
+                        group,
+                        &attachments,
+                        scene,
+                        triangles,
+                        stamps,
+                    );
                 }
                 Command::Compute(pass) => {
                     let tiles = self.tiles.as_mut().ok_or_else(|| missing("tile pipeline"))?;

@@ -11,10 +11,12 @@
 //! frame comes back as an image and the plan that made it.
 
 mod budget;
+mod hybrid;
 
 use std::sync::Arc;
 
 pub use budget::{BudgetStats, load_hierarchy};
+pub use hybrid::HybridStats;
 
 use super::context::GpuError;
 use super::gpu_scene::GpuScene;
@@ -97,6 +99,8 @@ pub struct SceneFrames {
     last_update: FrameUpdate,
     /// Frames under a point budget (see `budget.rs`), made on first use.
     budget: Option<Box<budget::BudgetFrames>>,
+    /// Frames that draw the scene's mesh triangles (see `hybrid.rs`), made on first use.
+    hybrid: Option<Box<hybrid::HybridFrames>>,
     /// Why its groupings are redone every frame, for the one warning that says so.
     regroup_reason: &'static str,
     /// Where groupings and hierarchies are cached.
@@ -181,6 +185,7 @@ impl SceneFrames {
             generation: 0,
             last_update: FrameUpdate::default(),
             budget: None,
+            hybrid: None,
             regroup_reason: "the scene moves",
             cache: Cache::from_env(),
         }
@@ -455,11 +460,20 @@ impl SceneFrames {
     /// The GPU copy a frame of `settings` draws, uploaded (and its grouping
     /// computed) on first use, with the frame's shadow coefficients beside its splats.
     pub fn gpu_scene(&mut self, gpu: &HeadlessRenderer, settings: &RenderSettings) -> Result<&GpuScene, FrameError> {
+        Ok(self.gpu_scene_mut(gpu, settings)?)
+    }
+
+    /// [`Self::gpu_scene`], to change.
+    fn gpu_scene_mut(
+        &mut self,
+        gpu: &HeadlessRenderer,
+        settings: &RenderSettings,
+    ) -> Result<&mut GpuScene, FrameError> {
         let shadows = self.keyed_shadows(settings)?;
         let at = self.upload(gpu, settings)?;
         let upload = &mut self.uploads[at].1;
         upload.set_shadows(&gpu.ctx.device, &gpu.ctx.queue, shadows.as_ref().map(|(key, c)| (c.as_ref(), *key)));
-        Ok(&self.uploads[at].1)
+        Ok(&mut self.uploads[at].1)
     }
 
     /// The index of the upload a frame of `settings` draws, made on first use.
@@ -500,6 +514,14 @@ impl SceneFrames {
             return Ok(Frame { image, plan });
         }
         let gpu = gpu.ok_or(FrameError::NoGpu(settings.mode.name()))?;
+        if self.draws_triangles(settings) {
+            let settings = &self.unbudgeted_with_meshes(settings);
+            let (scene, note) = self.hybrid_scene(gpu, camera, settings, (width, height))?;
+            let (image, mut plan) = gpu.render_image(scene, camera, settings, width, height)?;
+            plan.notes.push(note);
+            plan.notes.extend(self.shadow_notes(settings));
+            return Ok(Frame { image, plan });
+        }
         if let Some(budget) = self.applied_budget(settings) {
             let unbudgeted = RenderSettings { point_budget: None, ..*settings };
             let frames = self.select_for(Some(gpu), camera, settings, (width, height), budget)?;
@@ -510,6 +532,7 @@ impl SceneFrames {
         let scene = self.gpu_scene(gpu, settings)?;
         let (image, mut plan) = gpu.render_image(scene, camera, settings, width, height)?;
         plan.notes.extend(self.shadow_notes(settings));
+        plan.notes.extend(self.mesh_notes(settings));
         Ok(Frame { image, plan })
     }
 

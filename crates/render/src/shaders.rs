@@ -3,7 +3,8 @@
 //! Shader variants come from one mechanism: a small preprocessor with
 //! `#include "file.wgsl"` (each file included once), `#ifdef NAME`,
 //! `#ifndef NAME`, `#else` and `#endif`. A [`Variant`] is a set of names
-//! (`LIT`, `WEIGHT_ONLY`, `OPAQUE_APART`, `ENVIRONMENT`, `LIGHTS`).
+//! (`LIT`, `WEIGHT_ONLY`, `OPAQUE_APART`, `ENVIRONMENT`, `LIGHTS`,
+//! `TRIANGLES`).
 //! Chosen over WGSL `override` constants, which cannot remove a binding, a
 //! fragment output or a struct field (an unlit pass must neither declare nor
 //! write a normal target), and over `naga_oil`, which composes into naga IR
@@ -47,9 +48,12 @@ impl Variant {
     /// buffer), and the passes blend lit colours (no normal targets, no
     /// shading when normalising). Never with `LIT`.
     pub const LIGHTS: Variant = Variant(16);
+    /// Mesh triangles through a splat pass's fragment entry: `vs_triangle`
+    /// (shaders/splat.wgsl) and interpolated point, normal and colour.
+    pub const TRIANGLES: Variant = Variant(32);
 
     /// Every name, by bit.
-    const NAMES: [&'static str; 5] = ["LIT", "WEIGHT_ONLY", "OPAQUE_APART", "ENVIRONMENT", "LIGHTS"];
+    const NAMES: [&'static str; 6] = ["LIT", "WEIGHT_ONLY", "OPAQUE_APART", "ENVIRONMENT", "LIGHTS", "TRIANGLES"];
 
     pub const NONE: Variant = Variant(0);
 
@@ -143,6 +147,6 @@ mod tests {
         assert_eq!(lit.matches("struct Frame {").count(), 1, "frame.wgsl is included once");
         assert!(compose("missing.wgsl", Variant::NONE).is_err());
         assert_eq!(Variant::LIT.with(Variant::WEIGHT_ONLY, true).defines(), ["LIT", "WEIGHT_ONLY"]);
-        assert_eq!(Variant::all().count(), 32);
+        assert_eq!(Variant::all().count(), 64);
     }
 }

@@ -25,6 +25,14 @@ type Key = ([u32; 3], Option<[u32; 3]>, Option<u32>);
 /// `needs_radius` say which attributes are still to be estimated, and are
 /// compacted with it); returns how many splats were merged away.
 pub fn merge(cloud: &mut PointCloud, needs_normal: &mut Vec<bool>, needs_radius: &mut Vec<bool>) -> usize {
+    let before = cloud.len();
+    merge_indexed(cloud, needs_normal, needs_radius);
+    before - cloud.len()
+}
+
+/// [`merge`], returning where each splat went: the index of the splat it
+/// now is (its own, moved down, or its representative's).
+pub fn merge_indexed(cloud: &mut PointCloud, needs_normal: &mut Vec<bool>, needs_radius: &mut Vec<bool>) -> Vec<u32> {
     let n = cloud.len();
     // -0.0 + 0.0 = +0.0: both zeros are one coordinate.
     let bits = |x: f32| (x + 0.0).to_bits();
@@ -41,7 +49,7 @@ pub fn merge(cloud: &mut PointCloud, needs_normal: &mut Vec<bool>, needs_radius:
     let unique = first.len();
     drop(first);
     if unique == n {
-        return 0;
+        return (0..n as u32).collect();
     }
     // Sums of colour and opacity per representative, then the means.
     let mut sums = vec![([0u64; 3], 0f64, 0u32); n];
@@ -54,10 +62,12 @@ pub fn merge(cloud: &mut PointCloud, needs_normal: &mut Vec<bool>, needs_radius:
         s.2 += 1;
     }
     let mut write = 0;
+    let mut moved_to = vec![0u32; n];
     for (i, &r) in representative.iter().enumerate() {
         if r as usize != i {
             continue;
         }
+        moved_to[i] = write as u32;
         let (colour, opacity, count) = sums[i];
         cloud.positions[write] = cloud.positions[i];
         cloud.normals[write] = cloud.normals[i];
@@ -81,7 +91,7 @@ pub fn merge(cloud: &mut PointCloud, needs_normal: &mut Vec<bool>, needs_radius:
     }
     needs_normal.truncate(write);
     needs_radius.truncate(write);
-    n - write
+    representative.iter().map(|&r| moved_to[r as usize]).collect()
 }
 
 #[cfg(test)]

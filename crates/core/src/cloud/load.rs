@@ -58,7 +58,7 @@ pub fn load_with(path: &Path, options: &LoadOptions) -> Result<(PointCloud, Load
     let data = ply::parse(path, &bytes, &is_wanted)?;
     drop(bytes);
     let decode_seconds = started.elapsed().as_secs_f64();
-    build(path, data, decode_seconds, options)
+    build(path, data, decode_seconds, options).map(|(cloud, report, _)| (cloud, report))
 }
 
 /// Loads the mesh at `path` and samples `count` splats uniformly over its
@@ -94,12 +94,64 @@ pub fn load_surface_samples(
     }
     data.vertex_count = sampled;
     data.triangles.clear();
-    let (cloud, mut report) = build(path, data, decode_seconds, options)?;
+    let (cloud, mut report, _) = build(path, data, decode_seconds, options)?;
     report.normals = Provenance::FromFaces;
     if bad_faces > 0 {
         report.warnings.push(format!("{bad_faces} faces with a NaN or infinite vertex were not sampled"));
     }
     Ok((cloud, report))
+}
+
+/// Loads the mesh at `path` as its vertices' splats (as [`load_with`] does)
+/// and its triangles over those splats (indices into the cloud).
+///
+/// Faces that name a vertex the file lacks, and triangles with zero area,
+/// a repeated vertex or a vertex that is not finite, are skipped with a
+/// warning that counts them. A file with no faces, or with none left, is an error.
+pub fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(PointCloud, Vec<[u32; 3]>, LoadReport), CloudError> {
+    let bytes = std::fs::read(path).map_err(|e| CloudError::io(path, e))?;
+    let started = Instant::now();
+    let data = ply::parse(path, &bytes, &is_wanted)?;
+    drop(bytes);
+    if data.triangles.is_empty() {
+        let why = if data.face_count > 0 { "none of its faces is usable" } else { "the file has no faces" };
+        return Err(CloudError::content(
+            path,
+            format!("{why}; a mesh or hybrid object needs triangles (`ply =` reads a point cloud)"),
+        ));
+    }
+    let file_triangles = data.triangles.clone();
+    let decode_seconds = started.elapsed().as_secs_f64();
+    let (cloud, mut report, splat_of) = build(path, data, decode_seconds, options)?;
+    let splat_of = |v: u32| Some(splat_of[v as usize]).filter(|&s| s != u32::MAX);
+    let mut triangles = Vec::with_capacity(file_triangles.len());
+    let mut degenerate = 0;
+    for t in &file_triangles {
+        let mapped = [splat_of(t[0]), splat_of(t[1]), splat_of(t[2])];
+        let [Some(a), Some(b), Some(c)] = mapped else {
+            degenerate += 1;
+            continue;
+        };
+        let [pa, pb, pc] = [a, b, c].map(|i| cloud.positions[i as usize]);
+        let area2 = (pb - pa).cross(pc - pa).length();
+        if a == b || b == c || a == c || area2.is_nan() || area2 <= 0.0 {
+            degenerate += 1;
+            continue;
+        }
+        triangles.push([a, b, c]);
+    }
+    if degenerate > 0 {
+        report.warnings.push(format!(
+            "{degenerate} triangles with zero area, a repeated vertex or a vertex that is not finite were skipped"
+        ));
+    }
+    if triangles.is_empty() {
+        return Err(CloudError::content(
+            path,
+            "every triangle has zero area, a repeated vertex or a vertex that is not finite",
+        ));
+    }
+    Ok((cloud, triangles, report))
 }
 
 fn columns<'a>(data: &'a PlyData, names: &[&str; 3]) -> Option<[&'a Vec<f64>; 3]> {
@@ -108,13 +160,14 @@ fn columns<'a>(data: &'a PlyData, names: &[&str; 3]) -> Option<[&'a Vec<f64>; 3]
 }
 
 /// The cloud and report of parsed `data`, in stages: positions, mesh faces,
-/// re-centring, normals, colours, opacity, radii, merging, estimation.
+/// re-centring, normals, colours, opacity, radii, merging, estimation; and
+/// the splat each file vertex became (`u32::MAX` for those skipped).
 fn build(
     path: &Path,
     data: PlyData,
     decode_seconds: f64,
     options: &LoadOptions,
-) -> Result<(PointCloud, LoadReport), CloudError> {
+) -> Result<(PointCloud, LoadReport, Vec<u32>), CloudError> {
     let n = data.vertex_count;
     let mut warnings = Vec::new();
     let (positions, mut keep) = read_positions(path, &data, &mut warnings)?;
@@ -142,7 +195,9 @@ fn build(
         radii_from = from;
     }
 
-    let merged = super::duplicates::merge(&mut cloud, &mut needs.normal, &mut needs.radius);
+    let before_merge = cloud.len();
+    let merged_into = super::duplicates::merge_indexed(&mut cloud, &mut needs.normal, &mut needs.radius);
+    let merged = before_merge - cloud.len();
     if merged > 0 {
         warnings.push(format!(
             "{merged} splats that repeat another's position, normal and radius exactly were merged into it (colour and opacity averaged)"
@@ -172,7 +227,11 @@ fn build(
         estimate_seconds,
     };
     debug_assert!(cloud.is_consistent());
-    Ok((cloud, report))
+    let mut splat_of = vec![u32::MAX; n];
+    for (k, &file_vertex) in kept.iter().enumerate() {
+        splat_of[file_vertex] = merged_into[k];
+    }
+    Ok((cloud, report, splat_of))
 }
 
 /// The file's vertex positions, and which of them are usable (finite, and

@@ -20,7 +20,7 @@ pub mod write;
 
 pub use error::CloudError;
 pub(crate) use error::one_line;
-pub use load::{LoadOptions, load, load_surface_samples, load_with};
+pub use load::{LoadOptions, load, load_mesh, load_surface_samples, load_with};
 
 use glam::Vec3;
 

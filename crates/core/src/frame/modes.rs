@@ -79,6 +79,9 @@ pub struct ModeInfo {
     /// Fresnel, dispersion, absorption; Zhang & Pajarola §5.2.3) of a scene
     /// with an environment map. The others refuse such a scene.
     pub environment: bool,
+    /// Whether it draws mesh triangles (`mesh` and `hybrid` scene objects,
+    /// [`crate::hybrid`]); the others draw those objects as their vertex splats, and say so.
+    pub triangles: bool,
 }
 
 /// Algorithm-1's grouping: WGC with K = 4 and radius enlargement, the best of
@@ -99,6 +102,7 @@ const REGISTRY: [ModeInfo; 9] = [
             Parameter::Epsilon,
             Parameter::RadiusScale,
             Parameter::PointBudget,
+            Parameter::HybridPixels,
             Parameter::Prefilter,
             Parameter::BackfaceCulling,
             Parameter::Lighting,
@@ -112,6 +116,7 @@ const REGISTRY: [ModeInfo; 9] = [
         default_peel_layers: 1,
         covering_grouping: None,
         draws_opaque_scenes: false,
+        triangles: true,
         environment: false,
     },
     ModeInfo {
@@ -125,6 +130,7 @@ const REGISTRY: [ModeInfo; 9] = [
             Parameter::DepthStep,
             Parameter::RadiusScale,
             Parameter::PointBudget,
+            Parameter::HybridPixels,
             Parameter::Prefilter,
             Parameter::BackfaceCulling,
             Parameter::Lighting,
@@ -138,6 +144,7 @@ const REGISTRY: [ModeInfo; 9] = [
         default_peel_layers: 1,
         covering_grouping: None,
         draws_opaque_scenes: false,
+        triangles: true,
         environment: false,
     },
     ModeInfo {
@@ -149,6 +156,7 @@ const REGISTRY: [ModeInfo; 9] = [
             Parameter::Epsilon,
             Parameter::RadiusScale,
             Parameter::PointBudget,
+            Parameter::HybridPixels,
             Parameter::Prefilter,
             Parameter::BackfaceCulling,
             Parameter::Lighting,
@@ -162,6 +170,7 @@ const REGISTRY: [ModeInfo; 9] = [
         default_peel_layers: 8,
         covering_grouping: None,
         draws_opaque_scenes: false,
+        triangles: true,
         environment: false,
     },
     ModeInfo {
@@ -186,6 +195,7 @@ const REGISTRY: [ModeInfo; 9] = [
         default_peel_layers: 3,
         covering_grouping: None,
         draws_opaque_scenes: false,
+        triangles: false,
         environment: false,
     },
     ModeInfo {
@@ -211,6 +221,7 @@ const REGISTRY: [ModeInfo; 9] = [
         default_peel_layers: 1,
         covering_grouping: Some(ALG1_GROUPING),
         draws_opaque_scenes: false,
+        triangles: false,
         environment: false,
     },
     ModeInfo {
@@ -240,6 +251,7 @@ const REGISTRY: [ModeInfo; 9] = [
         default_peel_layers: 1,
         covering_grouping: Some(ALG1_GROUPING),
         draws_opaque_scenes: false,
+        triangles: false,
         environment: true,
     },
     ModeInfo {
@@ -262,6 +274,7 @@ const REGISTRY: [ModeInfo; 9] = [
         default_peel_layers: 1,
         covering_grouping: None,
         draws_opaque_scenes: false,
+        triangles: false,
         environment: false,
     },
     ModeInfo {
@@ -287,6 +300,7 @@ const REGISTRY: [ModeInfo; 9] = [
         default_peel_layers: 1,
         covering_grouping: None,
         draws_opaque_scenes: true,
+        triangles: false,
         environment: true,
     },
     ModeInfo {
@@ -313,6 +327,7 @@ const REGISTRY: [ModeInfo; 9] = [
         default_peel_layers: 1,
         covering_grouping: None,
         draws_opaque_scenes: false,
+        triangles: true,
         environment: true,
     },
 ];

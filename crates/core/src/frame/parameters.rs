@@ -47,10 +47,12 @@ pub enum Parameter {
     Supersample,
     /// Most splats a frame draws, from the multi-resolution hierarchy.
     PointBudget,
+    /// Splat radius in pixels above which a hybrid object's leaf is drawn as triangles.
+    HybridPixels,
 }
 
 impl Parameter {
-    pub const ALL: [Parameter; 18] = [
+    pub const ALL: [Parameter; 19] = [
         Parameter::Quality,
         Parameter::Epsilon,
         Parameter::DepthStep,
@@ -69,6 +71,7 @@ impl Parameter {
         Parameter::Prefilter,
         Parameter::Supersample,
         Parameter::PointBudget,
+        Parameter::HybridPixels,
     ];
 
     /// The name in `key=value` settings (bench variants).
@@ -92,6 +95,7 @@ impl Parameter {
             Parameter::Prefilter => "prefilter",
             Parameter::Supersample => "supersample",
             Parameter::PointBudget => "point-budget",
+            Parameter::HybridPixels => "hybrid-px",
         }
     }
 
@@ -117,6 +121,9 @@ impl Parameter {
             Parameter::Prefilter => "ewa or none",
             Parameter::Supersample => "rays per pixel side, 1..=16",
             Parameter::PointBudget => "a number of splats, 1 or more, or all",
+            Parameter::HybridPixels => {
+                "a splat radius in pixels, 0 or more (0: every leaf as triangles), or inf (splats only)"
+            }
         }
     }
 
@@ -174,6 +181,9 @@ impl Parameter {
                     "all" => None,
                     _ => Some(value.parse::<u32>().ok().filter(|n| *n >= 1).ok_or_else(bad)?),
                 }
+            }
+            Parameter::HybridPixels => {
+                settings.hybrid_pixels = value.parse::<f32>().ok().filter(|p| *p >= 0.0).ok_or_else(bad)?;
             }
             Parameter::Supersample => {
                 let max = super::settings::MAX_SUPERSAMPLE;

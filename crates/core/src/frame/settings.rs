@@ -53,7 +53,17 @@ pub struct RenderSettings {
     /// Most splats a GPU frame draws, chosen from the multi-resolution
     /// hierarchy ([`crate::lod`]) by screen-space error; `None` draws every splat.
     pub point_budget: Option<u32>,
+    /// A hybrid object's leaf is drawn as triangles where its largest splat
+    /// would be wider than this radius in pixels ([`crate::hybrid::select`]).
+    pub hybrid_pixels: f32,
 }
+
+/// The default of [`RenderSettings::hybrid_pixels`]: a hybrid leaf is drawn
+/// as triangles where its splats would be wider than 3 px in radius. On
+/// lavapipe triangles are cheaper than splats at every bench view of the
+/// bunny at 512² (docs/BENCHMARKS.md), so the threshold is set by quality:
+/// splats of a few pixels blend as well as the reference.
+pub const DEFAULT_HYBRID_PIXELS: f32 = 3.0;
 
 /// Most rays per pixel side of a supersampled reference.
 pub const MAX_SUPERSAMPLE: u32 = 16;
@@ -129,6 +139,7 @@ impl Default for RenderSettings {
             prefilter: Default::default(),
             supersample: 1,
             point_budget: None,
+            hybrid_pixels: DEFAULT_HYBRID_PIXELS,
         }
     }
 }

@@ -68,6 +68,10 @@ pub struct SidecarSettings {
     /// Rays per pixel side of a reference frame (1 when absent).
     #[serde(default = "one_ray", skip_serializing_if = "is_one_ray")]
     pub supersample: u32,
+    /// The hybrid objects' triangle threshold in pixels (the default when
+    /// absent; infinity is written as f32::MAX, which JSON can hold).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hybrid_px: Option<f32>,
 }
 
 fn one_ray() -> u32 {
@@ -145,6 +149,8 @@ impl Sidecar {
                 prefilter: settings.prefilter.to_string(),
                 point_budget: settings.point_budget,
                 supersample: settings.supersample,
+                hybrid_px: (settings.hybrid_pixels != super::settings::DEFAULT_HYBRID_PIXELS)
+                    .then_some(settings.hybrid_pixels.min(f32::MAX)),
             },
             time: None,
         }
@@ -218,6 +224,7 @@ impl Sidecar {
             prefilter: s.prefilter.parse()?,
             point_budget: s.point_budget,
             supersample: s.supersample.clamp(1, super::settings::MAX_SUPERSAMPLE),
+            hybrid_pixels: s.hybrid_px.filter(|p| *p >= 0.0).unwrap_or(super::settings::DEFAULT_HYBRID_PIXELS),
             ..RenderSettings::default()
         };
         settings.shading.light_dir_eye = Vec3::from_array(s.light_dir_eye);

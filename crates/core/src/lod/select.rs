@@ -27,7 +27,7 @@ pub struct Selection {
 }
 
 /// The view frustum in eye space, as what a sphere must pass.
-struct Frustum {
+pub(crate) struct Frustum {
     view: Mat4,
     planes: [Vec3; 4],
     near: f32,
@@ -37,7 +37,7 @@ struct Frustum {
 }
 
 impl Frustum {
-    fn new(camera: &Camera, (width, height): (u32, u32)) -> Self {
+    pub(crate) fn new(camera: &Camera, (width, height): (u32, u32)) -> Self {
         let aspect = width.max(1) as f32 / height.max(1) as f32;
         let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
         let tan_x = tan_y * aspect;
@@ -53,7 +53,7 @@ impl Frustum {
     }
 
     /// The node's error in pixels, or `None` when its sphere is outside the frustum.
-    fn error(&self, centre: Vec3, reach: f32, radius: f32) -> Option<f32> {
+    pub(crate) fn error(&self, centre: Vec3, reach: f32, radius: f32) -> Option<f32> {
         let c = self.view.transform_point3(centre);
         let depth = -c.z;
         if depth + reach < self.near || depth - reach > self.far || self.planes.iter().any(|n| n.dot(c) < -reach) {
@@ -63,7 +63,7 @@ impl Frustum {
     }
 
     /// The node's error in pixels wherever it is.
-    fn error_anywhere(&self, centre: Vec3, reach: f32, radius: f32) -> f32 {
+    pub(crate) fn error_anywhere(&self, centre: Vec3, reach: f32, radius: f32) -> f32 {
         let nearest = self.view.transform_point3(centre).length() - reach;
         if nearest <= self.near { f32::INFINITY } else { radius * self.pixels_per_unit / nearest }
     }

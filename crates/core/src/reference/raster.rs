@@ -12,6 +12,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use super::tiles::{self, EyeSplat, TILE};
+use super::triangles;
 use crate::frame::environment::{EnvironmentSettings, GlassPixel};
 use crate::frame::{Camera, Lights, Shading, SplatKernel};
 use crate::scene::Scene;
@@ -145,8 +146,12 @@ fn render_samples(
     let view = camera.view_matrix();
     let proj = camera.projection(aspect);
     let (near, far) = camera.near_far();
+    // Objects with triangles are drawn as their triangles, and only their splats no triangle uses.
+    let surfaces = scene.surfaces(&flat);
+    let drawn = surfaces.splats_without_surfaces(cloud.len());
     let splats: Vec<EyeSplat> = (0..cloud.len())
         .into_par_iter()
+        .filter(|&i| drawn[i])
         .filter_map(|i| {
             let centre = view.transform_point3(cloud.positions[i]);
             let normal = view.transform_vector3(cloud.normals[i]).try_normalize().unwrap_or(Vec3::Z);
@@ -169,7 +174,11 @@ fn render_samples(
             })
         })
         .collect();
-    let bins = tiles::bin(&splats, &proj, width, height, near);
+    let mut bins = tiles::bin(&splats, &proj, width, height, near);
+    let eye_triangles =
+        triangles::eye_triangles(cloud, surfaces.triangles(), &view, options.backface_culling, options.transparent);
+    triangles::bin(&eye_triangles, &proj, (width, height), near, &mut bins);
+    let centre_weight = options.kernel.weight(0.0);
     let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
     let lens = Vec2::new(tan_y * aspect, tan_y);
     let environment = scene.environment.as_deref().filter(|_| options.transparent && options.environment.enabled);
@@ -205,6 +214,7 @@ fn render_samples(
                 let (tx, ty) = (tile % bins.columns, tile / bins.columns);
                 let mut hits = Vec::new();
                 let mut used = Vec::new();
+                let mut triangle_hits = Vec::new();
                 let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
                 for y in ty * TILE..((ty + 1) * TILE).min(height) {
                     for x in tx * TILE..((tx + 1) * TILE).min(width) {
@@ -214,13 +224,23 @@ fn render_samples(
                         );
                         let ray = (ndc * lens).extend(-1.0);
                         hits.clear();
+                        triangle_hits.clear();
                         for &s in &bins.bins[tile as usize] {
-                            if let Some(hit) = intersect(&splats[s as usize], ray, &options.kernel, near, far) {
+                            if s >= bins.first_triangle {
+                                let t = &eye_triangles[(s - bins.first_triangle) as usize];
+                                if let Some((depth, record)) = triangles::intersect(t, ray, near, far) {
+                                    let splat = bins.first_triangle + triangle_hits.len() as u32;
+                                    let facing = t.face.dot(ray) < 0.0;
+                                    hits.push(Hit { depth, weight: centre_weight, splat, facing });
+                                    triangle_hits.push(record);
+                                }
+                            } else if let Some(hit) = intersect(&splats[s as usize], ray, &options.kernel, near, far) {
                                 hits.push(Hit { splat: s, ..hit });
                             }
                         }
+                        let records = Records { splats: &splats, triangle_hits: &triangle_hits };
                         let (colour, layers, glass) =
-                            composite(&mut hits, &mut used, &splats, ray, options, glassy, lit.as_ref());
+                            composite(&mut hits, &mut used, &records, ray, options, glassy, lit.as_ref());
                         pixels.push((colour, layers, glass));
                     }
                 }
@@ -270,6 +290,20 @@ fn gcd(a: u32, b: u32) -> u32 {
     if b == 0 { a } else { gcd(b, a % b) }
 }
 
+/// What a pixel's hits name: splats, then the pixel's triangle hits (from
+/// `splats.len()` on, as [`triangles::intersect`] made them).
+struct Records<'a> {
+    splats: &'a [EyeSplat],
+    triangle_hits: &'a [EyeSplat],
+}
+
+impl Records<'_> {
+    fn get(&self, i: u32) -> &EyeSplat {
+        let i = i as usize;
+        if i < self.splats.len() { &self.splats[i] } else { &self.triangle_hits[i - self.splats.len()] }
+    }
+}
+
 /// One pixel of a tile: its colour, how many layers it composited, and its
 /// nearest transparent layer for the environment effects.
 type TilePixel = (Vec3, u32, Option<GlassPixel>);
@@ -298,7 +332,7 @@ fn intersect(s: &EyeSplat, ray: Vec3, kernel: &SplatKernel, near: f32, far: f32)
 fn composite(
     hits: &mut [Hit],
     used: &mut Vec<bool>,
-    splats: &[EyeSplat],
+    splats: &Records<'_>,
     ray: Vec3,
     options: &ReferenceOptions,
     glassy: bool,
@@ -327,7 +361,7 @@ fn composite(
                 continue;
             }
             *taken = true;
-            let s = &splats[h.splat as usize];
+            let s = splats.get(h.splat);
             sum_w += h.weight;
             sum_c += s.colour * h.weight;
             sum_n += s.normal * h.weight;

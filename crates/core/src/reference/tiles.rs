@@ -22,10 +22,12 @@ pub struct EyeSplat {
     pub opacity: f32,
 }
 
-/// Splat indices per tile, row-major over the tile grid.
+/// Splat indices per tile, row-major over the tile grid; indices from
+/// `first_triangle` on are triangles (`first_triangle` + their index).
 pub struct TileBins {
     pub columns: u32,
     pub bins: Vec<Vec<u32>>,
+    pub first_triangle: u32,
 }
 
 /// Screen-space pixel bounds of a splat, or `None` if it is off screen.
@@ -38,31 +40,38 @@ fn pixel_bounds(s: &EyeSplat, proj: &Mat4, width: u32, height: u32, near: f32) -
         // The box reaches the near plane: its corners do not project, and the splat may cover anything.
         return Some((0, 0, width - 1, height - 1));
     }
-    let mut min = glam::Vec2::splat(f32::INFINITY);
-    let mut max = glam::Vec2::splat(f32::NEG_INFINITY);
-    for corner in 0..8 {
-        let p = Vec3::new(
+    let corners = (0..8).map(|corner| {
+        Vec3::new(
             if corner & 1 == 0 { lo.x } else { hi.x },
             if corner & 2 == 0 { lo.y } else { hi.y },
             if corner & 4 == 0 { lo.z } else { hi.z },
-        );
+        )
+    });
+    let (min, max) = screen_box(corners, proj, width, height)?;
+    let clamp_x = |v: f32| (v.floor().max(0.0) as u32).min(width - 1);
+    let clamp_y = |v: f32| (v.floor().max(0.0) as u32).min(height - 1);
+    Some((clamp_x(min.x), clamp_y(min.y), clamp_x(max.x), clamp_y(max.y)))
+}
+
+/// The pixel box of eye-space `points` (all in front of the near plane),
+/// or `None` when it is off screen.
+pub fn screen_box(
+    points: impl Iterator<Item = Vec3>,
+    proj: &Mat4,
+    width: u32,
+    height: u32,
+) -> Option<(glam::Vec2, glam::Vec2)> {
+    let mut min = glam::Vec2::splat(f32::INFINITY);
+    let mut max = glam::Vec2::splat(f32::NEG_INFINITY);
+    for p in points {
         let clip = *proj * p.extend(1.0);
         let ndc = glam::Vec2::new(clip.x, clip.y) / clip.w;
         let px = glam::Vec2::new((ndc.x * 0.5 + 0.5) * width as f32, (0.5 - ndc.y * 0.5) * height as f32);
         min = min.min(px);
         max = max.max(px);
     }
-    if !(min.is_finite() && max.is_finite())
-        || max.x < 0.0
-        || max.y < 0.0
-        || min.x > width as f32
-        || min.y > height as f32
-    {
-        return None;
-    }
-    let clamp_x = |v: f32| (v.floor().max(0.0) as u32).min(width - 1);
-    let clamp_y = |v: f32| (v.floor().max(0.0) as u32).min(height - 1);
-    Some((clamp_x(min.x), clamp_y(min.y), clamp_x(max.x), clamp_y(max.y)))
+    let off_screen = max.x < 0.0 || max.y < 0.0 || min.x > width as f32 || min.y > height as f32;
+    (min.is_finite() && max.is_finite() && !off_screen).then_some((min, max))
 }
 
 /// Bins `splats` into tiles of [`TILE`] pixels.
@@ -79,5 +88,5 @@ pub fn bin(splats: &[EyeSplat], proj: &Mat4, width: u32, height: u32, near: f32)
             }
         }
     }
-    TileBins { columns, bins }
+    TileBins { columns, bins, first_triangle: splats.len() as u32 }
 }

@@ -18,6 +18,11 @@
 //! two_sided = true                   # default: true when opacity < 1
 //!
 //! [[object]]
+//! mesh = "cube.ply"                  # a PLY with faces, drawn as triangles
+//!                                    # (or hybrid = "x.ply": triangles where its splats
+//!                                    # would be large, splats elsewhere; crates/core/src/hybrid)
+//!
+//! [[object]]
 //! sphere = { splats = 800, radius = 0.012, centre = [0.0, 0.03, 0.0] }
 //! color = [200, 40, 40]
 //! translate = [0.01, 0.0, 0.0]       # metres (the file's units)
@@ -72,6 +77,7 @@ use crate::cloud::{self, LoadOptions};
 use crate::frame::UpAxis;
 use crate::frame::{Light, LightKind};
 use crate::hash::{FNV_OFFSET, fnv1a};
+use crate::hybrid::{Surface, SurfaceKind};
 
 /// A problem with a scene file, with where it is.
 #[derive(Debug, thiserror::Error)]
@@ -128,6 +134,8 @@ struct CameraEntry {
 #[serde(deny_unknown_fields)]
 struct ObjectEntry {
     ply: Option<Spanned<String>>,
+    mesh: Option<Spanned<String>>,
+    hybrid: Option<Spanned<String>>,
     sphere: Option<Spanned<SphereEntry>>,
     plane: Option<Spanned<PlaneEntry>>,
     name: Option<String>,
@@ -246,21 +254,43 @@ impl Reader<'_> {
         let span = entry.span();
         let entry = entry.get_ref();
         let mut sequence = None;
+        let mut surface = None;
+        let sources = [entry.ply.is_some(), entry.mesh.is_some(), entry.hybrid.is_some()];
         let (name, cloud, hash) = match (&entry.ply, &entry.sphere, &entry.plane, &entry.sequence) {
-            (Some(ply), None, None, None) => self.ply(ply, warnings)?,
-            (None, Some(s), None, None) => self.sphere(s)?,
-            (None, None, Some(p), None) => self.plane(p)?,
-            (None, None, None, Some(pattern)) => {
+            _ if sources.iter().filter(|&&s| s).count()
+                + [entry.sphere.is_some(), entry.plane.is_some(), entry.sequence.is_some()]
+                    .iter()
+                    .filter(|&&s| s)
+                    .count()
+                != 1 =>
+            {
+                return Err(self.at(
+                    Some(span),
+                    "an object needs exactly one of `ply`, `mesh`, `hybrid`, `sphere`, `plane` or `sequence`".into(),
+                ));
+            }
+            (Some(ply), ..) => self.ply(ply, warnings)?,
+            (_, Some(s), ..) => self.sphere(s)?,
+            (_, _, Some(p), _) => self.plane(p)?,
+            (.., Some(pattern)) => {
                 let (found, first) = self.sequence(pattern, entry.fps.as_ref())?;
                 sequence = Some(found);
                 first
             }
             _ => {
-                return Err(
-                    self.at(Some(span), "an object needs exactly one of `ply`, `sphere`, `plane` or `sequence`".into())
-                );
+                let (file, kind) = match (&entry.mesh, &entry.hybrid) {
+                    (Some(m), _) => (m, SurfaceKind::Mesh),
+                    (_, Some(h)) => (h, SurfaceKind::Hybrid),
+                    _ => unreachable!("one source is set (checked above)"),
+                };
+                let (name, cloud, hash, found) = self.mesh(file, kind, warnings)?;
+                surface = Some(Arc::new(found));
+                (name, cloud, hash)
             }
         };
+        if surface.is_some() && (entry.deform.is_some() || !entry.keyframes.is_empty()) {
+            return Err(self.at(Some(span), "a mesh or hybrid object cannot move (keyframes or deform) yet".into()));
+        }
         if let (Some(fps), None) = (&entry.fps, &entry.sequence) {
             return Err(self.at(Some(fps.span()), "`fps` belongs to an object with a `sequence`".into()));
         }
@@ -308,7 +338,27 @@ impl Reader<'_> {
             material,
             content_hash: hash,
             animation,
+            surface,
         })
+    }
+
+    /// A `mesh` or `hybrid` object: its name, its vertices' cloud, its
+    /// content hash and its triangles in leaves; load warnings go to `warnings`.
+    fn mesh(
+        &self,
+        file: &Spanned<String>,
+        kind: SurfaceKind,
+        warnings: &mut Vec<String>,
+    ) -> Result<(String, cloud::PointCloud, u64, Surface), SceneError> {
+        let path = self.folder.join(file.get_ref());
+        let (cloud, triangles, report) = cloud::load_mesh(&path, self.options)
+            .map_err(|e| self.at(Some(file.span()), cloud::one_line(&e.to_string())))?;
+        let hash = crate::hash::file_hash(&path)
+            .map_err(|e| self.at(Some(file.span()), format!("{}: {e}", path.display())))?;
+        warnings.extend(report.warnings.iter().map(|w| format!("{}: {w}", path.display())));
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let surface = Surface::build(kind, &cloud, triangles);
+        Ok((format!("{name} ({})", kind.name()), cloud, crate::hash::fnv1a(hash, kind.name().as_bytes()), surface))
     }
 
     /// A `sequence` object's frames and its first frame (name, cloud, hash).

@@ -43,6 +43,8 @@ pub struct SceneObject {
     pub content_hash: u64,
     /// How the object moves, if it does (see [`Scene::at_time`]).
     pub animation: Option<Arc<animation::Animation>>,
+    /// A mesh's triangles over the cloud's splats (`mesh =` and `hybrid =` objects).
+    pub surface: Option<Arc<crate::hybrid::Surface>>,
 }
 
 impl SceneObject {
@@ -123,6 +125,7 @@ impl Scene {
             material: Material::default(),
             content_hash,
             animation: None,
+            surface: None,
         };
         Scene { objects: vec![object], ..Default::default() }
     }
@@ -236,6 +239,21 @@ impl Scene {
             }
         }
         FlatScene { cloud: Cow::Owned(out), objects }
+    }
+
+    /// The objects' mesh triangles in the flattened frame of `flat` (this scene's [`Scene::flatten`]).
+    pub fn surfaces(&self, flat: &FlatScene<'_>) -> crate::hybrid::select::SceneSurfaces {
+        let surfaces = self
+            .objects
+            .iter()
+            .zip(&flat.objects)
+            .filter_map(|(o, (range, _))| o.surface.as_ref().map(|s| (Arc::clone(s), range.start)));
+        crate::hybrid::select::SceneSurfaces::new(&flat.cloud, surfaces)
+    }
+
+    /// Whether some object has triangles (`mesh` or `hybrid`).
+    pub fn has_surfaces(&self) -> bool {
+        self.objects.iter().any(|o| o.surface.is_some())
     }
 
     /// Sets every object's opacity (and makes transparent ones two-sided).

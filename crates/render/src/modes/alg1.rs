@@ -56,6 +56,7 @@ impl GpuMode for Alg1 {
             splats: 0..0,
             back_to_front: true,
             uniforms: uniforms(0),
+            triangles: false,
         };
         let average = FullscreenPass::into_frame(
             "Alg1Average::pass",

@@ -98,6 +98,7 @@ impl GpuMode for Alg2 {
             splats: 0..0,
             back_to_front: false,
             uniforms: uniforms(0),
+            triangles: false,
         };
         let others = SplatPass {
             label: "Alg2Other::pass",

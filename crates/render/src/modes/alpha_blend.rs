@@ -41,6 +41,7 @@ impl GpuMode for AlphaBlend {
             splats: 0..frame.splats as u32,
             back_to_front: true,
             uniforms,
+            triangles: false,
         };
         let over = FullscreenPass::into_frame(
             "AlphaBlendOver::pass",

@@ -51,6 +51,17 @@ fn composite_inputs(frame: &FrameDesc<'_>) -> Vec<TargetId> {
     inputs
 }
 
+/// The group passes, the first also drawing the mesh triangles: a triangle
+/// wins group 0's z-test where it is nearest (its fragments have ρ = 0, the
+/// Voronoi z of a splat's centre), and the compositing sums it with the
+/// other groups' splats within ε, as it sums splats.
+fn with_triangles_in_group_0(mut passes: Vec<Command>) -> Vec<Command> {
+    if let Some(Command::Splats(first)) = passes.first_mut() {
+        first.triangles = true;
+    }
+    passes
+}
+
 impl GpuMode for Deferred {
     fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan {
         let k = groups(frame);
@@ -79,6 +90,7 @@ impl GpuMode for Deferred {
             splats: 0..0,
             back_to_front: false,
             uniforms: uniforms(0),
+            triangles: false,
         };
         let composite = FullscreenPass::into_frame(
             "Composite::pass",
@@ -91,7 +103,7 @@ impl GpuMode for Deferred {
             Step::new(
                 "group images",
                 "splats of group k -> layer k: w·rgb, w (+ w·n) + depth; z-test per group",
-                per_group(geometry, frame.groups, k, uniforms),
+                with_triangles_in_group_0(per_group(geometry, frame.groups, k, uniforms)),
             ),
             Step::new(
                 "composite",

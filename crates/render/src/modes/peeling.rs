@@ -128,6 +128,8 @@ pub fn splat_pass(
         splats: 0..frame.splats as u32,
         back_to_front: false,
         uniforms: uniforms(frame, layer),
+        // Each layer peels the mesh's triangles with the splats.
+        triangles: true,
     }
 }
 

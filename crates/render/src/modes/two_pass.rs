@@ -123,6 +123,7 @@ pub(super) fn steps(frame: &FrameDesc<'_>, ids: &Targets, splats: Range<u32>) ->
             splats: splats.clone(),
             back_to_front: false,
             uniforms,
+            triangles: true,
         })
     };
     let mut steps = Vec::new();

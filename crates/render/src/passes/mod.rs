@@ -77,6 +77,9 @@ pub struct SplatPass {
     /// sorts the scene's instances first, in the order the settings choose).
     pub back_to_front: bool,
     pub uniforms: PassUniforms,
+    /// Whether the pass also draws the frame's mesh triangles (after its
+    /// splats, through the same fragment entry; none when the scene has none).
+    pub triangles: bool,
 }
 
 /// Where a full-screen pass writes.
@@ -238,6 +241,9 @@ pub enum PipelineKind {
         colour: Vec<(wgpu::TextureFormat, Blend)>,
         depth: Option<(wgpu::TextureFormat, bool, wgpu::CompareFunction)>,
         inputs: Vec<wgpu::TextureViewDimension>,
+        /// Cull triangles facing away by their winding (mesh triangles of
+        /// one-sided objects only: splats are culled by their normals).
+        cull_back: bool,
     },
     Fullscreen {
         inputs: Vec<wgpu::TextureViewDimension>,

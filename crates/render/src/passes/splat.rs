@@ -1,11 +1,15 @@
 //! The splat pass builder: every pass that draws splats (visibility,
 //! accumulation, nearest splat, group layers) is an instanced 4-vertex strip
 //! per splat through `vs_splat` (shaders/splat.wgsl), differing only in its
-//! fragment entry point, its outputs and blending, and its depth test.
+//! fragment entry point, its outputs and blending, and its depth test. A
+//! pass that also draws the scene's mesh triangles ([`SplatPass::triangles`])
+//! draws them after the splats, in the same render pass, through the same
+//! fragment entry built with `Variant::TRIANGLES` (`vs_triangle`).
 
 use super::{PipelineKind, SplatPass};
-use crate::gpu_data::SplatInstance;
+use crate::gpu_data::{SplatInstance, TriangleVertex};
 use crate::gpu_scene::GpuScene;
+use crate::shaders::Variant;
 
 /// Builds the pipeline of a splat pass described by `kind`.
 pub fn pipeline(
@@ -15,11 +19,19 @@ pub fn pipeline(
     module: &wgpu::ShaderModule,
     entry: &str,
     kind: &PipelineKind,
-    lights: bool,
+    variant: Variant,
 ) -> Option<wgpu::RenderPipeline> {
-    let PipelineKind::Splats { colour, depth, .. } = kind else { return None };
+    let PipelineKind::Splats { colour, depth, cull_back, .. } = kind else { return None };
     // A frame lit by scene lights reads each splat's shadow coefficients from a second instance buffer.
     let with_lights = [Some(SplatInstance::layout()), Some(crate::gpu_data::splat_light_layout())];
+    let triangles = [Some(TriangleVertex::layout())];
+    let (vertex_entry, buffers, topology) = if variant.has(Variant::TRIANGLES) {
+        ("vs_triangle", &triangles[..], wgpu::PrimitiveTopology::TriangleList)
+    } else if variant.has(Variant::LIGHTS) {
+        ("vs_splat", &with_lights[..], wgpu::PrimitiveTopology::TriangleStrip)
+    } else {
+        ("vs_splat", &with_lights[..1], wgpu::PrimitiveTopology::TriangleStrip)
+    };
     let targets: Vec<Option<wgpu::ColorTargetState>> = colour
         .iter()
         .map(|&(format, blend)| {
@@ -31,11 +43,16 @@ pub fn pipeline(
         layout: Some(layout),
         vertex: wgpu::VertexState {
             module,
-            entry_point: Some("vs_splat"),
+            entry_point: Some(vertex_entry),
             compilation_options: Default::default(),
-            buffers: if lights { &with_lights } else { &with_lights[..1] },
+            buffers,
         },
-        primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleStrip, ..Default::default() },
+        primitive: wgpu::PrimitiveState {
+            topology,
+            // Outward faces wind counter-clockwise (the face normal is (b - a) × (c - a)).
+            cull_mode: cull_back.then_some(wgpu::Face::Back),
+            ..Default::default()
+        },
         depth_stencil: depth.map(|(format, write, compare)| wgpu::DepthStencilState {
             format,
             depth_write_enabled: Some(write),
@@ -72,6 +89,7 @@ pub fn record(
     inputs: Option<&wgpu::BindGroup>,
     attachments: &Attachments<'_>,
     scene: &GpuScene,
+    triangles: Option<&wgpu::RenderPipeline>,
     timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) {
     let colour: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = attachments
@@ -110,4 +128,11 @@ pub fn record(
         render_pass.set_bind_group(1, inputs, &[]);
     }
     scene.draw_range(&mut render_pass, pass.splats.clone());
+    if let (Some(pipeline), Some(draw)) = (triangles, &scene.triangles) {
+        render_pass.set_pipeline(pipeline);
+        render_pass.set_vertex_buffer(0, draw.buffer.slice(..));
+        for range in &draw.ranges {
+            render_pass.draw(range.start * 3..range.end * 3, 0..1);
+        }
+    }
 }

@@ -226,6 +226,10 @@ impl SceneFrames {
         settings: &RenderSettings,
         size: (u32, u32),
     ) -> Result<(&GpuScene, RenderSettings), FrameError> {
+        if self.draws_triangles(settings) {
+            let settings = self.unbudgeted_with_meshes(settings);
+            return Ok((self.hybrid_scene(gpu, camera, &settings, size)?.0, settings));
+        }
         match self.applied_budget(settings) {
             Some(budget) => {
                 let unbudgeted = RenderSettings { point_budget: None, ..*settings };

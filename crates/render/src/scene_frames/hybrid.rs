@@ -1,0 +1,209 @@
+//! Frames of a scene with meshes (`mesh` and `hybrid` objects) in a mode
+//! that draws triangles: every triangle of the scene is uploaded once (three
+//! unshared vertices each, in world space, materials applied), and each
+//! frame chooses which leaves are drawn as triangles and which splats are
+//! drawn ([`pointblend_core::hybrid::select`], Guennebaud's hybrid rules; part of
+//! the frame's time). When the splats chosen change, they are gathered into
+//! one cloud and handed to a [`SceneFrames`] of their own as a moving
+//! scene's next frame (as under a point budget: the grouped modes get the
+//! hash grouping of the splats drawn), and the mode's passes draw the
+//! triangles' ranges beside them.
+//!
+//! A mode that cannot draw triangles draws the scene's every splat (the
+//! mesh's vertices among them) and says so, once in the log and in the
+//! plan's notes; so does a frame lit by scene lights (translucent shadows
+//! are cast and received by splats) and a moving scene. A scene with meshes draws every splat it draws: a point
+//! budget does not apply to it.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use super::{FrameError, SceneFrames};
+use crate::frame::{Camera, RenderSettings};
+use crate::gpu_scene::{GpuScene, TriangleDraw};
+use crate::grouping::regroup::Lattice;
+use crate::headless::HeadlessRenderer;
+use crate::scene::Scene;
+use pointblend_core::hybrid::select::{HybridOptions, HybridSelection, SceneSurfaces};
+
+/// What the last frame with triangles drew and cost.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct HybridStats {
+    pub triangles: u32,
+    pub splats: usize,
+    pub triangle_leaves: usize,
+    pub splat_leaves: usize,
+    pub transition_splats: usize,
+    /// Choosing the leaves, in milliseconds.
+    pub select_ms: f64,
+    /// Gathering the splats and rewriting their GPU copy (when they changed), in milliseconds.
+    pub update_ms: f64,
+    pub changed: bool,
+}
+
+impl HybridStats {
+    /// One line for the plan's notes and `--explain`.
+    pub fn describe(&self, pixels: f32) -> String {
+        format!(
+            "meshes: {} triangles of {} leaves and {} splats ({} leaves as splats, {} transition splats) drawn; \
+             leaves as triangles where splats exceed {pixels} px; selection {:.2} ms, update {:.1} ms{}",
+            self.triangles,
+            self.triangle_leaves,
+            self.splats,
+            self.splat_leaves,
+            self.transition_splats,
+            self.select_ms,
+            self.update_ms,
+            if self.changed { "" } else { " (unchanged)" },
+        )
+    }
+}
+
+/// The scene's triangles and the frames of the splats drawn beside them.
+pub(super) struct HybridFrames {
+    surfaces: SceneSurfaces,
+    buffer: Option<Arc<wgpu::Buffer>>,
+    selected: Option<HybridSelection>,
+    frames: Option<Box<SceneFrames>>,
+    lattice: Lattice,
+    last: HybridStats,
+}
+
+impl SceneFrames {
+    /// Why a GPU frame of `settings` draws the scene's meshes as their
+    /// vertex splats, if it does: a mode without triangles, scene lights
+    /// (translucent shadows are cast and received by splats, Gunjee §4), or a moving scene.
+    fn triangles_refused(&self, settings: &RenderSettings) -> Option<String> {
+        if !self.scene.has_surfaces() || !settings.mode.is_gpu() {
+            return None;
+        }
+        let why = if !settings.mode.info().triangles {
+            format!(
+                "{} cannot draw triangles (two-pass, deferred, depth-peel and the reference do)",
+                settings.mode.name()
+            )
+        } else if settings.lit_by_lights() {
+            "the frame is lit by scene lights, whose shadows are cast and received by splats".to_string()
+        } else if self.is_moving() {
+            "the scene moves (triangles are drawn in still scenes)".to_string()
+        } else {
+            return None;
+        };
+        Some(format!("{why}: the scene's mesh and hybrid objects are drawn as their vertex splats"))
+    }
+
+    /// Whether a frame of `settings` draws the scene's triangles (else says once why not).
+    pub fn draws_triangles(&self, settings: &RenderSettings) -> bool {
+        match self.triangles_refused(settings) {
+            Some(why) => {
+                pointblend_core::progress::warn_once(why);
+                false
+            }
+            None => self.scene.has_surfaces() && settings.mode.is_gpu(),
+        }
+    }
+
+    /// The notes a frame of `settings` adds when it draws the scene's meshes as splats.
+    pub fn mesh_notes(&self, settings: &RenderSettings) -> Vec<String> {
+        self.triangles_refused(settings).into_iter().collect()
+    }
+
+    /// `settings` without a point budget, which a scene with meshes does not
+    /// apply (and says so once).
+    pub(super) fn unbudgeted_with_meshes(&self, settings: &RenderSettings) -> RenderSettings {
+        if settings.point_budget.is_some() {
+            pointblend_core::progress::warn_once(
+                "the scene has meshes: every splat it draws is drawn (a point budget applies to scenes of splats)"
+                    .to_string(),
+            );
+        }
+        RenderSettings { point_budget: None, ..*settings }
+    }
+
+    /// What the last frame with triangles drew and cost.
+    pub fn last_hybrid(&self) -> Option<&HybridStats> {
+        self.hybrid.as_ref().map(|h| &h.last)
+    }
+
+    /// The GPU copy a frame with triangles from `camera` at `size` draws
+    /// (its leaves chosen here), and a line on what it draws.
+    pub fn hybrid_scene(
+        &mut self,
+        gpu: &HeadlessRenderer,
+        camera: &Camera,
+        settings: &RenderSettings,
+        size: (u32, u32),
+    ) -> Result<(&GpuScene, String), FrameError> {
+        if self.hybrid.is_none() {
+            let flat = self.scene.flatten();
+            let surfaces = self.scene.surfaces(&flat);
+            let lattice = Lattice::of(&self.cloud);
+            self.hybrid = Some(Box::new(HybridFrames {
+                surfaces,
+                buffer: None,
+                selected: None,
+                frames: None,
+                lattice,
+                last: HybridStats::default(),
+            }));
+        }
+        let environment = self.scene.environment.clone();
+        let cache = self.cache.clone();
+        let whole = Arc::clone(&self.cloud);
+        let state = self.hybrid.as_mut().expect("made above");
+        if state.buffer.is_none() {
+            let buffer = TriangleDraw::upload(&gpu.ctx.device, &whole, state.surfaces.triangles());
+            state.buffer = Some(Arc::new(buffer));
+        }
+        let started = Instant::now();
+        let options = HybridOptions {
+            pixels: settings.hybrid_pixels,
+            radius_scale: settings.radius_scale,
+            cull: !settings.lit_by_lights(),
+        };
+        let selection = state.surfaces.select(whole.len(), camera, size, options);
+        let select_ms = started.elapsed().as_secs_f64() * 1e3;
+        let started = Instant::now();
+        let changed = state.selected.as_ref().is_none_or(|s| s.splats != selection.splats);
+        if changed || state.frames.is_none() {
+            let cloud = selection.gather(&whole);
+            let splats: Vec<u8> = selection.splats.iter().flat_map(|v| v.to_le_bytes()).collect();
+            let key = pointblend_core::hash::fnv1a(self.hash, &splats);
+            let mut scene = Scene::single("hybrid", cloud, key);
+            scene.environment = environment;
+            let scene = Arc::new(scene);
+            let cloud = scene.flattened();
+            match &mut state.frames {
+                Some(frames) => {
+                    frames.advance(Some(gpu), scene, cloud)?;
+                }
+                None => {
+                    let mut frames = SceneFrames::new(scene, cloud).moving_on(state.lattice).with_cache(cache);
+                    frames.regroup_reason = "in a hybrid frame the splats drawn change with the view";
+                    state.frames = Some(Box::new(frames));
+                }
+            }
+        }
+        let draw = TriangleDraw {
+            buffer: Arc::clone(state.buffer.as_ref().expect("uploaded above")),
+            ranges: selection.triangles.clone(),
+            cull_back: settings.backface_culling && whole.two_sided.iter().all(|&two| !two),
+        };
+        state.last = HybridStats {
+            triangles: selection.triangle_count(),
+            splats: selection.splats.len(),
+            triangle_leaves: selection.triangle_leaves,
+            splat_leaves: selection.splat_leaves,
+            transition_splats: selection.transition_splats,
+            select_ms,
+            update_ms: started.elapsed().as_secs_f64() * 1e3,
+            changed,
+        };
+        let note = state.last.describe(settings.hybrid_pixels);
+        state.selected = Some(selection);
+        let frames = state.frames.as_mut().expect("made above");
+        let scene = frames.gpu_scene_mut(gpu, settings)?;
+        scene.set_triangles(Some(draw), &whole);
+        Ok((scene, note))
+    }
+}
