@@ -100,7 +100,7 @@ fn a_hybrid_cube_matches_the_reference_on_its_triangles_without_cracks_between_t
     let scene = open(&cube_scene(dir.path(), "hybrid", ""));
     let camera = corner_camera(&scene);
     let mut frames = SceneFrames::of(Arc::clone(&scene));
-    for mode in [RenderMode::TwoPass, RenderMode::Deferred] {
+    for mode in [RenderMode::TwoPass, RenderMode::Deferred, RenderMode::Tiled] {
         // Leaves whose splats would be wider than 9 px are triangles: the near faces here.
         let hybrid = RenderSettings { mode, hybrid_pixels: 9.0, ..Default::default() };
         let exact = reference::render(&scene, &camera, &ReferenceOptions::matching(&hybrid, &scene), SIZE, SIZE);
@@ -128,9 +128,10 @@ fn a_hybrid_cube_matches_the_reference_on_its_triangles_without_cracks_between_t
 #[test]
 fn meshes_opaque_and_transparent_are_their_triangles_and_modes_without_triangles_say_so() {
     let dir = tempfile::tempdir().unwrap();
-    for (opacity, modes) in
-        [("", &[RenderMode::TwoPass, RenderMode::Deferred][..]), ("opacity = 0.5", &[RenderMode::DepthPeel][..])]
-    {
+    for (opacity, modes) in [
+        ("", &[RenderMode::TwoPass, RenderMode::Deferred, RenderMode::Tiled][..]),
+        ("opacity = 0.5", &[RenderMode::DepthPeel, RenderMode::Tiled][..]),
+    ] {
         // The same file as a mesh, and as a hybrid object drawn as splats alone.
         let mesh = open(&cube_scene(dir.path(), "mesh", opacity));
         let hybrid = open(&cube_scene(dir.path(), "hybrid", opacity));

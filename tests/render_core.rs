@@ -299,6 +299,7 @@ fn each_group_layer_pass_carries_its_own_layer_in_its_uniforms() {
         environment: None,
         sums: pointblend::render::targets::SumPrecision::F32,
         lights: false,
+        triangles: 0,
     };
     let plan = pointblend::render::modes::plan(&frame).unwrap();
     let layers: Vec<u32> = plan

@@ -1,7 +1,7 @@
 //! naga validates exactly the shader modules the renderer builds: every mode
 //! is rendered in every setting that picks another module (lighting,
 //! quality, a cloud of one colour or of many, transparency, opaque splats
-//! drawn apart, an environment map, scene lights), the pipeline cache says which (root
+//! drawn apart, an environment map, scene lights, mesh triangles), the pipeline cache says which (root
 //! file, variant) pairs it built, and each of those is composed and
 //! validated. Every root file must be among them, and every WGSL file must
 //! be part of one of them, so none escapes validation.
@@ -68,6 +68,32 @@ fn built_modules() -> BTreeSet<(&'static str, String)> {
             frames
                 .render(Some(&mut renderer), &camera, &settings, (48, 48), false)
                 .unwrap_or_else(|e| panic!("{mode} lit by a scene light on {what}: {e}"));
+        }
+    }
+    // Mesh triangles (TRIANGLES), opaque and transparent, of one colour and of many: drawn through
+    // SceneFrames, which hands a frame its triangles (every leaf as triangles: hybrid-px 0).
+    let assets = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets");
+    for name in ["bunny-hybrid.toml", "glass-mesh.toml"] {
+        let (mut scene, _) = pointblend::scene::open(&assets.join(name), &Default::default()).unwrap();
+        for coloured in [false, true] {
+            if coloured {
+                let mut cloud = scene.objects[0].cloud.as_ref().clone();
+                cloud.colours.iter_mut().enumerate().for_each(|(i, c)| *c = [(i % 251) as u8, 120, 200]);
+                scene.objects[0].cloud = std::sync::Arc::new(cloud);
+            }
+            let mut frames = pointblend::render::SceneFrames::of(std::sync::Arc::new(scene.clone()));
+            let camera = Camera::default_for(frames.cloud(), 1.0);
+            for mode in RenderMode::ALL.into_iter().filter(|m| m.is_gpu()) {
+                for lighting in [true, false] {
+                    for quality in [Quality::Filtered, Quality::Unfiltered] {
+                        let settings =
+                            RenderSettings { mode, lighting, quality, hybrid_pixels: 0.0, ..Default::default() };
+                        frames
+                            .render(Some(&mut renderer), &camera, &settings, (48, 48), false)
+                            .unwrap_or_else(|e| panic!("{mode} on {name}: {e}"));
+                    }
+                }
+            }
         }
     }
     renderer.renderer.modules_built().into_iter().map(|(root, variant)| (root, variant.to_string())).collect()

@@ -1,4 +1,4 @@
-#include "tiled_common.wgsl"
+#include "tiled_count.wgsl"
 #include "footprint.wgsl"
 #ifdef LIGHTS
 #include "lights.wgsl"
@@ -19,15 +19,11 @@
 // The scene's splat instances (36 bytes each, see gpu_data.rs), read as words.
 @group(1) @binding(1) var<storage, read> splats: array<f32>;
 @group(1) @binding(2) var<storage, read_write> eye: array<EyeSplat>;
-// Per splat: pixel columns x0 | x1 << 16, pixel rows y0 | y1 << 16, sort key; x0 > x1 when none.
-@group(1) @binding(3) var<storage, read_write> rects: array<vec4<u32>>;
-@group(1) @binding(4) var<storage, read_write> counts: array<atomic<u32>>;
+// Bindings 3 and 4: the splats' pixel boxes and the tiles' counts (tiled_count.wgsl).
 #ifdef LIGHTS
 // Per splat of the chunk: its shadow coefficients, lights 0-3 and 4-7 as unorm8.
 @group(1) @binding(5) var<storage, read> splat_lights: array<u32>;
 #endif
-
-const NO_TILES: vec4<u32> = vec4<u32>(1u, 0u, 0u, 0u);
 
 @compute @workgroup_size(256)
 fn cs_project(
@@ -87,31 +83,10 @@ fn cs_project(
         high = vec2<f32>(-3.4e38);
         for (var corner = 0u; corner < 8u; corner++) {
             let p = select(lo, hi, vec3<bool>((corner & 1u) != 0u, (corner & 2u) != 0u, (corner & 4u) != 0u));
-            let clip = frame.proj * vec4<f32>(p, 1.0);
-            let ndc = clip.xy / clip.w;
-            let px = vec2<f32>((ndc.x * 0.5 + 0.5) * size.x, (0.5 - ndc.y * 0.5) * size.y);
-            low = min(low, px);
-            high = max(high, px);
-        }
-        if high.x < 0.0 || high.y < 0.0 || low.x > size.x || low.y > size.y {
-            rects[i] = NO_TILES;
-            return;
+            let box = pixel_box_of(p, low, high);
+            low = box[0];
+            high = box[1];
         }
     }
-    let last = vec2<u32>(size) - vec2<u32>(1u);
-    let first_pixel = min(vec2<u32>(max(floor(low), vec2<f32>(0.0))), last);
-    let last_pixel = min(vec2<u32>(max(floor(high), vec2<f32>(0.0))), last);
-    let t0 = first_pixel / TILE;
-    let t1 = last_pixel / TILE;
-    rects[i] = vec4<u32>(
-        first_pixel.x | (last_pixel.x << 16u),
-        first_pixel.y | (last_pixel.y << 16u),
-        depth_key(-hi.z),
-        0u,
-    );
-    for (var ty = t0.y; ty <= t1.y; ty++) {
-        for (var tx = t0.x; tx <= t1.x; tx++) {
-            atomicAdd(&counts[ty * tiles.grid.x + tx], 1u);
-        }
-    }
+    store_rect(i, low, high, depth_key(-hi.z));
 }

@@ -43,6 +43,17 @@
 @group(1) @binding(8) var glass_normal_out: texture_storage_2d<rgba32float, write>;
 @group(1) @binding(9) var glass_behind_out: texture_storage_2d<rgba32float, write>;
 #endif
+#ifdef TRIANGLES
+// The frame's mesh triangles (tiled_triangles.wgsl): items from tiles.grid.z
+// on are triangles, the (item - grid.z)-th drawn one.
+#ifdef ENVIRONMENT
+@group(1) @binding(10) var<storage, read> triangle_vertices: array<f32>;
+@group(1) @binding(11) var<storage, read> drawn_triangles: array<u32>;
+#else
+@group(1) @binding(7) var<storage, read> triangle_vertices: array<f32>;
+@group(1) @binding(8) var<storage, read> drawn_triangles: array<u32>;
+#endif
+#endif
 
 const WINDOW: u32 = 8u;
 // Below this transmittance the layers behind cannot change an 8-bit colour.
@@ -163,11 +174,98 @@ fn close_oldest() {
     close_layer(oldest);
 }
 
-fn add_to(layer: ptr<private, Layer>, weight: f32, s: EyeSplat) {
+// What a hit adds to its layer, and the normal that says which way it faces.
+struct Surface {
+    colour: vec3<f32>,
+    normal: vec3<f32>,
+    opacity: f32,
+    facing: vec3<f32>,
+}
+
+fn add_to(layer: ptr<private, Layer>, weight: f32, s: Surface) {
     (*layer).w += weight;
-    (*layer).colour += unpack_colour(s.colour) * weight;
+    (*layer).colour += s.colour * weight;
     (*layer).normal += s.normal * weight;
     (*layer).alpha += s.opacity * weight;
+}
+
+#ifdef TRIANGLES
+struct TriangleHit {
+    // View depth (the ray's parameter) and barycentric weights of corners 1
+    // and 2; depth 0 when the ray misses.
+    depth: f32,
+    uv: vec2<f32>,
+}
+
+fn triangle_corner(triangle: u32, corner: u32, word: u32) -> vec3<f32> {
+    let b = (3u * triangle + corner) * 12u + word;
+    return vec3<f32>(triangle_vertices[b], triangle_vertices[b + 1u], triangle_vertices[b + 2u]);
+}
+
+fn triangle_eye(triangle: u32, corner: u32) -> vec3<f32> {
+    return (frame.view * vec4<f32>(triangle_corner(triangle, corner, 0u), 1.0)).xyz;
+}
+
+// Möller & Trumbore, as crates/core/src/reference/triangles.rs intersects.
+fn intersect_triangle(triangle: u32) -> TriangleHit {
+    let a = triangle_eye(triangle, 0u);
+    let e1 = triangle_eye(triangle, 1u) - a;
+    let e2 = triangle_eye(triangle, 2u) - a;
+    let p = cross(ray, e2);
+    let det = dot(e1, p);
+    var miss = TriangleHit(0.0, vec2<f32>(0.0));
+    if abs(det) < 1e-20 {
+        return miss;
+    }
+    let inv = 1.0 / det;
+    let s = -a;
+    let u = dot(s, p) * inv;
+    let q = cross(s, e1);
+    let v = dot(ray, q) * inv;
+    let depth = dot(e2, q) * inv;
+    if u < 0.0 || u > 1.0 || v < 0.0 || u + v > 1.0 || !(depth > frame.depth.x && depth < frame.depth.y) {
+        return miss;
+    }
+    return TriangleHit(depth, vec2<f32>(u, v));
+}
+
+// The interpolated colour, normal and opacity where the ray meets `triangle`.
+fn triangle_surface(triangle: u32) -> Surface {
+    let hit = intersect_triangle(triangle);
+    let w = vec3<f32>(1.0 - hit.uv.x - hit.uv.y, hit.uv.x, hit.uv.y);
+    var colour = vec3<f32>(0.0);
+    var normal = vec3<f32>(0.0);
+    var opacity = 0.0;
+    for (var k = 0u; k < 3u; k++) {
+        let b = (3u * triangle + k) * 12u;
+        colour += unpack4x8unorm(bitcast<u32>(triangle_vertices[b + 7u])).rgb * w[k];
+        normal += triangle_corner(triangle, k, 4u) * w[k];
+        opacity += triangle_vertices[b + 8u] * w[k];
+    }
+    let eye_normal = (frame.view * vec4<f32>(normal, 0.0)).xyz;
+    let face = (frame.view * vec4<f32>(triangle_corner(triangle, 0u, 9u), 0.0)).xyz;
+    let unit = select(face, normalize(eye_normal), length(eye_normal) > 1e-20);
+    return Surface(colour, unit, clamp(opacity, 0.0, 1.0), face);
+}
+
+// Casts the pixel's ray on the `at`-th drawn triangle (item `item`); a hit waits in the window.
+fn meet_triangle(at: u32, item: u32) {
+    let hit = intersect_triangle(drawn_triangles[at]);
+    if hit.depth > 0.0 {
+        wait(hit.depth, 1.0, item);
+    }
+}
+#endif
+
+// The surface of item `item` (a splat, or with TRIANGLES a triangle) where the ray met it.
+fn surface_of(item: u32) -> Surface {
+#ifdef TRIANGLES
+    if item >= tiles.grid.z {
+        return triangle_surface(drawn_triangles[item - tiles.grid.z]);
+    }
+#endif
+    let s = eye[item];
+    return Surface(unpack_colour(s.colour), s.normal, s.opacity, s.normal);
 }
 
 // One hit, in depth order, into its ε-layer.
@@ -179,8 +277,8 @@ fn add_hit(depth: f32, weight: f32, splat: u32) {
     if done {
         return;
     }
-    let s = eye[splat];
-    let facing = dot(s.normal, ray) < 0.0;
+    let s = surface_of(splat);
+    let facing = dot(s.facing, ray) < 0.0;
     if open_count > 0u && (!split_facing || older.facing == facing) {
         add_to(&older, weight, s);
     } else if open_count > 1u && newer.facing == facing {
@@ -310,7 +408,15 @@ fn cs_raster(
             let inside_x = pixel.x >= (bounds.x & 0xffffu) && pixel.x <= (bounds.x >> 16u);
             let inside_y = pixel.y >= (bounds.y & 0xffffu) && pixel.y <= (bounds.y >> 16u);
             if inside_x && inside_y {
+#ifdef TRIANGLES
+                if entry.y >= tiles.grid.z {
+                    meet_triangle(entry.y - tiles.grid.z, entry.y);
+                } else {
+                    meet(eye[entry.y], entry.y);
+                }
+#else
                 meet(eye[entry.y], entry.y);
+#endif
             }
         }
         var key = NO_HIT;

@@ -66,6 +66,8 @@ pub struct TriangleDraw {
     pub buffer: std::sync::Arc<wgpu::Buffer>,
     /// Triangle ranges drawn.
     pub ranges: Vec<std::ops::Range<u32>>,
+    /// The same as a list of triangle indices, for the tile pipeline.
+    pub indices: std::sync::Arc<wgpu::Buffer>,
     /// Cull triangles facing away by their winding before rasterising them:
     /// every triangle is one-sided and the frame culls back faces (the
     /// fragment stage culls them exactly anyway; this saves their fragments).
@@ -98,7 +100,18 @@ impl TriangleDraw {
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("GpuScene::triangles"),
             contents: bytemuck::cast_slice(&vertices),
-            usage: wgpu::BufferUsages::VERTEX,
+            // STORAGE: the tile pipeline reads the triangles in compute passes.
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
+        })
+    }
+
+    /// The triangles drawn, by index, for the tile pipeline (`indices`).
+    pub fn upload_indices(device: &wgpu::Device, ranges: &[std::ops::Range<u32>]) -> wgpu::Buffer {
+        let indices: Vec<u32> = ranges.iter().flat_map(|r| r.clone()).collect();
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("GpuScene::drawn_triangles"),
+            contents: bytemuck::cast_slice(if indices.is_empty() { &[0u32][..] } else { &indices }),
+            usage: wgpu::BufferUsages::STORAGE,
         })
     }
 

@@ -145,6 +145,7 @@ impl Renderer {
             environment: scene.environment.as_ref().filter(|_| settings.draws_environment()),
             sums: scene.sums,
             lights,
+            triangles: scene.triangles.as_ref().map_or(0, |t| t.count()),
         }
     }
 

@@ -104,6 +104,7 @@ pub fn bindings(work: TileWork, variant: Variant, output: wgpu::TextureFormat) -
     match work {
         TileWork::Project if variant.has(Variant::LIGHTS) => vec![Binding::Uniform, ro, rw, rw, rw, ro],
         TileWork::Project => vec![Binding::Uniform, ro, rw, rw, rw],
+        TileWork::ProjectTriangles => vec![Binding::Uniform, ro, ro, rw, rw],
         TileWork::Bin => vec![Binding::Uniform, ro, ro, rw, rw],
         TileWork::SortShort => vec![Binding::Uniform, ro, rw, rw],
         TileWork::SortLong => vec![Binding::Uniform, ro, rw, rw, ro],
@@ -111,6 +112,9 @@ pub fn bindings(work: TileWork, variant: Variant, output: wgpu::TextureFormat) -
             let mut b = vec![Binding::Uniform, ro, ro, ro, Binding::StorageTexture(output), rw, ro];
             if variant.has(Variant::ENVIRONMENT) {
                 b.extend([Binding::StorageTexture(output); 3]);
+            }
+            if variant.has(Variant::TRIANGLES) {
+                b.extend([ro, ro]);
             }
             b
         }
@@ -129,6 +133,8 @@ pub struct TileStats {
 /// The buffers of the tile pipeline, sized for the last frame.
 pub struct TileEngine {
     splats: u64,
+    /// Mesh triangles binned after the splats (items `splats..splats + triangles`).
+    triangles: u64,
     grid: (u32, u32),
     eye: wgpu::Buffer,
     rects: wgpu::Buffer,
@@ -145,9 +151,11 @@ pub struct TileEngine {
     /// The tiles whose lists are longer than [`SHORT_LIST`], and how many.
     long_tiles: wgpu::Buffer,
     long_count: u32,
-    /// Per chunk of the scene: the project pass's grid uniforms; then one over every splat.
+    /// Per chunk of the scene: the project pass's grid uniforms; then one
+    /// over every item (z: the first triangle's item), and the triangles'.
     uniforms: Vec<(wgpu::Buffer, u32)>,
     all: wgpu::Buffer,
+    triangle_uniform: wgpu::Buffer,
     pub last: TileStats,
 }
 
@@ -185,7 +193,17 @@ impl TileEngine {
     pub fn new(ctx: &GpuContext, scene: &GpuScene, size: (u32, u32)) -> Result<Self, GpuError> {
         let device = &ctx.device;
         let n = scene.len as u64;
+        let m = scene.triangles.as_ref().map_or(0, |t| t.count() as u64);
         let limit = device.limits().max_storage_buffer_binding_size;
+        if let Some(draw) = scene.triangles.as_ref().filter(|_| m > 0) {
+            if draw.buffer.size() > limit {
+                return Err(GpuError::TooLarge(format!(
+                    "tiled reads the mesh triangles from one storage buffer: {:.1} MiB, more than the {:.1} MiB this GPU binds; use another mode",
+                    mib(draw.buffer.size()),
+                    mib(limit)
+                )));
+            }
+        }
         if n * EYE_SPLAT_BYTES > limit {
             return Err(GpuError::TooLarge(format!(
                 "tiled keeps {EYE_SPLAT_BYTES} bytes per splat in one storage buffer: {n} splats need {:.1} MiB, more than the {:.1} MiB this GPU binds; use another mode",
@@ -204,9 +222,11 @@ impl TileEngine {
             }
             Self {
                 splats: n,
+                triangles: m,
                 grid,
-                eye: buffer(device, "Tiles::eye", n * EYE_SPLAT_BYTES, STORAGE),
-                rects: buffer(device, "Tiles::rects", n * RECT_BYTES, STORAGE),
+                // One record at least: the raster binds a whole one even for a frame of triangles only.
+                eye: buffer(device, "Tiles::eye", n.max(1) * EYE_SPLAT_BYTES, STORAGE),
+                rects: buffer(device, "Tiles::rects", (n + m) * RECT_BYTES, STORAGE),
                 counts: buffer(device, "Tiles::counts", tiles * 4, STORAGE),
                 counts_readback: buffer(device, "Tiles::counts_readback", tiles * 4, READBACK),
                 offsets: buffer(device, "Tiles::offsets", (tiles + 1) * 4, STORAGE),
@@ -218,7 +238,8 @@ impl TileEngine {
                 stats_readback: buffer(device, "Tiles::stats_readback", 16, READBACK),
                 long_tiles: buffer(device, "Tiles::long_tiles", tiles * 4, STORAGE),
                 long_count: 0,
-                all: grid_uniform(device, grid, 0, n as u32),
+                all: grid_uniform(device, grid, n as u32, (n + m) as u32),
+                triangle_uniform: grid_uniform(device, grid, n as u32, m as u32),
                 uniforms,
                 last: TileStats::default(),
             }
@@ -228,6 +249,7 @@ impl TileEngine {
     /// Whether this engine was sized for `scene` at `size`.
     pub fn fits(&self, scene: &GpuScene, size: (u32, u32)) -> bool {
         self.splats == scene.len as u64
+            && self.triangles == scene.triangles.as_ref().map_or(0, |t| t.count() as u64)
             && self.grid == grid(size.0, size.1)
             && self.uniforms.len() == scene.chunks.len()
             && self.uniforms.iter().zip(&scene.chunks).all(|((_, a), (_, b))| a == b)
@@ -276,6 +298,18 @@ impl TileEngine {
                     groups.push((bind, dispatch(*count as u64, GROUP)));
                 }
             }
+            TileWork::ProjectTriangles => {
+                if let Some(draw) = &scene.triangles {
+                    let bind = group(vec![
+                        self.triangle_uniform.as_entire_binding(),
+                        draw.buffer.as_entire_binding(),
+                        draw.indices.as_entire_binding(),
+                        self.rects.as_entire_binding(),
+                        self.counts.as_entire_binding(),
+                    ]);
+                    groups.push((bind, dispatch(self.triangles, GROUP)));
+                }
+            }
             TileWork::Bin => {
                 encoder.clear_buffer(&self.cursors, 0, None);
                 let bind = group(vec![
@@ -285,7 +319,7 @@ impl TileEngine {
                     self.cursors.as_entire_binding(),
                     self.entries.as_entire_binding(),
                 ]);
-                groups.push((bind, dispatch(self.splats, GROUP)));
+                groups.push((bind, dispatch(self.splats + self.triangles, GROUP)));
             }
             TileWork::SortShort => {
                 let bind = group(vec![
@@ -321,6 +355,9 @@ impl TileEngine {
                 resources.push(self.stats.as_entire_binding());
                 resources.push(self.rects.as_entire_binding());
                 resources.extend(views);
+                if let Some(draw) = scene.triangles.as_ref().filter(|_| pass.variant.has(Variant::TRIANGLES)) {
+                    resources.extend([draw.buffer.as_entire_binding(), draw.indices.as_entire_binding()]);
+                }
                 groups.push((group(resources), dispatch(tiles, 1)));
             }
         }
@@ -336,10 +373,17 @@ impl TileEngine {
                 compute.dispatch_workgroups(*x, *y, 1);
             }
         }
-        match pass.work {
-            TileWork::Project => encoder.copy_buffer_to_buffer(&self.counts, 0, &self.counts_readback, 0, tiles * 4),
-            TileWork::Raster => encoder.copy_buffer_to_buffer(&self.stats, 0, &self.stats_readback, 0, 16),
-            _ => {}
+        // The counts go back after the last projection (the triangles' when there are any).
+        let last_projection = match pass.work {
+            TileWork::Project => self.triangles == 0,
+            TileWork::ProjectTriangles => true,
+            _ => false,
+        };
+        if last_projection {
+            encoder.copy_buffer_to_buffer(&self.counts, 0, &self.counts_readback, 0, tiles * 4);
+        }
+        if pass.work == TileWork::Raster {
+            encoder.copy_buffer_to_buffer(&self.stats, 0, &self.stats_readback, 0, 16);
         }
     }
 

@@ -285,6 +285,7 @@ const REGISTRY: [ModeInfo; 9] = [
             Parameter::Epsilon,
             Parameter::RadiusScale,
             Parameter::PointBudget,
+            Parameter::HybridPixels,
             Parameter::BackfaceCulling,
             Parameter::Lighting,
             Parameter::Shadows,
@@ -300,7 +301,7 @@ const REGISTRY: [ModeInfo; 9] = [
         default_peel_layers: 1,
         covering_grouping: None,
         draws_opaque_scenes: true,
-        triangles: false,
+        triangles: true,
         environment: true,
     },
     ModeInfo {

@@ -61,6 +61,9 @@ pub struct FrameDesc<'a> {
     /// Lit by scene lights: the splats are lit once each with their shadow
     /// coefficients (uploaded beside them), and the passes blend lit colours.
     pub lights: bool,
+    /// Mesh triangles the frame draws beside its splats (the passes that
+    /// draw them say so with `SplatPass::triangles`; `tiled` bins them).
+    pub triangles: u32,
 }
 
 impl FrameDesc<'_> {

@@ -15,7 +15,10 @@
 //! nearest transparent layer with the exact layer count behind it
 //! (`shaders/tiled_present.wgsl`). An opaque scene runs the same steps: its
 //! first layer is opaque and ends every ray, and facing is not split, as in
-//! the opaque reference.
+//! the opaque reference. A frame's mesh triangles (`mesh` and `hybrid`
+//! objects) are projected after the splats into the same tile lists, and
+//! the raster intersects them exactly, as the reference does
+//! (`shaders/tiled_triangles.wgsl`).
 
 use super::{FrameDesc, GpuMode};
 use crate::passes::{Command, ComputePass, FullscreenPass, TileWork};
@@ -56,7 +59,7 @@ impl GpuMode for Tiled {
                 shader,
                 entry,
                 variant: match work {
-                    TileWork::Raster => variant,
+                    TileWork::Raster => variant.with(Variant::TRIANGLES, frame.triangles > 0),
                     TileWork::Project => project_variant,
                     _ => Variant::NONE,
                 },
@@ -76,8 +79,26 @@ impl GpuMode for Tiled {
         let steps = vec![
             Step::new(
                 "project",
-                format!("compute, per splat: eye space, footprint, count the {tile}x{tile} tiles its disc may cover"),
-                compute("Tiled::project", "tiled_project.wgsl", "cs_project", TileWork::Project, Vec::new()),
+                format!(
+                    "compute, per splat: eye space, footprint, count the {tile}x{tile} tiles its disc may cover{}",
+                    if frame.triangles > 0 { "; per mesh triangle: its tiles" } else { "" }
+                ),
+                if frame.triangles > 0 {
+                    let triangles = compute(
+                        "Tiled::project_triangles",
+                        "tiled_triangles.wgsl",
+                        "cs_project_triangles",
+                        TileWork::ProjectTriangles,
+                        Vec::new(),
+                    );
+                    [
+                        compute("Tiled::project", "tiled_project.wgsl", "cs_project", TileWork::Project, Vec::new()),
+                        triangles,
+                    ]
+                    .concat()
+                } else {
+                    compute("Tiled::project", "tiled_project.wgsl", "cs_project", TileWork::Project, Vec::new())
+                },
             ),
             Step::new(
                 "bin",
@@ -117,7 +138,8 @@ impl GpuMode for Tiled {
             if frame.transparent { "" } else { ", first layer (opaque scene)" }
         );
         let mut plan = frame.plan(what, 1, steps, targets);
-        plan.buffers = tile_engine::planned_buffers(frame.splats, (frame.width, frame.height), None);
+        plan.buffers =
+            tile_engine::planned_buffers(frame.splats + frame.triangles as usize, (frame.width, frame.height), None);
         plan
     }
 }

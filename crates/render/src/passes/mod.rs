@@ -174,7 +174,9 @@ impl FullscreenPass {
 pub enum TileWork {
     /// Per splat: eye space, footprint, covered tiles counted.
     Project,
-    /// Per splat: an entry in every covered tile's list.
+    /// Per drawn mesh triangle, after the splats: covered tiles counted.
+    ProjectTriangles,
+    /// Per splat (and triangle): an entry in every covered tile's list.
     Bin,
     /// Per tile of a short list: sorted by nearest depth, one invocation each.
     SortShort,

@@ -64,6 +64,8 @@ pub(super) struct HybridFrames {
     surfaces: SceneSurfaces,
     buffer: Option<Arc<wgpu::Buffer>>,
     selected: Option<HybridSelection>,
+    /// The drawn triangles' indices on the GPU, for the last selection's triangles.
+    indices: Option<Arc<wgpu::Buffer>>,
     frames: Option<Box<SceneFrames>>,
     lattice: Lattice,
     last: HybridStats,
@@ -79,7 +81,7 @@ impl SceneFrames {
         }
         let why = if !settings.mode.info().triangles {
             format!(
-                "{} cannot draw triangles (two-pass, deferred, depth-peel and the reference do)",
+                "{} cannot draw triangles (two-pass, deferred, depth-peel, tiled and the reference do)",
                 settings.mode.name()
             )
         } else if settings.lit_by_lights() {
@@ -142,6 +144,7 @@ impl SceneFrames {
                 surfaces,
                 buffer: None,
                 selected: None,
+                indices: None,
                 frames: None,
                 lattice,
                 last: HybridStats::default(),
@@ -165,6 +168,9 @@ impl SceneFrames {
         let select_ms = started.elapsed().as_secs_f64() * 1e3;
         let started = Instant::now();
         let changed = state.selected.as_ref().is_none_or(|s| s.splats != selection.splats);
+        if state.indices.is_none() || state.selected.as_ref().is_none_or(|s| s.triangles != selection.triangles) {
+            state.indices = Some(Arc::new(TriangleDraw::upload_indices(&gpu.ctx.device, &selection.triangles)));
+        }
         if changed || state.frames.is_none() {
             let cloud = selection.gather(&whole);
             let splats: Vec<u8> = selection.splats.iter().flat_map(|v| v.to_le_bytes()).collect();
@@ -187,6 +193,7 @@ impl SceneFrames {
         let draw = TriangleDraw {
             buffer: Arc::clone(state.buffer.as_ref().expect("uploaded above")),
             ranges: selection.triangles.clone(),
+            indices: Arc::clone(state.indices.as_ref().expect("uploaded above")),
             cull_back: settings.backface_culling && whole.two_sided.iter().all(|&two| !two),
         };
         state.last = HybridStats {
