@@ -20,29 +20,32 @@ const SIZE: u32 = 192;
 /// with its own vertices (crisp edges: the faces do not share vertices, as
 /// in most exported meshes), coloured by position; plus `extra` face lines.
 fn cube_ply(n: usize, extra: &[&str]) -> String {
+    cube_faces_ply(n, 6, extra)
+}
+
+/// The first `count` faces of [`cube_ply`]'s cube (the first: x = -0.5, facing -x).
+fn cube_faces_ply(n: usize, count: usize, extra: &[&str]) -> String {
     let mut vertices = Vec::new();
     let mut faces = Vec::new();
-    for axis in 0..3 {
-        for side in [-0.5f32, 0.5] {
-            let base = vertices.len();
-            for i in 0..=n {
-                for j in 0..=n {
-                    let (u, v) = (i as f32 / n as f32 - 0.5, j as f32 / n as f32 - 0.5);
-                    let mut p = [0.0f32; 3];
-                    p[axis] = side;
-                    p[(axis + 1) % 3] = u;
-                    p[(axis + 2) % 3] = v;
-                    vertices.push(p);
-                }
+    for (axis, side) in (0..3).flat_map(|axis| [(axis, -0.5f32), (axis, 0.5)]).take(count) {
+        let base = vertices.len();
+        for i in 0..=n {
+            for j in 0..=n {
+                let (u, v) = (i as f32 / n as f32 - 0.5, j as f32 / n as f32 - 0.5);
+                let mut p = [0.0f32; 3];
+                p[axis] = side;
+                p[(axis + 1) % 3] = u;
+                p[(axis + 2) % 3] = v;
+                vertices.push(p);
             }
-            for i in 0..n {
-                for j in 0..n {
-                    let a = base + i * (n + 1) + j;
-                    let (b, c, d) = (a + n + 1, a + n + 2, a + 1);
-                    // Outward winding on both sides.
-                    let quad = if side > 0.0 { [a, b, c, d] } else { [a, d, c, b] };
-                    faces.push(format!("4 {} {} {} {}", quad[0], quad[1], quad[2], quad[3]));
-                }
+        }
+        for i in 0..n {
+            for j in 0..n {
+                let a = base + i * (n + 1) + j;
+                let (b, c, d) = (a + n + 1, a + n + 2, a + 1);
+                // Outward winding on both sides.
+                let quad = if side > 0.0 { [a, b, c, d] } else { [a, d, c, b] };
+                faces.push(format!("4 {} {} {} {}", quad[0], quad[1], quad[2], quad[3]));
             }
         }
     }
@@ -154,10 +157,81 @@ fn meshes_opaque_and_transparent_are_their_triangles_and_modes_without_triangles
                 assert!(eps <= MAX_MESH_EPS, "{mode}: ε {eps}");
             }
         }
-        // A mode that cannot draw triangles draws the vertices' splats, and says so in the plan.
+        // A mode that cannot draw triangles draws the vertices' splats, and says so in the plan;
+        // given an opaque scene it runs the two-pass plan, which draws them.
         let settings = RenderSettings { mode: RenderMode::Alg2, ..Default::default() };
         let (_, notes) = render(&mut mesh_frames, &camera, &settings);
-        assert!(notes.iter().any(|n| n.contains("alg2 cannot draw triangles")), "{notes:?}");
+        let said = |what: &str| notes.iter().any(|n| n.contains(what));
+        match opacity.is_empty() {
+            true => assert!(said("meshes: 4800 triangles") && !said("cannot draw"), "{notes:?}"),
+            false => assert!(said("alg2 cannot draw triangles"), "{notes:?}"),
+        }
+    }
+}
+
+#[test]
+fn one_sided_triangles_seen_from_behind_are_culled_and_a_mesh_after_a_cloud_keeps_its_place() {
+    let dir = tempfile::tempdir().unwrap();
+    // One face of the cube, seen from behind: culled when one-sided, drawn when two-sided.
+    std::fs::write(dir.path().join("quad.ply"), cube_faces_ply(8, 1, &[])).unwrap();
+    let bg = common::background_rgb();
+    for (sides, drawn) in [("", false), ("two_sided = true", true)] {
+        let path = dir.path().join("quad.toml");
+        std::fs::write(&path, format!("[[object]]\nmesh = \"quad.ply\"\n{sides}\n")).unwrap();
+        let scene = open(&path);
+        let mut camera = Camera::default_for(&scene.flattened(), 1.0);
+        camera.look_from_direction(glam::Vec3::X); // the face at x = -0.5 faces -x: seen from behind
+        let mut frames = SceneFrames::of(Arc::clone(&scene));
+        for mode in [RenderMode::TwoPass, RenderMode::Deferred, RenderMode::Tiled, RenderMode::Reference] {
+            let settings = RenderSettings { mode, ..Default::default() };
+            let (image, notes) = render(&mut frames, &camera, &settings);
+            let shown = common::foreground(&image, bg).iter().filter(|&&f| f).count();
+            assert_eq!(shown > 0, drawn, "{mode} {sides}: {shown} pixels of the quad shown: {notes:?}");
+        }
+    }
+    // The same face with normals of its own that face +x, against its winding:
+    // its triangles are turned to face as the normals do (and said), so from +x it shows.
+    let with_normals: String = cube_faces_ply(8, 1, &[])
+        .replace("property float z\n", "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n")
+        .lines()
+        .map(|l| match l.split(' ').count() {
+            6 if !l.starts_with("4 ") => {
+                let (xyz, rgb) = l.split_at(l.match_indices(' ').nth(2).unwrap().0);
+                format!("{xyz} 1 0 0{rgb}\n")
+            }
+            _ => format!("{l}\n"),
+        })
+        .collect();
+    std::fs::write(dir.path().join("quad.ply"), with_normals).unwrap();
+    std::fs::write(dir.path().join("quad.toml"), "[[object]]\nmesh = \"quad.ply\"\n").unwrap();
+    let (scene, warnings) = scene::open(&dir.path().join("quad.toml"), &Default::default()).unwrap();
+    assert!(warnings.iter().any(|w| w.contains("128 triangles were wound against")), "{warnings:?}");
+    let mut camera = Camera::default_for(&scene.flattened(), 1.0);
+    camera.look_from_direction(glam::Vec3::X);
+    let mut frames = SceneFrames::of(Arc::new(scene));
+    let (image, _) = render(&mut frames, &camera, &RenderSettings::default());
+    assert!(common::foreground(&image, bg).iter().any(|&f| f), "the turned face is culled");
+
+    // A cloud first, then a mesh: the mesh's triangles index its own splats, after the cloud's.
+    std::fs::write(dir.path().join("cube.ply"), cube_ply(20, &[])).unwrap();
+    let path = dir.path().join("both.toml");
+    std::fs::write(
+        &path,
+        "[[object]]\nsphere = { splats = 4000, radius = 0.3, centre = [1.2, 0.0, 0.0] }\n\n[[object]]\nmesh = \"cube.ply\"\n",
+    )
+    .unwrap();
+    let scene = open(&path);
+    let camera = corner_camera(&scene);
+    let mut frames = SceneFrames::of(Arc::clone(&scene));
+    for mode in [RenderMode::TwoPass, RenderMode::Tiled] {
+        let settings = RenderSettings { mode, ..Default::default() };
+        let exact = reference::render(&scene, &camera, &ReferenceOptions::matching(&settings, &scene), SIZE, SIZE);
+        let (image, _) = render(&mut frames, &camera, &settings);
+        let stats = frames.last_hybrid().cloned().unwrap();
+        assert_eq!(stats.splats, 4000, "{mode}: the sphere's splats, and none of the cube's");
+        let eps = reference::compare(&image, &exact).unwrap().eps;
+        println!("{mode}, a sphere of splats and a cube mesh: ε {eps:.4}");
+        assert!(eps <= MAX_MESH_EPS, "{mode}: ε {eps}");
     }
 }
 

@@ -73,8 +73,14 @@ fn built_modules() -> BTreeSet<(&'static str, String)> {
     // Mesh triangles (TRIANGLES), opaque and transparent, of one colour and of many: drawn through
     // SceneFrames, which hands a frame its triangles (every leaf as triangles: hybrid-px 0).
     let assets = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets");
-    for name in ["bunny-hybrid.toml", "glass-mesh.toml"] {
-        let (mut scene, _) = pointblend::scene::open(&assets.join(name), &Default::default()).unwrap();
+    let environment =
+        pointblend::scene::open(&assets.join("glass-bunny.toml"), &Default::default()).unwrap().0.environment;
+    for name in ["bunny-hybrid.toml", "glass-mesh.toml", "glass-mesh.toml with an environment map"] {
+        let file = name.split(' ').next().unwrap();
+        let (mut scene, _) = pointblend::scene::open(&assets.join(file), &Default::default()).unwrap();
+        if name.contains("environment") {
+            scene.environment = environment.clone();
+        }
         for coloured in [false, true] {
             if coloured {
                 let mut cloud = scene.objects[0].cloud.as_ref().clone();

@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use pointblend::grouping::cache::Cache;
-use pointblend::render::RenderMode;
+use pointblend::render::{RenderMode, RenderSettings};
 use pointblend::viewer::{ViewerApp, ViewerOptions};
 
 /// Frames of the 3D view come from a render thread: generous for lavapipe on a busy machine.
@@ -356,4 +356,28 @@ fn a_large_model_is_drawn_under_the_point_budget_while_the_camera_moves_then_in_
     });
     assert_eq!(h.state().shown_splats(), Some(total));
     assert!(h.state().shown_frame().unwrap().1.settings.point_budget.is_none());
+}
+
+#[test]
+fn the_viewer_draws_a_hybrid_mesh_as_its_triangles() {
+    // The bunny mesh in the viewer's default view, where its splats are
+    // several pixels wide and every leaf is triangles: the view is the
+    // reference's exact triangles, not the vertex splats.
+    let dir = tempfile::tempdir().unwrap();
+    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/bunny-hybrid.toml");
+    let mut h =
+        harness(ViewerOptions { file: Some(file.clone()), mode: Some(RenderMode::TwoPass), ..options(dir.path()) });
+    wait_for(&mut h, "the hybrid bunny in two-pass", settled_in(RenderMode::TwoPass));
+    let (image, key) = h.state().shown_frame().map(|(i, k)| (i.clone(), k.clone())).unwrap();
+    let (scene, _) = pointblend::scene::open(&file, &Default::default()).unwrap();
+    let options = pointblend::reference::ReferenceOptions::matching(&key.settings, &scene);
+    let exact = pointblend::reference::render(&scene, &key.camera, &options, key.size.0, key.size.1);
+    let splats = RenderSettings { hybrid_pixels: f32::INFINITY, ..key.settings };
+    let mut frames = pointblend::render::SceneFrames::of(Arc::new(scene));
+    let mut renderer = common::renderer();
+    let vertex_splats = frames.render(Some(&mut *renderer), &key.camera, &splats, key.size, false).unwrap().image;
+    let eps = pointblend::reference::compare(&image, &exact).unwrap().eps;
+    let splat_eps = pointblend::reference::compare(&vertex_splats, &exact).unwrap().eps;
+    println!("viewer: ε {eps:.3} against the triangles; the vertex splats {splat_eps:.3}");
+    assert!(eps <= common::tolerances::MAX_HYBRID_EPS_RATIO * splat_eps, "ε {eps} against {splat_eps}");
 }

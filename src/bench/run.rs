@@ -226,10 +226,14 @@ fn prepare_variants(
     }
     for variant in config.variants.iter().filter(|v| v.mode.is_gpu()) {
         let settings = variant.apply(&opened.base).map_err(BenchError::Invalid)?;
-        if frames.applied_budget(&settings).is_some() {
+        let triangles = frames.draws_triangles(&settings);
+        if triangles || frames.applied_budget(&settings).is_some() {
             // The hierarchy is built (or read) here, not in a timed frame; its
-            // splats, groups and shadows depend on the view: made by each frame (see time_frames).
-            frames.hierarchy();
+            // splats, groups and shadows depend on the view: made by each frame
+            // (see time_frames). So do a frame with triangles' splats.
+            if !triangles {
+                frames.hierarchy();
+            }
             let k = match frames.drawn_grouping(&settings).map(|s| crate::render::per_frame_grouping(s).algo) {
                 Some(crate::grouping::GroupingAlgo::Hash { k, .. }) => k,
                 _ => 1,

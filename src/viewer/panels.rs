@@ -210,7 +210,11 @@ fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, para
             .on_hover_text("splats drawn while the camera moves; the full frame follows when it stops");
         }
         Parameter::HybridPixels => {
-            ui.add(egui::Slider::new(&mut s.hybrid_pixels, 0.0..=32.0).text("hybrid px")).on_hover_text(
+            // Not clamped: `--hybrid-px inf` (splats only) stays as it was given.
+            let slider = egui::Slider::new(&mut s.hybrid_pixels, 0.0..=32.0)
+                .clamping(egui::SliderClamping::Never)
+                .text("hybrid px");
+            ui.add(slider).on_hover_text(
                 "hybrid objects: a leaf is drawn as triangles where its splats would be wider than this radius in pixels",
             );
         }

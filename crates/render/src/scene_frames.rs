@@ -515,8 +515,8 @@ impl SceneFrames {
         }
         let gpu = gpu.ok_or(FrameError::NoGpu(settings.mode.name()))?;
         if self.draws_triangles(settings) {
-            let settings = &self.unbudgeted_with_meshes(settings);
             let (scene, note) = self.hybrid_scene(gpu, camera, settings, (width, height))?;
+            let settings = &hybrid::without_budget(settings);
             let (image, mut plan) = gpu.render_image(scene, camera, settings, width, height)?;
             plan.notes.push(note);
             plan.notes.extend(self.shadow_notes(settings));
@@ -527,6 +527,7 @@ impl SceneFrames {
             let frames = self.select_for(Some(gpu), camera, settings, (width, height), budget)?;
             let mut frame = frames.render(Some(gpu), camera, &unbudgeted, (width, height), progress)?;
             frame.plan.notes.extend(self.last_budget().map(BudgetStats::describe));
+            frame.plan.notes.extend(self.mesh_notes(settings));
             return Ok(frame);
         }
         let scene = self.gpu_scene(gpu, settings)?;

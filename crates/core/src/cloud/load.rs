@@ -107,7 +107,10 @@ pub fn load_surface_samples(
 ///
 /// Faces that name a vertex the file lacks, and triangles with zero area,
 /// a repeated vertex or a vertex that is not finite, are skipped with a
-/// warning that counts them. A file with no faces, or with none left, is an error.
+/// warning that counts them; a triangle wound against the file's own vertex
+/// normals is turned, and counted too, since back-face culling reads the
+/// winding. A file with no faces, or with none
+/// left, is an error.
 pub fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(PointCloud, Vec<[u32; 3]>, LoadReport), CloudError> {
     let bytes = std::fs::read(path).map_err(|e| CloudError::io(path, e))?;
     let started = Instant::now();
@@ -126,6 +129,8 @@ pub fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(PointCloud, Vec<
     let splat_of = |v: u32| Some(splat_of[v as usize]).filter(|&s| s != u32::MAX);
     let mut triangles = Vec::with_capacity(file_triangles.len());
     let mut degenerate = 0;
+    let mut turned = 0;
+    let own_normals = report.normals == Provenance::FromFile;
     for t in &file_triangles {
         let mapped = [splat_of(t[0]), splat_of(t[1]), splat_of(t[2])];
         let [Some(a), Some(b), Some(c)] = mapped else {
@@ -138,7 +143,21 @@ pub fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(PointCloud, Vec<
             degenerate += 1;
             continue;
         }
-        triangles.push([a, b, c]);
+        // Facing (and so culling) follows the winding: where the file gives its own
+        // normals, wind the triangle as they face. (Normals made from the faces
+        // follow the winding already, up to folds, which must not turn.)
+        let normals = cloud.normals[a as usize] + cloud.normals[b as usize] + cloud.normals[c as usize];
+        if own_normals && (pb - pa).cross(pc - pa).dot(normals) < 0.0 {
+            turned += 1;
+            triangles.push([a, c, b]);
+        } else {
+            triangles.push([a, b, c]);
+        }
+    }
+    if turned > 0 {
+        report.warnings.push(format!(
+            "{turned} triangles were wound against their vertices' normals and were turned to face as they do"
+        ));
     }
     if degenerate > 0 {
         report.warnings.push(format!(

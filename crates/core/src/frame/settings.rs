@@ -60,9 +60,10 @@ pub struct RenderSettings {
 
 /// The default of [`RenderSettings::hybrid_pixels`]: a hybrid leaf is drawn
 /// as triangles where its splats would be wider than 3 px in radius. On
-/// lavapipe triangles are cheaper than splats at every bench view of the
-/// bunny at 512² (docs/BENCHMARKS.md), so the threshold is set by quality:
-/// splats of a few pixels blend as well as the reference.
+/// lavapipe the rasterising modes draw the bunny's triangles faster than its
+/// splats at every bench view at 512², `tiled` only close up
+/// (docs/BENCHMARKS.md); the threshold is set by quality: splats of a few
+/// pixels blend as well as the reference.
 pub const DEFAULT_HYBRID_PIXELS: f32 = 3.0;
 
 /// Most rays per pixel side of a supersampled reference.

@@ -224,7 +224,12 @@ impl Sidecar {
             prefilter: s.prefilter.parse()?,
             point_budget: s.point_budget,
             supersample: s.supersample.clamp(1, super::settings::MAX_SUPERSAMPLE),
-            hybrid_pixels: s.hybrid_px.filter(|p| *p >= 0.0).unwrap_or(super::settings::DEFAULT_HYBRID_PIXELS),
+            // f32::MAX stands for infinity (splats only), which JSON cannot hold.
+            hybrid_pixels: s
+                .hybrid_px
+                .filter(|p| *p >= 0.0)
+                .map(|p| if p >= f32::MAX { f32::INFINITY } else { p })
+                .unwrap_or(super::settings::DEFAULT_HYBRID_PIXELS),
             ..RenderSettings::default()
         };
         settings.shading.light_dir_eye = Vec3::from_array(s.light_dir_eye);

@@ -243,4 +243,28 @@ mod tests {
             assert!(covered, "triangle {t} is neither drawn nor covered by its vertices' splats");
         }
     }
+
+    #[test]
+    fn an_object_after_others_indexes_its_own_splats() {
+        // 100 splats of another object first, then the mesh's.
+        let (mesh, triangles) = grid(10);
+        let surface = Arc::new(Surface::build(SurfaceKind::Hybrid, &mesh, triangles));
+        let mut cloud = mesh.clone();
+        for list in [&mut cloud.positions, &mut cloud.normals] {
+            list.splice(0..0, std::iter::repeat_n(Vec3::new(-50.0, 0.0, 0.0), 100));
+        }
+        cloud.radii.splice(0..0, std::iter::repeat_n(1.0, 100));
+        cloud.colours.splice(0..0, std::iter::repeat_n([9; 3], 100));
+        cloud.opacity.splice(0..0, std::iter::repeat_n(1.0, 100));
+        let scene = SceneSurfaces::new(&cloud, [(Arc::clone(&surface), 100)]);
+        assert!(scene.triangles().flatten().all(|v| (100..cloud.len() as u32).contains(&v)));
+        let camera = camera_over(Vec3::new(5.0, 5.0, 0.0), 20.0);
+        let triangles_only = HybridOptions { pixels: 0.0, radius_scale: 1.0, cull: false };
+        let all = scene.select(cloud.len(), &camera, (256, 256), triangles_only);
+        assert_eq!(all.splats, (0..100).collect::<Vec<u32>>(), "the other object's splats, and none of the mesh's");
+        let splats_only = HybridOptions { pixels: f32::INFINITY, ..triangles_only };
+        let none = scene.select(cloud.len(), &camera, (256, 256), splats_only);
+        assert_eq!(none.splats, (0..cloud.len() as u32).collect::<Vec<u32>>());
+        assert!(none.triangles.is_empty());
+    }
 }

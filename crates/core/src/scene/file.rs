@@ -288,9 +288,6 @@ impl Reader<'_> {
                 (name, cloud, hash)
             }
         };
-        if surface.is_some() && (entry.deform.is_some() || !entry.keyframes.is_empty()) {
-            return Err(self.at(Some(span), "a mesh or hybrid object cannot move (keyframes or deform) yet".into()));
-        }
         if let (Some(fps), None) = (&entry.fps, &entry.sequence) {
             return Err(self.at(Some(fps.span()), "`fps` belongs to an object with a `sequence`".into()));
         }
@@ -330,6 +327,9 @@ impl Reader<'_> {
         if let Some(still) = animation.take_if(|a| a.period() <= 0.0) {
             // Keys that never move (one key at 0 s) place the object once.
             transform = still.keyed(0.0) * transform;
+        }
+        if surface.is_some() && animation.is_some() {
+            return Err(self.at(Some(span), "a mesh or hybrid object cannot move (keyframes or deform) yet".into()));
         }
         Ok(SceneObject {
             name: entry.name.clone().unwrap_or(name),

@@ -227,8 +227,7 @@ impl SceneFrames {
         size: (u32, u32),
     ) -> Result<(&GpuScene, RenderSettings), FrameError> {
         if self.draws_triangles(settings) {
-            let settings = self.unbudgeted_with_meshes(settings);
-            return Ok((self.hybrid_scene(gpu, camera, &settings, size)?.0, settings));
+            return Ok((self.hybrid_scene(gpu, camera, settings, size)?.0, super::hybrid::without_budget(settings)));
         }
         match self.applied_budget(settings) {
             Some(budget) => {

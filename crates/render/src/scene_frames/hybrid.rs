@@ -12,14 +12,18 @@
 //! A mode that cannot draw triangles draws the scene's every splat (the
 //! mesh's vertices among them) and says so, once in the log and in the
 //! plan's notes; so does a frame lit by scene lights (translucent shadows
-//! are cast and received by splats) and a moving scene. A scene with meshes draws every splat it draws: a point
-//! budget does not apply to it.
+//! are cast and received by splats) and a moving scene; those frames
+//! draw every splat as splat frames do, under a point budget if one is set.
+//! A frame that draws triangles draws every splat it chooses: a point
+//! budget does not apply to it, and its plan's notes say so.
 
 use std::sync::Arc;
 use std::time::Instant;
 
 use super::{FrameError, SceneFrames};
+use crate::context::GpuError;
 use crate::frame::{Camera, RenderSettings};
+use crate::gpu_data::TriangleVertex;
 use crate::gpu_scene::{GpuScene, TriangleDraw};
 use crate::grouping::regroup::Lattice;
 use crate::headless::HeadlessRenderer;
@@ -71,6 +75,11 @@ pub(super) struct HybridFrames {
     last: HybridStats,
 }
 
+/// `settings` with no point budget: what a frame that draws triangles is drawn with.
+pub fn without_budget(settings: &RenderSettings) -> RenderSettings {
+    RenderSettings { point_budget: None, ..*settings }
+}
+
 impl SceneFrames {
     /// Why a GPU frame of `settings` draws the scene's meshes as their
     /// vertex splats, if it does: a mode without triangles, scene lights
@@ -79,7 +88,10 @@ impl SceneFrames {
         if !self.scene.has_surfaces() || !settings.mode.is_gpu() {
             return None;
         }
-        let why = if !settings.mode.info().triangles {
+        let info = settings.mode.info();
+        // A transparent mode given an opaque scene runs the two-pass plan, which draws triangles.
+        let runs_two_pass = info.transparent && !info.draws_opaque_scenes && !self.scene.has_transparency();
+        let why = if !info.triangles && !runs_two_pass {
             format!(
                 "{} cannot draw triangles (two-pass, deferred, depth-peel, tiled and the reference do)",
                 settings.mode.name()
@@ -110,25 +122,15 @@ impl SceneFrames {
         self.triangles_refused(settings).into_iter().collect()
     }
 
-    /// `settings` without a point budget, which a scene with meshes does not
-    /// apply (and says so once).
-    pub(super) fn unbudgeted_with_meshes(&self, settings: &RenderSettings) -> RenderSettings {
-        if settings.point_budget.is_some() {
-            pointblend_core::progress::warn_once(
-                "the scene has meshes: every splat it draws is drawn (a point budget applies to scenes of splats)"
-                    .to_string(),
-            );
-        }
-        RenderSettings { point_budget: None, ..*settings }
-    }
-
     /// What the last frame with triangles drew and cost.
     pub fn last_hybrid(&self) -> Option<&HybridStats> {
         self.hybrid.as_ref().map(|h| &h.last)
     }
 
     /// The GPU copy a frame with triangles from `camera` at `size` draws
-    /// (its leaves chosen here), and a line on what it draws.
+    /// (its leaves chosen here), and a line on what it draws. Such a frame
+    /// draws every splat it chooses: a point budget in `settings` is not
+    /// applied (the line says so); draw it with [`without_budget`]`(settings)`.
     pub fn hybrid_scene(
         &mut self,
         gpu: &HeadlessRenderer,
@@ -155,7 +157,21 @@ impl SceneFrames {
         let whole = Arc::clone(&self.cloud);
         let state = self.hybrid.as_mut().expect("made above");
         if state.buffer.is_none() {
-            let buffer = TriangleDraw::upload(&gpu.ctx.device, &whole, state.surfaces.triangles());
+            let bytes = (state.surfaces.triangle_count() * 3 * std::mem::size_of::<TriangleVertex>()) as u64;
+            let limit = gpu.ctx.device.limits().max_buffer_size;
+            if bytes > limit {
+                return Err(FrameError::Gpu(GpuError::TooLarge(format!(
+                    "the scene's {} mesh triangles need {:.1} MiB in one vertex buffer, more than the {:.1} MiB this GPU \
+                     allows; use `ply =` (its vertex splats) or a smaller mesh",
+                    state.surfaces.triangle_count(),
+                    bytes as f64 / (1u64 << 20) as f64,
+                    limit as f64 / (1u64 << 20) as f64
+                ))));
+            }
+            let device = &gpu.ctx.device;
+            let buffer = gpu.ctx.allocating("uploading the mesh triangles", || {
+                TriangleDraw::upload(device, &whole, state.surfaces.triangles())
+            })?;
             state.buffer = Some(Arc::new(buffer));
         }
         let started = Instant::now();
@@ -206,10 +222,14 @@ impl SceneFrames {
             update_ms: started.elapsed().as_secs_f64() * 1e3,
             changed,
         };
-        let note = state.last.describe(settings.hybrid_pixels);
+        let mut note = state.last.describe(settings.hybrid_pixels);
+        if let Some(budget) = settings.point_budget {
+            note +=
+                &format!("; point budget {budget} not applied (a frame with triangles draws every splat it chooses)");
+        }
         state.selected = Some(selection);
         let frames = state.frames.as_mut().expect("made above");
-        let scene = frames.gpu_scene_mut(gpu, settings)?;
+        let scene = frames.gpu_scene_mut(gpu, &without_budget(settings))?;
         scene.set_triangles(Some(draw), &whole);
         Ok((scene, note))
     }
