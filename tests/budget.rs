@@ -119,18 +119,8 @@ fn a_budget_of_zero_is_one_line_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("never.png");
     for bad in ["0", "-5", "many"] {
-        let result = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
-            .arg("render")
-            .arg(common::bundled_bunny())
-            .args(["--point-budget", bad, "--out"])
-            .arg(&out)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&result.stderr);
-        assert!(!result.status.success(), "--point-budget {bad} was accepted");
-        let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
-        assert_eq!(errors.len(), 1, "{stderr}");
-        assert!(errors[0].contains("--point-budget"), "{stderr}");
-        assert!(!out.exists());
+        let args = [common::bundled_bunny().into_os_string(), "--point-budget".into(), bad.into()];
+        let error = common::refused_in_one_line(&args, &out, &format!("--point-budget {bad}"));
+        assert!(error.contains("--point-budget"), "{error}");
     }
 }

@@ -235,18 +235,6 @@ fn one_sided_triangles_seen_from_behind_are_culled_and_a_mesh_after_a_cloud_keep
     }
 }
 
-/// Runs `pointblend render SCENE --out OUT`; its exit status and stderr.
-fn render_cli(scene: &Path, out: &Path) -> (bool, String) {
-    let result = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
-        .arg("render")
-        .arg(scene)
-        .args(["--size", "64x64", "--out"])
-        .arg(out)
-        .output()
-        .unwrap();
-    (result.status.success(), String::from_utf8_lossy(&result.stderr).into_owned())
-}
-
 #[test]
 fn bad_mesh_faces_are_counted_in_one_line_and_a_mesh_without_faces_is_refused() {
     let dir = tempfile::tempdir().unwrap();
@@ -255,7 +243,7 @@ fn bad_mesh_faces_are_counted_in_one_line_and_a_mesh_without_faces_is_refused() 
     let out = dir.path().join("out.png");
     // A face naming a vertex the file lacks, and two degenerate triangles (a repeated vertex, zero area).
     std::fs::write(dir.path().join("cube.ply"), cube_ply(4, &["3 0 1 99999", "3 0 0 1", "3 0 1 2"])).unwrap();
-    let (ok, stderr) = render_cli(&scene, &out);
+    let (ok, stderr) = common::render_cli(&[scene.as_os_str(), "--size".as_ref(), "64x64".as_ref()], &out);
     assert!(ok, "{stderr}");
     assert!(out.exists());
     let lines = |what: &str| stderr.lines().filter(|l| l.contains(what)).count();
@@ -271,10 +259,6 @@ fn bad_mesh_faces_are_counted_in_one_line_and_a_mesh_without_faces_is_refused() 
     std::fs::write(dir.path().join("points.ply"), points).unwrap();
     std::fs::write(&scene, "[[object]]\nmesh = \"points.ply\"\n").unwrap();
     std::fs::remove_file(&out).unwrap();
-    let (ok, stderr) = render_cli(&scene, &out);
-    assert!(!ok, "a mesh without faces was accepted");
-    let errors: Vec<&str> = stderr.lines().filter(|l| l.contains("error") || l.contains("no faces")).collect();
-    assert_eq!(errors.len(), 1, "{stderr}");
-    assert!(errors[0].contains("points.ply") && errors[0].contains("no faces"), "{stderr}");
-    assert!(!out.exists(), "an output was written");
+    let error = common::refused_in_one_line(&[&scene], &out, "a mesh without faces");
+    assert!(error.contains("points.ply") && error.contains("no faces"), "{error}");
 }

@@ -127,20 +127,10 @@ fn bad_supersample_and_prefilter_values_are_one_line_and_write_nothing() {
         ["--mode", "reference", "--supersample", "two"],
         ["--mode", "two-pass", "--prefilter", "gauss"],
     ] {
-        let result = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
-            .arg("render")
-            .arg(&bunny)
-            .args(bad)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&result.stderr);
-        assert!(!result.status.success(), "{bad:?} was accepted");
-        let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
-        assert_eq!(errors.len(), 1, "{bad:?}: {stderr}");
-        assert!(errors[0].contains(bad[2]), "{bad:?}: the error names the option: {stderr}");
-        assert!(!out.exists(), "{bad:?} wrote an image");
+        let args: Vec<std::ffi::OsString> =
+            std::iter::once(bunny.clone().into_os_string()).chain(bad.iter().map(|a| a.into())).collect();
+        let error = common::refused_in_one_line(&args, &out, &format!("{bad:?}"));
+        assert!(error.contains(bad[2]), "{bad:?}: the error names the option: {error}");
     }
     let good = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
         .arg("render")

@@ -45,6 +45,29 @@ pub fn looking_down_z() -> Camera {
     }
 }
 
+/// Runs `pointblend render ARGS --out OUT`: its exit status and stderr.
+pub fn render_cli<S: AsRef<std::ffi::OsStr>>(args: &[S], out: &std::path::Path) -> (bool, String) {
+    let result = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .arg("render")
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .expect("pointblend runs");
+    (result.status.success(), String::from_utf8_lossy(&result.stderr).into_owned())
+}
+
+/// [`render_cli`] that must fail with exactly one `error:` line and write
+/// nothing (`what` names the case in messages); returns that line.
+pub fn refused_in_one_line<S: AsRef<std::ffi::OsStr>>(args: &[S], out: &std::path::Path, what: &str) -> String {
+    let (ok, stderr) = render_cli(args, out);
+    assert!(!ok, "{what} was accepted");
+    let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
+    assert_eq!(errors.len(), 1, "{what}: {stderr}");
+    assert!(!out.exists(), "{what} wrote an output");
+    errors[0].to_string()
+}
+
 pub fn bundled_bunny() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/bunny.ply")
 }

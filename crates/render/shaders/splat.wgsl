@@ -95,15 +95,20 @@ fn screen_length(c: vec3<f32>, d: vec3<f32>) -> f32 {
 
 const CULLED: vec4<f32> = vec4<f32>(2.0, 2.0, 2.0, 1.0);
 
+// The world direction `d` in eye space, of unit length (`fallback` when it has none).
+fn eye_direction(d: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
+    let eye = (frame.view * vec4<f32>(d, 0.0)).xyz;
+    let length_eye = length(eye);
+    return select(fallback, eye / length_eye, length_eye > 1e-20);
+}
+
 @vertex
 fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying {
     var out: SplatVarying;
     let corner = vec2<f32>(f32(vertex & 1u) * 2.0 - 1.0, f32(vertex >> 1u) * 2.0 - 1.0);
     out.colour = vec4<f32>(splat.colour.rgb, splat.opacity);
     let centre = (frame.view * vec4<f32>(splat.position, 1.0)).xyz;
-    let normal_eye = (frame.view * vec4<f32>(splat.normal, 0.0)).xyz;
-    let normal_length = length(normal_eye);
-    let normal = select(vec3<f32>(0.0, 0.0, 1.0), normal_eye / normal_length, normal_length > 1e-20);
+    let normal = eye_direction(splat.normal, vec3<f32>(0.0, 0.0, 1.0));
 #ifdef LIGHTS
     // Lit once per splat: what the passes blend is the lit colour.
     out.colour = vec4<f32>(light_splat(splat.colour.rgb, normal, centre, splat.shadow_a, splat.shadow_b), splat.opacity);
@@ -173,10 +178,8 @@ struct TriangleIn {
 fn vs_triangle(vertex: TriangleIn) -> SplatVarying {
     var out: SplatVarying;
     let centre = (frame.view * vec4<f32>(vertex.position, 1.0)).xyz;
-    let normal_eye = (frame.view * vec4<f32>(vertex.normal, 0.0)).xyz;
-    let face_eye = (frame.view * vec4<f32>(vertex.face, 0.0)).xyz;
-    let normal = select(vec3<f32>(0.0, 0.0, 1.0), normalize(normal_eye), length(normal_eye) > 1e-20);
-    let face = select(normal, normalize(face_eye), length(face_eye) > 1e-20);
+    let normal = eye_direction(vertex.normal, vec3<f32>(0.0, 0.0, 1.0));
+    let face = eye_direction(vertex.face, normal);
     out.colour = vec4<f32>(vertex.colour.rgb, vertex.opacity);
 #ifdef LIGHTS
     // Lit per vertex, unshadowed: shadow coefficients are per splat.

@@ -59,6 +59,25 @@ pub struct GpuScene {
     pub triangles: Option<TriangleDraw>,
 }
 
+/// What a frame of part of a scene's splats takes from the whole scene (see
+/// [`GpuScene::set_triangles`]), found once: each is a pass over every splat.
+#[derive(Debug, Clone, Copy)]
+pub struct WholeScene {
+    pub mean_radius: f32,
+    pub uniform_colour: Option<[u8; 3]>,
+    pub transparent: bool,
+}
+
+impl WholeScene {
+    pub fn of(cloud: &PointCloud) -> Self {
+        Self {
+            mean_radius: cloud.mean_radius(),
+            uniform_colour: uniform_colour(cloud),
+            transparent: cloud.has_transparency(),
+        }
+    }
+}
+
 /// A scene's mesh triangles on the GPU (three unshared vertices each, see
 /// [`TriangleVertex`]) and the ranges of them a frame draws.
 #[derive(Debug, Clone)]
@@ -191,14 +210,14 @@ impl GpuScene {
         }
     }
 
-    /// Draws `triangles` beside the splats from now on; `whole` is the whole
-    /// flattened scene they belong to, whose mean radius (for ε), single
-    /// colour and transparency the frame takes, as a frame of every splat would.
-    pub fn set_triangles(&mut self, triangles: Option<TriangleDraw>, whole: &PointCloud) {
+    /// Draws `triangles` beside the splats from now on, with ε, the single
+    /// colour and the transparency of the `whole` scene they belong to, as a
+    /// frame of every splat would (the splats drawn beside them are a part).
+    pub fn set_triangles(&mut self, triangles: Option<TriangleDraw>, whole: &WholeScene) {
         if triangles.is_some() {
-            self.mean_radius = whole.mean_radius();
-            self.uniform_colour = uniform_colour(whole);
-            self.transparent |= whole.has_transparency();
+            self.mean_radius = whole.mean_radius;
+            self.uniform_colour = whole.uniform_colour;
+            self.transparent |= whole.transparent;
         }
         self.triangles = triangles;
     }

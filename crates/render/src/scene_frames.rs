@@ -11,6 +11,7 @@
 //! frame comes back as an image and the plan that made it.
 
 mod budget;
+mod chosen;
 mod hybrid;
 
 use std::sync::Arc;

@@ -137,17 +137,6 @@ impl Surface {
             .collect();
         Surface { kind, triangles: sorted, leaves, leaf_splats, transition, transition_leaves, leaf_lists }
     }
-
-    /// Splats no triangle uses (drawn as splats by every mode).
-    pub fn loose_splats(&self, splats: usize) -> Vec<u32> {
-        let mut used = vec![false; splats];
-        for t in &self.triangles {
-            for &v in t {
-                used[v as usize] = true;
-            }
-        }
-        (0..splats as u32).filter(|&v| !used[v as usize]).collect()
-    }
 }
 
 /// Splits `order[..]` (triangle indices, by centroid) at the median of the
@@ -232,6 +221,5 @@ mod tests {
                 assert_eq!(uses, listed.contains(&(l as u32)), "splat {v}, leaf {l}");
             }
         }
-        assert!(surface.loose_splats(cloud.len()).is_empty());
     }
 }

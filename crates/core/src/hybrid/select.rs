@@ -43,6 +43,9 @@ pub struct ObjectSurface {
 #[derive(Debug, Clone, Default)]
 pub struct SceneSurfaces {
     pub objects: Vec<ObjectSurface>,
+    /// Per flattened splat: drawn whatever a frame chooses (of an object
+    /// without triangles, or used by no triangle).
+    loose: Vec<bool>,
 }
 
 /// How a frame chooses.
@@ -125,8 +128,14 @@ impl SceneSurfaces {
                 first_triangle += surface.triangles.len() as u32;
                 object
             })
-            .collect();
-        Self { objects }
+            .collect::<Vec<ObjectSurface>>();
+        let mut loose = vec![true; cloud.len()];
+        for o in &objects {
+            for &v in o.surface.triangles.iter().flatten() {
+                loose[(v + o.offset) as usize] = false;
+            }
+        }
+        Self { objects, loose }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -142,24 +151,16 @@ impl SceneSurfaces {
         self.objects.iter().map(|o| o.surface.triangles.len()).sum()
     }
 
-    /// Every splat a mode draws with all triangles: those of objects
-    /// without triangles and those no triangle uses (of `splats` in all).
-    pub fn splats_without_surfaces(&self, splats: usize) -> Vec<bool> {
-        let mut drawn = vec![true; splats];
-        for o in &self.objects {
-            for t in &o.surface.triangles {
-                for &v in t {
-                    drawn[(v + o.offset) as usize] = false;
-                }
-            }
-        }
-        drawn
+    /// Per flattened splat, whether a mode draws it beside every triangle:
+    /// those of objects without triangles and those no triangle uses.
+    pub fn loose_splats(&self) -> &[bool] {
+        &self.loose
     }
 
-    /// What a frame from `camera` at `size` draws of a flattened scene of `splats` splats.
-    pub fn select(&self, splats: usize, camera: &Camera, size: (u32, u32), options: HybridOptions) -> HybridSelection {
+    /// What a frame from `camera` at `size` draws of the flattened scene.
+    pub fn select(&self, camera: &Camera, size: (u32, u32), options: HybridOptions) -> HybridSelection {
         let frustum = Frustum::new(camera, size);
-        let mut drawn = self.splats_without_surfaces(splats);
+        let mut drawn = self.loose.clone();
         let mut out = HybridSelection::default();
         for o in &self.objects {
             let s = &o.surface;
@@ -203,7 +204,7 @@ impl SceneSurfaces {
                 }
             }
         }
-        out.splats = (0..splats as u32).filter(|&v| drawn[v as usize]).collect();
+        out.splats = (0..drawn.len() as u32).filter(|&v| drawn[v as usize]).collect();
         out
     }
 }
@@ -227,15 +228,15 @@ mod tests {
         let surface = Arc::new(Surface::build(SurfaceKind::Hybrid, &cloud, triangles));
         let scene = SceneSurfaces::new(&cloud, [(Arc::clone(&surface), 0)]);
         let options = HybridOptions { pixels: DEFAULT_PIXELS, radius_scale: 1.0, cull: false };
-        let far = scene.select(cloud.len(), &camera_over(Vec3::new(30.0, 30.0, 0.0), 2000.0), (256, 256), options);
+        let far = scene.select(&camera_over(Vec3::new(30.0, 30.0, 0.0), 2000.0), (256, 256), options);
         assert_eq!((far.triangle_leaves, far.splats.len()), (0, cloud.len()), "far away: splats only");
-        let near = scene.select(cloud.len(), &camera_over(Vec3::new(30.0, 30.0, 0.0), 20.0), (256, 256), options);
+        let near = scene.select(&camera_over(Vec3::new(30.0, 30.0, 0.0), 20.0), (256, 256), options);
         assert!(near.splat_leaves == 0 && near.splats.is_empty(), "close: triangles only, {near:?}");
         assert_eq!(near.triangle_count() as usize, surface.triangles.len());
         // A grazing view from one corner: both kinds, and no triangle left without a cover.
         let mut camera = camera_over(Vec3::ZERO, 8.0);
         camera.look_from_direction(Vec3::new(-1.0, -1.0, 0.6).normalize());
-        let mixed = scene.select(cloud.len(), &camera, (256, 256), HybridOptions { pixels: 10.0, ..options });
+        let mixed = scene.select(&camera, (256, 256), HybridOptions { pixels: 10.0, ..options });
         assert!(mixed.triangle_leaves > 0 && mixed.splat_leaves > 0, "{mixed:?}");
         let drawn_triangle = |t: u32| mixed.triangles.iter().any(|r| r.contains(&t));
         for (t, tri) in scene.triangles().enumerate() {
@@ -260,10 +261,10 @@ mod tests {
         assert!(scene.triangles().flatten().all(|v| (100..cloud.len() as u32).contains(&v)));
         let camera = camera_over(Vec3::new(5.0, 5.0, 0.0), 20.0);
         let triangles_only = HybridOptions { pixels: 0.0, radius_scale: 1.0, cull: false };
-        let all = scene.select(cloud.len(), &camera, (256, 256), triangles_only);
+        let all = scene.select(&camera, (256, 256), triangles_only);
         assert_eq!(all.splats, (0..100).collect::<Vec<u32>>(), "the other object's splats, and none of the mesh's");
         let splats_only = HybridOptions { pixels: f32::INFINITY, ..triangles_only };
-        let none = scene.select(cloud.len(), &camera, (256, 256), splats_only);
+        let none = scene.select(&camera, (256, 256), splats_only);
         assert_eq!(none.splats, (0..cloud.len() as u32).collect::<Vec<u32>>());
         assert!(none.triangles.is_empty());
     }

@@ -148,7 +148,7 @@ fn render_samples(
     let (near, far) = camera.near_far();
     // Objects with triangles are drawn as their triangles, and only their splats no triangle uses.
     let surfaces = scene.surfaces(&flat);
-    let drawn = surfaces.splats_without_surfaces(cloud.len());
+    let drawn = surfaces.loose_splats();
     let splats: Vec<EyeSplat> = (0..cloud.len())
         .into_par_iter()
         .filter(|&i| drawn[i])

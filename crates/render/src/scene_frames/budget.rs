@@ -18,15 +18,14 @@
 use std::sync::Arc;
 use std::time::Instant;
 
+use super::chosen::ChosenFrames;
 use super::{FrameError, SceneFrames};
 use crate::cloud::PointCloud;
 use crate::frame::{Camera, RenderSettings};
 use crate::gpu_scene::GpuScene;
 use crate::grouping::cache::Cache;
-use crate::grouping::regroup::Lattice;
 use crate::headless::HeadlessRenderer;
 use crate::lod::{self, Hierarchy, Selection};
-use crate::scene::Scene;
 
 /// What the last budgeted frame drew and cost.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -91,16 +90,16 @@ pub(super) struct BudgetFrames {
     key: u64,
     hierarchy: Arc<Hierarchy>,
     selected: Option<Selection>,
-    frames: Option<Box<SceneFrames>>,
-    lattice: Lattice,
+    chosen: ChosenFrames,
     last: BudgetStats,
 }
 
 impl BudgetFrames {
-    /// Nothing selected yet from `hierarchy` (cache key `key`) of `cloud`.
-    fn new(key: u64, hierarchy: Arc<Hierarchy>, cloud: &PointCloud) -> Box<Self> {
-        let lattice = Lattice::of(cloud);
-        Box::new(Self { key, hierarchy, selected: None, frames: None, lattice, last: BudgetStats::default() })
+    /// Nothing selected yet from `hierarchy` (cache key `key`) of `parent`'s splats.
+    fn new(key: u64, hierarchy: Arc<Hierarchy>, parent: &SceneFrames) -> Box<Self> {
+        let reason = "under a point budget the splats drawn change with the view";
+        let chosen = ChosenFrames::of(parent, "budget", reason);
+        Box::new(Self { key, hierarchy, selected: None, chosen, last: BudgetStats::default() })
     }
 }
 
@@ -127,7 +126,7 @@ impl SceneFrames {
     /// viewer builds it while loading) from these splats ([`load_hierarchy`]).
     pub fn with_hierarchy(mut self, hierarchy: Arc<Hierarchy>) -> Self {
         if hierarchy.originals == self.cloud.len() {
-            self.budget = Some(BudgetFrames::new(hierarchy_key(self.hash, &self.cloud), hierarchy, &self.cloud));
+            self.budget = Some(BudgetFrames::new(hierarchy_key(self.hash, &self.cloud), hierarchy, &self));
         }
         self
     }
@@ -146,7 +145,7 @@ impl SceneFrames {
                 hierarchy.bytes() as f64 / (1 << 20) as f64,
                 if hierarchy.seconds > 0.0 { format!(", built in {:.2} s", hierarchy.seconds) } else { String::new() }
             );
-            self.budget = Some(BudgetFrames::new(key, Arc::new(hierarchy), &self.cloud));
+            self.budget = Some(BudgetFrames::new(key, Arc::new(hierarchy), self));
         }
         self.budget.as_mut().expect("made above")
     }
@@ -167,8 +166,6 @@ impl SceneFrames {
         size: (u32, u32),
         budget: u32,
     ) -> Result<&mut SceneFrames, FrameError> {
-        let environment = self.scene.environment.clone();
-        let cache = self.cache.clone();
         let state = self.budget_frames();
         let started = Instant::now();
         let options = lod::SelectOptions {
@@ -180,26 +177,12 @@ impl SceneFrames {
         let select_ms = started.elapsed().as_secs_f64() * 1e3;
         let changed = state.selected.as_ref() != Some(&selection);
         let started = Instant::now();
-        if changed || state.frames.is_none() {
-            let cloud = lod::gather(&state.hierarchy, &selection);
+        let hierarchy = &state.hierarchy;
+        let frames = state.chosen.next(gpu, changed, || {
             // Keyed by what it is (the hierarchy and the nodes chosen), not by hashing every splat.
             let nodes: Vec<u8> = selection.nodes.iter().flat_map(|n| n.to_le_bytes()).collect();
-            let key = pointblend_core::hash::fnv1a(state.key, &nodes);
-            let mut scene = Scene::single("budget", cloud, key);
-            scene.environment = environment;
-            let scene = Arc::new(scene);
-            let cloud = scene.flattened();
-            match &mut state.frames {
-                Some(frames) => {
-                    frames.advance(gpu, scene, cloud)?;
-                }
-                None => {
-                    let mut frames = SceneFrames::new(scene, cloud).moving_on(state.lattice).with_cache(cache);
-                    frames.regroup_reason = "under a point budget the splats drawn change with the view";
-                    state.frames = Some(Box::new(frames));
-                }
-            }
-        }
+            (lod::gather(hierarchy, &selection), pointblend_core::hash::fnv1a(state.key, &nodes))
+        })?;
         let h = &state.hierarchy;
         state.last = BudgetStats {
             budget,
@@ -213,7 +196,7 @@ impl SceneFrames {
             hierarchy_bytes: h.bytes(),
         };
         state.selected = Some(selection);
-        Ok(state.frames.as_mut().expect("made above"))
+        Ok(frames)
     }
 
     /// The GPU copy a frame of `settings` from `camera` at `size` draws, and

@@ -20,14 +20,13 @@
 use std::sync::Arc;
 use std::time::Instant;
 
+use super::chosen::ChosenFrames;
 use super::{FrameError, SceneFrames};
 use crate::context::GpuError;
 use crate::frame::{Camera, RenderSettings};
 use crate::gpu_data::TriangleVertex;
-use crate::gpu_scene::{GpuScene, TriangleDraw};
-use crate::grouping::regroup::Lattice;
+use crate::gpu_scene::{GpuScene, TriangleDraw, WholeScene};
 use crate::headless::HeadlessRenderer;
-use crate::scene::Scene;
 use pointblend_core::hybrid::select::{HybridOptions, HybridSelection, SceneSurfaces};
 
 /// What the last frame with triangles drew and cost.
@@ -70,8 +69,11 @@ pub(super) struct HybridFrames {
     selected: Option<HybridSelection>,
     /// The drawn triangles' indices on the GPU, for the last selection's triangles.
     indices: Option<Arc<wgpu::Buffer>>,
-    frames: Option<Box<SceneFrames>>,
-    lattice: Lattice,
+    chosen: ChosenFrames,
+    /// What a frame with triangles takes from the whole scene, as a frame of every splat would.
+    whole: WholeScene,
+    /// Every splat is one-sided: triangles facing away can be culled by their winding.
+    one_sided: bool,
     last: HybridStats,
 }
 
@@ -141,19 +143,18 @@ impl SceneFrames {
         if self.hybrid.is_none() {
             let flat = self.scene.flatten();
             let surfaces = self.scene.surfaces(&flat);
-            let lattice = Lattice::of(&self.cloud);
+            let reason = "in a hybrid frame the splats drawn change with the view";
             self.hybrid = Some(Box::new(HybridFrames {
                 surfaces,
                 buffer: None,
                 selected: None,
                 indices: None,
-                frames: None,
-                lattice,
+                chosen: ChosenFrames::of(self, "hybrid", reason),
+                whole: WholeScene::of(&self.cloud),
+                one_sided: self.cloud.two_sided.iter().all(|&two| !two),
                 last: HybridStats::default(),
             }));
         }
-        let environment = self.scene.environment.clone();
-        let cache = self.cache.clone();
         let whole = Arc::clone(&self.cloud);
         let state = self.hybrid.as_mut().expect("made above");
         if state.buffer.is_none() {
@@ -180,37 +181,23 @@ impl SceneFrames {
             radius_scale: settings.radius_scale,
             cull: !settings.lit_by_lights(),
         };
-        let selection = state.surfaces.select(whole.len(), camera, size, options);
+        let selection = state.surfaces.select(camera, size, options);
         let select_ms = started.elapsed().as_secs_f64() * 1e3;
         let started = Instant::now();
         let changed = state.selected.as_ref().is_none_or(|s| s.splats != selection.splats);
         if state.indices.is_none() || state.selected.as_ref().is_none_or(|s| s.triangles != selection.triangles) {
             state.indices = Some(Arc::new(TriangleDraw::upload_indices(&gpu.ctx.device, &selection.triangles)));
         }
-        if changed || state.frames.is_none() {
-            let cloud = selection.gather(&whole);
+        let hash = self.hash;
+        let frames = state.chosen.next(Some(gpu), changed, || {
             let splats: Vec<u8> = selection.splats.iter().flat_map(|v| v.to_le_bytes()).collect();
-            let key = pointblend_core::hash::fnv1a(self.hash, &splats);
-            let mut scene = Scene::single("hybrid", cloud, key);
-            scene.environment = environment;
-            let scene = Arc::new(scene);
-            let cloud = scene.flattened();
-            match &mut state.frames {
-                Some(frames) => {
-                    frames.advance(Some(gpu), scene, cloud)?;
-                }
-                None => {
-                    let mut frames = SceneFrames::new(scene, cloud).moving_on(state.lattice).with_cache(cache);
-                    frames.regroup_reason = "in a hybrid frame the splats drawn change with the view";
-                    state.frames = Some(Box::new(frames));
-                }
-            }
-        }
+            (selection.gather(&whole), pointblend_core::hash::fnv1a(hash, &splats))
+        })?;
         let draw = TriangleDraw {
             buffer: Arc::clone(state.buffer.as_ref().expect("uploaded above")),
             ranges: selection.triangles.clone(),
             indices: Arc::clone(state.indices.as_ref().expect("uploaded above")),
-            cull_back: settings.backface_culling && whole.two_sided.iter().all(|&two| !two),
+            cull_back: settings.backface_culling && state.one_sided,
         };
         state.last = HybridStats {
             triangles: selection.triangle_count(),
@@ -227,10 +214,9 @@ impl SceneFrames {
             note +=
                 &format!("; point budget {budget} not applied (a frame with triangles draws every splat it chooses)");
         }
-        state.selected = Some(selection);
-        let frames = state.frames.as_mut().expect("made above");
         let scene = frames.gpu_scene_mut(gpu, &without_budget(settings))?;
-        scene.set_triangles(Some(draw), &whole);
+        scene.set_triangles(Some(draw), &state.whole);
+        state.selected = Some(selection);
         Ok((scene, note))
     }
 }

@@ -1,0 +1,75 @@
+//! Frames of the splats a view chooses from a scene: the nodes under a
+//! point budget (`budget.rs`), or the splats drawn beside a frame's mesh
+//! triangles (`hybrid.rs`). Each new choice is gathered into one cloud and
+//! shown as a moving scene's next frame, so the modes that draw groups get
+//! Zhang & Pajarola's hash grouping of the chosen splats, redone in
+//! milliseconds on the whole scene's lattice, and the GPU copies are
+//! rewritten (reallocated when the count changed).
+
+use std::sync::Arc;
+
+use super::{FrameError, SceneFrames};
+use crate::cloud::PointCloud;
+use crate::grouping::cache::Cache;
+use crate::grouping::regroup::Lattice;
+use crate::headless::HeadlessRenderer;
+use crate::scene::Scene;
+use crate::scene::environment::EnvironmentMap;
+
+/// The frames of the last choice from one scene, and what they take from it.
+pub(super) struct ChosenFrames {
+    frames: Option<Box<SceneFrames>>,
+    /// The whole scene's lattice: groups are counted on it, whatever is chosen.
+    lattice: Lattice,
+    environment: Option<Arc<EnvironmentMap>>,
+    cache: Cache,
+    /// The chosen scene's name ("budget", "hybrid").
+    name: &'static str,
+    /// Why groupings are redone every frame, for the one warning that says so.
+    reason: &'static str,
+}
+
+impl ChosenFrames {
+    /// Nothing chosen yet from `parent`'s splats.
+    pub(super) fn of(parent: &SceneFrames, name: &'static str, reason: &'static str) -> Self {
+        Self {
+            frames: None,
+            lattice: Lattice::of(&parent.cloud),
+            environment: parent.scene.environment.clone(),
+            cache: parent.cache.clone(),
+            name,
+            reason,
+        }
+    }
+
+    /// The frames of the chosen splats: when `changed` (or on first use),
+    /// `choose()`'s cloud, keyed for the caches by its key, as the next frame.
+    pub(super) fn next(
+        &mut self,
+        gpu: Option<&HeadlessRenderer>,
+        changed: bool,
+        choose: impl FnOnce() -> (PointCloud, u64),
+    ) -> Result<&mut SceneFrames, FrameError> {
+        let shown = self.frames.take();
+        if !changed && let Some(frames) = shown {
+            return Ok(self.frames.insert(frames));
+        }
+        let (cloud, key) = choose();
+        let mut scene = Scene::single(self.name, cloud, key);
+        scene.environment = self.environment.clone();
+        let scene = Arc::new(scene);
+        let cloud = scene.flattened();
+        let frames = match shown {
+            Some(mut frames) => {
+                frames.advance(gpu, scene, cloud)?;
+                frames
+            }
+            None => {
+                let mut frames = SceneFrames::new(scene, cloud).moving_on(self.lattice).with_cache(self.cache.clone());
+                frames.regroup_reason = self.reason;
+                Box::new(frames)
+            }
+        };
+        Ok(self.frames.insert(frames))
+    }
+}
