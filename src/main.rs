@@ -1,8 +1,9 @@
 //! The `pointblend` command line: view | info | render | convert | bench | group.
 //!
-//! With no subcommand it opens the viewer on the demo scene in alg2 (or, with
-//! no display, renders the opaque modes on the bundled bunny and the
-//! transparent ones on the demo scene to `./out/`).
+//! With no subcommand it is `pointblend view`, parsed by the same clap
+//! arguments (so the two cannot differ): the viewer on the demo scene in alg2,
+//! or, with no display, the opaque modes on the bundled lion and the
+//! transparent ones on the demo scene rendered to `./out/`.
 
 mod commands;
 
@@ -14,11 +15,15 @@ use clap::{Parser, Subcommand};
 #[command(
     name = "pointblend",
     version,
-    about = "Point-based surface splatting: render, inspect and benchmark PLY scans"
+    about = "Point-based surface splatting: render, inspect and benchmark PLY scans",
+    args_conflicts_with_subcommands = true
 )]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
+    /// With no subcommand: the arguments of `view`, with its defaults.
+    #[command(flatten)]
+    view: commands::view::Args,
 }
 
 #[derive(Subcommand)]
@@ -50,11 +55,7 @@ fn main() -> ExitCode {
         Some(Command::Convert(args)) => commands::convert::run(&args),
         Some(Command::Bench(args)) => commands::bench::run(&args),
         Some(Command::Group(args)) => commands::group::run(&args),
-        None => commands::view::run(&commands::view::Args {
-            screenshot_dir: "screenshots".into(),
-            out: "out".into(),
-            ..Default::default()
-        }),
+        None => commands::view::run(&cli.view),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -75,4 +76,103 @@ fn one_line(error: &anyhow::Error) -> String {
         }
     }
     parts.join(": ").split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::{Cli, Command};
+
+    /// The view arguments `pointblend ARGS` parses to, as text.
+    fn view_args(args: &[&str]) -> String {
+        let cli = Cli::try_parse_from(args).expect("parses");
+        match cli.command {
+            Some(Command::View(view)) => format!("{view:?}"),
+            None => format!("{:?}", cli.view),
+            Some(_) => panic!("{args:?} is not the viewer"),
+        }
+    }
+
+    #[test]
+    fn no_subcommand_parses_exactly_as_view() {
+        assert_eq!(view_args(&["pointblend"]), view_args(&["pointblend", "view"]));
+        let flags = ["--size", "96x64", "--out", "o", "--mode", "alg1"];
+        let bare: Vec<&str> = ["pointblend"].into_iter().chain(flags).collect();
+        let view: Vec<&str> = ["pointblend", "view"].into_iter().chain(flags).collect();
+        assert_eq!(view_args(&bare), view_args(&view));
+        assert!(view_args(&["pointblend"]).contains("size: (512, 512)"), "clap's defaults, not Default's");
+    }
+
+    /// Shell words of one command line: quotes group, `#` outside quotes ends it.
+    fn shell_words(line: &str) -> Vec<String> {
+        let (mut words, mut word, mut quote, mut in_word) = (Vec::new(), String::new(), None, false);
+        for c in line.chars() {
+            match (quote, c) {
+                (Some(q), c) if c == q => quote = None,
+                (Some(_), c) => word.push(c),
+                (None, '"' | '\'') => (quote, in_word) = (Some(c), true),
+                (None, '#') if !in_word => break,
+                (None, c) if c.is_whitespace() => {
+                    if in_word {
+                        words.push(std::mem::take(&mut word));
+                    }
+                    in_word = false;
+                }
+                (None, c) => {
+                    word.push(c);
+                    in_word = true;
+                }
+            }
+        }
+        if in_word {
+            words.push(word);
+        }
+        words
+    }
+
+    /// Every `pointblend …` line of the shell blocks of the README and docs/.
+    fn documented_commands() -> Vec<(String, String)> {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let mut docs = vec![root.join("README.md")];
+        let mut in_docs: Vec<_> = std::fs::read_dir(root.join("docs")).unwrap().flatten().map(|e| e.path()).collect();
+        in_docs.sort();
+        docs.extend(in_docs.into_iter().filter(|p| p.extension().is_some_and(|e| e == "md")));
+        let mut commands = Vec::new();
+        for doc in docs {
+            let text = std::fs::read_to_string(&doc).unwrap();
+            let blocks = text.split("```").enumerate().filter(|(i, _)| i % 2 == 1).map(|(_, b)| b);
+            for block in blocks.filter(|b| b.starts_with("sh") || b.starts_with("bash")) {
+                for line in block.lines().map(str::trim).filter(|l| l.starts_with("pointblend ")) {
+                    commands.push((doc.file_name().unwrap().to_string_lossy().into_owned(), line.to_string()));
+                }
+            }
+        }
+        commands
+    }
+
+    #[test]
+    fn every_command_the_docs_show_parses_and_names_bundled_files_that_exist() {
+        let commands = documented_commands();
+        assert!(commands.len() >= 20, "the docs show the command line: {}", commands.len());
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        for (doc, line) in &commands {
+            let words = shell_words(line);
+            if let Err(error) = Cli::try_parse_from(&words) {
+                panic!("{doc}: `{line}` does not parse:\n{error}");
+            }
+            // BENCHMARKS.md records past runs with the files of their day.
+            let current = doc != "BENCHMARKS.md";
+            for word in words.iter().filter(|w| current && w.starts_with("assets/")) {
+                let file = word.split(',').next().unwrap();
+                assert!(root.join(file).exists(), "{doc}: `{line}` names {file}, which does not exist");
+            }
+        }
+    }
+
+    #[test]
+    fn shell_words_follow_quotes_and_comments() {
+        let words = shell_words(r#"pointblend convert a.nii b.ply --transfer "9000:1/2/3/0,1:2/3/4/0.7"   # a volume"#);
+        assert_eq!(words, ["pointblend", "convert", "a.nii", "b.ply", "--transfer", "9000:1/2/3/0,1:2/3/4/0.7"]);
+    }
 }

@@ -97,8 +97,9 @@ fn scene_file(dir: &Path, name: &str, body: &str) -> std::path::PathBuf {
     path
 }
 
-fn bunny_line() -> String {
-    format!("ply = {:?}", common::bundled_bunny().display().to_string())
+/// A scene file's line naming the Stanford bunny (`None`: the shared scans are absent).
+fn bunny_line() -> Option<String> {
+    Some(format!("ply = {:?}", common::stanford_bunny()?.display().to_string()))
 }
 
 fn render_both(
@@ -121,7 +122,7 @@ fn render_both(
 #[test]
 fn a_deformation_of_amount_zero_or_a_keyframed_object_at_its_first_key_renders_as_the_still_scene() {
     let dir = tempfile::tempdir().unwrap();
-    let bunny = bunny_line();
+    let bunny = require!(bunny_line());
     let still = scene_file(
         dir.path(),
         "still.toml",
@@ -156,7 +157,7 @@ fn a_deformation_of_amount_zero_or_a_keyframed_object_at_its_first_key_renders_a
 #[test]
 fn keyframes_interpolate_and_a_long_list_stays_cheap() {
     let dir = tempfile::tempdir().unwrap();
-    let mut body = format!("[[object]]\n{}\n", bunny_line());
+    let mut body = format!("[[object]]\n{}\n", require!(bunny_line()));
     for k in 0..10_000 {
         body.push_str(&format!("[[object.keyframe]]\ntime = {}\ntranslate = [{}, 0.0, 0.0]\n", k as f32 * 0.01, k % 2));
     }
@@ -185,7 +186,7 @@ fn a_sequence_plays_its_frames_and_shows_the_one_before_an_unreadable_frame() {
     let dir = tempfile::tempdir().unwrap();
     let frames = dir.path().join("frames");
     std::fs::create_dir(&frames).unwrap();
-    let (bunny, _) = pointblend::cloud::load(&common::bundled_bunny()).unwrap();
+    let (bunny, _) = pointblend::cloud::load(&require!(common::stanford_bunny())).unwrap();
     let mut moved = bunny.clone();
     moved.positions.iter_mut().for_each(|p| p.y += 0.05);
     moved.positions.truncate(20_000); // frames may differ in point count
@@ -233,7 +234,7 @@ fn error_line(stderr: &str) -> String {
 #[test]
 fn bad_animation_input_is_one_clear_line_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
-    let bunny = bunny_line();
+    let bunny = require!(bunny_line());
     let cases = [
         (
             "nan.toml",
@@ -268,7 +269,7 @@ fn bad_animation_input_is_one_clear_line_and_writes_nothing() {
         assert!(!ok && line.contains(expected) && line.contains(name), "{name}: {stderr}");
         assert!(!out.exists(), "{name}: an image was written");
     }
-    let wave = common::bundled_bunny().with_file_name("bunny-wave.toml");
+    let wave = require!(common::stanford_scene("bunny-wave.toml"));
     for time in ["-1", "NaN"] {
         let out = dir.path().join(format!("t{time}.png"));
         let args =
@@ -285,7 +286,7 @@ fn bad_animation_input_is_one_clear_line_and_writes_nothing() {
 fn bench_animate_records_each_frames_regroup_upload_and_error() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    let wave = common::bundled_bunny().with_file_name("bunny-wave.toml");
+    let wave = require!(common::stanford_scene("bunny-wave.toml"));
     let args = [
         "bench",
         wave.to_str().unwrap(),
@@ -320,13 +321,13 @@ fn bench_animate_records_each_frames_regroup_upload_and_error() {
         assert_eq!(row["upload_ms"].is_null(), frame == 0, "an upload is timed from frame 1 on: {row}");
         assert!(row["eps"].as_f64().unwrap().is_finite());
     }
-    let (ok, stderr) = pointblend(&["bench", common::bundled_bunny().to_str().unwrap(), "--animate", "2"]);
+    let (ok, stderr) = pointblend(&["bench", require!(common::stanford_bunny()).to_str().unwrap(), "--animate", "2"]);
     assert!(!ok && error_line(&stderr).contains("nothing in the scene moves"), "{stderr}");
 }
 
 #[test]
 fn a_scene_moved_on_frame_by_frame_draws_what_a_fresh_upload_of_that_frame_draws() {
-    let wave = common::bundled_bunny().with_file_name("bunny-wave.toml");
+    let wave = require!(common::stanford_scene("bunny-wave.toml"));
     let (scene, _) = scene::open(&wave, &Default::default()).unwrap();
     let camera = Camera::framing(Vec3::new(-0.02, 0.1, 0.0), 0.11, 1.0);
     let mut gpu = common::renderer();
@@ -367,7 +368,7 @@ fn per_frame_hash_groups_of_the_waving_bunny_overlap_about_as_little_as_the_stil
     use pointblend::grouping::hash::{Collisions, HashOptions};
     use pointblend::grouping::metrics;
     use pointblend::grouping::regroup::{HashRegrouper, Lattice};
-    let wave = common::bundled_bunny().with_file_name("bunny-wave.toml");
+    let wave = require!(common::stanford_scene("bunny-wave.toml"));
     let (scene, _) = scene::open(&wave, &Default::default()).unwrap();
     let rest = Arc::clone(&scene.objects[0].cloud);
     let options = HashOptions { k: 8, collisions: Collisions::All };
@@ -389,7 +390,7 @@ fn a_sequence_with_an_empty_frame_plays_through_it_in_every_grouped_mode() {
     let dir = tempfile::tempdir().unwrap();
     let frames = dir.path().join("frames");
     std::fs::create_dir(&frames).unwrap();
-    let (bunny, _) = pointblend::cloud::load(&common::bundled_bunny()).unwrap();
+    let (bunny, _) = pointblend::cloud::load(&require!(common::stanford_bunny())).unwrap();
     write_frame(&frames.join("f_0.ply"), &bunny);
     let empty =
         "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
@@ -420,7 +421,7 @@ fn a_copy_sorted_back_to_front_and_then_moved_draws_the_moved_frame_in_a_mode_th
     let body = format!(
         "[[object]]\n{}\nopacity = 0.5\n\n[[object]]\nsphere = {{ splats = 2000, radius = 0.02, centre = [-0.005, 0.075, 0.005] }}\n\
          [[object.keyframe]]\ntime = 0.0\n[[object.keyframe]]\ntime = 1.0\ntranslate = [0.0, 0.03, 0.0]\n",
-        bunny_line()
+        require!(bunny_line())
     );
     let (scene, _) = scene::open(&scene_file(dir.path(), "still-and-moving.toml", &body), &Default::default()).unwrap();
     let lattice = pointblend::render::rest_lattice(&scene).unwrap();

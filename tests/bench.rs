@@ -13,7 +13,7 @@ fn bench_writes_json_markdown_plot_and_images_and_reuses_the_reference_cache() {
     let run = || {
         Command::new(env!("CARGO_BIN_EXE_pointblend"))
             .arg("bench")
-            .arg(common::bundled_bunny())
+            .arg(common::bundled_model())
             .args(["--modes", "two-pass,reference", "--size", "128x128", "--frames", "2", "--warm-up", "1"])
             .args(["--views", "2", "--loads", "1", "--out"])
             .arg(&out)
@@ -23,7 +23,7 @@ fn bench_writes_json_markdown_plot_and_images_and_reuses_the_reference_cache() {
     let first = run();
     assert!(first.status.success(), "{}", String::from_utf8_lossy(&first.stderr));
     for file in
-        ["bench.json", "bench.md", "error_vs_time.png", "bunny-front-two-pass.png", "bunny-side-two-pass-diff.png"]
+        ["bench.json", "bench.md", "error_vs_time.png", "lion-front-two-pass.png", "lion-side-two-pass-diff.png"]
     {
         assert!(out.join(file).exists(), "{file} is missing");
     }

@@ -15,10 +15,10 @@ use pointblend::scene::Scene;
 
 const SIZE: u32 = 192;
 
-fn merged() -> (Arc<Scene>, Camera) {
-    let (cloud, _) = cloud::load(&common::data("bunny_range_scans_merged.ply")).unwrap();
+fn merged() -> Option<(Arc<Scene>, Camera)> {
+    let (cloud, _) = cloud::load(&common::shared_data("bunny_range_scans_merged.ply")?).unwrap();
     let camera = Camera::default_for(&cloud, 1.0);
-    (Arc::new(Scene::from(cloud)), camera)
+    Some((Arc::new(Scene::from(cloud)), camera))
 }
 
 fn frame(frames: &mut SceneFrames, camera: &Camera, settings: &RenderSettings) -> (image::RgbaImage, Vec<String>) {
@@ -29,7 +29,7 @@ fn frame(frames: &mut SceneFrames, camera: &Camera, settings: &RenderSettings) -
 
 #[test]
 fn a_budget_of_the_whole_model_is_todays_image_and_a_budget_of_one_draws_the_root() {
-    let (scene, camera) = merged();
+    let (scene, camera) = require!(merged());
     let mut frames = SceneFrames::of(Arc::clone(&scene));
     let all = RenderSettings::default();
     let (today, _) = frame(&mut frames, &camera, &all);
@@ -48,7 +48,7 @@ fn a_budget_of_the_whole_model_is_todays_image_and_a_budget_of_one_draws_the_roo
 #[test]
 fn every_gpu_mode_draws_a_budgeted_frame_closer_to_the_reference_than_a_subsample_and_without_holes() {
     // The bundled bunny, opaque for the opaque modes and at opacity 0.5 for the transparent ones.
-    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let camera = Camera::default_for(&cloud, 1.0);
     let opaque = Arc::new(Scene::from(cloud));
     let mut glass = Scene::clone(&opaque);
@@ -119,7 +119,7 @@ fn a_budget_of_zero_is_one_line_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("never.png");
     for bad in ["0", "-5", "many"] {
-        let args = [common::bundled_bunny().into_os_string(), "--point-budget".into(), bad.into()];
+        let args = [require!(common::stanford_bunny()).into_os_string(), "--point-budget".into(), bad.into()];
         let error = common::refused_in_one_line(&args, &out, &format!("--point-budget {bad}"));
         assert!(error.contains("--point-budget"), "{error}");
     }

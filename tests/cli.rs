@@ -11,9 +11,9 @@ fn pointblend() -> Command {
 #[test]
 fn render_writes_a_png_and_explains_its_passes() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("bunny.png");
+    let out = dir.path().join("lion.png");
     let result = pointblend()
-        .args(["render", common::bundled_bunny().to_str().unwrap(), "--size", "160x128", "--explain", "--out"])
+        .args(["render", common::bundled_model().to_str().unwrap(), "--size", "160x128", "--explain", "--out"])
         .arg(&out)
         .output()
         .unwrap();
@@ -50,7 +50,8 @@ fn a_broken_file_fails_with_one_line_naming_it_and_writes_nothing() {
 
 #[test]
 fn info_says_what_was_estimated() {
-    let result = pointblend().arg("info").arg(common::data("bunny_range_scans_merged.ply")).output().unwrap();
+    let result =
+        pointblend().arg("info").arg(require!(common::shared_data("bunny_range_scans_merged.ply"))).output().unwrap();
     assert!(result.status.success());
     let stdout = String::from_utf8_lossy(&result.stdout);
     assert!(stdout.contains("normals:     estimated from neighbours"), "{stdout}");
@@ -64,7 +65,7 @@ fn convert_samples_a_mesh_into_a_loadable_splat_cloud() {
     let out = dir.path().join("sampled.ply");
     let result = pointblend()
         .arg("convert")
-        .arg(common::data("bun_zipper.ply"))
+        .arg(require!(common::shared_data("bun_zipper.ply")))
         .arg(&out)
         .args(["--points", "20000"])
         .output()
@@ -95,12 +96,13 @@ fn group_prints_the_required_json_for_every_test_scan_and_caches_it() {
         "seconds",
         "stage_seconds",
     ];
-    for name in ["bun_zipper.ply", "bunny_range_scans_merged.ply", "table_scene_mug_stereo_textured.ply"] {
+    for scan in common::real_scans() {
+        let name = scan.display();
         let run = || {
             pointblend()
                 .env("POINTBLEND_CACHE", cache.path())
                 .arg("group")
-                .arg(common::data(name))
+                .arg(&scan)
                 .args(["--algo", "mgc", "--c", "0.4", "--json"])
                 .output()
                 .unwrap()
@@ -126,7 +128,7 @@ fn environment_maps_that_cannot_be_drawn_fail_with_one_line_and_write_nothing() 
     let out = dir.path().join("never.png");
     let venice = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/venice.exr");
     let missing = dir.path().join("missing.exr");
-    let bunny = common::bundled_bunny();
+    let bunny = common::bundled_model();
     let cases: [(Vec<&std::ffi::OsStr>, &str); 3] = [
         // A mode that does not draw environment effects says which do.
         (

@@ -73,7 +73,7 @@ fn with_one_group_per_splat_deferred_equals_two_pass() {
 
 #[test]
 fn with_independent_groups_deferred_is_close_to_two_pass() {
-    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let grouping = GroupingSpec::mgc(1.0).compute(&cloud).unwrap();
     for az in [0.0, 120.0, 240.0] {
         let mut camera = Camera::default_for(&cloud, 1.0);
@@ -140,7 +140,7 @@ fn deferred_gives_sane_images_in_extreme_views() {
 
 #[test]
 fn without_lighting_no_normal_target_is_planned_and_images_match_the_reference() {
-    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let grouping = GroupingSpec::mgc(1.0).compute(&cloud).unwrap();
     let camera = Camera::default_for(&cloud, 1.0);
     for mode in [RenderMode::TwoPass, RenderMode::Deferred] {
@@ -164,7 +164,7 @@ fn without_lighting_no_normal_target_is_planned_and_images_match_the_reference()
 
 #[test]
 fn a_cloud_of_one_colour_writes_only_weights_and_looks_the_same() {
-    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let mut full_colour = cloud.clone();
     full_colour.colours[0][0] ^= 1; // one splat one unit off: the full colour path
     let grouping = GroupingSpec::mgc(0.4).compute(&cloud).unwrap();
@@ -196,7 +196,7 @@ fn deferred_in_the_papers_opaque_setting_stays_close_to_the_reference() {
     // MGC at c = 0.4 with Voronoi depth (the default): splats of one group may
     // overlap, and there the nearest wins instead of blending, so the image
     // departs from the exact blend; the bound says how far.
-    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let grouping = GroupingSpec::default().compute(&cloud).unwrap();
     let settings = deferred();
     assert!(settings.voronoi);

@@ -83,7 +83,7 @@ fn the_overlap_graph_is_symmetric_and_matches_brute_force() {
 
 #[test]
 fn wgc_cost_never_rises_during_optimisation() {
-    let (bunny, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (bunny, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     for (cloud, pure_area) in [(random_cloud(3, 4000, true), false), (bunny.clone(), false), (bunny, true)] {
         let options = wgc::WgcOptions { k: 6, pure_area, trace: true, ..Default::default() };
         let (grouping, graph, report) = wgc::group(&cloud, &options).unwrap();
@@ -116,7 +116,7 @@ fn wgc_cost_never_rises_during_optimisation() {
 
 #[test]
 fn hash_grouping_with_collisions_puts_no_two_splats_of_a_cell_in_one_group() {
-    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let k = 8;
     let (grouping, resolved) =
         hash::group(&cloud, &hash::HashOptions { k, collisions: hash::Collisions::All }).unwrap();
@@ -167,7 +167,9 @@ fn the_hash_table_for_eight_groups_is_fig_9() {
 /// the orderings that hold by construction and were measured.
 #[test]
 fn quality_at_eight_groups_orders_as_measured_on_real_scans() {
-    for path in [common::bundled_bunny(), common::data("table_scene_mug_stereo_textured.ply")] {
+    for path in
+        [require!(common::stanford_bunny()), require!(common::shared_data("table_scene_mug_stereo_textured.ply"))]
+    {
         let (cloud, _) = cloud::load(&path).unwrap();
         let overlap = |g: &Grouping| metrics::measure(&cloud, g).overlap_factor;
         let wgc_area =
@@ -193,7 +195,7 @@ fn quality_at_eight_groups_orders_as_measured_on_real_scans() {
 
 #[test]
 fn extension_covers_more_of_the_surface() {
-    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let base = wgc::group(&cloud, &wgc::WgcOptions { k: 8, ..Default::default() }).unwrap().0;
     let before = metrics::measure(&cloud, &base);
     let duplicated = extend::duplicate(&cloud, &base);
@@ -320,7 +322,7 @@ fn wgc_ends_where_no_splat_can_lower_the_cost_by_its_least_overlap_colour() {
     // (or of least Eq. 7 weight, the option), and a move is kept only if it
     // lowers L (Eq. 6, Eq. 7 weights). Re-queueing every neighbour of a moved
     // splat means that at the end no splat has such a move left.
-    let (bunny, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (bunny, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     for minimize_by_eq7 in [false, true] {
         let k = 4;
         let options = wgc::WgcOptions { k, minimize_by_eq7, ..Default::default() };
@@ -401,7 +403,7 @@ fn mgc_relaxations_drop_the_edges_they_name() {
 #[test]
 fn extensions_are_reachable_from_the_grouping_spec() {
     use pointblend::grouping::GroupingSpec;
-    let (bunny, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (bunny, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let spec = |s: &str| s.parse::<GroupingSpec>().unwrap().compute(&bunny).unwrap();
     let (base, duplicated) = (spec("wgc-k4"), spec("wgc-k4-dup"));
     let (m0, m1) = (metrics::measure(&bunny, &base), metrics::measure(&bunny, &duplicated));
@@ -484,7 +486,7 @@ fn wgc_cost_is_the_brute_force_sum_of_monte_carlo_overlaps_on_a_real_patch() {
     // ellipse whose area is |n_i·n_j| of it, so the two differ by at most
     // (1 − |n_i·n_j|)·π·min(r_i, r_j)² per direction, which the bound
     // allows, plus 4 standard errors of the sampling.
-    let (bunny, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (bunny, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let cloud = patch(&bunny, 1000, 500);
     let mut rng = Lcg(11);
     for pure_area in [true, false] {
@@ -529,7 +531,7 @@ fn overlap_areas_match_a_monte_carlo_estimate_on_real_neighbours() {
     // against its sampled definition, per pair, within the circle-for-ellipse
     // allowance and 4 standard errors.
     use pointblend::grouping::area::covered_area;
-    let (bunny, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (bunny, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let cloud = patch(&bunny, 20_000, 200);
     let mut rng = Lcg(5);
     let mut checked = 0;
@@ -574,7 +576,7 @@ fn locally_deformed(cloud: &PointCloud, push: f32) -> (PointCloud, usize) {
 
 #[test]
 fn incremental_regrouping_after_a_local_deformation_gives_the_full_regroups_groups() {
-    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let options = hash::HashOptions { k: 8, collisions: hash::Collisions::All };
     let lattice = Lattice::of(&cloud);
     let mut incremental = HashRegrouper::new(lattice, options).unwrap();
@@ -606,7 +608,7 @@ fn incremental_regrouping_after_a_local_deformation_gives_the_full_regroups_grou
 
 #[test]
 fn regrouping_does_not_depend_on_the_number_of_threads() {
-    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let options = hash::HashOptions { k: 8, collisions: hash::Collisions::All };
     let group_on = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
@@ -620,7 +622,7 @@ fn regrouping_does_not_depend_on_the_number_of_threads() {
 
 #[test]
 fn regrouping_survives_collapsed_and_empty_frames() {
-    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let options = hash::HashOptions { k: 8, collisions: hash::Collisions::All };
     let mut regrouper = HashRegrouper::new(Lattice::of(&cloud), options).unwrap();
     regrouper.regroup(&cloud);

@@ -41,8 +41,8 @@ fn test_dir() -> tempfile::TempDir {
     tempfile::Builder::new().prefix("pointblend-test-").tempdir().unwrap()
 }
 
-fn bunny() -> PathBuf {
-    common::bundled_bunny()
+fn model() -> PathBuf {
+    common::bundled_model()
 }
 
 /// A binary cloud of `points` with the given extra per-vertex columns.
@@ -96,7 +96,7 @@ fn bad_options_on_a_real_file_name_the_option() {
         (vec!["--group", "mgc-c7"], "--group"),
     ] {
         let result =
-            pointblend(dir.path()).arg("render").arg(bunny()).args(&args).arg("--out").arg(&out).output().unwrap();
+            pointblend(dir.path()).arg("render").arg(model()).args(&args).arg("--out").arg(&out).output().unwrap();
         let error = one_error(&result, &format!("{args:?}"));
         assert!(error.contains(option), "{args:?}: the error does not name {option}: {error}");
         assert!(!out.exists(), "{args:?} wrote an image");
@@ -119,7 +119,7 @@ fn options_a_mode_does_not_read_are_reported() {
     let out = dir.path().join("a.png");
     let run = pointblend(dir.path())
         .arg("render")
-        .arg(bunny())
+        .arg(model())
         .args(["--mode", "deferred", "--quality", "unfiltered", "--size", "64x64", "--out"])
         .arg(&out)
         .output()
@@ -127,7 +127,7 @@ fn options_a_mode_does_not_read_are_reported() {
     assert!(ok(&run, "deferred with --quality").contains("--quality is ignored"));
     let run = pointblend(dir.path())
         .arg("render")
-        .arg(bunny())
+        .arg(model())
         .args(["--group", "wgc-k8", "--no-voronoi", "--size", "64x64", "--out"])
         .arg(&out)
         .output()
@@ -143,7 +143,7 @@ fn a_huge_sample_count_is_refused_before_any_allocation() {
     for n in ["18446744073709551615", "4294967296", "100000000000"] {
         let result = pointblend(dir.path())
             .arg("convert")
-            .arg(common::data("bun_zipper.ply"))
+            .arg(require!(common::shared_data("bun_zipper.ply")))
             .arg(&out)
             .args(["--points", n])
             .output()
@@ -160,7 +160,7 @@ fn outputs_never_replace_devices_fifos_or_links() {
     use std::os::unix::fs::FileTypeExt;
     let dir = test_dir();
     let render = |out: &Path| {
-        pointblend(dir.path()).arg("render").arg(bunny()).args(["--size", "64x64", "--out"]).arg(out).output().unwrap()
+        pointblend(dir.path()).arg("render").arg(model()).args(["--size", "64x64", "--out"]).arg(out).output().unwrap()
     };
     let error = one_error(&render(Path::new("/dev/full")), "/dev/full");
     assert!(error.contains("/dev/full") && error.contains("not a regular file"), "{error}");
@@ -183,11 +183,11 @@ fn outputs_never_replace_devices_fifos_or_links() {
 fn images_are_encoded_as_their_extension_says_and_other_extensions_are_refused() {
     let dir = test_dir();
     let jpg = dir.path().join("shot.jpg");
-    let run = pointblend(dir.path()).arg("render").arg(bunny()).args(["--size", "64x64", "--out"]).arg(&jpg).output();
+    let run = pointblend(dir.path()).arg("render").arg(model()).args(["--size", "64x64", "--out"]).arg(&jpg).output();
     ok(&run.unwrap(), "jpg");
     assert_eq!(&std::fs::read(&jpg).unwrap()[..2], &[0xFF, 0xD8], "a JPEG starts with FFD8");
     let tif = dir.path().join("shot.tif");
-    let run = pointblend(dir.path()).arg("render").arg(bunny()).args(["--size", "64x64", "--out"]).arg(&tif).output();
+    let run = pointblend(dir.path()).arg("render").arg(model()).args(["--size", "64x64", "--out"]).arg(&tif).output();
     assert!(one_error(&run.unwrap(), "tif").contains(".png or .jpg"));
     assert!(!tif.exists());
 }
@@ -200,7 +200,7 @@ fn an_unwritable_second_output_stops_the_run_before_the_first_is_written() {
     std::fs::write(&blocker, b"not a folder").unwrap();
     let run = pointblend(dir.path())
         .arg("render")
-        .arg(bunny())
+        .arg(model())
         .args(["--size", "64x64", "--out"])
         .arg(&out)
         .arg("--diff")
@@ -215,7 +215,7 @@ fn an_unwritable_second_output_stops_the_run_before_the_first_is_written() {
 fn convert_and_render_both_create_a_missing_output_folder() {
     let dir = test_dir();
     let ply = dir.path().join("new/folder/splats.ply");
-    ok(&pointblend(dir.path()).arg("convert").arg(bunny()).arg(&ply).output().unwrap(), "convert");
+    ok(&pointblend(dir.path()).arg("convert").arg(model()).arg(&ply).output().unwrap(), "convert");
     assert!(pointblend::cloud::load(&ply).is_ok());
     let png = dir.path().join("other/new/folder/a.png");
     let run = pointblend(dir.path()).arg("render").arg(&ply).args(["--size", "64x64", "--out"]).arg(&png).output();
@@ -250,7 +250,7 @@ fn coincident_copies_are_merged_and_a_plan_over_the_memory_budget_gives_a_hint()
     let run = pointblend(dir.path())
         .env("POINTBLEND_GPU_MEMORY_MB", "16")
         .arg("render")
-        .arg(bunny())
+        .arg(model())
         .args(["--mode", "deferred", "--group", "mgc-c1", "--size", "512x512", "--out"])
         .arg(&out)
         .output()
@@ -318,7 +318,7 @@ fn bench_skips_a_bad_file_keeps_the_others_and_says_so() {
     let run = pointblend(dir.path())
         .arg("bench")
         .arg(&bad)
-        .arg(bunny())
+        .arg(model())
         .args(["--modes", "two-pass:quality=filtered", "--size", "64x64", "--frames", "1", "--warm-up", "0"])
         .args(["--views", "1", "--loads", "1", "--out"])
         .arg(&out)
@@ -327,8 +327,8 @@ fn bench_skips_a_bad_file_keeps_the_others_and_says_so() {
     let error = one_error(&run, "bench with a broken file");
     assert!(error.contains("broken.ply") && error.contains("1 of 2 files"), "{error}");
     let rows: Vec<serde_json::Value> = serde_json::from_slice(&std::fs::read(out.join("bench.json")).unwrap()).unwrap();
-    assert_eq!(rows.len(), 1, "the bunny's row is kept");
-    assert_eq!(rows[0]["model"], "bunny.ply");
+    assert_eq!(rows.len(), 1, "the lion's row is kept");
+    assert_eq!(rows[0]["model"], "lion.ply");
 }
 
 #[test]
@@ -374,7 +374,7 @@ fn points_on_a_line_are_drawn_facing_the_viewer_with_a_warning() {
 #[test]
 fn group_and_render_share_the_default_grouping() {
     let dir = test_dir();
-    let run = pointblend(dir.path()).arg("group").arg(bunny()).args(["--json", "--no-cache"]).output().unwrap();
+    let run = pointblend(dir.path()).arg("group").arg(model()).args(["--json", "--no-cache"]).output().unwrap();
     ok(&run, "group");
     let json: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
     let c = json["c"].as_f64().unwrap();

@@ -25,8 +25,8 @@ fn fails_with(args: &[&str], needle: &str, out: &std::path::Path) {
 fn bad_lights_and_volumes_give_one_line_and_no_file() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("never.png");
-    let bunny = common::bundled_bunny();
-    let bunny = bunny.to_str().unwrap();
+    let model = common::bundled_model();
+    let bunny = model.to_str().unwrap();
     let o = out.to_str().unwrap();
     fails_with(&["render", bunny, "--light", "0,1", "--out", o], "'0,1' is not a light position", &out);
     fails_with(&["render", bunny, "--light", "0,1,NaN", "--out", o], "'0,1,NaN' is not a light position", &out);

@@ -11,10 +11,10 @@ fn absolute(cloud: &PointCloud, i: usize) -> DVec3 {
     cloud.positions[i].as_dvec3() + DVec3::from_array(cloud.origin)
 }
 
-/// A small real cloud: the first vertices of the bunny mesh, with derived attributes.
+/// A small real cloud: the first points of the bundled lion scan, with derived attributes.
 fn sample_rows(count: usize) -> Vec<[f64; 3]> {
-    let mesh = common::read_ascii_mesh(&common::data("bun_zipper.ply"));
-    mesh.vertices.iter().take(count).map(|v| v.to_array()).collect()
+    let (lion, _) = cloud::load(&common::bundled_model()).unwrap();
+    (0..count.min(lion.len())).map(|i| absolute(&lion, i).to_array()).collect()
 }
 
 #[test]
@@ -110,8 +110,9 @@ fn colours_read_as_uchar_float_and_ushort() {
 
 #[test]
 fn the_test_scans_load_with_every_attribute() {
-    for name in ["bun_zipper.ply", "bunny_range_scans_merged.ply", "table_scene_mug_stereo_textured.ply"] {
-        let (cloud, report) = cloud::load(&common::data(name)).unwrap();
+    for path in common::real_scans() {
+        let name = path.display();
+        let (cloud, report) = cloud::load(&path).unwrap();
         assert!(cloud.is_consistent());
         assert!(!cloud.is_empty());
         assert!(cloud.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-3), "{name}: unit normals");
@@ -130,7 +131,7 @@ fn the_test_scans_load_with_every_attribute() {
 
 #[test]
 fn the_ascii_mesh_loads_exactly_the_vertices_its_faces_use() {
-    let path = common::data("bun_zipper.ply");
+    let path = require!(common::shared_data("bun_zipper.ply"));
     let mesh = common::read_ascii_mesh(&path);
     let (cloud, report) = cloud::load(&path).unwrap();
     assert_eq!(report.normals, Provenance::FromFaces);
@@ -153,7 +154,7 @@ fn the_ascii_mesh_loads_exactly_the_vertices_its_faces_use() {
 fn estimated_normals_match_the_mesh_normals_and_face_outwards() {
     // The bunny's vertices without faces: PCA normals must agree with the face normals.
     let dir = tempfile::tempdir().unwrap();
-    let path = common::data("bun_zipper.ply");
+    let path = require!(common::shared_data("bun_zipper.ply"));
     let (with_faces, _) = cloud::load(&path).unwrap();
     let rows: Vec<Vec<f64>> = (0..with_faces.len()).map(|i| absolute(&with_faces, i).to_array().to_vec()).collect();
     let vertex = Element { name: "vertex", properties: vec![("double", "x"), ("double", "y"), ("double", "z")], rows };
@@ -174,7 +175,7 @@ fn estimated_normals_match_the_mesh_normals_and_face_outwards() {
 
 #[test]
 fn a_single_view_scan_faces_its_scanner() {
-    let (cloud, report) = cloud::load(&common::data("table_scene_mug_stereo_textured.ply")).unwrap();
+    let (cloud, report) = cloud::load(&require!(common::shared_data("table_scene_mug_stereo_textured.ply"))).unwrap();
     assert_eq!(report.normals, Provenance::Estimated);
     let scanner = cloud.scanner_position.expect("the table scene is one stereo view from the origin");
     let facing = (0..cloud.len()).filter(|&i| cloud.normals[i].dot(scanner - cloud.positions[i]) > 0.0).count();
@@ -191,6 +192,8 @@ fn utm_sized_coordinates_keep_their_millimetres() {
     let dir = tempfile::tempdir().unwrap();
     let base = [512_345.678_f64, 5_412_345.123, 321.5];
     let xyz = sample_rows(200);
+    let extent =
+        xyz.iter().map(|p| DVec3::from_array(*p) - DVec3::from_array(xyz[0])).map(|d| d.length()).fold(0.0, f64::max);
     let rows: Vec<Vec<f64>> = xyz.iter().map(|p| vec![base[0] + p[0], base[1] + p[1], base[2] + p[2]]).collect();
     let vertex = Element {
         name: "vertex",
@@ -203,7 +206,7 @@ fn utm_sized_coordinates_keep_their_millimetres() {
         for j in [0, 7, 99] {
             let got = (cloud.positions[i] - cloud.positions[j]).as_dvec3();
             let want = DVec3::from_slice(&rows[i]) - DVec3::from_slice(&rows[j]);
-            assert!((got - want).length() / 0.2 < MAX_RELATIVE_POSITION_ERROR, "pair {i},{j}: {got} vs {want}");
+            assert!((got - want).length() / extent < MAX_RELATIVE_POSITION_ERROR, "pair {i},{j}: {got} vs {want}");
         }
     }
 }

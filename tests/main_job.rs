@@ -1,7 +1,7 @@
-//! The first run: `pointblend view` with no display renders the opaque modes
-//! on the bundled bunny and every transparent mode on the demo scene, so
-//! that no transparent mode falls back to two-pass; and where a transparent
-//! mode does meet an opaque model, bench and render say so.
+//! The first run: `pointblend` with no subcommand and no display renders the
+//! opaque modes on the bundled lion and every transparent mode on the demo
+//! scene, so that no transparent mode falls back to two-pass; and where a
+//! transparent mode does meet an opaque model, bench and render say so.
 
 mod common;
 
@@ -11,10 +11,9 @@ use std::process::Command;
 const TRANSPARENT_MODES: [&str; 6] = ["depth-peel", "approx-peel", "alg1", "alg2", "alpha-blend", "tiled"];
 const FALLBACK: &str = "opaque scene: ran two-pass";
 
-/// `pointblend view ARGS` with no display, into `out`, at 96x96.
+/// `pointblend ARGS` with no display, into `out`, at 96x96.
 fn headless_view(args: &[&str], out: &std::path::Path) -> (String, Vec<serde_json::Value>) {
     let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
-        .arg("view")
         .args(args)
         .args(["--size", "96x96", "--out"])
         .arg(out)
@@ -32,6 +31,7 @@ fn headless_view(args: &[&str], out: &std::path::Path) -> (String, Vec<serde_jso
 fn the_main_job_renders_every_transparent_mode_on_a_transparent_scene() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
+    // No subcommand: what the README's first command runs.
     let (stdout, rows) = headless_view(&[], &out);
     println!("{stdout}");
     let mut transparent_eps = BTreeSet::new();
@@ -40,12 +40,12 @@ fn the_main_job_renders_every_transparent_mode_on_a_transparent_scene() {
         let model = row["model"].as_str().unwrap();
         assert!(row.get("fallback").is_none(), "{variant} on {model} reports the opaque fallback: {row}");
         if TRANSPARENT_MODES.contains(&mode) {
-            assert_eq!(model, "bunny-balls.toml", "{variant} renders the demo scene");
+            assert_eq!(model, "demo.toml", "{variant} renders the demo scene");
             if variant == mode {
                 transparent_eps.insert(format!("{:.3}", row["eps"].as_f64().unwrap()));
             }
         } else if mode != "reference" {
-            assert_eq!(model, "bunny.ply", "{variant}: the opaque modes render the bunny");
+            assert_eq!(model, "lion.ply", "{variant}: the opaque modes render the lion");
         }
     }
     assert_eq!(
@@ -56,7 +56,7 @@ fn the_main_job_renders_every_transparent_mode_on_a_transparent_scene() {
     // One compact row per mode at its defaults, and the files named in one line.
     for mode in TRANSPARENT_MODES {
         let line = stdout.lines().find(|l| l.starts_with(&format!("| {mode} |"))).expect(mode);
-        assert!(line.contains("bunny-balls.toml (transparent)"), "{line}");
+        assert!(line.contains("demo.toml (transparent)"), "{line}");
     }
     assert!(stdout.lines().any(|l| l.starts_with("wrote") && l.contains("modes.png")), "{stdout}");
     let sheet = image::open(out.join("modes.png")).expect("the contact sheet is a PNG");
@@ -68,8 +68,8 @@ fn the_main_job_renders_every_transparent_mode_on_a_transparent_scene() {
 fn transparent_modes_on_an_opaque_model_say_they_ran_two_pass() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    let bunny = common::bundled_bunny();
-    let (stdout, rows) = headless_view(&[bunny.to_str().unwrap()], &out);
+    let lion = common::bundled_model();
+    let (stdout, rows) = headless_view(&["view", lion.to_str().unwrap()], &out);
     for row in &rows {
         let mode = row["mode"].as_str().unwrap();
         let marked = row.get("fallback").and_then(|f| f.as_str()) == Some(FALLBACK);
@@ -85,7 +85,7 @@ fn transparent_modes_on_an_opaque_model_say_they_ran_two_pass() {
     // render says it in one line.
     let png = dir.path().join("alg1.png");
     let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
-        .args(["render", bunny.to_str().unwrap(), "--mode", "alg1", "--size", "64x64", "--out"])
+        .args(["render", lion.to_str().unwrap(), "--mode", "alg1", "--size", "64x64", "--out"])
         .arg(&png)
         .output()
         .unwrap();

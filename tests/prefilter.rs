@@ -75,7 +75,7 @@ fn splats_larger_than_the_filter_are_drawn_as_without_it() {
     assert_eq!(differing, 0, "a close-up (every splat above the low-pass radius) changed in {differing} pixels");
     // The bundled bunny, lit, close: its splats are over a pixel wide, and
     // those seen edge-on along its silhouette (thin on screen) are not widened either.
-    let (bunny, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (bunny, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let mut camera = Camera::default_for(&bunny, 1.0);
     camera.distance = camera.fit_distance(&bunny.positions, 1.0) * 0.5;
     let lit = |p: Prefilter| RenderSettings { prefilter: p, ..Default::default() };
@@ -88,7 +88,7 @@ fn splats_larger_than_the_filter_are_drawn_as_without_it() {
 
 #[test]
 fn a_supersampled_reference_is_the_box_filter_of_its_rays() {
-    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let scene = Scene::from(cloud.clone());
     let mut camera = Camera::default_for(&cloud, 1.0);
     camera.distance = camera.fit_distance(&cloud.positions, 1.0) * 3.0;
@@ -120,7 +120,7 @@ fn a_supersampled_reference_is_the_box_filter_of_its_rays() {
 fn bad_supersample_and_prefilter_values_are_one_line_and_write_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("never.png");
-    let bunny = common::bundled_bunny();
+    let bunny = require!(common::stanford_bunny());
     for bad in [
         ["--mode", "reference", "--supersample", "0"],
         ["--mode", "reference", "--supersample", "17"],

@@ -63,7 +63,7 @@ fn the_quick_start_is_the_two_commands_that_ci_and_users_run() {
 
 #[test]
 fn every_picture_the_docs_show_exists_and_every_picture_is_shown() {
-    let docs = ["README.md", "docs/BENCHMARKS.md"];
+    let docs = ["README.md", "docs/USER_GUIDE.md", "docs/ALGORITHMS.md", "docs/BENCHMARKS.md"];
     let mut shown = Vec::new();
     for doc in docs {
         let text = read(doc);
@@ -92,4 +92,46 @@ fn the_readme_names_every_mode_and_subcommand() {
     for command in ["view", "render", "info", "convert", "bench", "group"] {
         assert!(readme.contains(&format!("pointblend {command}")), "the README has no example of {command}");
     }
+}
+
+/// Every relative `[text](target)` link of a Markdown text, without its anchor.
+fn relative_links(markdown: &str) -> Vec<String> {
+    markdown
+        .split("](")
+        .skip(1)
+        .filter_map(|s| s.split(')').next())
+        .map(|t| t.split('#').next().unwrap_or("").trim().to_string())
+        .filter(|t| !t.is_empty() && !t.contains("://") && !t.starts_with("mailto:"))
+        .collect()
+}
+
+#[test]
+fn every_link_of_the_readme_and_docs_resolves() {
+    let mut docs = vec![root().join("README.md")];
+    docs.extend(
+        std::fs::read_dir(root().join("docs"))
+            .unwrap()
+            .flatten()
+            .map(|e| e.path())
+            .filter(|p| p.extension().is_some_and(|e| e == "md")),
+    );
+    assert!(docs.len() >= 4, "the README, the user guide, the algorithms and the benchmarks: {docs:?}");
+    for doc in docs {
+        let text = std::fs::read_to_string(&doc).unwrap();
+        let base = doc.parent().unwrap();
+        for link in relative_links(&text) {
+            assert!(base.join(&link).exists(), "{} links to {link}, which does not exist", doc.display());
+        }
+    }
+}
+
+#[test]
+fn the_readme_is_a_front_door() {
+    let readme = read("README.md");
+    let lines = readme.lines().count();
+    assert!(lines <= 300, "the README has {lines} lines; the rest belongs in docs/");
+    for doc in ["docs/USER_GUIDE.md", "docs/ALGORITHMS.md", "docs/BENCHMARKS.md"] {
+        assert!(readme.contains(doc.trim_start_matches("docs/")), "the README links to {doc}");
+    }
+    assert!(readme.contains("](docs/images/modes.png)"), "the README shows the contact sheet");
 }

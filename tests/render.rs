@@ -16,13 +16,14 @@ fn render(cloud: &PointCloud, camera: &Camera, settings: &RenderSettings, size: 
     renderer.render_image(&gpu, camera, settings, size, size).expect("render").0
 }
 
-/// The bundled bunny and the triangles of the mesh it was made from, in the same frame.
-fn bunny_and_mesh() -> (PointCloud, Vec<[Vec3; 3]>) {
-    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
-    let mesh = common::read_ascii_mesh(&common::data("bun_zipper.ply"));
+/// The Stanford bunny as splats and the triangles of the mesh it was made
+/// from, in the same frame (`None`: the shared scans are absent).
+fn bunny_and_mesh() -> Option<(PointCloud, Vec<[Vec3; 3]>)> {
+    let (cloud, _) = cloud::load(&common::stanford_bunny()?).unwrap();
+    let mesh = common::read_ascii_mesh(&common::shared_data("bun_zipper.ply")?);
     let origin = glam::DVec3::from_array(cloud.origin);
     let triangles = mesh.triangles.iter().map(|t| t.map(|i| (mesh.vertices[i] - origin).as_vec3())).collect();
-    (cloud, triangles)
+    Some((cloud, triangles))
 }
 
 fn views(cloud: &PointCloud) -> Vec<Camera> {
@@ -44,7 +45,7 @@ fn count(mask: &[bool]) -> usize {
 
 #[test]
 fn the_bunny_covers_its_mesh_silhouette_and_nothing_else() {
-    let (cloud, triangles) = bunny_and_mesh();
+    let (cloud, triangles) = require!(bunny_and_mesh());
     let bg = common::background_rgb();
     for camera in views(&cloud) {
         let image = render(&cloud, &camera, &RenderSettings::default(), SIZE);
@@ -70,7 +71,7 @@ fn the_bunny_covers_its_mesh_silhouette_and_nothing_else() {
 
 #[test]
 fn the_bunny_has_no_holes_compared_with_a_dense_render() {
-    let (cloud, _) = bunny_and_mesh();
+    let (cloud, _) = require!(bunny_and_mesh());
     let mut dense = cloud.clone();
     dense.radii.iter_mut().for_each(|r| *r *= 2.0);
     let max_radius = cloud.radii.iter().copied().fold(0.0f32, f32::max);
@@ -111,7 +112,7 @@ fn roughness(image: &image::RgbaImage, mask: &[bool]) -> f64 {
 
 #[test]
 fn the_filtered_level_is_smoother_than_the_unfiltered_one() {
-    let (cloud, triangles) = bunny_and_mesh();
+    let (cloud, triangles) = require!(bunny_and_mesh());
     for camera in views(&cloud) {
         let inside =
             common::morph(&common::silhouette(&triangles, &camera, SIZE, SIZE), SIZE, SIZE, -BOUNDARY_RIM_PIXELS);
@@ -142,8 +143,9 @@ fn assert_sane(image: &image::RgbaImage, what: &str) {
 
 #[test]
 fn every_test_scan_renders() {
-    for name in ["bun_zipper.ply", "bunny_range_scans_merged.ply", "table_scene_mug_stereo_textured.ply"] {
-        let (cloud, _) = cloud::load(&common::data(name)).unwrap();
+    for path in common::real_scans() {
+        let name = &path.display().to_string();
+        let (cloud, _) = cloud::load(&path).unwrap();
         let camera = Camera::default_for(&cloud, 1.0);
         let image = render(&cloud, &camera, &RenderSettings::default(), 128);
         assert_sane(&image, name);

@@ -20,8 +20,9 @@ use pointblend::render::shaders;
 use pointblend::render::touches::{Access, Touch};
 use pointblend::render::{GpuScene, HeadlessRenderer};
 
-fn bunny() -> PointCloud {
-    cloud::load(&common::bundled_bunny()).unwrap().0
+/// The bundled lion scan, a quarter of its splats.
+fn model() -> PointCloud {
+    common::thinned_lion(4)
 }
 
 /// Every setting that changes a plan's targets: quality, lighting, colours,
@@ -167,7 +168,7 @@ fn sorted(ids: &[TargetId]) -> Vec<&'static str> {
 
 #[test]
 fn every_target_the_recorded_passes_bind_is_allocated_as_bound_explained_as_used_and_nothing_else_is() {
-    let colour = bunny();
+    let colour = model();
     let mut one_colour = colour.clone();
     one_colour.colours.iter_mut().for_each(|c| *c = [90, 160, 200]);
     // Transparent modes plan their layers only for a transparent scene.
@@ -236,7 +237,7 @@ fn every_target_the_recorded_passes_bind_is_allocated_as_bound_explained_as_used
 
 #[test]
 fn a_new_plan_frees_the_targets_it_does_not_use_and_pipelines_are_built_once() {
-    let cloud = bunny();
+    let cloud = model();
     let camera = Camera::default_for(&cloud, 1.0);
     let mut renderer = common::renderer();
     let deferred = RenderSettings { mode: "deferred".parse().unwrap(), ..Default::default() };
@@ -261,7 +262,7 @@ fn a_new_plan_frees_the_targets_it_does_not_use_and_pipelines_are_built_once() {
 
 #[test]
 fn every_plan_pass_is_timed_even_with_many_groups() {
-    let cloud = bunny();
+    let cloud = model();
     let camera = Camera::default_for(&cloud, 1.0);
     // Its own renderer, so turning timing on does not touch the shared one.
     let mut renderer = HeadlessRenderer::new().unwrap();
@@ -281,7 +282,7 @@ fn every_plan_pass_is_timed_even_with_many_groups() {
 
 #[test]
 fn each_group_layer_pass_carries_its_own_layer_in_its_uniforms() {
-    let cloud = bunny();
+    let cloud = model();
     let grouping = GroupingSpec::mgc(1.0).compute(&cloud).unwrap();
     let settings = RenderSettings { mode: "deferred".parse().unwrap(), ..Default::default() };
     let frame = FrameDesc {

@@ -17,12 +17,12 @@ fn asset(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets").join(name)
 }
 
-/// A scene file in `dir` whose one object is the bundled bunny, with `extra`
+/// A scene file in `dir` whose one object is the bundled lion, with `extra`
 /// lines added to the object.
 fn scene_file(dir: &Path, extra: &str) -> PathBuf {
     let path = dir.join("scene.toml");
-    let bunny = common::bundled_bunny();
-    let text = format!("[camera]\nazimuth = 10\n\n[[object]]\nply = {:?}\n{extra}", bunny.to_str().unwrap());
+    let model = common::bundled_model();
+    let text = format!("[camera]\nazimuth = 10\n\n[[object]]\nply = {:?}\n{extra}", model.to_str().unwrap());
     std::fs::write(&path, text).unwrap();
     path
 }
@@ -38,9 +38,9 @@ fn the_one_error(result: &Output) -> String {
 
 #[test]
 fn the_demo_scenes_load_with_their_materials() {
-    let (balls, warnings) = scene::open(&asset("bunny-balls.toml"), &LoadOptions::default()).unwrap();
+    let (balls, warnings) = scene::open(&asset("demo.toml"), &LoadOptions::default()).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
-    assert!(balls.objects.len() >= 5, "the bunny and its balls");
+    assert!(balls.objects.len() >= 5, "the lion and its balls");
     assert!(balls.has_transparency());
     assert!(balls.objects.iter().any(|o| o.material.opacity == 1.0), "some balls are opaque");
     let (registration, _) = scene::open(&asset("registration.toml"), &LoadOptions::default()).unwrap();
@@ -48,8 +48,8 @@ fn the_demo_scenes_load_with_their_materials() {
     let colours: Vec<_> = registration.objects.iter().map(|o| o.material.colour).collect();
     assert_ne!(colours[0], colours[1], "in two colours");
     assert_ne!(registration.objects[0].transform, registration.objects[1].transform, "one moved");
-    let (glass, _) = scene::open(&asset("glass-bunny.toml"), &LoadOptions::default()).unwrap();
-    let map = glass.environment.as_ref().expect("the glass bunny's scene names its environment map");
+    let (glass, _) = scene::open(&asset("glass.toml"), &LoadOptions::default()).unwrap();
+    let map = glass.environment.as_ref().expect("the glass scene names its environment map");
     assert_eq!((map.width(), map.height()), (512, 256));
 }
 
@@ -79,8 +79,8 @@ fn bad_scene_files_name_the_file_line_column_and_problem() {
     assert!(error.contains("gone.ply"), "{error}");
     // An environment map that is not there: its line, and the map named.
     let path = dir.path().join("no-map.toml");
-    let bunny = common::bundled_bunny();
-    std::fs::write(&path, format!("environment = \"gone.exr\"\n[[object]]\nply = {:?}\n", bunny.to_str().unwrap()))
+    let model = common::bundled_model();
+    std::fs::write(&path, format!("environment = \"gone.exr\"\n[[object]]\nply = {:?}\n", model.to_str().unwrap()))
         .unwrap();
     let error = the_one_error(&pointblend().arg("render").arg(&path).arg("--out").arg(&out).output().unwrap());
     assert!(error.contains("no-map.toml:1:15"), "{error}");
@@ -92,7 +92,7 @@ fn an_opaque_scene_in_a_transparent_mode_says_it_falls_back_and_peels_nothing() 
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("opaque.png");
     let result = pointblend()
-        .args(["render", common::bundled_bunny().to_str().unwrap(), "--mode", "depth-peel", "--size", "96x96"])
+        .args(["render", common::bundled_model().to_str().unwrap(), "--mode", "depth-peel", "--size", "96x96"])
         .args(["--explain", "--out"])
         .arg(&out)
         .output()
@@ -103,7 +103,7 @@ fn an_opaque_scene_in_a_transparent_mode_says_it_falls_back_and_peels_nothing() 
     assert!(!stdout.contains("peel depth"), "no peeling target: {stdout}");
     // The same file at opacity 0.5 peels.
     let result = pointblend()
-        .args(["render", common::bundled_bunny().to_str().unwrap(), "--mode", "depth-peel", "--size", "96x96"])
+        .args(["render", common::bundled_model().to_str().unwrap(), "--mode", "depth-peel", "--size", "96x96"])
         .args(["--opacity", "0.5", "--layers", "3", "--explain", "--out"])
         .arg(&out)
         .output()
@@ -122,7 +122,7 @@ fn a_transparent_mode_on_an_opaque_model_draws_the_two_pass_image_exactly() {
     let render = |mode: &str| {
         let out = dir.path().join(format!("{mode}.png"));
         let result = pointblend()
-            .args(["render", common::bundled_bunny().to_str().unwrap(), "--mode", mode, "--size", "96x96", "--out"])
+            .args(["render", common::bundled_model().to_str().unwrap(), "--mode", mode, "--size", "96x96", "--out"])
             .arg(&out)
             .env("POINTBLEND_CACHE", dir.path().join("cache"))
             .output()

@@ -20,19 +20,19 @@ use pointblend::scene::Scene;
 fn scenes() -> Vec<(&'static str, Scene)> {
     let assets = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets");
     let open = |name: &str| pointblend::scene::open(&assets.join(name), &Default::default()).unwrap().0;
-    let bunny = open("bunny.ply"); // one colour: weights only
-    let mut coloured = bunny.clone();
-    let mut cloud = coloured.flattened().as_ref().clone();
-    cloud.colours.iter_mut().enumerate().for_each(|(i, c)| *c = [(i % 251) as u8, 120, 200]);
-    coloured = Scene::from(cloud);
+    let lion = common::thinned_lion(4);
+    let mut one_colour = lion.clone(); // one colour: weights only
+    one_colour.colours.iter_mut().for_each(|c| *c = [200, 180, 150]);
+    let one_colour = Scene::from(one_colour);
+    let coloured = Scene::from(lion);
     let mut transparent = coloured.clone();
     transparent.set_opacity(0.5);
     vec![
-        ("one colour", bunny),
+        ("one colour", one_colour),
         ("colours", coloured),
         ("transparent", transparent),
-        ("transparent and opaque", open("bunny-balls.toml")),
-        ("environment", open("glass-bunny.toml")),
+        ("transparent and opaque", open("demo.toml")),
+        ("environment", open("glass.toml")),
     ]
 }
 
@@ -73,9 +73,8 @@ fn built_modules() -> BTreeSet<(&'static str, String)> {
     // Mesh triangles (TRIANGLES), opaque and transparent, of one colour and of many: drawn through
     // SceneFrames, which hands a frame its triangles (every leaf as triangles: hybrid-px 0).
     let assets = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets");
-    let environment =
-        pointblend::scene::open(&assets.join("glass-bunny.toml"), &Default::default()).unwrap().0.environment;
-    for name in ["bunny-hybrid.toml", "glass-mesh.toml", "glass-mesh.toml with an environment map"] {
+    let environment = pointblend::scene::open(&assets.join("glass.toml"), &Default::default()).unwrap().0.environment;
+    for name in ["knot-hybrid.toml", "glass-mesh.toml", "glass-mesh.toml with an environment map"] {
         let file = name.split(' ').next().unwrap();
         let (mut scene, _) = pointblend::scene::open(&assets.join(file), &Default::default()).unwrap();
         if name.contains("environment") {

@@ -241,7 +241,7 @@ fn edge_on_planes_and_a_floor_through_the_near_plane_match_the_reference() {
 
 #[test]
 fn the_bundled_bunny_matches_the_reference_opaque_and_transparent_in_three_views() {
-    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     for opacity in [1.0, 0.5] {
         let mut scene = Scene::from(cloud.clone());
         scene.set_opacity(opacity);
@@ -266,12 +266,8 @@ fn the_bundled_bunny_matches_the_reference_opaque_and_transparent_in_three_views
 
 #[test]
 fn the_glass_bunny_reflects_and_refracts_as_the_reference_does() {
-    let scene = pointblend::scene::open(
-        &std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/glass-bunny.toml"),
-        &Default::default(),
-    )
-    .unwrap()
-    .0;
+    let scene =
+        pointblend::scene::open(&require!(common::stanford_scene("glass-bunny.toml")), &Default::default()).unwrap().0;
     let camera = Camera::default_for(&scene.flattened(), 1.0);
     for layers in ["single", "multi"] {
         let mut settings = settings(true);
@@ -286,7 +282,7 @@ fn the_glass_bunny_reflects_and_refracts_as_the_reference_does() {
 
 #[test]
 fn an_opaque_scene_runs_the_tile_pipeline_and_the_plan_states_its_memory() {
-    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let scene = Scene::from(cloud);
     let camera = Camera::default_for(&scene.flattened(), 1.0);
     let mut renderer = common::renderer();
@@ -312,7 +308,15 @@ fn tile_lists_that_do_not_fit_give_one_clear_error_and_no_image() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("never.png");
     let result = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
-        .args(["render", common::bundled_bunny().to_str().unwrap(), "--mode", "tiled", "--size", "256x256", "--out"])
+        .args([
+            "render",
+            require!(common::stanford_bunny()).to_str().unwrap(),
+            "--mode",
+            "tiled",
+            "--size",
+            "256x256",
+            "--out",
+        ])
         .arg(&out)
         .env("POINTBLEND_GPU_MEMORY_MB", "3")
         .output()

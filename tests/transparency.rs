@@ -14,11 +14,12 @@ use pointblend::render::plan::TargetId;
 use pointblend::scene::{Material, Scene, primitives};
 use pointblend::spatial::order::OrderKind;
 
-fn transparent_bunny(opacity: f32) -> Scene {
-    let (cloud, _) = cloud::load(&common::bundled_bunny()).unwrap();
+/// The Stanford bunny at `opacity` (`None`: the shared scans are absent).
+fn transparent_bunny(opacity: f32) -> Option<Scene> {
+    let (cloud, _) = cloud::load(&common::stanford_bunny()?).unwrap();
     let mut scene = Scene::from(cloud);
     scene.set_opacity(opacity);
-    scene
+    Some(scene)
 }
 
 fn mode(name: &str) -> RenderMode {
@@ -50,7 +51,7 @@ fn exact(scene: &Scene, camera: &Camera, settings: &RenderSettings, size: u32) -
 
 #[test]
 fn depth_peel_with_enough_layers_matches_the_reference_on_the_transparent_bunny() {
-    let scene = transparent_bunny(0.5);
+    let scene = require!(transparent_bunny(0.5));
     let size = 160;
     for (az, el) in [(0.0, 10.0), (90.0, 25.0), (200.0, 40.0)] {
         let camera = view(&scene, az, el);
@@ -68,7 +69,7 @@ fn depth_peel_with_enough_layers_matches_the_reference_on_the_transparent_bunny(
 
 #[test]
 fn fewer_peeled_layers_cost_accuracy_and_approximate_peeling_recovers_most_of_it() {
-    let scene = transparent_bunny(0.5);
+    let scene = require!(transparent_bunny(0.5));
     let camera = view(&scene, 20.0, 10.0);
     let size = 160;
     let (want, _) = exact(&scene, &camera, &settings("depth-peel", 0), size);
@@ -85,7 +86,7 @@ fn fewer_peeled_layers_cost_accuracy_and_approximate_peeling_recovers_most_of_it
 
 #[test]
 fn opacity_zero_shows_only_the_background_in_every_transparent_mode() {
-    let scene = transparent_bunny(0.0);
+    let scene = require!(transparent_bunny(0.0));
     let camera = view(&scene, 0.0, 10.0);
     let bg = common::background_rgb();
     for name in ["depth-peel", "approx-peel", "alg1", "alg2", "alpha-blend", "reference"] {
@@ -102,7 +103,7 @@ fn opacity_zero_shows_only_the_background_in_every_transparent_mode() {
 
 #[test]
 fn opacity_one_draws_the_opaque_picture_without_peeling_as_the_reference_does() {
-    let scene = transparent_bunny(1.0);
+    let scene = require!(transparent_bunny(1.0));
     assert!(!scene.has_transparency());
     let camera = view(&scene, 30.0, 10.0);
     // The exact reference of the opaque scene: what every mode must show.
@@ -538,7 +539,7 @@ fn each_transparent_mode_stays_as_accurate_as_measured_on_the_bunny() {
     // The bundled bunny at opacity 0.5, lit, 128², one view, each mode at
     // its defaults (alg1 and alg2 with their covering grouping) against the
     // exact reference: a regression guard on the accuracy of each algorithm.
-    let scene = transparent_bunny(0.5);
+    let scene = require!(transparent_bunny(0.5));
     let camera = view(&scene, 30.0, 15.0);
     let size = 128;
     let (want, _) = exact(&scene, &camera, &settings("reference", 0), size);

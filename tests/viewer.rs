@@ -65,7 +65,7 @@ fn changed_share(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
 fn switching_the_mode_changes_the_image() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(options(dir.path()));
-    wait_for(&mut h, "the bunny in two-pass", settled_in(RenderMode::TwoPass));
+    wait_for(&mut h, "the lion in two-pass", settled_in(RenderMode::TwoPass));
     let two_pass = h.state().shown_frame().unwrap().0.clone();
     let window = h.render().expect("the window renders with wgpu");
     assert_eq!(window.width(), 900);
@@ -106,7 +106,7 @@ fn a_bad_file_shows_its_error_and_keeps_the_model() {
     )
     .unwrap();
     let mut h = harness(options(dir.path()));
-    wait_for(&mut h, "the bunny", settled_in(RenderMode::TwoPass));
+    wait_for(&mut h, "the lion", settled_in(RenderMode::TwoPass));
     let before = h.state().shown_frame().unwrap().0.clone();
     h.input_mut().dropped_files.push(Arc::new(Dropped(bad.clone())));
     h.step();
@@ -114,7 +114,7 @@ fn a_bad_file_shows_its_error_and_keeps_the_model() {
     let app = h.state();
     let error = app.load_error().expect("an error for the broken file");
     assert!(error.contains("broken.ply"), "the error names the file: {error}");
-    assert_eq!(app.model().map(|m| m.name.as_str()), Some("bunny.ply"), "the old model stays");
+    assert_eq!(app.model().map(|m| m.name.as_str()), Some("lion.ply"), "the old model stays");
     assert!(h.query_by_label_contains("Could not open").is_some(), "the error is shown in the window");
     h.step();
     assert_eq!(h.state().shown_frame().unwrap().0, &before, "the old image stays");
@@ -125,7 +125,7 @@ fn a_screenshot_and_its_sidecar_reproduce_the_image_through_render() {
     let dir = tempfile::tempdir().unwrap();
     let shots = dir.path().join("shots");
     let mut h = harness(ViewerOptions { mode: Some(RenderMode::Deferred), ..options(&shots) });
-    wait_for(&mut h, "the deferred bunny", settled_in(RenderMode::Deferred));
+    wait_for(&mut h, "the deferred lion", settled_in(RenderMode::Deferred));
     h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
     wait_for(&mut h, "the screenshot", |app| app.status().is_some_and(|s| s.starts_with("saved")));
     let png = std::fs::read_dir(&shots)
@@ -140,7 +140,7 @@ fn a_screenshot_and_its_sidecar_reproduce_the_image_through_render() {
 
     let again = dir.path().join("again.png");
     let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
-        .args(["render", common::bundled_bunny().to_str().unwrap(), "--camera"])
+        .args(["render", common::bundled_model().to_str().unwrap(), "--camera"])
         .arg(&sidecar)
         .arg("--out")
         .arg(&again)
@@ -158,7 +158,7 @@ fn a_screenshot_and_its_sidecar_reproduce_the_image_through_render() {
 fn resizing_down_to_one_pixel_and_back_keeps_drawing() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(options(dir.path()));
-    wait_for(&mut h, "the bunny", settled_in(RenderMode::TwoPass));
+    wait_for(&mut h, "the lion", settled_in(RenderMode::TwoPass));
     for size in [[1.0, 1.0], [0.0, 0.0], [320.0, 1.0], [1.0, 240.0], [640.0, 360.0]] {
         h.set_size(egui::vec2(size[0], size[1]));
         h.step();
@@ -174,15 +174,15 @@ fn resizing_down_to_one_pixel_and_back_keeps_drawing() {
 fn the_opacity_slider_makes_a_transparent_mode_see_through_and_keeps_the_view() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(options(dir.path()));
-    wait_for(&mut h, "the bunny in two-pass", settled_in(RenderMode::TwoPass));
+    wait_for(&mut h, "the lion in two-pass", settled_in(RenderMode::TwoPass));
     h.get_by_label("depth-peel").click();
-    wait_for(&mut h, "the opaque bunny in depth-peel", settled_in(RenderMode::DepthPeel));
+    wait_for(&mut h, "the opaque lion in depth-peel", settled_in(RenderMode::DepthPeel));
     let (opaque, key) = h.state().shown_frame().map(|(i, k)| (i.clone(), k.clone())).unwrap();
     assert!(h.query_all_by_label("opacity").next().is_some(), "the model panel has an opacity slider");
 
     let ctx = h.ctx.clone();
     h.state_mut().set_opacity(&ctx, 0.4);
-    wait_for(&mut h, "the bunny at opacity 0.4", |app| {
+    wait_for(&mut h, "the lion at opacity 0.4", |app| {
         settled_in(RenderMode::DepthPeel)(app)
             && app.model().is_some_and(|m| m.opacity() == (0.4, true))
             && app.shown_frame().is_some_and(|(_, k)| k.generation > key.generation)
@@ -191,25 +191,25 @@ fn the_opacity_slider_makes_a_transparent_mode_see_through_and_keeps_the_view() 
     assert_eq!(after.camera, key.camera, "a new opacity keeps the view");
     let share = changed_share(&opaque, &seen_through);
     println!("{:.1}% of the pixels changed", 100.0 * share);
-    assert!(share > 0.05, "the bunny shows its back layers and the background through it: {share}");
+    assert!(share > 0.05, "the lion shows its back layers and the background through it: {share}");
 }
 
 #[test]
 fn an_environment_map_picked_in_the_viewer_is_reflected_and_refracted_by_alg2() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(options(dir.path()));
-    wait_for(&mut h, "the bunny in two-pass", settled_in(RenderMode::TwoPass));
+    wait_for(&mut h, "the lion in two-pass", settled_in(RenderMode::TwoPass));
     assert!(h.query_by_label("environment").is_some(), "the model panel has an environment picker");
     let ctx = h.ctx.clone();
     h.state_mut().set_opacity(&ctx, 0.4);
-    wait_for(&mut h, "the bunny at opacity 0.4", |app| app.model().is_some_and(|m| m.opacity() == (0.4, true)));
+    wait_for(&mut h, "the lion at opacity 0.4", |app| app.model().is_some_and(|m| m.opacity() == (0.4, true)));
     h.get_by_label("alg2").click();
-    wait_for(&mut h, "the glass bunny in alg2", |app| {
+    wait_for(&mut h, "the glass lion in alg2", |app| {
         settled_in(RenderMode::Alg2)(app) && app.shown_frame().is_some_and(|(_, k)| k.settings.mode == RenderMode::Alg2)
     });
     let (plain, key) = h.state().shown_frame().map(|(i, k)| (i.clone(), k.clone())).unwrap();
     h.state_mut().set_environment(&ctx, Some(PathBuf::from(pointblend::viewer::BUNDLED_ENVIRONMENT)));
-    wait_for(&mut h, "the bunny in the Venice map", |app| {
+    wait_for(&mut h, "the lion in the Venice map", |app| {
         settled_in(RenderMode::Alg2)(app)
             && app.model().is_some_and(|m| m.scene.environment.is_some())
             && app.shown_frame().is_some_and(|(_, k)| k.generation > key.generation)
@@ -217,7 +217,7 @@ fn an_environment_map_picked_in_the_viewer_is_reflected_and_refracted_by_alg2() 
     let (in_venice, _) = h.state().shown_frame().map(|(i, k)| (i.clone(), k.clone())).unwrap();
     let share = changed_share(&plain, &in_venice);
     println!("{:.1}% of the pixels changed", 100.0 * share);
-    // The skybox replaces the flat background and the bunny reflects and refracts it.
+    // The skybox replaces the flat background and the lion reflects and refracts it.
     assert!(share > 0.5, "the map shows: {share}");
     assert!(in_venice.pixels().all(|p| p.0[..3] != [0, 0, 0]), "no black (NaN) pixels");
 }
@@ -255,7 +255,7 @@ fn a_scene_lights_the_view_and_lights_move_and_go() {
 #[test]
 fn a_moving_scene_plays_and_pauses_and_states_its_regroup_cost() {
     let dir = tempfile::tempdir().unwrap();
-    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/bunny-wave.toml");
+    let file = require!(common::stanford_scene("bunny-wave.toml"));
     let mut h = harness(ViewerOptions { file: Some(file), mode: Some(RenderMode::Deferred), ..options(dir.path()) });
     let shown_at = |app: &ViewerApp| app.shown_frame().and_then(|(_, k)| k.time);
     wait_for(&mut h, "the first frame of the moving scene", |app| shown_at(app) == Some(0.0));
@@ -295,7 +295,7 @@ fn a_moving_scene_plays_and_pauses_and_states_its_regroup_cost() {
         serde_json::from_slice(&std::fs::read(png.with_extension("json")).unwrap()).unwrap();
     assert_eq!(sidecar["time"].as_f64(), still, "the sidecar's time");
     let again = dir.path().join("again.png");
-    let wave = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/bunny-wave.toml");
+    let wave = require!(common::stanford_scene("bunny-wave.toml"));
     let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
         .arg("render")
         .arg(&wave)
@@ -334,7 +334,7 @@ fn orbit(h: &mut Harness<'_, ViewerApp>) {
 #[test]
 fn a_large_model_is_drawn_under_the_point_budget_while_the_camera_moves_then_in_full() {
     let dir = tempfile::tempdir().unwrap();
-    let file = common::data("bunny_range_scans_merged.ply");
+    let file = require!(common::shared_data("bunny_range_scans_merged.ply"));
     let mut h = harness(ViewerOptions { file: Some(file), ..options(dir.path()) });
     wait_for(&mut h, "the merged scans in two-pass", settled_in(RenderMode::TwoPass));
     let total = h.state().model().unwrap().cloud.len();
@@ -364,7 +364,7 @@ fn the_viewer_draws_a_hybrid_mesh_as_its_triangles() {
     // several pixels wide and every leaf is triangles: the view is the
     // reference's exact triangles, not the vertex splats.
     let dir = tempfile::tempdir().unwrap();
-    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/bunny-hybrid.toml");
+    let file = require!(common::stanford_scene("bunny-hybrid.toml"));
     let mut h =
         harness(ViewerOptions { file: Some(file.clone()), mode: Some(RenderMode::TwoPass), ..options(dir.path()) });
     wait_for(&mut h, "the hybrid bunny in two-pass", settled_in(RenderMode::TwoPass));

@@ -20,7 +20,7 @@ fn the_viewer_window_opens_on_the_demo_scene_in_alg2_shows_the_balls_through_the
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(output.status.success(), "{stderr}");
     assert!(!stderr.contains("panicked"), "a thread panicked: {stderr}");
-    assert!(stderr.contains("(bunny-balls.toml in alg2)"), "the first window shows the demo scene in alg2: {stderr}");
+    assert!(stderr.contains("(demo.toml in alg2)"), "the first window shows the demo scene in alg2: {stderr}");
     let window = image::open(&shot).expect("the window screenshot is a PNG").to_rgba8();
     assert!(window.width() >= 640 && window.height() >= 400, "{:?}", window.dimensions());
     // The right half is the 3D view: the bunny's light clay colour covers much

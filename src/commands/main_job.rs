@@ -1,5 +1,5 @@
 //! The headless main job of `pointblend view` (no display, or no window):
-//! without FILE, the opaque modes on the bundled bunny and every transparent
+//! without FILE, the opaque modes on the bundled lion and every transparent
 //! mode on the demo scene, each against its model's exact reference; with
 //! FILE, every mode on it. It prints one row per mode at its defaults (what
 //! it renders, ε, ms, geometry passes), writes `bench.json` and the
@@ -25,8 +25,8 @@ struct Part {
 }
 
 /// With FILE: every mode on it, into `args.out`. Without: the opaque modes
-/// on the bundled bunny and the transparent ones on the demo scene (the
-/// bunny at 0.5 with opaque balls inside and around it), each into its own
+/// on the bundled lion and the transparent ones on the demo scene (the
+/// lion at 0.5 with opaque balls inside and around it), each into its own
 /// folder under `args.out`, so that every transparent mode shows what it is
 /// for. Then one compact table, `bench.json` and the plot of all rows, and
 /// the contact sheet `modes.png`.
@@ -38,7 +38,7 @@ pub fn run(args: &Args) -> Result<()> {
                 RenderMode::ALL.into_iter().filter(|m| m.is_gpu()).partition(|m| m.info().transparent);
             let with_ruler = |modes: Vec<RenderMode>| [modes, vec![RenderMode::RULER]].concat();
             vec![
-                Part { model: viewer::BUNDLED_MODEL.into(), modes: with_ruler(opaque), out: args.out.join("bunny") },
+                Part { model: viewer::BUNDLED_MODEL.into(), modes: with_ruler(opaque), out: args.out.join("lion") },
                 Part {
                     model: viewer::DEMO_SCENE.into(),
                     modes: with_ruler(transparent),

@@ -1,11 +1,11 @@
 //! `pointblend view [FILE]`: the interactive viewer, and the main job.
 //!
-//! Without FILE the window opens on the demo scene (`assets/bunny-balls.toml`)
+//! Without FILE the window opens on the demo scene (`assets/demo.toml`)
 //! in `alg2`, so that the first frame shows see-through surfaces.
 //!
 //! With no display (no `DISPLAY`/`WAYLAND_DISPLAY`) or when the window cannot
 //! open, it says why and does the headless main job instead: the opaque modes
-//! on the bundled bunny and the transparent modes on the demo scene (or every
+//! on the bundled lion and the transparent modes on the demo scene (or every
 //! mode on FILE), into `./out/`, with one compact table, `bench.json`, the
 //! error-against-time plot and a contact sheet of every mode (`modes.png`).
 
@@ -17,9 +17,9 @@ use pointblend::render::RenderMode;
 use pointblend::scene::Materials;
 use pointblend::viewer::{self, ViewerError, ViewerOptions};
 
-#[derive(clap::Args, Debug, Default)]
+#[derive(clap::Args, Debug)]
 pub struct Args {
-    /// PLY file or scene file (.toml) to open (default: the bundled bunny).
+    /// PLY file or scene file (.toml) to open (default: the demo scene).
     pub file: Option<PathBuf>,
     /// Save a screenshot of the whole window (UI included) to this PNG once the
     /// first full-quality frame is shown, then close (for documentation and tests).

@@ -27,7 +27,7 @@ use super::state::{FrameKey, Measurement, ScreenshotSize, UiState};
 /// How the viewer starts.
 #[derive(Debug, Clone, Default)]
 pub struct ViewerOptions {
-    /// The model to open (the bundled bunny when `None`).
+    /// The model to open (the bundled lion when `None`).
     pub file: Option<PathBuf>,
     /// Save a screenshot of the whole window here once the first full frame is shown...
     pub screenshot: Option<PathBuf>,

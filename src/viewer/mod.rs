@@ -35,11 +35,11 @@ pub use model::Model;
 pub use state::{FrameKey, ScreenshotSize};
 
 /// The model bundled with pointblend.
-pub const BUNDLED_MODEL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/bunny.ply");
+pub const BUNDLED_MODEL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/lion.ply");
 
-/// The demo scene: the bundled bunny at opacity 0.5 with opaque balls inside
+/// The demo scene: the bundled lion at opacity 0.5 with opaque balls inside
 /// and around it. `pointblend view` opens it when given no file.
-pub const DEMO_SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/bunny-balls.toml");
+pub const DEMO_SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/demo.toml");
 
 /// The environment map the viewer offers first.
 pub const BUNDLED_ENVIRONMENT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/venice.exr");

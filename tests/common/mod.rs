@@ -1,4 +1,5 @@
-//! Helpers shared by the integration tests: data paths, tolerances, an
+//! Helpers shared by the integration tests: data paths (shipped, and the
+//! shared scans that skip a test when absent), tolerances, an
 //! independent PLY reader for the test scans, a CPU silhouette rasteriser
 //! and one GPU renderer per test binary.
 #![allow(dead_code)]
@@ -13,23 +14,120 @@ use glam::{DVec3, Mat4, Vec3};
 use pointblend::frame::Camera;
 use pointblend::render::HeadlessRenderer;
 
-/// The test scans: `tests/data` (in the repository, see its README), or
-/// `POINTBLEND_DATA` when set, a folder holding files of the same names.
-pub fn data_dir() -> PathBuf {
+/// Data the repository ships for its tests (`tests/data`, see its README):
+/// environment maps and a small volume, all from registry packages.
+pub fn data(name: &str) -> PathBuf {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name);
+    assert!(path.exists(), "{} is missing from the repository (tests/data/README.md lists it)", path.display());
+    path
+}
+
+/// The folder of the scans the repository may not ship (the Stanford bunny,
+/// its merged range scans, the PCL table scan): `POINTBLEND_DATA` when set,
+/// else `../shared/data` beside the repository.
+pub fn shared_dir() -> PathBuf {
     std::env::var_os("POINTBLEND_DATA")
         .filter(|dir| !dir.is_empty())
         .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data"))
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data"))
 }
 
-pub fn data(name: &str) -> PathBuf {
-    let path = data_dir().join(name);
-    assert!(
-        path.exists(),
-        "{} is missing: tests/data holds it in a clone of the repository, or POINTBLEND_DATA names a folder with it",
-        path.display()
-    );
-    path
+/// A scan of [`shared_dir`], or `None` when that folder is absent: the test
+/// is then skipped, with one line on stderr and one in
+/// `target/tmp/skipped-tests.txt`, which `scripts/test` counts. When the
+/// folder is there, a missing file fails the test.
+pub fn shared_data(name: &str) -> Option<PathBuf> {
+    let dir = shared_dir();
+    if !dir.is_dir() {
+        let test = std::thread::current().name().unwrap_or("a test").to_string();
+        let line = format!("skipped {test}: it needs {} from {}", name, dir.display());
+        eprintln!("{line} (set POINTBLEND_DATA to the folder of the scans)");
+        let log = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("skipped-tests.txt");
+        if let Ok(mut file) = std::fs::OpenOptions::new().create(true).append(true).open(log) {
+            use std::io::Write;
+            let _ = writeln!(file, "{line}");
+        }
+        return None;
+    }
+    let path = dir.join(name);
+    assert!(path.exists(), "{} is missing: the folder of the scans is there but lacks it", path.display());
+    Some(path)
+}
+
+/// Runs the test on to its end only when a scan of [`shared_data`] is there:
+/// `let bunny = require!(common::stanford_bunny());`.
+#[macro_export]
+macro_rules! require {
+    ($data:expr) => {
+        match $data {
+            Some(path) => path,
+            None => return,
+        }
+    };
+}
+
+/// The Stanford bunny as splats (34,834 splats with normals, radii and a
+/// clay colour), made from the shared `bun_zipper.ply` by `pointblend
+/// convert` once per test binary, into `target/tmp`: the model most tests
+/// were calibrated on. `None` (the test is skipped) without the shared scans.
+pub fn stanford_bunny() -> Option<PathBuf> {
+    static BUNNY: OnceLock<PathBuf> = OnceLock::new();
+    let zipper = shared_data("bun_zipper.ply")?;
+    Some(
+        BUNNY
+            .get_or_init(|| {
+                let tmp = PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
+                let out = tmp.join(format!("stanford-bunny-{}.ply", std::process::id()));
+                let status = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
+                    .arg("convert")
+                    .arg(&zipper)
+                    .arg(&out)
+                    .stdout(std::process::Stdio::null())
+                    .stderr(std::process::Stdio::null())
+                    .status()
+                    .expect("pointblend convert runs");
+                assert!(status.success(), "pointblend convert {} failed", zipper.display());
+                out
+            })
+            .clone(),
+    )
+}
+
+/// The real scans the tests read whole: the bundled lion, then the Stanford
+/// bunny mesh, its merged range scans and the PCL table scan where the
+/// shared scans are there (the test is then counted as skipped in part).
+pub fn real_scans() -> Vec<PathBuf> {
+    let mut scans = vec![bundled_model()];
+    for name in ["bun_zipper.ply", "bunny_range_scans_merged.ply", "table_scene_mug_stereo_textured.ply"] {
+        scans.extend(shared_data(name));
+    }
+    scans
+}
+
+/// Every `step`-th splat of the bundled lion, radii × √step so that they
+/// still cover the surface: a real scan small enough for the tests that
+/// render many plans or variants of one frame.
+pub fn thinned_lion(step: usize) -> pointblend::cloud::PointCloud {
+    fn every<T: Copy>(values: &[T], step: usize) -> Vec<T> {
+        values.iter().step_by(step).copied().collect()
+    }
+    let (lion, _) = pointblend::cloud::load(&bundled_model()).expect("the bundled lion loads");
+    let thinned = pointblend::cloud::PointCloud {
+        positions: every(&lion.positions, step),
+        normals: every(&lion.normals, step),
+        radii: every(&lion.radii, step).into_iter().map(|r| r * (step as f32).sqrt()).collect(),
+        colours: every(&lion.colours, step),
+        opacity: every(&lion.opacity, step),
+        two_sided: every(&lion.two_sided, step),
+        ..lion
+    };
+    assert!(thinned.is_consistent());
+    thinned
+}
+
+/// The model pointblend ships (`assets/lion.ply`, see assets/README.md).
+pub fn bundled_model() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/lion.ply")
 }
 
 /// Looks down -z at the origin from z = 5 with a 30° field.
@@ -66,10 +164,6 @@ pub fn refused_in_one_line<S: AsRef<std::ffi::OsStr>>(args: &[S], out: &std::pat
     assert_eq!(errors.len(), 1, "{what}: {stderr}");
     assert!(!out.exists(), "{what} wrote an output");
     errors[0].to_string()
-}
-
-pub fn bundled_bunny() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/bunny.ply")
 }
 
 /// One renderer for the whole test binary; tests that render take turns.
@@ -245,4 +339,24 @@ pub fn coincident(count: usize, opacity: f32, colour: [u8; 3]) -> pointblend::sc
     let mut scene = pointblend::scene::Scene::from(cloud);
     scene.objects[0].material.two_sided = true;
     scene
+}
+
+/// A scene file of `tests/common/scenes` on the Stanford bunny, the way the
+/// scenes in `assets/` were before the bundled model became the lion (the
+/// tests calibrated on them keep their figures): written once per test
+/// binary into `target/tmp` with the converted bunny, the shared mesh and
+/// the bundled environment map in place of its relative paths. `None` (the
+/// test is skipped) without the shared scans.
+pub fn stanford_scene(name: &str) -> Option<PathBuf> {
+    let bunny = stanford_bunny()?;
+    let zipper = shared_data("bun_zipper.ply")?;
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("tests/common/scenes").join(name)).expect("a test scene");
+    let text = text
+        .replace("\"bunny.ply\"", &format!("{:?}", bunny.display().to_string()))
+        .replace("\"../tests/data/bun_zipper.ply\"", &format!("{:?}", zipper.display().to_string()))
+        .replace("\"venice.exr\"", &format!("{:?}", root.join("assets/venice.exr").display().to_string()));
+    let path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("{}-{name}", std::process::id()));
+    std::fs::write(&path, text).expect("target/tmp is writable");
+    Some(path)
 }

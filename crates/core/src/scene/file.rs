@@ -12,7 +12,7 @@
 //! fov = 35
 //!
 //! [[object]]
-//! ply = "bunny.ply"                  # relative to this file
+//! ply = "lion.ply"                   # relative to this file
 //! opacity = 0.5                      # multiplies the splats' own, 0..1
 //! color = [230, 200, 160]            # replaces the splats' own
 //! two_sided = true                   # default: true when opacity < 1
@@ -33,7 +33,7 @@
 //! plane = { splats = 40000, size = 0.4, centre = [0.0, -0.08, 0.0], normal = [0, 1, 0] }
 //!
 //! [[object]]                         # a moving object
-//! ply = "bunny.ply"                  # or sequence = "frames/*.ply" (a folder or a name pattern), fps = 30
+//! ply = "lion.ply"                   # or sequence = "frames/*.ply" (a folder or a name pattern), fps = 30
 //! interpolate = "smooth"             # between keyframes: "linear" (default) or "smooth"
 //! deform = { kind = "wave", amount = 0.004, period = 2.0 }   # or "twist", "bend" (radians); wavelength = …
 //! [[object.keyframe]]                # after the object's own transform; times in seconds, increasing
