@@ -11,7 +11,12 @@
 - torus_knot(): a (2,3) torus knot as a triangle mesh with a colour ramp along
   it, made here (no outside data), for the mesh and hybrid scenes.
 
+- drop_isolated(): after pointblend convert, the splats whose radius was
+  clamped at 6x the median (their 8 nearest neighbours are far: stray points
+  of the scan floating in the air) are dropped.
+
 Usage: python3 make_assets.py lion PACKAGE_DIR OUT.ply
+       python3 make_assets.py drop-isolated SPLATS.ply OUT.ply
        python3 make_assets.py knot OUT.ply
 """
 
@@ -135,9 +140,36 @@ def torus_knot(out, p=2, q=3, along=720, around=36, tube=0.32):
               comment=["a (2,3) torus knot made by pointblend's scripts/make_assets.py"])
 
 
+SPLAT = np.dtype([("p", "<f4", 3), ("n", "<f4", 3), ("r", "<f4"), ("c", "u1", 3)])
+
+
+def drop_isolated(splats, out, clamp=6.0):
+    """Drops the splats of a `pointblend convert` output (x y z nx ny nz radius
+    red green blue) whose radius is the outlier clamp, 6x the median."""
+    data = open(splats, "rb").read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode("ascii")
+    fields = [l.split()[-1] for l in header.splitlines() if l.startswith("property")]
+    assert fields == ["x", "y", "z", "nx", "ny", "nz", "radius", "red", "green", "blue"], fields
+    vertex = np.frombuffer(data[end:], dtype=SPLAT)
+    limit = clamp * np.median(vertex["r"]) * 0.999
+    kept = vertex[vertex["r"] < limit]
+    print(f"drop-isolated: {len(vertex) - len(kept)} of {len(vertex)} splats had the clamped radius "
+          f"({limit / 0.999:.4f}); {len(kept)} kept", file=sys.stderr)
+    header = re.sub(r"element vertex \d+", f"element vertex {len(kept)}", header)
+    header = header.replace("end_header", "comment the splats whose radius was clamped (isolated points) dropped\nend_header")
+    tmp = out + ".tmp"
+    with open(tmp, "wb") as f:
+        f.write(header.encode("ascii"))
+        f.write(kept.tobytes())
+    os.replace(tmp, out)
+
+
 if __name__ == "__main__":
     if len(sys.argv) == 4 and sys.argv[1] == "lion":
         lion_points(sys.argv[2], sys.argv[3])
+    elif len(sys.argv) == 4 and sys.argv[1] == "drop-isolated":
+        drop_isolated(sys.argv[2], sys.argv[3])
     elif len(sys.argv) == 3 and sys.argv[1] == "knot":
         torus_knot(sys.argv[2])
     else:
