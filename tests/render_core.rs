@@ -10,7 +10,7 @@
 
 mod common;
 
-use pointblend::cloud::{self, PointCloud};
+use pointblend::cloud::PointCloud;
 use pointblend::frame::{Camera, Quality, RenderMode, RenderSettings};
 use pointblend::grouping::GroupingSpec;
 use pointblend::render::modes::FrameDesc;

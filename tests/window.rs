@@ -30,10 +30,8 @@ fn the_viewer_window_opens_on_the_demo_scene_in_alg2_shows_the_balls_through_the
     let (w, h) = window.dimensions();
     let view: Vec<_> = (0..h).flat_map(|y| (w / 2..w).map(move |x| (x, y))).collect();
     let background = [28, 31, 36];
-    let surface = view
-        .iter()
-        .filter(|&&(x, y)| (0..3).any(|c| window.get_pixel(x, y)[c].abs_diff(background[c]) > 30))
-        .count();
+    let surface =
+        view.iter().filter(|&&(x, y)| (0..3).any(|c| window.get_pixel(x, y)[c].abs_diff(background[c]) > 30)).count();
     let share = surface as f64 / view.len() as f64;
     assert!(share > 0.15, "only {:.1}% of the view is surface", 100.0 * share);
     let red = view
