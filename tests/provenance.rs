@@ -1,5 +1,6 @@
-//! The repository holds only data it may ship: every binary data file it
-//! tracks (outside `docs/images`, which pointblend renders) has a row in a
+//! The repository holds only data it may ship: every data file it tracks
+//! (binary, or of a data format; outside `docs/images`, which pointblend
+//! renders) has a row in a
 //! README beside it or in a folder above it, naming the file, its source and
 //! its licence; and no tracked file is a copy of a scan in the shared folder,
 //! which came from public source repositories.
@@ -28,8 +29,14 @@ fn tracked_files() -> Vec<PathBuf> {
         .collect()
 }
 
-/// A file with a NUL byte in its first 8 KiB is binary.
-fn is_binary(path: &Path) -> bool {
+/// Formats of data, text or binary (an ASCII PLY is data too).
+const DATA_FORMATS: [&str; 12] = ["ply", "las", "laz", "e57", "pcd", "exr", "hdr", "nii", "npy", "obj", "ttf", "off"];
+
+/// A data file: of a data format, or binary (a NUL byte in its first 8 KiB).
+fn is_data(path: &Path) -> bool {
+    if path.extension().is_some_and(|e| DATA_FORMATS.iter().any(|f| e.eq_ignore_ascii_case(f))) {
+        return true;
+    }
     let bytes = std::fs::read(path).unwrap_or_default();
     bytes.iter().take(8192).any(|&b| b == 0)
 }
@@ -55,12 +62,14 @@ fn provenance_row(file: &Path) -> Option<String> {
 }
 
 #[test]
-fn every_binary_data_file_has_a_readme_row_with_its_source_and_licence() {
+fn every_data_file_has_a_readme_row_with_its_source_and_licence() {
     let data: Vec<PathBuf> =
-        tracked_files().into_iter().filter(|f| !f.starts_with("docs/images") && is_binary(&root().join(f))).collect();
-    assert!(data.iter().any(|f| f.ends_with("lion.ply")), "the bundled model is tracked: {data:?}");
+        tracked_files().into_iter().filter(|f| !f.starts_with("docs/images") && is_data(&root().join(f))).collect();
+    for shipped in ["assets/lion.ply", "tests/data/building.ply", "assets/fonts/DejaVuSans.ttf"] {
+        assert!(data.iter().any(|f| f.ends_with(shipped)), "{shipped} is tracked and found as data: {data:?}");
+    }
     let missing: Vec<_> = data.iter().filter(|f| provenance_row(f).is_none()).collect();
-    assert!(missing.is_empty(), "binary files without a README row naming them, their source and licence: {missing:?}");
+    assert!(missing.is_empty(), "data files without a README row naming them, their source and licence: {missing:?}");
 }
 
 #[test]

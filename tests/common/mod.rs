@@ -93,11 +93,12 @@ pub fn stanford_bunny() -> Option<PathBuf> {
     )
 }
 
-/// The real scans the tests read whole: the bundled lion, then the Stanford
-/// bunny mesh, its merged range scans and the PCL table scan where the
-/// shared scans are there (the test is then counted as skipped in part).
+/// The real scans the tests read whole: the bundled lion and the CGAL
+/// building (shipped), then the Stanford bunny mesh, its merged range scans
+/// and the PCL table scan where the shared scans are there (without them the
+/// test is counted as skipped in part).
 pub fn real_scans() -> Vec<PathBuf> {
-    let mut scans = vec![bundled_model()];
+    let mut scans = vec![bundled_model(), data("building.ply")];
     for name in ["bun_zipper.ply", "bunny_range_scans_merged.ply", "table_scene_mug_stereo_textured.ply"] {
         scans.extend(shared_data(name));
     }
