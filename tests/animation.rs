@@ -234,30 +234,30 @@ fn error_line(stderr: &str) -> String {
 #[test]
 fn bad_animation_input_is_one_clear_line_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
-    let bunny = require!(bunny_line());
+    let lion = format!("ply = {:?}", common::bundled_model().display().to_string());
     let cases = [
         (
             "nan.toml",
-            format!("[[object]]\n{bunny}\ndeform = {{ kind = \"wave\", amount = nan, period = 2.0 }}\n"),
+            format!("[[object]]\n{lion}\ndeform = {{ kind = \"wave\", amount = nan, period = 2.0 }}\n"),
             "deform amount",
         ),
         (
             "period.toml",
-            format!("[[object]]\n{bunny}\ndeform = {{ kind = \"twist\", amount = 1.0, period = 0.0 }}\n"),
+            format!("[[object]]\n{lion}\ndeform = {{ kind = \"twist\", amount = 1.0, period = 0.0 }}\n"),
             "period",
         ),
         (
             "kind.toml",
-            format!("[[object]]\n{bunny}\ndeform = {{ kind = \"wiggle\", amount = 1.0, period = 1.0 }}\n"),
+            format!("[[object]]\n{lion}\ndeform = {{ kind = \"wiggle\", amount = 1.0, period = 1.0 }}\n"),
             "wiggle",
         ),
         (
             "order.toml",
-            format!("[[object]]\n{bunny}\n[[object.keyframe]]\ntime = 1.0\n[[object.keyframe]]\ntime = 0.5\n"),
+            format!("[[object]]\n{lion}\n[[object.keyframe]]\ntime = 1.0\n[[object.keyframe]]\ntime = 0.5\n"),
             "keyframes out of order",
         ),
         ("missing.toml", "[[object]]\nsequence = \"nowhere/*.ply\"\n".to_string(), "nowhere"),
-        ("fps.toml", format!("[[object]]\n{bunny}\nfps = 10\n"), "fps"),
+        ("fps.toml", format!("[[object]]\n{lion}\nfps = 10\n"), "fps"),
     ];
     for (name, body, expected) in cases {
         let path = scene_file(dir.path(), name, &body);
@@ -269,7 +269,7 @@ fn bad_animation_input_is_one_clear_line_and_writes_nothing() {
         assert!(!ok && line.contains(expected) && line.contains(name), "{name}: {stderr}");
         assert!(!out.exists(), "{name}: an image was written");
     }
-    let wave = require!(common::stanford_scene("bunny-wave.toml"));
+    let wave = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/lion-wave.toml");
     for time in ["-1", "NaN"] {
         let out = dir.path().join(format!("t{time}.png"));
         let args =

@@ -119,7 +119,7 @@ fn a_budget_of_zero_is_one_line_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("never.png");
     for bad in ["0", "-5", "many"] {
-        let args = [require!(common::stanford_bunny()).into_os_string(), "--point-budget".into(), bad.into()];
+        let args = [common::bundled_model().into_os_string(), "--point-budget".into(), bad.into()];
         let error = common::refused_in_one_line(&args, &out, &format!("--point-budget {bad}"));
         assert!(error.contains("--point-budget"), "{error}");
     }

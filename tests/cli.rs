@@ -63,13 +63,8 @@ fn info_says_what_was_estimated() {
 fn convert_samples_a_mesh_into_a_loadable_splat_cloud() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("sampled.ply");
-    let result = pointblend()
-        .arg("convert")
-        .arg(require!(common::shared_data("bun_zipper.ply")))
-        .arg(&out)
-        .args(["--points", "20000"])
-        .output()
-        .unwrap();
+    let result =
+        pointblend().arg("convert").arg(common::bundled_mesh()).arg(&out).args(["--points", "20000"]).output().unwrap();
     assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
     let (cloud, report) = pointblend::cloud::load(&out).unwrap();
     assert_eq!(cloud.len(), 20000);

@@ -83,8 +83,8 @@ fn the_overlap_graph_is_symmetric_and_matches_brute_force() {
 
 #[test]
 fn wgc_cost_never_rises_during_optimisation() {
-    let (bunny, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
-    for (cloud, pure_area) in [(random_cloud(3, 4000, true), false), (bunny.clone(), false), (bunny, true)] {
+    let lion = common::thinned_lion(3);
+    for (cloud, pure_area) in [(random_cloud(3, 4000, true), false), (lion.clone(), false), (lion, true)] {
         let options = wgc::WgcOptions { k: 6, pure_area, trace: true, ..Default::default() };
         let (grouping, graph, report) = wgc::group(&cloud, &options).unwrap();
         assert_valid(&grouping, cloud.len(), "wgc");
@@ -116,7 +116,7 @@ fn wgc_cost_never_rises_during_optimisation() {
 
 #[test]
 fn hash_grouping_with_collisions_puts_no_two_splats_of_a_cell_in_one_group() {
-    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+    let cloud = common::thinned_lion(3);
     let k = 8;
     let (grouping, resolved) =
         hash::group(&cloud, &hash::HashOptions { k, collisions: hash::Collisions::All }).unwrap();
@@ -195,7 +195,7 @@ fn quality_at_eight_groups_orders_as_measured_on_real_scans() {
 
 #[test]
 fn extension_covers_more_of_the_surface() {
-    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+    let cloud = common::thinned_lion(3);
     let base = wgc::group(&cloud, &wgc::WgcOptions { k: 8, ..Default::default() }).unwrap().0;
     let before = metrics::measure(&cloud, &base);
     let duplicated = extend::duplicate(&cloud, &base);
@@ -322,18 +322,18 @@ fn wgc_ends_where_no_splat_can_lower_the_cost_by_its_least_overlap_colour() {
     // (or of least Eq. 7 weight, the option), and a move is kept only if it
     // lowers L (Eq. 6, Eq. 7 weights). Re-queueing every neighbour of a moved
     // splat means that at the end no splat has such a move left.
-    let (bunny, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+    let lion = common::thinned_lion(3);
     for minimize_by_eq7 in [false, true] {
         let k = 4;
         let options = wgc::WgcOptions { k, minimize_by_eq7, ..Default::default() };
-        let (grouping, graph, report) = wgc::group(&bunny, &options).unwrap();
-        let labels = grouping.labels(bunny.len());
+        let (grouping, graph, report) = wgc::group(&lion, &options).unwrap();
+        let labels = grouping.labels(lion.len());
         let sizes = grouping.sizes();
-        let (p, n, r) = (&bunny.positions, &bunny.normals, &bunny.radii);
+        let (p, n, r) = (&lion.positions, &lion.normals, &lion.radii);
         let eq7 = |i: usize, j: usize| overlap_weight(p[i], n[i], r[i], p[j], n[j], r[j], false) as f64;
         let area = |i: usize, j: usize| overlap_weight(p[i], n[i], r[i], p[j], n[j], r[j], true) as f64;
         let mut left = 0;
-        for v in 0..bunny.len() {
+        for v in 0..lion.len() {
             let costs = colour_sums(&graph, &labels, k, v, eq7);
             let choice = if minimize_by_eq7 { costs.clone() } else { colour_sums(&graph, &labels, k, v, area) };
             let best = (0..k).min_by(|&a, &b| choice[a].total_cmp(&choice[b]).then(sizes[a].cmp(&sizes[b]))).unwrap();
@@ -403,10 +403,10 @@ fn mgc_relaxations_drop_the_edges_they_name() {
 #[test]
 fn extensions_are_reachable_from_the_grouping_spec() {
     use pointblend::grouping::GroupingSpec;
-    let (bunny, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
-    let spec = |s: &str| s.parse::<GroupingSpec>().unwrap().compute(&bunny).unwrap();
+    let lion = common::thinned_lion(3);
+    let spec = |s: &str| s.parse::<GroupingSpec>().unwrap().compute(&lion).unwrap();
     let (base, duplicated) = (spec("wgc-k4"), spec("wgc-k4-dup"));
-    let (m0, m1) = (metrics::measure(&bunny, &base), metrics::measure(&bunny, &duplicated));
+    let (m0, m1) = (metrics::measure(&lion, &base), metrics::measure(&lion, &duplicated));
     println!(
         "wgc-k4 coverage {:.3}, with duplication {:.3} (+{:.1}% splats)",
         m0.mean_coverage,
@@ -416,13 +416,13 @@ fn extensions_are_reachable_from_the_grouping_spec() {
     assert!(m1.duplication_ratio > 0.0 && m1.mean_coverage > m0.mean_coverage);
     assert_eq!(duplicated.k(), 4);
     let enlarged = spec("hash-k8-radius");
-    assert_eq!(enlarged.order.len(), bunny.len(), "enlargement duplicates nothing");
+    assert_eq!(enlarged.order.len(), lion.len(), "enlargement duplicates nothing");
     assert!(enlarged.radius_scale.iter().all(|&s| s >= 1.0) && enlarged.radius_scale.iter().any(|&s| s > 1.0));
     // The cache key follows the spec: an extended grouping is not the base one.
     let dir = tempfile::tempdir().unwrap();
     let cache = cache::Cache::in_dir(dir.path().to_path_buf());
-    let (a, _) = "wgc-k4".parse::<GroupingSpec>().unwrap().compute_cached_for_hash(&cache, 7, &bunny).unwrap();
-    let (b, cached) = "wgc-k4-dup".parse::<GroupingSpec>().unwrap().compute_cached_for_hash(&cache, 7, &bunny).unwrap();
+    let (a, _) = "wgc-k4".parse::<GroupingSpec>().unwrap().compute_cached_for_hash(&cache, 7, &lion).unwrap();
+    let (b, cached) = "wgc-k4-dup".parse::<GroupingSpec>().unwrap().compute_cached_for_hash(&cache, 7, &lion).unwrap();
     assert!(!cached, "a new spec is computed, not read from the base's entry");
     assert_ne!(a, b);
 }
@@ -479,15 +479,15 @@ fn sampled_cover(cloud: &PointCloud, i: usize, j: usize, samples: usize, rng: &m
 #[test]
 fn wgc_cost_is_the_brute_force_sum_of_monte_carlo_overlaps_on_a_real_patch() {
     // Eq. 6, L = Σ over pairs in one group of w_ij, on 500 splats of the
-    // bundled bunny, summed over every pair (no overlap graph) with each
+    // bundled lion (a third of them), summed over every pair (no overlap graph) with each
     // A_ij sampled from its definition: the cost WGC reports must be that
     // sum. The library measures A_ij as the lens of disc i and a circle of
     // radius r_j at j's projected centre; the true projection of disc j is an
     // ellipse whose area is |n_i·n_j| of it, so the two differ by at most
     // (1 − |n_i·n_j|)·π·min(r_i, r_j)² per direction, which the bound
     // allows, plus 4 standard errors of the sampling.
-    let (bunny, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
-    let cloud = patch(&bunny, 1000, 500);
+    let lion = common::thinned_lion(3);
+    let cloud = patch(&lion, 1000, 500);
     let mut rng = Lcg(11);
     for pure_area in [true, false] {
         let options = wgc::WgcOptions { k: 4, pure_area, ..Default::default() };
@@ -531,8 +531,8 @@ fn overlap_areas_match_a_monte_carlo_estimate_on_real_neighbours() {
     // against its sampled definition, per pair, within the circle-for-ellipse
     // allowance and 4 standard errors.
     use pointblend::grouping::area::covered_area;
-    let (bunny, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
-    let cloud = patch(&bunny, 20_000, 200);
+    let lion = common::thinned_lion(3);
+    let cloud = patch(&lion, 20_000, 200);
     let mut rng = Lcg(5);
     let mut checked = 0;
     for i in 0..cloud.len() {
@@ -557,8 +557,8 @@ fn overlap_areas_match_a_monte_carlo_estimate_on_real_neighbours() {
     assert!(checked > 1000, "{checked} pairs");
 }
 
-/// The bundled bunny with the splats of one region (its 1 % nearest an
-/// ear tip) pushed along their normals: a local deformation.
+/// A cloud with the splats of one region (its 1 % nearest its highest
+/// point: the lion's head) pushed along their normals: a local deformation.
 fn locally_deformed(cloud: &PointCloud, push: f32) -> (PointCloud, usize) {
     let tip = cloud.positions.iter().copied().max_by(|a, b| a.y.total_cmp(&b.y)).unwrap();
     let mut by_distance: Vec<f32> = cloud.positions.iter().map(|p| p.distance(tip)).collect();
@@ -576,7 +576,7 @@ fn locally_deformed(cloud: &PointCloud, push: f32) -> (PointCloud, usize) {
 
 #[test]
 fn incremental_regrouping_after_a_local_deformation_gives_the_full_regroups_groups() {
-    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+    let cloud = common::thinned_lion(3);
     let options = hash::HashOptions { k: 8, collisions: hash::Collisions::All };
     let lattice = Lattice::of(&cloud);
     let mut incremental = HashRegrouper::new(lattice, options).unwrap();
@@ -608,7 +608,7 @@ fn incremental_regrouping_after_a_local_deformation_gives_the_full_regroups_grou
 
 #[test]
 fn regrouping_does_not_depend_on_the_number_of_threads() {
-    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+    let cloud = common::thinned_lion(3);
     let options = hash::HashOptions { k: 8, collisions: hash::Collisions::All };
     let group_on = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
@@ -622,7 +622,7 @@ fn regrouping_does_not_depend_on_the_number_of_threads() {
 
 #[test]
 fn regrouping_survives_collapsed_and_empty_frames() {
-    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+    let cloud = common::thinned_lion(3);
     let options = hash::HashOptions { k: 8, collisions: hash::Collisions::All };
     let mut regrouper = HashRegrouper::new(Lattice::of(&cloud), options).unwrap();
     regrouper.regroup(&cloud);

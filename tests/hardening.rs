@@ -143,7 +143,7 @@ fn a_huge_sample_count_is_refused_before_any_allocation() {
     for n in ["18446744073709551615", "4294967296", "100000000000"] {
         let result = pointblend(dir.path())
             .arg("convert")
-            .arg(require!(common::shared_data("bun_zipper.ply")))
+            .arg(common::bundled_mesh())
             .arg(&out)
             .args(["--points", n])
             .output()

@@ -120,7 +120,7 @@ fn a_supersampled_reference_is_the_box_filter_of_its_rays() {
 fn bad_supersample_and_prefilter_values_are_one_line_and_write_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("never.png");
-    let bunny = require!(common::stanford_bunny());
+    let lion = common::bundled_model();
     for bad in [
         ["--mode", "reference", "--supersample", "0"],
         ["--mode", "reference", "--supersample", "17"],
@@ -128,13 +128,13 @@ fn bad_supersample_and_prefilter_values_are_one_line_and_write_nothing() {
         ["--mode", "two-pass", "--prefilter", "gauss"],
     ] {
         let args: Vec<std::ffi::OsString> =
-            std::iter::once(bunny.clone().into_os_string()).chain(bad.iter().map(|a| a.into())).collect();
+            std::iter::once(lion.clone().into_os_string()).chain(bad.iter().map(|a| a.into())).collect();
         let error = common::refused_in_one_line(&args, &out, &format!("{bad:?}"));
         assert!(error.contains(bad[2]), "{bad:?}: the error names the option: {error}");
     }
     let good = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
         .arg("render")
-        .arg(&bunny)
+        .arg(&lion)
         .args(["--mode", "reference", "--supersample", "2", "--size", "64x48", "--out"])
         .arg(&out)
         .output()

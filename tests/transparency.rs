@@ -22,6 +22,13 @@ fn transparent_bunny(opacity: f32) -> Option<Scene> {
     Some(scene)
 }
 
+/// The bundled lion (a third of its splats) at `opacity`.
+fn transparent_lion(opacity: f32) -> Scene {
+    let mut scene = Scene::from(common::thinned_lion(3));
+    scene.set_opacity(opacity);
+    scene
+}
+
 fn mode(name: &str) -> RenderMode {
     name.parse().unwrap()
 }
@@ -86,7 +93,7 @@ fn fewer_peeled_layers_cost_accuracy_and_approximate_peeling_recovers_most_of_it
 
 #[test]
 fn opacity_zero_shows_only_the_background_in_every_transparent_mode() {
-    let scene = require!(transparent_bunny(0.0));
+    let scene = transparent_lion(0.0);
     let camera = view(&scene, 0.0, 10.0);
     let bg = common::background_rgb();
     for name in ["depth-peel", "approx-peel", "alg1", "alg2", "alpha-blend", "reference"] {
@@ -103,7 +110,7 @@ fn opacity_zero_shows_only_the_background_in_every_transparent_mode() {
 
 #[test]
 fn opacity_one_draws_the_opaque_picture_without_peeling_as_the_reference_does() {
-    let scene = require!(transparent_bunny(1.0));
+    let scene = transparent_lion(1.0);
     assert!(!scene.has_transparency());
     let camera = view(&scene, 30.0, 10.0);
     // The exact reference of the opaque scene: what every mode must show.

@@ -126,6 +126,11 @@ pub fn thinned_lion(step: usize) -> pointblend::cloud::PointCloud {
     thinned
 }
 
+/// The mesh pointblend ships (`assets/knot.ply`, a torus knot it makes).
+pub fn bundled_mesh() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/knot.ply")
+}
+
 /// The model pointblend ships (`assets/lion.ply`, see assets/README.md).
 pub fn bundled_model() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/lion.ply")
