@@ -382,3 +382,132 @@ fn group_and_render_share_the_default_grouping() {
     assert_eq!(pointblend::grouping::GroupingSpec::default().to_string(), "mgc-c0.4");
     assert!(pointblend::frame::RenderSettings::default().voronoi, "deferred defaults to Voronoi depth everywhere");
 }
+
+#[test]
+fn an_output_that_names_its_input_another_way_is_refused() {
+    let dir = test_dir();
+    std::fs::create_dir_all(dir.path().join("in")).unwrap();
+    let input = cloud_file(&dir, "self.ply", &sphere(500, 1.0), &[]);
+    let input = {
+        let moved = dir.path().join("in/self.ply");
+        std::fs::rename(&input, &moved).unwrap();
+        moved
+    };
+    let before = std::fs::read(&input).unwrap();
+    std::os::unix::fs::symlink(&input, dir.path().join("link.ply")).unwrap();
+    let spellings = [
+        PathBuf::from("in/../in/./self.ply"),
+        input.clone(),
+        PathBuf::from("link.ply"),
+        PathBuf::from("./in/self.ply"),
+    ];
+    for output in spellings {
+        let run = pointblend(dir.path()).current_dir(dir.path()).args(["convert", "in/self.ply"]).arg(&output).output();
+        let error = one_error(&run.unwrap(), &format!("convert in/self.ply {}", output.display()));
+        assert!(error.contains("refusing to write over it") && error.contains("the input"), "{error}");
+        assert_eq!(std::fs::read(&input).unwrap(), before, "{}: the input was changed", output.display());
+    }
+    // render: --diff naming the --out image another way.
+    let run = pointblend(dir.path())
+        .current_dir(dir.path())
+        .args(["render", "in/self.ply", "--size", "32x32", "--out", "out/a.png", "--diff", "in/../out/a.png"])
+        .output()
+        .unwrap();
+    let error = one_error(&run, "--diff naming --out");
+    assert!(error.contains("the --out image"), "{error}");
+    assert!(!dir.path().join("out/a.png").exists(), "nothing is written");
+}
+
+#[cfg(unix)]
+#[test]
+fn a_read_only_output_is_refused_and_a_writable_one_keeps_its_mode() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = test_dir();
+    let read_only = dir.path().join("ro.png");
+    std::fs::write(&read_only, b"mine").unwrap();
+    std::fs::set_permissions(&read_only, std::fs::Permissions::from_mode(0o444)).unwrap();
+    let output = pointblend(dir.path())
+        .arg("render")
+        .arg(model())
+        .args(["--size", "32x32", "--out"])
+        .arg(&read_only)
+        .output()
+        .unwrap();
+    let error = one_error(&output, "--out on a read-only file");
+    assert!(error.contains("ro.png") && error.contains("read-only"), "{error}");
+    assert_eq!(std::fs::read(&read_only).unwrap(), b"mine");
+    let private = dir.path().join("private.png");
+    std::fs::write(&private, b"old").unwrap();
+    std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o600)).unwrap();
+    let output = pointblend(dir.path())
+        .arg("render")
+        .arg(model())
+        .args(["--size", "32x32", "--out"])
+        .arg(&private)
+        .output()
+        .unwrap();
+    ok(&output, "--out on a writable file");
+    assert!(image::open(&private).is_ok(), "the render replaced it");
+    assert_eq!(std::fs::metadata(&private).unwrap().permissions().mode() & 0o777, 0o600, "its mode is kept");
+}
+
+#[test]
+fn a_sidecar_gets_the_checks_the_flags_get() {
+    use pointblend::frame::sidecar::SidecarModel;
+    use pointblend::frame::{Camera, RenderMode, RenderSettings, Sidecar};
+    let dir = test_dir();
+    let settings = RenderSettings { mode: RenderMode::RULER, ..Default::default() };
+    let model_info = SidecarModel { name: "lion.ply".into(), path: String::new(), hash: String::new(), splats: 1 };
+    let valid = Sidecar::new(model_info, &Camera::framing(glam::Vec3::ZERO, 1.0, 1.0), &settings, (32, 32));
+    let valid = serde_json::to_value(&valid).unwrap();
+    let cases: [(&str, &str, serde_json::Value, &str); 9] = [
+        ("size", "", serde_json::json!([100000, 100000]), "1..=16384"),
+        ("settings", "epsilon_scale", serde_json::json!(0.0), "epsilon"),
+        ("settings", "epsilon_scale", serde_json::json!(-1.0), "epsilon"),
+        ("settings", "point_budget", serde_json::json!(0), "point budget"),
+        ("settings", "depth_step", serde_json::json!(0.0), "depth step"),
+        ("settings", "radius_scale", serde_json::json!(-1.0), "radius scale"),
+        ("settings", "radius_scale", serde_json::json!(1e30), "radius scale"),
+        ("settings", "supersample", serde_json::json!(0), "supersample"),
+        ("camera", "scene_radius", serde_json::json!(1e39), "camera"),
+    ];
+    for (section, key, value, expected) in cases {
+        let mut bad = valid.clone();
+        match key {
+            "" => bad[section] = value.clone(),
+            _ => bad[section][key] = value.clone(),
+        }
+        let path = dir.path().join("view.json");
+        std::fs::write(&path, serde_json::to_string(&bad).unwrap()).unwrap();
+        let out = dir.path().join("never.png");
+        let output = pointblend(dir.path())
+            .arg("render")
+            .arg(model())
+            .arg("--camera")
+            .arg(&path)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let error = one_error(&output, &format!("{section}.{key} = {value}"));
+        assert!(error.contains("view.json") && error.contains(expected), "{section}.{key} = {value}: {error}");
+        assert!(!out.exists(), "{section}.{key} = {value}: an image was written");
+    }
+}
+
+#[test]
+fn the_field_of_view_takes_both_ends_of_its_range() {
+    let dir = test_dir();
+    for fov in ["0.5", "170"] {
+        let out = dir.path().join(format!("fov{fov}.png"));
+        let output = pointblend(dir.path())
+            .arg("render")
+            .arg(model())
+            .args(["--size", "32x32", "--fov", fov, "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        ok(&output, &format!("--fov {fov}"));
+        assert!(out.exists());
+    }
+}

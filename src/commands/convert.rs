@@ -76,9 +76,7 @@ fn run_volume(args: &Args) -> Result<()> {
 }
 
 pub fn run(args: &Args) -> Result<()> {
-    if args.input == args.output {
-        bail!("{}: the output would overwrite the input", args.output.display());
-    }
+    super::shared::refuse_same_file(&args.output, "the input", &args.input)?;
     if is_volume(&args.input) {
         return run_volume(args);
     }

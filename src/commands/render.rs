@@ -126,8 +126,11 @@ fn moving_frames(scene: Scene, time: Option<f64>) -> Result<SceneFrames> {
 pub fn run(args: &Args) -> Result<()> {
     let sidecar = args.camera.as_deref().map(Sidecar::read).transpose()?;
     // Every output is checked before the work starts, so none is written when another cannot be.
+    shared::refuse_same_file(&args.out, "the input", &args.file)?;
     shared::prepare_image_output(&args.out)?;
     if let Some(diff) = &args.diff {
+        shared::refuse_same_file(diff, "the input", &args.file)?;
+        shared::refuse_same_file(diff, "the --out image", &args.out)?;
         shared::prepare_image_output(diff)?;
     }
     let started = Instant::now();

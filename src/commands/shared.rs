@@ -57,9 +57,7 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let (w, h) = text.split_once(['x', 'X']).ok_or_else(|| format!("'{text}' is not WxH, e.g. 512x512"))?;
     let w: u32 = w.trim().parse().map_err(|_| format!("'{w}' is not a width"))?;
     let h: u32 = h.trim().parse().map_err(|_| format!("'{h}' is not a height"))?;
-    if w == 0 || h == 0 || w > 16384 || h > 16384 {
-        return Err(format!("{w}x{h}: each side must be 1..=16384"));
-    }
+    pointblend::frame::settings::check_image_size(w, h)?;
     Ok((w, h))
 }
 
@@ -217,15 +215,6 @@ impl ViewArgs {
 
     /// The settings, without checking them against `--mode` (bench's base for every variant).
     pub fn base_settings(&self, scene: &Scene) -> Result<RenderSettings> {
-        if !(self.epsilon.is_finite() && self.epsilon > 0.0) {
-            bail!(
-                "--epsilon must be a positive multiple of the mean splat radius, not {} (at 0 no two splats would blend)",
-                self.epsilon
-            );
-        }
-        if let Some(step) = self.depth_step.filter(|s| !(s.is_finite() && *s > 0.0)) {
-            bail!("--depth-step must be a positive multiple of ε, not {step}");
-        }
         let mut settings = RenderSettings {
             mode: self.mode,
             depth_step: self.depth_step.unwrap_or(pointblend::frame::settings::DEFAULT_DEPTH_STEP),
@@ -254,6 +243,8 @@ impl ViewArgs {
         if let Some(cells) = self.shadow_cells {
             settings.shadows.cells = cells;
         }
+        // The checks a sidecar's settings get too.
+        settings.check().map_err(anyhow::Error::msg)?;
         Ok(settings)
     }
 
@@ -302,7 +293,7 @@ impl ViewArgs {
             }
         }
         if let Some(fov) = this.fov {
-            if !(fov > 0.5 && fov < 170.0) {
+            if !(0.5..=170.0).contains(&fov) {
                 bail!("--fov must be between 0.5 and 170 degrees, not {fov}");
             }
             camera.fov_y_deg = fov;
@@ -334,6 +325,15 @@ impl ViewArgs {
 /// (see [`pointblend::output::prepare`]); creates its folder.
 pub fn prepare_output(path: &Path) -> Result<()> {
     pointblend::output::prepare(path).with_context(|| format!("{}: cannot write the output here", path.display()))?;
+    Ok(())
+}
+
+/// Refuses an output `path` that names the file `other` (an input, or another
+/// output), however the two are spelt: `..`, absolute or relative, links.
+pub fn refuse_same_file(path: &Path, what: &str, other: &Path) -> Result<()> {
+    if pointblend::output::same_file(path, other) {
+        bail!("{}: this is {what} ({}); refusing to write over it", path.display(), other.display());
+    }
     Ok(())
 }
 

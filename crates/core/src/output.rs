@@ -5,7 +5,12 @@
 //! The rename replaces only regular files. A symbolic link is followed to
 //! the file it names (the link stays a link); a device, FIFO, socket or
 //! folder at the path is refused, so `--out /dev/full` is an error and not a
-//! PNG where the device was. Missing parent folders are created.
+//! PNG where the device was, and so is a read-only file. A replaced file
+//! keeps its permissions. Missing parent folders are created.
+//!
+//! [`same_file`] tells whether two paths name one file however they are
+//! spelt (`..`, `.`, absolute or relative, symbolic links), so a command can
+//! refuse an output that would overwrite its input or another output.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -26,6 +31,12 @@ pub fn prepare(path: &Path) -> std::io::Result<PathBuf> {
                     Some(dir) if link.is_relative() => dir.join(link),
                     _ => link,
                 };
+            }
+            Ok(meta) if meta.is_file() && meta.permissions().readonly() => {
+                return Err(std::io::Error::new(
+                    std::io::ErrorKind::PermissionDenied,
+                    "it is read-only; refusing to replace it",
+                ));
             }
             Ok(meta) if meta.is_file() => return ensure_writable_folder(target),
             Ok(meta) => {
@@ -61,9 +72,62 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let mut tmp = tempfile::NamedTempFile::new_in(folder_of(&target))?;
     tmp.write_all(bytes)?;
     tmp.flush()?;
-    make_readable(tmp.as_file())?;
+    match std::fs::metadata(&target) {
+        // A replaced file keeps its permissions.
+        Ok(old) => tmp.as_file().set_permissions(old.permissions())?,
+        Err(_) => make_readable(tmp.as_file())?,
+    }
     tmp.persist(&target).map_err(|e| e.error)?;
     Ok(())
+}
+
+/// Whether `a` and `b` name the same file: the same device and inode where
+/// both exist (links followed), else the same absolute path once the
+/// existing part of each is resolved.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    match (identity(a), identity(b)) {
+        (Some(x), Some(y)) => x == y,
+        (Some(_), None) | (None, Some(_)) => false,
+        (None, None) => resolved(a).is_some_and(|x| resolved(b).is_some_and(|y| x == y)),
+    }
+}
+
+/// The file's device and inode (Unix), or its canonical path elsewhere.
+#[cfg(unix)]
+fn identity(path: &Path) -> Option<(u64, u64)> {
+    use std::os::unix::fs::MetadataExt;
+    std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
+}
+
+#[cfg(not(unix))]
+fn identity(path: &Path) -> Option<PathBuf> {
+    std::fs::canonicalize(path).ok()
+}
+
+/// An absolute path for a file that need not exist: its longest existing
+/// part resolved (links followed), the rest appended with `.` and `..` applied.
+fn resolved(path: &Path) -> Option<PathBuf> {
+    let mut existing = std::path::absolute(path).ok()?;
+    let mut rest = Vec::new();
+    let mut base = loop {
+        if let Ok(real) = std::fs::canonicalize(&existing) {
+            break real;
+        }
+        rest.push(existing.components().next_back()?.as_os_str().to_owned());
+        if !existing.pop() {
+            return None;
+        }
+    };
+    for part in rest.iter().rev() {
+        match part.to_str() {
+            Some(".") => {}
+            Some("..") => {
+                base.pop();
+            }
+            _ => base.push(part),
+        }
+    }
+    Some(base)
 }
 
 /// The file stem of `path` made safe for output file names (`[A-Za-z0-9-_]`), or `model`.
@@ -153,5 +217,41 @@ mod tests {
         let nested = dir.path().join("a/b/c.txt");
         write_atomically(&nested, b"made").unwrap();
         assert_eq!(std::fs::read(&nested).unwrap(), b"made");
+    }
+
+    #[test]
+    fn read_only_files_are_refused_and_a_replaced_file_keeps_its_mode() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let read_only = dir.path().join("ro.png");
+        std::fs::write(&read_only, b"old").unwrap();
+        std::fs::set_permissions(&read_only, std::fs::Permissions::from_mode(0o444)).unwrap();
+        let error = write_atomically(&read_only, b"new").unwrap_err();
+        assert!(error.to_string().contains("read-only"), "{error}");
+        assert_eq!(std::fs::read(&read_only).unwrap(), b"old");
+        let private = dir.path().join("private.png");
+        std::fs::write(&private, b"old").unwrap();
+        std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o600)).unwrap();
+        write_atomically(&private, b"new").unwrap();
+        assert_eq!(std::fs::read(&private).unwrap(), b"new");
+        assert_eq!(std::fs::metadata(&private).unwrap().permissions().mode() & 0o777, 0o600);
+    }
+
+    #[test]
+    fn same_file_sees_through_spellings_and_links() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("in/self.ply");
+        std::fs::create_dir_all(input.parent().unwrap()).unwrap();
+        std::fs::write(&input, b"ply").unwrap();
+        let dotted = dir.path().join("in/../in/./self.ply");
+        assert!(same_file(&input, &dotted));
+        let link = dir.path().join("link.ply");
+        std::os::unix::fs::symlink(&input, &link).unwrap();
+        assert!(same_file(&input, &link));
+        assert!(!same_file(&input, &dir.path().join("in/other.ply")));
+        // Two outputs that do not exist yet.
+        let a = dir.path().join("out/x.png");
+        assert!(same_file(&a, &dir.path().join("in/../out/x.png")));
+        assert!(!same_file(&a, &dir.path().join("out/y.png")));
     }
 }

@@ -69,6 +69,21 @@ pub const DEFAULT_HYBRID_PIXELS: f32 = 3.0;
 /// Most rays per pixel side of a supersampled reference.
 pub const MAX_SUPERSAMPLE: u32 = 16;
 
+/// Largest image side any mode renders, the CPU reference too (its buffers
+/// grow with the pixel count).
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+/// Largest splat radius scale (the viewer's slider reaches 3).
+pub const MAX_RADIUS_SCALE: f32 = 100.0;
+
+/// Checks an image size: each side 1..=[`MAX_IMAGE_SIDE`].
+pub fn check_image_size(width: u32, height: u32) -> Result<(), String> {
+    if width == 0 || height == 0 || width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE {
+        return Err(format!("{width}x{height}: each side must be 1..={MAX_IMAGE_SIDE}"));
+    }
+    Ok(())
+}
+
 /// The default Eq. 10 step, in multiples of ε. A layer whose fragments
 /// straddle a step boundary is blended twice in one group image (alg1,
 /// alg2's other layers); a coarser step straddles less often but merges
@@ -81,6 +96,36 @@ pub const DEFAULT_DEPTH_STEP: f32 = 1.25;
 pub const MAX_PEEL_LAYERS: u32 = 64;
 
 impl RenderSettings {
+    /// The checks every source of settings goes through (the command line's
+    /// flags, a screenshot's sidecar): values a frame can be drawn with.
+    pub fn check(&self) -> Result<(), String> {
+        if !(self.epsilon_scale.is_finite() && self.epsilon_scale > 0.0) {
+            return Err(format!(
+                "epsilon (--epsilon) must be a positive multiple of the mean splat radius, not {} (at 0 no two splats would blend)",
+                self.epsilon_scale
+            ));
+        }
+        if !(self.depth_step.is_finite() && self.depth_step > 0.0) {
+            return Err(format!(
+                "the depth step (--depth-step) must be a positive multiple of ε, not {}",
+                self.depth_step
+            ));
+        }
+        if !(self.radius_scale > 0.0 && self.radius_scale <= MAX_RADIUS_SCALE) {
+            return Err(format!("the radius scale must be in (0, {MAX_RADIUS_SCALE}], not {}", self.radius_scale));
+        }
+        if self.point_budget == Some(0) {
+            return Err("the point budget (--point-budget) must be at least 1 splat".into());
+        }
+        if !(1..=MAX_SUPERSAMPLE).contains(&self.supersample) {
+            return Err(format!("supersample (--supersample) must be 1..={MAX_SUPERSAMPLE}, not {}", self.supersample));
+        }
+        if self.hybrid_pixels.is_nan() || self.hybrid_pixels < 0.0 {
+            return Err(format!("hybrid-px (--hybrid-px) must be 0 or more, not {}", self.hybrid_pixels));
+        }
+        Ok(())
+    }
+
     /// The layers k the mode draws: the setting, else the registry's default for the mode.
     pub fn peel_layers_or_default(&self) -> u32 {
         if self.peel_layers == 0 { self.mode.info().default_peel_layers } else { self.peel_layers }

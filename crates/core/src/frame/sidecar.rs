@@ -163,20 +163,19 @@ impl Sidecar {
         let sidecar: Sidecar = serde_json::from_str(&text)
             .map_err(|e| SidecarError::Format { path: shown.clone(), message: e.to_string() })?;
         let bad = |message: String| SidecarError::Format { path: shown.clone(), message };
-        sidecar.settings().map_err(bad)?;
+        // The checks the command line's flags get.
+        sidecar.settings().and_then(|s| s.check()).map_err(bad)?;
         sidecar.up_axis().map_err(bad)?;
         let c = &sidecar.camera;
         let finite = c
             .target
             .iter()
-            .chain([c.distance, c.azimuth_deg, c.elevation_deg, c.fov_y_deg].iter())
+            .chain([c.distance, c.azimuth_deg, c.elevation_deg, c.fov_y_deg, c.scene_radius].iter())
             .all(|v| v.is_finite());
         if !finite || c.distance <= 0.0 || !(c.fov_y_deg > 0.0 && c.fov_y_deg < 180.0) || c.scene_radius <= 0.0 {
             return Err(bad("the camera has a non-finite or out-of-range value".into()));
         }
-        if sidecar.size[0] == 0 || sidecar.size[1] == 0 {
-            return Err(bad(format!("the size {}x{} is empty", sidecar.size[0], sidecar.size[1])));
-        }
+        super::settings::check_image_size(sidecar.size[0], sidecar.size[1]).map_err(|e| bad(format!("size {e}")))?;
         Ok(sidecar)
     }
 
@@ -223,7 +222,7 @@ impl Sidecar {
             order: s.order.parse()?,
             prefilter: s.prefilter.parse()?,
             point_budget: s.point_budget,
-            supersample: s.supersample.clamp(1, super::settings::MAX_SUPERSAMPLE),
+            supersample: s.supersample,
             // f32::MAX stands for infinity (splats only), which JSON cannot hold.
             hybrid_pixels: s
                 .hybrid_px
