@@ -511,3 +511,28 @@ fn the_field_of_view_takes_both_ends_of_its_range() {
         assert!(out.exists());
     }
 }
+
+#[test]
+fn bench_refuses_one_views_camera_and_an_endless_animation_in_one_line() {
+    let dir = test_dir();
+    let out = dir.path().join("bench-out");
+    let cases: [(&[&str], &str); 4] = [
+        (&["--azimuth", "30"], "--azimuth"),
+        (&["--elevation", "10"], "--elevation"),
+        (&["--distance", "2"], "--distance"),
+        (&["--animate", "100000"], "at most 1000 frames"),
+    ];
+    for (extra, expected) in cases {
+        let output = pointblend(dir.path())
+            .arg("bench")
+            .arg(common::asset("lion-wave.toml"))
+            .args(extra)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let error = one_error(&output, &format!("bench {extra:?}"));
+        assert!(error.contains(expected), "{extra:?}: {error}");
+        assert!(!out.exists(), "{extra:?}: bench wrote its folder");
+    }
+}

@@ -55,12 +55,30 @@ pub struct Args {
     pub env: Option<PathBuf>,
 }
 
+/// Most frames `--animate` renders.
+const MAX_ANIMATE_FRAMES: usize = 1000;
+
 pub fn run(args: &Args) -> Result<()> {
     if args.frames == 0 || args.loads == 0 {
         bail!("--frames and --loads must be at least 1");
     }
     if args.animate == Some(0) {
         bail!("--animate needs at least 1 frame");
+    }
+    if let Some(frames) = args.animate.filter(|n| *n > MAX_ANIMATE_FRAMES) {
+        bail!(
+            "--animate {frames}: at most {MAX_ANIMATE_FRAMES} frames (each frame writes an image and a difference image per mode and view)"
+        );
+    }
+    let camera_options = [
+        ("--azimuth", args.view.azimuth.is_some()),
+        ("--elevation", args.view.elevation.is_some()),
+        ("--distance", args.view.distance.is_some()),
+    ];
+    if let Some((option, _)) = camera_options.iter().find(|(_, given)| *given) {
+        bail!(
+            "{option}: bench renders its own views (--views N of front, side, back-top, close-up, grazing); `pointblend render` renders one view"
+        );
     }
     if args.views == 0 || args.views > bench::views::MAX_VIEWS {
         bail!("--views must be 1..={}", bench::views::MAX_VIEWS);

@@ -126,6 +126,11 @@ pub fn thinned_lion(step: usize) -> pointblend::cloud::PointCloud {
     thinned
 }
 
+/// A file of `assets/`.
+pub fn asset(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets").join(name)
+}
+
 /// The mesh pointblend ships (`assets/knot.ply`, a torus knot it makes).
 pub fn bundled_mesh() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/knot.ply")
