@@ -418,6 +418,11 @@ fn an_output_that_names_its_input_another_way_is_refused() {
     assert!(!dir.path().join("out/a.png").exists(), "nothing is written");
 }
 
+/// `pointblend render` of the bundled model at 32x32 into `out`.
+fn render_small(dir: &Path, out: &Path) -> Output {
+    pointblend(dir).arg("render").arg(model()).args(["--size", "32x32", "--out"]).arg(out).output().unwrap()
+}
+
 #[cfg(unix)]
 #[test]
 fn a_read_only_output_is_refused_and_a_writable_one_keeps_its_mode() {
@@ -426,26 +431,14 @@ fn a_read_only_output_is_refused_and_a_writable_one_keeps_its_mode() {
     let read_only = dir.path().join("ro.png");
     std::fs::write(&read_only, b"mine").unwrap();
     std::fs::set_permissions(&read_only, std::fs::Permissions::from_mode(0o444)).unwrap();
-    let output = pointblend(dir.path())
-        .arg("render")
-        .arg(model())
-        .args(["--size", "32x32", "--out"])
-        .arg(&read_only)
-        .output()
-        .unwrap();
+    let output = render_small(dir.path(), &read_only);
     let error = one_error(&output, "--out on a read-only file");
     assert!(error.contains("ro.png") && error.contains("read-only"), "{error}");
     assert_eq!(std::fs::read(&read_only).unwrap(), b"mine");
     let private = dir.path().join("private.png");
     std::fs::write(&private, b"old").unwrap();
     std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o600)).unwrap();
-    let output = pointblend(dir.path())
-        .arg("render")
-        .arg(model())
-        .args(["--size", "32x32", "--out"])
-        .arg(&private)
-        .output()
-        .unwrap();
+    let output = render_small(dir.path(), &private);
     ok(&output, "--out on a writable file");
     assert!(image::open(&private).is_ok(), "the render replaced it");
     assert_eq!(std::fs::metadata(&private).unwrap().permissions().mode() & 0o777, 0o600, "its mode is kept");
