@@ -7,6 +7,7 @@ use glam::Vec3;
 use pointblend::cloud::{self, PointCloud};
 use pointblend::grouping::area::overlap_weight;
 use pointblend::grouping::regroup::{HashRegrouper, Lattice};
+use pointblend::grouping::table::{Table, cover_scale};
 use pointblend::grouping::{Grouping, cache, extend, hash, metrics, mgc, wgc};
 use pointblend::spatial::overlap::{OverlapGraph, OverlapOptions};
 
@@ -156,8 +157,46 @@ fn the_hash_table_for_eight_groups_is_fig_9() {
     ];
     for (x, row) in fig9.iter().enumerate() {
         for (y, &g) in row.iter().enumerate() {
-            assert_eq!(hash::table(8, x as i64, y as i64), g);
+            assert_eq!(Table::new(8).at((x as i32, y as i32)), g);
         }
+    }
+}
+
+/// §4.4.2's radius estimate against a brute-force search, for every K up to
+/// 16: the largest distance from a point of a cell (16 x 16 samples per cell,
+/// its corners included) to the nearest cell centre of each group.
+#[test]
+fn the_radius_estimate_is_the_largest_distance_to_a_cell_of_each_group() {
+    const SAMPLES: i32 = 16;
+    for k in 1..=16usize {
+        let table = Table::new(k);
+        let span = k as i32;
+        let mut farthest = 0f64;
+        for group in 0..k as u32 {
+            // Centres of this group's cells around the K x K tile the samples lie in.
+            let centres: Vec<(f64, f64)> = (-span..2 * span)
+                .flat_map(|x| (-span..2 * span).map(move |y| (x, y)))
+                .filter(|&c| table.at(c) == group)
+                .map(|(x, y)| (x as f64 + 0.5, y as f64 + 0.5))
+                .collect();
+            for sx in 0..=span * SAMPLES {
+                for sy in 0..=span * SAMPLES {
+                    let p = (sx as f64 / SAMPLES as f64, sy as f64 / SAMPLES as f64);
+                    let nearest =
+                        centres.iter().map(|c| (c.0 - p.0).hypot(c.1 - p.1)).fold(f64::INFINITY, f64::min);
+                    farthest = farthest.max(nearest);
+                }
+            }
+        }
+        // A splat is never shrunk: the scale is at least 1.
+        let searched = farthest.max(1.0);
+        let estimate = cover_scale(k) as f64;
+        // The samples miss the farthest point by at most half a sample diagonal.
+        let sampling = std::f64::consts::SQRT_2 / 2.0 / SAMPLES as f64;
+        assert!(
+            estimate >= searched - 1e-5 && estimate <= searched + sampling,
+            "K = {k}: the estimate is {estimate:.4} cell sides, the brute-force search finds {searched:.4}"
+        );
     }
 }
 

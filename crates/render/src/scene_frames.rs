@@ -144,7 +144,8 @@ pub fn rest_lattice(scene: &Scene) -> Result<Lattice, String> {
 
 /// A hash grouping with `spec`'s extension: §4.4.2's radius estimate, or none.
 fn with_extension(mut grouping: Grouping, spec: GroupingSpec) -> Grouping {
-    let scale = if spec.extension == Extension::Estimate { crate::grouping::extend::HASH_TABLE_SCALE } else { 1.0 };
+    let scale =
+        if spec.extension == Extension::Estimate { crate::grouping::table::cover_scale(grouping.k()) } else { 1.0 };
     grouping.radius_scale = vec![scale; grouping.k()];
     grouping
 }

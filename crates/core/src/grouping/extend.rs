@@ -24,7 +24,8 @@
 //!     mean number of splats covering a sample (exact for coincident points
 //!     too). s only grows, and the iteration stops when s changes by less than
 //!     1e-3, after [`MAX_ITERATIONS`], or at [`MAX_SCALE`], so it ends for any
-//!     input. The hash-table approximation of §4.4.2 is √50/4 ≈ 1.77.
+//!     input. The hash-table approximation of §4.4.2 is
+//!     [`super::table::cover_scale`] (√50/4 ≈ 1.77 for K = 8).
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -41,9 +42,6 @@ pub const MAX_CLIPPED_SHARE: f32 = 0.5;
 /// Radius enlargement never goes beyond this factor.
 pub const MAX_SCALE: f32 = 4.0;
 pub const MAX_ITERATIONS: usize = 50;
-/// §4.4.2's estimate from the hash table geometry: the circumradius of the
-/// triangle with sides √10 r, √10 r and 2√2 r.
-pub const HASH_TABLE_SCALE: f32 = 1.767_767; // √50 / 4
 
 /// How each group's radius enlargement went.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -53,6 +51,7 @@ pub struct EnlargeReport {
     /// False where the iteration stopped at a bound instead of converging.
     pub converged: Vec<bool>,
     pub surface_area: f64,
+    /// §4.4.2's hash-table estimate for the same K, to compare with.
     pub hash_table_scale: f32,
 }
 
@@ -135,7 +134,7 @@ pub fn enlarge(cloud: &PointCloud, grouping: &Grouping) -> (Grouping, EnlargeRep
         iterations: vec![0; k],
         converged: vec![true; k],
         surface_area: 0.0,
-        hash_table_scale: HASH_TABLE_SCALE,
+        hash_table_scale: super::table::cover_scale(k),
     };
     if n == 0 {
         return (out, report);

@@ -2,9 +2,8 @@
 //!
 //! Each splat is mapped to 2D cell coordinates (x, y) in the plane across the
 //! dominant axis d of its neighbourhood's mean normal (Eq. 9), and its group
-//! is `table[x % K][y % K]`, the K x K generalisation of Fig. 9:
-//! `table[x][y] = (x + s·y) mod K` with s the integer nearest √K (s = 3 for
-//! K = 8 reproduces Fig. 9 exactly). Where the paper averages normals over a
+//! is [`super::table::Table`]'s entry for (x, y), the K x K generalisation of
+//! Fig. 9. Where the paper averages normals over a
 //! BSP leaf, we average them over coarse grid cells of 16 radii ("leaves").
 //! The cell size is the median radius for all splats, so that neighbours
 //! share one lattice.
@@ -38,13 +37,6 @@ pub enum Collisions {
 pub struct HashOptions {
     pub k: usize,
     pub collisions: Collisions,
-}
-
-/// The K x K hash table entry for cell (x, y).
-pub fn table(k: usize, x: i64, y: i64) -> u32 {
-    let k = k.max(1) as i64;
-    let s = ((k as f64).sqrt().round() as i64).max(1);
-    (x.rem_euclid(k) + s * y.rem_euclid(k)).rem_euclid(k) as u32
 }
 
 /// Groups `cloud` by hashing on the lattice of its own median radius;

@@ -20,6 +20,7 @@ pub mod metrics;
 pub mod mgc;
 pub mod regroup;
 pub mod spec;
+pub mod table;
 pub mod wgc;
 
 pub use spec::{Extension, GroupingAlgo, GroupingReport, GroupingSpec, Relaxations, Tuning};

@@ -41,6 +41,7 @@ use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
 use super::hash::{Collisions, HashOptions};
+use super::table::Table;
 use super::{Grouping, GroupingError, MAX_GROUPS};
 use crate::cloud::PointCloud;
 use crate::spatial::overlap::median_radius;
@@ -696,28 +697,6 @@ fn overlap_weight([px, py, pz, pr]: [f32; 4], [qx, qy, qz, qr]: [f32; 4]) -> f32
     let (dx, dy, dz, reach) = (px - qx, py - qy, pz - qz, pr + qr);
     let gap = (reach - (dx * dx + dy * dy + dz * dz).sqrt()).max(0.0);
     2.0 * gap / reach.max(f32::MIN_POSITIVE)
-}
-
-/// Fig. 9's table for K groups, [`table`] in 32-bit steps.
-#[derive(Clone, Copy)]
-struct Table {
-    k: i32,
-    s: i32,
-}
-
-impl Table {
-    fn new(k: usize) -> Self {
-        Self { k: k as i32, s: ((k as f64).sqrt().round() as i32).max(1) }
-    }
-
-    fn at(&self, (x, y): (i32, i32)) -> u32 {
-        if self.k.count_ones() == 1 {
-            // A mask for K a power of two (8, the paper's): no integer division.
-            let mask = self.k - 1;
-            return ((x & mask) + self.s * (y & mask)) as u32 & mask as u32;
-        }
-        (x.rem_euclid(self.k) + self.s * y.rem_euclid(self.k)).rem_euclid(self.k) as u32
-    }
 }
 
 /// The axis (0, 1, 2) of the largest component of `n` (z for a zero or non-finite sum).

@@ -66,9 +66,11 @@ pub enum Extension {
     Duplicate,
     /// (2): each group's radii are enlarged by Eq. 13 until it covers the surface.
     Enlarge,
-    /// (2) by §4.4.2's estimate for the hash table, √50/4 (Eq. 13 measures
+    /// (2) by §4.4.2's estimate from the hash table's geometry,
+    /// [`super::table::cover_scale`] of K (√50/4 for K = 8; Eq. 13 measures
     /// 1.71-1.74 on hash groups of our scans, so the estimate covers): what a
     /// grouping made every frame uses, as Eq. 13 cannot run every frame.
+    /// Hash groupings only: MGC's and WGC's groups have no lattice.
     Estimate,
 }
 
@@ -156,7 +158,7 @@ impl GroupingSpec {
             }
             Extension::Estimate => {
                 let k = base.k();
-                Grouping { radius_scale: vec![extend::HASH_TABLE_SCALE; k], ..base }
+                Grouping { radius_scale: vec![super::table::cover_scale(k); k], ..base }
             }
             Extension::Enlarge => {
                 crate::progress::stage("enlarging the groups' radii");
@@ -388,6 +390,12 @@ impl std::str::FromStr for GroupingSpec {
                 ("opposite", _) if graph => spec.relax.opposite = true,
                 ("dup", _) if spec.extension == Extension::None => spec.extension = Extension::Duplicate,
                 ("radius", _) if spec.extension == Extension::None => spec.extension = Extension::Enlarge,
+                ("est", _) if graph => {
+                    return Err(format!(
+                        "'{s}': -est is the hash table's radius estimate (§4.4.2) and applies to hash-kK only; \
+                         use -radius or -dup with mgc and wgc"
+                    ));
+                }
                 ("est", _) if spec.extension == Extension::None => spec.extension = Extension::Estimate,
                 _ => return Err(format!("{}: '-{flag}' does not apply here", bad())),
             }
@@ -421,8 +429,28 @@ mod tests {
             let spec: GroupingSpec = text.parse().unwrap();
             assert_eq!(spec.to_string(), text);
         }
-        for wrong in ["hash-k8-coplanar", "mgc-c0.4-kept", "hash-k8-eq7", "wgc-k4-dup-radius", "wgc-k4-x", "wgc-k0"] {
+        for wrong in ["hash-k8-coplanar", "mgc-c0.4-kept", "hash-k8-eq7", "wgc-k4-dup-radius", "wgc-k4-x", "wgc-k0", "mgc-c0.4-est", "wgc-k4-est"] {
             assert!(wrong.parse::<GroupingSpec>().is_err(), "{wrong}");
+        }
+    }
+
+    #[test]
+    fn the_estimate_scales_each_hash_grouping_by_its_own_k() {
+        let positions: Vec<Vec3> = (0..400).map(|i| Vec3::new((i % 20) as f32, (i / 20) as f32, 0.0)).collect();
+        let n = positions.len();
+        let cloud = PointCloud {
+            positions,
+            normals: vec![Vec3::Z; n],
+            radii: vec![1.0; n],
+            colours: vec![[128; 3]; n],
+            opacity: vec![1.0; n],
+            ..Default::default()
+        };
+        assert_ne!(super::super::table::cover_scale(4), super::super::table::cover_scale(8));
+        for k in [4, 8] {
+            let spec: GroupingSpec = format!("hash-k{k}-est").parse().unwrap();
+            let grouping = spec.compute(&cloud).unwrap();
+            assert!(grouping.radius_scale.iter().all(|&s| s == super::super::table::cover_scale(k)), "K = {k}");
         }
     }
 }
