@@ -92,6 +92,10 @@ pub struct BenchRow {
     /// is then the splats drawn beside them, Guennebaud's hybrid rules).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub triangles: Option<u32>,
+    /// `tiled`: the pixels of a frame from this view whose window of
+    /// waiting hits overflowed, finished exactly in slabs (slower pixels).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub window_overflows: Option<u32>,
 }
 
 /// Writes `rows` as a JSON array, atomically.
@@ -113,10 +117,13 @@ pub fn markdown(rows: &[BenchRow]) -> String {
             ));
             continue;
         }
-        let variant = match &r.fallback {
+        let mut variant = match &r.fallback {
             Some(note) => format!("{} ({note})", r.variant),
             None => r.variant.clone(),
         };
+        if let Some(n) = r.window_overflows {
+            variant.push_str(&format!(" ({n} window overflows)"));
+        }
         out.push_str(&format!(
             "| {} | {} | {} | {} | {} | {}x{} | {} | {:.1} ({:.1}-{:.1}) | {} | {:.3} | {} | {:.2}% | {} |\n",
             r.model,

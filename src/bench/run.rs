@@ -358,6 +358,7 @@ fn blank_row(
         regroup_ms: None,
         budget_select_ms: None,
         triangles: None,
+        window_overflows: None,
         upload_ms: None,
     }
 }
@@ -376,6 +377,11 @@ fn measure_variant(
 ) -> Result<BenchRow, BenchError> {
     let (image, plan, wall, per_pass) = time_frames(renderer, frames, &view.camera, p, config)
         .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?;
+    if let Some(tiles) = renderer.renderer.tile_engine().filter(|_| plan.compute_passes() > 0) {
+        let overflows = tiles.window_overflows(&renderer.ctx);
+        row.window_overflows =
+            Some(overflows.map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?);
+    }
     if let Some(budget) = frames.applied_budget(&p.settings).and(frames.last_budget()) {
         row.points = budget.splats;
         row.budget_select_ms = Some(budget.select_ms);

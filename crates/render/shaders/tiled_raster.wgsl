@@ -11,8 +11,16 @@
 // 3). Each pixel casts its ray on every disc in that order (Eq. 3 weight,
 // Eq. 4 depth). A hit waits in a small sorted window until the next disc's
 // key is beyond it: no later disc can be hit nearer than its key, so hits
-// leave the window in exact depth order. (Should more than WINDOW hits wait
-// at once, the nearest leaves early; `stats` counts these.)
+// leave the window in exact depth order. Hits are ordered by (depth, entry),
+// so equal depths have one order too.
+//
+// Should more than WINDOW hits wait at once with none yet ready, the pixel
+// starts again in slabs (`exact_pass`): each slab reads the tile's list
+// from the first entry it may need, keeps the WINDOW nearest hits after the
+// last one released and stops at a key beyond the farthest of them; those
+// hits are then the next in order, all released; a hit pushed out of a full
+// window is found again by the next slab, which reads from the first entry
+// pushed out. Such pixels cost more, and stay exact; `stats` counts them.
 //
 // Ordered hits are grouped into ε-layers as the reference groups them: a
 // layer is the hits of one facing within ε of its first hit (facing is not
@@ -34,7 +42,7 @@
 @group(1) @binding(6) var<storage, read> rects: array<vec4<u32>>;
 // rgb composited over the background, layers met
 @group(1) @binding(4) var colour_out: texture_storage_2d<rgba32float, write>;
-// [0]: hits that left a full window before their turn (see above).
+// [0]: pixels whose window overflowed, finished in slabs (see above).
 @group(1) @binding(5) var<storage, read_write> stats: array<atomic<u32>>;
 #ifdef ENVIRONMENT
 // The nearest transparent layer: shaded colour and opacity; unit normal (zero: none) and layers behind;
@@ -79,7 +87,8 @@ var<private> split_facing: bool;
 // Hits waiting, nearest first; empty slots hold NO_HIT.
 var<private> window_depth: array<f32, WINDOW>;
 var<private> window_weight: array<f32, WINDOW>;
-var<private> window_splat: array<u32, WINDOW>;
+// The tile-list entry of each hit (its item is entries[e].y).
+var<private> window_entry: array<u32, WINDOW>;
 // The open layers, the older first (at most one per facing).
 var<private> older: Layer;
 var<private> newer: Layer;
@@ -88,7 +97,6 @@ var<private> colour: vec3<f32>;
 var<private> through: f32;
 var<private> layers: u32;
 var<private> done: bool;
-var<private> early: u32;
 #ifdef ENVIRONMENT
 var<private> glass: bool;
 var<private> glass_front: vec4<f32>;
@@ -100,6 +108,7 @@ var<private> glass_closed: bool;
 #endif
 
 const NO_HIT: f32 = 3.4e38;
+const NO_ENTRY: u32 = 0xffffffffu;
 
 fn unpack_colour(c: u32) -> vec3<f32> {
     return vec3<f32>(f32(c & 0xffu), f32((c >> 8u) & 0xffu), f32((c >> 16u) & 0xffu)) / 255.0;
@@ -248,13 +257,6 @@ fn triangle_surface(triangle: u32) -> Surface {
     return Surface(colour, unit, clamp(opacity, 0.0, 1.0), face);
 }
 
-// Casts the pixel's ray on the `at`-th drawn triangle (item `item`); a hit waits in the window.
-fn meet_triangle(at: u32, item: u32) {
-    let hit = intersect_triangle(drawn_triangles[at]);
-    if hit.depth > 0.0 {
-        wait(hit.depth, 1.0, item);
-    }
-}
 #endif
 
 // The surface of item `item` (a splat, or with TRIANGLES a triangle) where the ray met it.
@@ -294,59 +296,147 @@ fn add_hit(depth: f32, weight: f32, splat: u32) {
     }
 }
 
-// The nearest waiting hit leaves the window.
-fn release() {
+// The nearest waiting hit leaves the window; returns its entry.
+fn release() -> u32 {
     let depth = window_depth[0];
     let weight = window_weight[0];
-    let splat = window_splat[0];
+    let entry = window_entry[0];
     for (var i = 0u; i < WINDOW - 1u; i++) {
         window_depth[i] = window_depth[i + 1u];
         window_weight[i] = window_weight[i + 1u];
-        window_splat[i] = window_splat[i + 1u];
+        window_entry[i] = window_entry[i + 1u];
     }
     window_depth[WINDOW - 1u] = NO_HIT;
-    add_hit(depth, weight, splat);
+    add_hit(depth, weight, entries[entry].y);
+    return entry;
 }
 
-// A hit waits for its turn, in order of depth (the window has room).
-fn wait(depth: f32, weight: f32, splat: u32) {
+// A hit waits for its turn, in order of (depth, entry). Returns the entry
+// of the hit a full window pushes out (the farthest, maybe this one), or
+// NO_ENTRY.
+fn wait(depth: f32, weight: f32, entry: u32) -> u32 {
     var d = depth;
     var w = weight;
-    var s = splat;
+    var e = entry;
     for (var i = 0u; i < WINDOW; i++) {
         let here = window_depth[i];
-        let ahead = d < here;
+        let kept_e = window_entry[i];
+        let ahead = d < here || (d == here && e < kept_e);
         let kept_w = window_weight[i];
-        let kept_s = window_splat[i];
         window_depth[i] = select(here, d, ahead);
         window_weight[i] = select(kept_w, w, ahead);
-        window_splat[i] = select(kept_s, s, ahead);
+        window_entry[i] = select(kept_e, e, ahead);
         d = select(d, here, ahead);
         w = select(w, kept_w, ahead);
-        s = select(s, kept_s, ahead);
+        e = select(e, kept_e, ahead);
     }
+    return select(NO_ENTRY, e, d < NO_HIT);
 }
 
-// Casts the pixel's ray on disc `s`; a hit waits in the window.
-fn meet(s: EyeSplat, splat: u32) {
+// Where the pixel's ray meets item `item` (a disc, or with TRIANGLES a
+// triangle): (depth, weight), the depth NO_HIT on a miss.
+fn hit_on(item: u32) -> vec2<f32> {
+    let miss = vec2<f32>(NO_HIT, 0.0);
+#ifdef TRIANGLES
+    if item >= tiles.grid.z {
+        let hit = intersect_triangle(drawn_triangles[item - tiles.grid.z]);
+        return select(miss, vec2<f32>(hit.depth, 1.0), hit.depth > 0.0);
+    }
+#endif
+    let s = eye[item];
     let denom = dot(s.plane, ray);
     if abs(denom) < 1e-12 {
-        return;
+        return miss;
     }
     let t = dot(s.plane, s.centre) / denom;
     if !(t > frame.depth.x && t < frame.depth.y) {
-        return;
+        return miss;
     }
     let offset = ray * t - s.centre;
     let rho2 = dot(offset, offset) * s.inv_r2;
-    if rho2 < 1.0 {
-        wait(t, exp(-rho2 * frame.splat.y), splat);
-    }
+    return select(miss, vec2<f32>(t, exp(-rho2 * frame.splat.y)), rho2 < 1.0);
+}
+
+// Whether entry `at`'s disc bounds may cover this pixel.
+fn covers(pixel: vec2<u32>, item: u32) -> bool {
+    let bounds = rects[item].xy;
+    let inside_x = pixel.x >= (bounds.x & 0xffffu) && pixel.x <= (bounds.x >> 16u);
+    let inside_y = pixel.y >= (bounds.y & 0xffffu) && pixel.y <= (bounds.y >> 16u);
+    return inside_x && inside_y;
 }
 
 fn finish() {
     while open_count > 0u && !done {
         close_oldest();
+    }
+}
+
+// The pixel's state before its first hit.
+fn start_pixel(inside: bool) {
+    for (var i = 0u; i < WINDOW; i++) {
+        window_depth[i] = NO_HIT;
+        window_entry[i] = NO_ENTRY;
+    }
+    open_count = 0u;
+    colour = vec3<f32>(0.0);
+    through = 1.0;
+    layers = 0u;
+    done = !inside;
+#ifdef ENVIRONMENT
+    glass = false;
+    glass_front = vec4<f32>(0.0);
+    glass_normal = vec3<f32>(0.0);
+    glass_behind = vec3<f32>(0.0);
+    glass_through = 1.0;
+    glass_layers_behind = 0.0;
+    glass_closed = false;
+#endif
+}
+
+// The whole pixel again, in slabs of WINDOW hits (see the top): for a
+// pixel whose window overflowed. Every slab releases at least one hit, so
+// it ends; a slab rereads the list from the first entry it pushed out.
+fn exact_pass(pixel: vec2<u32>, start: u32, end: u32) {
+    start_pixel(true);
+    // The last hit released, as (depth, entry): later hits come after it.
+    var last_depth = -NO_HIT;
+    var last_entry = 0u;
+    var first = start;
+    loop {
+        for (var i = 0u; i < WINDOW; i++) {
+            window_depth[i] = NO_HIT;
+            window_entry[i] = NO_ENTRY;
+        }
+        var pushed_out = NO_ENTRY;
+        var at = first;
+        loop {
+            if at >= end {
+                break;
+            }
+            let entry = entries[at];
+            if window_depth[WINDOW - 1u] < NO_HIT && key_depth(entry.x) > window_depth[WINDOW - 1u] {
+                break;
+            }
+            if covers(pixel, entry.y) {
+                let hit = hit_on(entry.y);
+                let after = hit.x > last_depth || (hit.x == last_depth && at > last_entry);
+                if hit.x < NO_HIT && after {
+                    pushed_out = min(pushed_out, wait(hit.x, hit.y, at));
+                }
+            }
+            at += 1u;
+        }
+        loop {
+            if done || window_depth[0] == NO_HIT {
+                break;
+            }
+            last_depth = window_depth[0];
+            last_entry = release();
+        }
+        if done || (pushed_out == NO_ENTRY && at >= end) {
+            break;
+        }
+        first = select(pushed_out, at, pushed_out == NO_ENTRY);
     }
 }
 
@@ -365,24 +455,7 @@ fn cs_raster(
     ray = pixel_ray(vec2<f32>(pixel) + vec2<f32>(0.5));
     to_eye = -normalize(ray);
     split_facing = this_pass.layers.z != 0u;
-    for (var i = 0u; i < WINDOW; i++) {
-        window_depth[i] = NO_HIT;
-    }
-    open_count = 0u;
-    colour = vec3<f32>(0.0);
-    through = 1.0;
-    layers = 0u;
-    done = !inside;
-    early = 0u;
-#ifdef ENVIRONMENT
-    glass = false;
-    glass_front = vec4<f32>(0.0);
-    glass_normal = vec3<f32>(0.0);
-    glass_behind = vec3<f32>(0.0);
-    glass_through = 1.0;
-    glass_layers_behind = 0.0;
-    glass_closed = false;
-#endif
+    start_pixel(inside);
     var start = 0u;
     var end = 0u;
     if inside {
@@ -396,42 +469,35 @@ fn cs_raster(
     // both sides of a branch (lavapipe), code in the per-disc loop costs
     // every lane every disc.
     var at = start;
+    var overflowed = false;
     loop {
         loop {
             if at >= end || done || window_depth[WINDOW - 1u] < NO_HIT {
                 break;
             }
             let entry = entries[at];
-            at += 1u;
             // A disc whose pixel bounds miss this pixel gives no hit.
-            let bounds = rects[entry.y].xy;
-            let inside_x = pixel.x >= (bounds.x & 0xffffu) && pixel.x <= (bounds.x >> 16u);
-            let inside_y = pixel.y >= (bounds.y & 0xffffu) && pixel.y <= (bounds.y >> 16u);
-            if inside_x && inside_y {
-#ifdef TRIANGLES
-                if entry.y >= tiles.grid.z {
-                    meet_triangle(entry.y - tiles.grid.z, entry.y);
-                } else {
-                    meet(eye[entry.y], entry.y);
+            if covers(pixel, entry.y) {
+                let hit = hit_on(entry.y);
+                if hit.x < NO_HIT {
+                    wait(hit.x, hit.y, at);
                 }
-#else
-                meet(eye[entry.y], entry.y);
-#endif
             }
+            at += 1u;
         }
         var key = NO_HIT;
         if at < end {
             key = key_depth(entries[at].x);
         }
-        // A full window with nothing ready: the nearest leaves early.
-        var forced = window_depth[WINDOW - 1u] < NO_HIT && window_depth[0] > key;
+        // A full window with nothing ready: a later disc may still be hit
+        // nearer than every waiting hit.
+        if window_depth[WINDOW - 1u] < NO_HIT && window_depth[0] > key && !done {
+            overflowed = true;
+            break;
+        }
         loop {
-            if done || !(window_depth[0] < NO_HIT && (window_depth[0] <= key || forced)) {
+            if done || !(window_depth[0] < NO_HIT && window_depth[0] <= key) {
                 break;
-            }
-            if forced {
-                early += 1u;
-                forced = false;
             }
             release();
         }
@@ -442,10 +508,11 @@ fn cs_raster(
     if !inside {
         return;
     }
-    finish();
-    if early > 0u {
-        atomicAdd(&stats[0], early);
+    if overflowed {
+        exact_pass(pixel, start, end);
+        atomicAdd(&stats[0], 1u);
     }
+    finish();
     textureStore(colour_out, pixel, vec4<f32>(colour + through * frame.background.rgb, f32(layers)));
 #ifdef ENVIRONMENT
     var behind_through = select(glass_through, -1.0, glass_closed);

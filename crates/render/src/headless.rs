@@ -85,8 +85,16 @@ impl HeadlessRenderer {
         width: u32,
         height: u32,
     ) -> Result<(image::RgbaImage, RenderPlan), GpuError> {
-        let plan = self.render(scene, camera, settings, width, height)?;
-        Ok((readback::read_rgba8(&self.ctx, self.output_texture()?)?, plan))
+        let mut plan = self.render(scene, camera, settings, width, height)?;
+        let image = readback::read_rgba8(&self.ctx, self.output_texture()?)?;
+        if let Some(tiles) = self.renderer.tile_engine().filter(|_| plan.compute_passes() > 0) {
+            let overflowed = tiles.window_overflows(&self.ctx)?;
+            plan.notes.push(format!(
+                "tile windows: {overflowed} pixels had more than {} hits waiting and were finished in slabs, exactly",
+                super::tile_engine::WINDOW
+            ));
+        }
+        Ok((image, plan))
     }
 
     fn output_texture(&self) -> Result<&wgpu::Texture, GpuError> {

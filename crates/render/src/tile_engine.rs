@@ -39,6 +39,10 @@ use super::shaders::Variant;
 /// test fewer discs that miss, and bin more entries. Measured on the
 /// transparent bunny at 512² (lavapipe): 16 px 702 ms, 8 px 485 ms, 4 px 908 ms.
 pub const TILE: u32 = 8;
+/// Hits a pixel keeps waiting in registers (`WINDOW` in
+/// shaders/tiled_raster.wgsl); a pixel with more waiting and none ready is
+/// finished in slabs, exactly, and counted.
+pub const WINDOW: u32 = 8;
 /// Bytes of one splat in eye space (`EyeSplat` in shaders/tiled_common.wgsl).
 pub const EYE_SPLAT_BYTES: u64 = 48;
 /// Bytes of a splat's pixel rectangle and sort key.
@@ -461,8 +465,8 @@ impl TileEngine {
         .sum()
     }
 
-    /// Hits of the last frame that left a pixel's sorting window before
-    /// their turn (see shaders/tiled_raster.wgsl); waits for the frame.
+    /// Pixels of the last frame whose sorting window overflowed and which
+    /// were finished in slabs (see shaders/tiled_raster.wgsl); waits for the frame.
     pub fn window_overflows(&self, ctx: &GpuContext) -> Result<u32, GpuError> {
         Ok(read::<u32>(ctx, &self.stats_readback)?.first().copied().unwrap_or(0))
     }
@@ -498,6 +502,8 @@ mod tests {
         assert!(common.contains(&format!("const TILE: u32 = {TILE}u;")), "TILE differs from the shader's");
         let sort = crate::shaders::compose("tiled_sort.wgsl", Variant::NONE).unwrap();
         assert!(sort.contains(&format!("const SHORT: u32 = {SHORT_LIST}u;")), "SHORT_LIST differs from the shader's");
+        let raster = crate::shaders::compose("tiled_raster.wgsl", Variant::NONE).unwrap();
+        assert!(raster.contains(&format!("const WINDOW: u32 = {WINDOW}u;")), "WINDOW differs from the shader's");
     }
 
     #[test]
