@@ -182,8 +182,7 @@ fn the_radius_estimate_is_the_largest_distance_to_a_cell_of_each_group() {
             for sx in 0..=span * SAMPLES {
                 for sy in 0..=span * SAMPLES {
                     let p = (sx as f64 / SAMPLES as f64, sy as f64 / SAMPLES as f64);
-                    let nearest =
-                        centres.iter().map(|c| (c.0 - p.0).hypot(c.1 - p.1)).fold(f64::INFINITY, f64::min);
+                    let nearest = centres.iter().map(|c| (c.0 - p.0).hypot(c.1 - p.1)).fold(f64::INFINITY, f64::min);
                     farthest = farthest.max(nearest);
                 }
             }

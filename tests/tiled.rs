@@ -290,6 +290,37 @@ fn pixels_whose_window_overflows_are_still_exact() {
     }
 }
 
+/// The raster reads its lists a subgroup at a time where the device has
+/// subgroup operations, else each pixel on its own: both release the same
+/// hits in the same order, so they give the same image, bit for bit, on the
+/// bundled lion (opaque and transparent) and on mesh triangles.
+#[test]
+fn reading_lists_by_subgroup_or_by_pixel_gives_the_same_image() {
+    let assets = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets");
+    let lion = Scene::from(common::thinned_lion(2));
+    let mut glass_lion = lion.clone();
+    glass_lion.set_opacity(0.5);
+    let knot = pointblend::scene::open(&assets.join("glass-mesh.toml"), &Default::default()).unwrap().0;
+    let mut renderer = common::renderer();
+    if !renderer.use_subgroups(true) {
+        println!("this device has no subgroup operations: only one way to read the lists");
+        return;
+    }
+    for (what, scene) in [("lion", lion), ("lion at 0.5", glass_lion), ("glass knot and lion", knot)] {
+        let flat = scene.flattened();
+        let camera = Camera::default_for(&flat, 1.0);
+        let gpu = renderer.upload(&scene, None);
+        renderer.use_subgroups(false);
+        let by_pixel = renderer.render_image(&gpu, &camera, &settings(true), 96, 96);
+        renderer.use_subgroups(true);
+        let by_subgroup = renderer.render_image(&gpu, &camera, &settings(true), 96, 96);
+        let (by_pixel, by_subgroup) = (by_pixel.expect("render").0, by_subgroup.expect("render").0);
+        let differing = by_subgroup.pixels().zip(by_pixel.pixels()).filter(|(a, b)| a != b).count();
+        assert!(by_subgroup.pixels().any(|p| p.0[..3] != common::background_rgb()), "{what}: something is drawn");
+        assert_eq!(differing, 0, "{what}: {differing} pixels differ between the two ways of reading the lists");
+    }
+}
+
 #[test]
 fn the_bundled_bunny_matches_the_reference_opaque_and_transparent_in_three_views() {
     let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();

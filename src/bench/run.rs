@@ -375,7 +375,7 @@ fn measure_variant(
     reference: &Ruler,
     (stem, mut row): (&str, BenchRow),
 ) -> Result<BenchRow, BenchError> {
-    let (image, plan, wall, per_pass) = time_frames(renderer, frames, &view.camera, p, config)
+    let (image, plan, wall, per_pass, profiled) = time_frames(renderer, frames, &view.camera, p, config)
         .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?;
     if let Some(tiles) = renderer.renderer.tile_engine().filter(|_| plan.compute_passes() > 0) {
         let overflows = tiles.window_overflows(&renderer.ctx);
@@ -408,7 +408,8 @@ fn measure_variant(
         .zip(&per_pass)
         .map(|(step, times)| {
             let s = spread(times);
-            PassTime { pass: step.name.to_string(), ms: s.median, ms_min: s.min, ms_max: s.max }
+            let pass = if profiled { format!("{} (CPU wall, waited alone)", step.name) } else { step.name.to_string() };
+            PassTime { pass, ms: s.median, ms_min: s.min, ms_max: s.max }
         })
         .collect();
     row.k = p.k;
@@ -417,7 +418,7 @@ fn measure_variant(
     row.frame_ms = frame.median;
     row.frame_ms_min = frame.min;
     row.frame_ms_max = frame.max;
-    row.gpu_ms = (!passes.is_empty()).then(|| passes.iter().map(|p| p.ms).sum());
+    row.gpu_ms = (!passes.is_empty() && !profiled).then(|| passes.iter().map(|p| p.ms).sum());
     row.passes = passes;
     row.eps = error.eps;
     row.psnr = error.psnr.is_finite().then_some(error.psnr);
@@ -621,7 +622,7 @@ fn time_frames(
     camera: &Camera,
     p: &Prepared,
     config: &BenchConfig,
-) -> Result<(image::RgbaImage, RenderPlan, Vec<f64>, Vec<Vec<f64>>), FrameError> {
+) -> Result<(image::RgbaImage, RenderPlan, Vec<f64>, Vec<Vec<f64>>, bool), FrameError> {
     let (w, h) = (config.width, config.height);
     let mut wall = Vec::new();
     let mut per_pass: Vec<Vec<f64>> = Vec::new();
@@ -642,6 +643,26 @@ fn time_frames(
             }
         }
     }
+    let profiled = per_pass.is_empty();
+    if profiled {
+        // No GPU timestamps for these steps (compute passes on a software
+        // adapter): time each step on its own in frames of their own.
+        renderer.renderer.profile_steps(true);
+        for _ in 0..config.frames.min(3) {
+            let (scene, settings) = frames.frame_scene(renderer, camera, &p.settings, (w, h))?;
+            let profiled = renderer.render(scene, camera, &settings, w, h);
+            let times = renderer.renderer.step_times().map(<[f64]>::to_vec);
+            if let Err(e) = profiled {
+                renderer.renderer.profile_steps(false);
+                return Err(e.into());
+            }
+            for (i, t) in times.unwrap_or_default().into_iter().enumerate() {
+                per_pass.resize(per_pass.len().max(i + 1), Vec::new());
+                per_pass[i].push(t);
+            }
+        }
+        renderer.renderer.profile_steps(false);
+    }
     let (scene, settings) = frames.frame_scene(renderer, camera, &p.settings, (w, h))?;
     let (image, mut plan) = renderer.render_image(scene, camera, &settings, w, h)?;
     if frames.draws_triangles(&p.settings) {
@@ -649,5 +670,5 @@ fn time_frames(
     } else if frames.applied_budget(&p.settings).is_some() {
         plan.notes.extend(frames.last_budget().map(|b| b.describe()));
     }
-    Ok((image, plan, wall, per_pass))
+    Ok((image, plan, wall, per_pass, profiled))
 }

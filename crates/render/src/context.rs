@@ -80,10 +80,10 @@ impl GpuContext {
         Ok(Self { instance, adapter, device, queue })
     }
 
-    /// What the renderer needs of a device: the adapter's own limits, timestamps
-    /// and float32 blending where the adapter has them.
+    /// What the renderer needs of a device: the adapter's own limits, timestamps,
+    /// float32 blending and subgroup operations where the adapter has them.
     pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
-        let wanted = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::FLOAT32_BLENDABLE;
+        let wanted = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::FLOAT32_BLENDABLE | wgpu::Features::SUBGROUP;
         wgpu::DeviceDescriptor {
             label: Some("GpuContext::device"),
             required_features: adapter.features() & wanted,

@@ -97,6 +97,11 @@ impl HeadlessRenderer {
         Ok((image, plan))
     }
 
+    /// [`Renderer::use_subgroups`] on this renderer's device.
+    pub fn use_subgroups(&mut self, on: bool) -> bool {
+        self.renderer.use_subgroups(&self.ctx, on)
+    }
+
     fn output_texture(&self) -> Result<&wgpu::Texture, GpuError> {
         self.output.as_ref().ok_or_else(|| GpuError::Device("no output texture".into()))
     }

@@ -40,6 +40,13 @@ pub struct Renderer {
     touches: Vec<Touch>,
     /// The tile pipeline's buffers, made by the first frame that runs it.
     tiles: Option<TileEngine>,
+    /// Whether `tiled`'s raster reads its lists a subgroup at a time (the
+    /// device has subgroup operations); see shaders/tiled_raster.wgsl.
+    subgroups: bool,
+    /// Whether each step is waited for on its own and timed on the CPU
+    /// (see [`Renderer::profile_steps`]), and the last frame's times.
+    profile_steps: bool,
+    step_ms: Option<Vec<f64>>,
 }
 
 impl Renderer {
@@ -66,8 +73,32 @@ impl Renderer {
                 timing: false,
                 touches: Vec::new(),
                 tiles: None,
+                subgroups: device.features().contains(wgpu::Features::SUBGROUP),
+                profile_steps: false,
+                step_ms: None,
             }
         })
+    }
+
+    /// Times every step of the following frames on the CPU, each submitted
+    /// and waited for on its own ([`Renderer::step_times`]): where a software
+    /// adapter's timestamps say nothing of compute passes. The waits slow
+    /// the frame, so a profiled frame is not a timed one.
+    pub fn profile_steps(&mut self, on: bool) {
+        self.profile_steps = on;
+    }
+
+    /// Milliseconds per plan step of the last frame, when it was profiled.
+    pub fn step_times(&self) -> Option<&[f64]> {
+        self.step_ms.as_deref()
+    }
+
+    /// Makes `tiled`'s raster read its lists a subgroup at a time, or each
+    /// pixel on its own (`false`; always so on a device without subgroup
+    /// operations). Returns whether it now does.
+    pub fn use_subgroups(&mut self, ctx: &GpuContext, on: bool) -> bool {
+        self.subgroups = on && ctx.device.features().contains(wgpu::Features::SUBGROUP);
+        self.subgroups
     }
 
     /// Turns per-pass GPU timestamps on; returns false when the adapter has none.
@@ -251,7 +282,13 @@ impl Renderer {
         let budget = ctx.target_budget().saturating_sub(plan.target_bytes() + plan.buffer_bytes());
         let timer = self.timer.as_ref().filter(|_| self.timing);
         self.touches.clear();
+        let mut step_ms = self.profile_steps.then(|| vec![0.0; plan.steps.len()]);
         for (i, &(step, command)) in commands.iter().enumerate() {
+            if step_ms.is_some() {
+                ctx.queue.submit([std::mem::replace(&mut encoder, new_encoder()).finish()]);
+                ctx.wait_idle()?;
+            }
+            let started = std::time::Instant::now();
             for (id, layer, access) in touches::of(command) {
                 let target = self.pool.desc(id).ok_or_else(|| missing(id.0))?.clone();
                 let planned = desc(id)?.clone();
@@ -340,8 +377,11 @@ impl Renderer {
                         None => wgpu::TextureFormat::Rgba32Float,
                     };
                     let bindings = tile_engine::bindings(pass.work, pass.variant, format);
+                    let variant = pass
+                        .variant
+                        .with(super::shaders::Variant::SUBGROUPS, self.subgroups && pass.work == TileWork::Raster);
                     let (pipeline, layout) =
-                        self.cache.compute(device, (pass.shader, pass.entry, pass.variant), &bindings)?;
+                        self.cache.compute(device, (pass.shader, pass.entry, variant), &bindings)?;
                     let stamps = stamps.map(|s| wgpu::ComputePassTimestampWrites {
                         query_set: s.query_set,
                         beginning_of_pass_write_index: s.beginning_of_pass_write_index,
@@ -380,7 +420,13 @@ impl Renderer {
                     );
                 }
             }
+            if let Some(times) = step_ms.as_mut() {
+                ctx.queue.submit([std::mem::replace(&mut encoder, new_encoder()).finish()]);
+                ctx.wait_idle()?;
+                times[step] += started.elapsed().as_secs_f64() * 1e3;
+            }
         }
+        self.step_ms = step_ms;
         if let Some(timer) = timer {
             timer.resolve(&mut encoder, plan.steps.len());
         }

@@ -51,9 +51,12 @@ impl Variant {
     /// Mesh triangles through a splat pass's fragment entry: `vs_triangle`
     /// (shaders/splat.wgsl) and interpolated point, normal and colour.
     pub const TRIANGLES: Variant = Variant(32);
+    /// `tiled`'s raster reads its lists a subgroup at a time (the device has subgroup operations).
+    pub const SUBGROUPS: Variant = Variant(64);
 
     /// Every name, by bit.
-    const NAMES: [&'static str; 6] = ["LIT", "WEIGHT_ONLY", "OPAQUE_APART", "ENVIRONMENT", "LIGHTS", "TRIANGLES"];
+    const NAMES: [&'static str; 7] =
+        ["LIT", "WEIGHT_ONLY", "OPAQUE_APART", "ENVIRONMENT", "LIGHTS", "TRIANGLES", "SUBGROUPS"];
 
     pub const NONE: Variant = Variant(0);
 
@@ -147,6 +150,6 @@ mod tests {
         assert_eq!(lit.matches("struct Frame {").count(), 1, "frame.wgsl is included once");
         assert!(compose("missing.wgsl", Variant::NONE).is_err());
         assert_eq!(Variant::LIT.with(Variant::WEIGHT_ONLY, true).defines(), ["LIT", "WEIGHT_ONLY"]);
-        assert_eq!(Variant::all().count(), 64);
+        assert_eq!(Variant::all().count(), 128);
     }
 }

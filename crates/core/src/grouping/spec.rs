@@ -429,7 +429,16 @@ mod tests {
             let spec: GroupingSpec = text.parse().unwrap();
             assert_eq!(spec.to_string(), text);
         }
-        for wrong in ["hash-k8-coplanar", "mgc-c0.4-kept", "hash-k8-eq7", "wgc-k4-dup-radius", "wgc-k4-x", "wgc-k0", "mgc-c0.4-est", "wgc-k4-est"] {
+        for wrong in [
+            "hash-k8-coplanar",
+            "mgc-c0.4-kept",
+            "hash-k8-eq7",
+            "wgc-k4-dup-radius",
+            "wgc-k4-x",
+            "wgc-k0",
+            "mgc-c0.4-est",
+            "wgc-k4-est",
+        ] {
             assert!(wrong.parse::<GroupingSpec>().is_err(), "{wrong}");
         }
     }
