@@ -16,7 +16,7 @@ fn peeled(v: SplatVarying, depth01: f32) -> bool {
 
 // The visibility pass's depth: the fragment's, pushed back by ε.
 fn visible_depth(s: SplatSample) -> f32 {
-    return min(depth_to_buffer(s.view_depth + this_pass.depth.x), 1.0);
+    return min(depth_to_buffer(s.front_depth + this_pass.depth.x), 1.0);
 }
 
 // Visibility of layer i > 0: the nearest unpeeled fragment, pushed back by ε.

@@ -36,6 +36,11 @@
 // ray, as for an unstretched splat: coplanar neighbours stay within ε of one
 // another and blend (a depth clamped to the original disc would set rows of
 // a grazing plane apart by more than ε, and the filter would not filter).
+// Only the visibility pass, which sets the front surface, keeps the depth of
+// the disc's rim along the fragment's offset where that is farther
+// (`front_depth`): across a silhouette the plane continued past the disc
+// stands in front of the surface, and as the front it culled the splats
+// facing the viewer and left the outline to edge-on normals, a dark rim.
 // Only splats smaller than h along s (the screen-parallel tangent, which
 // foreshortening does not shorten) are filtered, in both directions: a
 // larger splat seen at a grazing angle, thin along t, is drawn exactly as
@@ -203,6 +208,13 @@ struct SplatSample {
     view_depth: f32,
     // The factor on the Gaussian weight: 1, or 1/(a_s·a_t) when prefiltered.
     scale: f32,
+    // The depth the visibility pass keeps: the view depth, except that the
+    // part of a prefiltered footprint beyond its original disc is never
+    // nearer than the disc's rim along the same offset. The plane continued
+    // past a disc is not surface: on a silhouette, where the footprint is
+    // stretched across the outline, it stands in front of the surface and
+    // would hide the splats that face the viewer.
+    front_depth: f32,
 }
 
 // Casts the pixel's ray on the splat; discards pixels outside the disc or the depth range.
@@ -219,7 +231,10 @@ fn splat_sample(v: SplatVarying) -> SplatSample {
     let offset = ray * t - v.centre;
     var rho2 = dot(offset, offset) * v.plane.w;
     var scale = 1.0;
+    var front = t;
     if v.axis_s.w > 0.0 {
+        let rim = v.centre + offset / max(sqrt(rho2), 1.0);
+        front = max(t, -rim.z);
         let along = vec2<f32>(dot(offset, v.axis_s.xyz), dot(offset, v.axis_t.xyz));
         rho2 = dot(along, along);
         scale = v.axis_s.w;
@@ -227,7 +242,7 @@ fn splat_sample(v: SplatVarying) -> SplatSample {
     if !(rho2 < 1.0) || !(t > frame.depth.x && t < frame.depth.y) {
         discard;
     }
-    return SplatSample(rho2, t, scale);
+    return SplatSample(rho2, t, scale, front);
 }
 
 // What a splat writes to its colour target: (w·rgb, w), or, in the

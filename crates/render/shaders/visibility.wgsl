@@ -7,5 +7,5 @@
 @fragment
 fn fs_visibility(v: SplatVarying) -> @builtin(frag_depth) f32 {
     let s = splat_sample(v);
-    return min(depth_to_buffer(s.view_depth + this_pass.depth.x), 1.0);
+    return min(depth_to_buffer(s.front_depth + this_pass.depth.x), 1.0);
 }
