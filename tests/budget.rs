@@ -37,6 +37,26 @@ fn a_budget_of_the_whole_model_is_todays_image_and_a_budget_of_one_draws_the_roo
     let (same, notes) = frame(&mut frames, &camera, &at_size);
     assert!(today == same, "a budget of every splat changed the image");
     assert!(!notes.iter().any(|n| n.contains("point budget")), "{notes:?}");
+    // Through the budgeted path itself: a budget of every splat selects the
+    // hierarchy's leaves, which hold every original splat, so the frame is
+    // today's but for the order the splats are summed in.
+    let whole = {
+        let mut renderer = common::renderer();
+        let (gpu, settings) =
+            frames.budgeted_scene(&renderer, &camera, &at_size, (SIZE, SIZE), scene.len() as u32).expect("select");
+        assert_eq!(gpu.len, scene.len(), "every splat is selected");
+        renderer.render_image(gpu, &camera, &settings, SIZE, SIZE).expect("render").0
+    };
+    let stats = frames.last_budget().expect("a budgeted frame").clone();
+    assert_eq!(stats.splats, scene.len(), "{stats:?}");
+    let error = reference::compare(&whole, &today).unwrap();
+    let worst =
+        whole.pixels().zip(today.pixels()).flat_map(|(a, b)| (0..3).map(move |c| a.0[c].abs_diff(b.0[c]))).max();
+    println!(
+        "a budget of every splat, budgeted: ε {:.4} against today's frame, largest channel difference {worst:?}",
+        error.eps
+    );
+    assert!(worst <= Some(1), "the budgeted path with every splat differs from today's frame by {worst:?}");
     let one = RenderSettings { point_budget: Some(1), ..all };
     let (root, notes) = frame(&mut frames, &camera, &one);
     let note = notes.iter().find(|n| n.contains("point budget 1:")).expect("the plan states the budget");

@@ -60,6 +60,10 @@ fn with_one_group_per_splat_deferred_equals_two_pass() {
         camera.elevation_deg = el;
         let two_pass = render(&cloud, None, &camera, &RenderSettings::default());
         let deferred = render(&cloud, Some(&grouping), &camera, &deferred());
+        // Two blank frames would be equal too: the patch must be drawn.
+        let background = common::background_rgb();
+        let drawn = deferred.pixels().filter(|p| p.0[..3] != background).count();
+        assert!(drawn * 20 >= (deferred.width() * deferred.height()) as usize, "az {az}: only {drawn} pixels drawn");
         let worst = two_pass
             .pixels()
             .zip(deferred.pixels())

@@ -213,12 +213,25 @@ impl SceneFrames {
             return Ok((self.hybrid_scene(gpu, camera, settings, size)?.0, super::hybrid::without_budget(settings)));
         }
         match self.applied_budget(settings) {
-            Some(budget) => {
-                let unbudgeted = RenderSettings { point_budget: None, ..*settings };
-                let frames = self.select_for(Some(gpu), camera, settings, size, budget)?;
-                Ok((frames.gpu_scene(gpu, &unbudgeted)?, unbudgeted))
-            }
+            Some(budget) => self.budgeted_scene(gpu, camera, settings, size, budget),
             None => Ok((self.gpu_scene(gpu, settings)?, *settings)),
         }
+    }
+
+    /// The GPU copy of the splats selected under `budget` from `camera` at
+    /// `size`, and the settings to draw it with: the budgeted path, whatever
+    /// the budget (a frame asks [`Self::frame_scene`], which takes this path
+    /// only for a budget below the scene's splats).
+    pub fn budgeted_scene(
+        &mut self,
+        gpu: &HeadlessRenderer,
+        camera: &Camera,
+        settings: &RenderSettings,
+        size: (u32, u32),
+        budget: u32,
+    ) -> Result<(&GpuScene, RenderSettings), FrameError> {
+        let unbudgeted = RenderSettings { point_budget: None, ..*settings };
+        let frames = self.select_for(Some(gpu), camera, settings, size, budget)?;
+        Ok((frames.gpu_scene(gpu, &unbudgeted)?, unbudgeted))
     }
 }
