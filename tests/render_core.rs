@@ -1,4 +1,8 @@
-//! The render core: for every mode of the registry the targets the recorded
+//! The render core: for every mode of the registry each texture a recorded
+//! pass was given (the view itself, recorded where its bind group or
+//! attachment was made, named by identity) is one the shader's binding
+//! means, by the binding's name; nothing is allocated that no pass was
+//! given; the targets the recorded
 //! render passes really bind are the ones the pool allocated (as bound) and
 //! the ones the plan (and so `--explain`) says each pass reads and writes;
 //! each target a pass binds as input is one its shader's entry point really
@@ -17,7 +21,7 @@ use pointblend::render::modes::FrameDesc;
 use pointblend::render::passes::Command;
 use pointblend::render::plan::{Layout, RenderPlan, TargetId};
 use pointblend::render::shaders;
-use pointblend::render::touches::{Access, Touch};
+use pointblend::render::touches::{Access, Bound, Slot, Touch};
 use pointblend::render::{GpuScene, HeadlessRenderer};
 
 /// The bundled lion scan, a quarter of its splats.
@@ -160,6 +164,93 @@ fn check_compute_against_shader(plan: &RenderPlan, pass: &pointblend::render::pa
     assert_eq!(planned.len(), pass.outputs.len(), "{at}: one binding per output {:?}", pass.outputs);
 }
 
+/// What each shader binding means, as the shaders name it, and the targets
+/// that may stand there (one name is read in several passes, e.g.
+/// `accumulated_colour` is the opaque image's sums too, or only the weight
+/// for a cloud of one colour). Written from
+/// the shaders' and modes' meaning, not from a run: a pass given another
+/// target in a binding, two inputs of one shape swapped for instance, fails.
+const MEANINGS: &[(&str, &[&str])] = &[
+    // Inputs (group 1 texture bindings), by variable name.
+    ("accumulated_colour", &["accumulated colour", "accumulated weight", "opaque colour", "opaque weight"]),
+    ("accumulated_normal", &["accumulated normal", "opaque normal"]),
+    ("opaque_depth", &["opaque depth"]),
+    ("opaque_image", &["opaque image"]),
+    ("group_images", &["group images I_k", "blended image"]),
+    ("group_colour", &["group colour", "group weight"]),
+    ("group_depth", &["group depth"]),
+    ("group_normal", &["group normal"]),
+    ("nearest_colour", &["nearest layer I_k: w·rgb, w"]),
+    ("nearest_depth", &["nearest layer I_k: depth"]),
+    ("nearest_normal_alpha", &["nearest layer I_k: w·n, w·α"]),
+    ("front_depth", &["nearest layer depth d and facing"]),
+    ("other_images", &["other layers O_k"]),
+    ("previous_layer", &["peel depth (even layers)", "peel depth (odd layers)"]),
+    ("composite", &["composite"]),
+    ("sums_colour", &["layer colour", "rest colour"]),
+    ("sums_opacity", &["layer opacity", "rest opacity"]),
+    ("sums_normal", &["layer normal", "rest normal"]),
+    ("last_layer_colour", &["layer colour"]),
+    ("tiled_colour", &["tiled image"]),
+    ("glass_front", &["nearest transparent layer"]),
+    ("glass_normal", &["its normal, layers behind"]),
+    ("glass_behind", &["layers behind it"]),
+    // Storage textures a compute pass writes.
+    ("colour_out", &["tiled image"]),
+    ("glass_front_out", &["nearest transparent layer"]),
+    ("glass_normal_out", &["its normal, layers behind"]),
+    ("glass_behind_out", &["layers behind it"]),
+];
+
+/// The variable at group 1, `binding` of `module`.
+fn variable_at(module: &naga::Module, binding: u32) -> Option<String> {
+    module.global_variables.iter().find_map(|(_, var)| {
+        var.binding.as_ref().filter(|b| b.group == 1 && b.binding == binding).and_then(|_| var.name.clone())
+    })
+}
+
+/// Holds every texture the recorded passes were given (by the view's
+/// identity, at the binding or attachment it was given to) against what the
+/// shader names that binding: the texture bound at `accumulated_normal`
+/// must be a normal target, whatever the plan says.
+fn check_what_each_binding_was_given(renderer: &pointblend::render::Renderer, plan: &RenderPlan, what: &str) {
+    let bound: &[Bound] = renderer.last_frame_bindings();
+    let commands: Vec<(usize, &Command)> = plan.commands().collect();
+    assert!(!bound.is_empty() || commands.is_empty(), "{what}: no binding recorded");
+    for b in bound {
+        let (id, layer) = renderer
+            .target_of(&b.view)
+            .unwrap_or_else(|| panic!("{what}: pass {} was given a view of no target", b.pass));
+        let (shader, variant) = commands
+            .iter()
+            .find(|(step, _)| *step == b.pass)
+            .map(|(_, c)| match c {
+                Command::Splats(p) => (p.shader, p.variant),
+                Command::Fullscreen(p) => (p.shader, p.variant),
+                Command::Compute(p) => (p.shader, p.variant),
+            })
+            .unwrap();
+        let name = match b.slot {
+            Slot::Input(binding) | Slot::Storage(binding) => {
+                let source = shaders::compose(shader, variant).unwrap();
+                let module = naga::front::wgsl::parse_str(&source).unwrap();
+                variable_at(&module, binding).unwrap_or_else(|| panic!("{what}: {shader} has no binding {binding}"))
+            }
+            Slot::Colour(_) | Slot::Depth => continue,
+        };
+        assert!(layer.is_none(), "{what}: pass {} was given one layer of '{}' at `{name}`", b.pass, id.0);
+        let allowed = MEANINGS.iter().find(|(n, _)| *n == name).map(|(_, a)| *a);
+        let allowed = allowed.unwrap_or_else(|| panic!("{what}: {shader}'s `{name}` has no meaning listed"));
+        assert!(
+            allowed.contains(&id.0),
+            "{what}: pass {} ({shader}) was given '{}' at `{name}` ({:?}), which holds one of {allowed:?}",
+            b.pass,
+            id.0,
+            b.slot
+        );
+    }
+}
+
 fn sorted(ids: &[TargetId]) -> Vec<&'static str> {
     let mut ids: Vec<&'static str> = ids.iter().map(|t| t.0).collect();
     ids.sort_unstable();
@@ -198,12 +289,19 @@ fn every_target_the_recorded_passes_bind_is_allocated_as_bound_explained_as_used
                     assert_eq!((t.width, t.height), (96, 80), "{what}: {}", t.id.0);
                     assert!(touch.layer.is_none_or(|l| l < t.layers()), "{what}: {} layer {:?}", t.id.0, touch.layer);
                 }
-                // Nothing is allocated that no pass binds, and every layer of an array is drawn.
+                // Nothing is allocated that no pass was given (the views the
+                // GPU got, by identity), and every layer of an array is drawn.
+                let given: Vec<(TargetId, Option<u32>)> = renderer
+                    .renderer
+                    .last_frame_bindings()
+                    .iter()
+                    .filter_map(|b| renderer.renderer.target_of(&b.view))
+                    .collect();
                 for target in &held {
                     let layers: std::collections::BTreeSet<u32> =
-                        touches.iter().filter(|t| &t.target == target).filter_map(|t| t.layer).collect();
+                        given.iter().filter(|(id, _)| *id == target.id).filter_map(|(_, layer)| *layer).collect();
                     assert!(
-                        touches.iter().any(|t| &t.target == target),
+                        given.iter().any(|(id, _)| *id == target.id),
                         "{what}: {} is allocated but no pass binds it\n{plan}",
                         target.id.0
                     );
@@ -228,6 +326,7 @@ fn every_target_the_recorded_passes_bind_is_allocated_as_bound_explained_as_used
                 }
                 assert!(touches.iter().all(|t| t.pass < plan.steps.len()), "{what}: a render pass outside the plan");
                 check_against_shaders(&plan, &what);
+                check_what_each_binding_was_given(&renderer.renderer, &plan, &what);
                 checked += 1;
             }
         }

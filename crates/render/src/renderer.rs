@@ -18,11 +18,11 @@ use super::gpu_scene::GpuScene;
 use super::modes::FrameDesc;
 use super::passes::{Command, Output, PipelineKey, PipelineKind, TileWork, fullscreen, splat};
 use super::pipelines::PipelineCache;
-use super::plan::{Layout, RenderPlan, TargetDesc};
+use super::plan::{Layout, RenderPlan, TargetDesc, TargetId};
 use super::targets::TargetPool;
 use super::tile_engine::{self, TileEngine};
 use super::timer::PassTimer;
-use super::touches::{self, Touch};
+use super::touches::{self, Bound, Slot, Touch};
 use crate::frame::{Camera, RenderSettings};
 
 pub struct Renderer {
@@ -38,6 +38,8 @@ pub struct Renderer {
     timing: bool,
     /// The targets the last frame's render passes bound.
     touches: Vec<Touch>,
+    /// Every texture view the last frame's passes were given, and where.
+    bound: Vec<Bound>,
     /// The tile pipeline's buffers, made by the first frame that runs it.
     tiles: Option<TileEngine>,
     /// Whether `tiled`'s raster reads its lists a subgroup at a time (the
@@ -72,6 +74,7 @@ impl Renderer {
                 timer: None,
                 timing: false,
                 touches: Vec::new(),
+                bound: Vec::new(),
                 tiles: None,
                 subgroups: device.features().contains(wgpu::Features::SUBGROUP),
                 profile_steps: false,
@@ -146,6 +149,17 @@ impl Renderer {
     /// Every target the last frame's render passes read or wrote, as the pool held it.
     pub fn last_frame_touches(&self) -> &[Touch] {
         &self.touches
+    }
+
+    /// The texture views the last frame's passes were given, recorded as
+    /// their bind groups and attachments were made.
+    pub fn last_frame_bindings(&self) -> &[Bound] {
+        &self.bound
+    }
+
+    /// The target a view of the pool belongs to, by identity, and its layer.
+    pub fn target_of(&self, view: &wgpu::TextureView) -> Option<(TargetId, Option<u32>)> {
+        self.pool.target_of(view)
     }
 
     /// What the frame's mode needs to know: settings, size and the scene.
@@ -282,6 +296,7 @@ impl Renderer {
         let budget = ctx.target_budget().saturating_sub(plan.target_bytes() + plan.buffer_bytes());
         let timer = self.timer.as_ref().filter(|_| self.timing);
         self.touches.clear();
+        self.bound.clear();
         let mut step_ms = self.profile_steps.then(|| vec![0.0; plan.steps.len()]);
         for (i, &(step, command)) in commands.iter().enumerate() {
             if step_ms.is_some() {
@@ -309,7 +324,8 @@ impl Renderer {
                         Some((id, test)) => Some((desc(id)?.format, test.write, test.compare)),
                         None => None,
                     };
-                    let inputs = inputs(&mut self.cache, &self.pool, device, plan, &pass.inputs)?;
+                    let inputs =
+                        inputs(&mut self.cache, &self.pool, device, plan, &pass.inputs, (step, &mut self.bound))?;
                     let kind = PipelineKind::Splats {
                         colour,
                         depth,
@@ -346,6 +362,13 @@ impl Renderer {
                         colour: pass.colour.iter().map(|c| layer_view(c.target)).collect::<Result<_, _>>()?,
                         depth: pass.depth.map(|(id, _)| layer_view(id)).transpose()?,
                     };
+                    for (i, view) in attachments.colour.iter().enumerate() {
+                        let view = (*view).clone();
+                        self.bound.push(Bound { pass: step, slot: Slot::Colour(i as u32), view });
+                    }
+                    if let Some(view) = attachments.depth {
+                        self.bound.push(Bound { pass: step, slot: Slot::Depth, view: view.clone() });
+                    }
                     let group = inputs.as_ref().map(|i| &i.1);
                     splat::record(
                         &mut encoder,
@@ -388,15 +411,25 @@ impl Renderer {
                         end_of_pass_write_index: s.end_of_pass_write_index,
                     });
                     let frame = (&self.frame_bind_group, offset);
-                    tiles.record(device, &mut encoder, pass, (pipeline, layout), frame, scene, &outputs, stamps);
+                    let given =
+                        tiles.record(device, &mut encoder, pass, (pipeline, layout), frame, scene, &outputs, stamps);
+                    self.bound.extend(given.into_iter().map(|(binding, view)| Bound {
+                        pass: step,
+                        slot: Slot::Storage(binding),
+                        view,
+                    }));
                 }
                 Command::Fullscreen(pass) => {
                     let (target_view, target_format) = match pass.output {
                         Output::Frame => (output, output_format),
                         Output::Target(id) => (self.pool.view(id).ok_or_else(|| missing(id.0))?, desc(id)?.format),
                     };
-                    let (dims, inputs) = inputs(&mut self.cache, &self.pool, device, plan, &pass.inputs)?
-                        .ok_or_else(|| GpuError::Device(format!("{} reads no target", pass.label)))?;
+                    if let Output::Target(_) = pass.output {
+                        self.bound.push(Bound { pass: step, slot: Slot::Colour(0), view: target_view.clone() });
+                    }
+                    let (dims, inputs) =
+                        inputs(&mut self.cache, &self.pool, device, plan, &pass.inputs, (step, &mut self.bound))?
+                            .ok_or_else(|| GpuError::Device(format!("{} reads no target", pass.label)))?;
                     let kind = PipelineKind::Fullscreen { inputs: dims, output: target_format, blend: pass.blend };
                     let key = PipelineKey { shader: pass.shader, entry: pass.entry, variant: pass.variant, kind };
                     let environment = if pass.variant.has(super::shaders::Variant::ENVIRONMENT) {
@@ -444,6 +477,7 @@ fn inputs(
     device: &wgpu::Device,
     plan: &RenderPlan,
     ids: &[super::plan::TargetId],
+    (pass, bound): (usize, &mut Vec<Bound>),
 ) -> Result<Option<(Vec<wgpu::TextureViewDimension>, wgpu::BindGroup)>, GpuError> {
     if ids.is_empty() {
         return Ok(None);
@@ -466,6 +500,11 @@ fn inputs(
             resource: wgpu::BindingResource::TextureView(view),
         })
         .collect();
+    for entry in &entries {
+        if let wgpu::BindingResource::TextureView(view) = &entry.resource {
+            bound.push(Bound { pass, slot: Slot::Input(entry.binding), view: (*view).clone() });
+        }
+    }
     let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("Pass::inputs"),
         layout: cache.inputs_layout(device, &dims),

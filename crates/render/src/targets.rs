@@ -114,6 +114,17 @@ impl TargetPool {
         }
     }
 
+    /// The target `view` is a view of, by the view's identity, and its layer
+    /// (`None` for the whole texture).
+    pub fn target_of(&self, view: &wgpu::TextureView) -> Option<(TargetId, Option<u32>)> {
+        self.targets.iter().find_map(|t| {
+            if &t.whole == view {
+                return Some((t.desc.id, None));
+            }
+            t.layers.iter().position(|l| l == view).map(|layer| (t.desc.id, Some(layer as u32)))
+        })
+    }
+
     pub fn desc(&self, id: TargetId) -> Option<&TargetDesc> {
         self.get(id).map(|t| &t.desc)
     }

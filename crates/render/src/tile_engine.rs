@@ -260,7 +260,8 @@ impl TileEngine {
     }
 
     /// Records one pass of the pipeline. `outputs` are the storage views a
-    /// raster writes (its image, then the glass layers).
+    /// raster writes (its image, then the glass layers). Returns the texture
+    /// views its bind groups were made with, by binding.
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
@@ -272,8 +273,14 @@ impl TileEngine {
         scene: &GpuScene,
         outputs: &[&wgpu::TextureView],
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
-    ) {
+    ) -> Vec<(u32, wgpu::TextureView)> {
+        let given = std::cell::RefCell::new(Vec::new());
         let group = |resources: Vec<wgpu::BindingResource<'_>>| {
+            for (binding, resource) in resources.iter().enumerate() {
+                if let wgpu::BindingResource::TextureView(view) = resource {
+                    given.borrow_mut().push((binding as u32, (*view).clone()));
+                }
+            }
             let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
                 .into_iter()
                 .enumerate()
@@ -389,6 +396,7 @@ impl TileEngine {
         if pass.work == TileWork::Raster {
             encoder.copy_buffer_to_buffer(&self.stats, 0, &self.stats_readback, 0, 16);
         }
+        given.into_inner()
     }
 
     /// After the projection has run: reads the tile counts back, writes their

@@ -33,6 +33,29 @@ pub struct Touch {
     pub access: Access,
 }
 
+/// Where a recorded pass was given a texture.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Slot {
+    /// Group 1, binding N: a texture it samples.
+    Input(u32),
+    /// Colour attachment N (a full-screen pass's target is attachment 0).
+    Colour(u32),
+    Depth,
+    /// Group 1, binding N of a compute pass: a storage texture it writes.
+    Storage(u32),
+}
+
+/// A texture view one render or compute pass was given, recorded where the
+/// bind group or attachment is made from it: what the GPU actually got,
+/// which [`crate::targets::TargetPool::target_of`] names by identity.
+#[derive(Debug, Clone)]
+pub struct Bound {
+    /// The plan pass the render or compute pass belongs to.
+    pub pass: usize,
+    pub slot: Slot,
+    pub view: wgpu::TextureView,
+}
+
 /// The targets `command` reads and writes: (id, layer, access).
 pub fn of(command: &Command) -> Vec<(TargetId, Option<u32>, Access)> {
     let mut out = Vec::new();
