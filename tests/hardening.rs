@@ -529,3 +529,42 @@ fn bench_refuses_one_views_camera_and_an_endless_animation_in_one_line() {
         assert!(!out.exists(), "{extra:?}: bench wrote its folder");
     }
 }
+
+#[test]
+fn gpu_limits_give_one_line_not_a_cascade_of_gpu_errors() {
+    let dir = test_dir();
+    // An environment map wider than the GPU's textures: drawn from a mip level that fits.
+    let wide = dir.path().join("wide.png");
+    image::RgbImage::from_pixel(20_000, 1, image::Rgb([100, 150, 200])).save(&wide).unwrap();
+    let out = dir.path().join("glass.png");
+    let output = pointblend(dir.path())
+        .arg("render")
+        .arg(model())
+        .args(["--mode", "alg2", "--opacity", "0.5", "--size", "48x48", "--env"])
+        .arg(&wide)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = ok(&output, "a 20000x1 environment map");
+    assert!(!stderr.contains("uncaptured"), "{stderr}");
+    let warnings: Vec<&str> = stderr.lines().filter(|l| l.contains("wide.png") && l.contains("level")).collect();
+    assert_eq!(warnings.len(), 1, "one warning names the map and the level drawn: {stderr}");
+    assert!(out.exists());
+    // Targets larger than the memory: one line (or, on a GPU that holds them, an image).
+    let out = dir.path().join("huge.png");
+    let output = pointblend(dir.path())
+        .arg("render")
+        .arg(model())
+        .args(["--mode", "alg2", "--opacity", "0.5", "--size", "10240x10240", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!stderr.contains("uncaptured"), "the GPU's errors are reported one by one: {stderr}");
+    if !output.status.success() {
+        let error = one_error(&output, "alg2 at 10240²");
+        assert!(error.contains("memory"), "{error}");
+        assert!(!out.exists(), "a failed render wrote its output");
+    }
+}

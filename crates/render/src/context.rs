@@ -115,11 +115,21 @@ impl GpuContext {
     /// Runs `allocate` inside an out-of-memory error scope, so that running
     /// out gives one error instead of a cascade.
     pub fn allocating<T>(&self, stage: &str, allocate: impl FnOnce() -> T) -> Result<T, GpuError> {
-        let scope = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        // Views of a texture that could not be allocated are invalid too: a
+        // validation scope around the allocation keeps those consequences
+        // from being reported one by one, after the one line that says why.
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let value = allocate();
-        match pollster::block_on(scope.pop()) {
-            None => Ok(value),
-            Some(error) => Err(GpuError::OutOfMemory { stage: stage.to_string(), message: error.to_string() }),
+        let out_of_memory = pollster::block_on(memory.pop());
+        let invalid = pollster::block_on(validation.pop());
+        match (out_of_memory, invalid) {
+            (Some(error), _) => Err(GpuError::OutOfMemory { stage: stage.to_string(), message: error.to_string() }),
+            (None, Some(error)) => Err(GpuError::Validation {
+                stage: stage.to_string(),
+                message: error.to_string().split_whitespace().collect::<Vec<_>>().join(" "),
+            }),
+            (None, None) => Ok(value),
         }
     }
 

@@ -26,23 +26,37 @@ pub struct EnvTexture {
 
 impl EnvTexture {
     /// Uploads `map` and its mip chain (texels capped to half float's range on load).
+    /// A map larger than the device's textures is drawn from its largest
+    /// mip level that fits, said once in a warning.
     pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, map: &EnvironmentMap) -> Self {
+        let max = device.limits().max_texture_dimension_2d;
+        let first = map.levels.iter().position(|l| l.width <= max && l.height <= max).unwrap_or(map.levels.len() - 1);
+        let levels_used = &map.levels[first..];
+        let (width, height) = (levels_used[0].width, levels_used[0].height);
+        if first > 0 {
+            pointblend_core::progress::warn_once(format!(
+                "{}: {}x{} texels is more than this GPU's {max}-texel textures: drawn from its {width}x{height} level",
+                map.name,
+                map.width(),
+                map.height()
+            ));
+        }
         // One layer, so the data is each level in turn (half floats: a lossless
         // store of the capped texels to 3 significant digits).
         let mut bytes = Vec::new();
-        for level in &map.levels {
+        for level in levels_used {
             for texel in &level.texels {
                 for v in [texel[0], texel[1], texel[2], 1.0] {
                     bytes.extend_from_slice(&half::f16::from_f32(v).to_bits().to_le_bytes());
                 }
             }
         }
-        let levels = map.levels.len() as u32;
+        let levels = levels_used.len() as u32;
         let texture = device.create_texture_with_data(
             queue,
             &wgpu::TextureDescriptor {
                 label: Some("Environment::map"),
-                size: wgpu::Extent3d { width: map.width(), height: map.height(), depth_or_array_layers: 1 },
+                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
                 mip_level_count: levels,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
@@ -62,14 +76,7 @@ impl EnvTexture {
             mipmap_filter: wgpu::MipmapFilterMode::Linear,
             ..Default::default()
         });
-        Self {
-            view: texture.create_view(&Default::default()),
-            sampler,
-            width: map.width(),
-            height: map.height(),
-            levels,
-            name: map.name.clone(),
-        }
+        Self { view: texture.create_view(&Default::default()), sampler, width, height, levels, name: map.name.clone() }
     }
 
     /// Bytes of the texture with its mip chain.
