@@ -568,3 +568,137 @@ fn gpu_limits_give_one_line_not_a_cascade_of_gpu_errors() {
         assert!(!out.exists(), "a failed render wrote its output");
     }
 }
+
+/// A scene file of `objects` (TOML) beside a copy-free reference to the bundled lion.
+fn scene_with(dir: &tempfile::TempDir, name: &str, objects: &str) -> PathBuf {
+    let path = dir.path().join(name);
+    let lion = model();
+    std::fs::write(&path, objects.replace("LION", &format!("{:?}", lion.to_str().unwrap()))).unwrap();
+    path
+}
+
+#[test]
+fn numbers_no_float_arithmetic_can_draw_are_refused_in_one_line() {
+    let dir = test_dir();
+    let out = dir.path().join("never.png");
+    let cases = [
+        ("scale 1e15", "[[object]]\nply = LION\nscale = 1e15\n", "scale must be within"),
+        ("scale 1e-30", "[[object]]\nply = LION\nscale = 1e-30\n", "scale must be within"),
+        (
+            "a wave of 1e30",
+            "[[object]]\nply = LION\ndeform = { kind = \"wave\", amount = 1e30, period = 2.0 }\n",
+            "deform amount must be within",
+        ),
+        (
+            "a twist of 1e30",
+            "[[object]]\nply = LION\ndeform = { kind = \"twist\", amount = 1e30, period = 2.0 }\n",
+            "deform amount must be within",
+        ),
+        (
+            "a sphere of radius 1e-40",
+            "[[object]]\nsphere = { splats = 100, radius = 1e-40, centre = [0.0, 0.0, 0.0] }\n",
+            "a radius within",
+        ),
+        ("a light at 1e20", "[[object]]\nply = LION\n\n[[light]]\nposition = [1e20, 0.0, 0.0]\n", "is beyond"),
+        (
+            "a keyframe at 1e300 s",
+            "[[object]]\nply = LION\n\n[[object.keyframe]]\ntime = 0.0\n\n[[object.keyframe]]\ntime = 1e300\n",
+            "1e300 s",
+        ),
+    ];
+    for (what, text, expected) in cases {
+        let scene = scene_with(&dir, "odd.toml", text);
+        let output = pointblend(dir.path()).arg("render").arg(&scene).arg("--out").arg(&out).output().unwrap();
+        let error = one_error(&output, what);
+        assert!(error.contains(expected) && error.contains("odd.toml"), "{what}: {error}");
+        assert!(!error.contains("inf"), "{what}: {error}");
+        assert!(!out.exists(), "{what}: an image was written");
+    }
+}
+
+#[test]
+fn a_huge_time_draws_the_wrapped_time_and_an_infinite_one_is_refused_before_the_gpu_opens() {
+    let dir = test_dir();
+    let scene = scene_with(
+        &dir,
+        "wave.toml",
+        "[[object]]\nply = LION\nopacity = 0.5\ndeform = { kind = \"wave\", amount = 0.18, period = 2.0 }\n",
+    );
+    let render_at = |time: &str| {
+        let out = dir.path().join(format!("at-{time}.png"));
+        let output = pointblend(dir.path())
+            .arg("render")
+            .arg(&scene)
+            .args(["--size", "48x48", "--time", time, "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        ok(&output, &format!("--time {time}"));
+        image::open(&out).unwrap().to_rgba8()
+    };
+    // 1e20 s is a whole number of the wave's 2 s periods: the scene at 0 s.
+    assert!(render_at("1e20") == render_at("0"), "--time 1e20 drew another time than its wrapped 0 s");
+    let output = pointblend(dir.path())
+        .arg("render")
+        .arg(&scene)
+        .args(["--time", "inf", "--out"])
+        .arg(dir.path().join("never.png"))
+        .output()
+        .unwrap();
+    let error = one_error(&output, "--time inf");
+    assert!(error.contains("--time"), "{error}");
+    assert!(!String::from_utf8_lossy(&output.stderr).contains("GPU:"), "the GPU was opened before --time was checked");
+}
+
+#[test]
+fn a_sequence_of_unreadable_files_is_one_line_with_their_count() {
+    let dir = test_dir();
+    let frames = dir.path().join("frames");
+    std::fs::create_dir(&frames).unwrap();
+    for i in 0..73 {
+        std::fs::write(frames.join(format!("f_{i:03}.ply")), b"these are not PLY files").unwrap();
+    }
+    let scene = scene_with(&dir, "seq.toml", "[[object]]\nsequence = \"frames/f_*.ply\"\nfps = 10\n");
+    let output =
+        pointblend(dir.path()).arg("render").arg(&scene).arg("--out").arg(dir.path().join("x.png")).output().unwrap();
+    let error = one_error(&output, "73 unreadable frames");
+    assert!(error.contains("73"), "{error}");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.lines().filter(|l| l.contains("f_0")).count() <= 1, "one line, not one per file: {stderr}");
+}
+
+#[test]
+fn odd_volume_headers_and_an_invisible_transfer_function_say_what_is_wrong() {
+    let dir = test_dir();
+    let source = std::fs::read(common::data("anatomical.nii")).unwrap();
+    // The test volume is big-endian NIfTI-1: dim at byte 40, pixdim at 76, scl_slope at 112.
+    let patched = |name: &str, at: usize, bytes: &[u8]| {
+        let mut data = source.clone();
+        data[at..at + bytes.len()].copy_from_slice(bytes);
+        let path = dir.path().join(name);
+        std::fs::write(&path, data).unwrap();
+        path
+    };
+    let cases = [
+        (patched("dim1.nii", 42, &0i16.to_be_bytes()), "dim[1] is 0"),
+        (patched("dim2.nii", 44, &0i16.to_be_bytes()), "dim[2] is 0"),
+        (patched("slope.nii", 112, &f32::NAN.to_be_bytes()), "no voxel has a finite value"),
+        (patched("voxel.nii", 80, &f32::NAN.to_be_bytes()), "pixdim[1] is NaN"),
+    ];
+    for (file, expected) in cases {
+        let out = dir.path().join("never.ply");
+        let output = pointblend(dir.path()).arg("convert").arg(&file).arg(&out).output().unwrap();
+        let error = one_error(&output, expected);
+        assert!(error.contains(expected), "{}: {error}", file.display());
+        assert!(!error.contains("inf..") && !out.exists(), "{error}");
+    }
+    let output = pointblend(dir.path())
+        .arg("convert")
+        .arg(common::data("anatomical.nii"))
+        .arg(dir.path().join("never.ply"))
+        .args(["--transfer", "0:100/100/100/0,100:200/200/200/0"])
+        .output()
+        .unwrap();
+    let error = one_error(&output, "a transfer function of opacity 0");
+    assert!(error.contains("opacity 0"), "{error}");
+}

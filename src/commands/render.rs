@@ -106,11 +106,7 @@ impl Args {
 /// The scene's frames at `--time` (0 for a moving scene without it), and a
 /// note when a still scene is given a time.
 fn moving_frames(scene: Scene, time: Option<f64>) -> Result<SceneFrames> {
-    if let Some(t) = time {
-        if !(t.is_finite() && t >= 0.0) {
-            bail!("--time must be a number of seconds ≥ 0, not {t}");
-        }
-    }
+    check_time(time)?;
     if !scene.is_animated() {
         if time.is_some() {
             log::warn!("{}: nothing in the scene moves, so --time changes nothing", scene.name());
@@ -123,7 +119,17 @@ fn moving_frames(scene: Scene, time: Option<f64>) -> Result<SceneFrames> {
     Ok(SceneFrames::of(std::sync::Arc::new(at.scene)).moving_on(lattice))
 }
 
+/// A time to draw the scene at: a number of seconds ≥ 0.
+fn check_time(time: Option<f64>) -> Result<()> {
+    match time {
+        Some(t) if !(t.is_finite() && t >= 0.0) => bail!("--time must be a number of seconds ≥ 0, not {t}"),
+        _ => Ok(()),
+    }
+}
+
 pub fn run(args: &Args) -> Result<()> {
+    // Options are checked before anything is loaded or the GPU is opened.
+    check_time(args.time)?;
     let sidecar = args.camera.as_deref().map(Sidecar::read).transpose()?;
     // Every output is checked before the work starts, so none is written when another cannot be.
     shared::refuse_same_file(&args.out, "the input", &args.file)?;

@@ -31,8 +31,16 @@ pub enum VolumeError {
     Read { path: String, message: String },
     #[error("{path}: a volume of {dims} voxels is not a 3D scalar volume")]
     Shape { path: String, dims: String },
+    #[error("{path}: the header's dim[{index}] is {value}: a volume needs at least one voxel along each axis")]
+    NoVoxels { path: String, index: usize, value: i16 },
     #[error("{path}: no voxel reaches the threshold {threshold} (values span {min}..{max})")]
     Empty { path: String, threshold: f32, min: f32, max: f32 },
+    #[error(
+        "{path}: no voxel has a finite value (the header scales them by scl_slope {slope}, plus scl_inter {inter})"
+    )]
+    NoValues { path: String, slope: f32, inter: f32 },
+    #[error("{path}: {field} is {value}, not a voxel size")]
+    VoxelSize { path: String, field: String, value: f32 },
     #[error("{path}: {points} points need about {need}, more than the {free} free; raise --threshold")]
     TooLarge { path: String, points: u64, need: String, free: String },
 }
@@ -69,6 +77,9 @@ impl FromStr for Transfer {
                 return Err(bad("values must increase"));
             }
             stops.push((value, [r / 255.0, g / 255.0, b / 255.0], a));
+        }
+        if stops.iter().all(|s| s.2 == 0.0) {
+            return Err(bad("every stop has opacity 0, so every voxel would be invisible"));
         }
         Ok(Self { stops })
     }
@@ -160,6 +171,7 @@ struct Slices {
 
 impl Slices {
     fn open(path: &Path) -> Result<(Self, nifti::NiftiHeader), VolumeError> {
+        check_dims(path)?;
         // Slices of rank 2 whatever the volume's rank, so a 4D file of one time step reads as 3D.
         let object = ReaderStreamedOptions::new().read_file_rank(path, 2).map_err(|e| read_error(path, e))?;
         let header = object.header().clone();
@@ -186,6 +198,41 @@ impl Slices {
         }
         Ok(true)
     }
+}
+
+/// The largest voxel side read, in the file's units (a kilometre in millimetres).
+const MAX_VOXEL_SIZE: f32 = 1e6;
+
+/// A NIfTI-1 header's dimensions, checked before the reader sees them: it
+/// reports a zero dim[i] as the field before it. Other headers (NIfTI-2) are
+/// left to the reader.
+fn check_dims(path: &Path) -> Result<(), VolumeError> {
+    use std::io::Read;
+    let mut header = [0u8; 56];
+    let read = std::fs::File::open(path).and_then(|mut f| f.read_exact(&mut header));
+    if read.is_err() {
+        return Ok(()); // too short or unreadable: the reader says so
+    }
+    let i16_at = |at: usize, big: bool| {
+        let bytes = [header[at], header[at + 1]];
+        if big { i16::from_be_bytes(bytes) } else { i16::from_le_bytes(bytes) }
+    };
+    let i32_at = |big: bool| {
+        let bytes = [header[0], header[1], header[2], header[3]];
+        if big { i32::from_be_bytes(bytes) } else { i32::from_le_bytes(bytes) }
+    };
+    let Some(big) = [false, true].into_iter().find(|&big| i32_at(big) == 348) else { return Ok(()) };
+    let rank = i16_at(40, big);
+    if !(1..=7).contains(&rank) {
+        return Ok(());
+    }
+    for i in 1..=(rank as usize).min(3) {
+        let d = i16_at(40 + 2 * i, big);
+        if d <= 0 {
+            return Err(VolumeError::NoVoxels { path: path.display().to_string(), index: i, value: d });
+        }
+    }
+    Ok(())
 }
 
 /// Every how many voxels the first pass keeps a value for the percentiles.
@@ -216,6 +263,13 @@ pub fn volume_to_points(path: &Path, options: &VolumeOptions) -> Result<(PointCl
         }
         bar.inc(1);
     }
+    if count == 0 {
+        return Err(VolumeError::NoValues {
+            path: path.display().to_string(),
+            slope: header.scl_slope,
+            inter: header.scl_inter,
+        });
+    }
     sample.sort_unstable_by(f32::total_cmp);
     let percentile = |p: f32| sample.get(((sample.len() as f32 - 1.0) * p) as usize).copied().unwrap_or(0.0);
     let transfer = options
@@ -241,9 +295,17 @@ pub fn volume_to_points(path: &Path, options: &VolumeOptions) -> Result<(PointCl
         3 => Some(1e-6),
         _ => None,
     };
+    for i in 1..=3 {
+        let size = header.pixdim[i];
+        // Unknown sizes (0) read as 1 unit; a size no float arithmetic survives is refused.
+        if !size.is_finite() || size.abs() > MAX_VOXEL_SIZE {
+            let field = format!("the header's pixdim[{i}]");
+            return Err(VolumeError::VoxelSize { path: path.display().to_string(), field, value: size });
+        }
+    }
     let voxel = [1, 2, 3].map(|i| {
         let size = header.pixdim[i].abs();
-        (if size > 0.0 && size.is_finite() { size } else { 1.0 }) * to_metres.unwrap_or(1.0)
+        (if size > 0.0 { size } else { 1.0 }) * to_metres.unwrap_or(1.0)
     });
     let spacing = Vec3::from_array(voxel);
     let radius = 0.5 * spacing.length();

@@ -51,7 +51,13 @@ pub enum LightError {
     Colour,
     #[error("'{0}' is not a light position X,Y,Z (three finite numbers)")]
     Position(String),
+    #[error("a light at {0} is beyond {MAX_LIGHT_COORDINATE:e} in some coordinate: its distance squared leaves f32")]
+    TooFar(Vec3),
 }
+
+/// The largest coordinate a point light may have: beyond it the squared
+/// distances of its falloff and shadows overflow f32.
+pub const MAX_LIGHT_COORDINATE: f32 = 1e15;
 
 impl Light {
     /// A white point light of intensity 1 with no falloff.
@@ -73,6 +79,7 @@ impl Light {
     pub fn validate(&self) -> Result<(), LightError> {
         match self.kind {
             LightKind::Point(p) if !p.is_finite() => return Err(LightError::NotFinite("position")),
+            LightKind::Point(p) if p.abs().max_element() > MAX_LIGHT_COORDINATE => return Err(LightError::TooFar(p)),
             LightKind::Directional(d) if !d.is_finite() => return Err(LightError::NotFinite("direction")),
             LightKind::Directional(d) if d.length_squared() < 1e-12 => return Err(LightError::ZeroDirection),
             _ => {}

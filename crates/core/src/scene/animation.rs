@@ -132,6 +132,15 @@ impl Deform {
         if !self.amount.is_finite() {
             return Err(format!("deform amount must be a finite number, not {}", self.amount));
         }
+        // Beyond these the deformed splats leave what f32 can draw (a wave) or
+        // the angles what sin and cos can resolve (radians of a twist or bend).
+        let (largest, unit) = match self.kind {
+            DeformKind::Wave => (1e9, "model units"),
+            DeformKind::Twist | DeformKind::Bend => (1e3, "radians"),
+        };
+        if self.amount.abs() > largest {
+            return Err(format!("deform amount must be within ±{largest:e} {unit}, not {}", self.amount));
+        }
         if !(self.period.is_finite() && self.period > 0.0) {
             return Err(format!("deform period must be a positive number of seconds, not {}", self.period));
         }
@@ -290,24 +299,38 @@ impl Sequence {
 
     /// Frame `index`, read on first use; an unreadable frame is reported once
     /// (naming it) and the nearest readable one before it (or after) is shown.
+    /// Many unreadable frames are said in one line with their count.
     pub fn frame(&self, index: usize) -> Result<(usize, Arc<PointCloud>), String> {
         let n = self.frames.len();
-        let mut last_error = String::new();
+        // The frames found unreadable on this search, not reported before.
+        let mut new_failures: Vec<String> = Vec::new();
+        let mut first_error = None;
         for step in 0..n {
             let at = (index + n - step) % n;
             match self.read(at) {
-                Ok(cloud) => return Ok((at, cloud)),
+                Ok(cloud) => {
+                    match new_failures.as_slice() {
+                        [] => {}
+                        [one] => crate::progress::warn_once(format!("{one}; the frame before it is shown instead")),
+                        [first, ..] => crate::progress::warn_once(format!(
+                            "{} frames of the sequence cannot be read (the first: {first}); the frame before each is shown instead",
+                            new_failures.len()
+                        )),
+                    }
+                    return Ok((at, cloud));
+                }
                 Err(message) => {
                     let mut failed = self.failed.lock().unwrap_or_else(|p| p.into_inner());
                     if !failed.contains(&at) {
                         failed.push(at);
-                        crate::progress::warn_once(format!("{message}; the frame before it is shown instead"));
+                        new_failures.push(message.clone());
                     }
-                    last_error = message;
+                    first_error.get_or_insert(message);
                 }
             }
         }
-        Err(format!("no frame of the sequence can be read ({last_error})"))
+        let first = first_error.unwrap_or_default();
+        Err(format!("none of the sequence's {n} files can be read as a frame (the first: {first})"))
     }
 
     fn read(&self, index: usize) -> Result<Arc<PointCloud>, String> {
@@ -353,6 +376,17 @@ impl Animation {
             }
             if !(key.translate.is_finite() && key.rotate.is_finite() && key.scale.is_finite() && key.scale > 0.0) {
                 return Err((k, format!("keyframe {} has a transform that is not finite (or a scale ≤ 0)", k + 1)));
+            }
+            if !(crate::scene::SCALES.contains(&key.scale)) {
+                let range = crate::scene::SCALES;
+                let message = format!(
+                    "keyframe {} has scale {}, not within {:e}..{:e}",
+                    k + 1,
+                    key.scale,
+                    range.start(),
+                    range.end()
+                );
+                return Err((k, message));
             }
             if k > 0 && key.time <= keyframes[k - 1].time {
                 return Err((
@@ -411,7 +445,11 @@ impl Animation {
             None => (Arc::clone(rest), None),
         };
         let cloud = match &self.deform {
-            Some((deform, axes)) if deform.amount != 0.0 => Arc::new(deform.apply(axes, t, &frame)),
+            // Its own period's time: a deformation repeats with it, and a time
+            // of 1e20 s would leave the phase no precision.
+            Some((deform, axes)) if deform.amount != 0.0 => {
+                Arc::new(deform.apply(axes, t.rem_euclid(deform.period as f64), &frame))
+            }
             _ => frame,
         };
         Ok((cloud, shown))

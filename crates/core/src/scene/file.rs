@@ -156,7 +156,7 @@ struct ObjectEntry {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct KeyframeEntry {
-    time: f32,
+    time: f64,
     translate: Option<[f32; 3]>,
     rotate: Option<[f32; 3]>,
     scale: Option<f32>,
@@ -178,6 +178,13 @@ struct SphereEntry {
     radius: f32,
     centre: [f32; 3],
 }
+
+/// The radii and sizes a generated sphere or plane may have: their splats'
+/// radii, squared, must stay normal f32 numbers.
+const SIZES: std::ops::RangeInclusive<f32> = 1e-9..=1e9;
+
+/// The latest keyframe time, in seconds (about 32 years).
+const MAX_KEY_TIME: f64 = 1e9;
 
 /// Most splats a generated sphere may have.
 const MAX_SPHERE_SPLATS: usize = 50_000_000;
@@ -306,8 +313,11 @@ impl Reader<'_> {
             None => None,
         };
         let scale = match &entry.scale {
-            Some(s) if !(s.get_ref().is_finite() && *s.get_ref() > 0.0) => {
-                return Err(self.at(Some(s.span()), format!("scale must be positive, not {}", s.get_ref())));
+            Some(s) if !super::SCALES.contains(s.get_ref()) => {
+                let (low, high) = (super::SCALES.start(), super::SCALES.end());
+                return Err(
+                    self.at(Some(s.span()), format!("scale must be within {low:e}..{high:e}, not {}", s.get_ref()))
+                );
             }
             Some(s) => *s.get_ref(),
             None => 1.0,
@@ -392,6 +402,15 @@ impl Reader<'_> {
         up: Vec3,
         sequence: Option<Sequence>,
     ) -> Result<Option<Arc<Animation>>, SceneError> {
+        for (k, key) in entry.keyframes.iter().enumerate() {
+            // Read as f64, so that a time beyond f32 is reported as written, not as infinite.
+            let time = key.get_ref().time;
+            if time.is_finite() && time > MAX_KEY_TIME {
+                let message =
+                    format!("keyframe {} at {time:e} s: a keyframe's time must be within 0..{MAX_KEY_TIME:e} s", k + 1);
+                return Err(self.at(Some(key.span()), message));
+            }
+        }
         let keyframes: Vec<Keyframe> = entry
             .keyframes
             .iter()
@@ -399,7 +418,7 @@ impl Reader<'_> {
                 let k = k.get_ref();
                 let [rx, ry, rz] = k.rotate.unwrap_or([0.0; 3]).map(f32::to_radians);
                 Keyframe {
-                    time: k.time,
+                    time: k.time as f32,
                     translate: Vec3::from_array(k.translate.unwrap_or([0.0; 3])),
                     rotate: Quat::from_euler(EulerRot::ZYX, rz, ry, rx),
                     scale: k.scale.unwrap_or(1.0),
@@ -454,10 +473,11 @@ impl Reader<'_> {
     /// A `sphere` object: its name, generated cloud and a hash of its parameters.
     fn sphere(&self, s: &Spanned<SphereEntry>) -> Result<(String, cloud::PointCloud, u64), SceneError> {
         let spec = s.get_ref();
-        if spec.splats == 0 || spec.splats > MAX_SPHERE_SPLATS || !(spec.radius.is_finite() && spec.radius > 0.0) {
-            return Err(
-                self.at(Some(s.span()), format!("a sphere needs 1..={MAX_SPHERE_SPLATS} splats and a positive radius"))
-            );
+        if spec.splats == 0 || spec.splats > MAX_SPHERE_SPLATS || !SIZES.contains(&spec.radius) {
+            let (low, high) = (SIZES.start(), SIZES.end());
+            let message =
+                format!("a sphere needs 1..={MAX_SPHERE_SPLATS} splats and a radius within {low:e}..{high:e}");
+            return Err(self.at(Some(s.span()), message));
         }
         if !spec.centre.iter().all(|c| c.is_finite()) {
             return Err(self.at(Some(s.span()), "the sphere's centre is not finite".into()));
@@ -472,10 +492,10 @@ impl Reader<'_> {
     /// A `plane` object: its name, generated cloud and a hash of its parameters.
     fn plane(&self, p: &Spanned<PlaneEntry>) -> Result<(String, cloud::PointCloud, u64), SceneError> {
         let spec = p.get_ref();
-        if spec.splats == 0 || spec.splats > MAX_SPHERE_SPLATS || !(spec.size.is_finite() && spec.size > 0.0) {
-            return Err(
-                self.at(Some(p.span()), format!("a plane needs 1..={MAX_SPHERE_SPLATS} splats and a positive size"))
-            );
+        if spec.splats == 0 || spec.splats > MAX_SPHERE_SPLATS || !SIZES.contains(&spec.size) {
+            let (low, high) = (SIZES.start(), SIZES.end());
+            let message = format!("a plane needs 1..={MAX_SPHERE_SPLATS} splats and a size within {low:e}..{high:e}");
+            return Err(self.at(Some(p.span()), message));
         }
         let normal = Vec3::from_array(spec.normal.unwrap_or([0.0, 1.0, 0.0]));
         if !spec.centre.iter().all(|c| c.is_finite()) || !normal.is_finite() || normal.length_squared() < 1e-12 {
@@ -515,7 +535,7 @@ impl Reader<'_> {
     /// The `[camera]` table, checked.
     fn camera(&self, c: &CameraEntry) -> Result<SceneCamera, SceneError> {
         if let Some(fov) = &c.fov {
-            if !(*fov.get_ref() > 0.5 && *fov.get_ref() < 170.0) {
+            if !(0.5..=170.0).contains(fov.get_ref()) {
                 return Err(self.at(Some(fov.span()), "fov must be between 0.5 and 170 degrees".into()));
             }
         }
