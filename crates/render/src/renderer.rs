@@ -42,8 +42,10 @@ pub struct Renderer {
     bound: Vec<Bound>,
     /// The tile pipeline's buffers, made by the first frame that runs it.
     tiles: Option<TileEngine>,
-    /// Whether `tiled`'s raster reads its lists a subgroup at a time (the
-    /// device has subgroup operations); see shaders/tiled_raster.wgsl.
+    /// Whether `tiled`'s raster reads its lists a subgroup at a time; see
+    /// shaders/tiled_raster.wgsl. By default on a software adapter with
+    /// subgroup operations: on lavapipe the raster takes half the time, on
+    /// an H200 5-10 % more (docs/BENCHMARKS.md), so hardware GPUs read by pixel.
     subgroups: bool,
     /// Whether each step is waited for on its own and timed on the CPU
     /// (see [`Renderer::profile_steps`]), and the last frame's times.
@@ -76,7 +78,8 @@ impl Renderer {
                 touches: Vec::new(),
                 bound: Vec::new(),
                 tiles: None,
-                subgroups: device.features().contains(wgpu::Features::SUBGROUP),
+                subgroups: device.features().contains(wgpu::Features::SUBGROUP)
+                    && ctx.adapter.get_info().device_type == wgpu::DeviceType::Cpu,
                 profile_steps: false,
                 step_ms: None,
             }
