@@ -15,12 +15,11 @@
 // so equal depths have one order too.
 //
 // Should more than WINDOW hits wait at once with none yet ready, the pixel
-// starts again in slabs (`exact_pass`): each slab reads the tile's list
-// from the first entry it may need, keeps the WINDOW nearest hits after the
-// last one released and stops at a key beyond the farthest of them; those
-// hits are then the next in order, all released; a hit pushed out of a full
-// window is found again by the next slab, which reads from the first entry
-// pushed out. Such pixels cost more, and stay exact; `stats` counts them.
+// starts again a layer at a time (`exact_pass`): the next hit in order
+// (found by reading the list up to a key beyond the nearest hit found) opens
+// or joins a layer, then one read of the list adds every hit within the
+// open layer's reach to it and finds the next hit beyond. Such pixels cost
+// a read of the list per layer, and stay exact; `stats` counts them.
 //
 // Ordered hits are grouped into ε-layers as the reference groups them: a
 // layer is the hits of one facing within ε of its first hit (facing is not
@@ -296,8 +295,8 @@ fn add_hit(depth: f32, weight: f32, splat: u32) {
     }
 }
 
-// The nearest waiting hit leaves the window; returns its entry.
-fn release() -> u32 {
+// The nearest waiting hit leaves the window.
+fn release() {
     let depth = window_depth[0];
     let weight = window_weight[0];
     let entry = window_entry[0];
@@ -308,21 +307,20 @@ fn release() -> u32 {
     }
     window_depth[WINDOW - 1u] = NO_HIT;
     add_hit(depth, weight, entries[entry].y);
-    return entry;
 }
 
-// A hit waits for its turn, in order of (depth, entry). Returns the entry
-// of the hit a full window pushes out (the farthest, maybe this one), or
-// NO_ENTRY.
-fn wait(depth: f32, weight: f32, entry: u32) -> u32 {
+// A hit waits for its turn, in order of depth (the window has room). Hits
+// arrive in the order of their entries, so equal depths keep that order:
+// the window is ordered by (depth, entry).
+fn wait(depth: f32, weight: f32, entry: u32) {
     var d = depth;
     var w = weight;
     var e = entry;
     for (var i = 0u; i < WINDOW; i++) {
         let here = window_depth[i];
-        let kept_e = window_entry[i];
-        let ahead = d < here || (d == here && e < kept_e);
+        let ahead = d < here;
         let kept_w = window_weight[i];
+        let kept_e = window_entry[i];
         window_depth[i] = select(here, d, ahead);
         window_weight[i] = select(kept_w, w, ahead);
         window_entry[i] = select(kept_e, e, ahead);
@@ -330,7 +328,6 @@ fn wait(depth: f32, weight: f32, entry: u32) -> u32 {
         w = select(w, kept_w, ahead);
         e = select(e, kept_e, ahead);
     }
-    return select(NO_ENTRY, e, d < NO_HIT);
 }
 
 // Where the pixel's ray meets item `item` (a disc, or with TRIANGLES a
@@ -400,56 +397,123 @@ fn start_pixel(inside: bool) {
 #endif
 }
 
-// The whole pixel again, in slabs of WINDOW hits (see the top): for a
-// pixel whose window overflowed. Every slab releases at least one hit, so
-// it ends; a slab rereads the list from the first entry it pushed out.
+// A hit of the exact pass: depth, weight and tile-list entry (NO_ENTRY: none).
+struct Hit {
+    depth: f32,
+    weight: f32,
+    entry: u32,
+}
+
+// Whether (depth, entry) comes after `h` in the order hits are released.
+fn after(depth: f32, entry: u32, h: Hit) -> bool {
+    return depth > h.depth || (depth == h.depth && entry > h.entry);
+}
+
+// Adds a hit to the open layer of its facing; false when none is open.
+fn join_open(weight: f32, item: u32) -> bool {
+    let s = surface_of(item);
+    let facing = dot(s.facing, ray) < 0.0;
+    if open_count > 0u && (!split_facing || older.facing == facing) {
+        add_to(&older, weight, s);
+        return true;
+    }
+    if open_count > 1u && newer.facing == facing {
+        add_to(&newer, weight, s);
+        return true;
+    }
+    return false;
+}
+
+// The pixel's first hit: the nearest, then by entry.
+fn first_hit(pixel: vec2<u32>, start: u32, end: u32) -> Hit {
+    var best = Hit(NO_HIT, 0.0, NO_ENTRY);
+    for (var at = start; at < end; at++) {
+        let entry = entries[at];
+        if key_depth(entry.x) > best.depth {
+            break; // no later disc is hit nearer than its key
+        }
+        if covers(pixel, entry.y) {
+            let h = hit_on(entry.y);
+            if h.x < NO_HIT && !after(h.x, at, best) {
+                best = Hit(h.x, h.y, at);
+            }
+        }
+    }
+    return best;
+}
+
+// The whole pixel again, a layer at a time (see the top): for a pixel whose
+// window overflowed. The next hit in order opens or joins a layer as in
+// `add_hit`; then one read of the list adds every later hit within the
+// oldest open layer's reach (older.front + ε) to the open layer of its
+// facing (no layer closes inside the reach, and a layer's sums do not
+// depend on their order), and finds the first hit beyond it, the next in
+// order. A hit in the reach whose facing has no open layer opens one: the
+// nearest such, then the hits of its facing after it, in a second read.
 fn exact_pass(pixel: vec2<u32>, start: u32, end: u32) {
     start_pixel(true);
-    // The last hit released, as (depth, entry): later hits come after it.
-    var last_depth = -NO_HIT;
-    var last_entry = 0u;
-    var first = start;
+    let epsilon = this_pass.depth.x;
+    var next = first_hit(pixel, start, end);
     loop {
-        for (var i = 0u; i < WINDOW; i++) {
-            window_depth[i] = NO_HIT;
-            window_entry[i] = NO_ENTRY;
-        }
-        var pushed_out = NO_ENTRY;
-        var at = first;
-        loop {
-            if at >= end {
-                break;
-            }
-            let entry = entries[at];
-            if window_depth[WINDOW - 1u] < NO_HIT && key_depth(entry.x) > window_depth[WINDOW - 1u] {
-                break;
-            }
-            if covers(pixel, entry.y) {
-                let hit = hit_on(entry.y);
-                let after = hit.x > last_depth || (hit.x == last_depth && at > last_entry);
-                if hit.x < NO_HIT && after {
-                    pushed_out = min(pushed_out, wait(hit.x, hit.y, at));
-                }
-            }
-            at += 1u;
-        }
-        loop {
-            if done || window_depth[0] == NO_HIT {
-                break;
-            }
-            last_depth = window_depth[0];
-            last_entry = release();
-        }
-        if done || (pushed_out == NO_ENTRY && at >= end) {
+        if next.entry == NO_ENTRY || done {
             break;
         }
-        first = select(pushed_out, at, pushed_out == NO_ENTRY);
+        add_hit(next.depth, next.weight, entries[next.entry].y);
+        if done || open_count == 0u {
+            break;
+        }
+        let reach = older.front + epsilon;
+        var beyond = Hit(NO_HIT, 0.0, NO_ENTRY);
+        var opener = Hit(NO_HIT, 0.0, NO_ENTRY);
+        for (var at = start; at < end; at++) {
+            let entry = entries[at];
+            let key = key_depth(entry.x);
+            if key > reach && key > beyond.depth {
+                break;
+            }
+            if !covers(pixel, entry.y) {
+                continue;
+            }
+            let h = hit_on(entry.y);
+            if !(h.x < NO_HIT) || !after(h.x, at, next) {
+                continue;
+            }
+            if h.x <= reach {
+                if !join_open(h.y, entry.y) && !after(h.x, at, opener) {
+                    opener = Hit(h.x, h.y, at);
+                }
+            } else if !after(h.x, at, beyond) {
+                beyond = Hit(h.x, h.y, at);
+            }
+        }
+        if opener.entry != NO_ENTRY {
+            // Within the reach, so it closes nothing: it opens the newer layer.
+            add_hit(opener.depth, opener.weight, entries[opener.entry].y);
+            for (var at = start; at < end; at++) {
+                let entry = entries[at];
+                if key_depth(entry.x) > reach {
+                    break;
+                }
+                if !covers(pixel, entry.y) {
+                    continue;
+                }
+                let h = hit_on(entry.y);
+                if h.x < NO_HIT && h.x <= reach && after(h.x, at, opener) {
+                    let s = surface_of(entry.y);
+                    let facing = dot(s.facing, ray) < 0.0;
+                    if open_count > 1u && facing == newer.facing && facing != older.facing {
+                        add_to(&newer, h.y, s);
+                    }
+                }
+            }
+        }
+        next = beyond;
     }
 }
 
 #ifndef SUBGROUPS
 // Reads the tile's list once, releasing hits in exact order; returns
-// whether the window overflowed (the pixel is then finished in slabs).
+// whether the window overflowed (the pixel is then finished a layer at a time).
 // Hits are released lazily: a pixel reads its list until its window is
 // full (or the list ends), then releases every hit no later disc can
 // precede. The pixel's heavy work (layers, shading) then runs once per
