@@ -244,7 +244,7 @@ fn edge_on_planes_and_a_floor_through_the_near_plane_match_the_reference() {
 /// and a steep angle: dozens of discs wait on each pixel at once, more than
 /// its window holds. Released early, a hit that is not the nearest would
 /// open the front layer too deep, and its reach would swallow the sheet
-/// behind. Such pixels are finished in slabs and must match the reference
+/// behind. Such pixels are finished a layer at a time and must match the reference
 /// as exactly as the rest.
 #[test]
 fn pixels_whose_window_overflows_are_still_exact() {

@@ -93,7 +93,7 @@ pub struct BenchRow {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub triangles: Option<u32>,
     /// `tiled`: the pixels of a frame from this view whose window of
-    /// waiting hits overflowed, finished exactly in slabs (slower pixels).
+    /// waiting hits overflowed, finished exactly a layer at a time (slower pixels).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub window_overflows: Option<u32>,
 }

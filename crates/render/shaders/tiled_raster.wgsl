@@ -41,7 +41,7 @@
 @group(1) @binding(6) var<storage, read> rects: array<vec4<u32>>;
 // rgb composited over the background, layers met
 @group(1) @binding(4) var colour_out: texture_storage_2d<rgba32float, write>;
-// [0]: pixels whose window overflowed, finished in slabs (see above).
+// [0]: pixels whose window overflowed, finished a layer at a time (see above).
 @group(1) @binding(5) var<storage, read_write> stats: array<atomic<u32>>;
 #ifdef ENVIRONMENT
 // The nearest transparent layer: shaded colour and opacity; unit normal (zero: none) and layers behind;

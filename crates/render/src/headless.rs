@@ -90,7 +90,7 @@ impl HeadlessRenderer {
         if let Some(tiles) = self.renderer.tile_engine().filter(|_| plan.compute_passes() > 0) {
             let overflowed = tiles.window_overflows(&self.ctx)?;
             plan.notes.push(format!(
-                "tile windows: {overflowed} pixels had more than {} hits waiting and were finished in slabs, exactly",
+                "tile windows: {overflowed} pixels had more than {} hits waiting and were finished a layer at a time, exactly",
                 super::tile_engine::WINDOW
             ));
         }

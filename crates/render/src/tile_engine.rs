@@ -41,7 +41,7 @@ use super::shaders::Variant;
 pub const TILE: u32 = 8;
 /// Hits a pixel keeps waiting in registers (`WINDOW` in
 /// shaders/tiled_raster.wgsl); a pixel with more waiting and none ready is
-/// finished in slabs, exactly, and counted.
+/// finished a layer at a time, exactly, and counted.
 pub const WINDOW: u32 = 8;
 /// Bytes of one splat in eye space (`EyeSplat` in shaders/tiled_common.wgsl).
 pub const EYE_SPLAT_BYTES: u64 = 48;
@@ -474,7 +474,7 @@ impl TileEngine {
     }
 
     /// Pixels of the last frame whose sorting window overflowed and which
-    /// were finished in slabs (see shaders/tiled_raster.wgsl); waits for the frame.
+    /// were finished a layer at a time (see shaders/tiled_raster.wgsl); waits for the frame.
     pub fn window_overflows(&self, ctx: &GpuContext) -> Result<u32, GpuError> {
         Ok(read::<u32>(ctx, &self.stats_readback)?.first().copied().unwrap_or(0))
     }
