@@ -21,7 +21,7 @@ use pointblend::render::modes::FrameDesc;
 use pointblend::render::passes::Command;
 use pointblend::render::plan::{Layout, RenderPlan, TargetId};
 use pointblend::render::shaders;
-use pointblend::render::touches::{Access, Bound, Slot, Touch};
+use pointblend::render::touches::{Bound, Slot};
 use pointblend::render::{GpuScene, HeadlessRenderer};
 
 /// The bundled lion scan, a quarter of its splats.
@@ -50,15 +50,6 @@ fn settings_of(mode: RenderMode) -> Vec<RenderSettings> {
 fn upload(renderer: &HeadlessRenderer, cloud: &PointCloud, settings: &RenderSettings) -> GpuScene {
     let grouping = settings.mode.needs_grouping().then(|| settings.grouping_for_mode().compute(cloud).unwrap());
     renderer.upload_cloud(cloud, grouping.as_ref())
-}
-
-/// The ids a plan pass's recorded render passes bound with `access`, sorted.
-fn bound(touches: &[Touch], pass: usize, access: Access) -> Vec<&'static str> {
-    let mut ids: Vec<&'static str> =
-        touches.iter().filter(|t| t.pass == pass && t.access == access).map(|t| t.target.id.0).collect();
-    ids.sort_unstable();
-    ids.dedup();
-    ids
 }
 
 /// Checks every render pass of `plan` against its composed WGSL: the group-1
@@ -309,16 +300,30 @@ fn every_target_the_recorded_passes_bind_is_allocated_as_bound_explained_as_used
                         assert_eq!(layers.len() as u32, target.layers(), "{what}: {} layers drawn", target.id.0);
                     }
                 }
-                // --explain's reads and writes are the ones that ran.
+                // --explain's reads and writes are the ones the GPU was given:
+                // the views bound to each pass (by identity), read or written
+                // as its pipeline and load operations were set up.
                 for (i, step) in plan.steps.iter().enumerate() {
+                    let given_as = |access: fn(&Bound) -> bool| {
+                        let mut ids: Vec<&'static str> = renderer
+                            .renderer
+                            .last_frame_bindings()
+                            .iter()
+                            .filter(|b| b.pass == i && access(b))
+                            .filter_map(|b| renderer.renderer.target_of(&b.view).map(|(id, _)| id.0))
+                            .collect();
+                        ids.sort_unstable();
+                        ids.dedup();
+                        ids
+                    };
                     assert_eq!(
-                        bound(&touches, i, Access::Read),
+                        given_as(|b| b.reads),
                         sorted(&step.reads()),
                         "{what}: reads of pass {i} ({})\n{plan}",
                         step.name
                     );
                     assert_eq!(
-                        bound(&touches, i, Access::Write),
+                        given_as(|b| b.writes),
                         sorted(&step.writes()),
                         "{what}: writes of pass {i} ({})\n{plan}",
                         step.name

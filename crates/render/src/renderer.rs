@@ -16,7 +16,7 @@ use super::context::{GpuContext, GpuError};
 use super::gpu_data::{FrameUniforms, PASS_SLOT_BYTES, PassUniforms};
 use super::gpu_scene::GpuScene;
 use super::modes::FrameDesc;
-use super::passes::{Command, Output, PipelineKey, PipelineKind, TileWork, fullscreen, splat};
+use super::passes::{Blend, Command, Output, PipelineKey, PipelineKind, TileWork, fullscreen, splat};
 use super::pipelines::PipelineCache;
 use super::plan::{Layout, RenderPlan, TargetDesc, TargetId};
 use super::targets::TargetPool;
@@ -365,12 +365,16 @@ impl Renderer {
                         colour: pass.colour.iter().map(|c| layer_view(c.target)).collect::<Result<_, _>>()?,
                         depth: pass.depth.map(|(id, _)| layer_view(id)).transpose()?,
                     };
+                    // Colour attachments are cleared, then blended into: written only.
                     for (i, view) in attachments.colour.iter().enumerate() {
-                        let view = (*view).clone();
-                        self.bound.push(Bound { pass: step, slot: Slot::Colour(i as u32), view });
+                        let (slot, view) = (Slot::Colour(i as u32), (*view).clone());
+                        self.bound.push(Bound { pass: step, slot, view, reads: false, writes: true });
                     }
-                    if let Some(view) = attachments.depth {
-                        self.bound.push(Bound { pass: step, slot: Slot::Depth, view: view.clone() });
+                    if let (Some(view), Some((_, test))) = (attachments.depth, pass.depth) {
+                        // The depth test reads what was loaded; the pipeline writes depth or not.
+                        let reads = !test.clear && test.compare != wgpu::CompareFunction::Always;
+                        let view = view.clone();
+                        self.bound.push(Bound { pass: step, slot: Slot::Depth, view, reads, writes: test.write });
                     }
                     let group = inputs.as_ref().map(|i| &i.1);
                     splat::record(
@@ -417,6 +421,8 @@ impl Renderer {
                     let given =
                         tiles.record(device, &mut encoder, pass, (pipeline, layout), frame, scene, &outputs, stamps);
                     self.bound.extend(given.into_iter().map(|(binding, view)| Bound {
+                        reads: false,
+                        writes: true,
                         pass: step,
                         slot: Slot::Storage(binding),
                         view,
@@ -428,7 +434,10 @@ impl Renderer {
                         Output::Target(id) => (self.pool.view(id).ok_or_else(|| missing(id.0))?, desc(id)?.format),
                     };
                     if let Output::Target(_) = pass.output {
-                        self.bound.push(Bound { pass: step, slot: Slot::Colour(0), view: target_view.clone() });
+                        // Blending onto a loaded target reads it.
+                        let reads = !pass.clear && pass.blend != Blend::Replace;
+                        let view = target_view.clone();
+                        self.bound.push(Bound { pass: step, slot: Slot::Colour(0), view, reads, writes: true });
                     }
                     let (dims, inputs) =
                         inputs(&mut self.cache, &self.pool, device, plan, &pass.inputs, (step, &mut self.bound))?
@@ -505,7 +514,8 @@ fn inputs(
         .collect();
     for entry in &entries {
         if let wgpu::BindingResource::TextureView(view) = &entry.resource {
-            bound.push(Bound { pass, slot: Slot::Input(entry.binding), view: (*view).clone() });
+            let (slot, view) = (Slot::Input(entry.binding), (*view).clone());
+            bound.push(Bound { pass, slot, view, reads: true, writes: false });
         }
     }
     let group = device.create_bind_group(&wgpu::BindGroupDescriptor {

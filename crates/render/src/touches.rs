@@ -54,6 +54,11 @@ pub struct Bound {
     pub pass: usize,
     pub slot: Slot,
     pub view: wgpu::TextureView,
+    /// Whether the pass reads what the texture holds (sampled, depth-tested
+    /// against, or blended onto as loaded), and whether it writes it, as
+    /// the pipeline and the attachment's load operation were set up.
+    pub reads: bool,
+    pub writes: bool,
 }
 
 /// The targets `command` reads and writes: (id, layer, access).
