@@ -530,6 +530,11 @@ fn bench_refuses_one_views_camera_and_an_endless_animation_in_one_line() {
     }
 }
 
+/// `pointblend render INPUT ARGS --out OUT`, run in `dir`.
+fn render_with(dir: &Path, input: &Path, args: &[&str], out: &Path) -> Output {
+    pointblend(dir).arg("render").arg(input).args(args).arg("--out").arg(out).output().unwrap()
+}
+
 #[test]
 fn gpu_limits_give_one_line_not_a_cascade_of_gpu_errors() {
     let dir = test_dir();
@@ -537,15 +542,8 @@ fn gpu_limits_give_one_line_not_a_cascade_of_gpu_errors() {
     let wide = dir.path().join("wide.png");
     image::RgbImage::from_pixel(20_000, 1, image::Rgb([100, 150, 200])).save(&wide).unwrap();
     let out = dir.path().join("glass.png");
-    let output = pointblend(dir.path())
-        .arg("render")
-        .arg(model())
-        .args(["--mode", "alg2", "--opacity", "0.5", "--size", "48x48", "--env"])
-        .arg(&wide)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let env = ["--mode", "alg2", "--opacity", "0.5", "--size", "48x48", "--env", wide.to_str().unwrap()];
+    let output = render_with(dir.path(), &model(), &env, &out);
     let stderr = ok(&output, "a 20000x1 environment map");
     assert!(!stderr.contains("uncaptured"), "{stderr}");
     let warnings: Vec<&str> = stderr.lines().filter(|l| l.contains("wide.png") && l.contains("level")).collect();
@@ -553,13 +551,8 @@ fn gpu_limits_give_one_line_not_a_cascade_of_gpu_errors() {
     assert!(out.exists());
     // Targets larger than the memory: one line (or, on a GPU that holds them, an image).
     let out = dir.path().join("huge.png");
-    let output = pointblend(dir.path())
-        .arg("render")
-        .arg(model())
-        .args(["--mode", "alg2", "--opacity", "0.5", "--size", "10240x10240", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let output =
+        render_with(dir.path(), &model(), &["--mode", "alg2", "--opacity", "0.5", "--size", "10240x10240"], &out);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(!stderr.contains("uncaptured"), "the GPU's errors are reported one by one: {stderr}");
     if !output.status.success() {
@@ -608,7 +601,7 @@ fn numbers_no_float_arithmetic_can_draw_are_refused_in_one_line() {
     ];
     for (what, text, expected) in cases {
         let scene = scene_with(&dir, "odd.toml", text);
-        let output = pointblend(dir.path()).arg("render").arg(&scene).arg("--out").arg(&out).output().unwrap();
+        let output = render_with(dir.path(), &scene, &[], &out);
         let error = one_error(&output, what);
         assert!(error.contains(expected) && error.contains("odd.toml"), "{what}: {error}");
         assert!(!error.contains("inf"), "{what}: {error}");
@@ -626,25 +619,13 @@ fn a_huge_time_draws_the_wrapped_time_and_an_infinite_one_is_refused_before_the_
     );
     let render_at = |time: &str| {
         let out = dir.path().join(format!("at-{time}.png"));
-        let output = pointblend(dir.path())
-            .arg("render")
-            .arg(&scene)
-            .args(["--size", "48x48", "--time", time, "--out"])
-            .arg(&out)
-            .output()
-            .unwrap();
+        let output = render_with(dir.path(), &scene, &["--size", "48x48", "--time", time], &out);
         ok(&output, &format!("--time {time}"));
         image::open(&out).unwrap().to_rgba8()
     };
     // 1e20 s is a whole number of the wave's 2 s periods: the scene at 0 s.
     assert!(render_at("1e20") == render_at("0"), "--time 1e20 drew another time than its wrapped 0 s");
-    let output = pointblend(dir.path())
-        .arg("render")
-        .arg(&scene)
-        .args(["--time", "inf", "--out"])
-        .arg(dir.path().join("never.png"))
-        .output()
-        .unwrap();
+    let output = render_with(dir.path(), &scene, &["--time", "inf"], &dir.path().join("never.png"));
     let error = one_error(&output, "--time inf");
     assert!(error.contains("--time"), "{error}");
     assert!(!String::from_utf8_lossy(&output.stderr).contains("GPU:"), "the GPU was opened before --time was checked");
@@ -659,8 +640,7 @@ fn a_sequence_of_unreadable_files_is_one_line_with_their_count() {
         std::fs::write(frames.join(format!("f_{i:03}.ply")), b"these are not PLY files").unwrap();
     }
     let scene = scene_with(&dir, "seq.toml", "[[object]]\nsequence = \"frames/f_*.ply\"\nfps = 10\n");
-    let output =
-        pointblend(dir.path()).arg("render").arg(&scene).arg("--out").arg(dir.path().join("x.png")).output().unwrap();
+    let output = render_with(dir.path(), &scene, &[], &dir.path().join("x.png"));
     let error = one_error(&output, "73 unreadable frames");
     assert!(error.contains("73"), "{error}");
     let stderr = String::from_utf8_lossy(&output.stderr);

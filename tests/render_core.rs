@@ -21,7 +21,7 @@ use pointblend::render::modes::FrameDesc;
 use pointblend::render::passes::Command;
 use pointblend::render::plan::{Layout, RenderPlan, TargetId};
 use pointblend::render::shaders;
-use pointblend::render::touches::{Bound, Slot};
+use pointblend::render::touches::Slot;
 use pointblend::render::{GpuScene, HeadlessRenderer};
 
 /// The bundled lion scan, a quarter of its splats.
@@ -200,44 +200,64 @@ fn variable_at(module: &naga::Module, binding: u32) -> Option<String> {
     })
 }
 
+/// A texture view a recorded pass was given, named by identity in the pool.
+struct Given {
+    pass: usize,
+    slot: Slot,
+    target: TargetId,
+    layer: Option<u32>,
+    reads: bool,
+    writes: bool,
+}
+
+/// Every view the last frame's passes were given; each must be a view of a pooled target.
+fn given_views(renderer: &pointblend::render::Renderer, what: &str) -> Vec<Given> {
+    renderer
+        .last_frame_bindings()
+        .iter()
+        .map(|b| {
+            let (target, layer) = renderer
+                .target_of(&b.view)
+                .unwrap_or_else(|| panic!("{what}: pass {} was given a view of no target in the pool", b.pass));
+            Given { pass: b.pass, slot: b.slot, target, layer, reads: b.reads, writes: b.writes }
+        })
+        .collect()
+}
+
 /// Holds every texture the recorded passes were given (by the view's
-/// identity, at the binding or attachment it was given to) against what the
-/// shader names that binding: the texture bound at `accumulated_normal`
-/// must be a normal target, whatever the plan says.
-fn check_what_each_binding_was_given(renderer: &pointblend::render::Renderer, plan: &RenderPlan, what: &str) {
-    let bound: &[Bound] = renderer.last_frame_bindings();
+/// identity, at the binding it was given to) against what the shader names
+/// that binding: the texture bound at `accumulated_normal` must be a normal
+/// target, whatever the plan says.
+fn check_what_each_binding_was_given(given: &[Given], plan: &RenderPlan, what: &str) {
     let commands: Vec<(usize, &Command)> = plan.commands().collect();
-    assert!(!bound.is_empty() || commands.is_empty(), "{what}: no binding recorded");
-    for b in bound {
-        let (id, layer) = renderer
-            .target_of(&b.view)
-            .unwrap_or_else(|| panic!("{what}: pass {} was given a view of no target", b.pass));
+    assert!(!given.is_empty() || commands.is_empty(), "{what}: no binding recorded");
+    let mut modules: Vec<(usize, naga::Module)> = Vec::new();
+    for g in given {
+        let (Slot::Input(binding) | Slot::Storage(binding)) = g.slot else { continue };
         let (shader, variant) = commands
             .iter()
-            .find(|(step, _)| *step == b.pass)
+            .find(|(step, _)| *step == g.pass)
             .map(|(_, c)| match c {
                 Command::Splats(p) => (p.shader, p.variant),
                 Command::Fullscreen(p) => (p.shader, p.variant),
                 Command::Compute(p) => (p.shader, p.variant),
             })
             .unwrap();
-        let name = match b.slot {
-            Slot::Input(binding) | Slot::Storage(binding) => {
-                let source = shaders::compose(shader, variant).unwrap();
-                let module = naga::front::wgsl::parse_str(&source).unwrap();
-                variable_at(&module, binding).unwrap_or_else(|| panic!("{what}: {shader} has no binding {binding}"))
-            }
-            Slot::Colour(_) | Slot::Depth => continue,
-        };
-        assert!(layer.is_none(), "{what}: pass {} was given one layer of '{}' at `{name}`", b.pass, id.0);
+        if !modules.iter().any(|(pass, _)| *pass == g.pass) {
+            let source = shaders::compose(shader, variant).unwrap();
+            modules.push((g.pass, naga::front::wgsl::parse_str(&source).unwrap()));
+        }
+        let module = &modules.iter().find(|(pass, _)| *pass == g.pass).unwrap().1;
+        let name = variable_at(module, binding).unwrap_or_else(|| panic!("{what}: {shader} has no binding {binding}"));
+        let id = g.target.0;
+        assert!(g.layer.is_none(), "{what}: pass {} was given one layer of '{id}' at `{name}`", g.pass);
         let allowed = MEANINGS.iter().find(|(n, _)| *n == name).map(|(_, a)| *a);
         let allowed = allowed.unwrap_or_else(|| panic!("{what}: {shader}'s `{name}` has no meaning listed"));
         assert!(
-            allowed.contains(&id.0),
-            "{what}: pass {} ({shader}) was given '{}' at `{name}` ({:?}), which holds one of {allowed:?}",
-            b.pass,
-            id.0,
-            b.slot
+            allowed.contains(&id),
+            "{what}: pass {} ({shader}) was given '{id}' at `{name}` ({:?}), which holds one of {allowed:?}",
+            g.pass,
+            g.slot
         );
     }
 }
@@ -264,35 +284,30 @@ fn every_target_the_recorded_passes_bind_is_allocated_as_bound_explained_as_used
             for settings in settings_of(mode) {
                 let gpu = upload(&renderer, cloud, &settings);
                 let plan = renderer.render(&gpu, &camera, &settings, 96, 80).unwrap();
-                let touches = renderer.renderer.last_frame_touches().to_vec();
                 let held = renderer.renderer.allocated_targets();
+                let given = given_views(&renderer.renderer, &mode.to_string());
                 let what = format!("{mode} ({})", plan.variant);
                 // The pool holds what the plan lists, no more, no less.
                 let (mut sorted_held, mut planned) = (held.clone(), plan.targets.clone());
                 sorted_held.sort_by_key(|t| t.id.0);
                 planned.sort_by_key(|t| t.id.0);
                 assert_eq!(sorted_held, planned, "{what}: the pool holds other targets than the plan lists\n{plan}");
-                // What the passes bind is allocated as their pipelines and views
-                // expect it: the plan's format, the frame's size, a layer the texture has.
-                for touch in &touches {
-                    let t = &touch.target;
-                    assert_eq!(t, &touch.planned, "{what}: pass {} binds {} unlike it was planned", touch.pass, t.id.0);
-                    assert_eq!((t.width, t.height), (96, 80), "{what}: {}", t.id.0);
-                    assert!(touch.layer.is_none_or(|l| l < t.layers()), "{what}: {} layer {:?}", t.id.0, touch.layer);
+                // What the passes were given is allocated as their pipelines and
+                // views expect it: the plan's format, the frame's size, a layer
+                // the texture has, in a pass of the plan.
+                for g in &given {
+                    let (t, id) = (held.iter().find(|t| t.id == g.target).unwrap(), g.target.0);
+                    assert_eq!(Some(t), plan.target(g.target), "{what}: pass {} was given {id} unlike planned", g.pass);
+                    assert_eq!((t.width, t.height), (96, 80), "{what}: {id}");
+                    assert!(g.layer.is_none_or(|l| l < t.layers()), "{what}: {id} layer {:?}", g.layer);
+                    assert!(g.pass < plan.steps.len(), "{what}: a pass outside the plan");
                 }
-                // Nothing is allocated that no pass was given (the views the
-                // GPU got, by identity), and every layer of an array is drawn.
-                let given: Vec<(TargetId, Option<u32>)> = renderer
-                    .renderer
-                    .last_frame_bindings()
-                    .iter()
-                    .filter_map(|b| renderer.renderer.target_of(&b.view))
-                    .collect();
+                // Nothing is allocated that no pass was given, and every layer of an array is drawn.
                 for target in &held {
                     let layers: std::collections::BTreeSet<u32> =
-                        given.iter().filter(|(id, _)| *id == target.id).filter_map(|(_, layer)| *layer).collect();
+                        given.iter().filter(|g| g.target == target.id).filter_map(|g| g.layer).collect();
                     assert!(
-                        given.iter().any(|(id, _)| *id == target.id),
+                        given.iter().any(|g| g.target == target.id),
                         "{what}: {} is allocated but no pass binds it\n{plan}",
                         target.id.0
                     );
@@ -304,34 +319,31 @@ fn every_target_the_recorded_passes_bind_is_allocated_as_bound_explained_as_used
                 // the views bound to each pass (by identity), read or written
                 // as its pipeline and load operations were set up.
                 for (i, step) in plan.steps.iter().enumerate() {
-                    let given_as = |access: fn(&Bound) -> bool| {
-                        let mut ids: Vec<&'static str> = renderer
-                            .renderer
-                            .last_frame_bindings()
+                    let given_as = |reading: bool| {
+                        let mut ids: Vec<&'static str> = given
                             .iter()
-                            .filter(|b| b.pass == i && access(b))
-                            .filter_map(|b| renderer.renderer.target_of(&b.view).map(|(id, _)| id.0))
+                            .filter(|g| g.pass == i && if reading { g.reads } else { g.writes })
+                            .map(|g| g.target.0)
                             .collect();
                         ids.sort_unstable();
                         ids.dedup();
                         ids
                     };
                     assert_eq!(
-                        given_as(|b| b.reads),
+                        given_as(true),
                         sorted(&step.reads()),
                         "{what}: reads of pass {i} ({})\n{plan}",
                         step.name
                     );
                     assert_eq!(
-                        given_as(|b| b.writes),
+                        given_as(false),
                         sorted(&step.writes()),
                         "{what}: writes of pass {i} ({})\n{plan}",
                         step.name
                     );
                 }
-                assert!(touches.iter().all(|t| t.pass < plan.steps.len()), "{what}: a render pass outside the plan");
                 check_against_shaders(&plan, &what);
-                check_what_each_binding_was_given(&renderer.renderer, &plan, &what);
+                check_what_each_binding_was_given(&given, &plan, &what);
                 checked += 1;
             }
         }

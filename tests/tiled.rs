@@ -28,13 +28,24 @@ fn render(scene: &Scene, camera: &Camera, settings: &RenderSettings, size: u32) 
     let gpu = renderer.upload(scene, None);
     let (image, plan) = renderer.render_image(&gpu, camera, settings, size, size).expect("render");
     assert!(plan.compute_passes() > 0, "tiled ran its own plan: {plan}");
-    let engine = renderer.renderer.tile_engine().expect("the tile pipeline ran");
-    let early = engine.window_overflows(&renderer.ctx).expect("stats");
-    (image, early)
+    (image, plan.window_overflows.expect("the tile pipeline counts its overflows"))
 }
 
 fn exact(scene: &Scene, camera: &Camera, settings: &RenderSettings, size: u32) -> (image::RgbaImage, Vec<u32>) {
     reference::render_with_layers(scene, camera, &ReferenceOptions::matching(settings, scene), size, size)
+}
+
+/// `tiled` and the reference of `scene`, lit, from (`azimuth`, `elevation`)
+/// with the model fitted to the view: the error, and the pixels whose
+/// window overflowed.
+fn against_reference(scene: &Scene, (azimuth, elevation): (f32, f32), size: u32) -> (reference::ImageError, u32) {
+    let flat = scene.flattened();
+    let mut camera = Camera::default_for(&flat, 1.0);
+    (camera.azimuth_deg, camera.elevation_deg) = (azimuth, elevation);
+    camera.distance = camera.fit_distance(&flat.positions, 1.0);
+    let (image, overflows) = render(scene, &camera, &settings(true), size);
+    let (want, _) = exact(scene, &camera, &settings(true), size);
+    (reference::compare(&image, &want).unwrap(), overflows)
 }
 
 /// The worst channel difference over the pixels where `want` gives a colour.
@@ -271,14 +282,8 @@ fn pixels_whose_window_overflows_are_still_exact() {
     }
     let mut scene = Scene::from(cloud);
     scene.objects[0].material.two_sided = true;
-    let flat = scene.flattened();
     for (view, elevation) in [("grazing", 12.0), ("steep", 60.0)] {
-        let mut camera = Camera::default_for(&flat, 1.0);
-        (camera.azimuth_deg, camera.elevation_deg) = (30.0, elevation);
-        camera.distance = camera.fit_distance(&flat.positions, 1.0);
-        let (image, overflows) = render(&scene, &camera, &settings(true), 128);
-        let (want, _) = exact(&scene, &camera, &settings(true), 128);
-        let error = reference::compare(&image, &want).unwrap();
+        let (error, overflows) = against_reference(&scene, (30.0, elevation), 128);
         println!(
             "dense sheets, {view}: ε {:.4}, bad pixels {:.4}%, {overflows} window overflows",
             error.eps,
@@ -328,13 +333,7 @@ fn the_bundled_bunny_matches_the_reference_opaque_and_transparent_in_three_views
         let mut scene = Scene::from(cloud.clone());
         scene.set_opacity(opacity);
         for (azimuth, elevation) in [(0.0, 0.0), (90.0, 20.0), (200.0, -30.0)] {
-            let flat = scene.flattened();
-            let mut camera = Camera::default_for(&flat, 1.0);
-            (camera.azimuth_deg, camera.elevation_deg) = (azimuth, elevation);
-            camera.distance = camera.fit_distance(&flat.positions, 1.0);
-            let (image, early) = render(&scene, &camera, &settings(true), 160);
-            let (want, _) = exact(&scene, &camera, &settings(true), 160);
-            let error = reference::compare(&image, &want).unwrap();
+            let (error, early) = against_reference(&scene, (azimuth, elevation), 160);
             println!(
                 "bunny at {opacity}, view ({azimuth}, {elevation}): ε {:.4}, bad pixels {:.4}%, {early} window overflows",
                 error.eps,

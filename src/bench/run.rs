@@ -377,11 +377,7 @@ fn measure_variant(
 ) -> Result<BenchRow, BenchError> {
     let (image, plan, wall, per_pass, profiled) = time_frames(renderer, frames, &view.camera, p, config)
         .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?;
-    if let Some(tiles) = renderer.renderer.tile_engine().filter(|_| plan.compute_passes() > 0) {
-        let overflows = tiles.window_overflows(&renderer.ctx);
-        row.window_overflows =
-            Some(overflows.map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?);
-    }
+    row.window_overflows = plan.window_overflows;
     if let Some(budget) = frames.applied_budget(&p.settings).and(frames.last_budget()) {
         row.points = budget.splats;
         row.budget_select_ms = Some(budget.select_ms);

@@ -269,6 +269,26 @@ fn surface_of(item: u32) -> Surface {
     return Surface(unpack_colour(s.colour), s.normal, s.opacity, s.normal);
 }
 
+// Which way a hit faces: towards the viewer (true) or away, what splits
+// the ε-layers of a transparent scene.
+fn faces_viewer(s: Surface) -> bool {
+    return dot(s.facing, ray) < 0.0;
+}
+
+// Adds a hit to the open layer of its facing; false when none is open.
+fn join_open(weight: f32, s: Surface) -> bool {
+    let facing = faces_viewer(s);
+    if open_count > 0u && (!split_facing || older.facing == facing) {
+        add_to(&older, weight, s);
+        return true;
+    }
+    if open_count > 1u && newer.facing == facing {
+        add_to(&newer, weight, s);
+        return true;
+    }
+    return false;
+}
+
 // One hit, in depth order, into its ε-layer.
 fn add_hit(depth: f32, weight: f32, splat: u32) {
     let epsilon = this_pass.depth.x;
@@ -279,12 +299,11 @@ fn add_hit(depth: f32, weight: f32, splat: u32) {
         return;
     }
     let s = surface_of(splat);
-    let facing = dot(s.facing, ray) < 0.0;
-    if open_count > 0u && (!split_facing || older.facing == facing) {
-        add_to(&older, weight, s);
-    } else if open_count > 1u && newer.facing == facing {
-        add_to(&newer, weight, s);
-    } else if open_count == 0u {
+    if join_open(weight, s) {
+        return;
+    }
+    let facing = faces_viewer(s);
+    if open_count == 0u {
         older = Layer(depth, facing, 0.0, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
         add_to(&older, weight, s);
         open_count = 1u;
@@ -361,12 +380,16 @@ fn disc_hit(disc: vec4<f32>, plane: vec3<f32>) -> vec2<f32> {
     return select(miss, vec2<f32>(t, exp(-rho2 * frame.splat.y)), rho2 < 1.0);
 }
 
-// Whether entry `at`'s disc bounds may cover this pixel.
-fn covers(pixel: vec2<u32>, item: u32) -> bool {
-    let bounds = rects[item].xy;
+// Whether `pixel` lies in pixel bounds (x0 | x1 << 16, y0 | y1 << 16).
+fn within(pixel: vec2<u32>, bounds: vec2<u32>) -> bool {
     let inside_x = pixel.x >= (bounds.x & 0xffffu) && pixel.x <= (bounds.x >> 16u);
     let inside_y = pixel.y >= (bounds.y & 0xffffu) && pixel.y <= (bounds.y >> 16u);
     return inside_x && inside_y;
+}
+
+// Whether item `item`'s pixel bounds may cover this pixel.
+fn covers(pixel: vec2<u32>, item: u32) -> bool {
+    return within(pixel, rects[item].xy);
 }
 
 fn finish() {
@@ -407,21 +430,6 @@ struct Hit {
 // Whether (depth, entry) comes after `h` in the order hits are released.
 fn after(depth: f32, entry: u32, h: Hit) -> bool {
     return depth > h.depth || (depth == h.depth && entry > h.entry);
-}
-
-// Adds a hit to the open layer of its facing; false when none is open.
-fn join_open(weight: f32, item: u32) -> bool {
-    let s = surface_of(item);
-    let facing = dot(s.facing, ray) < 0.0;
-    if open_count > 0u && (!split_facing || older.facing == facing) {
-        add_to(&older, weight, s);
-        return true;
-    }
-    if open_count > 1u && newer.facing == facing {
-        add_to(&newer, weight, s);
-        return true;
-    }
-    return false;
 }
 
 // The pixel's first hit: the nearest, then by entry.
@@ -479,7 +487,7 @@ fn exact_pass(pixel: vec2<u32>, start: u32, end: u32) {
                 continue;
             }
             if h.x <= reach {
-                if !join_open(h.y, entry.y) && !after(h.x, at, opener) {
+                if !join_open(h.y, surface_of(entry.y)) && !after(h.x, at, opener) {
                     opener = Hit(h.x, h.y, at);
                 }
             } else if !after(h.x, at, beyond) {
@@ -500,7 +508,7 @@ fn exact_pass(pixel: vec2<u32>, start: u32, end: u32) {
                 let h = hit_on(entry.y);
                 if h.x < NO_HIT && h.x <= reach && after(h.x, at, opener) {
                     let s = surface_of(entry.y);
-                    let facing = dot(s.facing, ray) < 0.0;
+                    let facing = faces_viewer(s);
                     if open_count > 1u && facing == newer.facing && facing != older.facing {
                         add_to(&newer, h.y, s);
                     }
@@ -603,10 +611,8 @@ fn stream(pixel: vec2<u32>, start: u32, end: u32) -> bool {
         let count = min(lanes, end - base);
         var marked = 0u;
         for (var k = 0u; k < count; k++) {
-            let b = subgroupShuffle(my_bounds, k);
-            let x = pixel.x >= (b.x & 0xffffu) && pixel.x <= (b.x >> 16u);
-            let y = pixel.y >= (b.y & 0xffffu) && pixel.y <= (b.y >> 16u);
-            marked |= select(0u, 1u << k, subgroupAny(x && y && !done));
+            let wanted = within(pixel, subgroupShuffle(my_bounds, k)) && !done;
+            marked |= select(0u, 1u << k, subgroupAny(wanted));
         }
         loop {
             if marked == 0u {
@@ -614,13 +620,11 @@ fn stream(pixel: vec2<u32>, start: u32, end: u32) -> bool {
             }
             let k = firstTrailingBit(marked);
             marked &= marked - 1u;
-            let b = subgroupShuffle(my_bounds, k);
+            let inside = within(pixel, subgroupShuffle(my_bounds, k));
             let entry = subgroupShuffle(my_entry, k);
             let disc = subgroupShuffle(my_disc, k);
             let plane = subgroupShuffle(my_plane, k);
-            let x = pixel.x >= (b.x & 0xffffu) && pixel.x <= (b.x >> 16u);
-            let y = pixel.y >= (b.y & 0xffffu) && pixel.y <= (b.y >> 16u);
-            if x && y && !done {
+            if inside && !done {
                 if window_depth[WINDOW - 1u] < NO_HIT {
                     // Full: every hit up to this entry's key is ready.
                     let key = key_depth(entry.x);

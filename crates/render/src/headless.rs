@@ -89,6 +89,7 @@ impl HeadlessRenderer {
         let image = readback::read_rgba8(&self.ctx, self.output_texture()?)?;
         if let Some(tiles) = self.renderer.tile_engine().filter(|_| plan.compute_passes() > 0) {
             let overflowed = tiles.window_overflows(&self.ctx)?;
+            plan.window_overflows = Some(overflowed);
             plan.notes.push(format!(
                 "tile windows: {overflowed} pixels had more than {} hits waiting and were finished a layer at a time, exactly",
                 super::tile_engine::WINDOW

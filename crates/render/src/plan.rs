@@ -156,6 +156,9 @@ pub struct RenderPlan {
     pub buffers: Vec<BufferDesc>,
     /// Remarks on the choices the plan made.
     pub notes: Vec<String>,
+    /// `tiled`: the pixels of the frame whose window of waiting hits
+    /// overflowed (finished a layer at a time), once the frame was read back.
+    pub window_overflows: Option<u32>,
 }
 
 impl RenderPlan {
@@ -173,6 +176,7 @@ impl RenderPlan {
             targets: Vec::new(),
             buffers: Vec::new(),
             notes: Vec::new(),
+            window_overflows: None,
         }
     }
 
@@ -203,6 +207,7 @@ impl RenderPlan {
             targets,
             buffers: Vec::new(),
             notes: Vec::new(),
+            window_overflows: None,
         }
     }
 

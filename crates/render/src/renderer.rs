@@ -22,7 +22,7 @@ use super::plan::{Layout, RenderPlan, TargetDesc, TargetId};
 use super::targets::TargetPool;
 use super::tile_engine::{self, TileEngine};
 use super::timer::PassTimer;
-use super::touches::{self, Bound, Slot, Touch};
+use super::touches::{Bound, Slot};
 use crate::frame::{Camera, RenderSettings};
 
 pub struct Renderer {
@@ -36,8 +36,6 @@ pub struct Renderer {
     frame_bind_group: wgpu::BindGroup,
     timer: Option<PassTimer>,
     timing: bool,
-    /// The targets the last frame's render passes bound.
-    touches: Vec<Touch>,
     /// Every texture view the last frame's passes were given, and where.
     bound: Vec<Bound>,
     /// The tile pipeline's buffers, made by the first frame that runs it.
@@ -75,7 +73,6 @@ impl Renderer {
                 frame_bind_group,
                 timer: None,
                 timing: false,
-                touches: Vec::new(),
                 bound: Vec::new(),
                 tiles: None,
                 subgroups: device.features().contains(wgpu::Features::SUBGROUP)
@@ -147,11 +144,6 @@ impl Renderer {
     /// The tile pipeline's buffers, if a frame has run it.
     pub fn tile_engine(&self) -> Option<&TileEngine> {
         self.tiles.as_ref()
-    }
-
-    /// Every target the last frame's render passes read or wrote, as the pool held it.
-    pub fn last_frame_touches(&self) -> &[Touch] {
-        &self.touches
     }
 
     /// The texture views the last frame's passes were given, recorded as
@@ -298,7 +290,6 @@ impl Renderer {
         let mut encoder = new_encoder();
         let budget = ctx.target_budget().saturating_sub(plan.target_bytes() + plan.buffer_bytes());
         let timer = self.timer.as_ref().filter(|_| self.timing);
-        self.touches.clear();
         self.bound.clear();
         let mut step_ms = self.profile_steps.then(|| vec![0.0; plan.steps.len()]);
         for (i, &(step, command)) in commands.iter().enumerate() {
@@ -307,11 +298,6 @@ impl Renderer {
                 ctx.wait_idle()?;
             }
             let started = std::time::Instant::now();
-            for (id, layer, access) in touches::of(command) {
-                let target = self.pool.desc(id).ok_or_else(|| missing(id.0))?.clone();
-                let planned = desc(id)?.clone();
-                self.touches.push(Touch { pass: step, target, planned, layer, access });
-            }
             let first = i == 0 || commands[i - 1].0 != step;
             let last = i + 1 == commands.len() || commands[i + 1].0 != step;
             let stamps = timer.and_then(|t| t.writes_span(step, first, last));

@@ -1,11 +1,11 @@
-//! What a frame's render passes really bound: every target a recorded pass
-//! read or wrote, as the pool held it (format, size, layers), and the layer
-//! it drew into. The renderer records them while it encodes, so a test can
-//! hold them against the plan (`--explain`) and the pool without trusting
-//! either.
+//! What a pass touches, said twice on purpose: [`of`] says which targets a
+//! planned pass reads and writes (the plan and `--explain` list these), and
+//! [`Bound`] records each texture view a recorded pass was actually given,
+//! where its bind group or attachment is made. A test holds the one against
+//! the other, naming views by identity in the pool, without trusting either.
 
 use super::passes::{Blend, Command, Output};
-use super::plan::{TargetDesc, TargetId};
+use super::plan::TargetId;
 
 /// How a pass used a target.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -16,21 +16,6 @@ pub enum Access {
     /// only because its shader writes depth (approx-peel's rest). It must be
     /// allocated, and is in no step's reads or writes.
     Attached,
-}
-
-/// One target one render pass bound.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Touch {
-    /// The plan pass the render pass belongs to.
-    pub pass: usize,
-    /// The target as the pool allocated it.
-    pub target: TargetDesc,
-    /// The target as the plan describes it: the format the pass's pipeline
-    /// was built for and the size and layers its views assume.
-    pub planned: TargetDesc,
-    /// The layer drawn into (render attachments); `None` for a whole texture read as input.
-    pub layer: Option<u32>,
-    pub access: Access,
 }
 
 /// Where a recorded pass was given a texture.
