@@ -15,7 +15,7 @@
 mod common;
 
 use pointblend::cloud::PointCloud;
-use pointblend::frame::{Camera, Quality, RenderMode, RenderSettings};
+use pointblend::frame::{Camera, Prefilter, Quality, RenderMode, RenderSettings};
 use pointblend::grouping::GroupingSpec;
 use pointblend::render::modes::FrameDesc;
 use pointblend::render::passes::Command;
@@ -42,6 +42,10 @@ fn settings_of(mode: RenderMode) -> Vec<RenderSettings> {
                 }
             }
         }
+    }
+    // The EWA prefilter: two-pass keeps coverage and sums what is behind.
+    for lighting in [true, false] {
+        all.push(RenderSettings { mode, lighting, prefilter: Prefilter::Ewa, ..Default::default() });
     }
     all
 }
@@ -165,6 +169,10 @@ const MEANINGS: &[(&str, &[&str])] = &[
     // Inputs (group 1 texture bindings), by variable name.
     ("accumulated_colour", &["accumulated colour", "accumulated weight", "opaque colour", "opaque weight"]),
     ("accumulated_normal", &["accumulated normal", "opaque normal"]),
+    ("visibility_depth", &["depth"]),
+    ("shaded_colour", &["shaded colour"]),
+    ("behind_colour", &["behind colour"]),
+    ("coverage", &["coverage"]),
     ("opaque_depth", &["opaque depth"]),
     ("opaque_image", &["opaque image"]),
     ("group_images", &["group images I_k", "blended image"]),

@@ -49,10 +49,12 @@ fn built_modules() -> BTreeSet<(&'static str, String)> {
             let gpu = renderer.upload(&scene, grouping.as_ref());
             for lighting in [true, false] {
                 for quality in [Quality::Filtered, Quality::Unfiltered] {
-                    let settings = RenderSettings { mode, lighting, quality, ..Default::default() };
-                    renderer
-                        .render(&gpu, &camera, &settings, 48, 48)
-                        .unwrap_or_else(|e| panic!("{mode} on {what}: {e}"));
+                    for prefilter in pointblend::frame::Prefilter::ALL {
+                        let settings = RenderSettings { mode, lighting, quality, prefilter, ..Default::default() };
+                        renderer
+                            .render(&gpu, &camera, &settings, 48, 48)
+                            .unwrap_or_else(|e| panic!("{mode} on {what}: {e}"));
+                    }
                 }
             }
         }

@@ -256,6 +256,18 @@ fn colour_output(rgb: vec3<f32>, w: f32) -> vec4<f32> {
 #endif
 }
 
+// The share of the pixel a stretched splat's fragment of weight w covers
+// (the prefilter's edge antialiasing, shaders/accumulate.wgsl's COVERAGE).
+// Its weight integrates over the screen to 2σ²·A, A the splat's own
+// projected area and σ the kernel's deviation in radii: the stretch divides
+// the peak by what it widens, and the Gaussian's deviation is σ of each
+// stretched axis. So k·w = w/(2σ²) is A spread over the low-pass filter's
+// Gaussian: the splat's box coverage of the pixel, to the filter's
+// approximation (σ·h = 0.32 px against the box's 0.29).
+fn splat_coverage(s: SplatSample, w: f32) -> f32 {
+    return select(0.0, w * frame.splat.y, s.scale < 1.0);
+}
+
 // Eq. 3: Gaussian weight of the normalised distance (its peak lowered by a prefilter's stretch).
 fn splat_weight(s: SplatSample) -> f32 {
     return exp(-s.rho2 * frame.splat.y) * s.scale;

@@ -568,11 +568,7 @@ fn frame_uniforms(
         depth: [near, far, 0.0, 1.0 / (far - near).max(f32::MIN_POSITIVE)],
         splat: [
             // Only modes whose passes weight their fragments filter (the registry lists them).
-            if settings.mode.parameters().contains(&crate::frame::Parameter::Prefilter) {
-                settings.prefilter.radius_px()
-            } else {
-                0.0
-            },
+            settings.low_pass_radius_px(),
             settings.kernel.sharpness(),
             settings.kernel.min_normal_z,
             if settings.backface_culling { 1.0 } else { 0.0 },

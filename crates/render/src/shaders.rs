@@ -53,10 +53,14 @@ impl Variant {
     pub const TRIANGLES: Variant = Variant(32);
     /// `tiled`'s raster reads its lists a subgroup at a time (the device has subgroup operations).
     pub const SUBGROUPS: Variant = Variant(64);
+    /// The EWA prefilter's edge antialiasing in two-pass: the accumulation
+    /// tests ε itself, sums the fragments behind the front apart, and adds
+    /// each fragment's coverage; the normalisation composites by it.
+    pub const COVERAGE: Variant = Variant(128);
 
     /// Every name, by bit.
-    const NAMES: [&'static str; 7] =
-        ["LIT", "WEIGHT_ONLY", "OPAQUE_APART", "ENVIRONMENT", "LIGHTS", "TRIANGLES", "SUBGROUPS"];
+    const NAMES: [&'static str; 8] =
+        ["LIT", "WEIGHT_ONLY", "OPAQUE_APART", "ENVIRONMENT", "LIGHTS", "TRIANGLES", "SUBGROUPS", "COVERAGE"];
 
     pub const NONE: Variant = Variant(0);
 
@@ -150,6 +154,6 @@ mod tests {
         assert_eq!(lit.matches("struct Frame {").count(), 1, "frame.wgsl is included once");
         assert!(compose("missing.wgsl", Variant::NONE).is_err());
         assert_eq!(Variant::LIT.with(Variant::WEIGHT_ONLY, true).defines(), ["LIT", "WEIGHT_ONLY"]);
-        assert_eq!(Variant::all().count(), 128);
+        assert_eq!(Variant::all().count(), 1 << 8);
     }
 }

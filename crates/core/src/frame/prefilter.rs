@@ -20,6 +20,21 @@
 //! of one another, unlike a screen-space footprint whose extrapolated depth
 //! is arbitrary (the slides' "about depth values").
 //!
+//! Stretching alone widens a silhouette: the splat passes cover a pixel or
+//! not, where the supersampled reference blends the rim with what is behind
+//! it. So two-pass, filtered, also keeps coverage (`shaders/accumulate.wgsl`,
+//! COVERAGE): a stretched splat's weight, times k = 1/(2σ²), is its own
+//! projected area spread over the filter, its share of the pixel; the shares
+//! are summed front and behind the front + ε apart (the ε test made in the
+//! shader, so that what is behind is kept), and the normalisation divides
+//! them by the sum a covered pixel has (the splats overlap), read from the
+//! neighbours, and lays the front over what is behind it and that over the
+//! background. A stretched splat is also shaded per fragment with its own
+//! normal: below a pixel, what the filter averages is shaded colour, as the
+//! reference averages shaded rays. Splats the filter leaves alone are solid
+//! and shaded as without it, so the bench views do not change. The other
+//! weighting modes stretch without coverage.
+//!
 //! `shaders/splat.wgsl` applies it in the splat passes of the modes that
 //! read it (those whose passes weight each fragment: two-pass, deferred and
 //! the peeling modes; alg1, alg2 and α-blending blend whole fragments by

@@ -151,6 +151,12 @@ impl RenderSettings {
         self.environment.enabled && self.mode.info().environment
     }
 
+    /// The low-pass radius in pixels the splat passes stretch to: the
+    /// prefilter's, where the mode reads it (the registry lists it), else 0.
+    pub fn low_pass_radius_px(&self) -> f32 {
+        if self.mode.parameters().contains(&super::Parameter::Prefilter) { self.prefilter.radius_px() } else { 0.0 }
+    }
+
     /// Whether the frame is lit by scene lights (and their shadows) rather
     /// than the headlight.
     pub fn lit_by_lights(&self) -> bool {

@@ -88,6 +88,11 @@ impl FrameDesc<'_> {
         }
     }
 
+    /// Whether the splat passes low-pass filter (the EWA prefilter, in a mode that reads it).
+    pub fn prefiltered(&self) -> bool {
+        self.settings.low_pass_radius_px() > 0.0
+    }
+
     /// Whether colour targets hold only weights (a scene of one colour).
     pub fn weight_only(&self) -> bool {
         self.uniform_colour.is_some()

@@ -6,6 +6,12 @@
 //! full-screen pass divides by Σw and shades (§3.4). Unfiltered (1+1, §5): the
 //! nearest splat wins each pixel with weight 1, then the same normalisation.
 //!
+//! With the EWA prefilter (filtered, into the frame) the accumulation also
+//! antialiases edges (`covered`): it makes the ε test itself against the
+//! visibility depth, sums the fragments behind the front apart, and adds each
+//! fragment's coverage of its pixel; the normalisation lays the front over
+//! what is behind it by that coverage.
+//!
 //! The transparent grouped modes draw a scene's opaque splats with the same
 //! steps (`super::opaque_part`) into an image of their own, under their layers.
 
@@ -28,6 +34,12 @@ pub(super) struct Targets {
     /// The shaded image's target, or `None` for the frame.
     image: Option<TargetId>,
 }
+
+/// The prefilter's edge antialiasing: the stretched fragments' shaded
+/// colours (lit), the fragments behind the front, and their coverage.
+const SHADED: TargetId = TargetId("shaded colour");
+const BEHIND: TargetId = TargetId("behind colour");
+const COVERAGE: TargetId = TargetId("coverage");
 
 /// `two-pass` itself: into the frame.
 const OWN: Targets = Targets {
@@ -55,7 +67,7 @@ pub(super) const OPAQUE_DEPTH: TargetId = OPAQUE_TARGETS.depth;
 impl Targets {
     /// The colour target: (Σw·rgb, Σw), or Σw alone for a scene of one colour.
     fn colour(&self, frame: &FrameDesc<'_>) -> TargetId {
-        if frame.weight_only() { self.weight } else { self.colour }
+        if weight_only(frame, self) { self.weight } else { self.colour }
     }
 
     /// What the normalisation reads.
@@ -63,6 +75,12 @@ impl Targets {
         let mut sums = vec![self.colour(frame)];
         if lit(frame) {
             sums.push(self.normal);
+        }
+        if covered(frame, self) {
+            if lit(frame) {
+                sums.push(SHADED);
+            }
+            sums.extend([BEHIND, COVERAGE]);
         }
         sums
     }
@@ -79,12 +97,27 @@ fn filtered(frame: &FrameDesc<'_>, ids: &Targets) -> bool {
     ids.image.is_some() || frame.settings.quality == Quality::Filtered
 }
 
+/// Whether the accumulation antialiases edges by coverage: the EWA
+/// prefilter is on, filtered, drawn into the frame (the opaque part of a
+/// transparent frame keeps the hardware ε test: its depth is what the
+/// layers are culled by).
+fn covered(frame: &FrameDesc<'_>, ids: &Targets) -> bool {
+    ids.image.is_none() && filtered(frame, ids) && frame.prefiltered()
+}
+
+/// Whether the colour targets hold weights alone (a scene of one colour),
+/// except where coverage is kept: a stretched splat's colour is shaded per
+/// fragment, so its sums are of colours however uniform the albedo.
+fn weight_only(frame: &FrameDesc<'_>, ids: &Targets) -> bool {
+    frame.weight_only() && !covered(frame, ids)
+}
+
 /// The targets a two-pass rendering into `ids` may bind.
 pub(super) fn targets(frame: &FrameDesc<'_>, ids: &Targets) -> Vec<TargetDesc> {
     let target = |id, format, why| frame.target(id, format, Layout::Single, why);
     let mut targets = vec![
         target(ids.depth, DEPTH_FORMAT, "linear view depth for the ε test"),
-        if frame.weight_only() {
+        if weight_only(frame, ids) {
             target(ids.weight, frame.sum_format(true), "additive Σw; the scene has one colour")
         } else {
             target(ids.colour, frame.sum_format(false), "additive Σw·rgb, Σw")
@@ -92,6 +125,13 @@ pub(super) fn targets(frame: &FrameDesc<'_>, ids: &Targets) -> Vec<TargetDesc> {
     ];
     if lit(frame) {
         targets.push(target(ids.normal, frame.sum_format(false), "Σw·n, Σw·α for deferred shading"));
+    }
+    if covered(frame, ids) {
+        if lit(frame) {
+            targets.push(target(SHADED, frame.sum_format(false), "Σw·shaded rgb, Σw of the stretched splats"));
+        }
+        targets.push(target(BEHIND, frame.sum_format(false), "Σw·shaded rgb, Σw behind the front + ε"));
+        targets.push(target(COVERAGE, frame.sum_format(false), "Σ coverage front, behind; solid counts"));
     }
     if let Some(image) = ids.image {
         targets.push(target(image, ACCUM_FORMAT, "the opaque splats shaded over the background"));
@@ -101,7 +141,7 @@ pub(super) fn targets(frame: &FrameDesc<'_>, ids: &Targets) -> Vec<TargetDesc> {
 
 /// The steps of a two-pass rendering of `splats` into `ids`.
 pub(super) fn steps(frame: &FrameDesc<'_>, ids: &Targets, splats: Range<u32>) -> Vec<Step> {
-    let variant = frame.shading_variant().with(Variant::WEIGHT_ONLY, frame.weight_only());
+    let variant = frame.shading_variant().with(Variant::WEIGHT_ONLY, weight_only(frame, ids));
     let uniforms = frame.uniforms(0, 1, 0);
     let outputs = |blend| {
         let mut out = vec![ColourOutput { target: ids.colour(frame), blend }];
@@ -110,21 +150,20 @@ pub(super) fn steps(frame: &FrameDesc<'_>, ids: &Targets, splats: Range<u32>) ->
         }
         out
     };
-    let pass = |label, shader, entry, variant, colour, depth| {
-        Command::Splats(SplatPass {
-            label,
-            shader,
-            entry,
-            variant,
-            colour,
-            depth: Some((ids.depth, depth)),
-            inputs: Vec::new(),
-            layer: 0,
-            splats: splats.clone(),
-            back_to_front: false,
-            uniforms,
-            triangles: true,
-        })
+    let covered = covered(frame, ids);
+    let pass = |label, shader, entry, variant, colour, depth| SplatPass {
+        label,
+        shader,
+        entry,
+        variant,
+        colour,
+        depth: Some((ids.depth, depth)),
+        inputs: Vec::new(),
+        layer: 0,
+        splats: splats.clone(),
+        back_to_front: false,
+        uniforms,
+        triangles: true,
     };
     let mut steps = Vec::new();
     if filtered(frame, ids) {
@@ -133,33 +172,45 @@ pub(super) fn steps(frame: &FrameDesc<'_>, ids: &Targets, splats: Range<u32>) ->
         steps.push(Step::new(
             "visibility",
             "splats -> depth (linear f32, +ε)",
-            vec![pass("Visibility::pass", "visibility.wgsl", "fs_visibility", Variant::NONE, Vec::new(), visibility)],
+            vec![Command::Splats(pass(
+                "Visibility::pass",
+                "visibility.wgsl",
+                "fs_visibility",
+                Variant::NONE,
+                Vec::new(),
+                visibility,
+            ))],
         ));
-        steps.push(Step::new(
-            "accumulate",
-            "splats within ε of the front -> additive Σw·rgb, Σw (+ Σw·n when lit)",
-            vec![pass(
-                "Accumulate::pass",
-                "accumulate.wgsl",
-                "fs_accumulate",
-                variant,
-                outputs(Blend::Add),
-                within_epsilon,
-            )],
-        ));
+        let mut accumulate = pass(
+            "Accumulate::pass",
+            "accumulate.wgsl",
+            "fs_accumulate",
+            variant.with(Variant::COVERAGE, covered),
+            outputs(Blend::Add),
+            within_epsilon,
+        );
+        let mut what = "splats within ε of the front -> additive Σw·rgb, Σw (+ Σw·n when lit)".to_string();
+        if covered {
+            // The ε test is made in the shader, against the visibility depth as an input.
+            let apart = ids.sums(frame).split_off(accumulate.colour.len());
+            accumulate.colour.extend(apart.into_iter().map(|target| ColourOutput { target, blend: Blend::Add }));
+            (accumulate.depth, accumulate.inputs) = (None, vec![ids.depth]);
+            what += "; the stretched ones shaded apart, those behind apart, Σ coverage and solid counts";
+        }
+        steps.push(Step::new("accumulate", what, vec![Command::Splats(accumulate)]));
     } else {
         let nearest = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
         steps.push(Step::new(
             "nearest-splat",
             "splats -> rgb, 1 (+ n when lit); depth test and write, no blending",
-            vec![pass(
+            vec![Command::Splats(pass(
                 "NearestSplat::pass",
                 "accumulate.wgsl",
                 "fs_unfiltered",
                 variant,
                 outputs(Blend::Replace),
                 nearest,
-            )],
+            ))],
         ));
     }
     let normalize = FullscreenPass {
@@ -167,7 +218,7 @@ pub(super) fn steps(frame: &FrameDesc<'_>, ids: &Targets, splats: Range<u32>) ->
         shader: "normalize.wgsl",
         entry: "fs_normalize",
         // Into the opaque image, α says where an opaque splat was drawn.
-        variant: variant.with(Variant::OPAQUE_APART, ids.image.is_some()),
+        variant: variant.with(Variant::OPAQUE_APART, ids.image.is_some()).with(Variant::COVERAGE, covered),
         inputs: ids.sums(frame),
         output: ids.image.map_or(Output::Frame, Output::Target),
         blend: Blend::Replace,
@@ -175,9 +226,10 @@ pub(super) fn steps(frame: &FrameDesc<'_>, ids: &Targets, splats: Range<u32>) ->
         uniforms,
     };
     let into = if ids.image.is_some() { "opaque image" } else { "output" };
+    let cover = if covered { ", the front over what is behind it by coverage" } else { "" };
     steps.push(Step::new(
         "normalize",
-        format!("full screen: divide by Σw, Phong shading -> {into}"),
+        format!("full screen: divide by Σw, Phong shading{cover} -> {into}"),
         vec![Command::Fullscreen(normalize)],
     ));
     steps
@@ -189,7 +241,7 @@ impl GpuMode for TwoPass {
             "{}, {}{}",
             if filtered(frame, &OWN) { "filtered" } else { "unfiltered" },
             frame.lighting_name(),
-            if frame.weight_only() { ", weights only" } else { "" }
+            if weight_only(frame, &OWN) { ", weights only" } else { "" }
         );
         let steps = steps(frame, &OWN, 0..frame.splats as u32);
         frame.plan(variant, 1, steps, targets(frame, &OWN))
