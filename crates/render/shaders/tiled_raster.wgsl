@@ -573,11 +573,16 @@ fn stream(pixel: vec2<u32>, start: u32, end: u32) -> bool {
 // at once (at most 32: one bit each in a mask).
 var<private> lane: u32;
 var<private> lanes: u32;
+// The rectangle of the subgroup's pixels that are not done.
+var<private> group_low: vec2<u32>;
+var<private> group_high: vec2<u32>;
 
 // `stream` with the subgroup reading the list together: each lane loads one
-// entry (its pixel bounds, disc centre, 1/r² and plane), a vote marks the
-// entries that cover a pixel of some lane, and only those are shuffled to
-// every lane and tested. On lavapipe, which runs a branch for every lane
+// entry (its pixel bounds, disc centre, 1/r² and plane) and tests its bounds
+// against the rectangle of the subgroup's pixels, one ballot marks the
+// entries that meet it, and only those are shuffled to every lane and
+// tested against each lane's pixel (one ballot instead of a shuffle and a
+// vote per entry: 3.5-4.5 % of the lion's frame at 512²). On lavapipe, which runs a branch for every lane
 // whether taken or not, a loop over the marked entries is what skips the
 // others: the tile's lists are read once per subgroup instead of once per
 // pixel, and the hit test runs for a fraction of the entries (a frame of
@@ -609,11 +614,12 @@ fn stream(pixel: vec2<u32>, start: u32, end: u32) -> bool {
 #endif
         }
         let count = min(lanes, end - base);
-        var marked = 0u;
-        for (var k = 0u; k < count; k++) {
-            let wanted = within(pixel, subgroupShuffle(my_bounds, k)) && !done;
-            marked |= select(0u, 1u << k, subgroupAny(wanted));
-        }
+        // The entries whose pixel bounds meet the subgroup's pixels: each
+        // lane tests its own entry against the subgroup's rectangle, and one
+        // ballot gathers the votes.
+        let meets = (my_bounds.x & 0xffffu) <= group_high.x && (my_bounds.x >> 16u) >= group_low.x
+            && (my_bounds.y & 0xffffu) <= group_high.y && (my_bounds.y >> 16u) >= group_low.y;
+        var marked = subgroupBallot(meets && lane < count).x;
         loop {
             if marked == 0u {
                 break;
@@ -700,6 +706,8 @@ fn cs_raster(
 #ifdef SUBGROUPS
     lane = subgroup_lane;
     lanes = min(subgroup_lanes, 32u);
+    group_low = subgroupMin(select(vec2<u32>(0xffffu), pixel, !done));
+    group_high = subgroupMax(select(vec2<u32>(0u), pixel, !done));
 #endif
     let overflowed = stream(pixel, start, end);
     if !inside {
