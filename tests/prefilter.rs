@@ -152,17 +152,32 @@ fn bad_supersample_and_prefilter_values_are_one_line_and_write_nothing() {
 /// too. The stretched part of a silhouette splat lies in its plane continued
 /// past the disc, in front of the surface, and once set the visibility
 /// depth: the splats facing the viewer were culled and the outline was
-/// shaded by edge-on normals, a dark rim. The outline's pixels must be no
-/// darker with the filter than without it.
+/// shaded by edge-on normals, a dark rim; deferred's within-group z-test
+/// did the same. The outline's pixels must be no darker with the filter
+/// than without it, in two-pass and in deferred.
 #[test]
 fn a_far_prefiltered_outline_is_no_darker_than_an_unfiltered_one() {
     let (bunny, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
     let mut camera = Camera::default_for(&bunny, 1.0);
     camera.distance = 2.6;
     let shading = pointblend::frame::Shading { background: Vec3::ZERO, ..Default::default() };
-    let lit = |prefilter| RenderSettings { prefilter, lighting: true, shading, ..Default::default() };
-    let none = render(&bunny, &camera, &lit(Prefilter::None));
-    let ewa = render(&bunny, &camera, &lit(Prefilter::Ewa));
+    for mode in ["two-pass", "deferred"] {
+        let lit = |prefilter| RenderSettings {
+            mode: mode.parse().unwrap(),
+            prefilter,
+            lighting: true,
+            shading,
+            ..Default::default()
+        };
+        let (none, ewa) =
+            (render(&bunny, &camera, &lit(Prefilter::None)), render(&bunny, &camera, &lit(Prefilter::Ewa)));
+        outline_no_darker(&none, &ewa, mode);
+    }
+}
+
+/// The mean r+g+b of the outline (covered pixels of `none` next to
+/// background) is no lower in `ewa`.
+fn outline_no_darker(none: &image::RgbaImage, ewa: &image::RgbaImage, mode: &str) {
     let covered = |x: u32, y: u32| none.get_pixel(x, y).0[..3] != [0, 0, 0];
     // The outline: covered pixels of the unfiltered image next to background.
     let mut sums = (0.0f64, 0.0f64, 0usize);
@@ -172,14 +187,14 @@ fn a_far_prefiltered_outline_is_no_darker_than_an_unfiltered_one() {
             if covered(x, y) && edge {
                 let luminance =
                     |image: &image::RgbaImage| image.get_pixel(x, y).0[..3].iter().map(|&c| c as f64).sum::<f64>();
-                sums = (sums.0 + luminance(&none), sums.1 + luminance(&ewa), sums.2 + 1);
+                sums = (sums.0 + luminance(none), sums.1 + luminance(ewa), sums.2 + 1);
             }
         }
     }
     let (none_mean, ewa_mean) = (sums.0 / sums.2 as f64, sums.1 / sums.2 as f64);
-    println!("outline of {} pixels: mean r+g+b {none_mean:.1} unfiltered, {ewa_mean:.1} prefiltered", sums.2);
-    assert!(sums.2 > 40, "the bunny is drawn with an outline ({} pixels)", sums.2);
-    assert!(ewa_mean >= none_mean, "the prefiltered outline is darker: {ewa_mean:.1} against {none_mean:.1}");
+    println!("{mode}: outline of {} pixels: mean r+g+b {none_mean:.1} unfiltered, {ewa_mean:.1} prefiltered", sums.2);
+    assert!(sums.2 > 40, "{mode}: the bunny is drawn with an outline ({} pixels)", sums.2);
+    assert!(ewa_mean >= none_mean, "{mode}: the prefiltered outline is darker: {ewa_mean:.1} against {none_mean:.1}");
 }
 
 /// Mean |ΔR|+|ΔG|+|ΔB| of `image` against `exact` over the bounding box of

@@ -20,8 +20,11 @@ struct GroupImage {
 }
 
 // The depth of the z-test within a group: linear, or Voronoi-enhanced (Eq. 14).
+// A prefiltered splat competes at its front depth (shaders/splat.wgsl), as in
+// the visibility pass: the plane continued past its disc is not surface, and
+// across a silhouette it would win over the splats facing the viewer.
 fn group_z(s: SplatSample) -> f32 {
-    let depth01 = depth_to_buffer(s.view_depth);
+    let depth01 = depth_to_buffer(s.front_depth);
     let n = this_pass.depth.y;
     if this_pass.layers.z == 1u {
         return min(floor(depth01 * n) / n + sqrt(s.rho2) / n, 1.0);
