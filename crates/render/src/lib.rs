@@ -36,6 +36,7 @@ pub mod passes;
 pub mod pipelines;
 pub mod plan;
 pub mod readback;
+pub mod record;
 pub mod renderer;
 pub mod scene_frames;
 pub mod shaders;

@@ -4,9 +4,9 @@
 //! ([`GpuScene`]); for each frame the mode of the registry plans its steps
 //! ([`RenderPlan`]), each the commands of its render passes; the renderer
 //! allocates exactly the plan's targets ([`TargetPool`]), writes the frame's
-//! uniforms and one uniform slot per pass, takes each pass's pipeline from the
-//! cache ([`PipelineCache`]) and encodes the passes, timed per plan pass when
-//! timing is on. The window, the headless path, `bench` and the tests all call
+//! uniforms and one uniform slot per pass, and lets each pass record itself
+//! (`record`: each kind in its own file, its pipeline from the cache,
+//! [`PipelineCache`]), timed per plan pass when timing is on. The window, the headless path, `bench` and the tests all call
 //! [`Renderer::render`]; only the output view differs.
 
 use glam::Mat4;
@@ -16,13 +16,14 @@ use super::context::{GpuContext, GpuError};
 use super::gpu_data::{FrameUniforms, PASS_SLOT_BYTES, PassUniforms};
 use super::gpu_scene::GpuScene;
 use super::modes::FrameDesc;
-use super::passes::{Blend, Command, Output, PipelineKey, PipelineKind, TileWork, fullscreen, splat};
+use super::passes::Command;
 use super::pipelines::PipelineCache;
-use super::plan::{Layout, RenderPlan, TargetDesc, TargetId};
+use super::plan::{RenderPlan, TargetDesc, TargetId};
+use super::record::{self, At, Recording, compute::TileRun};
 use super::targets::TargetPool;
 use super::tile_engine::{self, TileEngine};
 use super::timer::PassTimer;
-use super::touches::{Bound, Slot};
+use super::touches::Bound;
 use crate::frame::{Camera, RenderSettings};
 
 pub struct Renderer {
@@ -283,176 +284,43 @@ impl Renderer {
         output_format: wgpu::TextureFormat,
     ) -> Result<(), GpuError> {
         let device = &ctx.device;
-        let missing = |what: &str| GpuError::Device(format!("the plan has no target '{what}'"));
-        let desc = |id: super::plan::TargetId| plan.target(id).ok_or_else(|| missing(id.0));
-        let new_encoder =
-            || device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("Renderer::encoder") });
-        let mut encoder = new_encoder();
+        let mut encoder = record::new_encoder(device);
         let budget = ctx.target_budget().saturating_sub(plan.target_bytes() + plan.buffer_bytes());
         let timer = self.timer.as_ref().filter(|_| self.timing);
         self.bound.clear();
         let mut step_ms = self.profile_steps.then(|| vec![0.0; plan.steps.len()]);
+        let mut rec = Recording {
+            device,
+            cache: &mut self.cache,
+            pool: &self.pool,
+            plan,
+            scene,
+            frame: &self.frame_bind_group,
+            bound: &mut self.bound,
+        };
         for (i, &(step, command)) in commands.iter().enumerate() {
             if step_ms.is_some() {
-                ctx.queue.submit([std::mem::replace(&mut encoder, new_encoder()).finish()]);
+                ctx.queue.submit([std::mem::replace(&mut encoder, record::new_encoder(device)).finish()]);
                 ctx.wait_idle()?;
             }
             let started = std::time::Instant::now();
             let first = i == 0 || commands[i - 1].0 != step;
             let last = i + 1 == commands.len() || commands[i + 1].0 != step;
             let stamps = timer.and_then(|t| t.writes_span(step, first, last));
-            let (frame, offset) = (&self.frame_bind_group, (i as u64 * PASS_SLOT_BYTES) as u32);
+            let at = At { step, offset: (i as u64 * PASS_SLOT_BYTES) as u32 };
             match command {
-                Command::Splats(pass) => {
-                    let colour = pass.colour.iter().map(|c| Ok((desc(c.target)?.format, c.blend))).collect::<Result<
-                        _,
-                        GpuError,
-                    >>(
-                    )?;
-                    let depth = match pass.depth {
-                        Some((id, test)) => Some((desc(id)?.format, test.write, test.compare)),
-                        None => None,
-                    };
-                    let inputs =
-                        inputs(&mut self.cache, &self.pool, device, plan, &pass.inputs, (step, &mut self.bound))?;
-                    let kind = PipelineKind::Splats {
-                        colour,
-                        depth,
-                        inputs: inputs.as_ref().map(|i| i.0.clone()).unwrap_or_default(),
-                        cull_back: false,
-                    };
-                    // A pass that writes only depth reads no colour: its splats are not lit.
-                    let lights = super::shaders::Variant::LIGHTS;
-                    let variant = pass.variant.with(lights, pass.variant.has(lights) && !pass.colour.is_empty());
-                    let key = PipelineKey { shader: pass.shader, entry: pass.entry, variant, kind };
-                    // The frame's mesh triangles, through the same fragment entry.
-                    let triangle_key = scene.triangles.as_ref().filter(|_| pass.triangles).map(|draw| {
-                        let kind = match key.kind.clone() {
-                            PipelineKind::Splats { colour, depth, inputs, .. } => {
-                                PipelineKind::Splats { colour, depth, inputs, cull_back: draw.cull_back }
-                            }
-                            other => other,
-                        };
-                        PipelineKey {
-                            variant: variant.with(super::shaders::Variant::TRIANGLES, true),
-                            kind,
-                            ..key.clone()
-                        }
-                    });
-                    if let Some(triangle_key) = &triangle_key {
-                        self.cache.pipeline(device, triangle_key)?;
-                    }
-                    self.cache.pipeline(device, &key)?;
-                    let built = |key: &PipelineKey| self.cache.built(key).ok_or_else(|| missing(key.entry));
-                    let pipeline = built(&key)?;
-                    let triangles = triangle_key.as_ref().map(built).transpose()?;
-                    let layer_view = |id| self.pool.layer_view(id, pass.layer).ok_or_else(|| missing(id.0));
-                    let attachments = splat::Attachments {
-                        colour: pass.colour.iter().map(|c| layer_view(c.target)).collect::<Result<_, _>>()?,
-                        depth: pass.depth.map(|(id, _)| layer_view(id)).transpose()?,
-                    };
-                    // Colour attachments are cleared, then blended into: written only.
-                    for (i, view) in attachments.colour.iter().enumerate() {
-                        let (slot, view) = (Slot::Colour(i as u32), (*view).clone());
-                        self.bound.push(Bound { pass: step, slot, view, reads: false, writes: true });
-                    }
-                    if let (Some(view), Some((_, test))) = (attachments.depth, pass.depth) {
-                        // The depth test reads what was loaded; the pipeline writes depth or not.
-                        let reads = !test.clear && test.compare != wgpu::CompareFunction::Always;
-                        let view = view.clone();
-                        self.bound.push(Bound { pass: step, slot: Slot::Depth, view, reads, writes: test.write });
-                    }
-                    let group = inputs.as_ref().map(|i| &i.1);
-                    splat::record(
-                        &mut encoder,
-                        pass,
-                        pipeline,
-                        frame,
-                        offset,
-                        group,
-                        &attachments,
-                        scene,
-                        triangles,
-                        stamps,
-                    );
+                Command::Splats(pass) => record::splat::encode(&mut rec, &mut encoder, pass, at, stamps)?,
+                Command::Fullscreen(pass) => {
+                    record::fullscreen::encode(&mut rec, &mut encoder, pass, at, (output, output_format), stamps)?
                 }
                 Command::Compute(pass) => {
-                    let tiles = self.tiles.as_mut().ok_or_else(|| missing("tile pipeline"))?;
-                    if pass.work == TileWork::Bin {
-                        // The counts must come back before the entries can be placed.
-                        ctx.queue.submit([std::mem::replace(&mut encoder, new_encoder()).finish()]);
-                        tiles.bin_offsets(ctx, budget)?;
-                    }
-                    let outputs = pass
-                        .outputs
-                        .iter()
-                        .map(|&id| self.pool.view(id).ok_or_else(|| missing(id.0)))
-                        .collect::<Result<Vec<_>, _>>()?;
-                    let format = match pass.outputs.first() {
-                        Some(&id) => desc(id)?.format,
-                        None => wgpu::TextureFormat::Rgba32Float,
-                    };
-                    let bindings = tile_engine::bindings(pass.work, pass.variant, format);
-                    let variant = pass
-                        .variant
-                        .with(super::shaders::Variant::SUBGROUPS, self.subgroups && pass.work == TileWork::Raster);
-                    let (pipeline, layout) =
-                        self.cache.compute(device, (pass.shader, pass.entry, variant), &bindings)?;
-                    let stamps = stamps.map(|s| wgpu::ComputePassTimestampWrites {
-                        query_set: s.query_set,
-                        beginning_of_pass_write_index: s.beginning_of_pass_write_index,
-                        end_of_pass_write_index: s.end_of_pass_write_index,
-                    });
-                    let frame = (&self.frame_bind_group, offset);
-                    let given =
-                        tiles.record(device, &mut encoder, pass, (pipeline, layout), frame, scene, &outputs, stamps);
-                    self.bound.extend(given.into_iter().map(|(binding, view)| Bound {
-                        reads: false,
-                        writes: true,
-                        pass: step,
-                        slot: Slot::Storage(binding),
-                        view,
-                    }));
-                }
-                Command::Fullscreen(pass) => {
-                    let (target_view, target_format) = match pass.output {
-                        Output::Frame => (output, output_format),
-                        Output::Target(id) => (self.pool.view(id).ok_or_else(|| missing(id.0))?, desc(id)?.format),
-                    };
-                    if let Output::Target(_) = pass.output {
-                        // Blending onto a loaded target reads it.
-                        let reads = !pass.clear && pass.blend != Blend::Replace;
-                        let view = target_view.clone();
-                        self.bound.push(Bound { pass: step, slot: Slot::Colour(0), view, reads, writes: true });
-                    }
-                    let (dims, inputs) =
-                        inputs(&mut self.cache, &self.pool, device, plan, &pass.inputs, (step, &mut self.bound))?
-                            .ok_or_else(|| GpuError::Device(format!("{} reads no target", pass.label)))?;
-                    let kind = PipelineKind::Fullscreen { inputs: dims, output: target_format, blend: pass.blend };
-                    let key = PipelineKey { shader: pass.shader, entry: pass.entry, variant: pass.variant, kind };
-                    let environment = if pass.variant.has(super::shaders::Variant::ENVIRONMENT) {
-                        let map = scene.environment.as_ref().ok_or_else(|| missing("environment map"))?;
-                        Some(map.bind_group(device, self.cache.environment_layout()))
-                    } else {
-                        None
-                    };
-                    let pipeline = self.cache.pipeline(device, &key)?;
-                    let environment = environment.as_ref();
-                    fullscreen::record(
-                        &mut encoder,
-                        pass,
-                        pipeline,
-                        frame,
-                        offset,
-                        &inputs,
-                        environment,
-                        target_view,
-                        stamps,
-                    );
+                    let tiles = self.tiles.as_mut().ok_or_else(|| record::missing("tile pipeline"))?;
+                    let mut run = TileRun { ctx, tiles, subgroups: self.subgroups, budget };
+                    record::compute::encode(&mut rec, &mut encoder, &mut run, pass, at, stamps)?
                 }
             }
             if let Some(times) = step_ms.as_mut() {
-                ctx.queue.submit([std::mem::replace(&mut encoder, new_encoder()).finish()]);
+                ctx.queue.submit([std::mem::replace(&mut encoder, record::new_encoder(device)).finish()]);
                 ctx.wait_idle()?;
                 times[step] += started.elapsed().as_secs_f64() * 1e3;
             }
@@ -464,52 +332,6 @@ impl Renderer {
         ctx.queue.submit([encoder.finish()]);
         Ok(())
     }
-}
-
-/// The texture dimensions and the group-1 bind group of a pass that reads
-/// `ids` (none when it reads nothing).
-#[allow(clippy::type_complexity)]
-fn inputs(
-    cache: &mut PipelineCache,
-    pool: &TargetPool,
-    device: &wgpu::Device,
-    plan: &RenderPlan,
-    ids: &[super::plan::TargetId],
-    (pass, bound): (usize, &mut Vec<Bound>),
-) -> Result<Option<(Vec<wgpu::TextureViewDimension>, wgpu::BindGroup)>, GpuError> {
-    if ids.is_empty() {
-        return Ok(None);
-    }
-    let missing = |id: super::plan::TargetId| GpuError::Device(format!("the plan has no target '{}'", id.0));
-    let mut dims = Vec::with_capacity(ids.len());
-    let mut views = Vec::with_capacity(ids.len());
-    for &id in ids {
-        dims.push(match plan.target(id).ok_or_else(|| missing(id))?.layout {
-            Layout::Single => wgpu::TextureViewDimension::D2,
-            Layout::Array { .. } => wgpu::TextureViewDimension::D2Array,
-        });
-        views.push(pool.view(id).ok_or_else(|| missing(id))?);
-    }
-    let entries: Vec<wgpu::BindGroupEntry<'_>> = views
-        .iter()
-        .enumerate()
-        .map(|(binding, view)| wgpu::BindGroupEntry {
-            binding: binding as u32,
-            resource: wgpu::BindingResource::TextureView(view),
-        })
-        .collect();
-    for entry in &entries {
-        if let wgpu::BindingResource::TextureView(view) = &entry.resource {
-            let (slot, view) = (Slot::Input(entry.binding), (*view).clone());
-            bound.push(Bound { pass, slot, view, reads: true, writes: false });
-        }
-    }
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("Pass::inputs"),
-        layout: cache.inputs_layout(device, &dims),
-        entries: &entries,
-    });
-    Ok(Some((dims, group)))
 }
 
 use bytemuck::Zeroable;

@@ -254,6 +254,20 @@ pub enum PipelineKind {
     },
 }
 
+impl PipelineKey {
+    /// The same pass drawing the frame's mesh triangles: the TRIANGLES
+    /// variant, culled by winding when the mesh is one-sided.
+    pub fn for_triangles(&self, cull_back: bool) -> PipelineKey {
+        let kind = match self.kind.clone() {
+            PipelineKind::Splats { colour, depth, inputs, .. } => {
+                PipelineKind::Splats { colour, depth, inputs, cull_back }
+            }
+            other => other,
+        };
+        PipelineKey { variant: self.variant.with(Variant::TRIANGLES, true), kind, ..self.clone() }
+    }
+}
+
 impl PipelineKind {
     /// The dimensions of the textures it reads at group 1.
     pub fn inputs(&self) -> &[wgpu::TextureViewDimension] {

@@ -23,7 +23,7 @@ use std::time::Instant;
 use super::chosen::ChosenFrames;
 use super::{FrameError, SceneFrames};
 use crate::context::GpuError;
-use crate::frame::{Camera, RenderSettings};
+use crate::frame::{Camera, RenderMode, RenderSettings};
 use crate::gpu_data::TriangleVertex;
 use crate::gpu_scene::{GpuScene, TriangleDraw, WholeScene};
 use crate::headless::HeadlessRenderer;
@@ -90,14 +90,12 @@ impl SceneFrames {
         if !self.scene.has_surfaces() || !settings.mode.is_gpu() {
             return None;
         }
-        let info = settings.mode.info();
         // A transparent mode given an opaque scene runs the two-pass plan, which draws triangles.
-        let runs_two_pass = info.transparent && !info.draws_opaque_scenes && !self.scene.has_transparency();
-        let why = if !info.triangles && !runs_two_pass {
-            format!(
-                "{} cannot draw triangles (two-pass, deferred, depth-peel, tiled and the reference do)",
-                settings.mode.name()
-            )
+        let runs_two_pass = settings.mode.runs_opaque(self.scene.has_transparency());
+        let why = if !settings.mode.info().triangles && !runs_two_pass {
+            let drawing: Vec<&str> =
+                RenderMode::ALL.into_iter().filter(|m| m.info().triangles).map(RenderMode::name).collect();
+            format!("{} cannot draw triangles ({} do)", settings.mode.name(), drawing.join(", "))
         } else if settings.lit_by_lights() {
             "the frame is lit by scene lights, whose shadows are cast and received by splats".to_string()
         } else if self.is_moving() {
