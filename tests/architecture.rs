@@ -120,3 +120,20 @@ fn the_viewer_imports_nothing_from_the_benchmark() {
         }
     }
 }
+
+/// Small files, one concept each: no source file of the project (src and
+/// crates, tests excluded) is over 600 lines.
+#[test]
+fn no_source_file_is_over_600_lines() {
+    const MOST_LINES: usize = 600;
+    let files: Vec<PathBuf> = [root().join("src"), root().join("crates")].iter().flat_map(|d| rust_files(d)).collect();
+    let long: Vec<String> = files
+        .iter()
+        .filter_map(|file| {
+            let lines = std::fs::read_to_string(file).unwrap().lines().count();
+            (lines > MOST_LINES).then(|| format!("{} ({lines} lines)", file.display()))
+        })
+        .collect();
+    assert!(files.len() > 100, "{} files checked", files.len());
+    assert!(long.is_empty(), "over {MOST_LINES} lines: {long:?}");
+}

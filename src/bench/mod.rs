@@ -14,8 +14,10 @@ pub mod cache;
 pub mod orders;
 pub mod plot;
 pub mod report;
+pub mod ruler;
 pub mod run;
 pub mod sheet;
+pub mod timing;
 pub mod views;
 
 pub use report::{BenchRow, PassTime};

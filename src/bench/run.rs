@@ -4,17 +4,19 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::cache::{self, Ruler};
+use super::cache::Ruler;
 use super::orders::{OrderRow, time_orders};
 use super::report::{BenchRow, PassTime};
+use super::ruler::{ruler, ruler_name};
+use super::timing::time_frames;
 use super::views::standard_views;
 use crate::cloud::{CloudError, LoadOptions};
 use crate::frame::environment::EnvironmentSettings;
 use crate::frame::{Camera, ModeVariant, RenderMode, RenderSettings};
 use crate::grouping::GroupingSpec;
 use crate::output::write_atomically;
-use crate::reference::{self, ReferenceOptions};
-use crate::render::{FrameError, GpuError, HeadlessRenderer, RenderPlan, SceneFrames};
+use crate::reference;
+use crate::render::{GpuError, HeadlessRenderer, SceneFrames};
 use crate::scene::{Materials, Scene};
 
 #[derive(Debug, thiserror::Error)]
@@ -58,11 +60,11 @@ pub struct BenchConfig {
     pub environment: Option<std::sync::Arc<crate::scene::environment::EnvironmentMap>>,
 }
 
-fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> BenchError + '_ {
+pub(super) fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> BenchError + '_ {
     move |source| BenchError::Io { path: path.to_path_buf(), source }
 }
 
-fn save_png(image: &image::RgbaImage, path: &Path) -> Result<(), BenchError> {
+pub(super) fn save_png(image: &image::RgbaImage, path: &Path) -> Result<(), BenchError> {
     crate::output::save_png(image, path).map_err(io_error(path))
 }
 
@@ -375,7 +377,7 @@ fn measure_variant(
     reference: &Ruler,
     (stem, mut row): (&str, BenchRow),
 ) -> Result<BenchRow, BenchError> {
-    let (image, plan, wall, per_pass, profiled) = time_frames(renderer, frames, &view.camera, p, config)
+    let (image, plan, wall, per_pass, profiled) = time_frames(renderer, frames, &view.camera, &p.settings, config)
         .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?;
     row.window_overflows = plan.window_overflows;
     if let Some(budget) = frames.applied_budget(&p.settings).and(frames.last_budget()) {
@@ -572,99 +574,4 @@ fn bench_animation(
 fn first_regroup_ms(frames: &SceneFrames, prepared: &[Prepared], spec: GroupingSpec) -> f64 {
     let same = |p: &&Prepared| frames.drawn_grouping(&p.settings).is_some_and(|s| s.algo == spec.algo);
     prepared.iter().filter(same).filter_map(|p| p.group_s).fold(0.0, f64::max) * 1e3
-}
-
-/// What a row's error is measured against.
-fn ruler_name(transparent: bool, supersample: u32) -> String {
-    let what = if transparent { "reference with the scene's opacity" } else { "reference with every splat opaque" };
-    match supersample {
-        0 | 1 => what.to_string(),
-        n => format!("{what}, {n}×{n} rays per pixel"),
-    }
-}
-
-/// The exact reference of `scene` from `camera`, reading opacity or not,
-/// from the cache when it is there; the milliseconds it took and its layers per pixel.
-fn ruler(
-    config: &BenchConfig,
-    scene: &Scene,
-    settings: &RenderSettings,
-    camera: &Camera,
-    transparent: bool,
-) -> Result<Ruler, BenchError> {
-    let size = (config.width, config.height);
-    let environment = scene.environment.as_deref();
-    let entry = cache::entry(&config.out, scene.content_hash(), camera, settings, transparent, size, environment);
-    if let Some(cached) = entry.load() {
-        return Ok(cached);
-    }
-    let options = ReferenceOptions { transparent, ..ReferenceOptions::matching(settings, scene) };
-    let t = Instant::now();
-    let (image, layers) = reference::render_with_layers(scene, camera, &options, size.0, size.1);
-    let ms = t.elapsed().as_secs_f64() * 1e3;
-    save_png(&image, &entry.image)?;
-    let bytes: Vec<u8> = layers.iter().flat_map(|l| l.to_le_bytes()).collect();
-    write_atomically(&entry.layers, &bytes).map_err(io_error(&entry.layers))?;
-    write_atomically(&entry.millis, format!("{ms}").as_bytes()).map_err(io_error(&entry.millis))?;
-    Ok(Ruler { image, ms, layers })
-}
-
-/// Warm-up and timed frames of one variant from one view: the last image,
-/// the plan, wall times and GPU times per plan pass.
-#[allow(clippy::type_complexity)]
-fn time_frames(
-    renderer: &mut HeadlessRenderer,
-    frames: &mut SceneFrames,
-    camera: &Camera,
-    p: &Prepared,
-    config: &BenchConfig,
-) -> Result<(image::RgbaImage, RenderPlan, Vec<f64>, Vec<Vec<f64>>, bool), FrameError> {
-    let (w, h) = (config.width, config.height);
-    let mut wall = Vec::new();
-    let mut per_pass: Vec<Vec<f64>> = Vec::new();
-    for frame in 0..config.warm_up + config.frames {
-        let t = Instant::now();
-        // Under a point budget the frame selects its splats first (part of its time).
-        let (scene, settings) = frames.frame_scene(renderer, camera, &p.settings, (w, h))?;
-        let plan = renderer.render(scene, camera, &settings, w, h)?;
-        renderer.ctx.wait_idle()?;
-        let ms = t.elapsed().as_secs_f64() * 1e3;
-        if frame >= config.warm_up {
-            wall.push(ms);
-            if let Some(times) = renderer.renderer.pass_times(&renderer.ctx, &plan)? {
-                per_pass.resize(times.len(), Vec::new());
-                for (i, t) in times.into_iter().enumerate() {
-                    per_pass[i].push(t);
-                }
-            }
-        }
-    }
-    let profiled = per_pass.is_empty();
-    if profiled {
-        // No GPU timestamps for these steps (compute passes on a software
-        // adapter): time each step on its own in frames of their own.
-        renderer.renderer.profile_steps(true);
-        for _ in 0..config.frames.min(3) {
-            let (scene, settings) = frames.frame_scene(renderer, camera, &p.settings, (w, h))?;
-            let profiled = renderer.render(scene, camera, &settings, w, h);
-            let times = renderer.renderer.step_times().map(<[f64]>::to_vec);
-            if let Err(e) = profiled {
-                renderer.renderer.profile_steps(false);
-                return Err(e.into());
-            }
-            for (i, t) in times.unwrap_or_default().into_iter().enumerate() {
-                per_pass.resize(per_pass.len().max(i + 1), Vec::new());
-                per_pass[i].push(t);
-            }
-        }
-        renderer.renderer.profile_steps(false);
-    }
-    let (scene, settings) = frames.frame_scene(renderer, camera, &p.settings, (w, h))?;
-    let (image, mut plan) = renderer.render_image(scene, camera, &settings, w, h)?;
-    if frames.draws_triangles(&p.settings) {
-        plan.notes.extend(frames.last_hybrid().map(|h| h.describe(p.settings.hybrid_pixels)));
-    } else if frames.applied_budget(&p.settings).is_some() {
-        plan.notes.extend(frames.last_budget().map(|b| b.describe()));
-    }
-    Ok((image, plan, wall, per_pass, profiled))
 }

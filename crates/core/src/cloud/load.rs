@@ -1,6 +1,6 @@
 //! From a PLY file to a repaired [`PointCloud`].
 //!
-//! Positions are re-centred in f64 on the bounding-box centre before they
+//! Positions are re-centred in f64 on the bounding-box centre (`placement.rs`) before they
 //! become f32, so UTM-sized coordinates keep their millimetres. Attributes the
 //! file lacks are derived: normals from mesh faces (area-weighted) or by PCA
 //! over neighbours, radii from 3D Gaussian scales or from neighbour distances,
@@ -17,6 +17,8 @@ use glam::{DVec3, Vec3};
 use super::colour::to_u8;
 use super::estimate::{self, EstimateOptions};
 use super::gaussians;
+use super::mesh::face_vertex_normals;
+use super::placement::{Frame, place};
 use super::ply::{self, PlyData, Scalar};
 use super::{CloudError, LoadReport, PointCloud, Provenance};
 
@@ -318,43 +320,6 @@ fn drop_off_surface_vertices(
     face_normals
 }
 
-/// Where the cloud sits in the file's coordinates.
-struct Frame {
-    /// The bounding-box centre, subtracted from every position.
-    origin: DVec3,
-    /// 10^scale_exponent: lengths are divided by it.
-    unit: f64,
-    /// The bounding box's diagonal, in the cloud's units.
-    diagonal: f32,
-}
-
-/// Re-centres the `kept` positions in f64 on the bounding-box centre, and
-/// rescales models whose size f32 cannot square (or resolve).
-fn place(positions: &[DVec3], kept: &[usize], warnings: &mut Vec<String>) -> (PointCloud, Frame) {
-    let (lo, hi) = kept
-        .iter()
-        .fold((positions[kept[0]], positions[kept[0]]), |(lo, hi), &i| (lo.min(positions[i]), hi.max(positions[i])));
-    let origin = (lo + hi) * 0.5;
-    let extent = (hi - lo).max_element();
-    let scale_exponent = unit_exponent(extent);
-    let unit = 10f64.powi(scale_exponent);
-    if scale_exponent != 0 {
-        warnings.push(format!(
-            "the model spans {extent:.3e} units, beyond what f32 rendering handles; coordinates and radii are in units of 1e{scale_exponent}"
-        ));
-    }
-    let cloud = PointCloud {
-        positions: kept.iter().map(|&i| ((positions[i] - origin) / unit).as_vec3()).collect(),
-        origin: origin.to_array(),
-        scale_exponent,
-        ..Default::default()
-    };
-    if extent > 0.0 && extent / (hi.abs().max(lo.abs()).max_element().max(1e-300)) < 1e-6 {
-        warnings.push("the coordinates span less than a millionth of their magnitude; precision may be lost".into());
-    }
-    (cloud, Frame { origin, unit, diagonal: ((hi - lo) / unit).length() as f32 })
-}
-
 /// What the attributes are read from: the file's columns, the vertices kept
 /// (splat k is file vertex `kept[k]`), and the unit lengths are divided by.
 struct Source<'a> {
@@ -600,38 +565,4 @@ fn clamp_given_radii(radii: &mut [f32], needed: &[bool], diagonal: f32) -> (usiz
         clamped += 1;
     }
     (clamped, limit)
-}
-
-/// Models larger than this (or smaller than [`SMALLEST_EXTENT`]) are rescaled
-/// by a power of ten: f32 squared distances overflow near 1e19, and f32
-/// products of tiny lengths lose their precision near 1e-19.
-const LARGEST_EXTENT: f64 = 1e12;
-const SMALLEST_EXTENT: f64 = 1e-9;
-
-/// The power of ten the coordinates of a model of `extent` are divided by (0: none).
-fn unit_exponent(extent: f64) -> i32 {
-    if extent.is_finite() && (extent > LARGEST_EXTENT || (extent > 0.0 && extent < SMALLEST_EXTENT)) {
-        extent.log10().floor() as i32
-    } else {
-        0
-    }
-}
-
-/// Area-weighted vertex normals of a triangle mesh, and which vertices faces use.
-fn face_vertex_normals(positions: &[DVec3], valid: &[bool], triangles: &[[u32; 3]]) -> (Vec<DVec3>, Vec<bool>) {
-    let mut normals = vec![DVec3::ZERO; positions.len()];
-    let mut used = vec![false; positions.len()];
-    for t in triangles {
-        let [a, b, c] = t.map(|i| i as usize);
-        if !(valid[a] && valid[b] && valid[c]) {
-            continue;
-        }
-        // The cross product's length is twice the area: area weighting for free.
-        let n = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
-        for v in [a, b, c] {
-            normals[v] += n;
-            used[v] = true;
-        }
-    }
-    (normals, used)
 }

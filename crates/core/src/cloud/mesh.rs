@@ -56,3 +56,22 @@ pub fn sample_surface(
     }
     Ok((points, normals))
 }
+
+/// Area-weighted vertex normals of a triangle mesh, and which vertices faces use.
+pub fn face_vertex_normals(positions: &[DVec3], valid: &[bool], triangles: &[[u32; 3]]) -> (Vec<DVec3>, Vec<bool>) {
+    let mut normals = vec![DVec3::ZERO; positions.len()];
+    let mut used = vec![false; positions.len()];
+    for t in triangles {
+        let [a, b, c] = t.map(|i| i as usize);
+        if !(valid[a] && valid[b] && valid[c]) {
+            continue;
+        }
+        // The cross product's length is twice the area: area weighting for free.
+        let n = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
+        for v in [a, b, c] {
+            normals[v] += n;
+            used[v] = true;
+        }
+    }
+    (normals, used)
+}

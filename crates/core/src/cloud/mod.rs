@@ -14,6 +14,7 @@ pub mod estimate;
 pub mod gaussians;
 pub mod load;
 pub mod mesh;
+mod placement;
 pub mod ply;
 pub mod volume;
 pub mod write;

@@ -1,0 +1,61 @@
+//! Where a cloud sits: its positions re-centred in f64 on the bounding-box
+//! centre before they become f32 offsets (so UTM-sized coordinates keep their
+//! millimetres; [`PointCloud::origin`] keeps the centre), and models whose
+//! size f32 cannot square (or resolve) rescaled by a power of ten
+//! ([`PointCloud::scale_exponent`]).
+
+use glam::DVec3;
+
+use super::PointCloud;
+
+/// Where the cloud sits in the file's coordinates.
+pub(super) struct Frame {
+    /// The bounding-box centre, subtracted from every position.
+    pub origin: DVec3,
+    /// 10^scale_exponent: lengths are divided by it.
+    pub unit: f64,
+    /// The bounding box's diagonal, in the cloud's units.
+    pub diagonal: f32,
+}
+
+/// Re-centres the `kept` positions in f64 on the bounding-box centre, and
+/// rescales models whose size f32 cannot square (or resolve).
+pub(super) fn place(positions: &[DVec3], kept: &[usize], warnings: &mut Vec<String>) -> (PointCloud, Frame) {
+    let (lo, hi) = kept
+        .iter()
+        .fold((positions[kept[0]], positions[kept[0]]), |(lo, hi), &i| (lo.min(positions[i]), hi.max(positions[i])));
+    let origin = (lo + hi) * 0.5;
+    let extent = (hi - lo).max_element();
+    let scale_exponent = unit_exponent(extent);
+    let unit = 10f64.powi(scale_exponent);
+    if scale_exponent != 0 {
+        warnings.push(format!(
+            "the model spans {extent:.3e} units, beyond what f32 rendering handles; coordinates and radii are in units of 1e{scale_exponent}"
+        ));
+    }
+    let cloud = PointCloud {
+        positions: kept.iter().map(|&i| ((positions[i] - origin) / unit).as_vec3()).collect(),
+        origin: origin.to_array(),
+        scale_exponent,
+        ..Default::default()
+    };
+    if extent > 0.0 && extent / (hi.abs().max(lo.abs()).max_element().max(1e-300)) < 1e-6 {
+        warnings.push("the coordinates span less than a millionth of their magnitude; precision may be lost".into());
+    }
+    (cloud, Frame { origin, unit, diagonal: ((hi - lo) / unit).length() as f32 })
+}
+
+/// Models larger than this (or smaller than [`SMALLEST_EXTENT`]) are rescaled
+/// by a power of ten: f32 squared distances overflow near 1e19, and f32
+/// products of tiny lengths lose their precision near 1e-19.
+const LARGEST_EXTENT: f64 = 1e12;
+const SMALLEST_EXTENT: f64 = 1e-9;
+
+/// The power of ten the coordinates of a model of `extent` are divided by (0: none).
+fn unit_exponent(extent: f64) -> i32 {
+    if extent.is_finite() && (extent > LARGEST_EXTENT || (extent > 0.0 && extent < SMALLEST_EXTENT)) {
+        extent.log10().floor() as i32
+    } else {
+        0
+    }
+}

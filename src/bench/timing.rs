@@ -1,0 +1,70 @@
+//! Timing one variant from one view: warm-up frames, then timed frames
+//! (wall time until the GPU is idle, and per-pass GPU timestamps where the
+//! adapter has them; where it has none for compute passes, each step waited
+//! for alone in frames of their own), and the last frame's image and plan.
+
+use std::time::Instant;
+
+use super::run::BenchConfig;
+use crate::frame::{Camera, RenderSettings};
+use crate::render::{FrameError, HeadlessRenderer, RenderPlan, SceneFrames};
+
+/// Warm-up and timed frames of one variant from one view: the last image,
+/// the plan, wall times and GPU times per plan pass.
+#[allow(clippy::type_complexity)]
+pub fn time_frames(
+    renderer: &mut HeadlessRenderer,
+    frames: &mut SceneFrames,
+    camera: &Camera,
+    variant: &RenderSettings,
+    config: &BenchConfig,
+) -> Result<(image::RgbaImage, RenderPlan, Vec<f64>, Vec<Vec<f64>>, bool), FrameError> {
+    let (w, h) = (config.width, config.height);
+    let mut wall = Vec::new();
+    let mut per_pass: Vec<Vec<f64>> = Vec::new();
+    for frame in 0..config.warm_up + config.frames {
+        let t = Instant::now();
+        // Under a point budget the frame selects its splats first (part of its time).
+        let (scene, settings) = frames.frame_scene(renderer, camera, variant, (w, h))?;
+        let plan = renderer.render(scene, camera, &settings, w, h)?;
+        renderer.ctx.wait_idle()?;
+        let ms = t.elapsed().as_secs_f64() * 1e3;
+        if frame >= config.warm_up {
+            wall.push(ms);
+            if let Some(times) = renderer.renderer.pass_times(&renderer.ctx, &plan)? {
+                per_pass.resize(times.len(), Vec::new());
+                for (i, t) in times.into_iter().enumerate() {
+                    per_pass[i].push(t);
+                }
+            }
+        }
+    }
+    let profiled = per_pass.is_empty();
+    if profiled {
+        // No GPU timestamps for these steps (compute passes on a software
+        // adapter): time each step on its own in frames of their own.
+        renderer.renderer.profile_steps(true);
+        for _ in 0..config.frames.min(3) {
+            let (scene, settings) = frames.frame_scene(renderer, camera, variant, (w, h))?;
+            let profiled = renderer.render(scene, camera, &settings, w, h);
+            let times = renderer.renderer.step_times().map(<[f64]>::to_vec);
+            if let Err(e) = profiled {
+                renderer.renderer.profile_steps(false);
+                return Err(e.into());
+            }
+            for (i, t) in times.unwrap_or_default().into_iter().enumerate() {
+                per_pass.resize(per_pass.len().max(i + 1), Vec::new());
+                per_pass[i].push(t);
+            }
+        }
+        renderer.renderer.profile_steps(false);
+    }
+    let (scene, settings) = frames.frame_scene(renderer, camera, variant, (w, h))?;
+    let (image, mut plan) = renderer.render_image(scene, camera, &settings, w, h)?;
+    if frames.draws_triangles(variant) {
+        plan.notes.extend(frames.last_hybrid().map(|h| h.describe(variant.hybrid_pixels)));
+    } else if frames.applied_budget(variant).is_some() {
+        plan.notes.extend(frames.last_budget().map(|b| b.describe()));
+    }
+    Ok((image, plan, wall, per_pass, profiled))
+}
