@@ -137,3 +137,110 @@ fn no_source_file_is_over_600_lines() {
     assert!(files.len() > 100, "{} files checked", files.len());
     assert!(long.is_empty(), "over {MOST_LINES} lines: {long:?}");
 }
+
+/// The file a module path names, from the folder of the module it is seen
+/// from (`base`): `a` as `a.rs` or `a/mod.rs`, one level deeper when `a/b.rs`
+/// exists.
+fn module_file(base: &Path, path: &[&str]) -> Option<PathBuf> {
+    let first = path.first()?;
+    let (file, folder) = (base.join(format!("{first}.rs")), base.join(first));
+    let found = if file.is_file() {
+        file
+    } else if folder.join("mod.rs").is_file() {
+        folder.join("mod.rs")
+    } else {
+        return None;
+    };
+    match path.get(1) {
+        Some(next) if folder.is_dir() => module_file(&folder, &path[1..]).or(Some(found)).filter(|_| !next.is_empty()),
+        _ => Some(found),
+    }
+}
+
+/// The files `file` imports from (by `use` or by a path in its code), in its
+/// crate rooted at `root`: `super::…` from its parent module, `crate::…`
+/// from the root. A module's own `mod.rs` and its children are not edges:
+/// a parent re-exporting a child, and a child using what its parent holds,
+/// is how a module is split into files.
+fn imports_of(file: &Path, root: &Path) -> Vec<PathBuf> {
+    let folder = file.parent().unwrap();
+    let is_mod = file.file_name().is_some_and(|n| n == "mod.rs" || n == "lib.rs" || n == "main.rs");
+    // The folder `super` names: a file's siblings live in its folder; a mod.rs's in the folder above.
+    let parent = if is_mod { folder.parent().unwrap_or(folder) } else { folder };
+    let mut found = Vec::new();
+    for (_, code) in code_lines(file) {
+        for (prefix, base) in [("super::", parent), ("crate::", root)] {
+            for (at, _) in code.match_indices(prefix) {
+                let rest = &code[at + prefix.len()..];
+                let path: Vec<&str> = rest
+                    .split("::")
+                    .map(|p| p.split(|c: char| !(c.is_alphanumeric() || c == '_')).next().unwrap_or(""))
+                    .take_while(|p| p.chars().next().is_some_and(|c| c.is_ascii_lowercase()))
+                    .collect();
+                if let Some(target) = module_file(base, &path) {
+                    let own_mod = target.parent() == Some(folder) && target.file_name().is_some_and(|n| n == "mod.rs");
+                    let child = target.starts_with(folder) && is_mod;
+                    if target != file && !own_mod && !child {
+                        found.push(target);
+                    }
+                }
+            }
+        }
+    }
+    found.sort();
+    found.dedup();
+    found
+}
+
+/// No two modules of a crate import each other, directly or around a
+/// circle: each can be read, tested and changed from the ones below it.
+#[test]
+fn no_module_imports_another_that_imports_it_back() {
+    let mut edges = 0;
+    for root in [root().join("src"), core_src(), root().join("crates/render/src")] {
+        let files: Vec<PathBuf> = rust_files(&root).into_iter().filter(|f| !f.starts_with(root.join("bin"))).collect();
+        let graph: std::collections::BTreeMap<PathBuf, Vec<PathBuf>> =
+            files.iter().map(|f| (f.clone(), imports_of(f, &root))).collect();
+        edges += graph.values().map(Vec::len).sum::<usize>();
+        // Depth-first search for a back edge, reporting the circle it closes.
+        fn visit(
+            at: &PathBuf,
+            graph: &std::collections::BTreeMap<PathBuf, Vec<PathBuf>>,
+            state: &mut std::collections::BTreeMap<PathBuf, u8>,
+            stack: &mut Vec<PathBuf>,
+        ) -> Option<Vec<PathBuf>> {
+            state.insert(at.clone(), 1);
+            stack.push(at.clone());
+            for next in graph.get(at).into_iter().flatten() {
+                match state.get(next).copied().unwrap_or(0) {
+                    1 => {
+                        let from = stack.iter().position(|s| s == next).unwrap();
+                        return Some(stack[from..].to_vec());
+                    }
+                    0 => {
+                        if let Some(circle) = visit(next, graph, state, stack) {
+                            return Some(circle);
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            stack.pop();
+            state.insert(at.clone(), 2);
+            None
+        }
+        let mut state = std::collections::BTreeMap::new();
+        for file in graph.keys() {
+            if state.get(file).copied().unwrap_or(0) == 0 {
+                let circle = visit(file, &graph, &mut state, &mut Vec::new());
+                let names: Vec<String> = circle
+                    .unwrap_or_default()
+                    .iter()
+                    .map(|f| f.strip_prefix(&root).unwrap_or(f).display().to_string())
+                    .collect();
+                assert!(names.is_empty(), "an import circle: {}", names.join(" -> "));
+            }
+        }
+    }
+    assert!(edges > 200, "{edges} imports found: the parser reads too little");
+}

@@ -11,6 +11,7 @@
 //! the back-to-front orders on the same views.
 
 pub mod cache;
+pub mod config;
 pub mod orders;
 pub mod plot;
 pub mod report;

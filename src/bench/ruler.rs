@@ -6,7 +6,7 @@
 use std::time::Instant;
 
 use super::cache::{self, Ruler};
-use super::run::{BenchConfig, BenchError, io_error, save_png};
+use super::config::{BenchConfig, BenchError, io_error, save_png};
 use crate::frame::{Camera, RenderSettings};
 use crate::output::write_atomically;
 use crate::reference::{self, ReferenceOptions};

@@ -5,7 +5,7 @@
 
 use std::time::Instant;
 
-use super::run::BenchConfig;
+use super::config::BenchConfig;
 use crate::frame::{Camera, RenderSettings};
 use crate::render::{FrameError, HeadlessRenderer, RenderPlan, SceneFrames};
 

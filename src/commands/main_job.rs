@@ -15,7 +15,7 @@ use pointblend::render::{HeadlessRenderer, RenderMode};
 use pointblend::scene::Materials;
 use pointblend::viewer;
 
-use super::view::Args;
+use super::view_args::Args;
 
 /// One model of the main job, the modes it is rendered in, and the folder.
 struct Part {

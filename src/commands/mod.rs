@@ -9,3 +9,4 @@ pub mod main_job;
 pub mod render;
 pub mod shared;
 pub mod view;
+pub mod view_args;

@@ -10,6 +10,10 @@ use crate::cloud::{LoadOptions, PointCloud};
 use crate::grouping::{Grouping, GroupingSpec};
 use crate::scene::{Materials, Scene};
 
+/// The budget while the camera moves, measured to keep the preview of a
+/// 1M-splat model near 100 ms a frame on lavapipe (docs/BENCHMARKS.md).
+pub const DEFAULT_MOVING_BUDGET: u32 = 100_000;
+
 /// A loaded model.
 #[derive(Debug)]
 pub struct Model {
@@ -110,7 +114,7 @@ impl Model {
     /// This model with its hierarchy, when it is still and larger than the
     /// default moving budget: read from `cache`, or built (with a progress stage) and stored.
     pub fn with_hierarchy(mut self, cache: &crate::grouping::cache::Cache) -> Model {
-        if self.is_animated() || self.cloud.len() <= super::state::DEFAULT_MOVING_BUDGET as usize {
+        if self.is_animated() || self.cloud.len() <= DEFAULT_MOVING_BUDGET as usize {
             return self;
         }
         crate::progress::stage("building the multi-resolution hierarchy");

@@ -87,9 +87,7 @@ pub struct UiState {
     pub moving_budget: u32,
 }
 
-/// The budget while the camera moves, measured to keep the preview of a
-/// 1M-splat model near 100 ms a frame on lavapipe (docs/BENCHMARKS.md).
-pub const DEFAULT_MOVING_BUDGET: u32 = 100_000;
+pub use super::model::DEFAULT_MOVING_BUDGET;
 
 impl UiState {
     /// Light angles (degrees) of the light direction in `settings`.

@@ -40,6 +40,7 @@ pub mod record;
 pub mod renderer;
 pub mod scene_frames;
 pub mod shaders;
+pub mod target_id;
 pub mod targets;
 pub mod tile_engine;
 pub mod timer;

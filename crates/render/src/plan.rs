@@ -17,9 +17,7 @@ use super::passes::Command;
 use super::touches::{self, Access};
 use crate::frame::RenderMode;
 
-/// A target, named for what it holds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct TargetId(pub &'static str);
+pub use super::target_id::TargetId;
 
 /// Whether a target is read as one image or as an array of layers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

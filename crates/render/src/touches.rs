@@ -5,7 +5,7 @@
 //! the other, naming views by identity in the pool, without trusting either.
 
 use super::passes::{Blend, Command, Output};
-use super::plan::TargetId;
+use super::target_id::TargetId;
 
 /// How a pass used a target.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

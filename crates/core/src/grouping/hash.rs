@@ -15,29 +15,10 @@
 //! splats nearer to the eye than a given distance. The work is done by
 //! [`super::regroup`], which keeps its buffers from frame to frame.
 
-use glam::Vec3;
-
+pub use super::hash_options::{Collisions, HashOptions};
 use super::regroup::{HashRegrouper, Lattice};
 use super::{Grouping, GroupingError};
 use crate::cloud::PointCloud;
-
-/// Which collisions are resolved.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Collisions {
-    None,
-    All,
-    /// Only for splats closer to `eye` than `distance`.
-    Near {
-        eye: Vec3,
-        distance: f32,
-    },
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct HashOptions {
-    pub k: usize,
-    pub collisions: Collisions,
-}
 
 /// Groups `cloud` by hashing on the lattice of its own median radius;
 /// returns the grouping and the number of collisions resolved.

@@ -7,9 +7,20 @@
 //! labelled in parallel, each from read-only state ([`LabelContext`]).
 
 use super::MAX_GROUPS;
-use super::hash::{Collisions, HashOptions};
-use super::regroup::{LEAF_AREA, LEAF_CELLS, MAX_AROUND, NO_LEAF, REACH};
+use super::hash_options::{Collisions, HashOptions};
 use crate::cloud::PointCloud;
+
+/// Cells along a leaf's side.
+pub(super) const LEAF_CELLS: i32 = 16;
+pub(super) const LEAF_AREA: usize = (LEAF_CELLS * LEAF_CELLS) as usize;
+/// Cells searched on each side for overlapping splats: two splats of about
+/// the median radius r overlap within 2r, two cells.
+pub(super) const REACH: i32 = 2;
+/// Most splats around a cell an overlap is summed over (see `labels.rs`).
+pub(super) const MAX_AROUND: usize = 256;
+
+/// No leaf beside this one.
+pub(super) const NO_LEAF: u32 = u32::MAX;
 
 /// The read-only state step 5 labels a leaf from.
 pub(super) struct LabelContext<'a> {

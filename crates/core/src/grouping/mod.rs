@@ -16,6 +16,7 @@ pub mod area;
 pub mod cache;
 pub mod extend;
 pub mod hash;
+mod hash_options;
 mod labels;
 pub mod metrics;
 pub mod mgc;

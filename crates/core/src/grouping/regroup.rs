@@ -41,24 +41,12 @@ use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
-use super::hash::{Collisions, HashOptions};
-use super::labels::LabelContext;
+pub use super::hash_options::{Collisions, HashOptions};
+use super::labels::{LEAF_AREA, LEAF_CELLS, LabelContext, NO_LEAF};
 use super::table::Table;
 use super::{Grouping, GroupingError, MAX_GROUPS};
 use crate::cloud::PointCloud;
 use crate::spatial::overlap::median_radius;
-
-/// Cells along a leaf's side.
-pub const LEAF_CELLS: i32 = 16;
-pub(super) const LEAF_AREA: usize = (LEAF_CELLS * LEAF_CELLS) as usize;
-/// Cells searched on each side for overlapping splats: two splats of about
-/// the median radius r overlap within 2r, two cells.
-pub(super) const REACH: i32 = 2;
-/// Most splats around a cell an overlap is summed over (see `labels.rs`).
-pub(super) const MAX_AROUND: usize = 256;
-
-/// No leaf beside this one.
-pub(super) const NO_LEAF: u32 = u32::MAX;
 
 /// The lattice the cells are counted on: cell side and origin.
 #[derive(Debug, Clone, Copy, PartialEq)]

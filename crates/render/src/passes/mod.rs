@@ -17,8 +17,8 @@ pub mod splat;
 use std::ops::Range;
 
 use super::gpu_data::PassUniforms;
-use super::plan::TargetId;
 use super::shaders::Variant;
+use super::target_id::TargetId;
 
 /// How a colour output combines with what the target holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
