@@ -289,89 +289,11 @@ impl TileEngine {
             device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(pass.label), layout, entries: &entries })
         };
         let tiles = (self.grid.0 * self.grid.1) as u64;
-        let mut groups: Vec<(wgpu::BindGroup, (u32, u32))> = Vec::new();
-        match pass.work {
-            TileWork::Project => {
-                encoder.clear_buffer(&self.counts, 0, None);
-                let lights = scene.light_chunks().filter(|_| pass.variant.has(Variant::LIGHTS));
-                for (k, ((uniform, count), (chunk, _))) in self.uniforms.iter().zip(&scene.chunks).enumerate() {
-                    let mut resources = vec![
-                        uniform.as_entire_binding(),
-                        chunk.as_entire_binding(),
-                        self.eye.as_entire_binding(),
-                        self.rects.as_entire_binding(),
-                        self.counts.as_entire_binding(),
-                    ];
-                    if let Some(lights) = lights {
-                        resources.push(lights[k].as_entire_binding());
-                    }
-                    let bind = group(resources);
-                    groups.push((bind, dispatch(*count as u64, GROUP)));
-                }
-            }
-            TileWork::ProjectTriangles => {
-                if let Some(draw) = &scene.triangles {
-                    let bind = group(vec![
-                        self.triangle_uniform.as_entire_binding(),
-                        draw.buffer.as_entire_binding(),
-                        draw.indices.as_entire_binding(),
-                        self.rects.as_entire_binding(),
-                        self.counts.as_entire_binding(),
-                    ]);
-                    groups.push((bind, dispatch(self.triangles, GROUP)));
-                }
-            }
-            TileWork::Bin => {
-                encoder.clear_buffer(&self.cursors, 0, None);
-                let bind = group(vec![
-                    self.all.as_entire_binding(),
-                    self.rects.as_entire_binding(),
-                    self.offsets.as_entire_binding(),
-                    self.cursors.as_entire_binding(),
-                    self.entries.as_entire_binding(),
-                ]);
-                groups.push((bind, dispatch(self.splats + self.triangles, GROUP)));
-            }
-            TileWork::SortShort => {
-                let bind = group(vec![
-                    self.all.as_entire_binding(),
-                    self.offsets.as_entire_binding(),
-                    self.entries.as_entire_binding(),
-                    self.scratch.as_entire_binding(),
-                ]);
-                groups.push((bind, dispatch(tiles, GROUP)));
-            }
-            TileWork::SortLong => {
-                let bind = group(vec![
-                    self.all.as_entire_binding(),
-                    self.offsets.as_entire_binding(),
-                    self.entries.as_entire_binding(),
-                    self.scratch.as_entire_binding(),
-                    self.long_tiles.as_entire_binding(),
-                ]);
-                if self.long_count > 0 {
-                    groups.push((bind, dispatch(self.long_count as u64, 1)));
-                }
-            }
-            TileWork::Raster => {
-                encoder.clear_buffer(&self.stats, 0, None);
-                let mut resources = vec![
-                    self.all.as_entire_binding(),
-                    self.offsets.as_entire_binding(),
-                    self.entries.as_entire_binding(),
-                    self.eye.as_entire_binding(),
-                ];
-                let mut views = outputs.iter().map(|v| wgpu::BindingResource::TextureView(v));
-                resources.extend(views.next());
-                resources.push(self.stats.as_entire_binding());
-                resources.push(self.rects.as_entire_binding());
-                resources.extend(views);
-                if let Some(draw) = scene.triangles.as_ref().filter(|_| pass.variant.has(Variant::TRIANGLES)) {
-                    resources.extend([draw.buffer.as_entire_binding(), draw.indices.as_entire_binding()]);
-                }
-                groups.push((group(resources), dispatch(tiles, 1)));
-            }
-        }
+        let groups: Vec<(wgpu::BindGroup, (u32, u32))> = self
+            .dispatches(encoder, pass, scene, outputs)
+            .into_iter()
+            .map(|(resources, size)| (group(resources), size))
+            .collect();
         {
             let mut compute = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(pass.label),
@@ -397,6 +319,102 @@ impl TileEngine {
             encoder.copy_buffer_to_buffer(&self.stats, 0, &self.stats_readback, 0, 16);
         }
         given.into_inner()
+    }
+
+    /// The group-1 resources of each dispatch of `pass` and its size in
+    /// workgroups (a projection dispatches once per chunk of splats), after
+    /// clearing the buffers the pass counts into.
+    fn dispatches<'a>(
+        &'a self,
+        encoder: &mut wgpu::CommandEncoder,
+        pass: &ComputePass,
+        scene: &'a GpuScene,
+        outputs: &[&'a wgpu::TextureView],
+    ) -> Vec<(Vec<wgpu::BindingResource<'a>>, (u32, u32))> {
+        let tiles = (self.grid.0 * self.grid.1) as u64;
+        let mut groups = Vec::new();
+        match pass.work {
+            TileWork::Project => {
+                encoder.clear_buffer(&self.counts, 0, None);
+                let lights = scene.light_chunks().filter(|_| pass.variant.has(Variant::LIGHTS));
+                for (k, ((uniform, count), (chunk, _))) in self.uniforms.iter().zip(&scene.chunks).enumerate() {
+                    let mut resources = vec![
+                        uniform.as_entire_binding(),
+                        chunk.as_entire_binding(),
+                        self.eye.as_entire_binding(),
+                        self.rects.as_entire_binding(),
+                        self.counts.as_entire_binding(),
+                    ];
+                    if let Some(lights) = lights {
+                        resources.push(lights[k].as_entire_binding());
+                    }
+                    groups.push((resources, dispatch(*count as u64, GROUP)));
+                }
+            }
+            TileWork::ProjectTriangles => {
+                if let Some(draw) = &scene.triangles {
+                    let resources = vec![
+                        self.triangle_uniform.as_entire_binding(),
+                        draw.buffer.as_entire_binding(),
+                        draw.indices.as_entire_binding(),
+                        self.rects.as_entire_binding(),
+                        self.counts.as_entire_binding(),
+                    ];
+                    groups.push((resources, dispatch(self.triangles, GROUP)));
+                }
+            }
+            TileWork::Bin => {
+                encoder.clear_buffer(&self.cursors, 0, None);
+                let resources = vec![
+                    self.all.as_entire_binding(),
+                    self.rects.as_entire_binding(),
+                    self.offsets.as_entire_binding(),
+                    self.cursors.as_entire_binding(),
+                    self.entries.as_entire_binding(),
+                ];
+                groups.push((resources, dispatch(self.splats + self.triangles, GROUP)));
+            }
+            TileWork::SortShort => {
+                let resources = vec![
+                    self.all.as_entire_binding(),
+                    self.offsets.as_entire_binding(),
+                    self.entries.as_entire_binding(),
+                    self.scratch.as_entire_binding(),
+                ];
+                groups.push((resources, dispatch(tiles, GROUP)));
+            }
+            TileWork::SortLong => {
+                let resources = vec![
+                    self.all.as_entire_binding(),
+                    self.offsets.as_entire_binding(),
+                    self.entries.as_entire_binding(),
+                    self.scratch.as_entire_binding(),
+                    self.long_tiles.as_entire_binding(),
+                ];
+                if self.long_count > 0 {
+                    groups.push((resources, dispatch(self.long_count as u64, 1)));
+                }
+            }
+            TileWork::Raster => {
+                encoder.clear_buffer(&self.stats, 0, None);
+                let mut resources = vec![
+                    self.all.as_entire_binding(),
+                    self.offsets.as_entire_binding(),
+                    self.entries.as_entire_binding(),
+                    self.eye.as_entire_binding(),
+                ];
+                let mut views = outputs.iter().map(|v| wgpu::BindingResource::TextureView(v));
+                resources.extend(views.next());
+                resources.push(self.stats.as_entire_binding());
+                resources.push(self.rects.as_entire_binding());
+                resources.extend(views);
+                if let Some(draw) = scene.triangles.as_ref().filter(|_| pass.variant.has(Variant::TRIANGLES)) {
+                    resources.extend([draw.buffer.as_entire_binding(), draw.indices.as_entire_binding()]);
+                }
+                groups.push((resources, dispatch(tiles, 1)));
+            }
+        }
+        groups
     }
 
     /// After the projection has run: reads the tile counts back, writes their
