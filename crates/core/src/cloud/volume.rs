@@ -288,25 +288,7 @@ pub fn volume_to_points(path: &Path, options: &VolumeOptions) -> Result<(PointCl
         });
     }
 
-    // Voxel size and units (NIfTI xyzt_units: 1 m, 2 mm, 3 µm).
-    let to_metres = match header.xyzt_units & 7 {
-        1 => Some(1.0),
-        2 => Some(1e-3),
-        3 => Some(1e-6),
-        _ => None,
-    };
-    for i in 1..=3 {
-        let size = header.pixdim[i];
-        // Unknown sizes (0) read as 1 unit; a size no float arithmetic survives is refused.
-        if !size.is_finite() || size.abs() > MAX_VOXEL_SIZE {
-            let field = format!("the header's pixdim[{i}]");
-            return Err(VolumeError::VoxelSize { path: path.display().to_string(), field, value: size });
-        }
-    }
-    let voxel = [1, 2, 3].map(|i| {
-        let size = header.pixdim[i].abs();
-        (if size > 0.0 { size } else { 1.0 }) * to_metres.unwrap_or(1.0)
-    });
+    let (voxel, to_metres) = voxel_size(&header, path)?;
     let spacing = Vec3::from_array(voxel);
     let radius = 0.5 * spacing.length();
 
@@ -369,6 +351,30 @@ pub fn volume_to_points(path: &Path, options: &VolumeOptions) -> Result<(PointCl
         range: (lo, hi),
     };
     Ok((cloud, report))
+}
+
+/// The voxel's size along x, y and z in metres, and whether the file said
+/// its unit (NIfTI xyzt_units: 1 m, 2 mm, 3 µm; else the file's own units).
+/// An unknown size (0) reads as 1 unit; one no float arithmetic survives is refused.
+fn voxel_size(header: &nifti::NiftiHeader, path: &Path) -> Result<([f32; 3], Option<f32>), VolumeError> {
+    let to_metres = match header.xyzt_units & 7 {
+        1 => Some(1.0),
+        2 => Some(1e-3),
+        3 => Some(1e-6),
+        _ => None,
+    };
+    for i in 1..=3 {
+        let size = header.pixdim[i];
+        if !size.is_finite() || size.abs() > MAX_VOXEL_SIZE {
+            let field = format!("the header's pixdim[{i}]");
+            return Err(VolumeError::VoxelSize { path: path.display().to_string(), field, value: size });
+        }
+    }
+    let voxel = [1, 2, 3].map(|i| {
+        let size = header.pixdim[i].abs();
+        (if size > 0.0 { size } else { 1.0 }) * to_metres.unwrap_or(1.0)
+    });
+    Ok((voxel, to_metres))
 }
 
 /// The 3D Sobel gradient at the window's centre voxel: the derivative
