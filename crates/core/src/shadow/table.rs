@@ -274,6 +274,79 @@ fn columns(span: Option<(i64, i64)>, k_az: u32) -> impl Iterator<Item = u32> {
     (a..=b).map(move |c| c.rem_euclid(k_az as i64) as u32)
 }
 
+/// Step 3 for splat `i`: an entry in every cell whose ray meets its disc
+/// (distance from `reference`, Gaussian weight), and a probe in the cell its
+/// centre falls in, appended to `out`.
+fn insert_entries(
+    input: &ShadowInput,
+    projection: &Projection,
+    (k, reference): ([u32; 2], f64),
+    i: usize,
+    out: &mut Vec<RawEntry>,
+) {
+    let cloud = input.cloud;
+    let p = cloud.positions[i].as_dvec3();
+    let r = input.radius(i) as f64;
+    let Some(f) = projection.footprint(p, r, k) else { return };
+    let (q, normal) = projection.to_frame(p, cloud.normals[i].as_dvec3());
+    // The cell the centre falls in: the splat's light is read there
+    // too, as a probe, in case no cell's ray meets its disc.
+    let own_row = (f.at.0.floor() as i64).clamp(0, k[0] as i64 - 1);
+    let own_column = if projection.wraps() {
+        (f.at.1.floor() as i64).rem_euclid(k[1] as i64)
+    } else {
+        (f.at.1.floor() as i64).clamp(0, k[1] as i64 - 1)
+    } as u32;
+    for row in f.rows.clone() {
+        for column in columns(f.columns, k[1]) {
+            let own = row == own_row && column == own_column;
+            let (o, w) = projection.ray(row as u32, column);
+            // A ray that passes farther than r from the centre misses the disc.
+            let along = (q - o).dot(w);
+            // (The cross product keeps its precision for a light far away.)
+            let misses = along <= 0.0 || (q - o).cross(w).length_squared() >= r * r;
+            if misses && !own {
+                continue;
+            }
+            let hit = if misses { None } else { meet(o, w, q, normal, r) };
+            let (distance, weight) = match hit {
+                Some((t, rho2)) if rho2 < 1.0 => (t, input.kernel.weight(rho2 as f32)),
+                // A probe (no weight) where the ray meets the disc's plane,
+                // where coplanar neighbours that cover the ray are met.
+                _ if own => match meet(o, w, q, normal, r) {
+                    Some((t, _)) => (t, 0.0),
+                    None => (along, 0.0),
+                },
+                _ => continue,
+            };
+            out.push(RawEntry {
+                cell: row as u32 * k[1] + column,
+                distance: (distance - reference) as f32,
+                weight,
+                splat: i as u32,
+            });
+        }
+    }
+}
+
+/// The entries of every chunk in one list, ordered by cell (a stable counting sort).
+fn sort_by_cell(chunks: Vec<Vec<RawEntry>>, cell_count: usize, entries: usize) -> Vec<RawEntry> {
+    let mut start = vec![0u32; cell_count + 1];
+    for e in chunks.iter().flatten() {
+        start[e.cell as usize + 1] += 1;
+    }
+    for c in 0..cell_count {
+        start[c + 1] += start[c];
+    }
+    let mut sorted = vec![RawEntry { cell: 0, distance: 0.0, weight: 0.0, splat: 0 }; entries];
+    let mut fill = start.clone();
+    for e in chunks.into_iter().flatten() {
+        sorted[fill[e.cell as usize] as usize] = e;
+        fill[e.cell as usize] += 1;
+    }
+    sorted
+}
+
 /// Builds the table of `light` over `input`'s splats with `k` = [k_pol,
 /// k_az] cells and returns each splat's shadow coefficient.
 pub fn build(input: &ShadowInput, light: &Light, k: [u32; 2]) -> Result<(Vec<f32>, TableStats), ShadowError> {
@@ -315,50 +388,6 @@ pub fn build(input: &ShadowInput, light: &Light, k: [u32; 2]) -> Result<(Vec<f32
         .par_chunks(8192)
         .map(|chunk| {
             let mut out = Vec::with_capacity(chunk.len() * 4);
-            let insert = |i: usize, out: &mut Vec<RawEntry>| {
-                let p = cloud.positions[i].as_dvec3();
-                let r = input.radius(i) as f64;
-                let Some(f) = projection.footprint(p, r, k) else { return };
-                let (q, normal) = projection.to_frame(p, cloud.normals[i].as_dvec3());
-                // The cell the centre falls in: the splat's light is read there
-                // too, as a probe, in case no cell's ray meets its disc.
-                let own_row = (f.at.0.floor() as i64).clamp(0, k[0] as i64 - 1);
-                let own_column = if projection.wraps() {
-                    (f.at.1.floor() as i64).rem_euclid(k[1] as i64)
-                } else {
-                    (f.at.1.floor() as i64).clamp(0, k[1] as i64 - 1)
-                } as u32;
-                for row in f.rows.clone() {
-                    for column in columns(f.columns, k[1]) {
-                        let own = row == own_row && column == own_column;
-                        let (o, w) = projection.ray(row as u32, column);
-                        // A ray that passes farther than r from the centre misses the disc.
-                        let along = (q - o).dot(w);
-                        // (The cross product keeps its precision for a light far away.)
-                        let misses = along <= 0.0 || (q - o).cross(w).length_squared() >= r * r;
-                        if misses && !own {
-                            continue;
-                        }
-                        let hit = if misses { None } else { meet(o, w, q, normal, r) };
-                        let (distance, weight) = match hit {
-                            Some((t, rho2)) if rho2 < 1.0 => (t, input.kernel.weight(rho2 as f32)),
-                            // A probe (no weight) where the ray meets the disc's plane,
-                            // where coplanar neighbours that cover the ray are met.
-                            _ if own => match meet(o, w, q, normal, r) {
-                                Some((t, _)) => (t, 0.0),
-                                None => (along, 0.0),
-                            },
-                            _ => continue,
-                        };
-                        out.push(RawEntry {
-                            cell: row as u32 * k[1] + column,
-                            distance: (distance - reference) as f32,
-                            weight,
-                            splat: i as u32,
-                        });
-                    }
-                }
-            };
             for &i in chunk {
                 // Every splat's entries count at once, so insertion stops within one
                 // splat's entries (at most one table) of the limit.
@@ -366,7 +395,7 @@ pub fn build(input: &ShadowInput, light: &Light, k: [u32; 2]) -> Result<(Vec<f32
                     break;
                 }
                 let before = out.len();
-                insert(i, &mut out);
+                insert_entries(input, &projection, (k, reference), i, &mut out);
                 made.fetch_add((out.len() - before) as u64, Ordering::Relaxed);
             }
             out
@@ -377,21 +406,7 @@ pub fn build(input: &ShadowInput, light: &Light, k: [u32; 2]) -> Result<(Vec<f32
         return Err(too_large(entries));
     }
 
-    // Counting sort by cell.
-    let mut start = vec![0u32; cell_count as usize + 1];
-    for e in chunks.iter().flatten() {
-        start[e.cell as usize + 1] += 1;
-    }
-    for c in 0..cell_count as usize {
-        start[c + 1] += start[c];
-    }
-    let mut sorted = vec![RawEntry { cell: 0, distance: 0.0, weight: 0.0, splat: 0 }; entries as usize];
-    let mut fill = start.clone();
-    for e in chunks.into_iter().flatten() {
-        sorted[fill[e.cell as usize] as usize] = e;
-        fill[e.cell as usize] += 1;
-    }
-    drop(fill);
+    let mut sorted = sort_by_cell(chunks, cell_count as usize, entries as usize);
 
     // Each cell by distance, then its layers.
     let facing: Vec<bool> = (0..n).map(|i| input.faces(i, light)).collect();
