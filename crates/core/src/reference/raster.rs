@@ -124,6 +124,70 @@ pub fn render_with_layers(
     (image, layer_counts)
 }
 
+/// The splats `drawn` in eye space, culled (facing away, or outside the
+/// depth range whole) as the GPU passes cull them.
+fn eye_splats(
+    cloud: &crate::cloud::PointCloud,
+    drawn: &[bool],
+    view: &glam::Mat4,
+    (near, far): (f32, f32),
+    options: &ReferenceOptions,
+) -> Vec<EyeSplat> {
+    (0..cloud.len())
+        .into_par_iter()
+        .filter(|&i| drawn[i])
+        .filter_map(|i| {
+            let centre = view.transform_point3(cloud.positions[i]);
+            let normal = view.transform_vector3(cloud.normals[i]).try_normalize().unwrap_or(Vec3::Z);
+            let depth = -centre.z;
+            let radius = cloud.radii[i] * options.radius_scale;
+            let culled = options.backface_culling && !cloud.is_two_sided(i) && normal.dot(centre) > 0.0;
+            // Discs that cross the near or far plane keep the part between them (the per-hit test).
+            let usable = depth - radius < far && depth + radius > near && radius > 0.0;
+            if culled || !usable {
+                return None;
+            }
+            let [r, g, b] = cloud.colours[i];
+            Some(EyeSplat {
+                centre,
+                normal,
+                plane: options.kernel.footprint_normal(normal, centre.normalize_or_zero()),
+                radius,
+                colour: Vec3::new(r as f32, g as f32, b as f32) / 255.0,
+                opacity: if options.transparent { cloud.opacity[i].clamp(0.0, 1.0) } else { 1.0 },
+            })
+        })
+        .collect()
+}
+
+/// The pixels of a band's tiles in the band's rows, row-major: linear
+/// colours, layer counts, and what an environment lookup needs.
+#[allow(clippy::type_complexity)]
+fn band_pixels(
+    tiles: Vec<(u32, Vec<TilePixel>)>,
+    rows: &std::ops::Range<u32>,
+    (width, height): (u32, u32),
+    columns: u32,
+) -> (Vec<Vec3>, Vec<u32>, Vec<Option<GlassPixel>>) {
+    let band_pixels = rows.len() * width as usize;
+    let mut colours = vec![Vec3::ZERO; band_pixels];
+    let mut glass = vec![None; band_pixels];
+    let mut layer_counts = vec![0u32; band_pixels];
+    for (tile, pixels) in tiles {
+        let (tx, ty) = (tile % columns, tile / columns);
+        let mut it = pixels.into_iter();
+        for y in ty * TILE..((ty + 1) * TILE).min(height) {
+            for x in tx * TILE..((tx + 1) * TILE).min(width) {
+                if let Some((colour, layers, g)) = it.next() {
+                    let at = (y - rows.start) as usize * width as usize + x as usize;
+                    (colours[at], layer_counts[at], glass[at]) = (colour, layers, g);
+                }
+            }
+        }
+    }
+    (colours, layer_counts, glass)
+}
+
 /// Most rays a band of [`render_samples`] holds at once.
 const BAND_RAYS: usize = 1 << 22;
 
@@ -149,31 +213,7 @@ fn render_samples(
     // Objects with triangles are drawn as their triangles, and only their splats no triangle uses.
     let surfaces = scene.surfaces(&flat);
     let drawn = surfaces.loose_splats();
-    let splats: Vec<EyeSplat> = (0..cloud.len())
-        .into_par_iter()
-        .filter(|&i| drawn[i])
-        .filter_map(|i| {
-            let centre = view.transform_point3(cloud.positions[i]);
-            let normal = view.transform_vector3(cloud.normals[i]).try_normalize().unwrap_or(Vec3::Z);
-            let depth = -centre.z;
-            let radius = cloud.radii[i] * options.radius_scale;
-            let culled = options.backface_culling && !cloud.is_two_sided(i) && normal.dot(centre) > 0.0;
-            // Discs that cross the near or far plane keep the part between them (the per-hit test).
-            let usable = depth - radius < far && depth + radius > near && radius > 0.0;
-            if culled || !usable {
-                return None;
-            }
-            let [r, g, b] = cloud.colours[i];
-            Some(EyeSplat {
-                centre,
-                normal,
-                plane: options.kernel.footprint_normal(normal, centre.normalize_or_zero()),
-                radius,
-                colour: Vec3::new(r as f32, g as f32, b as f32) / 255.0,
-                opacity: if options.transparent { cloud.opacity[i].clamp(0.0, 1.0) } else { 1.0 },
-            })
-        })
-        .collect();
+    let splats = eye_splats(cloud, drawn, &view, (near, far), options);
     let mut bins = tiles::bin(&splats, &proj, width, height, near);
     let eye_triangles =
         triangles::eye_triangles(cloud, surfaces.triangles(), &view, options.backface_culling, options.transparent);
@@ -248,22 +288,7 @@ fn render_samples(
                 (tile, pixels)
             })
             .collect();
-        let band_pixels = rows.len() * width as usize;
-        let mut colours = vec![Vec3::ZERO; band_pixels];
-        let mut glass = vec![None; band_pixels];
-        let mut layer_counts = vec![0u32; band_pixels];
-        for (tile, pixels) in tiles {
-            let (tx, ty) = (tile % bins.columns, tile / bins.columns);
-            let mut it = pixels.into_iter();
-            for y in ty * TILE..((ty + 1) * TILE).min(height) {
-                for x in tx * TILE..((tx + 1) * TILE).min(width) {
-                    if let Some((colour, layers, g)) = it.next() {
-                        let at = (y - rows.start) as usize * width as usize + x as usize;
-                        (colours[at], layer_counts[at], glass[at]) = (colour, layers, g);
-                    }
-                }
-            }
-        }
+        let (mut colours, layer_counts, glass) = band_pixels(tiles, &rows, (width, height), bins.columns);
         if let Some(map) = environment {
             let band_height = rows.len() as u32;
             let rays = (0..width * band_height)
