@@ -152,7 +152,7 @@ fn module_file(base: &Path, path: &[&str]) -> Option<PathBuf> {
         return None;
     };
     match path.get(1) {
-        Some(next) if folder.is_dir() => module_file(&folder, &path[1..]).or(Some(found)).filter(|_| !next.is_empty()),
+        Some(_) if folder.is_dir() => module_file(&folder, &path[1..]).or(Some(found)),
         _ => Some(found),
     }
 }

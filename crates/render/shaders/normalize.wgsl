@@ -34,6 +34,8 @@
 
 // How far around a pixel the covered level is read, in pixels.
 const LEVEL_REACH: i32 = 2;
+const LEVEL_SIDE: i32 = 2 * LEVEL_REACH + 1;
+const AROUND: i32 = LEVEL_SIDE * LEVEL_SIDE;
 
 // The coverage sums at `pixel`, clamped to the image.
 fn coverage_at(pixel: vec2<i32>) -> vec4<f32> {
@@ -47,21 +49,20 @@ fn coverage_of(pixel: vec2<i32>, front: bool, behind: bool) -> vec2<f32> {
     if own.z > 0.0 {
         return vec2<f32>(1.0);
     }
+    // The front sums around, read once.
+    var around: array<f32, AROUND>;
     var largest = 0.0;
-    for (var dy = -LEVEL_REACH; dy <= LEVEL_REACH; dy++) {
-        for (var dx = -LEVEL_REACH; dx <= LEVEL_REACH; dx++) {
-            largest = max(largest, coverage_at(pixel + vec2<i32>(dx, dy)).x);
-        }
+    for (var k = 0; k < AROUND; k++) {
+        let at = vec2<i32>(k % LEVEL_SIDE, k / LEVEL_SIDE) - LEVEL_REACH;
+        around[k] = coverage_at(pixel + at).x;
+        largest = max(largest, around[k]);
     }
     var level = 0.0;
     var covered = 0.0;
-    for (var dy = -LEVEL_REACH; dy <= LEVEL_REACH; dy++) {
-        for (var dx = -LEVEL_REACH; dx <= LEVEL_REACH; dx++) {
-            let share = coverage_at(pixel + vec2<i32>(dx, dy)).x;
-            if share >= 0.5 * largest {
-                level += share;
-                covered += 1.0;
-            }
+    for (var k = 0; k < AROUND; k++) {
+        if around[k] >= 0.5 * largest {
+            level += around[k];
+            covered += 1.0;
         }
     }
     level = level / max(covered, 1.0);

@@ -573,7 +573,7 @@ fn stream(pixel: vec2<u32>, start: u32, end: u32) -> bool {
 // at once (at most 32: one bit each in a mask).
 var<private> lane: u32;
 var<private> lanes: u32;
-// The rectangle of the subgroup's pixels that are not done.
+// The rectangle of the subgroup's pixels inside the image.
 var<private> group_low: vec2<u32>;
 var<private> group_high: vec2<u32>;
 

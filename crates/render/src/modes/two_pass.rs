@@ -76,12 +76,7 @@ impl Targets {
         if lit(frame) {
             sums.push(self.normal);
         }
-        if covered(frame, self) {
-            if lit(frame) {
-                sums.push(SHADED);
-            }
-            sums.extend([BEHIND, COVERAGE]);
-        }
+        sums.extend(apart(frame, self));
         sums
     }
 }
@@ -105,6 +100,16 @@ fn covered(frame: &FrameDesc<'_>, ids: &Targets) -> bool {
     ids.image.is_none() && filtered(frame, ids) && frame.prefiltered()
 }
 
+/// The targets the accumulation writes apart when it keeps coverage, in
+/// the order it writes and the normalisation reads them (none otherwise).
+fn apart(frame: &FrameDesc<'_>, ids: &Targets) -> Vec<TargetId> {
+    match (covered(frame, ids), lit(frame)) {
+        (false, _) => Vec::new(),
+        (true, true) => vec![SHADED, BEHIND, COVERAGE],
+        (true, false) => vec![BEHIND, COVERAGE],
+    }
+}
+
 /// Whether the colour targets hold weights alone (a scene of one colour),
 /// except where coverage is kept: a stretched splat's colour is shaded per
 /// fragment, so its sums are of colours however uniform the albedo.
@@ -126,12 +131,13 @@ pub(super) fn targets(frame: &FrameDesc<'_>, ids: &Targets) -> Vec<TargetDesc> {
     if lit(frame) {
         targets.push(target(ids.normal, frame.sum_format(false), "Σw·n, Σw·α for deferred shading"));
     }
-    if covered(frame, ids) {
-        if lit(frame) {
-            targets.push(target(SHADED, frame.sum_format(false), "Σw·shaded rgb, Σw of the stretched splats"));
-        }
-        targets.push(target(BEHIND, frame.sum_format(false), "Σw·shaded rgb, Σw behind the front + ε"));
-        targets.push(target(COVERAGE, frame.sum_format(false), "Σ coverage front, behind; solid counts"));
+    for id in apart(frame, ids) {
+        let why = match id {
+            SHADED => "Σw·shaded rgb, Σw of the stretched splats",
+            BEHIND => "Σw·shaded rgb, Σw behind the front + ε",
+            _ => "Σ coverage front, behind; solid counts",
+        };
+        targets.push(target(id, frame.sum_format(false), why));
     }
     if let Some(image) = ids.image {
         targets.push(target(image, ACCUM_FORMAT, "the opaque splats shaded over the background"));
@@ -192,8 +198,8 @@ pub(super) fn steps(frame: &FrameDesc<'_>, ids: &Targets, splats: Range<u32>) ->
         let mut what = "splats within ε of the front -> additive Σw·rgb, Σw (+ Σw·n when lit)".to_string();
         if covered {
             // The ε test is made in the shader, against the visibility depth as an input.
-            let apart = ids.sums(frame).split_off(accumulate.colour.len());
-            accumulate.colour.extend(apart.into_iter().map(|target| ColourOutput { target, blend: Blend::Add }));
+            let apart = apart(frame, ids).into_iter().map(|target| ColourOutput { target, blend: Blend::Add });
+            accumulate.colour.extend(apart);
             (accumulate.depth, accumulate.inputs) = (None, vec![ids.depth]);
             what += "; the stretched ones shaded apart, those behind apart, Σ coverage and solid counts";
         }
