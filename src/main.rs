@@ -104,6 +104,63 @@ mod tests {
         assert!(view_args(&["pointblend"]).contains("size: (512, 512)"), "clap's defaults, not Default's");
     }
 
+    /// The long flags of a subcommand.
+    fn long_flags(name: &str) -> std::collections::BTreeSet<String> {
+        use clap::CommandFactory;
+        let cli = Cli::command();
+        let command = cli.find_subcommand(name).unwrap_or_else(|| panic!("no subcommand {name}"));
+        command.get_arguments().filter_map(|a| a.get_long()).map(str::to_string).collect()
+    }
+
+    /// The rendering parameters among each front end's flags, keys and
+    /// settings are exactly the descriptor table's rows: a parameter added by
+    /// hand to one of them (or a row one of them leaves out) fails here.
+    #[test]
+    fn every_front_ends_rendering_parameters_are_exactly_the_descriptor_tables() {
+        use pointblend::frame::parameters::TABLE;
+        use pointblend::frame::{ModeVariant, RenderSettings, Sidecar};
+        let table: std::collections::BTreeSet<String> =
+            TABLE.iter().flat_map(|row| [row.flag].into_iter().chain(row.off_switch)).map(str::to_string).collect();
+        // View, camera, scene and output flags, and each command's own job: outside the table.
+        let view_and_camera = ["mode", "size", "azimuth", "elevation", "distance", "fov", "up", "camera"];
+        let scene = ["opacity", "color", "light", "env"];
+        let own: [(&str, &[&str]); 3] = [
+            ("render", &["out", "explain", "diff", "flat-background", "time"]),
+            ("bench", &["modes", "frames", "warm-up", "views", "loads", "orders", "out", "animate"]),
+            ("view", &["screenshot", "exit-after-frames", "screenshot-dir", "out"]),
+        ];
+        for (name, own) in own {
+            let outside: std::collections::BTreeSet<String> =
+                view_and_camera.iter().chain(&scene).chain(own).chain(&["help"]).map(|f| f.to_string()).collect();
+            let parameters: std::collections::BTreeSet<String> =
+                long_flags(name).into_iter().filter(|f| !outside.contains(f)).collect();
+            assert_eq!(parameters, table, "`pointblend {name}`'s rendering flags");
+        }
+        // Bench variants take every row's key, and no other.
+        for row in &TABLE {
+            let mode = row.parameter.used_by().next().expect("a mode reads it");
+            let value = row.parameter.shown_text(&RenderSettings { mode, ..Default::default() });
+            let variant = format!("{mode}:{}={value}", row.key);
+            assert!(ModeVariant::expand(&variant).is_ok(), "bench refuses {variant}");
+        }
+        assert!(ModeVariant::expand("two-pass:no-such-key=1").is_err());
+        // A sidecar records every row that holds a value, and reads it back.
+        let settings = RenderSettings { peel_layers: 4, ..Default::default() };
+        let model = pointblend::frame::sidecar::SidecarModel {
+            name: String::new(),
+            path: String::new(),
+            hash: String::new(),
+            splats: 1,
+        };
+        let camera = pointblend::frame::Camera::framing(glam::Vec3::ZERO, 1.0, 1.0);
+        let sidecar = Sidecar::new(model, &camera, &settings, (8, 8));
+        let keys: Vec<&str> = sidecar.parameters.keys().map(String::as_str).collect();
+        let mut rows: Vec<&str> = TABLE.iter().map(|row| row.key).collect();
+        rows.sort();
+        assert_eq!(keys, rows, "the sidecar's settings");
+        assert_eq!(sidecar.settings(), Ok(settings));
+    }
+
     /// Shell words of one command line: quotes group, `#` outside quotes ends it.
     fn shell_words(line: &str) -> Vec<String> {
         let (mut words, mut word, mut quote, mut in_word) = (Vec::new(), String::new(), None, false);

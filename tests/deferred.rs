@@ -19,11 +19,11 @@ fn render(
     settings: &RenderSettings,
 ) -> image::RgbaImage {
     let mut renderer = common::renderer();
-    let gpu = match grouping {
+    let mut gpu = match grouping {
         Some(g) => renderer.upload_cloud(cloud, Some(g)),
         None => renderer.upload_cloud(cloud, None),
     };
-    renderer.render_image(&gpu, camera, settings, 128, 128).expect("render").0
+    renderer.render_image(&mut gpu, camera, settings, 128, 128).expect("render").0
 }
 
 fn deferred() -> RenderSettings {
@@ -150,8 +150,8 @@ fn without_lighting_no_normal_target_is_planned_and_images_match_the_reference()
     for mode in [RenderMode::TwoPass, RenderMode::Deferred] {
         let settings = RenderSettings { mode, lighting: false, ..Default::default() };
         let mut renderer = common::renderer();
-        let gpu = renderer.upload_cloud(&cloud, mode.needs_grouping().then_some(&grouping));
-        let (image, plan) = renderer.render_image(&gpu, &camera, &settings, 128, 128).unwrap();
+        let mut gpu = renderer.upload_cloud(&cloud, mode.needs_grouping().then_some(&grouping));
+        let (image, plan) = renderer.render_image(&mut gpu, &camera, &settings, 128, 128).unwrap();
         drop(renderer);
         assert!(plan.targets.iter().all(|t| !t.id.0.contains("normal")), "{mode}: {plan}");
         let lit = RenderSettings { mode, ..Default::default() };
@@ -177,8 +177,8 @@ fn a_cloud_of_one_colour_writes_only_weights_and_looks_the_same() {
         let settings = RenderSettings { mode, ..Default::default() };
         let mut renderer = common::renderer();
         let mut frame = |c: &PointCloud| {
-            let gpu = renderer.upload_cloud(c, mode.needs_grouping().then_some(&grouping));
-            renderer.render_image(&gpu, &camera, &settings, 128, 128).unwrap()
+            let mut gpu = renderer.upload_cloud(c, mode.needs_grouping().then_some(&grouping));
+            renderer.render_image(&mut gpu, &camera, &settings, 128, 128).unwrap()
         };
         let (weights, weight_plan) = frame(&cloud);
         let (colours, colour_plan) = frame(&full_colour);

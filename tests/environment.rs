@@ -216,8 +216,8 @@ fn alg2_with_an_environment_matches_the_closed_form_and_stays_finite_in_stiff_ca
             },
             ..Default::default()
         };
-        let gpu = renderer.upload(&scene, Some(&grouping_of(&scene)));
-        let (image, plan) = renderer.render_image(&gpu, &camera, &settings, size, size).expect("alg2 with a map");
+        let mut gpu = renderer.upload(&scene, Some(&grouping_of(&scene)));
+        let (image, plan) = renderer.render_image(&mut gpu, &camera, &settings, size, size).expect("alg2 with a map");
         assert!(plan.notes.iter().any(|n| n.contains("environment map")), "{plan}");
         let mut worst = 0.0f32;
         for (x, y, p) in image.enumerate_pixels() {
@@ -269,8 +269,8 @@ fn alg2_with_an_environment_matches_the_closed_form_and_stays_finite_in_stiff_ca
                 },
                 ..Default::default()
             };
-            let gpu = renderer.upload(&scene, Some(&grouping_of(&scene)));
-            let (image, _) = renderer.render_image(&gpu, &camera, &settings, 32, 32).expect(what);
+            let mut gpu = renderer.upload(&scene, Some(&grouping_of(&scene)));
+            let (image, _) = renderer.render_image(&mut gpu, &camera, &settings, 32, 32).expect(what);
             let black = image.pixels().filter(|p| p.0[..3] == [0, 0, 0]).count();
             assert_eq!(black, 0, "alg2 {layers}, {what}: {black} black (NaN) pixels");
             let options = pointblend::reference::ReferenceOptions::matching(&settings, &scene);
@@ -519,10 +519,10 @@ fn alg2_reflects_and_refracts_a_gradient_map_as_the_closed_form_says() {
     let mut renderer = common::renderer();
     for (what, planes) in glass_cases() {
         let (scene, grouping) = glass_scene(&planes);
-        let gpu = renderer.upload(&scene, Some(&grouping));
+        let mut gpu = renderer.upload(&scene, Some(&grouping));
         for layers in [LayerEffects::Single, LayerEffects::Multi] {
             let settings = glass_settings("alg2", layers);
-            let (image, _) = renderer.render_image(&gpu, &camera, &settings, size, size).expect("alg2 with a map");
+            let (image, _) = renderer.render_image(&mut gpu, &camera, &settings, size, size).expect("alg2 with a map");
             // alg2 counts the layers behind as Σα/α (§5.2.3, one opacity assumed throughout).
             let heuristic = |l: &[([f32; 3], f32)]| l[1..].iter().map(|x| x.1).sum::<f32>() / l[0].1;
             let multi = layers == LayerEffects::Multi;

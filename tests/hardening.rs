@@ -453,15 +453,16 @@ fn a_sidecar_gets_the_checks_the_flags_get() {
     let model_info = SidecarModel { name: "lion.ply".into(), path: String::new(), hash: String::new(), splats: 1 };
     let valid = Sidecar::new(model_info, &Camera::framing(glam::Vec3::ZERO, 1.0, 1.0), &settings, (32, 32));
     let valid = serde_json::to_value(&valid).unwrap();
-    let cases: [(&str, &str, serde_json::Value, &str); 9] = [
+    let cases: [(&str, &str, serde_json::Value, &str); 10] = [
         ("size", "", serde_json::json!([100000, 100000]), "1..=16384"),
-        ("settings", "epsilon_scale", serde_json::json!(0.0), "epsilon"),
-        ("settings", "epsilon_scale", serde_json::json!(-1.0), "epsilon"),
-        ("settings", "point_budget", serde_json::json!(0), "point budget"),
-        ("settings", "depth_step", serde_json::json!(0.0), "depth step"),
-        ("settings", "radius_scale", serde_json::json!(-1.0), "radius scale"),
-        ("settings", "radius_scale", serde_json::json!(1e30), "radius scale"),
-        ("settings", "supersample", serde_json::json!(0), "supersample"),
+        ("parameters", "epsilon", serde_json::json!("0"), "epsilon=0: expected a positive"),
+        ("parameters", "epsilon", serde_json::json!("-1"), "epsilon=-1: expected a positive"),
+        ("parameters", "point-budget", serde_json::json!("0"), "point-budget=0: expected"),
+        ("parameters", "step", serde_json::json!("0"), "step=0: expected"),
+        ("parameters", "radius-scale", serde_json::json!("-1"), "radius-scale=-1: expected"),
+        ("parameters", "radius-scale", serde_json::json!("1e30"), "radius-scale=1e30: expected"),
+        ("parameters", "supersample", serde_json::json!("0"), "supersample=0: expected"),
+        ("parameters", "no-such-key", serde_json::json!("1"), "'no-such-key' is not a parameter"),
         ("camera", "scene_radius", serde_json::json!(1e39), "camera"),
     ];
     for (section, key, value, expected) in cases {

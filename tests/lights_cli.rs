@@ -34,7 +34,7 @@ fn bad_lights_and_volumes_give_one_line_and_no_file() {
     let mut args = vec!["render", bunny, "--out", o];
     args.extend(nine.iter().map(String::as_str));
     fails_with(&args, "at most 8 lights", &out);
-    fails_with(&["render", bunny, "--shadow-cells", "0", "--light", "0,1,1", "--out", o], "TSM table size", &out);
+    fails_with(&["render", bunny, "--shadows", "tsm-0", "--light", "0,1,1", "--out", o], "TSM table size", &out);
 
     // A scene light with neither position nor direction.
     let scene = dir.path().join("lit.toml");

@@ -336,7 +336,7 @@ fn each_group_is_sorted_back_to_front_in_the_instance_buffers_only_when_the_view
     let grouping = "hash-k4-dup".parse::<GroupingSpec>().unwrap().compute(&cloud).unwrap();
     let renderer = common::renderer();
     let ctx = &renderer.ctx;
-    let gpu = renderer.upload_cloud(&cloud, Some(&grouping));
+    let mut gpu = renderer.upload_cloud(&cloud, Some(&grouping));
     let uploaded = gpu.with_instance_order(|o| o.current().to_vec()).expect("a transparent scene keeps its instances");
     let scale = cloud.bounds().unwrap().radius();
     let views = standard_views(&cloud, 1.0, 2);
@@ -428,7 +428,7 @@ fn the_order_setting_decides_what_the_instance_buffers_hold_each_frame() {
     cloud.opacity.iter_mut().for_each(|a| *a = 0.5);
     let grouping = "wgc-k4-radius".parse::<GroupingSpec>().unwrap().compute(&cloud).unwrap();
     let mut renderer = common::renderer();
-    let gpu = renderer.upload_cloud(&cloud, Some(&grouping));
+    let mut gpu = renderer.upload_cloud(&cloud, Some(&grouping));
     let uploaded = gpu.with_instance_order(|o| o.current().to_vec()).unwrap();
     let positions: Vec<Vec3> = uploaded.iter().map(|s| Vec3::from_array(s.position)).collect();
     let radii: Vec<f32> = uploaded.iter().map(|s| s.radius.abs()).collect();
@@ -446,7 +446,7 @@ fn the_order_setting_decides_what_the_instance_buffers_hold_each_frame() {
     for (frame, kind) in [OrderKind::Bucket, OrderKind::Bsp, OrderKind::Bucket].into_iter().enumerate() {
         for mode in ["alg1", "alg2", "alpha-blend"] {
             let settings = RenderSettings { mode: mode.parse().unwrap(), order: kind, ..Default::default() };
-            let plan = renderer.render(&gpu, &camera, &settings, 64, 64).unwrap();
+            let plan = renderer.render(&mut gpu, &camera, &settings, 64, 64).unwrap();
             assert!(plan.back_to_front(), "{mode} draws in order");
             let held: Vec<[f32; 3]> =
                 gpu.with_instance_order(|o| o.current().iter().map(|s: &SplatInstance| s.position).collect()).unwrap();

@@ -40,8 +40,8 @@ fn render(cloud: &PointCloud, camera: &Camera, settings: &RenderSettings) -> ima
 
 fn render_at(cloud: &PointCloud, camera: &Camera, settings: &RenderSettings, size: u32) -> image::RgbaImage {
     let mut renderer = common::renderer();
-    let gpu = renderer.upload_cloud(cloud, None);
-    renderer.render_image(&gpu, camera, settings, size, size).expect("render").0
+    let mut gpu = renderer.upload_cloud(cloud, None);
+    renderer.render_image(&mut gpu, camera, settings, size, size).expect("render").0
 }
 
 fn settings(prefilter: Prefilter) -> RenderSettings {

@@ -162,14 +162,14 @@ fn two_pass_matches_the_reference_on_the_bunny() {
     let settings = RenderSettings::default();
     let size = 256;
     let mut renderer = common::renderer();
-    let gpu = renderer.upload_cloud(&cloud, None);
+    let mut gpu = renderer.upload_cloud(&cloud, None);
     let scene = Scene::from(cloud.clone());
     for (az, el) in [(0.0, 10.0), (90.0, 25.0), (200.0, 40.0)] {
         let mut camera = Camera::default_for(&cloud, 1.0);
         camera.azimuth_deg = az;
         camera.elevation_deg = el;
         camera.distance = camera.fit_distance(&cloud.positions, 1.0);
-        let (image, _) = renderer.render_image(&gpu, &camera, &settings, size, size).unwrap();
+        let (image, _) = renderer.render_image(&mut gpu, &camera, &settings, size, size).unwrap();
         let exact = reference::render(&scene, &camera, &ReferenceOptions::matching(&settings, &scene), size, size);
         let error = reference::compare(&image, &exact).unwrap();
         println!(

@@ -12,8 +12,8 @@ const SIZE: u32 = 192;
 
 fn render(cloud: &PointCloud, camera: &Camera, settings: &RenderSettings, size: u32) -> image::RgbaImage {
     let mut renderer = common::renderer();
-    let gpu = renderer.upload_cloud(cloud, None);
-    renderer.render_image(&gpu, camera, settings, size, size).expect("render").0
+    let mut gpu = renderer.upload_cloud(cloud, None);
+    renderer.render_image(&mut gpu, camera, settings, size, size).expect("render").0
 }
 
 /// The Stanford bunny as splats and the triangles of the mesh it was made
@@ -281,8 +281,8 @@ fn a_model_a_millionth_of_its_distance_away_renders_in_every_mode() {
                 let grouping =
                     mode.needs_grouping().then(|| settings.grouping_for_mode().compute(&cloud).expect("grouping"));
                 let mut renderer = common::renderer();
-                let gpu = renderer.upload_cloud(&cloud, grouping.as_ref());
-                renderer.render_image(&gpu, &camera, &settings, size, size).expect("render").0
+                let mut gpu = renderer.upload_cloud(&cloud, grouping.as_ref());
+                renderer.render_image(&mut gpu, &camera, &settings, size, size).expect("render").0
             } else {
                 let scene = pointblend::scene::Scene::from(cloud.clone());
                 let options = pointblend::reference::ReferenceOptions::matching(&settings, &scene);

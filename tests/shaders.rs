@@ -46,13 +46,13 @@ fn built_modules() -> BTreeSet<(&'static str, String)> {
         for mode in RenderMode::ALL.into_iter().filter(|m| m.is_gpu()) {
             let grouping_spec = RenderSettings { mode, ..Default::default() }.grouping_for_mode();
             let grouping = mode.needs_grouping().then(|| grouping_spec.compute(&flat).unwrap());
-            let gpu = renderer.upload(&scene, grouping.as_ref());
+            let mut gpu = renderer.upload(&scene, grouping.as_ref());
             for lighting in [true, false] {
                 for quality in [Quality::Filtered, Quality::Unfiltered] {
                     for prefilter in pointblend::frame::Prefilter::ALL {
                         let settings = RenderSettings { mode, lighting, quality, prefilter, ..Default::default() };
                         renderer
-                            .render(&gpu, &camera, &settings, 48, 48)
+                            .render(&mut gpu, &camera, &settings, 48, 48)
                             .unwrap_or_else(|e| panic!("{mode} on {what}: {e}"));
                     }
                 }

@@ -25,8 +25,8 @@ fn settings(lighting: bool) -> RenderSettings {
 /// Renders with `tiled`; also returns how many pixels overflowed their window of waiting hits.
 fn render(scene: &Scene, camera: &Camera, settings: &RenderSettings, size: u32) -> (image::RgbaImage, u32) {
     let mut renderer = common::renderer();
-    let gpu = renderer.upload(scene, None);
-    let (image, plan) = renderer.render_image(&gpu, camera, settings, size, size).expect("render");
+    let mut gpu = renderer.upload(scene, None);
+    let (image, plan) = renderer.render_image(&mut gpu, camera, settings, size, size).expect("render");
     assert!(plan.compute_passes() > 0, "tiled ran its own plan: {plan}");
     (image, plan.window_overflows.expect("the tile pipeline counts its overflows"))
 }
@@ -314,11 +314,11 @@ fn reading_lists_by_subgroup_or_by_pixel_gives_the_same_image() {
     for (what, scene) in [("lion", lion), ("lion at 0.5", glass_lion), ("glass knot and lion", knot)] {
         let flat = scene.flattened();
         let camera = Camera::default_for(&flat, 1.0);
-        let gpu = renderer.upload(&scene, None);
+        let mut gpu = renderer.upload(&scene, None);
         renderer.use_subgroups(false);
-        let by_pixel = renderer.render_image(&gpu, &camera, &settings(true), 96, 96);
+        let by_pixel = renderer.render_image(&mut gpu, &camera, &settings(true), 96, 96);
         renderer.use_subgroups(true);
-        let by_subgroup = renderer.render_image(&gpu, &camera, &settings(true), 96, 96);
+        let by_subgroup = renderer.render_image(&mut gpu, &camera, &settings(true), 96, 96);
         let (by_pixel, by_subgroup) = (by_pixel.expect("render").0, by_subgroup.expect("render").0);
         let differing = by_subgroup.pixels().zip(by_pixel.pixels()).filter(|(a, b)| a != b).count();
         assert!(by_subgroup.pixels().any(|p| p.0[..3] != common::background_rgb()), "{what}: something is drawn");
@@ -367,8 +367,8 @@ fn an_opaque_scene_runs_the_tile_pipeline_and_the_plan_states_its_memory() {
     let scene = Scene::from(cloud);
     let camera = Camera::default_for(&scene.flattened(), 1.0);
     let mut renderer = common::renderer();
-    let gpu = renderer.upload(&scene, None);
-    let (_, plan) = renderer.render_image(&gpu, &camera, &settings(true), 96, 96).unwrap();
+    let mut gpu = renderer.upload(&scene, None);
+    let (_, plan) = renderer.render_image(&mut gpu, &camera, &settings(true), 96, 96).unwrap();
     let text = plan.to_string();
     assert!(plan.compute_passes() == 4 && !text.contains("two-pass plan"), "{text}");
     let engine = renderer.renderer.tile_engine().unwrap();

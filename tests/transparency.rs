@@ -48,8 +48,8 @@ fn view(scene: &Scene, azimuth: f32, elevation: f32) -> Camera {
 
 fn render(scene: &Scene, camera: &Camera, settings: &RenderSettings, size: u32) -> image::RgbaImage {
     let mut renderer = common::renderer();
-    let gpu = renderer.upload(scene, None);
-    renderer.render_image(&gpu, camera, settings, size, size).expect("render").0
+    let mut gpu = renderer.upload(scene, None);
+    renderer.render_image(&mut gpu, camera, settings, size, size).expect("render").0
 }
 
 fn exact(scene: &Scene, camera: &Camera, settings: &RenderSettings, size: u32) -> (image::RgbaImage, Vec<u32>) {
@@ -116,10 +116,10 @@ fn opacity_one_draws_the_opaque_picture_without_peeling_as_the_reference_does() 
     // The exact reference of the opaque scene: what every mode must show.
     let (want, _) = exact(&scene, &camera, &settings("reference", 0), 128);
     let mut renderer = common::renderer();
-    let gpu = renderer.upload(&scene, None);
+    let mut gpu = renderer.upload(&scene, None);
     for name in ["depth-peel", "approx-peel", "alg1", "alg2", "alpha-blend"] {
         let settings = settings(name, 0);
-        let (image, plan) = renderer.render_image(&gpu, &camera, &settings, 128, 128).unwrap();
+        let (image, plan) = renderer.render_image(&mut gpu, &camera, &settings, 128, 128).unwrap();
         // The policy: an opaque scene runs the opaque plan, and says so.
         assert!(plan.notes.iter().any(|n| n.contains("opaque")), "{name}: the plan says it fell back\n{plan}");
         assert!(!plan.steps.iter().any(|p| p.name.contains("peel")), "{name} peels an opaque scene\n{plan}");
@@ -262,8 +262,8 @@ fn alg1_and_alg2_with_groups_that_cover_each_plane_composite_two_planes_exactly(
         let settings = RenderSettings { lighting: false, ..settings(name, 0) };
         let got = {
             let mut renderer = common::renderer();
-            let gpu = renderer.upload(&scene, Some(&grouping));
-            renderer.render_image(&gpu, &camera, &settings, size, size).expect("render").0
+            let mut gpu = renderer.upload(&scene, Some(&grouping));
+            renderer.render_image(&mut gpu, &camera, &settings, size, size).expect("render").0
         };
         let mut worst = 0.0f32;
         for p in got.pixels() {
@@ -317,8 +317,8 @@ fn alg1_and_alg2_keep_the_two_sides_of_a_shell_thinner_than_epsilon_as_two_layer
         let settings = RenderSettings { lighting: false, order: OrderKind::Sort, ..settings(name, 0) };
         let got = {
             let mut renderer = common::renderer();
-            let gpu = renderer.upload(&scene, Some(&grouping));
-            renderer.render_image(&gpu, &camera, &settings, 96, 96).expect("render").0
+            let mut gpu = renderer.upload(&scene, Some(&grouping));
+            renderer.render_image(&mut gpu, &camera, &settings, 96, 96).expect("render").0
         };
         let (exact, counts) = exact(&scene, &camera, &settings, 96);
         assert!(counts.iter().all(|&c| c == 2), "the reference sees two layers on every ray");
@@ -348,8 +348,8 @@ fn a_group_that_misses_a_layer_is_left_out_of_the_opacity() {
         let settings = RenderSettings { lighting: false, ..settings(name, 0) };
         let got = {
             let mut renderer = common::renderer();
-            let gpu = renderer.upload(&scene, Some(&grouping));
-            renderer.render_image(&gpu, &camera, &settings, 96, 96).expect("render").0
+            let mut gpu = renderer.upload(&scene, Some(&grouping));
+            renderer.render_image(&mut gpu, &camera, &settings, 96, 96).expect("render").0
         };
         let worst = worst_channel_error(&got, want);
         println!("{name}, one group without the front plane: worst channel error {worst} (want {want:?})");
@@ -370,8 +370,8 @@ fn alg1_groups_with_holes_show_the_layers_they_miss() {
         let (scene, grouping) = two_planes_in_groups(front, back, radius);
         let got = {
             let mut renderer = common::renderer();
-            let gpu = renderer.upload(&scene, Some(&grouping));
-            renderer.render_image(&gpu, &camera, &settings, 96, 96).expect("render").0
+            let mut gpu = renderer.upload(&scene, Some(&grouping));
+            renderer.render_image(&mut gpu, &camera, &settings, 96, 96).expect("render").0
         };
         let (want, _) = exact(&scene, &camera, &settings, 96);
         reference::compare(&got, &want).unwrap().eps
@@ -415,14 +415,14 @@ fn opaque_planes_are_drawn_apart_cull_what_lies_behind_them_and_show_through_the
         for name in ["alg1", "alg2"] {
             let settings = RenderSettings { lighting: false, ..settings(name, 0) };
             let mut renderer = common::renderer();
-            let gpu = renderer.upload(&scene, Some(&grouping));
+            let mut gpu = renderer.upload(&scene, Some(&grouping));
             // The layout: every opaque splat once, apart, after the groups;
             // the groups' transparent runs hold only the transparent ones.
             assert_eq!(gpu.opaque.len(), opaque_splats, "{what}");
             assert_eq!(gpu.opaque.start as usize, gpu.len, "{what}");
             let transparent: usize = gpu.transparent_groups.iter().map(|r| r.len()).sum();
             assert_eq!(transparent, scene.flattened().len() - opaque_splats, "{what}: each group covers once");
-            let (got, plan) = renderer.render_image(&gpu, &camera, &settings, 96, 96).expect("render");
+            let (got, plan) = renderer.render_image(&mut gpu, &camera, &settings, 96, 96).expect("render");
             assert_eq!(plan.target(TargetId("opaque image")).is_some(), opaque_splats > 0, "{what}: {plan}");
             // Bound: the transparent layers as in the two-plane test (< 1/255
             // from Rgba16Float blends and the final rounding). The opaque
@@ -475,8 +475,8 @@ fn plain_alpha_blending_blends_one_surface_as_often_as_its_discs_overlap() {
     let red_of = |name: &str, grouping: Option<&Grouping>| {
         let settings = RenderSettings { lighting: false, ..settings(name, 0) };
         let mut renderer = common::renderer();
-        let gpu = renderer.upload(&scene, grouping);
-        let image = renderer.render_image(&gpu, &camera, &settings, 96, 96).expect("render").0;
+        let mut gpu = renderer.upload(&scene, grouping);
+        let image = renderer.render_image(&mut gpu, &camera, &settings, 96, 96).expect("render").0;
         image.pixels().map(|p| p.0[0] as f32).fold(f32::INFINITY, f32::min)
     };
     let (blended, grouped) = (red_of("alpha-blend", None), red_of("alg1", Some(&grouping)));
@@ -508,8 +508,8 @@ fn alg1_and_alg2_with_one_group_with_the_most_layers_the_device_allows_and_edge_
         // culls its second fragment of each, so the closed form holds as in
         // the two-plane test, within the same bound.
         let one = Grouping::from_labels(&vec![0; splats], 1);
-        let gpu = renderer.upload(&scene, Some(&one));
-        let (image, plan) = renderer.render_image(&gpu, &camera, &settings, 64, 64).expect("K = 1");
+        let mut gpu = renderer.upload(&scene, Some(&one));
+        let (image, plan) = renderer.render_image(&mut gpu, &camera, &settings, 64, 64).expect("K = 1");
         assert_eq!(plan.groups, 1);
         let worst =
             image.pixels().flat_map(|p| (0..3).map(move |k| (p.0[k] as f32 - want[k]).abs())).fold(0.0, f32::max);
@@ -518,13 +518,13 @@ fn alg1_and_alg2_with_one_group_with_the_most_layers_the_device_allows_and_edge_
         // layers fit in memory); one more is a clear error, not a panic.
         let labels = |k: usize| (0..splats).map(|i| (i % k) as u32).collect::<Vec<_>>();
         let at_most = Grouping::from_labels(&labels(most as usize), most as usize);
-        let gpu = renderer.upload(&scene, Some(&at_most));
-        let (image, plan) = renderer.render_image(&gpu, &camera, &settings, 8, 8).expect("K = the layer limit");
+        let mut gpu = renderer.upload(&scene, Some(&at_most));
+        let (image, plan) = renderer.render_image(&mut gpu, &camera, &settings, 8, 8).expect("K = the layer limit");
         assert_eq!(plan.groups, most as usize);
         assert!(image.pixels().all(|p| p.0[..3] != [0, 0, 0]), "{name}, K = {most}: black (NaN) pixels");
         let over = Grouping::from_labels(&labels(most as usize + 1), most as usize + 1);
-        let gpu = renderer.upload(&scene, Some(&over));
-        let error = renderer.render_image(&gpu, &camera, &settings, 8, 8).expect_err("K over the layer limit");
+        let mut gpu = renderer.upload(&scene, Some(&over));
+        let error = renderer.render_image(&mut gpu, &camera, &settings, 8, 8).expect_err("K over the layer limit");
         println!("{name}, K = {}: {error}", most + 1);
         assert!(error.to_string().contains("texture layers this GPU allows"), "{error}");
     }
@@ -534,9 +534,9 @@ fn alg1_and_alg2_with_one_group_with_the_most_layers_the_device_allows_and_edge_
     edge_on.normals.iter_mut().for_each(|n| *n = Vec3::X);
     let grouping = Grouping::from_labels(&(0..edge_on.len()).map(|i| (i % 4) as u32).collect::<Vec<_>>(), 4);
     let edge_on = Scene::from(edge_on);
-    let gpu = renderer.upload(&edge_on, Some(&grouping));
+    let mut gpu = renderer.upload(&edge_on, Some(&grouping));
     for name in ["alg1", "alg2", "alpha-blend"] {
-        let (image, _) = renderer.render_image(&gpu, &camera, &settings(name, 0), 64, 64).expect("edge-on");
+        let (image, _) = renderer.render_image(&mut gpu, &camera, &settings(name, 0), 64, 64).expect("edge-on");
         assert!(image.pixels().all(|p| p.0[..3] != [0, 0, 0]), "{name}, edge-on: black (NaN) pixels");
     }
 }
@@ -560,8 +560,8 @@ fn each_transparent_mode_stays_as_accurate_as_measured_on_the_bunny() {
         let settings = settings(name, 0);
         let grouping = settings.mode.needs_grouping().then(|| settings.grouping_for_mode().compute(&flat).unwrap());
         let mut renderer = common::renderer();
-        let gpu = renderer.upload(&scene, grouping.as_ref());
-        let (image, _) = renderer.render_image(&gpu, &camera, &settings, size, size).unwrap();
+        let mut gpu = renderer.upload(&scene, grouping.as_ref());
+        let (image, _) = renderer.render_image(&mut gpu, &camera, &settings, size, size).unwrap();
         drop(renderer);
         let error = reference::compare(&image, &want).unwrap();
         println!("{name}: ε {:.3}, PSNR {:.2} dB (bound {bound})", error.eps, error.psnr);

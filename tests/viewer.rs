@@ -120,8 +120,37 @@ fn a_bad_file_shows_its_error_and_keeps_the_model() {
     assert_eq!(h.state().shown_frame().unwrap().0, &before, "the old image stays");
 }
 
+/// The frame bench draws of a sidecar's view: its timing path
+/// ([`pointblend::bench::timing::time_frames`]) through `render_frame`.
+fn bench_image(sidecar: &Path, cache: &Path) -> image::RgbaImage {
+    let view = pointblend::frame::Sidecar::read(sidecar).unwrap();
+    let settings = view.settings().unwrap();
+    let (scene, _) = pointblend::scene::open(&common::bundled_model(), &Default::default()).unwrap();
+    let mut frames = pointblend::render::SceneFrames::of(Arc::new(scene)).with_cache(Cache::in_dir(cache));
+    let config = pointblend::bench::config::BenchConfig {
+        variants: Vec::new(),
+        settings,
+        materials: Default::default(),
+        width: view.size[0],
+        height: view.size[1],
+        frames: 1,
+        warm_up: 1,
+        views: 1,
+        out: cache.to_path_buf(),
+        progress: false,
+        orders: false,
+        animate: None,
+        environment: None,
+    };
+    let mut renderer = pointblend::render::HeadlessRenderer::new().unwrap();
+    let timed = pointblend::bench::timing::time_frames(&mut renderer, &mut frames, &view.camera(), &settings, &config);
+    timed.unwrap().0
+}
+
+/// The viewer, `render` and bench draw the same image of one view: all
+/// three make it through `SceneFrames::render_frame`.
 #[test]
-fn a_screenshot_and_its_sidecar_reproduce_the_image_through_render() {
+fn a_screenshot_and_its_sidecar_reproduce_the_image_through_render_and_bench() {
     let dir = tempfile::tempdir().unwrap();
     let shots = dir.path().join("shots");
     let mut h = harness(ViewerOptions { mode: Some(RenderMode::Deferred), ..options(&shots) });
@@ -152,6 +181,10 @@ fn a_screenshot_and_its_sidecar_reproduce_the_image_through_render() {
     assert_eq!(rendered.dimensions(), shot.dimensions());
     let differing = rendered.pixels().zip(shot.pixels()).filter(|(a, b)| a != b).count();
     assert_eq!(differing, 0, "{differing} pixels differ between the screenshot and its re-render");
+    let benched = bench_image(&sidecar, &dir.path().join("cache"));
+    assert_eq!(benched.dimensions(), shot.dimensions());
+    let differing = benched.pixels().zip(shot.pixels()).filter(|(a, b)| a != b).count();
+    assert_eq!(differing, 0, "{differing} pixels differ between the screenshot and bench's frame");
 }
 
 #[test]

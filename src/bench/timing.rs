@@ -1,4 +1,6 @@
-//! Timing one variant from one view: warm-up frames, then timed frames
+//! Timing one variant from one view through the one frame path
+//! ([`SceneFrames::render_frame`], as `render` and the viewer draw it):
+//! warm-up frames, then timed frames
 //! (wall time until the GPU is idle, and per-pass GPU timestamps where the
 //! adapter has them; where it has none for compute passes, each step waited
 //! for alone in frames of their own), and the last frame's image and plan.
@@ -7,7 +9,7 @@ use std::time::Instant;
 
 use super::config::BenchConfig;
 use crate::frame::{Camera, RenderSettings};
-use crate::render::{FrameError, HeadlessRenderer, RenderPlan, SceneFrames};
+use crate::render::{Frame, FrameError, HeadlessRenderer, Readback, RenderPlan, SceneFrames};
 
 /// Warm-up and timed frames of one variant from one view: the last image,
 /// the plan, wall times and GPU times per plan pass.
@@ -25,8 +27,7 @@ pub fn time_frames(
     for frame in 0..config.warm_up + config.frames {
         let t = Instant::now();
         // Under a point budget the frame selects its splats first (part of its time).
-        let (scene, settings) = frames.frame_scene(renderer, camera, variant, (w, h))?;
-        let plan = renderer.render(scene, camera, &settings, w, h)?;
+        let plan = frames.render_frame(Some(renderer), camera, variant, (w, h), Readback::Nothing)?.plan;
         renderer.ctx.wait_idle()?;
         let ms = t.elapsed().as_secs_f64() * 1e3;
         if frame >= config.warm_up {
@@ -45,12 +46,11 @@ pub fn time_frames(
         // adapter): time each step on its own in frames of their own.
         renderer.renderer.profile_steps(true);
         for _ in 0..config.frames.min(3) {
-            let (scene, settings) = frames.frame_scene(renderer, camera, variant, (w, h))?;
-            let profiled = renderer.render(scene, camera, &settings, w, h);
+            let profiled = frames.render_frame(Some(renderer), camera, variant, (w, h), Readback::Nothing);
             let times = renderer.renderer.step_times().map(<[f64]>::to_vec);
             if let Err(e) = profiled {
                 renderer.renderer.profile_steps(false);
-                return Err(e.into());
+                return Err(e);
             }
             for (i, t) in times.unwrap_or_default().into_iter().enumerate() {
                 per_pass.resize(per_pass.len().max(i + 1), Vec::new());
@@ -59,12 +59,6 @@ pub fn time_frames(
         }
         renderer.renderer.profile_steps(false);
     }
-    let (scene, settings) = frames.frame_scene(renderer, camera, variant, (w, h))?;
-    let (image, mut plan) = renderer.render_image(scene, camera, &settings, w, h)?;
-    if frames.draws_triangles(variant) {
-        plan.notes.extend(frames.last_hybrid().map(|h| h.describe(variant.hybrid_pixels)));
-    } else if frames.applied_budget(variant).is_some() {
-        plan.notes.extend(frames.last_budget().map(|b| b.describe()));
-    }
+    let Frame { image, plan } = frames.render_frame(Some(renderer), camera, variant, (w, h), Readback::Image)?;
     Ok((image, plan, wall, per_pass, profiled))
 }

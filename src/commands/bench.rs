@@ -6,9 +6,8 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use pointblend::bench::{self, BenchConfig};
 use pointblend::cloud;
-use pointblend::frame::ModeVariant;
+use pointblend::frame::{ModeVariant, Parameter};
 use pointblend::render::HeadlessRenderer;
-use pointblend::scene::Materials;
 
 use super::shared::ViewArgs;
 
@@ -127,11 +126,7 @@ pub fn run(args: &Args) -> Result<()> {
         environment,
         variants,
         settings: args.view.base_settings(&pointblend::scene::Scene::default())?,
-        materials: Materials {
-            opacity: args.view.opacity,
-            colour: args.view.colour,
-            scene_background: args.view.background.is_none(),
-        },
+        materials: args.view.scene.materials(args.view.parameters.given(Parameter::Background).is_some()),
         width: args.view.size.0,
         height: args.view.size.1,
         frames: args.frames,

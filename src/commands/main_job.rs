@@ -10,9 +10,8 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use pointblend::bench::{self, BenchConfig, BenchRow};
-use pointblend::frame::{ModeVariant, RenderSettings};
+use pointblend::frame::{ModeVariant, Parameter, RenderSettings};
 use pointblend::render::{HeadlessRenderer, RenderMode};
-use pointblend::scene::Materials;
 use pointblend::viewer;
 
 use super::view_args::Args;
@@ -61,18 +60,12 @@ pub fn run(args: &Args) -> Result<()> {
             variants.extend(ModeVariant::expand(mode.name()).map_err(anyhow::Error::msg)?);
         }
         let mut settings = RenderSettings::default();
-        if let Some(bg) = args.background {
-            settings.shading.background = glam::Vec3::from_array(bg.map(f32::from)) / 255.0;
-        }
+        args.parameters.apply(&mut settings).map_err(anyhow::Error::msg)?;
         let config = BenchConfig {
             environment: environment.clone(),
             variants,
             settings,
-            materials: Materials {
-                opacity: args.opacity,
-                colour: args.colour,
-                scene_background: args.background.is_none(),
-            },
+            materials: args.scene.materials(args.parameters.given(Parameter::Background).is_some()),
             width: args.size.0,
             height: args.size.1,
             frames: 5,

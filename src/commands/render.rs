@@ -4,10 +4,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use pointblend::frame::environment::EnvironmentSettings;
-use pointblend::frame::{RenderMode, RenderSettings, Sidecar};
+use pointblend::frame::{Parameter, RenderMode, RenderSettings, Sidecar};
 use pointblend::reference::{self, ReferenceOptions};
-use pointblend::render::{Frame, HeadlessRenderer, SceneFrames};
+use pointblend::render::{Frame, HeadlessRenderer, Readback, SceneFrames};
 use pointblend::scene::Scene;
 use pointblend::scene::environment::EnvironmentMap;
 
@@ -38,15 +37,6 @@ pub struct Args {
     /// is bundled). Drawn by modes whose registry entry says so (alg2, reference).
     #[arg(long, value_name = "FILE")]
     pub env: Option<PathBuf>,
-    /// Index of refraction η of the transparent surfaces (with --env).
-    #[arg(long, default_value_t = 1.5)]
-    pub eta: f32,
-    /// Chromatic dispersion δ: red refracts with η - δ, blue with η + δ (with --env).
-    #[arg(long, default_value_t = 0.02)]
-    pub dispersion: f32,
-    /// Environment effects at the nearest layer only, or through every layer (Eq. 15-16).
-    #[arg(long, value_name = "single|multi", default_value = "single")]
-    pub env_layers: pointblend::frame::environment::LayerEffects,
     /// Keep the flat background colour where nothing is drawn, instead of the environment map.
     #[arg(long)]
     pub flat_background: bool,
@@ -86,19 +76,11 @@ impl Args {
                 drawing()
             );
         }
-        if !(self.eta.is_finite() && self.eta > 0.0) {
-            bail!("--eta must be a positive index of refraction, not {}", self.eta);
+        let env = &mut settings.environment;
+        if env.dispersion >= env.eta {
+            bail!("--dispersion must be below --eta ({}), not {}", env.eta, env.dispersion);
         }
-        if !(self.dispersion.is_finite() && self.dispersion >= 0.0 && self.dispersion < self.eta) {
-            bail!("--dispersion must be at least 0 and below --eta ({}), not {}", self.eta, self.dispersion);
-        }
-        settings.environment = EnvironmentSettings {
-            eta: self.eta,
-            dispersion: self.dispersion,
-            layer_effects: self.env_layers,
-            skybox: !self.flat_background,
-            enabled: true,
-        };
+        env.skybox = !self.flat_background;
         Ok(())
     }
 }
@@ -141,19 +123,20 @@ pub fn run(args: &Args) -> Result<()> {
     }
     let started = Instant::now();
     let mut scene = shared::load_scene(&args.file)?;
-    args.view.apply_materials(&mut scene);
+    args.view.scene.apply_materials(&mut scene);
     let load_seconds = started.elapsed().as_secs_f64();
     let (mut settings, (width, height)) = match &sidecar {
         Some(s) => (s.settings().map_err(anyhow::Error::msg)?, (s.size[0], s.size[1])),
         None => (args.view.settings(&scene)?, args.view.size),
     };
     args.apply_environment(&mut scene, &mut settings)?;
-    if let (Some(_), Some(n)) = (&sidecar, args.view.supersample) {
+    let supersample = args.view.parameters.given(Parameter::Supersample);
+    if let (Some(_), Some(n)) = (&sidecar, supersample) {
         // The sidecar sets the view; --supersample still sets the reference's rays (and --diff's ruler).
-        settings.supersample = n;
+        Parameter::Supersample.apply(&mut settings, n).map_err(anyhow::Error::msg)?;
     }
-    let reads_supersample = settings.mode.parameters().contains(&pointblend::frame::Parameter::Supersample);
-    if args.view.supersample.is_some() && !reads_supersample && args.diff.is_none() {
+    let reads_supersample = settings.mode.parameters().contains(&Parameter::Supersample);
+    if supersample.is_some() && !reads_supersample && args.diff.is_none() {
         log::warn!(
             "--supersample is ignored: mode {} does not use it (the reference does, and the ruler of --diff)",
             settings.mode
@@ -185,7 +168,8 @@ pub fn run(args: &Args) -> Result<()> {
     // A screenshot of a moving scene names its time; --time overrides it.
     let time = args.time.or(sidecar.as_ref().and_then(|s| s.time));
     let mut frames = moving_frames(scene, time)?;
-    let Frame { image, plan } = frames.render(gpu.as_mut(), &camera, &settings, (width, height), true)?;
+    let Frame { image, plan } =
+        frames.render_frame(gpu.as_mut(), &camera, &settings, (width, height), Readback::ImageWithProgress)?;
     let scene = frames.scene();
     let render_seconds = render_started.elapsed().as_secs_f64();
     if args.explain {

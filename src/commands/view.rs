@@ -10,9 +10,8 @@
 //! error-against-time plot and a contact sheet of every mode (`modes.png`).
 
 use anyhow::{Context, Result};
-use pointblend::frame::Sidecar;
+use pointblend::frame::{Parameter, Sidecar};
 use pointblend::render::RenderMode;
-use pointblend::scene::Materials;
 use pointblend::viewer::{self, ViewerError, ViewerOptions};
 
 pub use super::view_args::Args;
@@ -33,14 +32,10 @@ pub fn run(args: &Args) -> Result<()> {
         view,
         mode: args.mode.or_else(|| first_run.then_some(RenderMode::FIRST_RUN)),
         cache: None,
-        materials: Materials {
-            opacity: args.opacity,
-            colour: args.colour,
-            scene_background: args.background.is_none(),
-        },
-        background: args.background.map(|c| glam::Vec3::from_array(c.map(f32::from)) / 255.0),
+        materials: args.scene.materials(args.parameters.given(Parameter::Background).is_some()),
+        parameters: args.parameters.given.clone(),
         environment: args.env.clone(),
-        lights: args.lights.clone(),
+        lights: args.scene.lights.clone(),
     };
     match viewer::run_window(options) {
         Ok(()) => Ok(()),

@@ -31,21 +31,12 @@ pub struct Args {
     /// Image size of the headless main job.
     #[arg(long, default_value = "512x512", value_parser = super::shared::parse_size)]
     pub size: (u32, u32),
-    /// Opacity of every object, 0..1.
-    #[arg(long, value_parser = super::shared::parse_opacity)]
-    pub opacity: Option<f32>,
-    /// Colour R,G,B (0..255) that replaces every object's own.
-    #[arg(long = "color", value_parser = super::shared::parse_rgb)]
-    pub colour: Option<[u8; 3]>,
-    /// Background colour R,G,B (0..255) [default: the scene's, else 28,31,36].
-    #[arg(long, value_parser = super::shared::parse_rgb)]
-    pub background: Option<[u8; 3]>,
+    #[command(flatten)]
+    pub scene: super::scene_args::SceneArgs,
+    #[command(flatten)]
+    pub parameters: super::parameter_flags::ParameterFlags,
     /// Environment map the model is set in (equirectangular OpenEXR, HDR, PNG
     /// or JPEG; assets/venice.exr is bundled); alg2 and the reference draw it.
     #[arg(long, value_name = "FILE")]
     pub env: Option<PathBuf>,
-    /// A white point light at X,Y,Z in the model's file coordinates (repeatable, at most 8 with the scene's);
-    /// lights replace the headlight and cast translucent shadows. The viewer adds, moves and deletes them too.
-    #[arg(long = "light", value_parser = super::shared::parse_light, allow_hyphen_values = true)]
-    pub lights: Vec<pointblend::frame::Light>,
 }

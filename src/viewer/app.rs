@@ -43,8 +43,9 @@ pub struct ViewerOptions {
     pub cache: Option<Cache>,
     /// Materials every object opened gets (`--opacity`, `--color`).
     pub materials: crate::scene::Materials,
-    /// Background colour (0..1) that overrides the scene's.
-    pub background: Option<glam::Vec3>,
+    /// Rendering parameters given on the command line (checked text forms),
+    /// over the defaults or the sidecar's; a given background overrides the scene's.
+    pub parameters: Vec<(crate::frame::Parameter, String)>,
     /// Environment map every model opened is set in (in place of a scene file's).
     pub environment: Option<PathBuf>,
     /// Point lights (file coordinates) every model opened is lit by, with its scene file's.
@@ -109,6 +110,10 @@ impl ViewerApp {
         let mut settings = options.view.as_ref().and_then(|v| v.settings().ok()).unwrap_or_default();
         if let Some(mode) = options.mode {
             settings.mode = mode;
+        }
+        for (parameter, value) in &options.parameters {
+            // Checked when the command line was read.
+            let _ = parameter.apply(&mut settings, value);
         }
         let camera = Camera::framing(glam::Vec3::ZERO, 1.0, 1.0);
         let ui = UiState {

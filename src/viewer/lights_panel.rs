@@ -52,13 +52,14 @@ pub fn lights_widget(ui: &mut Ui, settings: &mut RenderSettings, camera: &Camera
 }
 
 /// How the lights' shadows are found, and the TSM table's size.
-pub fn shadows_widget(ui: &mut Ui, settings: &mut RenderSettings) {
+pub fn shadows_widget(ui: &mut Ui, settings: &mut RenderSettings, label: &str) {
     if settings.lights.is_empty() || !settings.lighting {
+        ui.label(RichText::new(format!("{label}: from scene lights (none)")).weak());
         return;
     }
     let shadows = &mut settings.shadows;
     ui.horizontal(|ui| {
-        ui.label("shadows");
+        ui.label(label);
         ui.radio_value(&mut shadows.method, ShadowMethod::Tsm, "TSM")
             .on_hover_text("Gunjee's translucent shadow map: one table per light");
         ui.radio_value(&mut shadows.method, ShadowMethod::Exact, "exact")

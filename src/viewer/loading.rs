@@ -114,8 +114,9 @@ impl ViewerApp {
         self.grouped = None;
         self.measurement = None;
         // The scene's background, unless the command line or a sidecar set one.
-        if self.options.view.is_none() {
-            if let Some(bg) = self.options.background.or(model.scene.background) {
+        let background_given = self.options.parameters.iter().any(|(p, _)| *p == crate::frame::Parameter::Background);
+        if self.options.view.is_none() && !background_given {
+            if let Some(bg) = model.scene.background {
                 self.ui.settings.shading.background = bg;
             }
         }

@@ -24,6 +24,7 @@ mod lights_panel;
 mod loading;
 mod model;
 mod panels;
+mod parameter_widgets;
 mod render_thread;
 mod state;
 mod stats;

@@ -1,9 +1,9 @@
 //! The left panel's controls: model, background jobs, mode and its
 //! parameters, camera, statistics, error and screenshot. The controls edit
 //! the [`UiState`] and return [`Action`]s for the app to take. Parameters come
-//! from the mode registry ([`crate::frame::RenderMode::parameters`]): each
-//! [`Parameter`] has one widget here, and a mode shows the widgets of the
-//! parameters it lists.
+//! from the mode registry ([`crate::frame::RenderMode::parameters`]): a mode
+//! shows the widget of each parameter it lists, made from the parameter's row
+//! of the descriptor table ([`super::parameter_widgets`]).
 
 use std::path::PathBuf;
 
@@ -11,8 +11,7 @@ use egui::{RichText, Ui};
 
 use super::state::{Action, JobKind, PanelInfo, ScreenshotSize, UiState};
 use super::widgets::{job_row, thousands};
-use crate::frame::{Parameter, Quality, RenderMode};
-use crate::grouping::{Extension, GroupingAlgo, GroupingSpec, MAX_GROUPS};
+use crate::frame::RenderMode;
 
 pub fn controls(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>) -> Vec<Action> {
     let mut actions = Vec::new();
@@ -157,216 +156,7 @@ fn mode_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>) {
     });
     ui.label(RichText::new(state.settings.mode.description()).weak());
     for &parameter in state.settings.mode.parameters() {
-        parameter_widget(ui, state, info, parameter);
-    }
-}
-
-/// The budget the "point budget" switch starts at.
-const DEFAULT_STILL_BUDGET: u32 = 250_000;
-
-fn parameter_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, parameter: Parameter) {
-    let s = &mut state.settings;
-    match parameter {
-        Parameter::Quality => {
-            ui.horizontal(|ui| {
-                ui.label("quality");
-                ui.radio_value(&mut s.quality, Quality::Filtered, "filtered");
-                ui.radio_value(&mut s.quality, Quality::Unfiltered, "unfiltered");
-            });
-        }
-        Parameter::Epsilon => {
-            ui.add(egui::Slider::new(&mut s.epsilon_scale, 0.05..=5.0).text("ε (× mean radius)"));
-        }
-        Parameter::DepthStep => {
-            ui.add(egui::Slider::new(&mut s.depth_step, 0.25..=4.0).text("Eq. 10 depth step (× ε)"));
-        }
-        Parameter::RadiusScale => {
-            ui.add(egui::Slider::new(&mut s.radius_scale, 0.25..=3.0).text("splat radius scale"));
-        }
-        Parameter::Prefilter => {
-            use crate::frame::Prefilter;
-            let mut ewa = s.prefilter == Prefilter::Ewa;
-            ui.checkbox(&mut ewa, "EWA prefilter").on_hover_text(
-                "Guennebaud's EWA approximation: splats smaller than a pixel are stretched to the low-pass filter, so a far model does not alias",
-            );
-            s.prefilter = if ewa { Prefilter::Ewa } else { Prefilter::None };
-        }
-        Parameter::PointBudget => {
-            let mut on = s.point_budget.is_some();
-            ui.checkbox(&mut on, "point budget").on_hover_text(
-                "draw at most this many splats, chosen from a multi-resolution octree by screen-space error",
-            );
-            s.point_budget = match (on, s.point_budget) {
-                (false, _) => None,
-                (true, Some(n)) => Some(n),
-                (true, None) => Some(DEFAULT_STILL_BUDGET),
-            };
-            if let Some(n) = &mut s.point_budget {
-                ui.add(egui::Slider::new(n, 1_000..=10_000_000).logarithmic(true).text("splats"));
-            }
-            ui.add(
-                egui::Slider::new(&mut state.moving_budget, 10_000..=2_000_000).logarithmic(true).text("while moving"),
-            )
-            .on_hover_text("splats drawn while the camera moves; the full frame follows when it stops");
-        }
-        Parameter::HybridPixels => {
-            // Not clamped: `--hybrid-px inf` (splats only) stays as it was given.
-            let slider = egui::Slider::new(&mut s.hybrid_pixels, 0.0..=32.0)
-                .clamping(egui::SliderClamping::Never)
-                .text("hybrid px");
-            ui.add(slider).on_hover_text(
-                "hybrid objects: a leaf is drawn as triangles where its splats would be wider than this radius in pixels",
-            );
-        }
-        Parameter::Supersample => {
-            ui.add(
-                egui::Slider::new(&mut s.supersample, 1..=crate::frame::settings::MAX_SUPERSAMPLE)
-                    .text("supersample N×N"),
-            );
-        }
-        Parameter::BackfaceCulling => {
-            ui.checkbox(&mut s.backface_culling, "back-face culling");
-        }
-        Parameter::Lighting => {
-            ui.checkbox(&mut s.lighting, "lighting");
-            if s.lighting {
-                if s.lights.is_empty() {
-                    ui.add(egui::Slider::new(&mut state.light_angles.0, -90.0..=90.0).text("headlight azimuth °"));
-                    ui.add(egui::Slider::new(&mut state.light_angles.1, -90.0..=90.0).text("headlight elevation °"));
-                }
-                super::lights_panel::lights_widget(ui, s, &state.camera);
-            }
-        }
-        Parameter::Shadows => super::lights_panel::shadows_widget(ui, s),
-        Parameter::Background => {
-            ui.horizontal(|ui| {
-                let mut rgb = s.shading.background.to_array();
-                ui.color_edit_button_rgb(&mut rgb);
-                s.shading.background = glam::Vec3::from_array(rgb);
-                ui.label("background");
-            });
-        }
-        Parameter::Voronoi => {
-            ui.checkbox(&mut s.voronoi, "Voronoi rasterisation (Eq. 14)");
-        }
-        Parameter::Grouping => {
-            grouping_widget(ui, &mut s.grouping, info);
-            let moving = info.model.as_ref().is_some_and(|m| m.period > 0.0);
-            if moving {
-                let drawn = crate::render::per_frame_grouping(s.grouping_for_mode());
-                ui.label(
-                    RichText::new(format!("the scene moves: {} draws {drawn}, regrouped every frame", s.mode)).weak(),
-                );
-            } else if s.grouping_for_mode() != s.grouping {
-                ui.label(
-                    RichText::new(format!(
-                        "{} draws {}: its groups must cover the surface",
-                        s.mode,
-                        s.grouping_for_mode()
-                    ))
-                    .weak(),
-                );
-            }
-        }
-        Parameter::PeelLayers => {
-            // Written only when moved, so each mode keeps its own default until then.
-            let mut k = s.peel_layers_or_default();
-            if ui.add(egui::Slider::new(&mut k, 2..=crate::frame::settings::MAX_PEEL_LAYERS).text("layers k")).changed()
-            {
-                s.peel_layers = k;
-            }
-        }
-        Parameter::EnvironmentLayers => {
-            use crate::frame::environment::LayerEffects;
-            ui.horizontal(|ui| {
-                ui.checkbox(&mut s.environment.enabled, "environment effects");
-                ui.checkbox(&mut s.environment.skybox, "skybox");
-            });
-            ui.horizontal(|ui| {
-                ui.radio_value(&mut s.environment.layer_effects, LayerEffects::Single, "single");
-                ui.radio_value(&mut s.environment.layer_effects, LayerEffects::Multi, "multi-layer");
-            });
-            ui.label(RichText::new("with a map (Model panel)").weak());
-        }
-        Parameter::Eta => {
-            ui.add(egui::Slider::new(&mut s.environment.eta, 0.5..=2.5).text("η refraction"));
-        }
-        Parameter::Dispersion => {
-            ui.add(egui::Slider::new(&mut s.environment.dispersion, 0.0..=0.1).text("dispersion δ"));
-        }
-        Parameter::Order => {
-            use crate::spatial::order::OrderKind;
-            ui.horizontal(|ui| {
-                ui.label("back to front:");
-                ui.radio_value(&mut s.order, OrderKind::Bucket, "bucket sort")
-                    .on_hover_text("Gunjee's bucket sort, O(n): exact up to one slab of thickness ε");
-                ui.radio_value(&mut s.order, OrderKind::Bsp, "BSP tree").on_hover_text(
-                    "Zhang & Pajarola §5.2.1: a BSP tree traversed far side first; unordered inside a leaf",
-                );
-            });
-        }
-    }
-}
-
-fn grouping_widget(ui: &mut Ui, spec: &mut GroupingSpec, info: &PanelInfo<'_>) {
-    let name = |a: &GroupingAlgo| match a {
-        GroupingAlgo::Mgc { .. } => "MGC (overlap c)",
-        GroupingAlgo::Wgc { .. } => "WGC (K groups)",
-        GroupingAlgo::Hash { .. } => "hashing (K groups)",
-    };
-    ui.horizontal(|ui| {
-        egui::ComboBox::new("grouping", "grouping").selected_text(name(&spec.algo)).show_ui(ui, |ui| {
-            for choice in [GroupingSpec::default().algo, GroupingSpec::wgc(8).algo, GroupingSpec::hash(8, true).algo] {
-                let same = std::mem::discriminant(&choice) == std::mem::discriminant(&spec.algo);
-                if ui.selectable_label(same, name(&choice)).clicked() && !same {
-                    spec.algo = choice;
-                }
-            }
-        });
-    });
-    match &mut spec.algo {
-        GroupingAlgo::Mgc { c } => {
-            ui.add(egui::Slider::new(c, 0.05..=1.0).text("c (allowed overlap)"));
-        }
-        GroupingAlgo::Wgc { k, eq7 } => {
-            ui.add(egui::Slider::new(k, 1..=MAX_GROUPS).text("K"));
-            ui.checkbox(eq7, "colours by Eq. 7 weight");
-        }
-        GroupingAlgo::Hash { k, resolve_collisions } => {
-            ui.add(egui::Slider::new(k, 1..=MAX_GROUPS).text("K"));
-            ui.checkbox(resolve_collisions, "resolve collisions");
-        }
-    }
-    if !matches!(spec.algo, GroupingAlgo::Hash { .. }) {
-        ui.checkbox(&mut spec.relax.coplanar, "relax coplanar overlaps");
-        ui.checkbox(&mut spec.relax.opposite, "relax opposite normals");
-    }
-    let extension_name = |e: &Extension| match e {
-        Extension::None => "none",
-        Extension::Duplicate => "duplication",
-        Extension::Enlarge => "radius enlargement",
-        Extension::Estimate => "radius x√50/4 (hash estimate)",
-    };
-    egui::ComboBox::new("extension", "extension").selected_text(extension_name(&spec.extension)).show_ui(ui, |ui| {
-        for choice in [Extension::None, Extension::Duplicate, Extension::Enlarge, Extension::Estimate] {
-            ui.selectable_value(&mut spec.extension, choice, extension_name(&choice));
-        }
-    });
-    if let Some(g) = info.grouped {
-        let sizes = g.grouping.sizes();
-        let (lo, hi) = (sizes.iter().min().copied().unwrap_or(0), sizes.iter().max().copied().unwrap_or(0));
-        let origin = if g.cached { "from the cache" } else { "computed" };
-        ui.label(format!(
-            "{}: K = {}, groups of {}–{} splats ({origin}, {:.2} s)",
-            g.spec,
-            g.grouping.k(),
-            thousands(lo),
-            thousands(hi),
-            g.seconds
-        ));
-    }
-    if let Some(e) = info.grouping_error {
-        ui.colored_label(egui::Color32::LIGHT_RED, e);
+        super::parameter_widgets::parameter_widget(ui, state, info, parameter);
     }
 }
 

@@ -203,7 +203,9 @@ fn draw(r: &mut HeadlessRenderer, scenes: &mut Scenes, request: &FrameRequest) -
         None => Ok(scene_frames(scenes, request)),
     };
     let frame = frames.and_then(|frames| {
-        frames.render(Some(&mut *r), &request.camera, &settings, request.size, false).map_err(|e| e.to_string())
+        frames
+            .render_frame(Some(&mut *r), &request.camera, &settings, request.size, crate::render::Readback::Image)
+            .map_err(|e| e.to_string())
     });
     let image = frame.map(|Frame { image, plan }| {
         stats.splats_drawn = plan.splats;

@@ -22,6 +22,9 @@ pub struct EnvTexture {
     pub height: u32,
     pub levels: u32,
     pub name: String,
+    /// Group 2 of the passes that read the map, made on first use and kept
+    /// with the map (one per scene, not one per pass and frame).
+    bind_group: std::sync::OnceLock<wgpu::BindGroup>,
 }
 
 impl EnvTexture {
@@ -76,7 +79,15 @@ impl EnvTexture {
             mipmap_filter: wgpu::MipmapFilterMode::Linear,
             ..Default::default()
         });
-        Self { view: texture.create_view(&Default::default()), sampler, width, height, levels, name: map.name.clone() }
+        Self {
+            view: texture.create_view(&Default::default()),
+            sampler,
+            width,
+            height,
+            levels,
+            name: map.name.clone(),
+            bind_group: std::sync::OnceLock::new(),
+        }
     }
 
     /// Bytes of the texture with its mip chain.
@@ -115,15 +126,18 @@ impl EnvTexture {
         })
     }
 
-    /// Group 2 of a pass that reads the map.
-    pub fn bind_group(&self, device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("Environment::bind_group"),
-            layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&self.view) },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&self.sampler) },
-            ],
+    /// Group 2 of a pass that reads the map, made once (`layout` is
+    /// [`Self::layout`]'s, which wgpu keeps as one layout per device).
+    pub fn bind_group(&self, device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> &wgpu::BindGroup {
+        self.bind_group.get_or_init(|| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("Environment::bind_group"),
+                layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&self.view) },
+                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&self.sampler) },
+                ],
+            })
         })
     }
 }

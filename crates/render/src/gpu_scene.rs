@@ -42,7 +42,9 @@ pub struct GpuScene {
     /// For a transparent scene, the records to sort each group (or the one
     /// group of everything) back to front for modes that blend in order (a
     /// CPU copy of the instances: 36 bytes each).
-    order: Option<std::sync::Mutex<InstanceOrder>>,
+    /// Changed only through `&mut self`: the frame's preparation sorts it
+    /// for its view before the plan runs ([`Self::order_back_to_front`]).
+    order: Option<InstanceOrder>,
     /// The scene's environment map, when it has one (see [`Self::set_environment`]).
     pub environment: Option<super::environment::EnvTexture>,
     /// How the device it lives on can keep sums of fragments.
@@ -189,8 +191,7 @@ impl GpuScene {
             start = end;
         }
         let InstanceLayout { order, groups, transparent_groups, opaque, .. } = layout;
-        let instance_order =
-            keep_for_order.then(|| std::sync::Mutex::new(InstanceOrder::new(kept, transparent_groups.clone())));
+        let instance_order = keep_for_order.then(|| InstanceOrder::new(kept, transparent_groups.clone()));
         Self {
             chunks,
             len: opaque.start as usize,
@@ -286,7 +287,7 @@ impl GpuScene {
         }
         if let Some(order) = &mut self.order {
             let groups = layout.transparent_groups.clone();
-            *order = std::sync::Mutex::new(InstanceOrder::new(instances.clone(), groups));
+            *order = InstanceOrder::new(instances.clone(), groups);
         }
         let InstanceLayout { order, groups, transparent_groups, opaque, .. } = layout;
         self.len = opaque.start as usize;
@@ -332,11 +333,8 @@ impl GpuScene {
                 })
                 .collect(),
         };
-        match &self.order {
-            Some(order) => {
-                let mut order = order.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-                order.set_lights(queue, per_slot, &self.chunks, &buffers);
-            }
+        match &mut self.order {
+            Some(order) => order.set_lights(queue, per_slot, &self.chunks, &buffers),
             None => {
                 let mut start = 0usize;
                 for ((_, count), buffer) in self.chunks.iter().zip(&buffers) {
@@ -374,20 +372,19 @@ impl GpuScene {
     /// scene; others are left as they are); returns whether the buffers were
     /// rewritten (not when the view is the last one's).
     pub fn order_back_to_front(
-        &self,
+        &mut self,
         queue: &wgpu::Queue,
         view: crate::spatial::order::ViewRay,
         kind: crate::spatial::order::OrderKind,
     ) -> bool {
-        let Some(order) = &self.order else { return false };
-        let mut order = order.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-        order.apply(queue, &self.chunks, self.light_chunks(), view, kind)
+        let Some(order) = &mut self.order else { return false };
+        let lights = self.lights.as_ref().map(|(buffers, _)| buffers.as_slice());
+        order.apply(queue, &self.chunks, lights, view, kind)
     }
 
     /// Runs `look` on the scene's instance order, if it keeps one.
     pub fn with_instance_order<T>(&self, look: impl FnOnce(&InstanceOrder) -> T) -> Option<T> {
-        let order = self.order.as_ref()?.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-        Some(look(&order))
+        self.order.as_ref().map(look)
     }
 
     /// All splats, as an instance range (without the opaque run).

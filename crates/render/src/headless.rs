@@ -53,7 +53,7 @@ impl HeadlessRenderer {
     /// Renders one frame and submits it, without reading it back.
     pub fn render(
         &mut self,
-        scene: &GpuScene,
+        scene: &mut GpuScene,
         camera: &Camera,
         settings: &RenderSettings,
         width: u32,
@@ -79,7 +79,7 @@ impl HeadlessRenderer {
     /// Renders one frame and reads it back.
     pub fn render_image(
         &mut self,
-        scene: &GpuScene,
+        scene: &mut GpuScene,
         camera: &Camera,
         settings: &RenderSettings,
         width: u32,

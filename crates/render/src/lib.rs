@@ -52,4 +52,6 @@ pub use gpu_scene::GpuScene;
 pub use headless::HeadlessRenderer;
 pub use plan::RenderPlan;
 pub use renderer::Renderer;
-pub use scene_frames::{Frame, FrameError, FrameUpdate, SceneFrames, SceneGrouping, per_frame_grouping, rest_lattice};
+pub use scene_frames::{
+    Frame, FrameError, FrameUpdate, Readback, SceneFrames, SceneGrouping, per_frame_grouping, rest_lattice,
+};

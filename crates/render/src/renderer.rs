@@ -201,12 +201,15 @@ impl Renderer {
             .ok_or_else(|| GpuError::Device(format!("mode {} does not run on the GPU", settings.mode)))
     }
 
-    /// Renders `scene` into `output` (of `format`, `width` x `height`) and returns the plan it ran.
+    /// Renders `scene` into `output` (of `format`, `width` x `height`) and
+    /// returns the plan it ran. The scene is changed only where the plan
+    /// blends in order: its instances are sorted back to front for the
+    /// camera first (in place, so an unchanged view sorts nothing).
     #[allow(clippy::too_many_arguments)]
     pub fn render(
         &mut self,
         ctx: &GpuContext,
-        scene: &GpuScene,
+        scene: &mut GpuScene,
         camera: &Camera,
         settings: &RenderSettings,
         output: &wgpu::TextureView,
@@ -216,12 +219,13 @@ impl Renderer {
         ctx.check_size(size.0, size.1)?;
         let mut plan = Self::plan(scene, camera, settings, size)?;
         plan.check_fits(&ctx.device.limits(), ctx.target_budget())?;
+        if plan.back_to_front() {
+            scene.order_back_to_front(&ctx.queue, camera.view_ray(), settings.order);
+        }
+        let scene = &*scene;
         if plan.compute_passes() > 0 && !self.tiles.as_ref().is_some_and(|t| t.fits(scene, size)) {
             self.tiles = None; // free the old buffers first
             self.tiles = Some(TileEngine::new(ctx, scene, size)?);
-        }
-        if plan.back_to_front() {
-            scene.order_back_to_front(&ctx.queue, camera.view_ray(), settings.order);
         }
         let commands: Vec<(usize, &Command)> = plan.commands().collect();
         let allocated =

@@ -242,7 +242,7 @@ impl Default for ShadowSettings {
     }
 }
 
-/// `--shadow-cells POLxAZ` (or one number for both).
+/// A TSM table size, POLxAZ (or one number for both): `--shadows tsm-POLxAZ`.
 pub fn parse_cells(text: &str) -> Result<[u32; 2], String> {
     let one = |v: &str| {
         v.trim()

@@ -20,7 +20,7 @@ use crate::frame::{Light, LightKind, RenderSettings, ShadowMethod, SplatKernel};
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ShadowError {
     #[error(
-        "a TSM table of {cells} cells needs about {need} for {entries} entries, more than the {limit} it may take; try a smaller table, e.g. --shadow-cells {hint}"
+        "a TSM table of {cells} cells needs about {need} for {entries} entries, more than the {limit} it may take; try a smaller table, e.g. --shadows tsm-{hint}"
     )]
     TooLarge { cells: String, entries: u64, need: String, limit: String, hint: String },
 }

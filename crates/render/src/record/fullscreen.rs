@@ -40,6 +40,6 @@ pub fn encode(
         None
     };
     let pipeline = rec.cache.pipeline(rec.device, &key)?;
-    record(encoder, pass, pipeline, rec.frame, at.offset, &inputs, environment.as_ref(), output, stamps);
+    record(encoder, pass, pipeline, rec.frame, at.offset, &inputs, environment, output, stamps);
     Ok(())
 }

@@ -150,6 +150,11 @@ impl SceneFrames {
         self.budget.as_mut().expect("made above")
     }
 
+    /// The frames of the last budgeted selection, if one was made.
+    pub(super) fn budget_frames_shown(&self) -> Option<&SceneFrames> {
+        self.budget.as_ref().and_then(|b| b.chosen.current())
+    }
+
     /// What the last budgeted frame drew and cost.
     pub fn last_budget(&self) -> Option<&BudgetStats> {
         self.budget.as_ref().map(|b| &b.last)
@@ -208,13 +213,13 @@ impl SceneFrames {
         camera: &Camera,
         settings: &RenderSettings,
         size: (u32, u32),
-    ) -> Result<(&GpuScene, RenderSettings), FrameError> {
+    ) -> Result<(&mut GpuScene, RenderSettings), FrameError> {
         if self.draws_triangles(settings) {
-            return Ok((self.hybrid_scene(gpu, camera, settings, size)?.0, super::hybrid::without_budget(settings)));
+            return Ok((self.hybrid_scene(gpu, camera, settings, size)?, super::hybrid::without_budget(settings)));
         }
         match self.applied_budget(settings) {
             Some(budget) => self.budgeted_scene(gpu, camera, settings, size, budget),
-            None => Ok((self.gpu_scene(gpu, settings)?, *settings)),
+            None => Ok((self.gpu_scene_mut(gpu, settings)?, *settings)),
         }
     }
 
@@ -229,9 +234,9 @@ impl SceneFrames {
         settings: &RenderSettings,
         size: (u32, u32),
         budget: u32,
-    ) -> Result<(&GpuScene, RenderSettings), FrameError> {
+    ) -> Result<(&mut GpuScene, RenderSettings), FrameError> {
         let unbudgeted = RenderSettings { point_budget: None, ..*settings };
         let frames = self.select_for(Some(gpu), camera, settings, size, budget)?;
-        Ok((frames.gpu_scene(gpu, &unbudgeted)?, unbudgeted))
+        Ok((frames.gpu_scene_mut(gpu, &unbudgeted)?, unbudgeted))
     }
 }

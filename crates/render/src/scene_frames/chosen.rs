@@ -42,6 +42,11 @@ impl ChosenFrames {
         }
     }
 
+    /// The frames of the last choice, if one was made.
+    pub(super) fn current(&self) -> Option<&SceneFrames> {
+        self.frames.as_deref()
+    }
+
     /// The frames of the chosen splats: when `changed` (or on first use),
     /// `choose()`'s cloud, keyed for the caches by its key, as the next frame.
     pub(super) fn next(

@@ -127,17 +127,28 @@ impl SceneFrames {
         self.hybrid.as_ref().map(|h| &h.last)
     }
 
+    /// The line on what the last frame with triangles drew, for the plan's
+    /// notes (with the point budget it did not apply, if `settings` has one).
+    pub fn hybrid_note(&self, settings: &RenderSettings) -> Option<String> {
+        let mut note = self.last_hybrid()?.describe(settings.hybrid_pixels);
+        if let Some(budget) = settings.point_budget {
+            note +=
+                &format!("; point budget {budget} not applied (a frame with triangles draws every splat it chooses)");
+        }
+        Some(note)
+    }
+
     /// The GPU copy a frame with triangles from `camera` at `size` draws
-    /// (its leaves chosen here), and a line on what it draws. Such a frame
-    /// draws every splat it chooses: a point budget in `settings` is not
-    /// applied (the line says so); draw it with [`without_budget`]`(settings)`.
+    /// (its leaves chosen here). Such a frame draws every splat it chooses:
+    /// a point budget in `settings` is not applied ([`Self::hybrid_note`]
+    /// says so); draw it with [`without_budget`]`(settings)`.
     pub fn hybrid_scene(
         &mut self,
         gpu: &HeadlessRenderer,
         camera: &Camera,
         settings: &RenderSettings,
         size: (u32, u32),
-    ) -> Result<(&GpuScene, String), FrameError> {
+    ) -> Result<&mut GpuScene, FrameError> {
         if self.hybrid.is_none() {
             let flat = self.scene.flatten();
             let surfaces = self.scene.surfaces(&flat);
@@ -207,14 +218,9 @@ impl SceneFrames {
             update_ms: started.elapsed().as_secs_f64() * 1e3,
             changed,
         };
-        let mut note = state.last.describe(settings.hybrid_pixels);
-        if let Some(budget) = settings.point_budget {
-            note +=
-                &format!("; point budget {budget} not applied (a frame with triangles draws every splat it chooses)");
-        }
         let scene = frames.gpu_scene_mut(gpu, &without_budget(settings))?;
         scene.set_triangles(Some(draw), &state.whole);
         state.selected = Some(selection);
-        Ok((scene, note))
+        Ok(scene)
     }
 }

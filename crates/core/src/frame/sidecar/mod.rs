@@ -1,14 +1,21 @@
 //! The JSON sidecar written beside a screenshot: model, mode, parameters,
 //! camera and size, so that `pointblend render --camera FILE.json` reproduces
-//! the image.
+//! the image. The parameters are written by the descriptor table (each
+//! parameter's key and text form), so a new parameter is recorded with no
+//! code here; sidecars from before the table are read through [`legacy`].
 
 use std::path::Path;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::{Camera, Quality, RenderMode, RenderSettings, UpAxis};
-use crate::grouping::GroupingSpec;
+use std::collections::BTreeMap;
+
+use super::{Camera, Parameter, RenderMode, RenderSettings, UpAxis};
+
+mod legacy;
+
+pub use legacy::LegacySettings;
 
 /// Errors reading a sidecar.
 #[derive(Debug, thiserror::Error)]
@@ -41,59 +48,6 @@ pub struct SidecarCamera {
     pub scene_radius: f32,
 }
 
-/// Everything besides the camera that decided the frame.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SidecarSettings {
-    pub filtered: bool,
-    pub epsilon_scale: f32,
-    /// Eq. 10's step in multiples of ε (1 in sidecars written before it was a setting).
-    #[serde(default = "one")]
-    pub depth_step: f32,
-    pub radius_scale: f32,
-    pub backface_culling: bool,
-    pub voronoi: bool,
-    pub lighting: bool,
-    pub grouping: String,
-    pub light_dir_eye: [f32; 3],
-    pub background: [f32; 3],
-    /// The back-to-front order (`bucket` in sidecars written before it was a choice).
-    #[serde(default = "bucket")]
-    pub order: String,
-    /// The splat passes' prefilter (`none` in sidecars written before it was a choice).
-    #[serde(default = "no_prefilter")]
-    pub prefilter: String,
-    /// The point budget, if the frame had one.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub point_budget: Option<u32>,
-    /// Rays per pixel side of a reference frame (1 when absent).
-    #[serde(default = "one_ray", skip_serializing_if = "is_one_ray")]
-    pub supersample: u32,
-    /// The hybrid objects' triangle threshold in pixels (the default when
-    /// absent; infinity is written as f32::MAX, which JSON can hold).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub hybrid_px: Option<f32>,
-}
-
-fn one_ray() -> u32 {
-    1
-}
-
-fn is_one_ray(n: &u32) -> bool {
-    *n == 1
-}
-
-fn no_prefilter() -> String {
-    super::Prefilter::None.to_string()
-}
-
-fn one() -> f32 {
-    1.0
-}
-
-fn bucket() -> String {
-    crate::spatial::order::OrderKind::Bucket.to_string()
-}
-
 /// A reproducible view.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Sidecar {
@@ -102,7 +56,16 @@ pub struct Sidecar {
     pub mode: String,
     pub size: [u32; 2],
     pub camera: SidecarCamera,
-    pub settings: SidecarSettings,
+    /// Every rendering parameter's text form, by its key (the descriptor
+    /// table's; [`Parameter::text`]). Absent ones take their defaults.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub parameters: BTreeMap<String, String>,
+    /// The headlight's direction in eye space.
+    #[serde(default = "headlight")]
+    pub light_dir_eye: [f32; 3],
+    /// The settings of sidecars written before the descriptor table (read, never written).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub settings: Option<LegacySettings>,
     /// The time shown, in seconds, for a moving scene (absent for a still one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time: Option<f64>,
@@ -134,24 +97,12 @@ impl Sidecar {
                 up,
                 scene_radius: camera.scene_radius,
             },
-            settings: SidecarSettings {
-                filtered: settings.quality == Quality::Filtered,
-                epsilon_scale: settings.epsilon_scale,
-                depth_step: settings.depth_step,
-                radius_scale: settings.radius_scale,
-                backface_culling: settings.backface_culling,
-                voronoi: settings.voronoi,
-                lighting: settings.lighting,
-                grouping: settings.grouping.to_string(),
-                light_dir_eye: settings.shading.light_dir_eye.to_array(),
-                background: settings.shading.background.to_array(),
-                order: settings.order.to_string(),
-                prefilter: settings.prefilter.to_string(),
-                point_budget: settings.point_budget,
-                supersample: settings.supersample,
-                hybrid_px: (settings.hybrid_pixels != super::settings::DEFAULT_HYBRID_PIXELS)
-                    .then_some(settings.hybrid_pixels.min(f32::MAX)),
-            },
+            parameters: Parameter::ALL
+                .into_iter()
+                .filter_map(|p| Some((p.key().to_string(), p.text(settings)?)))
+                .collect(),
+            light_dir_eye: settings.shading.light_dir_eye.to_array(),
+            settings: None,
             time: None,
         }
     }
@@ -208,33 +159,24 @@ impl Sidecar {
 
     /// The settings, starting from the defaults for what the sidecar does not hold.
     pub fn settings(&self) -> Result<RenderSettings, String> {
-        let s = &self.settings;
-        let mut settings = RenderSettings {
-            mode: self.mode.parse::<RenderMode>()?,
-            quality: if s.filtered { Quality::Filtered } else { Quality::Unfiltered },
-            epsilon_scale: s.epsilon_scale,
-            depth_step: s.depth_step,
-            radius_scale: s.radius_scale,
-            backface_culling: s.backface_culling,
-            grouping: s.grouping.parse::<GroupingSpec>()?,
-            voronoi: s.voronoi,
-            lighting: s.lighting,
-            order: s.order.parse()?,
-            prefilter: s.prefilter.parse()?,
-            point_budget: s.point_budget,
-            supersample: s.supersample,
-            // f32::MAX stands for infinity (splats only), which JSON cannot hold.
-            hybrid_pixels: s
-                .hybrid_px
-                .filter(|p| *p >= 0.0)
-                .map(|p| if p >= f32::MAX { f32::INFINITY } else { p })
-                .unwrap_or(super::settings::DEFAULT_HYBRID_PIXELS),
-            ..RenderSettings::default()
+        let mut settings = match &self.settings {
+            Some(legacy) => legacy.settings()?,
+            None => RenderSettings {
+                shading: super::Shading { light_dir_eye: Vec3::from_array(self.light_dir_eye), ..Default::default() },
+                ..Default::default()
+            },
         };
-        settings.shading.light_dir_eye = Vec3::from_array(s.light_dir_eye);
-        settings.shading.background = Vec3::from_array(s.background);
+        settings.mode = self.mode.parse::<RenderMode>()?;
+        for (key, value) in &self.parameters {
+            let parameter = Parameter::from_key(key).ok_or_else(|| format!("'{key}' is not a parameter"))?;
+            parameter.apply(&mut settings, value)?;
+        }
         Ok(settings)
     }
+}
+
+fn headlight() -> [f32; 3] {
+    super::Shading::default().light_dir_eye.to_array()
 }
 
 #[cfg(test)]
@@ -250,7 +192,9 @@ mod tests {
             mode: RenderMode::ALL[1],
             radius_scale: 1.3,
             depth_step: 2.0,
-            grouping: GroupingSpec::wgc(6),
+            grouping: crate::grouping::GroupingSpec::wgc(6),
+            peel_layers: 5,
+            environment: super::super::environment::EnvironmentSettings { eta: 1.7, ..Default::default() },
             ..Default::default()
         };
         let model = SidecarModel { name: "m.ply".into(), path: "/x/m.ply".into(), hash: "00ff".into(), splats: 7 };
@@ -262,17 +206,6 @@ mod tests {
         assert_eq!(back, sidecar);
         assert_eq!(back.camera(), camera);
         assert_eq!(back.settings(), Ok(settings));
-    }
-
-    #[test]
-    fn a_sidecar_from_before_the_depth_step_setting_reads_as_step_1() {
-        let settings = RenderSettings { depth_step: 3.0, ..Default::default() };
-        let model = SidecarModel { name: "m.ply".into(), path: "/x/m.ply".into(), hash: "00ff".into(), splats: 7 };
-        let sidecar = Sidecar::new(model, &Camera::framing(Vec3::ZERO, 1.0, 1.0), &settings, (30, 20));
-        let mut json: serde_json::Value = serde_json::to_value(&sidecar).unwrap();
-        json["settings"].as_object_mut().unwrap().remove("depth_step");
-        let old: Sidecar = serde_json::from_value(json).unwrap();
-        assert_eq!(old.settings().unwrap().depth_step, 1.0, "what such a sidecar's frame was rendered with");
     }
 
     #[test]
