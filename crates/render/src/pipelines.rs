@@ -11,7 +11,7 @@ use std::collections::HashMap;
 
 use super::context::GpuError;
 use super::gpu_data::{FrameUniforms, PassUniforms};
-use super::passes::{PipelineKey, PipelineKind, compute, fullscreen, splat};
+use super::passes::{PipelineKey, PipelineKind, PipelineSource, compute, fullscreen, splat};
 use super::shaders::{self, Variant};
 
 pub struct PipelineCache {
@@ -112,7 +112,8 @@ impl PipelineCache {
                 immediate_size: 0,
             });
             let label = format!("{shader}::{entry} ({variant})");
-            let pipeline = compute::pipeline(device, &label, &layout, &self.modules[&(shader, variant)], entry);
+            let module = &self.modules[&(shader, variant)];
+            let pipeline = compute::pipeline(&PipelineSource { device, label: &label, layout: &layout, module, entry });
             self.computes.insert(key.clone(), (pipeline, group));
         }
         self.computes.get(&key).ok_or_else(|| GpuError::Device("compute pipeline cache".into()))
@@ -169,13 +170,10 @@ impl PipelineCache {
         }
         let (module, layout) = (&self.modules[&(key.shader, key.variant)], &self.layouts[&layout_key]);
         let label = format!("{}::{} ({})", key.shader, key.entry, key.variant);
+        let source = PipelineSource { device, label: &label, layout, module, entry: key.entry };
         let built = match &key.kind {
-            PipelineKind::Splats { .. } => {
-                splat::pipeline(device, &label, layout, module, key.entry, &key.kind, key.variant)
-            }
-            PipelineKind::Fullscreen { .. } => {
-                fullscreen::pipeline(device, &label, layout, module, key.entry, &key.kind)
-            }
+            PipelineKind::Splats { .. } => splat::pipeline(&source, &key.kind, key.variant),
+            PipelineKind::Fullscreen { .. } => fullscreen::pipeline(&source, &key.kind),
         };
         built.ok_or_else(|| GpuError::Device(format!("no pipeline for {label}")))
     }

@@ -17,51 +17,33 @@ pub enum Binding {
 
 /// The layout of group 1 for `bindings`.
 pub fn layout(device: &wgpu::Device, bindings: &[Binding]) -> wgpu::BindGroupLayout {
-    let entries: Vec<wgpu::BindGroupLayoutEntry> = bindings
-        .iter()
-        .enumerate()
-        .map(|(binding, kind)| wgpu::BindGroupLayoutEntry {
-            binding: binding as u32,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: match *kind {
-                Binding::Uniform => wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                Binding::Storage { read_only } => wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Storage { read_only },
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                Binding::StorageTexture(format) => wgpu::BindingType::StorageTexture {
-                    access: wgpu::StorageTextureAccess::WriteOnly,
-                    format,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                },
-            },
-            count: None,
-        })
-        .collect();
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("Compute::layout"),
-        entries: &entries,
-    })
+    let types = bindings.iter().map(|kind| match *kind {
+        Binding::Uniform => wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        Binding::Storage { read_only } => wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        Binding::StorageTexture(format) => wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension: wgpu::TextureViewDimension::D2,
+        },
+    });
+    super::group_layout(device, "Compute::layout", wgpu::ShaderStages::COMPUTE, types)
 }
 
-/// Builds the pipeline of entry point `entry` of `module`.
-pub fn pipeline(
-    device: &wgpu::Device,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    entry: &str,
-) -> wgpu::ComputePipeline {
-    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(label),
-        layout: Some(layout),
-        module,
-        entry_point: Some(entry),
+/// Builds the pipeline of `source`'s compute entry point.
+pub fn pipeline(source: &super::PipelineSource<'_>) -> wgpu::ComputePipeline {
+    source.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(source.label),
+        layout: Some(source.layout),
+        module: source.module,
+        entry_point: Some(source.entry),
         compilation_options: Default::default(),
         cache: None,
     })

@@ -6,36 +6,18 @@ use super::{FullscreenPass, PipelineKind};
 
 /// The layout of `dimensions.len()` unfilterable float textures at bindings 0.. of group 1.
 pub fn inputs_layout(device: &wgpu::Device, dimensions: &[wgpu::TextureViewDimension]) -> wgpu::BindGroupLayout {
-    let entries: Vec<wgpu::BindGroupLayoutEntry> = dimensions
-        .iter()
-        .enumerate()
-        .map(|(binding, &view_dimension)| wgpu::BindGroupLayoutEntry {
-            binding: binding as u32,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension,
-                multisampled: false,
-            },
-            count: None,
-        })
-        .collect();
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("Fullscreen::inputs_layout"),
-        entries: &entries,
-    })
+    let types = dimensions.iter().map(|&view_dimension| wgpu::BindingType::Texture {
+        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+        view_dimension,
+        multisampled: false,
+    });
+    super::group_layout(device, "Fullscreen::inputs_layout", wgpu::ShaderStages::FRAGMENT, types)
 }
 
 /// Builds the pipeline of a full-screen pass described by `kind`.
-pub fn pipeline(
-    device: &wgpu::Device,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    entry: &str,
-    kind: &PipelineKind,
-) -> Option<wgpu::RenderPipeline> {
+pub fn pipeline(source: &super::PipelineSource<'_>, kind: &PipelineKind) -> Option<wgpu::RenderPipeline> {
     let PipelineKind::Fullscreen { output, blend, .. } = kind else { return None };
+    let super::PipelineSource { device, label, layout, module, entry } = *source;
     Some(device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(layout),

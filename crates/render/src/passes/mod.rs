@@ -56,6 +56,37 @@ pub struct ColourOutput {
     pub blend: Blend,
 }
 
+/// What every pipeline builder starts from (the splat, full-screen and
+/// compute builders): the shader module, the fragment or compute entry
+/// point, the pipeline layout and a label.
+pub struct PipelineSource<'a> {
+    pub device: &'a wgpu::Device,
+    pub label: &'a str,
+    pub layout: &'a wgpu::PipelineLayout,
+    pub module: &'a wgpu::ShaderModule,
+    pub entry: &'a str,
+}
+
+/// A bind group layout of `entries`' binding types at bindings 0.. in order,
+/// visible to `stages` (group 1 of the full-screen and compute passes).
+pub fn group_layout(
+    device: &wgpu::Device,
+    label: &str,
+    stages: wgpu::ShaderStages,
+    entries: impl Iterator<Item = wgpu::BindingType>,
+) -> wgpu::BindGroupLayout {
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = entries
+        .enumerate()
+        .map(|(binding, ty)| wgpu::BindGroupLayoutEntry {
+            binding: binding as u32,
+            visibility: stages,
+            ty,
+            count: None,
+        })
+        .collect();
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries: &entries })
+}
+
 /// A render pass that draws splats.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SplatPass {

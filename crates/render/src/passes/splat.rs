@@ -13,15 +13,12 @@ use crate::shaders::Variant;
 
 /// Builds the pipeline of a splat pass described by `kind`.
 pub fn pipeline(
-    device: &wgpu::Device,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    entry: &str,
+    source: &super::PipelineSource<'_>,
     kind: &PipelineKind,
     variant: Variant,
 ) -> Option<wgpu::RenderPipeline> {
     let PipelineKind::Splats { colour, depth, cull_back, .. } = kind else { return None };
+    let super::PipelineSource { device, label, layout, module, entry } = *source;
     // A frame lit by scene lights reads each splat's shadow coefficients from a second instance buffer.
     let with_lights = [Some(SplatInstance::layout()), Some(crate::gpu_data::splat_light_layout())];
     let triangles = [Some(TriangleVertex::layout())];
