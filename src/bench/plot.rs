@@ -180,33 +180,8 @@ pub fn write_animation(rows: &[BenchRow], title: &str, path: &Path) -> Result<()
         let max_ms = series.iter().flatten().map(|s| s.1.max(s.2.unwrap_or(0.0))).fold(1.0, f64::max) * 1.15;
         let max_eps = series.iter().flatten().map(|s| s.3).fold(0.5, f64::max) * 1.15;
         let frames = -0.5..(frame_count as f64 - 0.5);
-        let mut time = ChartBuilder::on(&left)
-            .margin(20)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
-            .build_cartesian_2d(frames.clone(), 0.0..max_ms)
-            .map_err(|e| e.to_string())?;
-        time.configure_mesh()
-            .x_desc("frame")
-            .x_label_formatter(&|x| format!("{x:.0}"))
-            .y_desc("ms: frame (circles), regroup + upload (triangles)")
-            .label_style(("sans-serif", 14))
-            .draw()
-            .map_err(|e| e.to_string())?;
-        let mut error = ChartBuilder::on(&right)
-            .margin(20)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
-            .build_cartesian_2d(frames, 0.0..max_eps)
-            .map_err(|e| e.to_string())?;
-        error
-            .configure_mesh()
-            .x_desc("frame")
-            .x_label_formatter(&|x| format!("{x:.0}"))
-            .y_desc("ε against that frame's reference")
-            .label_style(("sans-serif", 14))
-            .draw()
-            .map_err(|e| e.to_string())?;
+        let mut time = frame_chart(&left, frames.clone(), max_ms, "ms: frame (circles), regroup + upload (triangles)")?;
+        let mut error = frame_chart(&right, frames, max_eps, "ε against that frame's reference")?;
         for (i, (variant, points)) in variants.iter().zip(&series).enumerate() {
             let colour = Palette99::pick(i).to_rgba();
             let frame_ms: Vec<(f64, f64)> = points.iter().map(|p| (p.0 as f64, p.1)).collect();
@@ -234,4 +209,35 @@ pub fn write_animation(rows: &[BenchRow], title: &str, path: &Path) -> Result<()
     let rgb = image::RgbImage::from_raw(size.0, size.1, buffer).ok_or("plot buffer size")?;
     let rgba = image::DynamicImage::ImageRgb8(rgb).to_rgba8();
     crate::output::save_png(&rgba, path).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// One panel of the animation plot: a value per animation frame, with the
+/// frames along x and `y_desc` up to `max` along y.
+type FrameChart<'a> = ChartContext<
+    'a,
+    BitMapBackend<'a>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+fn frame_chart<'a>(
+    area: &DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>,
+    frames: std::ops::Range<f64>,
+    max: f64,
+    y_desc: &str,
+) -> Result<FrameChart<'a>, String> {
+    let mut chart = ChartBuilder::on(area)
+        .margin(20)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(frames, 0.0..max)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc("frame")
+        .x_label_formatter(&|x| format!("{x:.0}"))
+        .y_desc(y_desc)
+        .label_style(("sans-serif", 14))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(chart)
 }

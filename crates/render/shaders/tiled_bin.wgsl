@@ -12,15 +12,9 @@
 @group(1) @binding(4) var<storage, read_write> entries: array<vec2<u32>>;
 
 @compute @workgroup_size(256)
-fn cs_bin(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) workgroups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let i = invocation(workgroup, workgroups, local);
-    if i >= tiles.grid.w {
-        return;
-    }
+fn cs_bin(dispatch: Dispatch) {
+    let i = invocation(dispatch);
+    if i >= tiles.grid.w { return; }
     let rect = rects[i];
     let first_pixel = vec2<u32>(rect.x & 0xffffu, rect.y & 0xffffu);
     let last_pixel = vec2<u32>(rect.x >> 16u, rect.y >> 16u);

@@ -31,15 +31,23 @@ struct Tiles {
     grid: vec4<u32>,
 }
 
-// The index of this invocation among a dispatch of GROUP-wide workgroups
-// laid out in two dimensions (a dimension holds at most 65535 workgroups).
-fn invocation(workgroup: vec3<u32>, workgroups: vec3<u32>, local: u32) -> u32 {
-    return (workgroup.y * workgroups.x + workgroup.x) * GROUP + local;
+// Where a compute invocation stands in a dispatch of workgroups laid out in
+// two dimensions (a dimension holds at most 65535 workgroups): the input of
+// the tile pipeline's entry points.
+struct Dispatch {
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) workgroups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
 }
 
-// The workgroup's index in a two-dimensional dispatch.
-fn workgroup_index(workgroup: vec3<u32>, workgroups: vec3<u32>) -> u32 {
-    return workgroup.y * workgroups.x + workgroup.x;
+// The index of this invocation among a dispatch of GROUP-wide workgroups.
+fn invocation(dispatch: Dispatch) -> u32 {
+    return workgroup_index(dispatch) * GROUP + dispatch.local;
+}
+
+// The workgroup's index in the dispatch.
+fn workgroup_index(dispatch: Dispatch) -> u32 {
+    return dispatch.workgroup.y * dispatch.workgroups.x + dispatch.workgroup.x;
 }
 
 // A view depth as a u32 whose unsigned order is the float's order.

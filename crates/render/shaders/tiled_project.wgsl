@@ -26,15 +26,9 @@
 #endif
 
 @compute @workgroup_size(256)
-fn cs_project(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) workgroups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let at = invocation(workgroup, workgroups, local);
-    if at >= tiles.grid.w {
-        return;
-    }
+fn cs_project(dispatch: Dispatch) {
+    let at = invocation(dispatch);
+    if at >= tiles.grid.w { return; }
     let i = tiles.grid.z + at;
     let b = at * 9u;
     let position = vec3<f32>(splats[b], splats[b + 1u], splats[b + 2u]);

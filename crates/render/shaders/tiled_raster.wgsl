@@ -682,11 +682,10 @@ fn cs_raster(
     @builtin(subgroup_invocation_id) subgroup_lane: u32,
     @builtin(subgroup_size) subgroup_lanes: u32,
 #endif
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) workgroups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
+    dispatch: Dispatch,
 ) {
-    let tile = workgroup_index(workgroup, workgroups);
+    let tile = workgroup_index(dispatch);
+    let local = dispatch.local;
     let columns = tiles.grid.x;
     let inside_grid = tile < columns * tiles.grid.y;
     let pixel = vec2<u32>(tile % columns, tile / columns) * TILE + vec2<u32>(local % TILE, local / TILE);

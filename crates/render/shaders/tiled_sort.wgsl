@@ -33,15 +33,9 @@ fn partner(i: u32, k: u32, j: u32) -> u32 {
 }
 
 @compute @workgroup_size(256)
-fn cs_sort_short(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) workgroups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let tile = invocation(workgroup, workgroups, local);
-    if tile >= tiles.grid.x * tiles.grid.y {
-        return;
-    }
+fn cs_sort_short(dispatch: Dispatch) {
+    let tile = invocation(dispatch);
+    if tile >= tiles.grid.x * tiles.grid.y { return; }
     let start = offsets[tile];
     let count = offsets[tile + 1u] - start;
     if count > SHORT {
@@ -87,12 +81,8 @@ fn read_run(at: u32, in_scratch: bool) -> vec2<u32> {
 }
 
 @compute @workgroup_size(256)
-fn cs_sort(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) workgroups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let tile = long_tiles[workgroup_index(workgroup, workgroups)];
+fn cs_sort(dispatch: Dispatch) {
+    let tile = long_tiles[workgroup_index(dispatch)];
     let start = offsets[tile];
     let count = offsets[tile + 1u] - start;
     var size = 2u;
@@ -101,7 +91,7 @@ fn cs_sort(
     }
     for (var k = 2u; k <= size; k *= 2u) {
         for (var j = k / 2u; j > 0u; j /= 2u) {
-            for (var i = local; i < size; i += GROUP) {
+            for (var i = dispatch.local; i < size; i += GROUP) {
                 let l = partner(i, k, j);
                 if l > i && l < count && before(entries[start + l], entries[start + i]) {
                     let kept = entries[start + i];

@@ -25,15 +25,9 @@ fn corner_eye(triangle: u32, corner: u32) -> vec3<f32> {
 }
 
 @compute @workgroup_size(256)
-fn cs_project_triangles(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) workgroups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let at = invocation(workgroup, workgroups, local);
-    if at >= tiles.grid.w {
-        return;
-    }
+fn cs_project_triangles(dispatch: Dispatch) {
+    let at = invocation(dispatch);
+    if at >= tiles.grid.w { return; }
     let i = tiles.grid.z + at;
     let triangle = drawn_triangles[at];
     let a = corner_eye(triangle, 0u);

@@ -17,7 +17,9 @@ pub fn inputs_layout(device: &wgpu::Device, dimensions: &[wgpu::TextureViewDimen
 /// Builds the pipeline of a full-screen pass described by `kind`.
 pub fn pipeline(source: &super::PipelineSource<'_>, kind: &PipelineKind) -> Option<wgpu::RenderPipeline> {
     let PipelineKind::Fullscreen { output, blend, .. } = kind else { return None };
-    let super::PipelineSource { device, label, layout, module, entry } = *source;
+    let super::PipelineSource { device, label, layout, module, .. } = *source;
+    let targets =
+        [Some(wgpu::ColorTargetState { format: *output, blend: blend.state(), write_mask: wgpu::ColorWrites::ALL })];
     Some(device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(layout),
@@ -30,16 +32,7 @@ pub fn pipeline(source: &super::PipelineSource<'_>, kind: &PipelineKind) -> Opti
         primitive: Default::default(),
         depth_stencil: None,
         multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState {
-                format: *output,
-                blend: blend.state(),
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
-        }),
+        fragment: Some(source.fragment(&targets)),
         multiview_mask: None,
         cache: None,
     }))

@@ -67,6 +67,18 @@ pub struct PipelineSource<'a> {
     pub entry: &'a str,
 }
 
+impl<'a> PipelineSource<'a> {
+    /// The fragment stage of a render pipeline: the source's entry point, writing `targets`.
+    pub fn fragment(&self, targets: &'a [Option<wgpu::ColorTargetState>]) -> wgpu::FragmentState<'a> {
+        wgpu::FragmentState {
+            module: self.module,
+            entry_point: Some(self.entry),
+            compilation_options: Default::default(),
+            targets,
+        }
+    }
+}
+
 /// A bind group layout of `entries`' binding types at bindings 0.. in order,
 /// visible to `stages` (group 1 of the full-screen and compute passes).
 pub fn group_layout(

@@ -18,7 +18,7 @@ pub fn pipeline(
     variant: Variant,
 ) -> Option<wgpu::RenderPipeline> {
     let PipelineKind::Splats { colour, depth, cull_back, .. } = kind else { return None };
-    let super::PipelineSource { device, label, layout, module, entry } = *source;
+    let super::PipelineSource { device, label, layout, module, .. } = *source;
     // A frame lit by scene lights reads each splat's shadow coefficients from a second instance buffer.
     let with_lights = [Some(SplatInstance::layout()), Some(crate::gpu_data::splat_light_layout())];
     let triangles = [Some(TriangleVertex::layout())];
@@ -58,12 +58,7 @@ pub fn pipeline(
             bias: Default::default(),
         }),
         multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            targets: &targets,
-        }),
+        fragment: Some(source.fragment(&targets)),
         multiview_mask: None,
         cache: None,
     }))
