@@ -234,7 +234,8 @@ fn frame_chart<'a>(
     chart
         .configure_mesh()
         .x_desc("frame")
-        .x_label_formatter(&|x| format!("{x:.0}"))
+        // Whole frames only: the axis runs from -0.5, and halves would round to repeated labels.
+        .x_label_formatter(&|x| if x.fract() == 0.0 { format!("{x:.0}") } else { String::new() })
         .y_desc(y_desc)
         .label_style(("sans-serif", 14))
         .draw()
