@@ -23,7 +23,17 @@ fn help_of(parameter: Parameter) -> String {
     let row = parameter.info();
     let default = parameter.text(&RenderSettings::default()).unwrap_or_else(|| "the mode's own".to_string());
     let modes: Vec<&str> = parameter.used_by().map(RenderMode::name).collect();
-    format!("{}; values: {} [default: {default}] (read by {})", row.help, row.values, modes.join(", "))
+    format!("{}; values: {} [default: {default}] (read by {})", sentence(row.help), row.values, modes.join(", "))
+}
+
+/// `text` with an ASCII first letter capitalised (a Greek one, as in "ε of
+/// the depth test", stays as it is written).
+fn sentence(text: &str) -> String {
+    let mut chars = text.chars();
+    match chars.next() {
+        Some(first) => first.to_ascii_uppercase().to_string() + chars.as_str(),
+        None => String::new(),
+    }
 }
 
 impl ParameterFlags {
