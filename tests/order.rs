@@ -337,7 +337,7 @@ fn each_group_is_sorted_back_to_front_in_the_instance_buffers_only_when_the_view
     let renderer = common::renderer();
     let ctx = &renderer.ctx;
     let mut gpu = renderer.upload_cloud(&cloud, Some(&grouping));
-    let uploaded = gpu.with_instance_order(|o| o.current().to_vec()).expect("a transparent scene keeps its instances");
+    let uploaded = gpu.instance_order().map(|o| o.current().to_vec()).expect("a transparent scene keeps its instances");
     let scale = cloud.bounds().unwrap().radius();
     let views = standard_views(&cloud, 1.0, 2);
     for (round, view) in views.iter().enumerate() {
@@ -348,8 +348,8 @@ fn each_group_is_sorted_back_to_front_in_the_instance_buffers_only_when_the_view
             "{}: the same view again writes nothing",
             view.name
         );
-        assert_eq!(gpu.with_instance_order(|o| o.uploads()), Some(round as u64 + 1));
-        let (current, slab) = gpu.with_instance_order(|o| (o.current().to_vec(), o.slab())).unwrap();
+        assert_eq!(gpu.instance_order().map(|o| o.uploads()), Some(round as u64 + 1));
+        let (current, slab) = gpu.instance_order().map(|o| (o.current().to_vec(), o.slab())).unwrap();
         // The GPU holds what the order says.
         let mut held = Vec::new();
         for (buffer, count) in &gpu.chunks {
@@ -429,7 +429,7 @@ fn the_order_setting_decides_what_the_instance_buffers_hold_each_frame() {
     let grouping = "wgc-k4-radius".parse::<GroupingSpec>().unwrap().compute(&cloud).unwrap();
     let mut renderer = common::renderer();
     let mut gpu = renderer.upload_cloud(&cloud, Some(&grouping));
-    let uploaded = gpu.with_instance_order(|o| o.current().to_vec()).unwrap();
+    let uploaded = gpu.instance_order().map(|o| o.current().to_vec()).unwrap();
     let positions: Vec<Vec3> = uploaded.iter().map(|s| Vec3::from_array(s.position)).collect();
     let radii: Vec<f32> = uploaded.iter().map(|s| s.radius.abs()).collect();
     let camera = standard_views(&cloud, 1.0, 2)[1].camera;
@@ -449,10 +449,10 @@ fn the_order_setting_decides_what_the_instance_buffers_hold_each_frame() {
             let plan = renderer.render(&mut gpu, &camera, &settings, 64, 64).unwrap();
             assert!(plan.back_to_front(), "{mode} draws in order");
             let held: Vec<[f32; 3]> =
-                gpu.with_instance_order(|o| o.current().iter().map(|s: &SplatInstance| s.position).collect()).unwrap();
+                gpu.instance_order().map(|o| o.current().iter().map(|s: &SplatInstance| s.position).collect()).unwrap();
             assert_eq!(held, expected(kind), "{mode}, frame {frame}: the instances are not in {kind} order");
         }
         // One sort per change of order; the same view and order again sort nothing.
-        assert_eq!(gpu.with_instance_order(|o| o.uploads()), Some(frame as u64 + 1));
+        assert_eq!(gpu.instance_order().map(|o| o.uploads()), Some(frame as u64 + 1));
     }
 }

@@ -13,9 +13,16 @@ use pointblend::frame::{Parameter, RenderMode, RenderSettings};
 /// The rendering parameters given on the command line, in the table's order.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ParameterFlags {
-    pub given: Vec<(Parameter, String)>,
-    /// The flag each was given by (`--no-cull` or `--cull`), for messages.
-    spelt: Vec<&'static str>,
+    given: Vec<Given>,
+}
+
+/// One parameter given on the command line.
+#[derive(Debug, Clone, PartialEq)]
+struct Given {
+    parameter: Parameter,
+    value: String,
+    /// The flag it was given by (`--no-cull` or `--cull`), for messages.
+    flag: &'static str,
 }
 
 /// The help of a row: what it does, its values, its default and its modes.
@@ -39,25 +46,23 @@ fn sentence(text: &str) -> String {
 impl ParameterFlags {
     /// The value given for `parameter`, if any.
     pub fn given(&self, parameter: Parameter) -> Option<&str> {
-        self.given.iter().find(|(p, _)| *p == parameter).map(|(_, v)| v.as_str())
+        self.given.iter().find(|g| g.parameter == parameter).map(|g| g.value.as_str())
+    }
+
+    /// Every parameter given, with its value (in the table's order).
+    pub fn values(&self) -> Vec<(Parameter, String)> {
+        self.given.iter().map(|g| (g.parameter, g.value.clone())).collect()
     }
 
     /// Sets every given parameter in `settings` (already checked by clap).
     pub fn apply(&self, settings: &mut RenderSettings) -> Result<(), String> {
-        self.given.iter().try_for_each(|(p, value)| p.apply(settings, value))
-    }
-
-    /// The given flags `mode` does not read, as `--flag` names.
-    pub fn ignored_by(&self, mode: RenderMode) -> Vec<String> {
-        let reads = mode.parameters();
-        let given = self.given.iter().zip(&self.spelt);
-        given.filter(|((p, _), _)| !reads.contains(p)).map(|(_, flag)| format!("--{flag}")).collect()
+        self.given.iter().try_for_each(|g| g.parameter.apply(settings, &g.value))
     }
 
     /// Logs each given flag `mode` does not read.
     pub fn warn_ignored(&self, mode: RenderMode) {
-        for flag in self.ignored_by(mode) {
-            log::warn!("{flag} is ignored: mode {mode} does not use it");
+        for given in self.given.iter().filter(|g| !mode.reads(g.parameter)) {
+            log::warn!("--{} is ignored: mode {mode} does not use it", given.flag);
         }
     }
 }
@@ -79,12 +84,8 @@ impl clap::FromArgMatches for ParameterFlags {
                 (None, Some(switch)) => ("off".to_string(), switch),
                 (None, None) => continue,
             };
-            if let Some(i) = self.given.iter().position(|(p, _)| *p == parameter) {
-                self.given.remove(i);
-                self.spelt.remove(i);
-            }
-            self.given.push((parameter, value));
-            self.spelt.push(flag);
+            self.given.retain(|g| g.parameter != parameter);
+            self.given.push(Given { parameter, value, flag });
         }
         Ok(())
     }

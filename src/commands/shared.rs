@@ -7,10 +7,10 @@ use pointblend::cloud::{self, LoadOptions, LoadReport, PointCloud};
 use pointblend::frame::{Camera, UpAxis};
 use pointblend::output::ImageFormat;
 use pointblend::render::{RenderMode, RenderSettings};
+use pointblend::scene::Scene;
 
 use super::parameter_flags::ParameterFlags;
 use super::scene_args::SceneArgs;
-use pointblend::scene::Scene;
 
 /// Loads a cloud with progress bars and logs its warnings.
 pub fn load(path: &Path) -> Result<(PointCloud, LoadReport)> {
@@ -83,7 +83,7 @@ impl ViewArgs {
     /// The settings of `--mode` for `scene`, saying which given options it does not read.
     pub fn settings(&self, scene: &Scene) -> Result<RenderSettings> {
         let settings = self.base_settings(scene)?;
-        self.warn_ignored();
+        self.parameters.warn_ignored(self.mode);
         Ok(settings)
     }
 
@@ -103,11 +103,6 @@ impl ViewArgs {
         // The checks a sidecar's settings get too.
         settings.check().map_err(anyhow::Error::msg)?;
         Ok(settings)
-    }
-
-    /// Says which given options the chosen mode does not read.
-    fn warn_ignored(&self) {
-        self.parameters.warn_ignored(self.mode);
     }
 
     /// The camera: the options given, else the scene file's, else framing every object.

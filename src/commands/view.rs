@@ -33,7 +33,7 @@ pub fn run(args: &Args) -> Result<()> {
         mode: args.mode.or_else(|| first_run.then_some(RenderMode::FIRST_RUN)),
         cache: None,
         materials: args.scene.materials(args.parameters.given(Parameter::Background).is_some()),
-        parameters: args.parameters.given.clone(),
+        parameters: args.parameters.values(),
         environment: args.env.clone(),
         lights: args.scene.lights.clone(),
     };

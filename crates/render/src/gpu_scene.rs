@@ -382,9 +382,9 @@ impl GpuScene {
         order.apply(queue, &self.chunks, lights, view, kind)
     }
 
-    /// Runs `look` on the scene's instance order, if it keeps one.
-    pub fn with_instance_order<T>(&self, look: impl FnOnce(&InstanceOrder) -> T) -> Option<T> {
-        self.order.as_ref().map(look)
+    /// The scene's instance order, if it keeps one.
+    pub fn instance_order(&self) -> Option<&InstanceOrder> {
+        self.order.as_ref()
     }
 
     /// All splats, as an instance range (without the opaque run).

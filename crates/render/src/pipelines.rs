@@ -33,23 +33,15 @@ type ComputeKey = (&'static str, &'static str, Variant, Vec<compute::Binding>);
 
 impl PipelineCache {
     pub fn new(device: &wgpu::Device) -> Self {
-        let uniform = |binding, dynamic: bool, size: usize| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: dynamic,
-                min_binding_size: wgpu::BufferSize::new(size as u64),
-            },
-            count: None,
+        let uniform = |dynamic: bool, size: usize| wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: dynamic,
+            min_binding_size: wgpu::BufferSize::new(size as u64),
         };
-        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("Frame::layout"),
-            entries: &[
-                uniform(0, false, std::mem::size_of::<FrameUniforms>()),
-                uniform(1, true, std::mem::size_of::<PassUniforms>()),
-            ],
-        });
+        let uniforms =
+            [uniform(false, std::mem::size_of::<FrameUniforms>()), uniform(true, std::mem::size_of::<PassUniforms>())];
+        let stages = wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE;
+        let frame_layout = super::passes::group_layout(device, "Frame::layout", stages, uniforms.into_iter());
         Self {
             frame_layout,
             environment_layout: super::environment::EnvTexture::layout(device),

@@ -126,6 +126,12 @@ impl RenderSettings {
         Ok(())
     }
 
+    /// These settings with no point budget: what a frame whose splats were
+    /// already chosen (under a budget, or beside a hybrid object's triangles) is drawn with.
+    pub fn without_budget(&self) -> Self {
+        RenderSettings { point_budget: None, ..*self }
+    }
+
     /// The layers k the mode draws: the setting, else the registry's default for the mode.
     pub fn peel_layers_or_default(&self) -> u32 {
         if self.peel_layers == 0 { self.mode.info().default_peel_layers } else { self.peel_layers }

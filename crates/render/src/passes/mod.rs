@@ -80,7 +80,8 @@ impl<'a> PipelineSource<'a> {
 }
 
 /// A bind group layout of `entries`' binding types at bindings 0.. in order,
-/// visible to `stages` (group 1 of the full-screen and compute passes).
+/// visible to `stages`: every layout the passes bind (the frame's uniforms,
+/// the full-screen and compute inputs, the environment map).
 pub fn group_layout(
     device: &wgpu::Device,
     label: &str,

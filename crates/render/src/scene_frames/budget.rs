@@ -204,29 +204,10 @@ impl SceneFrames {
         Ok(frames)
     }
 
-    /// The GPU copy a frame of `settings` from `camera` at `size` draws, and
-    /// the settings to draw it with: under a point budget, the selected
-    /// splats (selected here: part of the frame), else [`Self::gpu_scene`].
-    pub fn frame_scene(
-        &mut self,
-        gpu: &HeadlessRenderer,
-        camera: &Camera,
-        settings: &RenderSettings,
-        size: (u32, u32),
-    ) -> Result<(&mut GpuScene, RenderSettings), FrameError> {
-        if self.draws_triangles(settings) {
-            return Ok((self.hybrid_scene(gpu, camera, settings, size)?, super::hybrid::without_budget(settings)));
-        }
-        match self.applied_budget(settings) {
-            Some(budget) => self.budgeted_scene(gpu, camera, settings, size, budget),
-            None => Ok((self.gpu_scene_mut(gpu, settings)?, *settings)),
-        }
-    }
-
     /// The GPU copy of the splats selected under `budget` from `camera` at
     /// `size`, and the settings to draw it with: the budgeted path, whatever
-    /// the budget (a frame asks [`Self::frame_scene`], which takes this path
-    /// only for a budget below the scene's splats).
+    /// the budget (a frame takes this path only for a budget below the
+    /// scene's splats, [`Self::applied_budget`]).
     pub fn budgeted_scene(
         &mut self,
         gpu: &HeadlessRenderer,
@@ -235,7 +216,7 @@ impl SceneFrames {
         size: (u32, u32),
         budget: u32,
     ) -> Result<(&mut GpuScene, RenderSettings), FrameError> {
-        let unbudgeted = RenderSettings { point_budget: None, ..*settings };
+        let unbudgeted = settings.without_budget();
         let frames = self.select_for(Some(gpu), camera, settings, size, budget)?;
         Ok((frames.gpu_scene_mut(gpu, &unbudgeted)?, unbudgeted))
     }

@@ -77,11 +77,6 @@ pub(super) struct HybridFrames {
     last: HybridStats,
 }
 
-/// `settings` with no point budget: what a frame that draws triangles is drawn with.
-pub fn without_budget(settings: &RenderSettings) -> RenderSettings {
-    RenderSettings { point_budget: None, ..*settings }
-}
-
 impl SceneFrames {
     /// Why a GPU frame of `settings` draws the scene's meshes as their
     /// vertex splats, if it does: a mode without triangles, scene lights
@@ -141,8 +136,8 @@ impl SceneFrames {
     /// The GPU copy a frame with triangles from `camera` at `size` draws
     /// (its leaves chosen here). Such a frame draws every splat it chooses:
     /// a point budget in `settings` is not applied ([`Self::hybrid_note`]
-    /// says so); draw it with [`without_budget`]`(settings)`.
-    pub fn hybrid_scene(
+    /// says so); draw it with [`RenderSettings::without_budget`].
+    pub(super) fn hybrid_scene(
         &mut self,
         gpu: &HeadlessRenderer,
         camera: &Camera,
@@ -218,7 +213,7 @@ impl SceneFrames {
             update_ms: started.elapsed().as_secs_f64() * 1e3,
             changed,
         };
-        let scene = frames.gpu_scene_mut(gpu, &without_budget(settings))?;
+        let scene = frames.gpu_scene_mut(gpu, &settings.without_budget())?;
         scene.set_triangles(Some(draw), &state.whole);
         state.selected = Some(selection);
         Ok(scene)

@@ -1,13 +1,14 @@
 //! The one way a frame is made: [`SceneFrames::render_frame`], which
 //! `pointblend render`, `bench` and the viewer's render thread all call. It
 //! chooses what the frame draws once (the hybrid leaves, the nodes under a
-//! point budget, or the whole scene: `frame_scene`), prepares it (upload,
+//! point budget, or the whole scene: [`Chosen`]), prepares it (upload,
 //! grouping, shadows, back-to-front order), runs the mode's plan, and adds
 //! what the preparation chose to the plan's notes. The exact reference is
 //! ray cast on the CPU instead.
 
 use super::{BudgetStats, FrameError, SceneFrames};
 use crate::frame::{Camera, RenderSettings};
+use crate::gpu_scene::GpuScene;
 use crate::headless::HeadlessRenderer;
 use crate::plan::RenderPlan;
 use pointblend_core::reference::{self, ReferenceOptions};
@@ -18,8 +19,20 @@ pub enum Readback {
     Image,
     /// The image, with a progress bar while the (CPU) reference renders.
     ImageWithProgress,
-    /// Nothing: the frame is only drawn (bench's timed frames).
+    /// Nothing: the frame is only drawn (bench's timed frames), and its plan
+    /// carries the mode's notes only, not those of what was prepared.
     Nothing,
+}
+
+/// What a GPU frame draws, chosen once per frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Chosen {
+    /// A hybrid object's leaves as triangles, and the splats beside them.
+    Hybrid,
+    /// The octree's nodes under a point budget.
+    Budget,
+    /// Every splat of the scene.
+    Whole,
 }
 
 /// A rendered frame and the plan that made it (a CPU plan for the reference).
@@ -45,9 +58,9 @@ impl SceneFrames {
     }
 
     /// The one way a frame is made; `render`, `bench` and the viewer all
-    /// call it. A GPU mode on `gpu`: the splats it draws are prepared
-    /// ([`Self::frame_scene`]: the hybrid, budgeted or whole scene's upload,
-    /// its grouping and shadows), its plan runs, and the notes of what was
+    /// call it. A GPU mode on `gpu`: what it draws is chosen once
+    /// ([`Chosen`]) and prepared (the hybrid, budgeted or whole scene's
+    /// upload, its grouping and shadows), its plan runs, and the notes of what was
     /// prepared join the plan's. The exact reference renders on the CPU.
     /// `readback` says whether the image is read back (bench's timed frames
     /// are not: their image is empty).
@@ -69,28 +82,59 @@ impl SceneFrames {
             return Ok(Frame { image, plan });
         }
         let gpu = gpu.ok_or(FrameError::NoGpu(settings.mode.name()))?;
-        let (scene, drawn) = self.frame_scene(gpu, camera, settings, (width, height))?;
-        let (image, mut plan) = match readback {
-            Readback::Nothing => (image::RgbaImage::new(0, 0), gpu.render(scene, camera, &drawn, width, height)?),
-            Readback::Image | Readback::ImageWithProgress => gpu.render_image(scene, camera, &drawn, width, height)?,
-        };
-        plan.notes.extend(self.frame_notes(settings, &drawn));
+        let chosen = self.choose(settings);
+        let (scene, drawn) = self.prepare(chosen, gpu, camera, settings, (width, height))?;
+        if readback == Readback::Nothing {
+            let plan = gpu.render(scene, camera, &drawn, width, height)?;
+            return Ok(Frame { image: image::RgbaImage::new(0, 0), plan });
+        }
+        let (image, mut plan) = gpu.render_image(scene, camera, &drawn, width, height)?;
+        plan.notes.extend(self.frame_notes(chosen, settings, &drawn));
         Ok(Frame { image, plan })
     }
 
-    /// What the last frame of `settings` prepared, in words, for its plan's
-    /// notes: the hybrid or budget selection, the shadows, the meshes drawn as splats.
-    fn frame_notes(&self, settings: &RenderSettings, drawn: &RenderSettings) -> Vec<String> {
-        let mut notes = Vec::new();
+    /// What a GPU frame of `settings` draws.
+    fn choose(&self, settings: &RenderSettings) -> Chosen {
         if self.draws_triangles(settings) {
-            notes.extend(self.hybrid_note(settings));
-            notes.extend(self.shadow_notes(drawn));
+            Chosen::Hybrid
         } else if self.applied_budget(settings).is_some() {
-            notes.extend(self.budget_frames_shown().map(|frames| frames.shadow_notes(drawn)).unwrap_or_default());
-            notes.extend(self.last_budget().map(BudgetStats::describe));
-            notes.extend(self.mesh_notes(settings));
+            Chosen::Budget
         } else {
-            notes.extend(self.shadow_notes(settings));
+            Chosen::Whole
+        }
+    }
+
+    /// The GPU copy that draws `chosen` from `camera` at `size` (the splats
+    /// selected here are part of the frame), and the settings to draw it
+    /// with: a chosen selection is drawn whole, with no budget left to apply.
+    fn prepare(
+        &mut self,
+        chosen: Chosen,
+        gpu: &HeadlessRenderer,
+        camera: &Camera,
+        settings: &RenderSettings,
+        size: (u32, u32),
+    ) -> Result<(&mut GpuScene, RenderSettings), FrameError> {
+        match (chosen, settings.point_budget) {
+            (Chosen::Hybrid, _) => Ok((self.hybrid_scene(gpu, camera, settings, size)?, settings.without_budget())),
+            (Chosen::Budget, Some(budget)) => self.budgeted_scene(gpu, camera, settings, size, budget),
+            _ => Ok((self.gpu_scene_mut(gpu, settings)?, *settings)),
+        }
+    }
+
+    /// What the frame of `settings` that drew `chosen` prepared, in words,
+    /// for its plan's notes: the hybrid or budget selection, the shadows
+    /// (`drawn`'s), the meshes drawn as splats.
+    fn frame_notes(&self, chosen: Chosen, settings: &RenderSettings, drawn: &RenderSettings) -> Vec<String> {
+        let mut notes: Vec<String> = match chosen {
+            Chosen::Hybrid => self.hybrid_note(settings).into_iter().chain(self.shadow_notes(drawn)).collect(),
+            Chosen::Budget => {
+                let shadows = self.budget_frames_shown().map(|f| f.shadow_notes(drawn)).unwrap_or_default();
+                shadows.into_iter().chain(self.last_budget().map(BudgetStats::describe)).collect()
+            }
+            Chosen::Whole => self.shadow_notes(drawn),
+        };
+        if chosen != Chosen::Hybrid {
             notes.extend(self.mesh_notes(settings));
         }
         notes

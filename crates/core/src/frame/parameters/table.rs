@@ -71,31 +71,21 @@ fn on_off_text(on: bool) -> Option<String> {
 }
 
 fn positive(value: &str) -> Result<f32, String> {
-    value.parse::<f32>().ok().filter(|x| x.is_finite() && *x > 0.0).ok_or_default()
+    value.parse::<f32>().ok().filter(|x| x.is_finite() && *x > 0.0).ok_or_else(String::new)
 }
 
 fn whole_in(value: &str, range: std::ops::RangeInclusive<u32>) -> Result<u32, String> {
-    value.parse::<u32>().ok().filter(|n| range.contains(n)).ok_or_default()
+    value.parse::<u32>().ok().filter(|n| range.contains(n)).ok_or_else(String::new)
 }
 
 fn number(x: f32) -> Option<String> {
     Some(x.to_string())
 }
 
-trait OkOrDefault<T> {
-    fn ok_or_default(self) -> Result<T, String>;
-}
-
-impl<T> OkOrDefault<T> for Option<T> {
-    fn ok_or_default(self) -> Result<T, String> {
-        self.ok_or_else(String::new)
-    }
-}
-
 /// `R,G,B` (or `R/G/B`) in 0..255, stored in 0..1.
 fn set_background(s: &mut RenderSettings, value: &str) -> Result<(), String> {
     let rgb: Vec<f32> =
-        value.split([',', '/']).map(|c| c.trim().parse::<f32>().ok()).collect::<Option<_>>().ok_or_default()?;
+        value.split([',', '/']).map(|c| c.trim().parse::<f32>().ok()).collect::<Option<_>>().ok_or_else(String::new)?;
     match rgb[..] {
         [r, g, b] if [r, g, b].iter().all(|c| (0.0..=255.0).contains(c)) => {
             s.shading.background = Vec3::new(r, g, b) / 255.0;
@@ -106,16 +96,18 @@ fn set_background(s: &mut RenderSettings, value: &str) -> Result<(), String> {
 }
 
 /// Each channel as the level (in 0..255) that reads back as exactly this
-/// colour: `set` divides by 255, so the level written is the f32 nearest
-/// c·255 (within a few units in the last place) whose quotient is c again.
-/// 8-bit colours are written whole.
+/// colour: an 8-bit colour's whole level, else the f32 nearest c·255 (within
+/// a few units in the last place) whose quotient by 255, as `set` takes it,
+/// is c again.
 fn get_background(s: &RenderSettings) -> Option<String> {
     let level = |c: f32| {
         let near = c * 255.0;
+        if near.round() / 255.0 == c {
+            return near.round();
+        }
         // The f32 values k units in the last place away (levels are ≥ 0, so the bits order them).
         let step = |k: i64| f32::from_bits((near.to_bits() as i64 + k).max(0) as u32);
-        let exact = [0, 1, -1, 2, -2, 3, -3, 4, -4].map(step).into_iter().find(|v| *v / 255.0 == c).unwrap_or(near);
-        if (exact - exact.round()).abs() < 1e-3 && exact.round() / 255.0 == c { exact.round() } else { exact }
+        [0, 1, -1, 2, -2, 3, -3, 4, -4].map(step).into_iter().find(|v| *v / 255.0 == c).unwrap_or(near)
     };
     let [r, g, b] = s.shading.background.to_array().map(level);
     Some(format!("{r},{g},{b}"))
@@ -154,8 +146,8 @@ fn set_environment_layers(s: &mut RenderSettings, value: &str) -> Result<(), Str
     Ok(())
 }
 
-/// The table, in [`Parameter::ALL`]'s order.
-pub const TABLE: [ParameterInfo; Parameter::ALL.len()] = [
+/// The table: row i is the parameter whose discriminant is i (a test checks it).
+pub const TABLE: [ParameterInfo; 19] = [
     ParameterInfo {
         parameter: Parameter::Quality,
         key: "quality",
@@ -216,7 +208,7 @@ pub const TABLE: [ParameterInfo; Parameter::ALL.len()] = [
         control: Control::Number { min: 0.25, max: 3.0, logarithmic: false },
         set: |s, v| {
             let max = super::super::settings::MAX_RADIUS_SCALE;
-            s.radius_scale = positive(v).ok().filter(|f| *f <= max).ok_or_default()?;
+            s.radius_scale = positive(v).ok().filter(|f| *f <= max).ok_or_else(String::new)?;
             Ok(())
         },
         get: |s| number(s.radius_scale),
@@ -353,7 +345,8 @@ pub const TABLE: [ParameterInfo; Parameter::ALL.len()] = [
         // Checked alone (not against η, which may come later in the
         // variant): η - δ is kept above MIN_ETA where it is used.
         set: |s, v| {
-            s.environment.dispersion = v.parse::<f32>().ok().filter(|d| d.is_finite() && *d >= 0.0).ok_or_default()?;
+            s.environment.dispersion =
+                v.parse::<f32>().ok().filter(|d| d.is_finite() && *d >= 0.0).ok_or_else(String::new)?;
             Ok(())
         },
         get: |s| number(s.environment.dispersion),
@@ -427,7 +420,7 @@ pub const TABLE: [ParameterInfo; Parameter::ALL.len()] = [
         set: |s, v| {
             s.point_budget = match v {
                 "all" => None,
-                _ => Some(v.parse::<u32>().ok().filter(|n| *n >= 1).ok_or_default()?),
+                _ => Some(v.parse::<u32>().ok().filter(|n| *n >= 1).ok_or_else(String::new)?),
             };
             Ok(())
         },
@@ -443,7 +436,7 @@ pub const TABLE: [ParameterInfo; Parameter::ALL.len()] = [
         values: "a splat radius in pixels, 0 or more (0: every leaf as triangles), or inf (splats only)",
         control: Control::Number { min: 0.0, max: 32.0, logarithmic: false },
         set: |s, v| {
-            s.hybrid_pixels = v.parse::<f32>().ok().filter(|p| *p >= 0.0).ok_or_default()?;
+            s.hybrid_pixels = v.parse::<f32>().ok().filter(|p| *p >= 0.0).ok_or_else(String::new)?;
             Ok(())
         },
         get: |s| number(s.hybrid_pixels),

@@ -4,12 +4,11 @@
 //! parameter's key and text form), so a new parameter is recorded with no
 //! code here; sidecars from before the table are read through [`legacy`].
 
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
-
-use std::collections::BTreeMap;
 
 use super::{Camera, Parameter, RenderMode, RenderSettings, UpAxis};
 
