@@ -123,7 +123,18 @@ mod tests {
             TABLE.iter().flat_map(|row| [row.flag].into_iter().chain(row.off_switch)).map(str::to_string).collect();
         // View, camera, scene and output flags, and each command's own job: outside the table.
         let view_and_camera = ["mode", "size", "azimuth", "elevation", "distance", "fov", "up", "camera"];
-        let scene = ["opacity", "color", "light", "env"];
+        let scene = [
+            "opacity",
+            "color",
+            "light",
+            "env",
+            "color-by",
+            "colormap",
+            "range",
+            "classes",
+            "class-opacity",
+            "opacity-by",
+        ];
         let own: [(&str, &[&str]); 3] = [
             ("render", &["out", "explain", "diff", "flat-background", "time"]),
             ("bench", &["modes", "frames", "warm-up", "views", "loads", "orders", "out", "animate"]),

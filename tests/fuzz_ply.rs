@@ -2,63 +2,19 @@
 //! a few thousand variants of small binary (both endians) and ASCII files,
 //! made by truncation, byte flips, count lies, type swaps, huge counts and
 //! line shuffles. Every variant must load or fail with an error; none may
-//! panic, hang, or allocate more than [`MAX_PEAK_BYTES`] at once.
+//! panic, hang, or allocate more than `common::fuzz::MAX_PEAK_BYTES` at once.
 
 mod common;
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
+use common::fuzz::Rng;
 use common::plywriter::{Element, Encoding, ply};
 
-/// Counts the bytes allocated now and the peak since the last reset.
-struct CountingAllocator;
-
-static CURRENT: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for CountingAllocator {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let p = unsafe { System.alloc(layout) };
-        if !p.is_null() {
-            let now = CURRENT.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
-            PEAK.fetch_max(now, Ordering::Relaxed);
-        }
-        p
-    }
-
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) };
-        CURRENT.fetch_sub(layout.size(), Ordering::Relaxed);
-    }
-}
-
-#[global_allocator]
-static ALLOCATOR: CountingAllocator = CountingAllocator;
-
-/// Most memory one load of a file under 4 KB may hold at once. A lying count
-/// that was believed would ask for gigabytes.
-const MAX_PEAK_BYTES: usize = 64 << 20;
-
-/// Longest one load may take before it counts as a hang.
-const MAX_SECONDS_PER_FILE: u64 = 20;
+counting_allocator!();
 
 /// Variants per seed file.
 const VARIANTS: usize = 1000;
-
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
 
 /// Small, valid seed files: a coloured, oriented cloud with faces, in each encoding.
 fn seeds() -> Vec<(String, Vec<u8>)> {
@@ -159,8 +115,7 @@ fn mutate(file: &[u8], rng: &mut Rng) -> Vec<u8> {
 #[test]
 fn thousands_of_mutated_ply_files_load_or_fail_cleanly() {
     let dir = tempfile::tempdir().unwrap();
-    let (mut loaded, mut refused) = (0usize, 0usize);
-    let mut worst_peak = 0usize;
+    let mut tally = common::fuzz::Tally::default();
     let started = Instant::now();
     for (s, (name, seed)) in seeds().into_iter().enumerate() {
         // Each seed file loads as it is.
@@ -172,46 +127,9 @@ fn thousands_of_mutated_ply_files_load_or_fail_cleanly() {
             let bytes = mutate(&seed, &mut rng);
             let path = dir.path().join(format!("{name}-{variant}.ply"));
             std::fs::write(&path, &bytes).unwrap();
-            let base = CURRENT.load(Ordering::Relaxed);
-            PEAK.store(base, Ordering::Relaxed);
-            let t = Instant::now();
-            let result = std::panic::catch_unwind(|| pointblend::cloud::load(&path));
-            let elapsed = t.elapsed();
-            let peak = PEAK.load(Ordering::Relaxed).saturating_sub(base);
-            worst_peak = worst_peak.max(peak);
-            let keep = dir.path().join(format!("failing-{name}-{variant}.ply"));
-            let fail = |what: String| {
-                let _ = std::fs::copy(&path, &keep);
-                panic!("{name} variant {variant}: {what} (kept as {})", keep.display());
-            };
-            match result {
-                Err(_) => fail("the loader panicked".into()),
-                Ok(Ok((cloud, _))) => {
-                    assert!(cloud.is_consistent(), "{name} variant {variant}: inconsistent cloud");
-                    assert!(cloud.positions.iter().all(|p| p.is_finite()), "{name} {variant}: non-finite position");
-                    assert!(cloud.radii.iter().all(|r| r.is_finite() && *r > 0.0), "{name} {variant}: bad radius");
-                    loaded += 1;
-                }
-                Ok(Err(e)) => {
-                    let text = e.to_string();
-                    assert!(!text.contains('\n') && text.contains(&format!("{name}-{variant}.ply")), "{text}");
-                    refused += 1;
-                }
-            }
-            if peak > MAX_PEAK_BYTES {
-                fail(format!("a load of {} bytes allocated {peak} bytes at once", bytes.len()));
-            }
-            if elapsed > Duration::from_secs(MAX_SECONDS_PER_FILE) {
-                fail(format!("a load took {elapsed:?}"));
-            }
+            checked_load(&path, &mut tally);
             let _ = std::fs::remove_file(&path);
         }
     }
-    println!(
-        "{} variants: {loaded} loaded, {refused} refused, largest allocation peak {:.1} MB, {:.1} s",
-        loaded + refused,
-        worst_peak as f64 / 1e6,
-        started.elapsed().as_secs_f64()
-    );
-    assert!(loaded > 100 && refused > 100, "the mutations reach both outcomes: {loaded} loaded, {refused} refused");
+    tally.finish(started);
 }

@@ -40,8 +40,9 @@ fn the_main_job_renders_every_transparent_mode_on_a_transparent_scene() {
         let model = row["model"].as_str().unwrap();
         assert!(row.get("fallback").is_none(), "{variant} on {model} reports the opaque fallback: {row}");
         if TRANSPARENT_MODES.contains(&mode) {
-            assert_eq!(model, "demo.toml", "{variant} renders the demo scene");
-            if variant == mode {
+            let scenes = ["demo.toml", "lidar-classes.toml"];
+            assert!(scenes.contains(&model), "{variant} renders {model}, not the demo scene or the lidar demo");
+            if variant == mode && model == "demo.toml" {
                 transparent_eps.insert(format!("{:.3}", row["eps"].as_f64().unwrap()));
             }
         } else if mode != "reference" {
@@ -55,8 +56,10 @@ fn the_main_job_renders_every_transparent_mode_on_a_transparent_scene() {
     );
     // One compact row per mode at its defaults, and the files named in one line.
     for mode in TRANSPARENT_MODES {
-        let line = stdout.lines().find(|l| l.starts_with(&format!("| {mode} |"))).expect(mode);
-        assert!(line.contains("demo.toml (transparent)"), "{line}");
+        for scene in ["demo.toml", "lidar-classes.toml"] {
+            let row = format!("| {mode} | {scene} (transparent)");
+            assert!(stdout.lines().any(|l| l.starts_with(&row)), "no row '{row}' in {stdout}");
+        }
     }
     assert!(stdout.lines().any(|l| l.starts_with("wrote") && l.contains("modes.png")), "{stdout}");
     let sheet = image::open(out.join("modes.png")).expect("the contact sheet is a PNG");

@@ -140,12 +140,7 @@ fn open_model(model: &Path, config: &BenchConfig) -> Result<Opened, BenchError> 
     for warning in &warnings {
         log::warn!("{warning}");
     }
-    if let Some(opacity) = config.materials.opacity {
-        scene.set_opacity(opacity);
-    }
-    if let Some(colour) = config.materials.colour {
-        scene.set_colour(colour);
-    }
+    config.materials.apply(&mut scene).map_err(BenchError::Invalid)?;
     if config.environment.is_some() {
         scene.environment = config.environment.clone();
     }

@@ -1,5 +1,6 @@
-//! `pointblend convert IN OUT [--points N]`: a mesh or cloud to a splat cloud
-//! PLY; or a scalar volume (NIfTI-1, `.nii` / `.nii.gz`) to one point per
+//! `pointblend convert IN OUT [--points N]`: a mesh or cloud (PLY, LAS,
+//! LAZ, E57) to a splat cloud PLY, or to LAS/LAZ by OUT's extension, with
+//! every attribute; or a scalar volume (NIfTI-1, `.nii` / `.nii.gz`) to one point per
 //! voxel above a threshold, coloured by a transfer function (`--transfer`).
 
 use std::path::PathBuf;
@@ -9,9 +10,10 @@ use pointblend::cloud::{self, LoadOptions};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Input PLY (mesh or cloud), or a NIfTI-1 volume (.nii, .nii.gz).
+    /// Input PLY (mesh or cloud), LAS, LAZ or E57, or a NIfTI-1 volume (.nii, .nii.gz).
     pub input: PathBuf,
-    /// Output PLY: binary, x y z nx ny nz radius red green blue.
+    /// Output PLY (binary: x y z nx ny nz radius red green blue, then the attributes),
+    /// or LAS/LAZ (.las, .laz: the attributes in their fields, normals and radii as extra bytes).
     pub output: PathBuf,
     /// Sample this many splats uniformly over the mesh surface instead of using its vertices.
     #[arg(long)]
@@ -100,7 +102,11 @@ pub fn run(args: &Args) -> Result<()> {
     let source = args.input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let mut comments = vec![format!("pointblend convert from {source}")];
     comments.push(format!("normals {}, radii {}, colours {}", report.normals, report.radii, report.colours));
-    cloud::write::write_ply(&cloud, &args.output, &comments)?;
+    if cloud::las_file::is_las(&args.output) {
+        cloud::write_las::write_las(&cloud, &args.output)?;
+    } else {
+        cloud::write::write_ply(&cloud, &args.output, &comments)?;
+    }
     println!(
         "{} -> {}: {} splats (normals {}, radii {}, mean radius {:.6})",
         args.input.display(),

@@ -6,7 +6,7 @@ use anyhow::Result;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// PLY file.
+    /// Point cloud file: PLY, LAS, LAZ or E57.
     pub file: PathBuf,
 }
 
@@ -16,6 +16,14 @@ pub fn run(args: &Args) -> Result<()> {
     let seconds = started.elapsed().as_secs_f64();
     println!("file:        {}", args.file.display());
     println!("encoding:    {}", report.encoding);
+    for line in &report.format_details {
+        println!("format:      {line}");
+    }
+    match &report.crs {
+        Some(crs) => println!("crs:         {}", crs.split_whitespace().collect::<Vec<_>>().join(" ")),
+        None if !report.format_details.is_empty() => println!("crs:         none declared"),
+        None => {}
+    }
     for comment in &report.comments {
         println!("comment:     {comment}");
     }
@@ -41,6 +49,7 @@ pub fn run(args: &Args) -> Result<()> {
             println!("rescaled:    positions and radii are in units of 1e{}", cloud.scale_exponent);
         }
     }
+    print_attributes(&cloud.attributes);
     println!("normals:     {}", report.normals);
     println!("radii:       {} (mean {:.6})", report.radii, cloud.mean_radius());
     println!("colours:     {}", report.colours);
@@ -69,4 +78,26 @@ pub fn run(args: &Args) -> Result<()> {
         report.estimate_seconds
     );
     Ok(())
+}
+
+/// One line per attribute: its range, its distinct values (classes by name), and its bytes per point.
+fn print_attributes(attributes: &pointblend::cloud::Attributes) {
+    use pointblend::cloud::attributes::{names, summary};
+    for channel in &attributes.channels {
+        let (lo, hi, distinct) = summary(&channel.values);
+        let mut line = format!("attribute:   {} in [{lo}, {hi}]", channel.name);
+        if let Some(d) = distinct {
+            line.push_str(&format!(", {d} distinct"));
+        }
+        line.push_str(&format!(" ({} bytes per point)", channel.values.bytes_per_value()));
+        println!("{line}");
+        if channel.name == names::CLASSIFICATION {
+            for (class, count) in pointblend::style::classes::counts(&channel.values) {
+                println!("  class {class:>3}: {count} points, {}", pointblend::style::classes::name(class));
+            }
+        }
+    }
+    if !attributes.is_empty() {
+        println!("attributes:  {} bytes per point in all", attributes.bytes_per_point());
+    }
 }

@@ -1,6 +1,7 @@
 //! The headless main job of `pointblend view` (no display, or no window):
 //! without FILE, the opaque modes on the bundled lion and every transparent
-//! mode on the demo scene, each against its model's exact reference; with
+//! mode on the demo scene and on the lidar demo (a tile coloured by class,
+//! its vegetation translucent), each against its model's exact reference; with
 //! FILE, every mode on it. It prints one row per mode at its defaults (what
 //! it renders, ε, ms, geometry passes), writes `bench.json` and the
 //! error-against-time plot of every row, and the contact sheet `modes.png`
@@ -25,7 +26,7 @@ struct Part {
 
 /// With FILE: every mode on it, into `args.out`. Without: the opaque modes
 /// on the bundled lion and the transparent ones on the demo scene (the
-/// lion at 0.5 with opaque balls inside and around it), each into its own
+/// lion at 0.5 with opaque balls inside and around it) and the lidar demo, each into its own
 /// folder under `args.out`, so that every transparent mode shows what it is
 /// for. Then one compact table, `bench.json` and the plot of all rows, and
 /// the contact sheet `modes.png`.
@@ -40,9 +41,10 @@ pub fn run(args: &Args) -> Result<()> {
                 Part { model: viewer::BUNDLED_MODEL.into(), modes: with_ruler(opaque), out: args.out.join("lion") },
                 Part {
                     model: viewer::DEMO_SCENE.into(),
-                    modes: with_ruler(transparent),
+                    modes: with_ruler(transparent.clone()),
                     out: args.out.join("demo-scene"),
                 },
+                Part { model: viewer::LIDAR_DEMO.into(), modes: with_ruler(transparent), out: args.out.join("lidar") },
             ]
         }
     };

@@ -123,7 +123,7 @@ pub fn run(args: &Args) -> Result<()> {
     }
     let started = Instant::now();
     let mut scene = shared::load_scene(&args.file)?;
-    args.view.scene.apply_materials(&mut scene);
+    args.view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
     let load_seconds = started.elapsed().as_secs_f64();
     let (mut settings, (width, height)) = match &sidecar {
         Some(s) => (s.settings().map_err(anyhow::Error::msg)?, (s.size[0], s.size[1])),

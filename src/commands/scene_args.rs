@@ -1,8 +1,11 @@
 //! Flags that change the scene rather than the rendering parameters: every
-//! object's opacity and colour, and point lights added to the scene's. `render`,
-//! `bench` and `view` all take them from here.
+//! object's opacity and colour, colour and opacity by attribute, and point
+//! lights added to the scene's. `render`, `bench` and `view` all take them from here.
+
+use std::sync::Arc;
 
 use pointblend::scene::{Materials, Scene};
+use pointblend::style::{ColorBy, Colormap, Style, parse};
 
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct SceneArgs {
@@ -17,23 +20,55 @@ pub struct SceneArgs {
     /// any light replaces the headlight, and casts translucent shadows.
     #[arg(long = "light", value_parser = parse_light, allow_hyphen_values = true)]
     pub lights: Vec<pointblend::frame::Light>,
+    /// What the colours show: rgb (the file's), classification (ASPRS colours), elevation,
+    /// intensity, return, gps-time, or any attribute's name (`pointblend info` lists them).
+    #[arg(long = "color-by", value_parser = |t: &str| t.parse::<ColorBy>())]
+    pub color_by: Option<ColorBy>,
+    /// The colormap of a scalar --color-by: viridis, magma, inferno, cividis, turbo, grey.
+    #[arg(long, value_parser = |t: &str| t.parse::<Colormap>())]
+    pub colormap: Option<Colormap>,
+    /// MIN,MAX: the values at the colormap's ends [default: the 2nd and 98th percentiles].
+    #[arg(long, value_parser = parse::range, allow_hyphen_values = true)]
+    pub range: Option<(f64, f64)>,
+    /// Show only these ASPRS classes, e.g. 2,6.
+    #[arg(long, value_delimiter = ',', value_parser = parse_class)]
+    pub classes: Vec<u8>,
+    /// Opacity per class, e.g. 5:0.3,6:1 (translucent objects are drawn two-sided).
+    #[arg(long = "class-opacity", value_delimiter = ',', value_parser = parse_class_opacity)]
+    pub class_opacity: Vec<(u8, f32)>,
+    /// An attribute whose value (over its 2nd-98th percentile range) is each splat's opacity.
+    #[arg(long = "opacity-by")]
+    pub opacity_by: Option<String>,
 }
 
 impl SceneArgs {
-    /// Applies `--opacity` and `--color` to the scene's objects.
-    pub fn apply_materials(&self, scene: &mut Scene) {
-        if let Some(opacity) = self.opacity {
-            scene.set_opacity(opacity);
-        }
-        if let Some(colour) = self.colour {
-            scene.set_colour(colour);
-        }
+    /// Applies `--opacity`, `--color` and the style to the scene's objects.
+    pub fn apply_materials(&self, scene: &mut Scene) -> Result<(), String> {
+        self.materials(false).apply(scene)
+    }
+
+    /// The style the colour and opacity flags give (`None` when none is given).
+    pub fn style(&self) -> Option<Style> {
+        let style = Style {
+            color_by: self.color_by.clone(),
+            colormap: self.colormap.unwrap_or_default(),
+            range: self.range,
+            classes: (!self.classes.is_empty()).then(|| self.classes.clone()),
+            class_opacity: self.class_opacity.clone(),
+            opacity_by: self.opacity_by.clone(),
+        };
+        (!style.is_plain()).then_some(style)
     }
 
     /// The materials of every object opened; `background_given`: the scene's
     /// own background is not used.
     pub fn materials(&self, background_given: bool) -> Materials {
-        Materials { opacity: self.opacity, colour: self.colour, scene_background: !background_given }
+        Materials {
+            opacity: self.opacity,
+            colour: self.colour,
+            style: self.style().map(Arc::new),
+            scene_background: !background_given,
+        }
     }
 }
 
@@ -47,6 +82,16 @@ pub fn parse_rgb(text: &str) -> Result<[u8; 3], String> {
         }
         _ => Err(format!("'{text}' is not R,G,B (three values in 0..255)")),
     }
+}
+
+/// One ASPRS class number of `--classes`.
+fn parse_class(text: &str) -> Result<u8, String> {
+    parse::classes(text).map(|c| c[0])
+}
+
+/// One `CLASS:OPACITY` pair of `--class-opacity`.
+fn parse_class_opacity(text: &str) -> Result<(u8, f32), String> {
+    parse::class_opacity(text).map(|c| c[0])
 }
 
 /// `A` in 0..1.

@@ -34,6 +34,8 @@ impl ViewerApp {
                 transparent: m.transparent,
                 environment: m.scene.environment.as_ref().map(|e| e.name.as_str()),
                 period: m.period,
+                style: m.style.as_deref(),
+                summary: &m.summary,
             }),
             load_error: self.load_error.as_deref(),
             jobs,
@@ -80,6 +82,7 @@ impl ViewerApp {
                 Action::ResetCamera => self.reset_camera(),
                 Action::CameraMoved => self.camera_moved(),
                 Action::SetOpacity(opacity) => self.set_opacity(ctx, opacity),
+                Action::SetStyle(style) => self.set_style(ctx, style),
                 Action::SetEnvironment(path) => self.set_environment(ctx, path),
             }
         }

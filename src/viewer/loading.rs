@@ -22,7 +22,7 @@ impl ViewerApp {
         let generation = self.generations;
         let path = path.to_path_buf();
         let label = format!("loading {}", path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default());
-        let materials = self.options.materials;
+        let materials = self.options.materials.clone();
         let environment = self.options.environment.clone();
         let cache = self.cache();
         self.load = Some(Job::spawn(label, ctx.clone(), move || {
@@ -52,6 +52,27 @@ impl ViewerApp {
         let cache = self.cache();
         self.load = Some(Job::spawn(label, ctx.clone(), move || {
             Ok(model.with_opacity(opacity, generation).with_hierarchy(&cache))
+        }));
+    }
+
+    /// Colours the model on screen and sets its opacity by its attributes
+    /// (`None`: as loaded), in the background from the file's own values: a
+    /// new upload, with the camera kept; a style the file cannot take is shown
+    /// as the load error and the model kept.
+    pub fn set_style(&mut self, ctx: &egui::Context, style: Option<crate::style::Style>) {
+        let Some(model) = self.model.clone() else { return };
+        if let Some(old) = self.load.take() {
+            old.cancel();
+        }
+        self.generations += 1;
+        let generation = self.generations;
+        let label = match &style {
+            Some(s) => format!("colour by {}", s.color_by.as_ref().map_or("rgb".into(), |c| c.text())),
+            None => "colours as loaded".into(),
+        };
+        let cache = self.cache();
+        self.load = Some(Job::spawn(label, ctx.clone(), move || {
+            Ok(model.with_style(style.map(Arc::new), generation)?.with_hierarchy(&cache))
         }));
     }
 

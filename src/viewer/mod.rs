@@ -17,9 +17,11 @@
 mod actions;
 mod app;
 mod camera_input;
+mod colour_panel;
 mod export;
 mod frames;
 mod jobs;
+mod legend;
 mod lights_panel;
 mod loading;
 mod model;
@@ -41,6 +43,8 @@ pub const BUNDLED_MODEL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/lio
 /// The demo scene: the bundled lion at opacity 0.5 with opaque balls inside
 /// and around it. `pointblend view` opens it when given no file.
 pub const DEMO_SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/demo.toml");
+/// The lidar demo: an airborne tile coloured by class, its vegetation translucent.
+pub const LIDAR_DEMO: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/lidar-classes.toml");
 
 /// The environment map the viewer offers first.
 pub const BUNDLED_ENVIRONMENT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/venice.exr");

@@ -1,6 +1,8 @@
 //! A model as the viewer holds it: the loaded scene and its splats in world
 //! space, its file's name and content hash (for screenshot sidecars), and
-//! its load warnings. While the camera moves, a large model is drawn under a
+//! its load warnings. A scan with attributes keeps its scene as loaded
+//! (`unstyled`) beside the one drawn, so the colour panel restyles it from
+//! the file's own values ([`Model::with_style`]). While the camera moves, a large model is drawn under a
 //! point budget (its multi-resolution hierarchy, see [`crate::lod`]).
 
 use std::path::{Path, PathBuf};
@@ -9,6 +11,8 @@ use std::sync::Arc;
 use crate::cloud::{LoadOptions, PointCloud};
 use crate::grouping::{Grouping, GroupingSpec};
 use crate::scene::{Materials, Scene};
+use crate::style::Style;
+use crate::style::summary::Summary;
 
 /// The budget while the camera moves, measured to keep the preview of a
 /// 1M-splat model near 100 ms a frame on lavapipe (docs/BENCHMARKS.md).
@@ -35,6 +39,11 @@ pub struct Model {
     /// built while loading a still model above the default moving budget
     /// (else built by the render thread when first needed).
     pub hierarchy: Option<Arc<crate::lod::Hierarchy>>,
+    /// The scene before colour and opacity by attribute, and the style drawn.
+    pub unstyled: Arc<Scene>,
+    pub style: Option<Arc<Style>>,
+    /// The first object's attributes and classes, for the colour panel and the legend.
+    pub summary: Arc<Summary>,
 }
 
 /// A model's grouping for the deferred mode.
@@ -57,20 +66,35 @@ impl Model {
         if scene.is_empty() {
             return Err(format!("{}: the file holds no usable splats", path.display()));
         }
-        if let Some(opacity) = materials.opacity {
-            scene.set_opacity(opacity);
+        Materials { style: None, ..materials.clone() }.apply(&mut scene)?;
+        let model = Self::of_scene(path, scene, warnings, generation);
+        match &materials.style {
+            Some(style) => model.with_style(Some(style.clone()), generation),
+            None => Ok(model),
         }
-        if let Some(colour) = materials.colour {
-            scene.set_colour(colour);
+    }
+
+    /// This model coloured and made translucent by `style` (or as loaded),
+    /// from the file's own values; an error names what the file lacks.
+    pub fn with_style(&self, style: Option<Arc<Style>>, generation: u64) -> Result<Model, String> {
+        let mut scene = (*self.unstyled).clone();
+        if let Some(style) = &style {
+            for o in &mut scene.objects {
+                o.restyle(style)?;
+            }
         }
-        Ok(Self::of_scene(path, scene, warnings, generation))
+        let model = Self::with_summary(&self.path, scene, self.warnings.clone(), generation, self.summary.clone());
+        Ok(Model { unstyled: self.unstyled.clone(), style, ..model })
     }
 
     /// This model with every object at `opacity` (and two-sided when below 1).
     pub fn with_opacity(&self, opacity: f32, generation: u64) -> Model {
         let mut scene = (*self.scene).clone();
         scene.set_opacity(opacity);
-        Self::of_scene(&self.path, scene, self.warnings.clone(), generation)
+        let mut unstyled = (*self.unstyled).clone();
+        unstyled.set_opacity(opacity);
+        let model = Self::with_summary(&self.path, scene, self.warnings.clone(), generation, self.summary.clone());
+        Model { unstyled: Arc::new(unstyled), style: self.style.clone(), ..model }
     }
 
     /// This model in the environment map `map` (or in none).
@@ -80,8 +104,11 @@ impl Model {
         generation: u64,
     ) -> Model {
         let mut scene = (*self.scene).clone();
-        scene.environment = map;
-        Self::of_scene(&self.path, scene, self.warnings.clone(), generation)
+        scene.environment = map.clone();
+        let mut unstyled = (*self.unstyled).clone();
+        unstyled.environment = map;
+        let model = Self::with_summary(&self.path, scene, self.warnings.clone(), generation, self.summary.clone());
+        Model { unstyled: Arc::new(unstyled), style: self.style.clone(), ..model }
     }
 
     /// The first object's opacity, and whether every object has it.
@@ -90,18 +117,32 @@ impl Model {
         (first, self.scene.objects.iter().all(|o| o.material.opacity == first))
     }
 
-    /// The model of an already loaded `scene`.
+    /// The model of an already loaded `scene`, drawn as it is (with the
+    /// style its scene file gives, which the panel then shows and edits).
     pub fn of_scene(path: &Path, scene: Scene, warnings: Vec<String>, generation: u64) -> Model {
+        let unstyled = scene.unstyled();
+        let summary = Arc::new(unstyled.objects.first().map(|o| Summary::of(&o.cloud)).unwrap_or_default());
+        let style = scene.objects.first().and_then(|o| Some(o.styled.as_ref()?.style.clone()));
+        let model = Self::with_summary(path, scene, warnings, generation, summary);
+        Model { unstyled: Arc::new(unstyled), style, ..model }
+    }
+
+    /// The model of `scene`, whose first object's attributes `summary` sums up.
+    fn with_summary(path: &Path, scene: Scene, warnings: Vec<String>, generation: u64, summary: Arc<Summary>) -> Model {
         let hash = scene.geometry_hash();
         let cloud = scene.flattened();
         let period = scene.animation_period();
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());
         let transparent = scene.has_transparency();
+        let scene = Arc::new(scene);
         Model {
             path: path.to_path_buf(),
             name,
             hash,
-            scene: Arc::new(scene),
+            unstyled: scene.clone(),
+            style: None,
+            summary,
+            scene,
             cloud,
             transparent,
             warnings,

@@ -1,5 +1,5 @@
-//! The left panel's controls: model, background jobs, mode and its
-//! parameters, camera, statistics, error and screenshot. The controls edit
+//! The left panel's controls: model, colour by attribute
+//! ([`super::colour_panel`]), background jobs, mode and its parameters, camera, statistics, error and screenshot. The controls edit
 //! the [`UiState`] and return [`Action`]s for the app to take. Parameters come
 //! from the mode registry ([`crate::frame::RenderMode::parameters`]): a mode
 //! shows the widget of each parameter it lists, made from the parameter's row
@@ -16,6 +16,9 @@ use crate::frame::RenderMode;
 pub fn controls(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>) -> Vec<Action> {
     let mut actions = Vec::new();
     model_section(ui, state, info, &mut actions);
+    if let Some(model) = &info.model {
+        super::colour_panel::colour_section(ui, model, &mut actions);
+    }
     jobs_section(ui, info, &mut actions);
     ui.separator();
     mode_section(ui, state, info);
@@ -74,11 +77,12 @@ fn model_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, actions
     }
     ui.horizontal(|ui| {
         if ui.button("Open…").clicked() {
-            if let Some(path) = rfd::FileDialog::new().add_filter("PLY or scene", &["ply", "PLY", "toml"]).pick_file() {
+            let kinds = ["ply", "PLY", "las", "LAS", "laz", "LAZ", "e57", "E57", "toml"];
+            if let Some(path) = rfd::FileDialog::new().add_filter("point cloud or scene", &kinds).pick_file() {
                 actions.push(Action::Open(path));
             }
         }
-        ui.label(RichText::new("or drop a .ply file").weak());
+        ui.label(RichText::new("or drop a PLY, LAS, LAZ or E57 file").weak());
     });
     if let Some(e) = info.load_error {
         ui.colored_label(egui::Color32::LIGHT_RED, format!("Could not open: {e}"));

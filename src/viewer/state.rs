@@ -135,6 +135,8 @@ pub enum Action {
     SetOpacity(f32),
     /// Set the model in this environment map (a file), or in none.
     SetEnvironment(Option<PathBuf>),
+    /// Colour the model and set its opacity by its attributes (or draw it as loaded).
+    SetStyle(Option<crate::style::Style>),
 }
 
 /// The model on screen, as the panels show it.
@@ -151,6 +153,9 @@ pub struct ModelInfo<'a> {
     pub environment: Option<&'a str>,
     /// Seconds after which the scene's animations repeat (0: nothing moves).
     pub period: f64,
+    /// The colour and opacity by attribute drawn, and the attributes to choose from.
+    pub style: Option<&'a crate::style::Style>,
+    pub summary: &'a crate::style::summary::Summary,
 }
 
 /// The frame on screen, as the panels show it.

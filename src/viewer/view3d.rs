@@ -45,6 +45,9 @@ impl ViewerApp {
             let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
             painter.image(shown.texture.id(), rect, uv, egui::Color32::WHITE);
         }
+        if let Some((style, model)) = self.model.as_ref().and_then(|m| Some((m.style.as_ref()?, m))) {
+            super::legend::draw(&painter, rect, style, &model.summary);
+        }
         if let Some(e) = &self.frame_error {
             painter.text(
                 rect.center(),

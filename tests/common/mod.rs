@@ -4,6 +4,8 @@
 //! and one GPU renderer per test binary.
 #![allow(dead_code)]
 
+pub mod fuzz;
+pub mod lidar;
 pub mod plywriter;
 pub mod tolerances;
 

@@ -3,7 +3,7 @@
 //!
 //! The modules are layered from the ground up: [`spatial`] answers neighbour
 //! queries over plain positions and radii, [`cloud`] loads and repairs point
-//! clouds, [`grouping`] splits splats into groups, [`frame`] holds the camera,
+//! clouds, [`style`] colours them and sets their opacity by attribute, [`grouping`] splits splats into groups, [`frame`] holds the camera,
 //! the splat kernel, the shading model, the render settings and the mode
 //! registry that every renderer (GPU or CPU) shares, [`scene`] places clouds
 //! with transforms and materials (and meshes, whose triangles [`hybrid`]
@@ -26,3 +26,4 @@ pub mod reference;
 pub mod scene;
 pub mod shadow;
 pub mod spatial;
+pub mod style;

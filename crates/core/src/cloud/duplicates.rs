@@ -14,7 +14,7 @@
 //! A normal or radius the file lacks (to be estimated) counts as equal among
 //! copies: copies at one position get the same estimate.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 use super::PointCloud;
 
@@ -44,7 +44,8 @@ pub fn merge_indexed(cloud: &mut PointCloud, needs_normal: &mut Vec<bool>, needs
         )
     };
     // The first splat of each key, and each splat's representative.
-    let mut first: HashMap<Key, u32> = HashMap::with_capacity(n);
+    // FxHash: the keys are raw float bits, no adversary to guard against (SipHash took ~0.4 s at 2M).
+    let mut first: FxHashMap<Key, u32> = FxHashMap::with_capacity_and_hasher(n, Default::default());
     let representative: Vec<u32> = (0..n).map(|i| *first.entry(key(i)).or_insert(i as u32)).collect();
     let unique = first.len();
     drop(first);

@@ -14,8 +14,10 @@ use std::time::Instant;
 
 use glam::{DVec3, Vec3};
 
+use super::attributes::Attributes;
 use super::colour::to_u8;
 use super::estimate::{self, EstimateOptions};
+use super::formats::{ALPHA_NAMES, COLOR_NAMES, FileInfo, NORMAL_NAMES, is_wanted, ply_attributes};
 use super::gaussians;
 use super::mesh::face_vertex_normals;
 use super::placement::{Frame, place};
@@ -38,29 +40,12 @@ pub fn load(path: &Path) -> Result<(PointCloud, LoadReport), CloudError> {
     load_with(path, &LoadOptions::default())
 }
 
-const NORMAL_NAMES: [[&str; 3]; 2] = [["nx", "ny", "nz"], ["normal_x", "normal_y", "normal_z"]];
-const COLOR_NAMES: [[&str; 3]; 3] =
-    [["red", "green", "blue"], ["r", "g", "b"], ["diffuse_red", "diffuse_green", "diffuse_blue"]];
-/// Per-splat opacity columns, 0..1 (floats) or 0..max (integers). `opacity`
-/// counts here unless the file is 3D Gaussian splats, whose `opacity` is a logit.
-const ALPHA_NAMES: [&str; 3] = ["alpha", "diffuse_alpha", "opacity"];
-
-fn is_wanted(name: &str) -> bool {
-    matches!(name, "x" | "y" | "z" | "radius")
-        || NORMAL_NAMES.iter().flatten().any(|n| *n == name)
-        || COLOR_NAMES.iter().flatten().any(|n| *n == name)
-        || ALPHA_NAMES.contains(&name)
-        || gaussians::PROPERTIES.contains(&name)
-}
-
-/// Loads `path`, estimating and repairing as `options` say.
+/// Loads `path` (PLY, LAS, LAZ or E57, by extension), estimating and repairing as `options` say.
 pub fn load_with(path: &Path, options: &LoadOptions) -> Result<(PointCloud, LoadReport), CloudError> {
-    let bytes = std::fs::read(path).map_err(|e| CloudError::io(path, e))?;
     let started = Instant::now();
-    let data = ply::parse(path, &bytes, &is_wanted)?;
-    drop(bytes);
+    let (data, attributes, info) = super::formats::read(path)?;
     let decode_seconds = started.elapsed().as_secs_f64();
-    build(path, data, decode_seconds, options).map(|(cloud, report, _)| (cloud, report))
+    build(path, data, attributes, info, decode_seconds, options).map(|(cloud, report, _)| (cloud, report))
 }
 
 /// Loads the mesh at `path` and samples `count` splats uniformly over its
@@ -96,7 +81,8 @@ pub fn load_surface_samples(
     }
     data.vertex_count = sampled;
     data.triangles.clear();
-    let (cloud, mut report, _) = build(path, data, decode_seconds, options)?;
+    let (cloud, mut report, _) =
+        build(path, data, Attributes::default(), FileInfo::default(), decode_seconds, options)?;
     report.normals = Provenance::FromFaces;
     if bad_faces > 0 {
         report.warnings.push(format!("{bad_faces} faces with a NaN or infinite vertex were not sampled"));
@@ -116,8 +102,9 @@ pub fn load_surface_samples(
 pub fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(PointCloud, Vec<[u32; 3]>, LoadReport), CloudError> {
     let bytes = std::fs::read(path).map_err(|e| CloudError::io(path, e))?;
     let started = Instant::now();
-    let data = ply::parse(path, &bytes, &is_wanted)?;
+    let mut data = ply::parse(path, &bytes, &is_wanted)?;
     drop(bytes);
+    let attributes = ply_attributes(&mut data);
     if data.triangles.is_empty() {
         let why = if data.face_count > 0 { "none of its faces is usable" } else { "the file has no faces" };
         return Err(CloudError::content(
@@ -127,7 +114,7 @@ pub fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(PointCloud, Vec<
     }
     let file_triangles = data.triangles.clone();
     let decode_seconds = started.elapsed().as_secs_f64();
-    let (cloud, mut report, splat_of) = build(path, data, decode_seconds, options)?;
+    let (cloud, mut report, splat_of) = build(path, data, attributes, FileInfo::default(), decode_seconds, options)?;
     let splat_of = |v: u32| Some(splat_of[v as usize]).filter(|&s| s != u32::MAX);
     let mut triangles = Vec::with_capacity(file_triangles.len());
     let mut degenerate = 0;
@@ -186,11 +173,13 @@ fn columns<'a>(data: &'a PlyData, names: &[&str; 3]) -> Option<[&'a Vec<f64>; 3]
 fn build(
     path: &Path,
     data: PlyData,
+    attributes: Attributes,
+    info: FileInfo,
     decode_seconds: f64,
     options: &LoadOptions,
 ) -> Result<(PointCloud, LoadReport, Vec<u32>), CloudError> {
     let n = data.vertex_count;
-    let mut warnings = Vec::new();
+    let mut warnings = info.warnings;
     let (positions, mut keep) = read_positions(path, &data, &mut warnings)?;
     let face_normals = drop_off_surface_vertices(&data, &positions, &mut keep, &mut warnings);
     let kept: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
@@ -219,11 +208,19 @@ fn build(
     let before_merge = cloud.len();
     let merged_into = super::duplicates::merge_indexed(&mut cloud, &mut needs.normal, &mut needs.radius);
     let merged = before_merge - cloud.len();
+    cloud.attributes = attributes.gather(&first_of_each(&merged_into, &kept, cloud.len()));
+    drop(attributes);
     if merged > 0 {
         warnings.push(format!(
             "{merged} splats that repeat another's position, normal and radius exactly were merged into it (colour and opacity averaged)"
         ));
     }
+    let from_above = info.from_above || is_geo_terrain(&cloud, &frame);
+    let options = &LoadOptions {
+        estimate: super::estimate::EstimateOptions { orient_up: from_above, ..options.estimate.clone() },
+        ..options.clone()
+    };
+    cloud.z_up = from_above || info.z_up;
     let estimate_seconds = estimate_missing(&mut cloud, &needs, &frame, options, &mut warnings);
     if !needs.normal.iter().any(|&b| b) && normals_from == Provenance::Estimated {
         normals_from = Provenance::FromFile;
@@ -246,6 +243,8 @@ fn build(
         warnings,
         decode_seconds,
         estimate_seconds,
+        format_details: info.details,
+        crs: info.crs,
     };
     debug_assert!(cloud.is_consistent());
     let mut splat_of = vec![u32::MAX; n];
@@ -253,6 +252,18 @@ fn build(
         splat_of[file_vertex] = merged_into[k];
     }
     Ok((cloud, report, splat_of))
+}
+
+/// For each of `count` splats, the file vertex it came from: the first of those merged into it.
+fn first_of_each(merged_into: &[u32], kept: &[usize], count: usize) -> Vec<usize> {
+    let mut source = vec![usize::MAX; count];
+    for (k, &splat) in merged_into.iter().enumerate() {
+        let s = &mut source[splat as usize];
+        if *s == usize::MAX {
+            *s = kept[k];
+        }
+    }
+    source
 }
 
 /// The file's vertex positions, and which of them are usable (finite, and
@@ -504,6 +515,16 @@ impl Source<'_> {
         }
         radii_from
     }
+}
+
+/// Whether a cloud is geo-referenced terrain (map coordinates, its centre
+/// more than 10 km from the file origin, and flatter than it is wide), which
+/// was scanned from above.
+fn is_geo_terrain(cloud: &PointCloud, frame: &Frame) -> bool {
+    let Some(b) = cloud.bounds() else { return false };
+    let size = (b.max - b.min).as_dvec3() * frame.unit;
+    let far = frame.origin.x.abs().max(frame.origin.y.abs()) > 1e4;
+    far && size.z < 0.5 * size.x.max(size.y)
 }
 
 /// Estimates the normals and radii the splats still `need` (and where a

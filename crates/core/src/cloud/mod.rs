@@ -3,22 +3,30 @@
 //! A [`PointCloud`] holds, per splat, a position (re-centred in f64 on load,
 //! then stored as f32), a unit normal, a disc radius, a colour and an opacity.
 //! [`load`] reads any PLY file (ASCII or binary, clouds, meshes or 3D Gaussian
-//! splats), repairs bad records, merges exact copies of a splat
+//! splats), LAS and LAZ ([`las_file`]) or E57 ([`e57_file`]), keeps the
+//! file's other per-point columns ([`attributes`]), repairs bad records, merges exact copies of a splat
 //! ([`duplicates`]) and estimates what the file lacks; the [`LoadReport`]
 //! says what was read, estimated, merged and repaired.
 
+pub mod attributes;
 mod colour;
 pub mod duplicates;
+pub mod e57_file;
 mod error;
 pub mod estimate;
+mod file_info;
+pub mod formats;
 pub mod gaussians;
+pub mod las_file;
 pub mod load;
 pub mod mesh;
 mod placement;
 pub mod ply;
 pub mod volume;
 pub mod write;
+pub mod write_las;
 
+pub use attributes::{Attribute, Attributes, Values};
 pub use error::CloudError;
 pub(crate) use error::one_line;
 pub use load::{LoadOptions, load, load_mesh, load_surface_samples, load_with};
@@ -51,6 +59,10 @@ pub struct PointCloud {
     /// Where a single-view scan was taken from (file origin, re-centred), if
     /// the normals show that every point faces it.
     pub scanner_position: Option<Vec3>,
+    /// The file's other per-point columns (intensity, classification, ...), one value per splat.
+    pub attributes: Attributes,
+    /// The file's z axis points up (lidar, E57 and geo-referenced data), so views default to z up.
+    pub z_up: bool,
 }
 
 /// Axis-aligned bounds and the bounding sphere of a cloud.
@@ -123,6 +135,7 @@ impl PointCloud {
             && self.colours.len() == n
             && self.opacity.len() == n
             && (self.two_sided.is_empty() || self.two_sided.len() == n)
+            && self.attributes.is_consistent(n)
     }
 }
 
@@ -172,4 +185,8 @@ pub struct LoadReport {
     pub decode_seconds: f64,
     /// Seconds spent estimating normals and radii.
     pub estimate_seconds: f64,
+    /// Lines about the file's format (LAS point format, scale and offset), for `info`.
+    pub format_details: Vec<String>,
+    /// The coordinate reference system the file declares (WKT or GeoTIFF keys).
+    pub crs: Option<String>,
 }

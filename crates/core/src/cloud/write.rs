@@ -1,4 +1,5 @@
-//! Writing clouds as binary PLY (`x y z nx ny nz radius red green blue [alpha]`).
+//! Writing clouds as binary PLY (`x y z nx ny nz radius red green blue
+//! [alpha]`, then one property per attribute, in its own type).
 //!
 //! The file is written to a temporary file beside the target and renamed, so
 //! a failed or interrupted write never leaves a partial file.
@@ -6,7 +7,7 @@
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use super::{CloudError, PointCloud};
+use super::{CloudError, PointCloud, Values};
 
 /// Writes `cloud` to `path` as binary little-endian PLY, atomically.
 ///
@@ -42,6 +43,16 @@ pub fn write_ply(cloud: &PointCloud, path: &Path, comments: &[String]) -> Result
         if with_alpha {
             header.push_str("property uchar alpha\n");
         }
+        for channel in &cloud.attributes.channels {
+            let kind = match channel.values {
+                Values::U8(_) => "uchar",
+                Values::U16(_) => "ushort",
+                Values::F32(_) => "float",
+                Values::F64(_) => "double",
+            };
+            let name: String = channel.name.chars().map(|c| if c.is_whitespace() { '_' } else { c }).collect();
+            header.push_str(&format!("property {kind} {name}\n"));
+        }
         header.push_str("end_header\n");
         w.write_all(header.as_bytes()).map_err(io)?;
         let mut record = Vec::with_capacity(64);
@@ -68,6 +79,14 @@ pub fn write_ply(cloud: &PointCloud, path: &Path, comments: &[String]) -> Result
             record.extend_from_slice(&cloud.colours[i]);
             if with_alpha {
                 record.push((cloud.opacity[i] * 255.0).round() as u8);
+            }
+            for channel in &cloud.attributes.channels {
+                match &channel.values {
+                    Values::U8(v) => record.push(v[i]),
+                    Values::U16(v) => record.extend_from_slice(&v[i].to_le_bytes()),
+                    Values::F32(v) => record.extend_from_slice(&v[i].to_le_bytes()),
+                    Values::F64(v) => record.extend_from_slice(&v[i].to_le_bytes()),
+                }
             }
             w.write_all(&record).map_err(io)?;
         }

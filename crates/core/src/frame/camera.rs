@@ -4,7 +4,8 @@
 //! also sets the near and far planes) at the distance where every splat fits
 //! the view with a small margin ([`Camera::fit_distance`]). For a single-view
 //! scan (see `PointCloud::scanner_position`) it looks from the scanner's side
-//! with the vision convention (y down); otherwise from +z of the up frame.
+//! with the vision convention (y down); z-up data (lidar, E57: `PointCloud::z_up`)
+//! from 40° above the horizon with z up; otherwise from +z of the up frame.
 
 use glam::{Mat4, Vec3};
 
@@ -72,6 +73,9 @@ pub const DEFAULT_FOV_DEG: f32 = 35.0;
 /// share of its distance (see [`Camera::near_far`]).
 pub const MIN_DEPTH_RANGE: f32 = 1.0 / 1024.0;
 
+/// How far above the horizon the default view of z-up data looks down, in degrees.
+pub const Z_UP_ELEVATION_DEG: f32 = 40.0;
+
 impl Camera {
     /// Where it looks from and along: what back-to-front orders sort for.
     pub fn view_ray(&self) -> crate::spatial::order::ViewRay {
@@ -104,6 +108,11 @@ impl Camera {
         if let Some(scanner) = cloud.scanner_position {
             cam.up = UpAxis::NegY;
             cam.look_from_direction(scanner - cam.target);
+        } else if cloud.z_up {
+            // Survey data: z up, seen from the south-west and above, as GIS viewers open it.
+            cam.up = UpAxis::PosZ;
+            cam.azimuth_deg = 0.0;
+            cam.elevation_deg = Z_UP_ELEVATION_DEG;
         }
         cam.distance = cam.fit_distance(&cloud.positions, aspect);
         cam

@@ -94,6 +94,8 @@ impl HybridSelection {
             origin: cloud.origin,
             scale_exponent: cloud.scale_exponent,
             scanner_position: None,
+            attributes: Default::default(),
+            z_up: cloud.z_up,
         }
     }
 }

@@ -138,6 +138,8 @@ pub fn gather(hierarchy: &Hierarchy, selection: &Selection) -> PointCloud {
         origin: all.origin,
         scale_exponent: all.scale_exponent,
         scanner_position: all.scanner_position,
+        attributes: Default::default(),
+        z_up: all.z_up,
     };
     for &at in &selection.nodes {
         let node = &hierarchy.nodes[at as usize];

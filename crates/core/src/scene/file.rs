@@ -18,6 +18,14 @@
 //! two_sided = true                   # default: true when opacity < 1
 //!
 //! [[object]]
+//! cloud = "tile.laz"                 # PLY, LAS, LAZ or E57 (`ply` is the same key)
+//! color_by = "classification"        # or rgb, intensity, elevation, return, gps-time, an attribute's name
+//! colormap = "viridis"               # magma, inferno, cividis, turbo, grey (scalars only)
+//! range = [0, 255]                   # default: the 2nd to 98th percentile
+//! classes = [2, 5, 6]                # only these classes are shown
+//! class_opacity = { 5 = 0.3 }        # opacity per class; the object is then two-sided
+//!
+//! [[object]]
 //! mesh = "cube.ply"                  # a PLY with faces, drawn as triangles
 //!                                    # (or hybrid = "x.ply": triangles where its splats
 //!                                    # would be large, splats elsewhere; crates/core/src/hybrid)
@@ -61,6 +69,8 @@
 //! missing PLY, an opacity outside 0..1) is reported on one line with the
 //! file, line and column; values keep their place in the file through
 //! `toml::Spanned`.
+
+mod style_keys;
 
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -133,6 +143,8 @@ struct CameraEntry {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ObjectEntry {
+    /// A point cloud file: PLY, LAS, LAZ or E57 (`cloud` is the same key).
+    #[serde(alias = "cloud")]
     ply: Option<Spanned<String>>,
     mesh: Option<Spanned<String>>,
     hybrid: Option<Spanned<String>>,
@@ -151,6 +163,12 @@ struct ObjectEntry {
     keyframes: Vec<Spanned<KeyframeEntry>>,
     interpolate: Option<Spanned<String>>,
     deform: Option<Spanned<DeformEntry>>,
+    color_by: Option<Spanned<String>>,
+    colormap: Option<Spanned<String>>,
+    range: Option<Spanned<[f64; 2]>>,
+    classes: Option<Spanned<Vec<u8>>>,
+    class_opacity: Option<Spanned<std::collections::BTreeMap<String, f32>>>,
+    opacity_by: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -331,6 +349,7 @@ impl Reader<'_> {
         if !transform.is_finite() {
             return Err(self.at(Some(span), "the transform is not finite".into()));
         }
+        let style = self.style(entry)?;
         let material = Material { colour, opacity, two_sided: entry.two_sided.unwrap_or(opacity < 1.0) };
         let mut animation = self.animation(entry, &cloud, up, sequence)?;
         let mut transform = transform;
@@ -341,7 +360,7 @@ impl Reader<'_> {
         if surface.is_some() && animation.is_some() {
             return Err(self.at(Some(span), "a mesh or hybrid object cannot move (keyframes or deform) yet".into()));
         }
-        Ok(SceneObject {
+        let mut object = SceneObject {
             name: entry.name.clone().unwrap_or(name),
             cloud: Arc::new(cloud),
             transform,
@@ -349,7 +368,16 @@ impl Reader<'_> {
             content_hash: hash,
             animation,
             surface,
-        })
+            styled: None,
+        };
+        if !style.is_plain() {
+            let two_sided = object.material.two_sided;
+            object.restyle(&Arc::new(style)).map_err(|e| self.at(Some(span.clone()), e))?;
+            if entry.two_sided.is_some() {
+                object.material.two_sided = two_sided;
+            }
+        }
+        Ok(object)
     }
 
     /// A `mesh` or `hybrid` object: its name, its vertices' cloud, its

@@ -5,15 +5,38 @@
 //! shades a surface from the side the viewer sees.
 //!
 //! [`Materials`] are the overrides the command line gives every object of a
-//! scene (`--opacity`, `--color`), as `bench` and the viewer apply them.
+//! scene (`--opacity`, `--color`, and colour and opacity by attribute), as
+//! `render`, `bench` and the viewer apply them.
 
-/// Materials every object gets (`--opacity`, `--color`), and whether a
-/// scene's own background applies (no `--background`).
-#[derive(Debug, Clone, Copy, Default)]
+use std::sync::Arc;
+
+use crate::style::Style;
+
+/// Materials every object gets (`--opacity`, `--color`, `--color-by` and the
+/// rest of the style), and whether a scene's own background applies (no `--background`).
+#[derive(Debug, Clone, Default)]
 pub struct Materials {
     pub opacity: Option<f32>,
     pub colour: Option<[u8; 3]>,
+    pub style: Option<Arc<Style>>,
     pub scene_background: bool,
+}
+
+impl Materials {
+    /// Gives every object of `scene` these materials; an error names the
+    /// object whose file lacks an attribute the style reads.
+    pub fn apply(&self, scene: &mut super::Scene) -> Result<(), String> {
+        if let Some(style) = &self.style {
+            scene.apply_style(style)?;
+        }
+        if let Some(opacity) = self.opacity {
+            scene.set_opacity(opacity);
+        }
+        if let Some(colour) = self.colour {
+            scene.set_colour(colour);
+        }
+        Ok(())
+    }
 }
 
 /// How an object's splats look.

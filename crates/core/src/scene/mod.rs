@@ -49,9 +49,37 @@ pub struct SceneObject {
     pub animation: Option<Arc<animation::Animation>>,
     /// A mesh's triangles over the cloud's splats (`mesh =` and `hybrid =` objects).
     pub surface: Option<Arc<crate::hybrid::Surface>>,
+    /// The colour and opacity by attribute `cloud` shows, and the object before it.
+    pub styled: Option<Styled>,
+}
+
+/// A style applied to an object, and what the object was before it (so a
+/// viewer can restyle it from the file's own values).
+#[derive(Debug, Clone)]
+pub struct Styled {
+    pub style: Arc<crate::style::Style>,
+    pub source: Arc<PointCloud>,
+    pub source_hash: u64,
 }
 
 impl SceneObject {
+    /// Shows this object's cloud (as loaded) in `style`; an error names what its file lacks.
+    pub fn restyle(&mut self, style: &Arc<crate::style::Style>) -> Result<(), String> {
+        let (source, source_hash) = match self.styled.take() {
+            Some(styled) => (styled.source, styled.source_hash),
+            None => (self.cloud.clone(), self.content_hash),
+        };
+        let (cloud, applied) = style.apply(&source).map_err(|e| format!("{}: {e}", self.name))?;
+        if let Some((lo, hi)) = applied.range {
+            log::info!("{}: the colormap spans {lo} .. {hi}", self.name);
+        }
+        self.cloud = Arc::new(cloud);
+        self.content_hash = fnv1a(source_hash, style.key().as_bytes());
+        self.material.two_sided |= applied.translucent;
+        self.styled = Some(Styled { style: style.clone(), source, source_hash });
+        Ok(())
+    }
+
     fn is_plain(&self) -> bool {
         self.transform == Affine3A::IDENTITY && self.material == Material::default()
     }
@@ -130,6 +158,7 @@ impl Scene {
             content_hash,
             animation: None,
             surface: None,
+            styled: None,
         };
         Scene { objects: vec![object], ..Default::default() }
     }
@@ -237,6 +266,7 @@ impl Scene {
         if let Some(first) = self.objects.first() {
             out.origin = first.cloud.origin;
             out.scale_exponent = first.cloud.scale_exponent;
+            out.z_up = first.cloud.z_up;
             // Only a scene of one object keeps the scanner's view.
             if self.objects.len() == 1 && first.transform == Affine3A::IDENTITY {
                 out.scanner_position = first.cloud.scanner_position;
@@ -266,6 +296,32 @@ impl Scene {
             o.material.opacity = opacity;
             o.material.two_sided = opacity < 1.0;
         }
+    }
+
+    /// Colours every object and sets its opacity by its attributes (objects
+    /// that become translucent are drawn two-sided); an error names the object
+    /// whose file lacks an attribute the style reads.
+    pub fn apply_style(&mut self, style: &crate::style::Style) -> Result<(), String> {
+        if style.is_plain() {
+            return Ok(());
+        }
+        let style = Arc::new(style.clone());
+        for o in &mut self.objects {
+            o.restyle(&style)?;
+        }
+        Ok(())
+    }
+
+    /// This scene as loaded: every object's cloud before its style.
+    pub fn unstyled(&self) -> Scene {
+        let mut scene = self.clone();
+        for o in &mut scene.objects {
+            if let Some(styled) = o.styled.take() {
+                o.cloud = styled.source;
+                o.content_hash = styled.source_hash;
+            }
+        }
+        scene
     }
 
     /// Sets every object's colour.

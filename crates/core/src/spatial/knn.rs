@@ -1,4 +1,6 @@
-//! k-nearest-neighbour lists for every point, from a `kiddo` k-d tree.
+//! k-nearest-neighbour lists for every point: over a uniform grid where
+//! the cloud suits one ([`super::grid_knn`], surface scans), else from a
+//! `kiddo` k-d tree.
 //!
 //! Queries run in parallel with rayon. The result is a flat table of `k`
 //! neighbour indices and distances per point (the point itself excluded);
@@ -11,25 +13,7 @@ use kiddo::SquaredEuclidean;
 use kiddo::immutable::float::kdtree::ImmutableKdTree;
 use rayon::prelude::*;
 
-/// `k` neighbours per point, row-major.
-#[derive(Debug, Clone)]
-pub struct Neighbours {
-    pub k: usize,
-    /// `indices[i * k + j]`: the j-th nearest neighbour of point i.
-    pub indices: Vec<u32>,
-    /// Euclidean distances matching `indices`.
-    pub distances: Vec<f32>,
-}
-
-impl Neighbours {
-    pub fn of(&self, i: usize) -> &[u32] {
-        &self.indices[i * self.k..(i + 1) * self.k]
-    }
-
-    pub fn distances_of(&self, i: usize) -> &[f32] {
-        &self.distances[i * self.k..(i + 1) * self.k]
-    }
-}
+pub use super::neighbours::Neighbours;
 
 /// Finds the `k` nearest neighbours of every point (excluding itself).
 ///
@@ -37,10 +21,50 @@ impl Neighbours {
 /// itself with distance 0.
 pub fn k_nearest(points: &[Vec3], k: usize, on_progress: &(dyn Fn(u64) + Sync)) -> Neighbours {
     let k = k.max(1);
+    match super::grid_knn::k_nearest(points, k, on_progress) {
+        Some((mut found, left)) => {
+            if !left.is_empty() {
+                let (tree, coords) = tree_of(points);
+                for i in left {
+                    let i = i as usize;
+                    let (idx, dist) =
+                        (&mut found.indices[i * k..(i + 1) * k], &mut found.distances[i * k..(i + 1) * k]);
+                    query(&tree, &coords, i, k, idx, dist);
+                }
+            }
+            found
+        }
+        None => k_nearest_in_tree(points, k, on_progress),
+    }
+}
+
+type Tree = ImmutableKdTree<f32, u32, 3, 64>;
+
+fn tree_of(points: &[Vec3]) -> (Tree, Vec<[f32; 3]>) {
     let coords: Vec<[f32; 3]> = points.iter().map(|p| p.to_array()).collect();
     // Bucket size 64 keeps clouds with many duplicate points from overflowing leaves.
-    let tree: ImmutableKdTree<f32, u32, 3, 64> = ImmutableKdTree::new_from_slice(&coords);
+    (ImmutableKdTree::new_from_slice(&coords), coords)
+}
+
+/// Point `i`'s row from the tree; rows of clouds with k points or fewer repeat the point itself.
+fn query(tree: &Tree, coords: &[[f32; 3]], i: usize, k: usize, idx_row: &mut [u32], dist_row: &mut [f32]) {
     let want = NonZero::new(k + 1).expect("k + 1 > 0");
+    let found = tree.nearest_n::<SquaredEuclidean>(&coords[i], want);
+    let mut j = 0;
+    for nb in found.iter().filter(|nb| nb.item as usize != i).take(k) {
+        idx_row[j] = nb.item;
+        dist_row[j] = nb.distance.max(0.0).sqrt();
+        j += 1;
+    }
+    for slot in j..k {
+        idx_row[slot] = i as u32;
+        dist_row[slot] = 0.0;
+    }
+}
+
+/// Every point's row from a `kiddo` k-d tree (clouds a grid does not suit).
+pub fn k_nearest_in_tree(points: &[Vec3], k: usize, on_progress: &(dyn Fn(u64) + Sync)) -> Neighbours {
+    let (tree, coords) = tree_of(points);
     let mut indices = vec![0u32; points.len() * k];
     let mut distances = vec![0f32; points.len() * k];
     const CHUNK: usize = 4096;
@@ -48,21 +72,58 @@ pub fn k_nearest(points: &[Vec3], k: usize, on_progress: &(dyn Fn(u64) + Sync)) 
         |(chunk, (idx, dist))| {
             let first = chunk * CHUNK;
             for (row, (idx_row, dist_row)) in idx.chunks_mut(k).zip(dist.chunks_mut(k)).enumerate() {
-                let i = first + row;
-                let found = tree.nearest_n::<SquaredEuclidean>(&coords[i], want);
-                let mut j = 0;
-                for nb in found.iter().filter(|nb| nb.item as usize != i).take(k) {
-                    idx_row[j] = nb.item;
-                    dist_row[j] = nb.distance.max(0.0).sqrt();
-                    j += 1;
-                }
-                for slot in j..k {
-                    idx_row[slot] = i as u32;
-                    dist_row[slot] = 0.0;
-                }
+                query(&tree, &coords, first + row, k, idx_row, dist_row);
             }
             on_progress((idx.len() / k) as u64);
         },
     );
     Neighbours { k, indices, distances }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lcg(seed: &mut u64) -> f32 {
+        *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (*seed >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    /// The grid's rows have the tree's distances, on a noisy terrain with trees, a sphere, and far outliers.
+    #[test]
+    fn the_grid_finds_the_same_neighbours_as_the_tree() {
+        let mut seed = 7;
+        let mut terrain: Vec<Vec3> = (0..20_000)
+            .map(|_| {
+                let (x, y) = (lcg(&mut seed) * 100.0, lcg(&mut seed) * 60.0);
+                let canopy = if lcg(&mut seed) < 0.2 { lcg(&mut seed) * 12.0 } else { 0.0 };
+                Vec3::new(x, y, 0.05 * x + canopy + lcg(&mut seed) * 0.1)
+            })
+            .collect();
+        terrain.extend([Vec3::new(5000.0, 0.0, 0.0), Vec3::new(-300.0, 900.0, 40.0)]);
+        let sphere: Vec<Vec3> = (0..8000)
+            .map(|_| {
+                let v = Vec3::new(lcg(&mut seed) - 0.5, lcg(&mut seed) - 0.5, lcg(&mut seed) - 0.5);
+                v.normalize_or(Vec3::X)
+            })
+            .collect();
+        for (name, points) in [("terrain", terrain), ("sphere", sphere)] {
+            let k = 16;
+            let (_, left) = super::super::grid_knn::k_nearest(&points, k, &|_| {}).expect("a grid suits these clouds");
+            assert!(
+                left.len() * 100 <= points.len(),
+                "{name}: {} of {} points left to the tree",
+                left.len(),
+                points.len()
+            );
+            // The rows the grid found, completed by the tree, against the tree alone.
+            let grid = k_nearest(&points, k, &|_| {});
+            let tree = k_nearest_in_tree(&points, k, &|_| {});
+            for i in 0..points.len() {
+                for (a, b) in grid.distances_of(i).iter().zip(tree.distances_of(i)) {
+                    assert!((a - b).abs() <= 1e-6 * b.max(1.0), "{name}: point {i}: {a} vs {b}");
+                }
+            }
+        }
+    }
 }

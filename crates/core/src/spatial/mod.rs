@@ -3,6 +3,8 @@
 //! back-to-front orders of transparency (BSP tree, hierarchical buckets).
 
 pub mod grid;
+pub mod grid_knn;
 pub mod knn;
+pub mod neighbours;
 pub mod order;
 pub mod overlap;

@@ -1,0 +1,416 @@
+//! LAS and LAZ files (ASPRS LAS 1.0-1.4, point formats 0-10), read through
+//! the `las` crate with parallel LAZ decompression.
+//!
+//! The crate decodes the header, the VLRs and the records into a byte slab
+//! (`PointData`), read here in batches so memory grows with the points the
+//! file really holds, not with its header's count. Coordinates come out in
+//! f64 (scale and offset applied) and go through the same re-centring as PLY
+//! positions. Columns become [`Attributes`]: intensity, classification and
+//! its flags, returns, GPS time, point source ID, user data, scan angle, NIR
+//! and every named extra-bytes attribute. A column that is zero at every point
+//! carries nothing and is not kept. 16-bit RGB is scaled to 8 bits, unless
+//! every value is at most 255 (files that store 8-bit colour in 16-bit fields).
+//!
+//! The `las` crate does not decode the LAS 1.4 extra-bytes descriptors (the
+//! `LASF_Spec` VLR 4): it hands each record's extra bytes over as they are.
+//! Extra bytes named `nx`, `ny`, `nz`, `radius` or `alpha` (what `convert`
+//! writes) are the splats' own normals, radii and opacity.
+//! [`extra_bytes`] reads the descriptors (192 bytes each, fixed layout) and
+//! the values they describe; that is the only hand-written part.
+
+use std::collections::HashMap;
+use std::fs::File;
+use std::io::BufReader;
+use std::path::Path;
+
+use super::CloudError;
+use super::attributes::{Attributes, Values, names};
+use super::file_info::FileInfo;
+use super::ply::{ElementSpec, PlyData, PropertyKind, PropertySpec, Scalar};
+
+mod extra_bytes;
+
+/// Points decoded per batch, and the most bytes a batch may take (records can be 64 KiB with extra bytes).
+const BATCH: u64 = 1 << 20;
+const BATCH_BYTES: u64 = 64 << 20;
+
+/// Whether `path` names a LAS or LAZ file (`.copc.laz` included).
+pub fn is_las(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("las") || e.eq_ignore_ascii_case("laz"))
+}
+
+fn las_error(path: &Path, e: impl std::fmt::Display) -> CloudError {
+    CloudError::content(path, format!("not a valid LAS/LAZ file: {e}"))
+}
+
+/// A `las` crate error as one line; a read past the end says the file is cut short.
+fn crate_error(path: &Path, e: las::Error) -> CloudError {
+    match e {
+        las::Error::Io(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+            las_error(path, "the file ends early (truncated?)")
+        }
+        // The LAZ decoder wraps the same end-of-file error (read_exact's message) in its own type.
+        e if e.to_string().ends_with("failed to fill whole buffer") => {
+            las_error(path, "the file ends early (truncated?)")
+        }
+        e => las_error(path, e),
+    }
+}
+
+/// Refuses a header whose point data, VLRs or EVLRs would lie past the
+/// file's end, before the `las` crate reads them (it allocates each record's
+/// stated length first: a flipped EVLR count once asked for 2 GB).
+fn check_offsets(path: &Path, file: &mut File, file_len: u64) -> Result<(), CloudError> {
+    use std::io::{Read, Seek, SeekFrom};
+    let raw = las::raw::Header::read_from(&mut *file).map_err(|e| crate_error(path, e))?;
+    let start = raw.offset_to_point_data as u64;
+    if start > file_len {
+        return Err(las_error(
+            path,
+            format!("the point data starts at byte {start}, past the file's end ({file_len} bytes)"),
+        ));
+    }
+    // Each record's header holds its length at byte 20: u16 for VLRs (54-byte headers), u64 for EVLRs (60).
+    let mut walk = |first: u64, count: u64, header: u64, what: &str| -> Result<(), CloudError> {
+        let mut at = first;
+        for i in 0..count {
+            let mut bytes = [0u8; 60];
+            let fits = at.checked_add(header).is_some_and(|end| end <= file_len);
+            if !fits
+                || file.seek(SeekFrom::Start(at)).and_then(|_| file.read_exact(&mut bytes[..header as usize])).is_err()
+            {
+                return Err(las_error(
+                    path,
+                    format!("{what} {i} of {count} starts past the file's end ({file_len} bytes)"),
+                ));
+            }
+            let len = if header == 54 {
+                u16::from_le_bytes([bytes[20], bytes[21]]) as u64
+            } else {
+                u64::from_le_bytes(bytes[20..28].try_into().unwrap_or([0xff; 8]))
+            };
+            if header == 54 && &bytes[2..16] == b"laszip encoded" && u16::from_le_bytes([bytes[18], bytes[19]]) == 22204
+            {
+                check_chunk_size(path, file, at + header, len, raw.point_data_record_length)?;
+            }
+            at = match at.checked_add(header + len) {
+                Some(end) if end <= file_len => end,
+                _ => return Err(las_error(path, format!("{what} {i} says it holds {len} bytes, past the file's end"))),
+            };
+        }
+        Ok(())
+    };
+    walk(raw.header_size as u64, raw.number_of_variable_length_records as u64, 54, "VLR")?;
+    if let Some(evlr) = raw.evlr.filter(|e| e.number_of_evlrs > 0) {
+        walk(evlr.start_of_first_evlr, evlr.number_of_evlrs as u64, 60, "EVLR")?;
+    }
+    file.rewind().map_err(|e| CloudError::io(path, e))?;
+    Ok(())
+}
+
+/// Largest LAZ chunk, in decoded bytes, that a file may ask for: the `laz`
+/// crate allocates a whole chunk before it decodes one (default chunks of
+/// 50,000 points take a few MB).
+const MAX_CHUNK_BYTES: u64 = 256 << 20;
+
+/// Refuses a LAZ record (the `laszip encoded` VLR) that the `laz` crate
+/// would act on unchecked: a chunk size (u32 at byte 12; u32::MAX: chunks of
+/// any size) that makes it allocate more than [`MAX_CHUNK_BYTES`] at once, or
+/// items (6 bytes each from byte 34, their size at +2) whose sizes do not add
+/// up to the header's record length (the crate asserts they do).
+fn check_chunk_size(path: &Path, file: &mut File, data: u64, len: u64, record_len: u16) -> Result<(), CloudError> {
+    use std::io::{Read, Seek, SeekFrom};
+    let mut bytes = vec![0u8; len as usize];
+    if len < 34 || file.seek(SeekFrom::Start(data)).and_then(|_| file.read_exact(&mut bytes)).is_err() {
+        return Err(las_error(path, "the LAZ record is too short"));
+    }
+    let chunk = u32::from_le_bytes(bytes[12..16].try_into().unwrap_or([0; 4]));
+    if chunk != u32::MAX && chunk as u64 * record_len as u64 > MAX_CHUNK_BYTES {
+        return Err(las_error(
+            path,
+            format!("the LAZ chunk size of {chunk} points is implausible ({record_len}-byte records)"),
+        ));
+    }
+    let items = u16::from_le_bytes([bytes[32], bytes[33]]) as usize;
+    let sizes: Option<u64> = (0..items)
+        .map(|i| bytes.get(34 + 6 * i + 2..34 + 6 * i + 4).map(|b| u16::from_le_bytes([b[0], b[1]]) as u64))
+        .sum();
+    match sizes {
+        Some(total) if total == record_len as u64 => Ok(()),
+        Some(total) => Err(las_error(
+            path,
+            format!("the LAZ items take {total} bytes per point, but the header's records are {record_len} bytes"),
+        )),
+        None => Err(las_error(path, format!("the LAZ record lists {items} items but holds fewer"))),
+    }
+}
+
+/// Reads the LAS or LAZ file at `path` as vertex columns (x, y, z and, with
+/// colour, red, green, blue) and the other per-point attributes.
+pub fn read(path: &Path) -> Result<(PlyData, Attributes, FileInfo), CloudError> {
+    let mut file = File::open(path).map_err(|e| CloudError::io(path, e))?;
+    let file_len = file.metadata().map_err(|e| CloudError::io(path, e))?.len();
+    check_offsets(path, &mut file, file_len)?;
+    let mut reader = las::Reader::new(BufReader::new(file)).map_err(|e| crate_error(path, e))?;
+    let header = reader.header().clone();
+    let format = *header.point_format();
+    let transforms = *header.transforms();
+    for (axis, t) in [("x", transforms.x), ("y", transforms.y), ("z", transforms.z)] {
+        if !(t.scale.is_finite() && t.scale != 0.0 && t.offset.is_finite()) {
+            return Err(las_error(path, format!("the {axis} scale is {} and offset {}", t.scale, t.offset)));
+        }
+    }
+    let declared = header.number_of_points();
+    let record_len = format.len() as u64;
+    if !format.is_compressed && declared.saturating_mul(record_len) > file_len {
+        return Err(las_error(
+            path,
+            format!(
+                "the header counts {declared} points of {record_len} bytes, but the file holds only {file_len} bytes"
+            ),
+        ));
+    }
+    let descriptors = extra_bytes::descriptors(&header, format.extra_bytes).map_err(|e| las_error(path, e))?;
+    let mut columns = Columns::default();
+    let mut batch = las::PointDataBuilder::new().for_header(&header).build();
+    // A LAZ file decodes to at most ~64 times its size (real ones: 5-15 times), so a
+    // lying count costs no more than that.
+    let batch_bytes =
+        if format.is_compressed { BATCH_BYTES.min(file_len.saturating_mul(64).max(1 << 20)) } else { BATCH_BYTES };
+    let batch_points = BATCH.min(batch_bytes / record_len.max(1)).max(1);
+    let mut read_so_far = 0u64;
+    while read_so_far < declared {
+        let n = reader.fill_points(batch_points.min(declared - read_so_far), &mut batch).map_err(
+            |e| match crate_error(path, e) {
+                CloudError::Content { reason, .. } => las_error(
+                    path,
+                    format!(
+                        "after {read_so_far} of {declared} points, {}",
+                        reason.trim_start_matches("not a valid LAS/LAZ file: ")
+                    ),
+                ),
+                other => other,
+            },
+        )?;
+        if n == 0 {
+            break;
+        }
+        columns.append(&batch, &descriptors.fields);
+        read_so_far += n;
+    }
+    if read_so_far < declared {
+        return Err(las_error(
+            path,
+            format!("the header counts {declared} points but the file holds only {read_so_far} (truncated?)"),
+        ));
+    }
+    let mut info = FileInfo {
+        details: details(&header),
+        crs: crs(&header),
+        warnings: descriptors.warnings.clone(),
+        from_above: true,
+        z_up: true,
+    };
+    let compression = if format.is_compressed { ", LAZ-compressed" } else { "" };
+    let encoding = format!("LAS {}, point format {}{}", header.version(), format.to_u8().unwrap_or(255), compression);
+    let (data, attributes) = columns.finish(&descriptors.fields, encoding, &mut info.warnings);
+    Ok((data, attributes, info))
+}
+
+/// The columns decoded so far.
+#[derive(Default)]
+struct Columns {
+    x: Vec<f64>,
+    y: Vec<f64>,
+    z: Vec<f64>,
+    rgb: Option<[Vec<u16>; 3]>,
+    intensity: Vec<u16>,
+    classification: Vec<u8>,
+    flags: Vec<u8>,
+    return_number: Vec<u8>,
+    number_of_returns: Vec<u8>,
+    gps_time: Option<Vec<f64>>,
+    point_source_id: Vec<u16>,
+    user_data: Vec<u8>,
+    scan_angle: Vec<f32>,
+    nir: Option<Vec<u16>>,
+    extra: Vec<Vec<f64>>,
+}
+
+impl Columns {
+    fn append(&mut self, batch: &las::PointData, fields: &[extra_bytes::Field]) {
+        self.x.extend(batch.x());
+        self.y.extend(batch.y());
+        self.z.extend(batch.z());
+        if let Some(rgb) = batch.rgb() {
+            let cols = self.rgb.get_or_insert_with(Default::default);
+            for (r, g, b) in rgb {
+                cols[0].push(r);
+                cols[1].push(g);
+                cols[2].push(b);
+            }
+        }
+        self.intensity.extend(batch.intensity());
+        self.classification.extend(batch.classification());
+        let extended = batch.format().is_extended;
+        let record_len = batch.record_len();
+        self.flags.extend(batch.raw_bytes().chunks_exact(record_len).map(|r| classification_flags(r, extended)));
+        self.return_number.extend(batch.return_number());
+        self.number_of_returns.extend(batch.number_of_returns());
+        if let Some(t) = batch.gps_time() {
+            self.gps_time.get_or_insert_with(Vec::new).extend(t);
+        }
+        self.point_source_id.extend(batch.point_source_id());
+        self.user_data.extend(batch.user_data());
+        self.scan_angle.extend(batch.scan_angle_degrees());
+        if let Some(n) = batch.nir() {
+            self.nir.get_or_insert_with(Vec::new).extend(n);
+        }
+        if self.extra.len() < fields.len() {
+            self.extra.resize_with(fields.len(), Vec::new);
+        }
+        for (column, field) in self.extra.iter_mut().zip(fields) {
+            column.extend(batch.raw_bytes().chunks_exact(record_len).map(|r| field.value(r)));
+        }
+    }
+
+    /// The vertex columns (positions and colours) and the attributes kept.
+    fn finish(
+        self,
+        fields: &[extra_bytes::Field],
+        encoding: String,
+        warnings: &mut Vec<String>,
+    ) -> (PlyData, Attributes) {
+        let n = self.x.len();
+        let mut vertex_columns = HashMap::new();
+        let mut vertex_types = HashMap::new();
+        let mut properties = Vec::new();
+        for (name, column) in [("x", self.x), ("y", self.y), ("z", self.z)] {
+            vertex_columns.insert(name.to_string(), column);
+            vertex_types.insert(name.to_string(), Scalar::F64);
+            properties.push(name);
+        }
+        if let Some(rgb) = self.rgb {
+            // 8-bit colour stored in 16-bit fields is common: keep it as it is.
+            let eight_bit = rgb.iter().all(|c| c.iter().all(|&v| v <= 255));
+            let kind = if eight_bit { Scalar::U8 } else { Scalar::U16 };
+            if eight_bit && rgb.iter().all(|c| c.iter().all(|&v| v == 0)) {
+                warnings.push("every RGB value is 0 (an unused channel); the default colour is used".into());
+            } else {
+                for (name, column) in ["red", "green", "blue"].into_iter().zip(rgb) {
+                    vertex_columns.insert(name.to_string(), column.into_iter().map(f64::from).collect());
+                    vertex_types.insert(name.to_string(), kind);
+                    properties.push(name);
+                }
+            }
+        }
+        let mut attributes = Attributes::default();
+        let mut keep = |name: &str, values: Values| {
+            if (0..values.len()).any(|i| values.get(i) != 0.0) {
+                attributes.push(name, values);
+            }
+        };
+        keep(names::INTENSITY, Values::U16(self.intensity));
+        keep(names::CLASSIFICATION, Values::U8(self.classification));
+        keep(names::CLASSIFICATION_FLAGS, Values::U8(self.flags));
+        keep(names::RETURN_NUMBER, Values::U8(self.return_number));
+        keep(names::NUMBER_OF_RETURNS, Values::U8(self.number_of_returns));
+        if let Some(t) = self.gps_time {
+            keep(names::GPS_TIME, Values::F64(t));
+        }
+        keep(names::POINT_SOURCE_ID, Values::U16(self.point_source_id));
+        keep(names::USER_DATA, Values::U8(self.user_data));
+        keep(names::SCAN_ANGLE, Values::F32(self.scan_angle));
+        if let Some(nir) = self.nir {
+            keep(names::NIR, Values::U16(nir));
+        }
+        for (values, field) in self.extra.into_iter().zip(fields) {
+            if super::write_las::SPLAT_FIELDS.contains(&field.name.as_str()) {
+                // A splat's own normal, radius or opacity (as `convert` writes them).
+                vertex_types.insert(field.name.clone(), Scalar::F32);
+                properties.push(field.name.as_str());
+                vertex_columns.insert(field.name.clone(), values);
+            } else {
+                attributes.push(field.name.clone(), field.narrowest(values));
+            }
+        }
+        let data = PlyData {
+            encoding,
+            elements: vec![ElementSpec {
+                name: "vertex".into(),
+                count: n,
+                properties: properties
+                    .iter()
+                    .map(|p| PropertySpec { name: p.to_string(), kind: PropertyKind::Scalar(vertex_types[*p]) })
+                    .collect(),
+            }],
+            vertex_columns,
+            vertex_types,
+            vertex_count: n,
+            ..Default::default()
+        };
+        (data, attributes)
+    }
+}
+
+/// The classification flags of a record: bit 1 synthetic, 2 key-point, 4 withheld, 8 overlap.
+fn classification_flags(record: &[u8], extended: bool) -> u8 {
+    if extended {
+        record[15] & 0x0f
+    } else {
+        // Formats 0-5: the top three bits of the classification byte; no overlap flag
+        // (class 12 stood for overlap then).
+        record[15] >> 5
+    }
+}
+
+/// The header lines `info` prints: point format, scale, offset, counts, software.
+fn details(header: &las::Header) -> Vec<String> {
+    let t = header.transforms();
+    let format = header.point_format();
+    let mut lines = vec![
+        format!(
+            "point format {} ({} bytes per record, {} extra)",
+            format.to_u8().unwrap_or(255),
+            format.len(),
+            format.extra_bytes
+        ),
+        format!(
+            "scale ({}, {}, {}), offset ({}, {}, {})",
+            t.x.scale, t.y.scale, t.z.scale, t.x.offset, t.y.offset, t.z.offset
+        ),
+    ];
+    let software = header.generating_software().trim_matches(char::from(0)).trim();
+    if !software.is_empty() {
+        lines.push(format!("made by {software}"));
+    }
+    lines
+}
+
+/// The CRS the header's VLRs declare: the WKT text, else the GeoTIFF keys' EPSG codes.
+fn crs(header: &las::Header) -> Option<String> {
+    if let Some(wkt) = header.get_wkt_crs_bytes() {
+        let text = String::from_utf8_lossy(wkt).trim_matches(char::from(0)).trim().to_string();
+        if !text.is_empty() {
+            return Some(text);
+        }
+    }
+    let geotiff = header.get_geotiff_crs().ok().flatten()?;
+    let mut parts = Vec::new();
+    if let Some(code) = geotiff.get_projected_crs_geo_key_value() {
+        parts.push(format!("projected EPSG:{code}"));
+    }
+    if let Some(code) = geotiff.get_geodetic_crs_geo_key_value() {
+        parts.push(format!("geographic EPSG:{code}"));
+    }
+    if let Some(code) = geotiff.get_vertical_crs_geo_key_value() {
+        parts.push(format!("vertical EPSG:{code}"));
+    }
+    Some(if parts.is_empty() {
+        "GeoTIFF keys without an EPSG code".to_string()
+    } else {
+        format!("GeoTIFF keys: {}", parts.join(", "))
+    })
+}

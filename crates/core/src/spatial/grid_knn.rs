@@ -1,0 +1,245 @@
+//! Exact k nearest neighbours over a uniform grid, cell by cell: the fast
+//! path of [`super::knn::k_nearest`] for large surface scans.
+//!
+//! Hand-written because the general k-d tree (kiddo) spends ~2 µs per query
+//! on a 2M-point lidar tile, most of it walking the tree again for every
+//! point; here the points of one cell share one candidate list.
+//!
+//! The cell size is set so that an occupied cell holds about
+//! [`TARGET_PER_CELL`] points (surface scans fill cells as h², so two or three
+//! rounds of counting converge). Points are sorted by cell. Every point of a
+//! cell takes its candidates from the 3×3×3 block of cells around it, keeps
+//! the k closest, and is exact when its k-th distance is within the block
+//! (no point outside the block can be closer). The few points that fail the
+//! test widen their block ring by ring, up to [`MAX_RING`]; those still
+//! failing (outliers far from everything) are left to the caller's tree.
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::neighbours::Neighbours;
+
+/// Points an occupied cell should hold: enough that a 3×3×3 block nearly
+/// always holds a point's 16 nearest neighbours.
+const TARGET_PER_CELL: f64 = 8.0;
+/// Cells per axis stay below 2^21, so a cell's three indices pack into a u64.
+const MAX_CELLS_PER_AXIS: f32 = 2_097_000.0;
+/// The widest block ring a point searches before it is left to the tree.
+const MAX_RING: i64 = 2;
+
+struct Grid {
+    lo: Vec3,
+    h: f32,
+    /// Sorted keys of the occupied cells, and where each cell's points start in `sorted`.
+    cells: Vec<u64>,
+    /// Each occupied cell's place in `cells`, by key.
+    lookup: rustc_hash::FxHashMap<u64, u32>,
+    starts: Vec<u32>,
+    /// Point indices, sorted by cell.
+    sorted: Vec<u32>,
+    /// The points' positions in that order, so a block's candidates are read
+    /// from a few contiguous runs (read through `sorted` they were cache misses).
+    pos: Vec<Vec3>,
+}
+
+fn key(c: [i64; 3]) -> u64 {
+    (c[0] as u64) << 42 | (c[1] as u64) << 21 | c[2] as u64
+}
+
+impl Grid {
+    fn cell_of(&self, p: Vec3) -> [i64; 3] {
+        let c = ((p - self.lo) / self.h).floor();
+        [c.x as i64, c.y as i64, c.z as i64]
+    }
+
+    /// The places in sorted order of cell `c`'s points.
+    fn points_of(&self, c: [i64; 3]) -> std::ops::Range<u32> {
+        if c.iter().any(|&v| !(0..1 << 21).contains(&v)) {
+            return 0..0;
+        }
+        match self.lookup.get(&key(c)) {
+            Some(&at) => self.starts[at as usize]..self.starts[at as usize + 1],
+            None => 0..0,
+        }
+    }
+
+    /// The places in sorted order of the points of the cells within `ring` of cell `centre`, into `out`.
+    fn block(&self, centre: [i64; 3], ring: i64, out: &mut Vec<u32>) {
+        for dx in -ring..=ring {
+            for dy in -ring..=ring {
+                for dz in -ring..=ring {
+                    out.extend(self.points_of([centre[0] + dx, centre[1] + dy, centre[2] + dz]));
+                }
+            }
+        }
+    }
+
+    /// Sorts the points into cells of size `h`; `None` when the grid would be too fine.
+    fn build(points: &[Vec3], lo: Vec3, hi: Vec3, h: f32) -> Option<Grid> {
+        if h.is_nan() || h <= 0.0 || ((hi - lo) / h).max_element() >= MAX_CELLS_PER_AXIS {
+            return None;
+        }
+        let mut grid = Grid {
+            lo,
+            h,
+            cells: Vec::new(),
+            lookup: Default::default(),
+            starts: Vec::new(),
+            sorted: Vec::new(),
+            pos: Vec::new(),
+        };
+        let mut keyed: Vec<(u64, u32)> =
+            points.par_iter().enumerate().map(|(i, p)| (key(grid.cell_of(*p)), i as u32)).collect();
+        keyed.par_sort_unstable();
+        for (at, &(k, _)) in keyed.iter().enumerate() {
+            if grid.cells.last() != Some(&k) {
+                grid.cells.push(k);
+                grid.starts.push(at as u32);
+            }
+        }
+        grid.starts.push(keyed.len() as u32);
+        grid.sorted = keyed.into_iter().map(|(_, i)| i).collect();
+        grid.pos = grid.sorted.iter().map(|&i| points[i as usize]).collect();
+        grid.lookup = grid.cells.iter().enumerate().map(|(at, &k)| (k, at as u32)).collect();
+        Some(grid)
+    }
+}
+
+/// The `k` nearest neighbours of every point (itself excluded), and the
+/// points whose rows are still to be found (far outliers); or `None` when
+/// the cloud is too small or too uneven for a grid (the caller then uses the tree).
+pub fn k_nearest(points: &[Vec3], k: usize, on_progress: &(dyn Fn(u64) + Sync)) -> Option<(Neighbours, Vec<u32>)> {
+    let n = points.len();
+    if n < 4 * (k + 1) || n >= u32::MAX as usize {
+        return None;
+    }
+    let (lo, hi) = points.iter().fold((points[0], points[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    let size = hi - lo;
+    // A surface of area ~ the two largest faces' mean spreads n points; then count and correct.
+    let mut sides = size.to_array();
+    sides.sort_by(f32::total_cmp);
+    let area = (sides[1] * sides[2]).max(sides[2] * sides[2] * 1e-6) as f64;
+    let mut h = (area / n as f64 * TARGET_PER_CELL).sqrt() as f32;
+    let mut grid = Grid::build(points, lo, hi, h)?;
+    for _ in 0..3 {
+        let per_cell = n as f64 / grid.cells.len() as f64;
+        if (per_cell / TARGET_PER_CELL - 1.0).abs() < 0.25 {
+            break;
+        }
+        h *= (TARGET_PER_CELL / per_cell).sqrt().clamp(0.25, 4.0) as f32;
+        grid = Grid::build(points, lo, hi, h)?;
+    }
+    let per_cell = n as f64 / grid.cells.len() as f64;
+    if per_cell > 8.0 * TARGET_PER_CELL {
+        // Dense clumps (the density varies too much for one cell size).
+        return None;
+    }
+    let mut sorted_indices = vec![0u32; n * k];
+    let mut sorted_distances = vec![0f32; n * k];
+    // Split the rows by cell, so every task owns the rows of its cells.
+    let mut rows: Vec<(&mut [u32], &mut [f32])> = Vec::with_capacity(grid.cells.len());
+    let (mut rest_i, mut rest_d) = (sorted_indices.as_mut_slice(), sorted_distances.as_mut_slice());
+    for c in 0..grid.cells.len() {
+        let len = (grid.starts[c + 1] - grid.starts[c]) as usize * k;
+        let (a, b) = std::mem::take(&mut rest_i).split_at_mut(len);
+        let (d, e) = std::mem::take(&mut rest_d).split_at_mut(len);
+        rows.push((a, d));
+        rest_i = b;
+        rest_d = e;
+    }
+    let left = std::sync::Mutex::new(Vec::new());
+    let widened = std::sync::atomic::AtomicUsize::new(0);
+    rows.into_par_iter().enumerate().with_min_len(64).for_each_init(Vec::new, |scratch, (c, (idx, dist))| {
+        let members = grid.starts[c]..grid.starts[c + 1];
+        let centre = grid.cell_of(grid.pos[members.start as usize]);
+        let mut candidates: Vec<u32> = Vec::with_capacity(27 * members.len());
+        grid.block(centre, 1, &mut candidates);
+        for (row, r) in members.clone().enumerate() {
+            let q = grid.pos[r as usize];
+            let mut row =
+                Row { idx: &mut idx[row * k..(row + 1) * k], dist: &mut dist[row * k..(row + 1) * k], scratch };
+            if (!nearest_among(&grid, r, &candidates, &mut row) || row.dist[k - 1] > inside_block(&grid, q, centre, 1))
+                && widened.fetch_add(1, std::sync::atomic::Ordering::Relaxed) < usize::MAX
+                && !widen(&grid, r, centre, &mut row)
+            {
+                left.lock().unwrap_or_else(|e| e.into_inner()).push(grid.sorted[r as usize]);
+            }
+        }
+        on_progress(members.len() as u64);
+    });
+    let widened = widened.load(std::sync::atomic::Ordering::Relaxed);
+    log::debug!("grid k-nn: cell {h}, {per_cell:.1} points per cell, {widened} points searched beyond their block");
+    let mut rank = vec![0u32; n];
+    for (r, &i) in grid.sorted.iter().enumerate() {
+        rank[i as usize] = r as u32;
+    }
+    let mut indices = vec![0u32; n * k];
+    let mut distances = vec![0f32; n * k];
+    indices.par_chunks_mut(k).zip(distances.par_chunks_mut(k)).zip(&rank).for_each(|((idx, dist), &r)| {
+        let from = r as usize * k..(r as usize + 1) * k;
+        idx.copy_from_slice(&sorted_indices[from.clone()]);
+        dist.copy_from_slice(&sorted_distances[from]);
+    });
+    Some((Neighbours { k, indices, distances }, left.into_inner().unwrap_or_else(|e| e.into_inner())))
+}
+
+/// How far `q` (in cell `centre`) is from the outside of the block of cells within `ring` of it.
+fn inside_block(grid: &Grid, q: Vec3, centre: [i64; 3], ring: i64) -> f32 {
+    let c = Vec3::new(centre[0] as f32, centre[1] as f32, centre[2] as f32);
+    let block_lo = grid.lo + (c - ring as f32) * grid.h;
+    let block_hi = grid.lo + (c + 1.0 + ring as f32) * grid.h;
+    (q - block_lo).min(block_hi - q).min_element()
+}
+
+/// Where one point's k neighbours go (k = the rows' length), and a scratch
+/// list of candidates as `squared distance bits << 32 | point index` (a
+/// non-negative f32's bits order as the value does, so plain u64 order is
+/// distance, then index).
+struct Row<'a> {
+    idx: &'a mut [u32],
+    dist: &'a mut [f32],
+    scratch: &'a mut Vec<u64>,
+}
+
+/// The k nearest of `candidates` (places in sorted order) to the point at
+/// place `r` (itself excluded), nearest first, into `row` as point indices;
+/// false when there are fewer than k.
+fn nearest_among(grid: &Grid, r: u32, candidates: &[u32], row: &mut Row<'_>) -> bool {
+    let (q, k) = (grid.pos[r as usize], row.idx.len());
+    let scratch = &mut *row.scratch;
+    scratch.clear();
+    // Ties go to the lower point index.
+    let key = |j: u32| {
+        ((grid.pos[j as usize].distance_squared(q).max(0.0).to_bits() as u64) << 32) | grid.sorted[j as usize] as u64
+    };
+    scratch.extend(candidates.iter().filter(|&&j| j != r).map(|&j| key(j)));
+    if scratch.len() < k {
+        return false;
+    }
+    if scratch.len() > k {
+        scratch.select_nth_unstable(k - 1);
+    }
+    scratch[..k].sort_unstable();
+    for (slot, &packed) in scratch[..k].iter().enumerate() {
+        row.idx[slot] = packed as u32;
+        row.dist[slot] = f32::from_bits((packed >> 32) as u32).sqrt();
+    }
+    true
+}
+
+/// The neighbours of the point at place `r` from ever wider blocks, until the
+/// k-th lies inside the block; false when even ring [`MAX_RING`] does not hold them.
+fn widen(grid: &Grid, r: u32, centre: [i64; 3], row: &mut Row<'_>) -> bool {
+    let q = grid.pos[r as usize];
+    let mut candidates = Vec::new();
+    for ring in 2..=MAX_RING {
+        candidates.clear();
+        grid.block(centre, ring, &mut candidates);
+        if nearest_among(grid, r, &candidates, row)
+            && row.dist[row.dist.len() - 1] <= inside_block(grid, q, centre, ring)
+        {
+            return true;
+        }
+    }
+    false
+}

@@ -1,0 +1,80 @@
+//! LAS and LAZ files the tests write themselves with the `las` crate (an
+//! independent writer), so every lidar reader is tested on a fresh clone too.
+
+use std::path::{Path, PathBuf};
+
+/// One point of a test file.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LidarPoint {
+    pub xyz: [f64; 3],
+    pub intensity: u16,
+    pub class: u8,
+    pub return_number: u8,
+    pub returns: u8,
+    pub gps_time: f64,
+    pub rgb: [u16; 3],
+}
+
+/// A `side` x `side` grid of points `spacing` apart on the plane
+/// z = slope · x, offset by `origin`, with attributes that vary by index.
+pub fn tilted_grid(side: usize, spacing: f64, slope: f64, origin: [f64; 3]) -> Vec<LidarPoint> {
+    let mut points = Vec::with_capacity(side * side);
+    for i in 0..side {
+        for j in 0..side {
+            let (x, y) = (i as f64 * spacing, j as f64 * spacing);
+            let k = points.len();
+            points.push(LidarPoint {
+                xyz: [origin[0] + x, origin[1] + y, origin[2] + slope * x],
+                intensity: (k * 37 % 4000) as u16,
+                class: [2, 5, 6][k % 3],
+                return_number: 1 + (k % 3) as u8,
+                returns: 3,
+                gps_time: 1000.0 + k as f64 * 0.25,
+                rgb: [(k * 101 % 65536) as u16, (k * 7 % 65536) as u16, 40000],
+            });
+        }
+    }
+    points
+}
+
+/// Writes `points` as LAS 1.4 format 7 (`.las`) or LAZ (`.laz`) with scale
+/// 0.001 and the given offset; `extra` adds an f32 extra-bytes attribute of
+/// that name, whose value is the point's index.
+pub fn write(path: &Path, points: &[LidarPoint], offset: [f64; 3], extra: Option<&str>) -> PathBuf {
+    let mut builder = las::Builder::from((1, 4));
+    builder.point_format = las::point::Format::new(7).unwrap();
+    builder.point_format.is_compressed = path.extension().is_some_and(|e| e == "laz");
+    if let Some(name) = extra {
+        builder.point_format.extra_bytes = 4;
+        let mut d = vec![0u8; 192];
+        d[2] = 9;
+        d[4..4 + name.len()].copy_from_slice(name.as_bytes());
+        builder.vlrs.push(las::Vlr { user_id: "LASF_Spec".into(), record_id: 4, description: "extra".into(), data: d });
+    }
+    for (t, o) in
+        [&mut builder.transforms.x, &mut builder.transforms.y, &mut builder.transforms.z].into_iter().zip(offset)
+    {
+        *t = las::Transform { scale: 0.001, offset: o };
+    }
+    let header = builder.into_header().unwrap();
+    let mut writer = las::Writer::from_path(path, header).unwrap();
+    for (k, p) in points.iter().enumerate() {
+        writer
+            .write_point(las::Point {
+                x: p.xyz[0],
+                y: p.xyz[1],
+                z: p.xyz[2],
+                intensity: p.intensity,
+                return_number: p.return_number,
+                number_of_returns: p.returns,
+                classification: las::point::Classification::new(p.class).unwrap(),
+                gps_time: Some(p.gps_time),
+                color: Some(las::Color::new(p.rgb[0], p.rgb[1], p.rgb[2])),
+                extra_bytes: if extra.is_some() { (k as f32).to_le_bytes().to_vec() } else { Vec::new() },
+                ..Default::default()
+            })
+            .unwrap();
+    }
+    writer.close().unwrap();
+    path.to_path_buf()
+}

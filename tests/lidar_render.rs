@@ -1,0 +1,113 @@
+//! Lidar tiles on screen: far from the origin they render as at the origin,
+//! and colour and opacity by class reach every renderer as the reference
+//! sees them.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::lidar::{self, tilted_grid};
+use pointblend::reference::metrics;
+
+/// Renders `file` with `args` at 128² through the CLI.
+fn render(file: &Path, args: &[&str], out: PathBuf) -> image::RgbaImage {
+    let mut all: Vec<String> = vec![file.display().to_string(), "--size".into(), "128x128".into()];
+    all.extend(args.iter().map(|a| a.to_string()));
+    let (ok, stderr) = common::render_cli(&all, &out);
+    assert!(ok, "render {args:?}: {stderr}");
+    image::open(&out).unwrap().to_rgba8()
+}
+
+#[test]
+fn a_tile_far_from_the_origin_renders_as_the_same_tile_at_the_origin() {
+    let dir = tempfile::tempdir().unwrap();
+    // Spacing that f32 cannot hold at y ≈ 4.9e6 (its step there is 0.5 m).
+    let far = [515_000.0, 4_900_000.0, 250.0];
+    let near = [0.0, 0.0, 250.0];
+    let far_file = lidar::write(&dir.path().join("far.laz"), &tilted_grid(70, 0.37, 0.25, far), far, None);
+    let near_file = lidar::write(&dir.path().join("near.laz"), &tilted_grid(70, 0.37, 0.25, near), near, None);
+    for mode in ["two-pass", "tiled"] {
+        let args = ["--mode", mode, "--opacity", "0.6"];
+        let a = render(&far_file, &args, dir.path().join(format!("far-{mode}.png")));
+        let b = render(&near_file, &args, dir.path().join(format!("near-{mode}.png")));
+        let covered = common::foreground(&b, common::background_rgb()).iter().filter(|&&f| f).count();
+        assert!(covered > 128 * 128 / 5, "{mode}: the tile covers only {covered} pixels");
+        let error = metrics::compare(&a, &b).unwrap();
+        assert!(error.eps <= 0.05, "{mode}: ε {} between the far tile and the tile at the origin", error.eps);
+    }
+}
+
+#[test]
+fn class_colours_and_class_opacity_blend_each_surface_once_as_the_reference_does() {
+    let dir = tempfile::tempdir().unwrap();
+    // Ground (class 2) at z = 0, and a canopy layer (class 5) 3 m above it.
+    let mut points = tilted_grid(50, 0.4, 0.0, [1000.0, 2000.0, 0.0]);
+    points.iter_mut().for_each(|p| p.class = 2);
+    let mut canopy = tilted_grid(50, 0.4, 0.0, [1000.0, 2000.0, 3.0]);
+    canopy.iter_mut().for_each(|p| p.class = 5);
+    points.extend(canopy);
+    let file = lidar::write(&dir.path().join("two-layers.laz"), &points, [1000.0, 2000.0, 0.0], None);
+    let style = ["--color-by", "classification", "--class-opacity", "5:0.3", "--unlit", "--elevation", "90"];
+    let ground = pointblend::style::classes::colour(2);
+    let canopy_colour = pointblend::style::classes::colour(5);
+    let expected: Vec<f64> = (0..3).map(|c| 0.3 * canopy_colour[c] as f64 + 0.7 * ground[c] as f64).collect();
+    let mut reference = None;
+    for mode in ["reference", "tiled", "alg2", "depth-peel"] {
+        let args: Vec<&str> = ["--mode", mode].into_iter().chain(style).collect();
+        let image = render(&file, &args, dir.path().join(format!("{mode}.png")));
+        let centre = image.get_pixel(64, 64).0;
+        for c in 0..3 {
+            assert!(
+                (centre[c] as f64 - expected[c]).abs() <= 3.0,
+                "{mode}: the centre is {centre:?}, not 0.3 canopy over the ground {expected:?}"
+            );
+        }
+        match &reference {
+            None => reference = Some(image),
+            Some(r) => {
+                let eps = metrics::compare(&image, r).unwrap().eps;
+                assert!(eps < 1.0, "{mode}: ε {eps} against the reference");
+            }
+        }
+    }
+    // Showing only the ground leaves its own colour.
+    let args = ["--color-by", "classification", "--classes", "2", "--unlit", "--elevation", "90"];
+    let only_ground = render(&file, &args, dir.path().join("ground.png"));
+    assert_eq!(&only_ground.get_pixel(64, 64).0[..3], &ground[..]);
+}
+
+#[test]
+fn colour_by_an_attribute_the_file_lacks_is_refused_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = lidar::write(&dir.path().join("t.laz"), &tilted_grid(20, 0.5, 0.0, [0.0; 3]), [0.0; 3], None);
+    let line = common::refused_in_one_line(
+        &[file.display().to_string(), "--color-by".into(), "Reflectance".into()],
+        &dir.path().join("out.png"),
+        "an attribute the file lacks",
+    );
+    assert!(line.contains("Reflectance") && line.contains("intensity"), "{line}");
+}
+
+#[test]
+fn intensity_through_a_colormap_spans_the_percentile_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = lidar::write(&dir.path().join("t.laz"), &tilted_grid(60, 0.5, 0.0, [0.0; 3]), [0.0; 3], None);
+    let (cloud, _) = pointblend::cloud::load(&file).unwrap();
+    let style = pointblend::style::Style {
+        color_by: Some("intensity".parse().unwrap()),
+        colormap: "viridis".parse().unwrap(),
+        ..Default::default()
+    };
+    let (styled, applied) = style.apply(&cloud).unwrap();
+    let values = cloud.attributes.get("intensity").unwrap();
+    let (lo, hi) = applied.range.unwrap();
+    let mut sorted: Vec<f64> = (0..values.len()).map(|i| values.get(i)).collect();
+    sorted.sort_by(f64::total_cmp);
+    let share_below = sorted.iter().filter(|&&v| v < lo).count() as f64 / sorted.len() as f64;
+    let share_above = sorted.iter().filter(|&&v| v > hi).count() as f64 / sorted.len() as f64;
+    assert!((0.01..=0.03).contains(&share_below) && (0.01..=0.03).contains(&share_above), "{lo}..{hi}");
+    let lowest = (0..values.len()).min_by(|&a, &b| values.get(a).total_cmp(&values.get(b))).unwrap();
+    let highest = (0..values.len()).max_by(|&a, &b| values.get(a).total_cmp(&values.get(b))).unwrap();
+    assert_eq!(styled.colours[lowest], pointblend::style::Colormap::Viridis.colour(0.0));
+    assert_eq!(styled.colours[highest], pointblend::style::Colormap::Viridis.colour(1.0));
+}
