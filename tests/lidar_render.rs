@@ -18,6 +18,17 @@ fn render(file: &Path, args: &[&str], out: PathBuf) -> image::RgbaImage {
     image::open(&out).unwrap().to_rgba8()
 }
 
+/// A LAZ of `side`² ground points (class 2) at z = 0 and as many canopy
+/// points (class 5) 3 m above them; its path and its point count.
+fn ground_and_canopy(dir: &Path, side: usize) -> (PathBuf, usize) {
+    let mut points = tilted_grid(side, 0.4, 0.0, [1000.0, 2000.0, 0.0]);
+    points.iter_mut().for_each(|p| p.class = 2);
+    let mut canopy = tilted_grid(side, 0.4, 0.0, [1000.0, 2000.0, 3.0]);
+    canopy.iter_mut().for_each(|p| p.class = 5);
+    points.extend(canopy);
+    (lidar::write(&dir.join("two-layers.laz"), &points, [1000.0, 2000.0, 0.0], None), points.len())
+}
+
 #[test]
 fn a_tile_far_from_the_origin_renders_as_the_same_tile_at_the_origin() {
     let dir = tempfile::tempdir().unwrap();
@@ -40,13 +51,7 @@ fn a_tile_far_from_the_origin_renders_as_the_same_tile_at_the_origin() {
 #[test]
 fn class_colours_and_class_opacity_blend_each_surface_once_as_the_reference_does() {
     let dir = tempfile::tempdir().unwrap();
-    // Ground (class 2) at z = 0, and a canopy layer (class 5) 3 m above it.
-    let mut points = tilted_grid(50, 0.4, 0.0, [1000.0, 2000.0, 0.0]);
-    points.iter_mut().for_each(|p| p.class = 2);
-    let mut canopy = tilted_grid(50, 0.4, 0.0, [1000.0, 2000.0, 3.0]);
-    canopy.iter_mut().for_each(|p| p.class = 5);
-    points.extend(canopy);
-    let file = lidar::write(&dir.path().join("two-layers.laz"), &points, [1000.0, 2000.0, 0.0], None);
+    let (file, _) = ground_and_canopy(dir.path(), 50);
     let style = ["--color-by", "classification", "--class-opacity", "5:0.3", "--unlit", "--elevation", "90"];
     let ground = pointblend::style::classes::colour(2);
     let canopy_colour = pointblend::style::classes::colour(5);
@@ -110,4 +115,35 @@ fn intensity_through_a_colormap_spans_the_percentile_range() {
     let highest = (0..values.len()).max_by(|&a, &b| values.get(a).total_cmp(&values.get(b))).unwrap();
     assert_eq!(styled.colours[lowest], pointblend::style::Colormap::Viridis.colour(0.0));
     assert_eq!(styled.colours[highest], pointblend::style::Colormap::Viridis.colour(1.0));
+}
+
+#[test]
+fn a_screenshots_sidecar_brings_its_colours_by_attribute_back() {
+    use pointblend::frame::sidecar::SidecarModel;
+    use pointblend::frame::{Camera, RenderMode, RenderSettings, Sidecar};
+    let dir = tempfile::tempdir().unwrap();
+    let (file, count) = ground_and_canopy(dir.path(), 40);
+    let styled = ["--mode", "tiled", "--color-by", "classification", "--class-opacity", "5:0.3"];
+    let wanted = render(&file, &styled, dir.path().join("wanted.png"));
+    // The sidecar the viewer would write for that view.
+    let (scene, _) = pointblend::scene::open(&file, &Default::default()).unwrap();
+    let camera = Camera::default_for(&scene.flatten().cloud, 1.0);
+    let settings = RenderSettings { mode: "tiled".parse::<RenderMode>().unwrap(), ..Default::default() };
+    let model = SidecarModel { name: "layers.laz".into(), path: String::new(), hash: String::new(), splats: count };
+    let style = pointblend::style::Style {
+        color_by: Some(pointblend::style::ColorBy::Classification),
+        class_opacity: vec![(5, 0.3)],
+        ..Default::default()
+    };
+    let plain = Sidecar::new(model, &camera, &settings, (128, 128));
+    let with_style = Sidecar { style: Some((&style).into()), ..plain.clone() };
+    let (plain_json, styled_json) = (dir.path().join("plain.json"), dir.path().join("styled.json"));
+    plain.write(&plain_json).unwrap();
+    with_style.write(&styled_json).unwrap();
+    let again = render(&file, &["--camera", styled_json.to_str().unwrap()], dir.path().join("again.png"));
+    let eps = metrics::compare(&again, &wanted).unwrap().eps;
+    assert!(eps <= 0.05, "ε {eps} between the sidecar's render and the styled render");
+    let unstyled = render(&file, &["--camera", plain_json.to_str().unwrap()], dir.path().join("unstyled.png"));
+    let eps = metrics::compare(&unstyled, &wanted).unwrap().eps;
+    assert!(eps > 5.0, "without the style the colours differ (ε {eps})");
 }

@@ -29,7 +29,8 @@ pub struct Args {
     #[arg(long)]
     pub diff: Option<PathBuf>,
     /// Reproduce a viewer screenshot: take the mode, parameters, grouping, camera
-    /// and size from its JSON sidecar (the other view options are ignored).
+    /// and size from its JSON sidecar (the other view options are ignored), and its
+    /// colour and opacity by attribute unless --color-by and the like are given.
     #[arg(long, value_name = "SIDECAR.json")]
     pub camera: Option<PathBuf>,
     /// Environment map that transparent surfaces reflect and refract: an
@@ -124,6 +125,13 @@ pub fn run(args: &Args) -> Result<()> {
     let started = Instant::now();
     let mut scene = shared::load_scene(&args.file)?;
     args.view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
+    // A screenshot's colours by attribute, unless the command line gives its own.
+    if let (None, Some(record)) = (args.view.scene.style(), sidecar.as_ref().and_then(|s| s.style.as_ref())) {
+        let style = record.style().map_err(|e| {
+            anyhow::anyhow!("{}: style: {e}", args.camera.as_deref().unwrap_or(std::path::Path::new("")).display())
+        })?;
+        scene.apply_style(&style).map_err(anyhow::Error::msg)?;
+    }
     let load_seconds = started.elapsed().as_secs_f64();
     let (mut settings, (width, height)) = match &sidecar {
         Some(s) => (s.settings().map_err(anyhow::Error::msg)?, (s.size[0], s.size[1])),

@@ -36,8 +36,9 @@ impl ViewerApp {
             hash: model.hash_hex(),
             splats: model.cloud.len(),
         };
+        let style = model.style.as_deref().map(crate::style::record::StyleRecord::from);
         let sidecar =
-            Box::new(Sidecar { time: key.time, ..Sidecar::new(model_info, &self.ui.camera, &settings, size) });
+            Box::new(Sidecar { time: key.time, style, ..Sidecar::new(model_info, &self.ui.camera, &settings, size) });
         if let Err(e) = std::fs::create_dir_all(&self.options.screenshot_dir) {
             self.status = Some(format!("{}: {e}", self.options.screenshot_dir.display()));
             return;

@@ -15,6 +15,7 @@
 pub mod classes;
 pub mod colormap;
 pub mod parse;
+pub mod record;
 pub mod summary;
 
 pub use colormap::Colormap;

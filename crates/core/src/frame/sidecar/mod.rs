@@ -68,6 +68,9 @@ pub struct Sidecar {
     /// The time shown, in seconds, for a moving scene (absent for a still one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time: Option<f64>,
+    /// The colour and opacity by attribute drawn (absent: the files' own).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub style: Option<crate::style::record::StyleRecord>,
 }
 
 const UP_AXES: [(UpAxis, [f32; 3]); 6] = [
@@ -103,6 +106,7 @@ impl Sidecar {
             light_dir_eye: settings.shading.light_dir_eye.to_array(),
             settings: None,
             time: None,
+            style: None,
         }
     }
 

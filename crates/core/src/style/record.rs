@@ -1,0 +1,78 @@
+//! A style in text forms, as a screenshot's sidecar keeps it, so the image
+//! can be rendered again with the same colours and opacities.
+
+use serde::{Deserialize, Serialize};
+
+use super::{ColorBy, Style};
+
+/// The text form of each part of a [`Style`] (absent parts: the defaults).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct StyleRecord {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub color_by: Option<String>,
+    pub colormap: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub range: Option<[f64; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub classes: Option<Vec<u8>>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub class_opacity: Vec<(u8, f32)>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub opacity_by: Option<String>,
+}
+
+impl From<&Style> for StyleRecord {
+    fn from(style: &Style) -> Self {
+        StyleRecord {
+            color_by: style.color_by.as_ref().map(ColorBy::text),
+            colormap: style.colormap.name().to_string(),
+            range: style.range.map(|(lo, hi)| [lo, hi]),
+            classes: style.classes.clone(),
+            class_opacity: style.class_opacity.clone(),
+            opacity_by: style.opacity_by.clone(),
+        }
+    }
+}
+
+impl StyleRecord {
+    /// The style this record describes; an error says which part is not one.
+    pub fn style(&self) -> Result<Style, String> {
+        let range = match self.range {
+            Some([lo, hi]) => Some(super::parse::range(&format!("{lo},{hi}"))?),
+            None => None,
+        };
+        if let Some(&(class, opacity)) = self.class_opacity.iter().find(|(_, a)| !(0.0..=1.0).contains(a)) {
+            return Err(format!("class {class}'s opacity {opacity} is not in 0..1"));
+        }
+        Ok(Style {
+            color_by: self.color_by.as_deref().map(str::parse).transpose()?,
+            colormap: self.colormap.parse()?,
+            range,
+            classes: self.classes.clone(),
+            class_opacity: self.class_opacity.clone(),
+            opacity_by: self.opacity_by.clone(),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_style_reads_back_from_its_json_record() {
+        let style = Style {
+            color_by: Some(ColorBy::Attribute("gps_time".into())),
+            colormap: super::super::Colormap::Turbo,
+            range: Some((-1.5, 20.0)),
+            classes: Some(vec![2, 6]),
+            class_opacity: vec![(5, 0.25)],
+            opacity_by: Some("intensity".into()),
+        };
+        let json = serde_json::to_string(&StyleRecord::from(&style)).unwrap();
+        let back: StyleRecord = serde_json::from_str(&json).unwrap();
+        assert_eq!(back.style().unwrap(), style, "{json}");
+        let bad = StyleRecord { colormap: "rainbow".into(), ..Default::default() };
+        assert!(bad.style().unwrap_err().contains("rainbow"));
+    }
+}
