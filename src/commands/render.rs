@@ -126,10 +126,10 @@ pub fn run(args: &Args) -> Result<()> {
     let mut scene = shared::load_scene(&args.file)?;
     args.view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
     // A screenshot's colours by attribute, unless the command line gives its own.
-    if let (None, Some(record)) = (args.view.scene.style(), sidecar.as_ref().and_then(|s| s.style.as_ref())) {
-        let style = record.style().map_err(|e| {
-            anyhow::anyhow!("{}: style: {e}", args.camera.as_deref().unwrap_or(std::path::Path::new("")).display())
-        })?;
+    if let (None, Some(record), Some(path)) =
+        (args.view.scene.style(), sidecar.as_ref().and_then(|s| s.style.as_ref()), &args.camera)
+    {
+        let style = record.style().map_err(|e| anyhow::anyhow!("{}: style: {e}", path.display()))?;
         scene.apply_style(&style).map_err(anyhow::Error::msg)?;
     }
     let load_seconds = started.elapsed().as_secs_f64();

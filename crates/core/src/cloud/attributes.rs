@@ -66,17 +66,12 @@ impl Values {
         }
     }
 
-    /// Whether the values are whole numbers (a count of distinct values means something).
-    pub fn is_integer(&self) -> bool {
-        matches!(self, Values::U8(_) | Values::U16(_))
-    }
-
-    fn gather(&self, indices: &[usize]) -> Values {
+    fn gather(&self, indices: &[u32]) -> Values {
         match self {
-            Values::U8(v) => Values::U8(indices.iter().map(|&i| v[i]).collect()),
-            Values::U16(v) => Values::U16(indices.iter().map(|&i| v[i]).collect()),
-            Values::F32(v) => Values::F32(indices.iter().map(|&i| v[i]).collect()),
-            Values::F64(v) => Values::F64(indices.iter().map(|&i| v[i]).collect()),
+            Values::U8(v) => Values::U8(indices.iter().map(|&i| v[i as usize]).collect()),
+            Values::U16(v) => Values::U16(indices.iter().map(|&i| v[i as usize]).collect()),
+            Values::F32(v) => Values::F32(indices.iter().map(|&i| v[i as usize]).collect()),
+            Values::F64(v) => Values::F64(indices.iter().map(|&i| v[i as usize]).collect()),
         }
     }
 }
@@ -122,7 +117,7 @@ impl Attributes {
     }
 
     /// The columns at `indices` (point k of the result is point `indices[k]`).
-    pub fn gather(&self, indices: &[usize]) -> Attributes {
+    pub fn gather(&self, indices: &[u32]) -> Attributes {
         Attributes {
             channels: self
                 .channels

@@ -255,12 +255,12 @@ fn build(
 }
 
 /// For each of `count` splats, the file vertex it came from: the first of those merged into it.
-fn first_of_each(merged_into: &[u32], kept: &[usize], count: usize) -> Vec<usize> {
-    let mut source = vec![usize::MAX; count];
+fn first_of_each(merged_into: &[u32], kept: &[usize], count: usize) -> Vec<u32> {
+    let mut source = vec![u32::MAX; count];
     for (k, &splat) in merged_into.iter().enumerate() {
         let s = &mut source[splat as usize];
-        if *s == usize::MAX {
-            *s = kept[k];
+        if *s == u32::MAX {
+            *s = kept[k] as u32;
         }
     }
     source

@@ -127,6 +127,30 @@ impl PointCloud {
         self.opacity.iter().any(|&a| a < 1.0)
     }
 
+    /// The splats `indices` as a cloud of their own, in the same frame
+    /// (origin, scale, up axis). Attributes and the scanner position are not
+    /// copied: per-frame selections (hierarchy nodes, hybrid leaves) draw
+    /// splats only; a caller that keeps them sets them.
+    pub fn select(&self, indices: &[u32]) -> PointCloud {
+        let pick = |i: &u32| *i as usize;
+        PointCloud {
+            positions: indices.iter().map(|i| self.positions[pick(i)]).collect(),
+            normals: indices.iter().map(|i| self.normals[pick(i)]).collect(),
+            radii: indices.iter().map(|i| self.radii[pick(i)]).collect(),
+            colours: indices.iter().map(|i| self.colours[pick(i)]).collect(),
+            opacity: indices.iter().map(|i| self.opacity[pick(i)]).collect(),
+            two_sided: if self.two_sided.is_empty() {
+                Vec::new()
+            } else {
+                indices.iter().map(|i| self.two_sided[pick(i)]).collect()
+            },
+            origin: self.origin,
+            scale_exponent: self.scale_exponent,
+            z_up: self.z_up,
+            ..PointCloud::default()
+        }
+    }
+
     /// Checks that every column has one entry per splat.
     pub fn is_consistent(&self) -> bool {
         let n = self.positions.len();

@@ -79,24 +79,7 @@ impl HybridSelection {
 
     /// The selected splats of the flattened `cloud`, as a cloud of their own.
     pub fn gather(&self, cloud: &PointCloud) -> PointCloud {
-        let pick = |i: &u32| *i as usize;
-        PointCloud {
-            positions: self.splats.iter().map(|i| cloud.positions[pick(i)]).collect(),
-            normals: self.splats.iter().map(|i| cloud.normals[pick(i)]).collect(),
-            radii: self.splats.iter().map(|i| cloud.radii[pick(i)]).collect(),
-            colours: self.splats.iter().map(|i| cloud.colours[pick(i)]).collect(),
-            opacity: self.splats.iter().map(|i| cloud.opacity[pick(i)]).collect(),
-            two_sided: if cloud.two_sided.is_empty() {
-                Vec::new()
-            } else {
-                self.splats.iter().map(|i| cloud.two_sided[pick(i)]).collect()
-            },
-            origin: cloud.origin,
-            scale_exponent: cloud.scale_exponent,
-            scanner_position: None,
-            attributes: Default::default(),
-            z_up: cloud.z_up,
-        }
+        cloud.select(&self.splats)
     }
 }
 

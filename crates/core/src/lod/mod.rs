@@ -143,7 +143,7 @@ fn build_node(cloud: &PointCloud, indices: &mut [u32], centre: Vec3, half: f32, 
         .map(|&i| (cloud.positions[i as usize] - centre).length() + cloud.radii[i as usize])
         .fold(0.0f32, f32::max);
     if indices.len() <= LEAF_SPLATS || depth >= MAX_DEPTH {
-        let own = copy_splats(cloud, indices);
+        let own = cloud.select(indices);
         let radius = own.radii.iter().copied().fold(0.0f32, f32::max);
         return Built { centre, half, own, children: Vec::new(), reach, radius };
     }
@@ -190,24 +190,6 @@ fn build_node(cloud: &PointCloud, indices: &mut [u32], centre: Vec3, half: f32, 
         parts.into_iter().map(|(o, part)| build_node(cloud, part, child_centre(o), quarter, depth + 1)).collect()
     };
     Built { centre, half, own, children, reach, radius }
-}
-
-/// The splats `indices` of `cloud`, copied.
-fn copy_splats(cloud: &PointCloud, indices: &[u32]) -> PointCloud {
-    let pick = |i: &u32| *i as usize;
-    PointCloud {
-        positions: indices.iter().map(|i| cloud.positions[pick(i)]).collect(),
-        normals: indices.iter().map(|i| cloud.normals[pick(i)]).collect(),
-        radii: indices.iter().map(|i| cloud.radii[pick(i)]).collect(),
-        colours: indices.iter().map(|i| cloud.colours[pick(i)]).collect(),
-        opacity: indices.iter().map(|i| cloud.opacity[pick(i)]).collect(),
-        two_sided: if cloud.two_sided.is_empty() {
-            Vec::new()
-        } else {
-            indices.iter().map(|i| cloud.two_sided[pick(i)]).collect()
-        },
-        ..PointCloud::default()
-    }
 }
 
 /// Sums of the splats in one cell.

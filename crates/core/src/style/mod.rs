@@ -82,9 +82,14 @@ impl Style {
         let mut out = match &self.classes {
             Some(shown) => {
                 let class = column(cloud, names::CLASSIFICATION, "--classes")?;
-                let keep: Vec<usize> = (0..cloud.len()).filter(|&i| shown.contains(&(class.get(i) as u8))).collect();
+                let keep: Vec<u32> =
+                    (0..cloud.len() as u32).filter(|&i| shown.contains(&(class.get(i as usize) as u8))).collect();
                 applied.hidden = cloud.len() - keep.len();
-                select(cloud, &keep)
+                PointCloud {
+                    attributes: cloud.attributes.gather(&keep),
+                    scanner_position: cloud.scanner_position,
+                    ..cloud.select(&keep)
+                }
             }
             None => cloud.clone(),
         };
@@ -157,27 +162,6 @@ pub fn percentile_range(values: &[f64]) -> (f64, f64) {
     let lo = at(0.02, &mut finite);
     let hi = at(0.98, &mut finite);
     (lo, hi)
-}
-
-/// The splats of `cloud` at `indices`, with their attributes.
-fn select(cloud: &PointCloud, indices: &[usize]) -> PointCloud {
-    PointCloud {
-        positions: indices.iter().map(|&i| cloud.positions[i]).collect(),
-        normals: indices.iter().map(|&i| cloud.normals[i]).collect(),
-        radii: indices.iter().map(|&i| cloud.radii[i]).collect(),
-        colours: indices.iter().map(|&i| cloud.colours[i]).collect(),
-        opacity: indices.iter().map(|&i| cloud.opacity[i]).collect(),
-        two_sided: if cloud.two_sided.is_empty() {
-            Vec::new()
-        } else {
-            indices.iter().map(|&i| cloud.two_sided[i]).collect()
-        },
-        origin: cloud.origin,
-        scale_exponent: cloud.scale_exponent,
-        scanner_position: cloud.scanner_position,
-        attributes: cloud.attributes.gather(indices),
-        z_up: cloud.z_up,
-    }
 }
 
 #[cfg(test)]
