@@ -59,7 +59,7 @@ fn no_core_module_imports_one_above_it() {
         &["style"],
         &["grouping"],
         &["frame"],
-        &["scene", "shadow", "lod", "hybrid"],
+        &["scene", "shadow", "lod", "hybrid", "copc"],
         &["reference"],
     ];
     let mut checked = 0;

@@ -13,7 +13,8 @@ pub struct Args {
     /// Input PLY (mesh or cloud), LAS, LAZ or E57, or a NIfTI-1 volume (.nii, .nii.gz).
     pub input: PathBuf,
     /// Output PLY (binary: x y z nx ny nz radius red green blue, then the attributes),
-    /// or LAS/LAZ (.las, .laz: the attributes in their fields, normals and radii as extra bytes).
+    /// or LAS/LAZ (.las, .laz: the attributes in their fields, normals and radii as extra bytes),
+    /// or COPC (.copc.laz: an octree of LAZ chunks that `render`, `bench` and `info` stream).
     pub output: PathBuf,
     /// Sample this many splats uniformly over the mesh surface instead of using its vertices.
     #[arg(long)]
@@ -85,6 +86,9 @@ pub fn run(args: &Args) -> Result<()> {
     if args.transfer.is_some() || args.threshold.is_some() {
         bail!("--transfer and --threshold apply to volumes (.nii, .nii.gz), not {}", args.input.display());
     }
+    if pointblend::copc::is_copc(&args.output.to_string_lossy()) && args.points.is_none() {
+        return run_copc(args);
+    }
     let (cloud, report) = match args.points {
         Some(0) => bail!("--points must be at least 1"),
         Some(n) => {
@@ -115,6 +119,34 @@ pub fn run(args: &Args) -> Result<()> {
         report.normals,
         report.radii,
         cloud.mean_radius()
+    );
+    Ok(())
+}
+
+/// To COPC: a LAS/LAZ input's records as they are; any other cloud through
+/// a LAS file of its splats (normals, radii and opacity as extra bytes).
+fn run_copc(args: &Args) -> Result<()> {
+    super::shared::prepare_output(&args.output)?;
+    let started = std::time::Instant::now();
+    let las_input;
+    let input = if cloud::las_file::is_las(&args.input) {
+        args.input.as_path()
+    } else {
+        let (cloud, _) = super::shared::load(&args.input)?;
+        las_input = tempfile::Builder::new().suffix(".las").tempfile()?;
+        cloud::write_las::write_las(&cloud, las_input.path())?;
+        las_input.path()
+    };
+    let written = pointblend::copc::write::write_copc(input, &args.output, true)?;
+    println!(
+        "{} -> {}: {} points in {} nodes, {} levels, {:.1} MB, in {:.1} s",
+        args.input.display(),
+        args.output.display(),
+        written.points,
+        written.nodes,
+        written.depth + 1,
+        written.bytes as f64 / 1e6,
+        started.elapsed().as_secs_f64()
     );
     Ok(())
 }

@@ -10,5 +10,6 @@ pub mod parameter_flags;
 pub mod render;
 pub mod scene_args;
 pub mod shared;
+pub mod stream_args;
 pub mod view;
 pub mod view_args;

@@ -14,7 +14,8 @@ use super::shared::{self, ViewArgs};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// PLY file (a cloud, a mesh, or 3D Gaussian splats).
+    /// Point cloud (PLY, LAS, LAZ, E57), scene file (.toml), or a COPC file
+    /// (.copc.laz, a path or an http(s) URL), streamed under the point budget.
     pub file: PathBuf,
     #[command(flatten)]
     pub view: ViewArgs,
@@ -123,7 +124,26 @@ pub fn run(args: &Args) -> Result<()> {
         shared::prepare_image_output(diff)?;
     }
     let started = Instant::now();
-    let mut scene = shared::load_scene(&args.file)?;
+    // A COPC file or URL is streamed: the nodes the view selects under the point budget.
+    let mut stream = args.view.stream.open(&args.file)?;
+    let mut stream_camera = None;
+    let mut scene = match &mut stream {
+        Some(stream) => {
+            let bounds = super::stream_args::bounds_scene(stream);
+            let camera = match &sidecar {
+                Some(s) => s.camera(),
+                None => args.view.camera(&bounds)?,
+            };
+            let size = sidecar.as_ref().map_or(args.view.size, |s| (s.size[0], s.size[1]));
+            let budget = match &sidecar {
+                Some(s) => s.settings().map_err(anyhow::Error::msg)?.point_budget,
+                None => args.view.base_settings(&bounds)?.point_budget,
+            };
+            stream_camera = Some(camera);
+            super::stream_args::frame_scene(stream, &camera, size, budget)?
+        }
+        None => shared::load_scene(&args.file)?,
+    };
     args.view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
     // A screenshot's colours by attribute, unless the command line gives its own.
     if let (None, Some(record), Some(path)) =
@@ -138,6 +158,10 @@ pub fn run(args: &Args) -> Result<()> {
         None => (args.view.settings(&scene)?, args.view.size),
     };
     args.apply_environment(&mut scene, &mut settings)?;
+    if stream.is_some() {
+        // The stream applied the budget when it selected the nodes.
+        settings = settings.without_budget();
+    }
     let supersample = args.view.parameters.given(Parameter::Supersample);
     if let (Some(_), Some(n)) = (&sidecar, supersample) {
         // The sidecar sets the view; --supersample still sets the reference's rays (and --diff's ruler).
@@ -151,6 +175,7 @@ pub fn run(args: &Args) -> Result<()> {
         );
     }
     let camera = match &sidecar {
+        _ if stream_camera.is_some() => stream_camera.expect("checked"),
         Some(s) => {
             let hash = format!("{:016x}", scene.geometry_hash());
             if hash != s.model.hash {

@@ -77,6 +77,8 @@ pub struct ViewArgs {
     pub parameters: ParameterFlags,
     #[command(flatten)]
     pub scene: SceneArgs,
+    #[command(flatten)]
+    pub stream: super::stream_args::StreamArgs,
 }
 
 impl ViewArgs {

@@ -14,6 +14,7 @@
 //! [`memory`], [`output`] and [`progress`] are small helpers. No module imports one above it (`tests/architecture.rs`).
 
 pub mod cloud;
+pub mod copc;
 pub mod frame;
 pub mod grouping;
 pub mod hash;

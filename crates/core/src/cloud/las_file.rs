@@ -28,7 +28,7 @@ use super::attributes::{Attributes, Values, names};
 use super::file_info::FileInfo;
 use super::ply::{ElementSpec, PlyData, PropertyKind, PropertySpec, Scalar};
 
-mod extra_bytes;
+pub(crate) mod extra_bytes;
 
 /// Points decoded per batch, and the most bytes a batch may take (records can be 64 KiB with extra bytes).
 const BATCH: u64 = 1 << 20;
@@ -220,11 +220,11 @@ pub fn read(path: &Path) -> Result<(PlyData, Attributes, FileInfo), CloudError> 
 }
 
 /// The columns decoded so far.
-#[derive(Default)]
-struct Columns {
-    x: Vec<f64>,
-    y: Vec<f64>,
-    z: Vec<f64>,
+#[derive(Default, Clone)]
+pub(crate) struct Columns {
+    pub(crate) x: Vec<f64>,
+    pub(crate) y: Vec<f64>,
+    pub(crate) z: Vec<f64>,
     rgb: Option<[Vec<u16>; 3]>,
     intensity: Vec<u16>,
     classification: Vec<u8>,
@@ -240,7 +240,7 @@ struct Columns {
 }
 
 impl Columns {
-    fn append(&mut self, batch: &las::PointData, fields: &[extra_bytes::Field]) {
+    pub(crate) fn append(&mut self, batch: &las::PointData, fields: &[extra_bytes::Field]) {
         self.x.extend(batch.x());
         self.y.extend(batch.y());
         self.z.extend(batch.z());
@@ -276,8 +276,57 @@ impl Columns {
         }
     }
 
+    /// Points held.
+    pub(crate) fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// Bytes held, for the cache's accounting.
+    pub(crate) fn bytes(&self) -> usize {
+        let n = self.len();
+        let per_point = 3 * 8 + 2 + 1 + 1 + 1 + 1 + 2 + 1 + 4;
+        n * per_point
+            + self.rgb.as_ref().map_or(0, |_| 6 * n)
+            + self.gps_time.as_ref().map_or(0, |_| 8 * n)
+            + self.nir.as_ref().map_or(0, |_| 2 * n)
+            + self.extra.len() * 8 * n
+    }
+
+    /// Appends `other`'s points (decoded from the same file).
+    pub(crate) fn extend(&mut self, other: &Columns) {
+        self.x.extend_from_slice(&other.x);
+        self.y.extend_from_slice(&other.y);
+        self.z.extend_from_slice(&other.z);
+        if let Some(rgb) = &other.rgb {
+            let mine = self.rgb.get_or_insert_with(Default::default);
+            for (m, o) in mine.iter_mut().zip(rgb) {
+                m.extend_from_slice(o);
+            }
+        }
+        self.intensity.extend_from_slice(&other.intensity);
+        self.classification.extend_from_slice(&other.classification);
+        self.flags.extend_from_slice(&other.flags);
+        self.return_number.extend_from_slice(&other.return_number);
+        self.number_of_returns.extend_from_slice(&other.number_of_returns);
+        if let Some(t) = &other.gps_time {
+            self.gps_time.get_or_insert_with(Vec::new).extend_from_slice(t);
+        }
+        self.point_source_id.extend_from_slice(&other.point_source_id);
+        self.user_data.extend_from_slice(&other.user_data);
+        self.scan_angle.extend_from_slice(&other.scan_angle);
+        if let Some(n) = &other.nir {
+            self.nir.get_or_insert_with(Vec::new).extend_from_slice(n);
+        }
+        if self.extra.len() < other.extra.len() {
+            self.extra.resize_with(other.extra.len(), Vec::new);
+        }
+        for (m, o) in self.extra.iter_mut().zip(&other.extra) {
+            m.extend_from_slice(o);
+        }
+    }
+
     /// The vertex columns (positions and colours) and the attributes kept.
-    fn finish(
+    pub(crate) fn finish(
         self,
         fields: &[extra_bytes::Field],
         encoding: String,
@@ -367,7 +416,7 @@ fn classification_flags(record: &[u8], extended: bool) -> u8 {
 }
 
 /// The header lines `info` prints: point format, scale, offset, counts, software.
-fn details(header: &las::Header) -> Vec<String> {
+pub(crate) fn details(header: &las::Header) -> Vec<String> {
     let t = header.transforms();
     let format = header.point_format();
     let mut lines = vec![
@@ -390,7 +439,7 @@ fn details(header: &las::Header) -> Vec<String> {
 }
 
 /// The CRS the header's VLRs declare: the WKT text, else the GeoTIFF keys' EPSG codes.
-fn crs(header: &las::Header) -> Option<String> {
+pub(crate) fn crs(header: &las::Header) -> Option<String> {
     if let Some(wkt) = header.get_wkt_crs_bytes() {
         let text = String::from_utf8_lossy(wkt).trim_matches(char::from(0)).trim().to_string();
         if !text.is_empty() {

@@ -33,6 +33,9 @@ pub struct LoadOptions {
     pub estimate: EstimateOptions,
     /// Show progress bars for long steps.
     pub progress: bool,
+    /// Re-centre on this point (file coordinates) instead of the bounding
+    /// box's centre: the parts of a streamed file share one origin.
+    pub origin: Option<[f64; 3]>,
 }
 
 /// Loads `path` with default options.
@@ -46,6 +49,19 @@ pub fn load_with(path: &Path, options: &LoadOptions) -> Result<(PointCloud, Load
     let (data, attributes, info) = super::formats::read(path)?;
     let decode_seconds = started.elapsed().as_secs_f64();
     build(path, data, attributes, info, decode_seconds, options).map(|(cloud, report, _)| (cloud, report))
+}
+
+/// The cloud of columns read elsewhere (a streamed file's nodes), named
+/// `name` in messages, built as a file's are.
+pub(crate) fn from_columns(
+    name: &Path,
+    data: PlyData,
+    attributes: Attributes,
+    info: FileInfo,
+    decode_seconds: f64,
+    options: &LoadOptions,
+) -> Result<(PointCloud, LoadReport), CloudError> {
+    build(name, data, attributes, info, decode_seconds, options).map(|(cloud, report, _)| (cloud, report))
 }
 
 /// Loads the mesh at `path` and samples `count` splats uniformly over its
@@ -186,7 +202,7 @@ fn build(
     if kept.is_empty() {
         return Err(CloudError::content(path, "the file has no vertex with finite coordinates"));
     }
-    let (mut cloud, frame) = place(&positions, &kept, &mut warnings);
+    let (mut cloud, frame) = place(&positions, &kept, options.origin, &mut warnings);
 
     let source = Source {
         data: &data,

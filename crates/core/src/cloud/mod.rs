@@ -29,6 +29,7 @@ pub mod write_las;
 pub use attributes::{Attribute, Attributes, Values};
 pub use error::CloudError;
 pub(crate) use error::one_line;
+pub use formats::FileInfo;
 pub use load::{LoadOptions, load, load_mesh, load_surface_samples, load_with};
 
 use glam::Vec3;

@@ -19,12 +19,18 @@ pub(super) struct Frame {
 }
 
 /// Re-centres the `kept` positions in f64 on the bounding-box centre, and
-/// rescales models whose size f32 cannot square (or resolve).
-pub(super) fn place(positions: &[DVec3], kept: &[usize], warnings: &mut Vec<String>) -> (PointCloud, Frame) {
+/// rescales models whose size f32 cannot square (or resolve). A `given`
+/// origin replaces the centre (a streamed file's nodes share one).
+pub(super) fn place(
+    positions: &[DVec3],
+    kept: &[usize],
+    given: Option<[f64; 3]>,
+    warnings: &mut Vec<String>,
+) -> (PointCloud, Frame) {
     let (lo, hi) = kept
         .iter()
         .fold((positions[kept[0]], positions[kept[0]]), |(lo, hi), &i| (lo.min(positions[i]), hi.max(positions[i])));
-    let origin = (lo + hi) * 0.5;
+    let origin = given.map_or((lo + hi) * 0.5, DVec3::from_array);
     let extent = (hi - lo).max_element();
     let scale_exponent = unit_exponent(extent);
     let unit = 10f64.powi(scale_exponent);

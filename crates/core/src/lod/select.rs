@@ -1,11 +1,16 @@
 //! The nodes a frame draws under a point budget: refinement by screen-space
-//! error, largest first.
+//! error, largest first, over any [`LodTree`].
 //!
-//! A node's error is its splats' largest radius projected at its nearest
-//! point to the eye, in pixels. Starting from the root, the visible node of
-//! largest error is replaced by its visible children while the splats drawn
-//! stay within the budget; a node that cannot be refined (a leaf, or one whose
-//! children would overrun the budget) is drawn as it is. Nodes whose bounding
+//! A node's error is its coarseness (its splats' largest radius, or a
+//! streamed node's point spacing) projected at its nearest point to the eye,
+//! in pixels. Starting from the root, the visible node of largest error is
+//! refined while the splats drawn stay within the budget. Two kinds of tree
+//! share this one selection, which knows how they differ
+//! ([`Refinement`]): in the in-memory [`Hierarchy`] children replace their
+//! parent; in a COPC file (Potree-style additive refinement) they add to it,
+//! so a refined node stays drawn. A node that cannot be refined (a leaf, one
+//! whose children would overrun the budget, or one finer than
+//! [`SelectOptions::finest_px`]) is drawn as it is. Nodes whose bounding
 //! sphere lies outside the view frustum are dropped. The root is always
 //! drawn when visible, so a budget smaller than the root draws the root.
 
@@ -78,46 +83,107 @@ pub struct SelectOptions {
     /// Drop nodes outside the view (not when the selected splats also cast
     /// the frame's shadows: an occluder off screen still shades what is on it).
     pub cull: bool,
+    /// A node whose error is below this many pixels is not refined (0: refine
+    /// while the budget allows). A streamed file stops near one pixel, so a
+    /// far view reads only the top levels.
+    pub finest_px: f32,
+}
+
+/// How a child relates to its parent.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Refinement {
+    /// The children stand in for the parent (the in-memory [`Hierarchy`]:
+    /// an inner node holds representatives of its subtree).
+    Replace,
+    /// The children add points to the parent's (COPC: a node draws with all
+    /// its ancestors).
+    Add,
+}
+
+/// A level-of-detail octree a frame selects from: the in-memory
+/// [`Hierarchy`] or a streamed COPC file's hierarchy.
+pub trait LodTree {
+    fn refinement(&self) -> Refinement;
+    /// The root, when the tree has one.
+    fn root(&self) -> Option<u32>;
+    /// Splats the node itself holds.
+    fn count(&self, node: u32) -> usize;
+    /// The sphere around the node's splats (centre, radius) and its
+    /// coarseness (the largest splat radius, or the point spacing).
+    fn sphere(&self, node: u32) -> (Vec3, f32, f32);
+    /// Adds the node's children to `out` (none for a leaf, or for a node
+    /// whose children are not known yet).
+    fn children(&self, node: u32, out: &mut Vec<u32>);
+}
+
+impl LodTree for Hierarchy {
+    fn refinement(&self) -> Refinement {
+        Refinement::Replace
+    }
+    fn root(&self) -> Option<u32> {
+        (!self.nodes.is_empty()).then_some(0)
+    }
+    fn count(&self, node: u32) -> usize {
+        self.nodes[node as usize].count as usize
+    }
+    fn sphere(&self, node: u32) -> (Vec3, f32, f32) {
+        let n = &self.nodes[node as usize];
+        (n.centre, n.reach, n.radius)
+    }
+    fn children(&self, node: u32, out: &mut Vec<u32>) {
+        let n = &self.nodes[node as usize];
+        out.extend(n.children..n.children + n.child_count);
+    }
 }
 
 /// The nodes to draw from `camera` at `size` (see the module doc).
 pub fn select(hierarchy: &Hierarchy, camera: &Camera, size: (u32, u32), options: SelectOptions) -> Selection {
+    select_in(hierarchy, camera, size, options)
+}
+
+/// The nodes of `tree` to draw from `camera` at `size`: largest error first,
+/// while the budget allows. Under [`Refinement::Add`] a refined node stays
+/// drawn (its children add to it), so every selected node's ancestors are
+/// selected too.
+pub fn select_in(tree: &impl LodTree, camera: &Camera, size: (u32, u32), options: SelectOptions) -> Selection {
     let budget = options.budget;
     let frustum = Frustum::new(camera, size);
-    let nodes = &hierarchy.nodes;
     let scale = options.radius_scale.max(0.0);
+    let additive = tree.refinement() == Refinement::Add;
     let error = |i: u32| {
-        let n = &nodes[i as usize];
-        let reach = n.reach + (scale - 1.0).max(0.0) * n.radius;
-        match frustum.error(n.centre, reach, n.radius * scale) {
-            None if !options.cull => Some(frustum.error_anywhere(n.centre, reach, n.radius * scale)),
+        let (centre, reach, radius) = tree.sphere(i);
+        let reach = reach + (scale - 1.0).max(0.0) * radius;
+        match frustum.error(centre, reach, radius * scale) {
+            None if !options.cull => Some(frustum.error_anywhere(centre, reach, radius * scale)),
             e => e,
         }
     };
     let mut chosen = Vec::new();
     let mut heap = BinaryHeap::new();
-    let Some(root_error) = error(0) else { return Selection { nodes: chosen, splats: 0 } };
+    let Some(root) = tree.root() else { return Selection { nodes: chosen, splats: 0 } };
+    let Some(root_error) = error(root) else { return Selection { nodes: chosen, splats: 0 } };
     // Positive floats order as their bits do; the index breaks ties deterministically.
-    heap.push((root_error.to_bits(), u32::MAX, 0u32));
-    let mut drawn = nodes[0].count as usize;
+    heap.push((root_error.to_bits(), u32::MAX - root, root));
+    let mut drawn = tree.count(root);
     let mut children = Vec::with_capacity(8);
-    while let Some((_, _, at)) = heap.pop() {
-        let node = &nodes[at as usize];
-        if node.is_leaf() {
-            chosen.push(at);
-            continue;
+    let mut candidates = Vec::with_capacity(8);
+    while let Some((error_bits, _, at)) = heap.pop() {
+        candidates.clear();
+        if f32::from_bits(error_bits) >= options.finest_px {
+            tree.children(at, &mut candidates);
         }
         children.clear();
-        children.extend((node.children..node.children + node.child_count).filter_map(|c| error(c).map(|e| (e, c))));
-        let below: usize = children.iter().map(|&(_, c)| nodes[c as usize].count as usize).sum();
-        let after = drawn - node.count as usize + below;
-        if after <= budget {
+        children.extend(candidates.iter().filter_map(|&c| error(c).map(|e| (e, c))));
+        let below: usize = children.iter().map(|&(_, c)| tree.count(c)).sum();
+        let after = if additive { drawn + below } else { drawn - tree.count(at) + below };
+        if additive || candidates.is_empty() || after > budget {
+            chosen.push(at);
+        }
+        if !candidates.is_empty() && after <= budget {
             drawn = after;
             for &(e, c) in &children {
                 heap.push((e.to_bits(), u32::MAX - c, c));
             }
-        } else {
-            chosen.push(at);
         }
     }
     Selection { nodes: chosen, splats: drawn }
@@ -153,7 +219,7 @@ mod tests {
     use super::*;
 
     fn culled(budget: usize) -> SelectOptions {
-        SelectOptions { budget, radius_scale: 1.0, cull: true }
+        SelectOptions { budget, radius_scale: 1.0, cull: true, finest_px: 0.0 }
     }
 
     fn setup() -> (PointCloud, Hierarchy, Camera) {

@@ -177,6 +177,7 @@ impl SceneFrames {
             budget: budget as usize,
             radius_scale: settings.radius_scale,
             cull: !settings.lit_by_lights(),
+            finest_px: 0.0,
         };
         let selection = lod::select(&state.hierarchy, camera, size, options);
         let select_ms = started.elapsed().as_secs_f64() * 1e3;

@@ -1,0 +1,76 @@
+//! Decoded nodes, kept while they fit: a least-recently-used cache bounded
+//! in bytes (`--cache-mb`), as Potree keeps its loaded nodes. The nodes the
+//! current frame draws are never evicted for one another: the frame needs
+//! them all at once, so the cache may pass its bound by what one selection
+//! holds, and falls back under it as soon as the view moves on.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use crate::cloud::las_file::Columns;
+
+pub struct NodeCache {
+    capacity: usize,
+    used: usize,
+    clock: u64,
+    entries: HashMap<u32, Entry>,
+}
+
+struct Entry {
+    columns: Arc<Columns>,
+    bytes: usize,
+    last_used: u64,
+}
+
+impl NodeCache {
+    pub fn new(capacity: usize) -> Self {
+        Self { capacity, used: 0, clock: 0, entries: HashMap::new() }
+    }
+
+    /// The node's points, if kept; marks it used now.
+    pub fn get(&mut self, node: u32) -> Option<Arc<Columns>> {
+        self.clock += 1;
+        let entry = self.entries.get_mut(&node)?;
+        entry.last_used = self.clock;
+        Some(entry.columns.clone())
+    }
+
+    pub fn contains(&self, node: u32) -> bool {
+        self.entries.contains_key(&node)
+    }
+
+    /// Keeps the node's points, then evicts the least recently used nodes
+    /// (not those in `keep`) until the cache fits its capacity.
+    pub fn insert(&mut self, node: u32, columns: Arc<Columns>, keep: &dyn Fn(u32) -> bool) {
+        self.clock += 1;
+        let bytes = columns.bytes();
+        if let Some(old) = self.entries.insert(node, Entry { columns, bytes, last_used: self.clock }) {
+            self.used -= old.bytes;
+        }
+        self.used += bytes;
+        self.evict(keep);
+    }
+
+    /// Evicts the least recently used nodes not in `keep` until the cache fits.
+    pub fn evict(&mut self, keep: &dyn Fn(u32) -> bool) {
+        if self.used <= self.capacity {
+            return;
+        }
+        let mut order: Vec<(u64, u32)> =
+            self.entries.iter().filter(|(n, _)| !keep(**n)).map(|(n, e)| (e.last_used, *n)).collect();
+        order.sort_unstable();
+        for (_, node) in order {
+            if self.used <= self.capacity {
+                break;
+            }
+            if let Some(e) = self.entries.remove(&node) {
+                self.used -= e.bytes;
+            }
+        }
+    }
+
+    /// Bytes held, nodes held, and the bound.
+    pub fn usage(&self) -> (usize, usize, usize) {
+        (self.used, self.entries.len(), self.capacity)
+    }
+}

@@ -1,0 +1,196 @@
+//! A COPC file's octree, read page by page as the traversal reaches it
+//! (COPC 1.0, section 5: hierarchy pages of 32-byte entries).
+//!
+//! The root page is read on open. An entry with a point count of −1 points
+//! to a child page, whose entries start with that key's own; such a key is a
+//! node of unknown content until its page is read ([`CopcTree::pending`]).
+//! A node's cube comes from the octree's centre and half-size and its key:
+//! level `l` halves the side `l` times, and its point spacing is the root's
+//! halved as often. Positions are relative to `origin` (the header bounds'
+//! centre, as a whole-file load re-centres) in f32.
+
+use std::collections::HashMap;
+
+use glam::{DVec3, Vec3};
+use las::copc::VoxelKey;
+
+use super::CopcError;
+use super::header::CopcHeader;
+use crate::lod::{LodTree, Refinement};
+
+/// One node: where its LAZ chunk is and how many points it holds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CopcNode {
+    pub key: VoxelKey,
+    pub offset: u64,
+    pub byte_size: u64,
+    pub points: u32,
+    /// The child page that holds this node's entry, not read yet.
+    pub page: Option<(u64, u64)>,
+    pub children: Vec<u32>,
+}
+
+/// The octree as far as its pages have been read.
+pub struct CopcTree {
+    pub nodes: Vec<CopcNode>,
+    index: HashMap<VoxelKey, u32>,
+    centre: DVec3,
+    halfsize: f64,
+    spacing: f64,
+    pub origin: DVec3,
+    file_len: u64,
+    /// Pages read, and entries that were refused (with why).
+    pub pages_read: usize,
+    pub refused: Vec<String>,
+}
+
+const ENTRY_BYTES: usize = 32;
+/// Deepest level accepted (the key's coordinates must fit in an i32).
+const MAX_LEVEL: i32 = 30;
+
+impl CopcTree {
+    pub fn new(header: &CopcHeader, origin: DVec3) -> Self {
+        let i = &header.info;
+        Self {
+            nodes: Vec::new(),
+            index: HashMap::new(),
+            centre: DVec3::new(i.center_x, i.center_y, i.center_z),
+            halfsize: i.halfsize,
+            spacing: i.spacing,
+            origin,
+            file_len: header.file_len,
+            pages_read: 0,
+            refused: Vec::new(),
+        }
+    }
+
+    /// Adds the entries of one page's bytes (read from `name`).
+    pub fn add_page(&mut self, name: &str, bytes: &[u8]) -> Result<(), CopcError> {
+        if bytes.len() % ENTRY_BYTES != 0 {
+            return Err(CopcError::new(
+                name,
+                format!("a hierarchy page of {} bytes (not whole 32-byte entries)", bytes.len()),
+            ));
+        }
+        for entry in bytes.chunks_exact(ENTRY_BYTES) {
+            let key = VoxelKey::read_from(&mut &entry[..16]).expect("sixteen bytes");
+            let offset = u64::from_le_bytes(entry[16..24].try_into().expect("eight bytes"));
+            let byte_size = i32::from_le_bytes(entry[24..28].try_into().expect("four bytes"));
+            let count = i32::from_le_bytes(entry[28..32].try_into().expect("four bytes"));
+            if let Err(reason) = self.check(key, offset, byte_size, count) {
+                self.refused.push(format!("{}-{}-{}-{}: {reason}", key.l, key.x, key.y, key.z));
+                continue;
+            }
+            let node = CopcNode {
+                key,
+                offset: if count > 0 { offset } else { 0 },
+                byte_size: if count > 0 { byte_size as u64 } else { 0 },
+                points: count.max(0) as u32,
+                page: (count == -1).then_some((offset, byte_size as u64)),
+                children: Vec::new(),
+            };
+            match self.index.get(&key) {
+                // A page's own key: it had only the pointer to this page.
+                Some(&at) if self.nodes[at as usize].page.is_some() && node.page.is_none() => {
+                    let children = std::mem::take(&mut self.nodes[at as usize].children);
+                    self.nodes[at as usize] = CopcNode { children, ..node };
+                }
+                Some(_) => self.refused.push(format!("{}-{}-{}-{}: listed twice", key.l, key.x, key.y, key.z)),
+                None => {
+                    self.index.insert(key, self.nodes.len() as u32);
+                    self.nodes.push(node);
+                }
+            }
+        }
+        self.pages_read += 1;
+        self.link();
+        Ok(())
+    }
+
+    fn check(&self, key: VoxelKey, offset: u64, byte_size: i32, count: i32) -> Result<(), String> {
+        if !(0..=MAX_LEVEL).contains(&key.l) || [key.x, key.y, key.z].iter().any(|&c| c < 0 || c >= 1 << key.l) {
+            return Err("not a key of the octree".into());
+        }
+        if count < -1 {
+            return Err(format!("a point count of {count}"));
+        }
+        if count != 0 && (byte_size <= 0 || offset.checked_add(byte_size as u64).is_none_or(|end| end > self.file_len))
+        {
+            return Err(format!(
+                "its {} at bytes {offset}..+{byte_size} lies past the end of the file ({} bytes)",
+                if count == -1 { "page" } else { "chunk" },
+                self.file_len
+            ));
+        }
+        Ok(())
+    }
+
+    /// Rebuilds every node's child list.
+    fn link(&mut self) {
+        for node in &mut self.nodes {
+            node.children.clear();
+        }
+        for i in 0..self.nodes.len() {
+            let key = self.nodes[i].key;
+            if key.l == 0 {
+                continue;
+            }
+            if let Some(&parent) = self.index.get(&key.parent()) {
+                self.nodes[parent as usize].children.push(i as u32);
+            }
+        }
+        for node in &mut self.nodes {
+            node.children.sort_unstable();
+        }
+    }
+
+    pub fn node(&self, key: &VoxelKey) -> Option<u32> {
+        self.index.get(key).copied()
+    }
+
+    /// Nodes among `nodes` whose page is still to be read.
+    pub fn pending<'a>(&'a self, nodes: &'a [u32]) -> impl Iterator<Item = u32> + 'a {
+        nodes.iter().copied().filter(|&n| self.nodes[n as usize].page.is_some())
+    }
+
+    /// Points of every node known so far.
+    pub fn known_points(&self) -> u64 {
+        self.nodes.iter().map(|n| u64::from(n.points)).sum()
+    }
+
+    /// The node's cube (minimum corner and side) in file coordinates.
+    pub fn cube(&self, key: &VoxelKey) -> (DVec3, f64) {
+        let side = 2.0 * self.halfsize / f64::from(1u32 << key.l);
+        let min =
+            self.centre - DVec3::splat(self.halfsize) + DVec3::new(key.x as f64, key.y as f64, key.z as f64) * side;
+        (min, side)
+    }
+
+    /// Point spacing at the key's level.
+    pub fn spacing(&self, key: &VoxelKey) -> f64 {
+        self.spacing / f64::from(1u32 << key.l)
+    }
+}
+
+impl LodTree for CopcTree {
+    fn refinement(&self) -> Refinement {
+        Refinement::Add
+    }
+    fn root(&self) -> Option<u32> {
+        self.node(&VoxelKey::ROOT)
+    }
+    fn count(&self, node: u32) -> usize {
+        self.nodes[node as usize].points as usize
+    }
+    fn sphere(&self, node: u32) -> (Vec3, f32, f32) {
+        let key = &self.nodes[node as usize].key;
+        let (min, side) = self.cube(key);
+        let centre = (min + DVec3::splat(side * 0.5) - self.origin).as_vec3();
+        let spacing = self.spacing(key) as f32;
+        // The cube's half diagonal, and a splat's reach past it.
+        (centre, (side * 0.5 * 3f64.sqrt()) as f32 + spacing, spacing)
+    }
+    fn children(&self, node: u32, out: &mut Vec<u32>) {
+        out.extend(&self.nodes[node as usize].children);
+    }
+}

@@ -1,0 +1,154 @@
+//! The loader pool: the chunks a selection lacks, fetched with at most
+//! [`IN_FLIGHT`] requests at a time (Potree's default) and decoded on rayon
+//! as they arrive.
+//!
+//! Chunks that lie close together in the file are merged into one request
+//! (a gap under [`super::http::MIN_REQUEST`], up to [`MAX_MERGED`] in all),
+//! as COPC readers do against object storage, where each request costs far
+//! more than the bytes between two chunks. With `--disk-cache DIR`, chunks
+//! are read from and written to DIR (one file per node and source).
+
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::mpsc;
+
+use rayon::prelude::*;
+
+use super::header::CopcHeader;
+use super::hierarchy::CopcTree;
+use super::source::ByteSource;
+use crate::cloud::las_file::Columns;
+
+/// Requests in flight at once.
+pub const IN_FLIGHT: usize = 4;
+/// Largest merged request.
+const MAX_MERGED: u64 = 16 << 20;
+
+/// Chunks read in one request: their nodes, from `start` to `end`.
+struct Run {
+    start: u64,
+    end: u64,
+    nodes: Vec<u32>,
+}
+
+/// Where the chunks go and come from.
+pub struct Fetch<'a> {
+    pub source: &'a dyn ByteSource,
+    pub header: &'a CopcHeader,
+    pub tree: &'a CopcTree,
+    /// `--disk-cache DIR`, keyed by the source.
+    pub disk: Option<PathBuf>,
+}
+
+impl Fetch<'_> {
+    /// The nodes' points, or why each failed, as they finish (any order).
+    pub fn nodes(&self, nodes: &[u32], on_done: &(dyn Fn(u64) + Sync)) -> Vec<(u32, Result<Columns, String>)> {
+        let mut from_disk = Vec::new();
+        let mut wanted = Vec::new();
+        for &n in nodes {
+            match self.disk_read(n) {
+                Some(bytes) => from_disk.push((n, bytes)),
+                None => wanted.push(n),
+            }
+        }
+        let runs = Mutex::new(self.runs(wanted));
+        let (sender, receiver) = mpsc::channel::<(u32, Result<Vec<u8>, String>)>();
+        for (n, bytes) in from_disk {
+            sender.send((n, Ok(bytes))).expect("the receiver lives");
+        }
+        std::thread::scope(|scope| {
+            for _ in 0..IN_FLIGHT {
+                let sender = sender.clone();
+                let runs = &runs;
+                scope.spawn(move || {
+                    while let Some(run) = runs.lock().expect("no panics while held").pop() {
+                        match self.source.read(run.start, run.end - run.start) {
+                            Ok(bytes) => {
+                                for &n in &run.nodes {
+                                    let node = &self.tree.nodes[n as usize];
+                                    let at = (node.offset - run.start) as usize;
+                                    let chunk = bytes[at..at + node.byte_size as usize].to_vec();
+                                    self.disk_write(n, &chunk);
+                                    let _ = sender.send((n, Ok(chunk)));
+                                }
+                            }
+                            Err(e) => {
+                                for &n in &run.nodes {
+                                    let _ = sender.send((n, Err(e.reason.clone())));
+                                }
+                            }
+                        }
+                    }
+                });
+            }
+            drop(sender);
+            receiver
+                .into_iter()
+                .par_bridge()
+                .map(|(n, bytes)| {
+                    let node = &self.tree.nodes[n as usize];
+                    let result = bytes
+                        .and_then(|b| super::decode::decode(self.header, &b, node.points, self.tree.cube(&node.key)));
+                    on_done(node.points as u64);
+                    (n, result)
+                })
+                .collect()
+        })
+    }
+
+    /// The wanted chunks in file order, nearby ones merged, largest runs first.
+    fn runs(&self, mut nodes: Vec<u32>) -> Vec<Run> {
+        let tree = self.tree;
+        nodes.sort_by_key(|&n| tree.nodes[n as usize].offset);
+        let mut runs: Vec<Run> = Vec::new();
+        for n in nodes {
+            let node = &tree.nodes[n as usize];
+            let (start, end) = (node.offset, node.offset + node.byte_size);
+            match runs.last_mut() {
+                Some(run)
+                    if start >= run.end
+                        && start - run.end < super::http::MIN_REQUEST
+                        && end - run.start <= MAX_MERGED =>
+                {
+                    run.end = end;
+                    run.nodes.push(n);
+                }
+                _ => runs.push(Run { start, end, nodes: vec![n] }),
+            }
+        }
+        // Popped from the back: the pool starts with the file's first chunks (the coarse levels).
+        runs.reverse();
+        runs
+    }
+
+    fn disk_path(&self, n: u32) -> Option<PathBuf> {
+        let dir = self.disk.as_ref()?;
+        let key = self.tree.nodes[n as usize].key;
+        let id =
+            crate::hash::fnv1a(crate::hash::fnv1a(0, self.source.name().as_bytes()), &self.source.len().to_le_bytes());
+        Some(dir.join(format!("{id:016x}")).join(format!("{}-{}-{}-{}.laz", key.l, key.x, key.y, key.z)))
+    }
+
+    fn disk_read(&self, n: u32) -> Option<Vec<u8>> {
+        let path = self.disk_path(n)?;
+        let bytes = std::fs::read(&path).ok()?;
+        (bytes.len() as u64 == self.tree.nodes[n as usize].byte_size).then_some(bytes)
+    }
+
+    fn disk_write(&self, n: u32, bytes: &[u8]) {
+        let Some(path) = self.disk_path(n) else { return };
+        if let Err(e) = write_atomically(&path, bytes) {
+            crate::progress::warn_once(format!("--disk-cache: cannot write {}: {e}", path.display()));
+        }
+    }
+}
+
+/// Writes through a temporary file beside `path`, then renames it.
+fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = path.parent().expect("a file in a folder");
+    std::fs::create_dir_all(dir)?;
+    let mut file = tempfile::NamedTempFile::new_in(dir)?;
+    std::io::Write::write_all(&mut file, bytes)?;
+    file.persist(path).map_err(|e| e.error)?;
+    Ok(())
+}

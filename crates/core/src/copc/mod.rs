@@ -1,0 +1,41 @@
+//! Streaming COPC files (Cloud Optimized Point Cloud 1.0: a LAZ 1.4 file
+//! whose octree nodes are LAZ chunks, indexed by hierarchy pages) from disk
+//! or over HTTP(S), node by node, under a point budget.
+//!
+//! [`source`] reads byte ranges (a file, or [`http`] range requests),
+//! [`header`] the header and COPC info VLR, [`hierarchy`] the octree page by
+//! page as the traversal reaches it, [`decode`] one node's chunk into the
+//! columns a LAS file fills, [`load`] fetches and decodes the chunks a
+//! selection lacks (at most four requests in flight), [`cache`] keeps
+//! decoded nodes in an LRU bounded in bytes, and [`stream`] puts them
+//! together: select by projected spacing (additive refinement, the same
+//! selection as the in-memory hierarchy's, [`crate::lod::select_in`]),
+//! load, and build the selection into a [`crate::cloud::PointCloud`].
+//! [`write`] makes COPC files.
+
+pub(crate) mod cache;
+pub(crate) mod decode;
+pub mod header;
+pub mod hierarchy;
+pub mod http;
+pub(crate) mod load;
+pub mod source;
+pub mod stream;
+pub mod write;
+
+pub use source::{is_copc, is_url};
+pub use stream::{CopcStream, StreamOptions, StreamStats, StreamedFrame};
+
+/// A failure to stream a file: its path or URL and why, on one line.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("{name}: {reason}")]
+pub struct CopcError {
+    pub name: String,
+    pub reason: String,
+}
+
+impl CopcError {
+    pub fn new(name: &str, reason: impl Into<String>) -> Self {
+        Self { name: name.to_string(), reason: crate::cloud::one_line(&reason.into()) }
+    }
+}

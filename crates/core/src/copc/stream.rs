@@ -1,0 +1,288 @@
+//! A COPC file streamed node by node: each frame selects nodes by projected
+//! spacing under the point budget (additive refinement, [`crate::lod`]),
+//! reads the hierarchy pages the traversal reaches, loads the chunks the
+//! selection lacks through the pool ([`super::load`]) into the LRU cache,
+//! and builds the selected points into one [`PointCloud`] as a whole file
+//! is built (the same re-centring, repairs and estimation), on the header
+//! bounds' centre so that every selection shares one frame.
+//!
+//! Normals and radii a file lacks are estimated over the whole selection,
+//! not node by node: a point's neighbours come from its node, its
+//! ancestors and the neighbouring nodes drawn with it, so there is no seam
+//! at a node's border, and radii follow the density actually drawn (a
+//! coarse node's points grow as its children are left out). With every
+//! node selected this is exactly the whole-file load.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+use glam::{DVec3, Vec3};
+
+use super::CopcError;
+use super::cache::NodeCache;
+use super::header::CopcHeader;
+use super::hierarchy::CopcTree;
+use super::http::HttpOptions;
+use super::load::Fetch;
+use super::source::ByteSource;
+use crate::cloud::las_file::{self, Columns};
+use crate::cloud::load::from_columns;
+use crate::cloud::{FileInfo, LoadOptions, LoadReport, PointCloud};
+use crate::frame::Camera;
+use crate::lod::{self, LodTree, SelectOptions, Selection};
+
+/// The budget a streamed file is drawn under unless told otherwise.
+pub const DEFAULT_BUDGET: usize = 1_000_000;
+/// Nodes whose spacing projects below this many pixels are not refined.
+pub const FINEST_PX: f32 = 1.0;
+
+/// How a file is streamed.
+#[derive(Debug, Clone)]
+pub struct StreamOptions {
+    /// The LRU cache's bound on decoded nodes.
+    pub cache_bytes: usize,
+    pub http: HttpOptions,
+    /// Keep fetched chunks here (none are written to disk otherwise).
+    pub disk_cache: Option<PathBuf>,
+    /// Show progress bars.
+    pub progress: bool,
+}
+
+impl Default for StreamOptions {
+    fn default() -> Self {
+        Self { cache_bytes: default_cache_bytes(), http: HttpOptions::default(), disk_cache: None, progress: false }
+    }
+}
+
+/// A quarter of the free memory (1 GiB when it cannot be read).
+pub fn default_cache_bytes() -> usize {
+    crate::memory::available_bytes().map_or(1 << 30, |b| (b / 4) as usize)
+}
+
+/// What streaming has cost so far.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StreamStats {
+    pub nodes_loaded: usize,
+    pub points_loaded: u64,
+    /// Bytes and requests the source served (header and pages included).
+    pub bytes_read: u64,
+    pub requests: u64,
+    /// Nodes (and pages) that failed and were skipped.
+    pub failed: usize,
+    /// Seconds spent fetching and decoding.
+    pub load_seconds: f64,
+}
+
+pub struct CopcStream {
+    source: Box<dyn ByteSource>,
+    pub header: CopcHeader,
+    pub tree: CopcTree,
+    cache: NodeCache,
+    /// Nodes that failed, with why (skipped from then on).
+    failed: HashMap<u32, String>,
+    options: StreamOptions,
+    stats: StreamStats,
+}
+
+/// One frame's points.
+pub struct StreamedFrame {
+    pub cloud: PointCloud,
+    pub report: LoadReport,
+    pub selection: Selection,
+    /// The selected nodes that were drawn (loaded), in file order.
+    pub drawn: Vec<u32>,
+}
+
+impl CopcStream {
+    /// Opens `name` (a path or an http(s) URL): the header, the info VLR and the root page.
+    pub fn open(name: &str, options: StreamOptions) -> Result<Self, CopcError> {
+        let source = super::source::open(name, &options.http)?;
+        let header = super::header::read(source.as_ref())?;
+        let b = header.las.bounds();
+        let origin = if b.min.x <= b.max.x && b.min.y <= b.max.y && b.min.z <= b.max.z {
+            DVec3::new(b.min.x + b.max.x, b.min.y + b.max.y, b.min.z + b.max.z) * 0.5
+        } else {
+            DVec3::new(header.info.center_x, header.info.center_y, header.info.center_z)
+        };
+        let mut tree = CopcTree::new(&header, origin);
+        let (at, size) = header.root_page;
+        let page = source
+            .read(at, size)
+            .map_err(|e| CopcError::new(name, format!("its root hierarchy page: {}", e.reason)))?;
+        tree.add_page(name, &page)?;
+        if tree.root().is_none() {
+            return Err(CopcError::new(name, "its root hierarchy page has no root node (0-0-0-0)"));
+        }
+        let cache = NodeCache::new(options.cache_bytes);
+        Ok(Self { source, header, tree, cache, failed: HashMap::new(), options, stats: StreamStats::default() })
+    }
+
+    pub fn name(&self) -> &str {
+        self.source.name()
+    }
+
+    /// Points the header counts.
+    pub fn points(&self) -> u64 {
+        self.header.las.number_of_points()
+    }
+
+    /// The file's frame: its origin, and the corners of the header's bounds
+    /// relative to it, with z up (what a default view frames).
+    pub fn bounds_cloud(&self) -> PointCloud {
+        let b = self.header.las.bounds();
+        let o = self.tree.origin;
+        let corners: Vec<Vec3> = (0..8)
+            .map(|i| {
+                let pick = |bit: usize, lo: f64, hi: f64| if i & bit != 0 { hi } else { lo };
+                (DVec3::new(pick(1, b.min.x, b.max.x), pick(2, b.min.y, b.max.y), pick(4, b.min.z, b.max.z)) - o)
+                    .as_vec3()
+            })
+            .collect();
+        PointCloud {
+            normals: vec![Vec3::Z; 8],
+            radii: vec![0.0; 8],
+            colours: vec![[0; 3]; 8],
+            opacity: vec![1.0; 8],
+            positions: corners,
+            origin: o.to_array(),
+            z_up: true,
+            ..Default::default()
+        }
+    }
+
+    /// The nodes to draw, reading the hierarchy pages the traversal reaches.
+    pub fn select(&mut self, camera: &Camera, size: (u32, u32), options: SelectOptions) -> Selection {
+        loop {
+            let selection = lod::select_in(&self.tree, camera, size, options);
+            let pending: Vec<u32> = self.tree.pending(&selection.nodes).collect();
+            if pending.is_empty() {
+                return selection;
+            }
+            for n in pending {
+                let (at, size) = self.tree.nodes[n as usize].page.take().expect("pending");
+                let page = self.source.read(at, size).and_then(|bytes| self.tree.add_page(self.source.name(), &bytes));
+                if let Err(e) = page {
+                    self.fail(n, format!("its hierarchy page: {}", e.reason));
+                }
+            }
+        }
+    }
+
+    fn fail(&mut self, node: u32, reason: String) {
+        let k = self.tree.nodes[node as usize].key;
+        log::warn!("{}: node {}-{}-{}-{} skipped: {reason}", self.source.name(), k.l, k.x, k.y, k.z);
+        self.failed.insert(node, reason);
+        self.stats.failed = self.failed.len();
+    }
+
+    /// Loads the selected nodes that are neither cached nor failed; returns how many loaded.
+    pub fn load(&mut self, selection: &Selection) -> usize {
+        let wanted: Vec<u32> = selection
+            .nodes
+            .iter()
+            .copied()
+            .filter(|&n| {
+                self.tree.nodes[n as usize].points > 0 && !self.cache.contains(n) && !self.failed.contains_key(&n)
+            })
+            .collect();
+        if wanted.is_empty() {
+            return 0;
+        }
+        let started = Instant::now();
+        let total: u64 = wanted.iter().map(|&n| u64::from(self.tree.nodes[n as usize].points)).sum();
+        let bar = crate::progress::bar(total, "streaming nodes", self.options.progress);
+        let done = AtomicU64::new(0);
+        let fetch = Fetch {
+            source: self.source.as_ref(),
+            header: &self.header,
+            tree: &self.tree,
+            disk: self.options.disk_cache.clone(),
+        };
+        let results = fetch.nodes(&wanted, &|points| {
+            done.fetch_add(points, Ordering::Relaxed);
+            bar.inc(points);
+        });
+        bar.finish();
+        let in_selection: std::collections::HashSet<u32> = selection.nodes.iter().copied().collect();
+        let mut loaded = 0;
+        for (n, result) in results {
+            match result {
+                Ok(columns) => {
+                    self.stats.points_loaded += columns.len() as u64;
+                    self.cache.insert(n, Arc::new(columns), &|m| in_selection.contains(&m));
+                    loaded += 1;
+                }
+                Err(reason) => self.fail(n, reason),
+            }
+        }
+        self.stats.nodes_loaded += loaded;
+        self.stats.load_seconds += started.elapsed().as_secs_f64();
+        loaded
+    }
+
+    /// The selected nodes' points as one cloud (nodes in file order).
+    pub fn gather(&mut self, selection: &Selection, options: &LoadOptions) -> Result<StreamedFrame, CopcError> {
+        let mut drawn: Vec<u32> = selection.nodes.iter().copied().filter(|&n| self.cache.contains(n)).collect();
+        drawn.sort_by_key(|&n| self.tree.nodes[n as usize].offset);
+        let mut columns = Columns::default();
+        for &n in &drawn {
+            columns.extend(&self.cache.get(n).expect("checked above"));
+        }
+        if columns.len() == 0 {
+            return Err(CopcError::new(self.name(), "no point of the file is in view"));
+        }
+        let format = self.header.las.point_format();
+        let mut warnings = self.header.warnings.clone();
+        let encoding = format!(
+            "COPC, LAS {}, point format {}, {} of {} nodes streamed",
+            self.header.las.version(),
+            format.to_u8().unwrap_or(255),
+            drawn.len(),
+            self.tree.nodes.len()
+        );
+        let (data, attributes) = columns.finish(&self.header.fields, encoding, &mut warnings);
+        let info = FileInfo {
+            details: las_file::details(&self.header.las),
+            crs: las_file::crs(&self.header.las),
+            warnings,
+            from_above: true,
+            z_up: true,
+        };
+        let options = LoadOptions { origin: Some(self.tree.origin.to_array()), ..options.clone() };
+        let (cloud, report) = from_columns(Path::new(self.name()), data, attributes, info, 0.0, &options)
+            .map_err(|e| CopcError::new(self.name(), e.to_string()))?;
+        Ok(StreamedFrame { cloud, report, selection: selection.clone(), drawn })
+    }
+
+    /// Selects, loads and gathers one frame's points.
+    pub fn frame(
+        &mut self,
+        camera: &Camera,
+        size: (u32, u32),
+        select: SelectOptions,
+        load: &LoadOptions,
+    ) -> Result<StreamedFrame, CopcError> {
+        let selection = self.select(camera, size, select);
+        self.load(&selection);
+        self.gather(&selection, load)
+    }
+
+    /// What streaming has cost so far.
+    pub fn stats(&self) -> StreamStats {
+        let c = self.source.counters();
+        StreamStats { bytes_read: c.bytes(), requests: c.requests(), ..self.stats.clone() }
+    }
+
+    /// Bytes, nodes and the bound of the node cache.
+    pub fn cache_usage(&self) -> (usize, usize, usize) {
+        self.cache.usage()
+    }
+
+    /// Why each failed node failed.
+    pub fn failures(&self) -> impl Iterator<Item = &String> {
+        self.failed.values()
+    }
+}

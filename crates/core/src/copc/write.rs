@@ -1,0 +1,273 @@
+//! Writing COPC files from LAS/LAZ (`pointblend convert IN OUT.copc.laz`),
+//! so that tests and benchmarks can make files larger than the samples. Users
+//! should index their own data with PDAL and Untwine; neither installs from a
+//! registry here (Debian 12 has no PDAL package), so this writer exists.
+//!
+//! The octree follows COPC 1.0 and Entwine: a cube around the bounds, and at
+//! each node one point per cell of a [`GRID`]³ grid over its cube stays there
+//! (the root's spacing is the cube's side / [`GRID`]); the rest go to the
+//! eight children, until a node holds at most [`LEAF_POINTS`]. Records are
+//! converted to point format 6, 7 (with RGB) or 8 (with NIR), extra bytes and
+//! the other VLRs kept. Each node is one layered LAZ chunk (variable-size
+//! chunks), compressed in parallel; coarse levels come first in the file. The
+//! hierarchy is one page in the EVLR. The file is written to a temporary
+//! file beside the output and renamed.
+
+use std::io::{Seek, SeekFrom, Write};
+use std::path::Path;
+
+use glam::DVec3;
+use las::copc::VoxelKey;
+use laz::record::{LayeredPointRecordCompressor, RecordCompressor};
+use rayon::prelude::*;
+use rustc_hash::FxHashSet;
+
+use super::CopcError;
+
+/// Cells per side of a node's sampling grid.
+pub const GRID: u32 = 128;
+/// A node with at most this many points is a leaf.
+pub const LEAF_POINTS: usize = 100_000;
+const MAX_LEVEL: i32 = 20;
+
+/// What was written.
+#[derive(Debug, Clone)]
+pub struct Written {
+    pub points: u64,
+    pub nodes: usize,
+    pub depth: i32,
+    pub bytes: u64,
+}
+
+struct Node {
+    key: VoxelKey,
+    points: Vec<u32>,
+}
+
+/// Writes `input` (LAS or LAZ) as a COPC file at `output`.
+pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written, CopcError> {
+    let name = input.display().to_string();
+    let fail = |e: String| CopcError::new(&name, e);
+    let mut reader = las::Reader::from_path(input).map_err(|e| fail(e.to_string()))?;
+    let header = reader.header().clone();
+    let in_format = *header.point_format();
+    let mut out_format = las::point::Format::new(match (in_format.has_nir, in_format.has_color) {
+        (true, _) => 8,
+        (false, true) => 7,
+        _ => 6,
+    })
+    .expect("formats 6-8 exist");
+    out_format.extra_bytes = in_format.extra_bytes;
+    let transforms = *header.transforms();
+    let declared = header.number_of_points();
+    let record_len = usize::from(out_format.len());
+    let bar = crate::progress::bar(declared, "reading", progress);
+    let mut records: Vec<u8> = Vec::new();
+    let mut positions: Vec<DVec3> = Vec::new();
+    let mut batch = las::PointDataBuilder::new().for_header(&header).build();
+    loop {
+        let n = reader.fill_points(1 << 20, &mut batch).map_err(|e| fail(e.to_string()))?;
+        if n == 0 {
+            break;
+        }
+        positions.extend(batch.x().zip(batch.y()).zip(batch.z()).map(|((x, y), z)| DVec3::new(x, y, z)));
+        if in_format == out_format {
+            records.extend_from_slice(batch.raw_bytes());
+        } else {
+            for record in batch.raw_bytes().chunks_exact(usize::from(in_format.len())) {
+                let raw = las::raw::Point::read_from(record, &in_format).map_err(|e| fail(e.to_string()))?;
+                let point = las::Point::new(raw, &transforms);
+                let raw = point.into_raw(&transforms).map_err(|e| fail(e.to_string()))?;
+                raw.write_to(&mut records, &out_format).map_err(|e| fail(e.to_string()))?;
+            }
+        }
+        bar.inc(n);
+    }
+    bar.finish();
+    if positions.is_empty() {
+        return Err(fail("the file has no points".into()));
+    }
+    let (lo, hi) = positions.iter().fold((positions[0], positions[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    let centre = (lo + hi) * 0.5;
+    let halfsize = ((hi - lo).max_element() * 0.5).max(1e-3) * (1.0 + 1e-9) + transforms.x.scale.abs();
+    let spacing = 2.0 * halfsize / f64::from(GRID);
+
+    // The octree: nodes level by level (so the file holds the coarse ones first).
+    let mut nodes = Vec::new();
+    let mut level = vec![Node { key: VoxelKey::ROOT, points: (0..positions.len() as u32).collect() }];
+    let mut depth = 0;
+    while !level.is_empty() {
+        let next: Vec<Vec<Node>> = level.par_iter_mut().map(|node| split(node, &positions, centre, halfsize)).collect();
+        depth = level[0].key.l;
+        nodes.extend(level.into_iter().filter(|n| !n.points.is_empty()));
+        level = next.into_iter().flatten().collect();
+    }
+
+    let laz_vlr = laz::LazVlrBuilder::default()
+        .with_point_format(out_format.to_u8().expect("6-8"), out_format.extra_bytes)
+        .map_err(|e| fail(e.to_string()))?
+        .with_variable_chunk_size()
+        .build();
+    let bar = crate::progress::bar(nodes.len() as u64, "compressing nodes", progress);
+    let chunks: Vec<Vec<u8>> = nodes
+        .par_iter()
+        .map(|node| {
+            let mut compressor = LayeredPointRecordCompressor::new(std::io::Cursor::new(Vec::new()));
+            compressor.set_fields_from(laz_vlr.items()).map_err(std::io::Error::other)?;
+            for &i in &node.points {
+                let at = i as usize * record_len;
+                compressor.compress_next(&records[at..at + record_len])?;
+            }
+            compressor.done()?;
+            bar.inc(1);
+            Ok(compressor.get_mut().get_ref().clone())
+        })
+        .collect::<Result<_, std::io::Error>>()
+        .map_err(|e| fail(format!("compressing: {e}")))?;
+    bar.finish();
+    drop(records);
+
+    let out_name = output.display().to_string();
+    let wfail = |e: std::io::Error| CopcError::new(&out_name, e.to_string());
+    let dir = output.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let mut file = tempfile::NamedTempFile::new_in(dir).map_err(wfail)?;
+    let info = |root: (u64, u64)| {
+        let mut data = Vec::with_capacity(160);
+        for v in [centre.x, centre.y, centre.z, halfsize, spacing] {
+            data.extend_from_slice(&v.to_le_bytes());
+        }
+        data.extend_from_slice(&root.0.to_le_bytes());
+        data.extend_from_slice(&root.1.to_le_bytes());
+        data.extend_from_slice(&0f64.to_le_bytes());
+        data.extend_from_slice(&0f64.to_le_bytes());
+        data.resize(160, 0);
+        data
+    };
+    let mut laz_data = Vec::new();
+    laz_vlr.write_to(&mut laz_data).map_err(wfail)?;
+    let mut vlrs = vec![
+        las::Vlr {
+            user_id: las::copc::USER_ID.into(),
+            record_id: 1,
+            description: "copc info".into(),
+            data: info((0, 0)),
+        },
+        las::Vlr { user_id: "laszip encoded".into(), record_id: 22204, description: "laz-rs".into(), data: laz_data },
+    ];
+    vlrs.extend(
+        header.vlrs().iter().filter(|v| !(v.user_id == "laszip encoded" || v.user_id == las::copc::USER_ID)).cloned(),
+    );
+    let mut builder = las::Builder::from((1, 4));
+    builder.point_format = out_format;
+    builder.point_format.is_compressed = true;
+    builder.transforms = transforms;
+    builder.vlrs = vlrs.clone();
+    builder.generating_software = "pointblend".into();
+    let out_header = builder.into_header().map_err(|e| fail(e.to_string()))?;
+    let write_head = |file: &mut std::fs::File, root: (u64, u64), evlr_at: u64| -> Result<(), CopcError> {
+        let mut raw = out_header.clone().into_raw().map_err(|e| fail(e.to_string()))?;
+        raw.min_x = lo.x;
+        raw.min_y = lo.y;
+        raw.min_z = lo.z;
+        raw.max_x = hi.x;
+        raw.max_y = hi.y;
+        raw.max_z = hi.z;
+        raw.number_of_point_records = 0;
+        raw.number_of_points_by_return = [0; 5];
+        raw.large_file = Some(las::raw::header::LargeFile {
+            number_of_point_records: positions.len() as u64,
+            number_of_points_by_return: [0; 15],
+        });
+        raw.evlr = Some(las::raw::header::Evlr { start_of_first_evlr: evlr_at, number_of_evlrs: 1 });
+        file.seek(SeekFrom::Start(0)).map_err(wfail)?;
+        raw.write_to(&mut *file).map_err(|e| fail(e.to_string()))?;
+        for (i, vlr) in vlrs.iter().enumerate() {
+            let vlr = if i == 0 { las::Vlr { data: info(root), ..vlr.clone() } } else { vlr.clone() };
+            vlr.into_raw(false).and_then(|r| r.write_to(&mut *file)).map_err(|e| fail(e.to_string()))?;
+        }
+        Ok(())
+    };
+    let f = file.as_file_mut();
+    write_head(f, (0, 0), 0)?;
+    let mut out = std::io::BufWriter::new(f);
+    let table_offset_at = out.stream_position().map_err(wfail)?;
+    out.write_all(&(-1i64).to_le_bytes()).map_err(wfail)?;
+    let mut entries = Vec::with_capacity(nodes.len());
+    let mut table = laz::laszip::ChunkTable::with_capacity(nodes.len());
+    for (node, chunk) in nodes.iter().zip(&chunks) {
+        let offset = out.stream_position().map_err(wfail)?;
+        out.write_all(chunk).map_err(wfail)?;
+        entries.push((node.key, offset, chunk.len() as i32, node.points.len() as i32));
+        table.push(laz::laszip::ChunkTableEntry {
+            point_count: node.points.len() as u64,
+            byte_count: chunk.len() as u64,
+        });
+    }
+    let table_at = out.stream_position().map_err(wfail)?;
+    table.write_to(&mut out, &laz_vlr).map_err(wfail)?;
+    let evlr_at = out.stream_position().map_err(wfail)?;
+    let mut page = Vec::with_capacity(entries.len() * 32);
+    for (key, offset, size, count) in &entries {
+        for v in [key.l, key.x, key.y, key.z] {
+            page.extend_from_slice(&v.to_le_bytes());
+        }
+        page.extend_from_slice(&offset.to_le_bytes());
+        page.extend_from_slice(&size.to_le_bytes());
+        page.extend_from_slice(&count.to_le_bytes());
+    }
+    let evlr = las::Vlr {
+        user_id: las::copc::USER_ID.into(),
+        record_id: 1000,
+        description: "EPT hierarchy".into(),
+        data: page,
+    };
+    let page_len = evlr.data.len() as u64;
+    evlr.into_raw(true).and_then(|r| r.write_to(&mut out)).map_err(|e| fail(e.to_string()))?;
+    out.seek(SeekFrom::Start(table_offset_at)).map_err(wfail)?;
+    out.write_all(&(table_at as i64).to_le_bytes()).map_err(wfail)?;
+    let f = out.into_inner().map_err(|e| wfail(e.into_error()))?;
+    // The EVLR header is 60 bytes; its data is the root page.
+    write_head(f, (evlr_at + 60, page_len), evlr_at)?;
+    let bytes = f.seek(SeekFrom::End(0)).map_err(wfail)?;
+    file.persist(output).map_err(|e| wfail(e.error))?;
+    Ok(Written { points: positions.len() as u64, nodes: nodes.len(), depth, bytes })
+}
+
+/// Keeps one point per grid cell in `node` (all of them in a leaf) and
+/// returns its children with the rest.
+fn split(node: &mut Node, positions: &[DVec3], centre: DVec3, halfsize: f64) -> Vec<Node> {
+    if node.points.len() <= LEAF_POINTS || node.key.l >= MAX_LEVEL {
+        return Vec::new();
+    }
+    let side = 2.0 * halfsize / f64::from(1u32 << node.key.l);
+    let min =
+        centre - DVec3::splat(halfsize) + DVec3::new(node.key.x as f64, node.key.y as f64, node.key.z as f64) * side;
+    let cell = side / f64::from(GRID);
+    let mut taken = FxHashSet::default();
+    let mut children: [Vec<u32>; 8] = Default::default();
+    let mut kept = Vec::new();
+    for &i in &node.points {
+        let local = (positions[i as usize] - min) / cell;
+        let c = local.floor().clamp(DVec3::ZERO, DVec3::splat(f64::from(GRID - 1)));
+        let (cx, cy, cz) = (c.x as u32, c.y as u32, c.z as u32);
+        if taken.insert((cx * GRID + cy) * GRID + cz) {
+            kept.push(i);
+        } else {
+            let half = GRID / 2;
+            let octant = (cx >= half) as usize | ((cy >= half) as usize) << 1 | ((cz >= half) as usize) << 2;
+            children[octant].push(i);
+        }
+    }
+    node.points = kept;
+    children
+        .into_iter()
+        .enumerate()
+        .filter(|(_, points)| !points.is_empty())
+        .map(|(octant, points)| {
+            let k = node.key;
+            let bit = |b: usize| ((octant >> b) & 1) as i32;
+            let key = VoxelKey { l: k.l + 1, x: 2 * k.x + bit(0), y: 2 * k.y + bit(1), z: 2 * k.z + bit(2) };
+            Node { key, points }
+        })
+        .collect()
+}

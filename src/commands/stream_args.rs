@@ -1,0 +1,104 @@
+//! The flags of streamed files (COPC, from disk or over HTTP), shared by
+//! `render` and `bench`, and the scene of one streamed frame.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Result;
+use pointblend::cloud::LoadOptions;
+use pointblend::copc::{self, CopcStream, StreamOptions};
+use pointblend::frame::Camera;
+use pointblend::lod::SelectOptions;
+use pointblend::scene::Scene;
+
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct StreamArgs {
+    /// COPC files (.copc.laz, or an http(s) URL): decoded nodes kept in
+    /// memory, in MB [default: a quarter of the free memory].
+    #[arg(long, value_name = "MB")]
+    pub cache_mb: Option<u64>,
+    /// COPC files: keep the chunks fetched in this folder and read them from
+    /// there next time (nothing is written to disk without it).
+    #[arg(long, value_name = "DIR")]
+    pub disk_cache: Option<PathBuf>,
+}
+
+/// Whether `file` is streamed rather than loaded whole: a `.copc.laz` file or a URL.
+pub fn is_streamed(file: &Path) -> bool {
+    let name = file.to_string_lossy();
+    copc::is_copc(&name) || copc::is_url(&name)
+}
+
+impl StreamArgs {
+    pub fn options(&self, progress: bool) -> StreamOptions {
+        StreamOptions {
+            cache_bytes: self.cache_mb.map_or_else(copc::stream::default_cache_bytes, |mb| (mb as usize) << 20),
+            disk_cache: self.disk_cache.clone(),
+            progress,
+            ..Default::default()
+        }
+    }
+
+    /// Opens `file` for streaming when it is a COPC file or a URL.
+    pub fn open(&self, file: &Path) -> Result<Option<CopcStream>> {
+        if !is_streamed(file) {
+            if self.cache_mb.is_some() || self.disk_cache.is_some() {
+                log::warn!("--cache-mb and --disk-cache apply to streamed files (.copc.laz or a URL) only");
+            }
+            return Ok(None);
+        }
+        let stream = CopcStream::open(&file.to_string_lossy(), self.options(true))?;
+        log::info!(
+            "{}: COPC, {} points in {} nodes known, streamed under the point budget",
+            stream.name(),
+            stream.points(),
+            stream.tree.nodes.len()
+        );
+        Ok(Some(stream))
+    }
+}
+
+/// A scene standing for a streamed file before anything is loaded: the
+/// corners of its header's bounds (what the default views frame).
+pub fn bounds_scene(stream: &CopcStream) -> Scene {
+    Scene::single(display_name(stream.name()), stream.bounds_cloud(), 0)
+}
+
+/// The last part of a path or URL.
+fn display_name(name: &str) -> String {
+    name.rsplit(['/', '\\']).next().unwrap_or(name).to_string()
+}
+
+/// The scene of the nodes `stream` selects from `camera` at `size` under
+/// `budget` (`None`: the streamed default), loaded as needed.
+pub fn frame_scene(stream: &mut CopcStream, camera: &Camera, size: (u32, u32), budget: Option<u32>) -> Result<Scene> {
+    let select = SelectOptions {
+        budget: budget.map_or(copc::stream::DEFAULT_BUDGET, |b| b as usize),
+        radius_scale: 1.0,
+        cull: true,
+        finest_px: copc::stream::FINEST_PX,
+    };
+    let frame = stream.frame(camera, size, select, &LoadOptions { progress: true, ..Default::default() })?;
+    for warning in &frame.report.warnings {
+        log::warn!("{}: {warning}", stream.name());
+    }
+    let stats = stream.stats();
+    let (used, nodes, bound) = stream.cache_usage();
+    log::info!(
+        "{}: {} points of {} nodes drawn ({} selected); {:.1} MB read in {} requests; cache {:.0} of {:.0} MB ({nodes} nodes){}",
+        stream.name(),
+        frame.cloud.len(),
+        frame.drawn.len(),
+        frame.selection.nodes.len(),
+        stats.bytes_read as f64 / 1e6,
+        stats.requests,
+        used as f64 / 1e6,
+        bound as f64 / 1e6,
+        if stats.failed > 0 { format!("; {} nodes failed and were skipped", stats.failed) } else { String::new() }
+    );
+    // The scene's hash names the nodes drawn, so caches keyed by it are not mixed up.
+    let mut hash = pointblend::hash::fnv1a(0, stream.name().as_bytes());
+    for &n in &frame.drawn {
+        hash = pointblend::hash::fnv1a(hash, &n.to_le_bytes());
+    }
+    Ok(Scene::single(display_name(stream.name()), frame.cloud, hash))
+}
