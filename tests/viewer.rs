@@ -141,6 +141,7 @@ fn bench_image(sidecar: &Path, cache: &Path) -> image::RgbaImage {
         orders: false,
         animate: None,
         environment: None,
+        stream: Default::default(),
     };
     let mut renderer = pointblend::render::HeadlessRenderer::new().unwrap();
     let timed = pointblend::bench::timing::time_frames(&mut renderer, &mut frames, &view.camera(), &settings, &config);

@@ -48,6 +48,8 @@ pub struct BenchConfig {
     pub animate: Option<usize>,
     /// The environment map every model is set in, if any (§5.2.3).
     pub environment: Option<std::sync::Arc<crate::scene::environment::EnvironmentMap>>,
+    /// How streamed models (COPC files and URLs) are read.
+    pub stream: crate::copc::StreamOptions,
 }
 
 pub(super) fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> BenchError + '_ {

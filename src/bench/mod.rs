@@ -8,16 +8,19 @@
 //! share). Reference images are cached in the output folder, keyed by file,
 //! view, size and parameters. [`report`] writes `bench.json` and `bench.md`,
 //! [`plot`] the error-against-time plot, [`sheet`] the main job's contact sheet. With `--orders`, [`orders`] times
-//! the back-to-front orders on the same views.
+//! the back-to-front orders on the same views. A streamed file (COPC) is
+//! measured view by view on the nodes each view selects ([`streamed`]).
 
 pub mod cache;
 pub mod config;
+pub mod measure;
 pub mod orders;
 pub mod plot;
 pub mod report;
 pub mod ruler;
 pub mod run;
 pub mod sheet;
+pub mod streamed;
 pub mod timing;
 pub mod views;
 

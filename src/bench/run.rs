@@ -2,42 +2,21 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::time::Instant;
 
-use super::cache::Ruler;
+use super::measure::{
+    Opened, Prepared, Rulers, blank_row, measure_variant, measure_views, open_model, prepare_variants,
+};
 use super::orders::{OrderRow, time_orders};
-use super::report::{BenchRow, PassTime};
-use super::ruler::{ruler, ruler_name};
-use super::timing::time_frames;
+use super::report::BenchRow;
 use super::views::standard_views;
-use crate::cloud::LoadOptions;
-use crate::frame::environment::EnvironmentSettings;
-use crate::frame::{Camera, ModeVariant, RenderMode, RenderSettings};
+use crate::frame::RenderMode;
 use crate::grouping::GroupingSpec;
 use crate::output::write_atomically;
-use crate::reference;
 use crate::render::{HeadlessRenderer, SceneFrames};
-use crate::scene::Scene;
 
 pub use super::config::{BenchConfig, BenchError};
 use super::config::{io_error, save_png};
-
-struct Spread {
-    median: f64,
-    min: f64,
-    max: f64,
-}
-
-fn spread(values: &[f64]) -> Spread {
-    let mut v = values.to_vec();
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n == 0 {
-        return Spread { median: f64::NAN, min: f64::NAN, max: f64::NAN };
-    }
-    let median = if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) };
-    Spread { median, min: v[0], max: v[n - 1] }
-}
+pub use super::measure::OPAQUE_FALLBACK;
 
 /// What a benchmark run gave: the rows, and the models it had to skip with why.
 #[derive(Debug, Default)]
@@ -111,275 +90,18 @@ pub fn run(
     }
     Ok(outcome)
 }
-
-/// A GPU variant ready to run: its settings and its grouping's K and time
-/// (its upload is in the model's [`SceneFrames`]).
-struct Prepared {
-    variant: ModeVariant,
-    settings: RenderSettings,
-    k: usize,
-    group_s: Option<f64>,
-    /// Milliseconds the shadow coefficients took and the MiB of their TSM tables (lit by scene lights).
-    shadows: Option<(f64, f64)>,
-}
-
-/// A model's scene as the run sets it up: materials, environment, background.
-struct Opened {
-    scene: Arc<Scene>,
-    /// The settings every variant starts from, with the scene's background.
-    base: RenderSettings,
-    load_s: f64,
-}
-
-/// Loads `model` and applies the run's materials and environment.
-fn open_model(model: &Path, config: &BenchConfig) -> Result<Opened, BenchError> {
-    let started = Instant::now();
-    let (mut scene, warnings) =
-        crate::scene::open(model, &LoadOptions { progress: config.progress, ..Default::default() })
-            .map_err(|e| BenchError::Invalid(e.to_string()))?;
-    for warning in &warnings {
-        log::warn!("{warning}");
-    }
-    config.materials.apply(&mut scene).map_err(BenchError::Invalid)?;
-    if config.environment.is_some() {
-        scene.environment = config.environment.clone();
-    }
-    let mut base = config.settings;
-    if let (true, Some(bg)) = (config.materials.scene_background, scene.background) {
-        base.shading.background = bg;
-    }
-    // The scene file's lights and `--light`s, both in file coordinates, in the scene's frame.
-    let lights: Vec<_> =
-        scene.lights.iter().chain(config.settings.lights.as_slice()).map(|l| scene.light_in_frame(l)).collect();
-    base.lights = crate::frame::Lights::new(&lights)
-        .map_err(|e| BenchError::Invalid(format!("{}: lights: {e}", model.display())))?;
-    Ok(Opened { scene: Arc::new(scene), base, load_s: started.elapsed().as_secs_f64() })
-}
-
-/// Every GPU variant's settings, and its grouping (set up through the cache)
-/// and upload in `frames`.
-fn prepare_variants(
-    config: &BenchConfig,
-    opened: &Opened,
-    frames: &mut SceneFrames,
-    renderer: &HeadlessRenderer,
-) -> Result<Vec<Prepared>, BenchError> {
-    let mut prepared = Vec::new();
-    // The reference's rows are the rulers: one number of rays for all of them.
-    for variant in config.variants.iter().filter(|v| !v.mode.is_gpu()) {
-        let settings = variant.apply(&opened.base).map_err(BenchError::Invalid)?;
-        if settings.supersample != opened.base.supersample {
-            return Err(BenchError::Invalid(format!(
-                "{variant}: the reference is every row's ruler, so its rays are set for all rows: use --supersample {}",
-                settings.supersample
-            )));
-        }
-    }
-    for variant in config.variants.iter().filter(|v| v.mode.is_gpu()) {
-        let settings = variant.apply(&opened.base).map_err(BenchError::Invalid)?;
-        let triangles = frames.draws_triangles(&settings);
-        if triangles || frames.applied_budget(&settings).is_some() {
-            // The hierarchy is built (or read) here, not in a timed frame; its
-            // splats, groups and shadows depend on the view: made by each frame
-            // (see time_frames). So do a frame with triangles' splats.
-            if !triangles {
-                frames.hierarchy();
-            }
-            let k = match frames.drawn_grouping(&settings).map(|s| crate::render::per_frame_grouping(s).algo) {
-                Some(crate::grouping::GroupingAlgo::Hash { k, .. }) => k,
-                _ => 1,
-            };
-            prepared.push(Prepared { variant: variant.clone(), settings, k, group_s: None, shadows: None });
-            continue;
-        }
-        let (k, group_s) = match frames.drawn_grouping(&settings) {
-            Some(spec) => {
-                let grouping = frames.grouping(spec).map_err(|e| BenchError::Invalid(e.to_string()))?;
-                (grouping.grouping.k(), Some(grouping.seconds))
-            }
-            None => (1, None),
-        };
-        frames.gpu_scene(renderer, &settings).map_err(|e| BenchError::Invalid(e.to_string()))?;
-        let shadows = frames.shadow_key(&settings).and(frames.last_shadows()).map(|c| {
-            let table_bytes: u64 = c.tables.iter().map(|t| t.bytes).sum();
-            (c.seconds * 1e3, table_bytes as f64 / (1u64 << 20) as f64)
-        });
-        prepared.push(Prepared { variant: variant.clone(), settings, k, group_s, shadows });
-    }
-    Ok(prepared)
-}
-
-/// The exact references one view's rows are measured against.
-struct Rulers {
-    /// Every splat opaque (for opaque modes).
-    opaque: Ruler,
-    /// With the scene's opacities (for transparent modes and the reference mode itself).
-    with_opacity: Ruler,
-    /// With a map: the reference of what a transparent variant draws (its own
-    /// environment settings, or none), keyed by those settings.
-    own: Vec<(Option<EnvironmentSettings>, Ruler)>,
-}
-
-/// Whether (and with which settings) a frame of `settings` draws `scene`'s environment map.
-fn drawn_environment(scene: &Scene, settings: &RenderSettings) -> Option<EnvironmentSettings> {
-    (scene.environment.is_some() && settings.draws_environment()).then_some(settings.environment)
-}
-
-impl Rulers {
-    /// Renders (or reads from the cache) the rulers of one view.
-    fn of(config: &BenchConfig, opened: &Opened, prepared: &[Prepared], camera: &Camera) -> Result<Self, BenchError> {
-        let (scene, base) = (&opened.scene, &opened.base);
-        // One image when the scene is opaque.
-        let opaque = ruler(config, scene, base, camera, false)?;
-        // The reference mode's own image (with the scene's map, if any).
-        let reference = RenderSettings { mode: RenderMode::RULER, ..*base };
-        let with_opacity =
-            if scene.has_transparency() { ruler(config, scene, &reference, camera, true)? } else { opaque.clone() };
-        let mut own = Vec::new();
-        if scene.has_transparency() {
-            for p in prepared.iter().filter(|p| p.variant.mode.info().transparent) {
-                let key = drawn_environment(scene, &p.settings);
-                if key != drawn_environment(scene, &reference) && !own.iter().any(|(k, _)| *k == key) {
-                    let environment = EnvironmentSettings { enabled: key.is_some(), ..key.unwrap_or(base.environment) };
-                    let settings = RenderSettings { environment, ..reference };
-                    own.push((key, ruler(config, scene, &settings, camera, true)?));
-                }
-            }
-        }
-        Ok(Rulers { opaque, with_opacity, own })
-    }
-
-    /// The ruler of a mode that is `transparent` or not.
-    fn for_mode(&self, transparent: bool) -> &Ruler {
-        if transparent { &self.with_opacity } else { &self.opaque }
-    }
-
-    /// The ruler of a prepared variant.
-    fn of_variant(&self, scene: &Scene, p: &Prepared) -> &Ruler {
-        if !p.variant.mode.info().transparent {
-            return &self.opaque;
-        }
-        let key = drawn_environment(scene, &p.settings);
-        self.own.iter().find(|(k, _)| *k == key).map_or(&self.with_opacity, |(_, r)| r)
-    }
-}
-
-/// The mark of a row whose transparent mode ran on an opaque scene.
-pub const OPAQUE_FALLBACK: &str = "opaque scene: ran two-pass";
-
-/// A row of `mode` from `view` with the model's facts filled in and nothing measured yet.
-fn blank_row(
-    name: &str,
-    opened: &Opened,
-    view: &str,
-    config: &BenchConfig,
-    variant: &str,
-    mode: RenderMode,
-) -> BenchRow {
-    BenchRow {
-        model: name.to_string(),
-        mode: mode.name().to_string(),
-        variant: variant.to_string(),
-        reference: ruler_name(mode.info().transparent, config.settings.supersample),
-        ruler: mode == RenderMode::RULER,
-        fallback: mode.runs_opaque(opened.scene.has_transparency()).then(|| OPAQUE_FALLBACK.to_string()),
-        view: view.to_string(),
-        frame_ms: 0.0,
-        frame_ms_min: 0.0,
-        frame_ms_max: 0.0,
-        gpu_ms: None,
-        passes: Vec::new(),
-        eps: 0.0,
-        eps_by_layers: Vec::new(),
-        image: String::new(),
-        psnr: None,
-        bad_pixel_share: 0.0,
-        geometry_passes: 0,
-        points: opened.scene.len(),
-        width: config.width,
-        height: config.height,
-        load_s: opened.load_s,
-        k: 1,
-        group_s: None,
-        shadow_ms: None,
-        shadow_table_mib: None,
-        frames: config.frames,
-        frame: None,
-        time: None,
-        regroup_ms: None,
-        budget_select_ms: None,
-        triangles: None,
-        window_overflows: None,
-        upload_ms: None,
-    }
-}
-
-/// Times one GPU variant from one view, measures it against `reference`
-/// (ε, and ε by the reference's layer count per pixel) and saves its image
-/// (and difference image) as `{stem}-{view}-{tag}.png`.
-fn measure_variant(
-    renderer: &mut HeadlessRenderer,
-    frames: &mut SceneFrames,
-    view: &super::views::NamedView,
-    p: &Prepared,
-    config: &BenchConfig,
-    reference: &Ruler,
-    (stem, mut row): (&str, BenchRow),
-) -> Result<BenchRow, BenchError> {
-    let (image, plan, wall, per_pass, profiled) = time_frames(renderer, frames, &view.camera, &p.settings, config)
-        .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?;
-    row.window_overflows = plan.window_overflows;
-    if let Some(budget) = frames.applied_budget(&p.settings).and(frames.last_budget()) {
-        row.points = budget.splats;
-        row.budget_select_ms = Some(budget.select_ms);
-    }
-    if let Some(hybrid) = frames.last_hybrid().filter(|_| frames.draws_triangles(&p.settings)) {
-        row.points = hybrid.splats;
-        row.triangles = Some(hybrid.triangles);
-    }
-    let sizes_differ = || BenchError::Invalid("image and reference sizes differ".into());
-    let error = reference::compare(&image, &reference.image).ok_or_else(sizes_differ)?;
-    row.eps_by_layers =
-        reference::error_by_layers(&image, &reference.image, &reference.layers).ok_or_else(sizes_differ)?;
-    let tag = p.variant.file_tag();
-    let file = format!("{stem}-{}-{tag}.png", view.name);
-    save_png(&image, &config.out.join(&file))?;
-    row.image = file;
-    if let Some(diff) = reference::difference_image(&image, &reference.image, 8.0) {
-        save_png(&diff, &config.out.join(format!("{stem}-{}-{tag}-diff.png", view.name)))?;
-    }
-    let frame = spread(&wall);
-    let passes: Vec<PassTime> = plan
-        .steps
-        .iter()
-        .zip(&per_pass)
-        .map(|(step, times)| {
-            let s = spread(times);
-            let pass = if profiled { format!("{} (CPU wall, waited alone)", step.name) } else { step.name.to_string() };
-            PassTime { pass, ms: s.median, ms_min: s.min, ms_max: s.max }
-        })
-        .collect();
-    row.k = p.k;
-    row.group_s = p.group_s;
-    (row.shadow_ms, row.shadow_table_mib) = (p.shadows.map(|s| s.0), p.shadows.map(|s| s.1));
-    row.frame_ms = frame.median;
-    row.frame_ms_min = frame.min;
-    row.frame_ms_max = frame.max;
-    row.gpu_ms = (!passes.is_empty() && !profiled).then(|| passes.iter().map(|p| p.ms).sum());
-    row.passes = passes;
-    row.eps = error.eps;
-    row.psnr = error.psnr.is_finite().then_some(error.psnr);
-    row.bad_pixel_share = error.bad_pixel_share;
-    row.geometry_passes = plan.geometry_passes();
-    Ok(row)
-}
-
 /// Every view and variant of one model.
 fn bench_model(
     model: &Path,
     config: &BenchConfig,
     renderer: &mut HeadlessRenderer,
 ) -> Result<(Vec<BenchRow>, Vec<OrderRow>), BenchError> {
+    if super::streamed::is_streamed(model) {
+        if config.animate.is_some() || config.orders {
+            return Err(BenchError::Invalid("--animate and --orders need a file loaded whole, not streamed".into()));
+        }
+        return Ok((super::streamed::bench_streamed(model, config, renderer)?, Vec::new()));
+    }
     if let Some(count) = config.animate {
         return Ok((bench_animation(model, config, renderer, count)?, Vec::new()));
     }
@@ -409,40 +131,9 @@ fn bench_model(
     if config.variants.is_empty() {
         return Ok((Vec::new(), orders));
     }
-    let bar =
-        crate::progress::bar((views.len() * (prepared.len() + 1)) as u64, &format!("bench {stem}"), config.progress);
-    let mut rows = Vec::new();
-    for view in &views {
-        let row = |variant: &str, mode| blank_row(&name, &opened, view.name, config, variant, mode);
-        let rulers = Rulers::of(config, &opened, &prepared, &view.camera)?;
-        let ruler_name = RenderMode::RULER.name();
-        let with_opacity = format!("{stem}-{}-{ruler_name}.png", view.name);
-        let opaque = format!("{stem}-{}-{ruler_name}-opaque.png", view.name);
-        save_png(&rulers.with_opacity.image, &config.out.join(&with_opacity))?;
-        if opened.scene.has_transparency() {
-            save_png(&rulers.opaque.image, &config.out.join(&opaque))?;
-        }
-        for variant in config.variants.iter().filter(|v| !v.mode.is_gpu()) {
-            let mut row = row(&variant.label(), variant.mode);
-            let transparent = variant.mode.info().transparent;
-            let ms = rulers.for_mode(transparent).ms;
-            (row.frame_ms, row.frame_ms_min, row.frame_ms_max, row.frames) = (ms, ms, ms, 1);
-            let apart = !transparent && opened.scene.has_transparency();
-            row.image = if apart { opaque.clone() } else { with_opacity.clone() };
-            rows.push(row);
-        }
-        bar.inc(1);
-        for p in &prepared {
-            let reference = rulers.of_variant(&opened.scene, p);
-            let blank = row(&p.variant.label(), p.variant.mode);
-            rows.push(measure_variant(renderer, &mut frames, view, p, config, reference, (&stem, blank))?);
-            bar.inc(1);
-        }
-    }
-    bar.finish();
+    let rows = measure_views((&name, &stem), &opened, &mut frames, &prepared, &views, config, renderer)?;
     Ok((rows, orders))
 }
-
 /// `count` frames of a moving scene spread over one period of its longest
 /// animation, each measured from every view against its own reference; the
 /// splats are regrouped and rewritten between frames ([`SceneFrames::advance`]).

@@ -13,7 +13,8 @@ use super::shared::ViewArgs;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// PLY files.
+    /// Point clouds or scene files; COPC files (.copc.laz, or http(s) URLs) are
+    /// streamed view by view under the point budget (1M unless --point-budget).
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
     #[command(flatten)]
@@ -90,7 +91,7 @@ pub fn run(args: &Args) -> Result<()> {
     for text in args.modes.iter().filter(|m| *m != "none") {
         variants.extend(ModeVariant::expand(text).map_err(|e| anyhow::anyhow!("--modes: {e}"))?);
     }
-    for file in &args.files {
+    for file in args.files.iter().filter(|f| !pointblend::bench::streamed::is_streamed(f)) {
         let mut rates = Vec::new();
         for _ in 0..args.loads {
             let started = Instant::now();
@@ -124,6 +125,7 @@ pub fn run(args: &Args) -> Result<()> {
     };
     let config = BenchConfig {
         environment,
+        stream: args.view.stream.options(true),
         variants,
         settings: args.view.base_settings(&pointblend::scene::Scene::default())?,
         materials: args.view.scene.materials(args.view.parameters.given(Parameter::Background).is_some()),

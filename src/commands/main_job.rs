@@ -65,6 +65,7 @@ pub fn run(args: &Args) -> Result<()> {
         args.parameters.apply(&mut settings).map_err(anyhow::Error::msg)?;
         let config = BenchConfig {
             environment: environment.clone(),
+            stream: Default::default(),
             variants,
             settings,
             materials: args.scene.materials(args.parameters.given(Parameter::Background).is_some()),

@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
+use pointblend::bench::streamed::is_streamed;
 use pointblend::cloud::LoadOptions;
 use pointblend::copc::{self, CopcStream, StreamOptions};
 use pointblend::frame::Camera;
@@ -20,12 +21,6 @@ pub struct StreamArgs {
     /// there next time (nothing is written to disk without it).
     #[arg(long, value_name = "DIR")]
     pub disk_cache: Option<PathBuf>,
-}
-
-/// Whether `file` is streamed rather than loaded whole: a `.copc.laz` file or a URL.
-pub fn is_streamed(file: &Path) -> bool {
-    let name = file.to_string_lossy();
-    copc::is_copc(&name) || copc::is_url(&name)
 }
 
 impl StreamArgs {

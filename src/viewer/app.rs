@@ -253,6 +253,7 @@ impl eframe::App for ViewerApp {
         self.ui.apply_light_angles();
         self.apply(&ctx, actions);
         egui::CentralPanel::no_frame().show(ui, |ui| self.view_ui(ui));
+        self.refine_stream(&ctx);
         self.ensure_grouping(&ctx);
         self.request_frame(&ctx);
         self.scripted_exit(&ctx);

@@ -31,9 +31,13 @@ impl ViewerApp {
     pub fn current_key(&self) -> Option<FrameKey> {
         let model = self.model.as_ref()?;
         let budget = self.ui.moving_budget.min(self.ui.settings.point_budget.unwrap_or(u32::MAX));
-        let large = model.cloud.len() > budget as usize && !model.is_animated();
+        // A streamed model is the selection under the budget already.
+        let large = model.cloud.len() > budget as usize && !model.is_animated() && model.streamed.is_none();
         let preview = large && self.last_camera_move.is_some_and(|t| t.elapsed() < SETTLE);
         let mut settings = self.ui.settings;
+        if model.streamed.is_some() {
+            settings.point_budget = None;
+        }
         if preview {
             settings.point_budget = Some(budget);
         }

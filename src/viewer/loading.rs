@@ -21,6 +21,9 @@ impl ViewerApp {
         self.generations += 1;
         let generation = self.generations;
         let path = path.to_path_buf();
+        if crate::bench::streamed::is_streamed(&path) {
+            return self.open_streamed(ctx, path, generation);
+        }
         let label = format!("loading {}", path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default());
         let materials = self.options.materials.clone();
         let environment = self.options.environment.clone();
@@ -124,7 +127,10 @@ impl ViewerApp {
         self.scene = SceneSphere { centre: fresh.target, radius: fresh.scene_radius };
         self.home = fresh;
         // The same file with other materials (the opacity slider) keeps the view.
-        let same_geometry = self.model.as_ref().is_some_and(|m| m.path == model.path && m.hash == model.hash);
+        let same_geometry = self.model.as_ref().is_some_and(|m| {
+            // Another selection of the same streamed file is the same geometry too.
+            m.path == model.path && (m.hash == model.hash || (m.streamed.is_some() && model.streamed.is_some()))
+        });
         self.ui.camera = match &self.options.view {
             _ if same_geometry => self.ui.camera,
             // The starting view of a sidecar applies to the first model only.

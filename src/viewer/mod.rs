@@ -30,6 +30,8 @@ mod parameter_widgets;
 mod render_thread;
 mod state;
 mod stats;
+mod stream_source;
+mod streaming;
 mod view3d;
 mod widgets;
 

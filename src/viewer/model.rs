@@ -44,6 +44,8 @@ pub struct Model {
     pub style: Option<Arc<Style>>,
     /// The first object's attributes and classes, for the colour panel and the legend.
     pub summary: Arc<Summary>,
+    /// The streamed file this model is one view's selection of.
+    pub streamed: Option<Arc<super::stream_source::StreamedSource>>,
 }
 
 /// A model's grouping for the deferred mode.
@@ -149,13 +151,14 @@ impl Model {
             generation,
             period,
             hierarchy: None,
+            streamed: None,
         }
     }
 
     /// This model with its hierarchy, when it is still and larger than the
     /// default moving budget: read from `cache`, or built (with a progress stage) and stored.
     pub fn with_hierarchy(mut self, cache: &crate::grouping::cache::Cache) -> Model {
-        if self.is_animated() || self.cloud.len() <= DEFAULT_MOVING_BUDGET as usize {
+        if self.is_animated() || self.streamed.is_some() || self.cloud.len() <= DEFAULT_MOVING_BUDGET as usize {
             return self;
         }
         crate::progress::stage("building the multi-resolution hierarchy");

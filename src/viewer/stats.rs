@@ -9,6 +9,9 @@ use super::widgets::{job_row, thousands};
 pub fn stats_section(ui: &mut Ui, info: &PanelInfo<'_>) {
     ui.heading("Statistics");
     ui.label(format!("window: {:.0} fps, slowest frame {:.0} ms (last 2 s)", info.ui_fps, info.slowest_ui_frame_ms));
+    for line in &info.streaming {
+        ui.label(line);
+    }
     let Some(shown) = &info.shown else {
         ui.label("no frame yet");
         return;

@@ -6,6 +6,7 @@
 
 pub mod fuzz;
 pub mod lidar;
+pub mod nginx;
 pub mod plywriter;
 pub mod tolerances;
 

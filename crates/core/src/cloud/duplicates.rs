@@ -95,6 +95,18 @@ pub fn merge_indexed(cloud: &mut PointCloud, needs_normal: &mut Vec<bool>, needs
     representative.iter().map(|&r| moved_to[r as usize]).collect()
 }
 
+/// For each of `count` splats, the file vertex it came from: the first of those merged into it.
+pub(super) fn first_of_each(merged_into: &[u32], kept: &[usize], count: usize) -> Vec<u32> {
+    let mut source = vec![u32::MAX; count];
+    for (k, &splat) in merged_into.iter().enumerate() {
+        let s = &mut source[splat as usize];
+        if *s == u32::MAX {
+            *s = kept[k] as u32;
+        }
+    }
+    source
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

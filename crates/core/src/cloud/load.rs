@@ -224,7 +224,7 @@ fn build(
     let before_merge = cloud.len();
     let merged_into = super::duplicates::merge_indexed(&mut cloud, &mut needs.normal, &mut needs.radius);
     let merged = before_merge - cloud.len();
-    cloud.attributes = attributes.gather(&first_of_each(&merged_into, &kept, cloud.len()));
+    cloud.attributes = attributes.gather(&super::duplicates::first_of_each(&merged_into, &kept, cloud.len()));
     drop(attributes);
     if merged > 0 {
         warnings.push(format!(
@@ -268,18 +268,6 @@ fn build(
         splat_of[file_vertex] = merged_into[k];
     }
     Ok((cloud, report, splat_of))
-}
-
-/// For each of `count` splats, the file vertex it came from: the first of those merged into it.
-fn first_of_each(merged_into: &[u32], kept: &[usize], count: usize) -> Vec<u32> {
-    let mut source = vec![u32::MAX; count];
-    for (k, &splat) in merged_into.iter().enumerate() {
-        let s = &mut source[splat as usize];
-        if *s == u32::MAX {
-            *s = kept[k] as u32;
-        }
-    }
-    source
 }
 
 /// The file's vertex positions, and which of them are usable (finite, and

@@ -8,7 +8,7 @@
 //! more than the bytes between two chunks. With `--disk-cache DIR`, chunks
 //! are read from and written to DIR (one file per node and source).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Mutex;
 use std::sync::mpsc;
 
@@ -137,18 +137,8 @@ impl Fetch<'_> {
 
     fn disk_write(&self, n: u32, bytes: &[u8]) {
         let Some(path) = self.disk_path(n) else { return };
-        if let Err(e) = write_atomically(&path, bytes) {
+        if let Err(e) = crate::output::write_atomically(&path, bytes) {
             crate::progress::warn_once(format!("--disk-cache: cannot write {}: {e}", path.display()));
         }
     }
-}
-
-/// Writes through a temporary file beside `path`, then renames it.
-fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let dir = path.parent().expect("a file in a folder");
-    std::fs::create_dir_all(dir)?;
-    let mut file = tempfile::NamedTempFile::new_in(dir)?;
-    std::io::Write::write_all(&mut file, bytes)?;
-    file.persist(path).map_err(|e| e.error)?;
-    Ok(())
 }

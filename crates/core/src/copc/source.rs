@@ -57,15 +57,6 @@ pub fn is_copc(name: &str) -> bool {
     path.to_ascii_lowercase().ends_with(".copc.laz")
 }
 
-/// Opens `name`: a URL through HTTP, anything else as a local file.
-pub fn open(name: &str, options: &super::http::HttpOptions) -> Result<Box<dyn ByteSource>, CopcError> {
-    if is_url(name) {
-        Ok(Box::new(super::http::HttpSource::open(name, options)?))
-    } else {
-        Ok(Box::new(FileSource::open(Path::new(name))?))
-    }
-}
-
 /// A local file, read with positioned reads (no shared cursor between threads).
 pub struct FileSource {
     name: String,

@@ -27,7 +27,7 @@ use super::header::CopcHeader;
 use super::hierarchy::CopcTree;
 use super::http::HttpOptions;
 use super::load::Fetch;
-use super::source::ByteSource;
+use super::source::{ByteSource, is_url};
 use crate::cloud::las_file::{self, Columns};
 use crate::cloud::load::from_columns;
 use crate::cloud::{FileInfo, LoadOptions, LoadReport, PointCloud};
@@ -99,7 +99,7 @@ pub struct StreamedFrame {
 impl CopcStream {
     /// Opens `name` (a path or an http(s) URL): the header, the info VLR and the root page.
     pub fn open(name: &str, options: StreamOptions) -> Result<Self, CopcError> {
-        let source = super::source::open(name, &options.http)?;
+        let source = open_source(name, &options.http)?;
         let header = super::header::read(source.as_ref())?;
         let b = header.las.bounds();
         let origin = if b.min.x <= b.max.x && b.min.y <= b.max.y && b.min.z <= b.max.z {
@@ -281,8 +281,22 @@ impl CopcStream {
         self.cache.usage()
     }
 
+    /// Points the node decoded to, while it is cached.
+    pub fn decoded_points(&mut self, node: u32) -> Option<usize> {
+        self.cache.get(node).map(|c| c.len())
+    }
+
     /// Why each failed node failed.
     pub fn failures(&self) -> impl Iterator<Item = &String> {
         self.failed.values()
+    }
+}
+
+/// Opens `name`: a URL through HTTP, anything else as a local file.
+fn open_source(name: &str, options: &HttpOptions) -> Result<Box<dyn ByteSource>, CopcError> {
+    if is_url(name) {
+        Ok(Box::new(super::http::HttpSource::open(name, options)?))
+    } else {
+        Ok(Box::new(super::source::FileSource::open(Path::new(name))?))
     }
 }

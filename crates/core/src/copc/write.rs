@@ -129,8 +129,9 @@ pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written
 
     let out_name = output.display().to_string();
     let wfail = |e: std::io::Error| CopcError::new(&out_name, e.to_string());
-    let dir = output.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let mut file = tempfile::NamedTempFile::new_in(dir).map_err(wfail)?;
+    let target = crate::output::prepare(output).map_err(wfail)?;
+    let mut file = tempfile::NamedTempFile::new_in(crate::output::folder_of(&target)).map_err(wfail)?;
+    crate::output::make_readable(file.as_file()).map_err(wfail)?;
     let info = |root: (u64, u64)| {
         let mut data = Vec::with_capacity(160);
         for v in [centre.x, centre.y, centre.z, halfsize, spacing] {
@@ -229,7 +230,7 @@ pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written
     // The EVLR header is 60 bytes; its data is the root page.
     write_head(f, (evlr_at + 60, page_len), evlr_at)?;
     let bytes = f.seek(SeekFrom::End(0)).map_err(wfail)?;
-    file.persist(output).map_err(|e| wfail(e.error))?;
+    file.persist(&target).map_err(|e| wfail(e.error))?;
     Ok(Written { points: positions.len() as u64, nodes: nodes.len(), depth, bytes })
 }
 

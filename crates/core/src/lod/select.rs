@@ -72,6 +72,15 @@ impl Frustum {
         let nearest = self.view.transform_point3(centre).length() - reach;
         if nearest <= self.near { f32::INFINITY } else { radius * self.pixels_per_unit / nearest }
     }
+
+    /// The same, with a node that reaches past the near plane measured at
+    /// the near plane rather than refined whatever it costs: a streamed
+    /// node's sphere holds its whole cube, which a far camera's near plane
+    /// (set by the points' bounds) may cut.
+    fn error_at_least_near(&self, centre: Vec3, reach: f32, radius: f32) -> f32 {
+        let nearest = self.view.transform_point3(centre).length() - reach;
+        radius * self.pixels_per_unit / nearest.max(self.near).max(f32::MIN_POSITIVE)
+    }
 }
 
 /// How a frame selects.
@@ -153,8 +162,12 @@ pub fn select_in(tree: &impl LodTree, camera: &Camera, size: (u32, u32), options
     let error = |i: u32| {
         let (centre, reach, radius) = tree.sphere(i);
         let reach = reach + (scale - 1.0).max(0.0) * radius;
-        match frustum.error(centre, reach, radius * scale) {
+        let error = match frustum.error(centre, reach, radius * scale) {
             None if !options.cull => Some(frustum.error_anywhere(centre, reach, radius * scale)),
+            e => e,
+        };
+        match error {
+            Some(_) if options.finest_px > 0.0 => Some(frustum.error_at_least_near(centre, reach, radius * scale)),
             e => e,
         }
     };

@@ -1,0 +1,79 @@
+//! Benchmarks of a streamed file (COPC, from disk or a URL): its views come
+//! from the header's bounds, each view selects its nodes under the point
+//! budget (`--point-budget`, 1M by default) and loads what it lacks, and
+//! every mode and the reference draw those same points. The whole file is
+//! never decoded. Each view prints what it read.
+
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Instant;
+
+use super::measure::{measure_views, prepare_variants, set_up};
+use super::report::BenchRow;
+use super::views::standard_views;
+use super::{BenchConfig, BenchError};
+use crate::cloud::LoadOptions;
+use crate::copc::{self, CopcStream};
+use crate::lod::SelectOptions;
+use crate::render::{HeadlessRenderer, SceneFrames};
+use crate::scene::Scene;
+
+/// Whether `model` is streamed rather than loaded whole: a `.copc.laz` file or a URL.
+pub fn is_streamed(model: &Path) -> bool {
+    let name = model.to_string_lossy();
+    copc::is_copc(&name) || copc::is_url(&name)
+}
+
+/// Every view and variant of a streamed model.
+pub(super) fn bench_streamed(
+    model: &Path,
+    config: &BenchConfig,
+    renderer: &mut HeadlessRenderer,
+) -> Result<Vec<BenchRow>, BenchError> {
+    let name = model.to_string_lossy().to_string();
+    let opened_at = Instant::now();
+    let mut stream = CopcStream::open(&name, config.stream.clone()).map_err(|e| BenchError::Invalid(e.to_string()))?;
+    let open_s = opened_at.elapsed().as_secs_f64();
+    let (w, h) = (config.width, config.height);
+    let views = standard_views(&stream.bounds_cloud(), w as f32 / h as f32, config.views);
+    let budget = config.settings.point_budget.map_or(copc::stream::DEFAULT_BUDGET, |b| b as usize);
+    let select = SelectOptions { budget, radius_scale: 1.0, cull: true, finest_px: copc::stream::FINEST_PX };
+    // The stream applied the budget; the modes draw every point it selected.
+    let config = &BenchConfig { settings: config.settings.without_budget(), ..config.clone() };
+    let short = name.rsplit(['/', '\\']).next().unwrap_or(&name).to_string();
+    let stem = crate::output::safe_stem(Path::new(&short));
+    let mut rows = Vec::new();
+    for view in &views {
+        let before = stream.stats();
+        let started = Instant::now();
+        let frame = stream
+            .frame(&view.camera, (w, h), select, &LoadOptions { progress: config.progress, ..Default::default() })
+            .map_err(|e| BenchError::Invalid(e.to_string()))?;
+        let stream_s = started.elapsed().as_secs_f64();
+        let after = stream.stats();
+        let (cache, _, bound) = stream.cache_usage();
+        println!(
+            "{short} {} view: {} points of {} nodes, {:.1} MB read in {} requests, {:.2} s to select, load and build; cache {:.0} of {:.0} MB{}",
+            view.name,
+            frame.cloud.len(),
+            frame.drawn.len(),
+            (after.bytes_read - before.bytes_read) as f64 / 1e6,
+            after.requests - before.requests,
+            stream_s,
+            cache as f64 / 1e6,
+            bound as f64 / 1e6,
+            if after.failed > 0 { format!(", {} nodes failed", after.failed) } else { String::new() }
+        );
+        let mut hash = crate::hash::fnv1a(0, name.as_bytes());
+        for &n in &frame.drawn {
+            hash = crate::hash::fnv1a(hash, &n.to_le_bytes());
+        }
+        let scene = Scene::single(short.clone(), frame.cloud, hash);
+        let opened = set_up(scene, &name, config, open_s + stream_s)?;
+        let mut frames = SceneFrames::of(Arc::clone(&opened.scene));
+        let prepared = prepare_variants(config, &opened, &mut frames, renderer)?;
+        let one = std::slice::from_ref(view);
+        rows.extend(measure_views((&short, &stem), &opened, &mut frames, &prepared, one, config, renderer)?);
+    }
+    Ok(rows)
+}

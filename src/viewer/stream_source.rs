@@ -1,0 +1,142 @@
+//! A streamed file (COPC, from disk or a URL) as the viewer holds it: the
+//! stream, and what the statistics show of it ([`super::streaming`] makes
+//! models of its selections). The model on
+//! screen is the selection of the last settled view. When the camera rests
+//! (or the window or the point budget changes), a background job selects
+//! the nodes of the new view under the budget (1M by default), loads what
+//! the cache lacks with at most four requests in flight, and builds them
+//! into the next model; until it arrives the current selection stays on
+//! screen, so nothing blinks: a region whose nodes are still loading is
+//! drawn by the nodes already there (its loaded ancestors). The job's
+//! progress bar is the "refining" bar, and the statistics show what is
+//! shown, what was read, how fast, and the cache.
+
+use std::path::Path;
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use crate::cloud::LoadOptions;
+use crate::copc::{self, CopcStream, StreamOptions, StreamStats};
+use crate::frame::Camera;
+use crate::lod::SelectOptions;
+use crate::scene::Scene;
+
+/// What a selection is made for: the camera, the view's size and the budget.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ViewKey {
+    pub camera: Camera,
+    pub size: (u32, u32),
+    pub budget: usize,
+}
+
+/// What the statistics show.
+#[derive(Debug, Clone, Default)]
+pub struct StreamStatus {
+    pub nodes_shown: usize,
+    pub points_shown: usize,
+    pub nodes_known: usize,
+    pub points_in_file: u64,
+    pub stats: StreamStats,
+    /// Bytes, nodes and bound of the node cache.
+    pub cache: (usize, usize, usize),
+    /// Megabytes per second of the last load that read anything.
+    pub mb_per_s: Option<f64>,
+    /// The view the last selection was made for.
+    pub view: Option<ViewKey>,
+}
+
+/// A streamed file, shared by the models of its selections.
+pub struct StreamedSource {
+    stream: Mutex<CopcStream>,
+    status: Mutex<StreamStatus>,
+}
+
+impl std::fmt::Debug for StreamedSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("StreamedSource").finish_non_exhaustive()
+    }
+}
+
+impl StreamedSource {
+    pub fn open(path: &Path) -> Result<Arc<Self>, String> {
+        let stream = CopcStream::open(&path.to_string_lossy(), StreamOptions::default()).map_err(|e| e.to_string())?;
+        Ok(Arc::new(Self { stream: Mutex::new(stream), status: Mutex::new(StreamStatus::default()) }))
+    }
+
+    pub fn status(&self) -> StreamStatus {
+        self.status.lock().map(|s| s.clone()).unwrap_or_default()
+    }
+
+    /// The camera that frames the file's bounds (its header's) at `aspect`.
+    pub fn home_camera(&self, aspect: f32) -> Camera {
+        let stream = self.stream.lock().expect("no panics while held");
+        let bounds = stream.bounds_cloud();
+        let mut camera = Camera::default_for(&bounds, aspect);
+        camera.distance = camera.fit_distance(&bounds.positions, aspect);
+        camera
+    }
+
+    /// The scene of the nodes `view` selects (named `name`), and its load warnings.
+    pub fn scene(&self, name: String, view: ViewKey) -> Result<(Scene, Vec<String>), String> {
+        let mut stream = self.stream.lock().map_err(|_| "the stream was poisoned".to_string())?;
+        let before = stream.stats();
+        let started = Instant::now();
+        let select =
+            SelectOptions { budget: view.budget, radius_scale: 1.0, cull: true, finest_px: copc::stream::FINEST_PX };
+        crate::progress::stage("selecting and loading nodes");
+        let frame =
+            stream.frame(&view.camera, view.size, select, &LoadOptions::default()).map_err(|e| e.to_string())?;
+        let after = stream.stats();
+        let seconds = after.load_seconds - before.load_seconds;
+        let read = after.bytes_read - before.bytes_read;
+        {
+            let mut status = self.status.lock().map_err(|_| "the stream was poisoned".to_string())?;
+            *status = StreamStatus {
+                nodes_shown: frame.drawn.len(),
+                points_shown: frame.cloud.len(),
+                nodes_known: stream.tree.nodes.len(),
+                points_in_file: stream.points(),
+                stats: after,
+                cache: stream.cache_usage(),
+                mb_per_s: if read > 0 && seconds > 0.0 { Some(read as f64 / 1e6 / seconds) } else { status.mb_per_s },
+                view: Some(view),
+            };
+        }
+        log::info!(
+            "{}: {} points of {} nodes in {:.2} s",
+            stream.name(),
+            frame.cloud.len(),
+            frame.drawn.len(),
+            started.elapsed().as_secs_f64()
+        );
+        let mut hash = crate::hash::fnv1a(0, stream.name().as_bytes());
+        for &n in &frame.drawn {
+            hash = crate::hash::fnv1a(hash, &n.to_le_bytes());
+        }
+        Ok((Scene::single(name, frame.cloud, hash), frame.report.warnings))
+    }
+
+    /// The statistics' lines.
+    pub fn lines(&self, refining: bool) -> Vec<String> {
+        let s = self.status();
+        let (used, nodes, bound) = s.cache;
+        vec![
+            format!(
+                "streaming: {} nodes shown ({} of {} points){}",
+                s.nodes_shown,
+                super::widgets::thousands(s.points_shown),
+                super::widgets::thousands(s.points_in_file as usize),
+                if refining { ", refining the view" } else { "" }
+            ),
+            format!(
+                "read {:.1} MB in {} requests{}; {} nodes known, {} failed",
+                s.stats.bytes_read as f64 / 1e6,
+                s.stats.requests,
+                s.mb_per_s.map_or(String::new(), |r| format!(", {r:.1} MB/s")),
+                s.nodes_known,
+                s.stats.failed
+            ),
+            format!("node cache: {:.0} of {:.0} MB ({nodes} nodes)", used as f64 / 1e6, bound as f64 / 1e6),
+        ]
+    }
+}

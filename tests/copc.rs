@@ -1,0 +1,189 @@
+//! COPC streaming: the samples' hierarchies read page by page and node by
+//! node, the image of every node streamed equal to the file loaded whole,
+//! the same image over a real HTTP server (nginx) with only the top levels
+//! read for a far view, and bad servers and files refused in one line or
+//! skipped node by node.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use common::lidar::{self, tilted_grid};
+use common::nginx::Nginx;
+use pointblend::cloud::{self, LoadOptions};
+use pointblend::copc::{CopcStream, StreamOptions};
+use pointblend::frame::Camera;
+use pointblend::lod::SelectOptions;
+use pointblend::render::{RenderMode, RenderSettings, SceneFrames};
+use pointblend::scene::Scene;
+
+const SIZE: u32 = 160;
+
+/// Every node, whatever the view (no culling, no budget, no pixel limit).
+fn everything() -> SelectOptions {
+    SelectOptions { budget: usize::MAX, radius_scale: 1.0, cull: false, finest_px: 0.0 }
+}
+
+fn stream(name: &str) -> CopcStream {
+    CopcStream::open(name, StreamOptions { cache_bytes: 1 << 30, ..Default::default() }).expect("opens")
+}
+
+#[test]
+fn every_node_of_the_samples_decodes_to_the_count_its_hierarchy_gives() {
+    for (sample, nodes) in [("lidar/lone-star.copc.laz", 15), ("lidar/1.2-with-color.copc.laz", 65)] {
+        let path = require!(common::shared_data(sample));
+        let mut s = stream(&path.display().to_string());
+        let camera = Camera::default_for(&s.bounds_cloud(), 1.0);
+        let selection = s.select(&camera, (SIZE, SIZE), everything());
+        s.load(&selection);
+        // The las crate reads the whole hierarchy EVLR at once: an independent reader of the same pages.
+        let reader = las::CopcReader::from_path(&path).unwrap();
+        let entries: Vec<las::copc::Entry> = reader.hierarchy_entries().filter(|e| e.point_count > 0).collect();
+        assert_eq!(entries.len(), nodes, "{sample}: nodes with points");
+        let mut total = 0;
+        for entry in &entries {
+            let node = s.tree.node(&entry.key).unwrap_or_else(|| panic!("{sample}: {:?} was not read", entry.key));
+            assert_eq!(s.tree.nodes[node as usize].points as i32, entry.point_count, "{sample} {:?}", entry.key);
+            let decoded = s.decoded_points(node).unwrap_or_else(|| panic!("{sample}: {:?} did not load", entry.key));
+            assert_eq!(decoded as i32, entry.point_count, "{sample} {:?}: decoded points", entry.key);
+            total += decoded as u64;
+        }
+        assert_eq!(total, reader.header().number_of_points(), "{sample}: the nodes' points and the header's count");
+        assert_eq!(s.stats().failed, 0);
+    }
+}
+
+fn render(scene: Scene, camera: &Camera, mode: RenderMode) -> image::RgbaImage {
+    let mut frames = SceneFrames::of(Arc::new(scene));
+    let settings = RenderSettings { mode, ..Default::default() };
+    let mut renderer = common::renderer();
+    frames.render(Some(&mut *renderer), camera, &settings, (SIZE, SIZE), false).expect("render").image
+}
+
+#[test]
+fn streaming_every_node_draws_the_image_of_the_file_loaded_whole() {
+    let path = require!(common::shared_data("lidar/1.2-with-color.copc.laz"));
+    let (whole, _) = cloud::load(&path).unwrap();
+    let mut s = stream(&path.display().to_string());
+    let camera = Camera::default_for(&whole, 1.0);
+    let frame = s.frame(&camera, (SIZE, SIZE), everything(), &LoadOptions::default()).unwrap();
+    assert_eq!(frame.cloud.len(), whole.len());
+    assert_eq!(frame.cloud.origin, whole.origin, "one frame: the header bounds' centre");
+    for mode in [RenderMode::TwoPass, RenderMode::Tiled] {
+        let a = render(Scene::from(whole.clone()), &camera, mode);
+        let b = render(Scene::from(frame.cloud.clone()), &camera, mode);
+        assert!(a.pixels().any(|p| p.0 != a.get_pixel(0, 0).0), "{mode}: a blank frame");
+        assert!(a == b, "{mode}: the streamed image differs from the whole file's");
+    }
+}
+
+/// A COPC file of `side`² ground points and as many 4 m above (made by
+/// `convert`'s writer from a LAZ the las crate wrote).
+fn made_copc(dir: &Path, side: usize) -> PathBuf {
+    let mut points = tilted_grid(side, 0.25, 0.1, [600_000.0, 4_000_000.0, 100.0]);
+    let canopy = tilted_grid(side, 0.25, 0.1, [600_000.0, 4_000_000.0, 104.0]);
+    points.extend(canopy);
+    let laz = lidar::write(&dir.join("source.laz"), &points, [600_000.0, 4_000_000.0, 0.0], None);
+    let copc = dir.join("tile.copc.laz");
+    let written = pointblend::copc::write::write_copc(&laz, &copc, false).unwrap();
+    assert_eq!(written.points as usize, points.len());
+    copc
+}
+
+/// `pointblend render ARGS` at a fixed view: the image, or the error line.
+fn render_cli(file: &str, extra: &[&str], out: &Path) -> Result<image::RgbaImage, String> {
+    let mut args: Vec<String> =
+        [file, "--size", "128x128", "--azimuth", "30", "--elevation", "35"].iter().map(|s| s.to_string()).collect();
+    args.extend(extra.iter().map(|s| s.to_string()));
+    let (ok, stderr) = common::render_cli(&args, out);
+    if ok { Ok(image::open(out).unwrap().to_rgba8()) } else { Err(stderr) }
+}
+
+#[test]
+fn over_http_the_image_equals_the_image_from_disk_and_a_far_view_reads_only_the_top_levels() {
+    let dir = tempfile::tempdir().unwrap();
+    // 2 × 1000² = 2M points.
+    let copc = made_copc(dir.path(), 1000);
+    let server = Nginx::serve(dir.path());
+    let url = server.url("tile.copc.laz");
+    let budget = ["--point-budget", "150000"];
+    let disk = render_cli(&copc.display().to_string(), &budget, &dir.path().join("disk.png")).unwrap();
+    let http = render_cli(&url, &budget, &dir.path().join("http.png")).unwrap();
+    assert!(disk.pixels().any(|p| p.0 != disk.get_pixel(0, 0).0), "a blank frame");
+    assert!(disk == http, "the image over HTTP differs from the image from disk");
+
+    // A far view: the tile covers a few pixels, so only the top levels are read.
+    let mut s = stream(&url);
+    let mut camera = Camera::default_for(&s.bounds_cloud(), 1.0);
+    camera.distance *= 40.0;
+    let options = SelectOptions { budget: 1_000_000, radius_scale: 1.0, cull: true, finest_px: 1.0 };
+    let frame = s.frame(&camera, (SIZE, SIZE), options, &LoadOptions::default()).unwrap();
+    let deepest = s.tree.nodes.iter().map(|n| n.key.l).max().unwrap();
+    let drawn = frame.drawn.iter().map(|&n| s.tree.nodes[n as usize].key.l).max().unwrap();
+    let stats = s.stats();
+    let file_len = std::fs::metadata(&copc).unwrap().len();
+    println!(
+        "far view: levels 0..={drawn} of 0..={deepest}, {} points, {} of {file_len} bytes in {} requests",
+        frame.cloud.len(),
+        stats.bytes_read,
+        stats.requests
+    );
+    assert!(drawn < deepest, "the far view read level {drawn}, the deepest");
+    assert!(stats.bytes_read * 10 < file_len, "the far view read {} of {file_len} bytes", stats.bytes_read);
+}
+
+/// The error line of `render` on `file`.
+fn refused(file: &str, out: &Path, what: &str) -> String {
+    let err = render_cli(file, &[], out).expect_err(what);
+    let errors: Vec<&str> = err.lines().filter(|l| l.starts_with("error:")).collect();
+    assert_eq!(errors.len(), 1, "{what}: {err}");
+    assert!(!out.exists(), "{what} wrote an image");
+    errors[0].to_string()
+}
+
+#[test]
+fn bad_servers_and_files_are_one_line_and_a_corrupt_node_is_skipped() {
+    let dir = tempfile::tempdir().unwrap();
+    // 2 × 300² points: a root and its children.
+    let copc = made_copc(dir.path(), 300);
+    let bytes = std::fs::read(&copc).unwrap();
+    // A copy cut short, and one whose root hierarchy page lies past the end (the info VLR's bytes 40..48).
+    std::fs::write(dir.path().join("short.copc.laz"), &bytes[..bytes.len() * 2 / 3]).unwrap();
+    let mut past = bytes.clone();
+    let info_data = 375 + 54;
+    past[info_data + 40..info_data + 48].copy_from_slice(&(bytes.len() as u64 + 4096).to_le_bytes());
+    std::fs::write(dir.path().join("past.copc.laz"), &past).unwrap();
+    let server = Nginx::serve(dir.path());
+    let out = |name: &str| dir.path().join(format!("{name}.png"));
+
+    let line = refused(&server.url("norange/tile.copc.laz"), &out("norange"), "a server that ignores Range");
+    assert!(line.contains("ignores Range"), "{line}");
+    let line = refused(&server.url("missing.copc.laz"), &out("missing"), "a 404");
+    assert!(line.contains("404"), "{line}");
+    let line = refused(&server.url("short.copc.laz"), &out("short"), "a truncated file");
+    assert!(line.contains("past the end"), "{line}");
+    let line = refused(&server.url("past.copc.laz"), &out("past"), "a page past the end");
+    assert!(line.contains("root hierarchy page") && line.contains("past the end"), "{line}");
+    let line = refused(&dir.path().join("past.copc.laz").display().to_string(), &out("past-disk"), "from disk");
+    assert!(line.contains("past the end"), "{line}");
+
+    // A corrupt chunk (the root's): the node is skipped and counted, the frame drawn from the rest.
+    let s = stream(&copc.display().to_string());
+    assert!(s.tree.nodes.len() > 1, "the file has children");
+    let leaf = s.tree.nodes[s.tree.node(&las::copc::VoxelKey::ROOT).unwrap() as usize].clone();
+    let mut corrupt = bytes.clone();
+    let middle = (leaf.offset + leaf.byte_size / 2) as usize;
+    corrupt[middle..middle + 64].iter_mut().for_each(|b| *b = !*b);
+    std::fs::write(dir.path().join("corrupt.copc.laz"), &corrupt).unwrap();
+    let mut args: Vec<String> =
+        [server.url("corrupt.copc.laz").as_str(), "--size", "256x256"].iter().map(|s| s.to_string()).collect();
+    args.extend(["--point-budget".to_string(), "100000000".to_string()]);
+    let (ok, stderr) = common::render_cli(&args, &out("corrupt"));
+    assert!(ok, "a corrupt node stopped the frame: {stderr}");
+    let key = format!("node {}-{}-{}-{} skipped", leaf.key.l, leaf.key.x, leaf.key.y, leaf.key.z);
+    assert!(stderr.contains(&key), "no line says {key}: {stderr}");
+    assert!(stderr.contains("1 nodes failed"), "the failure is not counted: {stderr}");
+    let image = image::open(out("corrupt")).unwrap().to_rgba8();
+    assert!(image.pixels().any(|p| p.0 != image.get_pixel(0, 0).0), "a blank frame");
+}
