@@ -131,6 +131,20 @@ fn over_http_the_image_equals_the_image_from_disk_and_a_far_view_reads_only_the_
     );
     assert!(drawn < deepest, "the far view read level {drawn}, the deepest");
     assert!(stats.bytes_read * 10 < file_len, "the far view read {} of {file_len} bytes", stats.bytes_read);
+    let far_pages = s.tree.pages_read;
+
+    // Every node: every page is read then, and the tree is the las crate's (which reads the whole EVLR).
+    let all = s.select(&camera, (SIZE, SIZE), everything());
+    let reader = las::CopcReader::from_path(&copc).unwrap();
+    let entries: Vec<las::copc::Entry> = reader.hierarchy_entries().filter(|e| e.point_count > 0).collect();
+    println!("pages read: {far_pages} for the far view, {} in all", s.tree.pages_read);
+    assert!(far_pages < s.tree.pages_read, "the far view read every hierarchy page");
+    assert_eq!(all.nodes.iter().filter(|&&n| s.tree.nodes[n as usize].points > 0).count(), entries.len());
+    for entry in &entries {
+        let node = s.tree.node(&entry.key).unwrap_or_else(|| panic!("{:?} was not read", entry.key));
+        assert_eq!(s.tree.nodes[node as usize].points as i32, entry.point_count, "{:?}", entry.key);
+    }
+    assert_eq!(s.tree.known_points(), reader.header().number_of_points());
 }
 
 /// The error line of `render` on `file`.

@@ -6,11 +6,15 @@ use anyhow::Result;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Point cloud file: PLY, LAS, LAZ or E57.
+    /// Point cloud file: PLY, LAS, LAZ or E57; a COPC file (.copc.laz, or an
+    /// http(s) URL) prints its header and hierarchy without decoding its points.
     pub file: PathBuf,
 }
 
 pub fn run(args: &Args) -> Result<()> {
+    if pointblend::bench::streamed::is_streamed(&args.file) {
+        return super::info_streamed::run(&args.file);
+    }
     let started = std::time::Instant::now();
     let (cloud, report) = super::shared::load(&args.file)?;
     let seconds = started.elapsed().as_secs_f64();
@@ -81,7 +85,7 @@ pub fn run(args: &Args) -> Result<()> {
 }
 
 /// One line per attribute: its range, its distinct values (classes by name), and its bytes per point.
-fn print_attributes(attributes: &pointblend::cloud::Attributes) {
+pub(super) fn print_attributes(attributes: &pointblend::cloud::Attributes) {
     use pointblend::cloud::attributes::{names, summary};
     for channel in &attributes.channels {
         let (lo, hi, distinct) = summary(&channel.values);

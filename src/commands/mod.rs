@@ -5,6 +5,7 @@ pub mod bench;
 pub mod convert;
 pub mod group;
 pub mod info;
+pub mod info_streamed;
 pub mod main_job;
 pub mod parameter_flags;
 pub mod render;

@@ -21,6 +21,8 @@ pub mod names {
     pub const USER_DATA: &str = "user_data";
     pub const SCAN_ANGLE: &str = "scan_angle";
     pub const NIR: &str = "nir";
+    /// A streamed point's octree level (COPC), so a view can show its selection.
+    pub const NODE_LEVEL: &str = "node_level";
 }
 
 /// One column's values, in the narrowest type that holds them.

@@ -87,6 +87,6 @@ pub fn read(source: &dyn ByteSource) -> Result<CopcHeader, CopcError> {
             info.center_x, info.center_y, info.center_z, info.halfsize, info.spacing
         )));
     }
-    let descriptors = extra_bytes::descriptors(&las, format.extra_bytes).map_err(|e| bad(e))?;
+    let descriptors = extra_bytes::descriptors(&las, format.extra_bytes).map_err(bad)?;
     Ok(CopcHeader { las, info, root_page, laz, fields: descriptors.fields, warnings: descriptors.warnings, file_len })
 }

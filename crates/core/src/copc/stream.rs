@@ -28,9 +28,10 @@ use super::hierarchy::CopcTree;
 use super::http::HttpOptions;
 use super::load::Fetch;
 use super::source::{ByteSource, is_url};
+use crate::cloud::attributes::names;
 use crate::cloud::las_file::{self, Columns};
 use crate::cloud::load::from_columns;
-use crate::cloud::{FileInfo, LoadOptions, LoadReport, PointCloud};
+use crate::cloud::{FileInfo, LoadOptions, LoadReport, PointCloud, Values};
 use crate::frame::Camera;
 use crate::lod::{self, LodTree, SelectOptions, Selection};
 
@@ -162,10 +163,15 @@ impl CopcStream {
                 return selection;
             }
             for n in pending {
-                let (at, size) = self.tree.nodes[n as usize].page.take().expect("pending");
+                let (at, size) = self.tree.nodes[n as usize].page.expect("pending");
                 let page = self.source.read(at, size).and_then(|bytes| self.tree.add_page(self.source.name(), &bytes));
+                let node = &mut self.tree.nodes[n as usize];
                 if let Err(e) = page {
+                    node.page = None;
                     self.fail(n, format!("its hierarchy page: {}", e.reason));
+                } else if node.page.is_some() {
+                    // The page did not list its own key: the node holds nothing.
+                    node.page = None;
                 }
             }
         }
@@ -243,7 +249,16 @@ impl CopcStream {
             drawn.len(),
             self.tree.nodes.len()
         );
-        let (data, attributes) = columns.finish(&self.header.fields, encoding, &mut warnings);
+        let (data, mut attributes) = columns.finish(&self.header.fields, encoding, &mut warnings);
+        // Each point's octree level: `--color-by node_level` shows the selection.
+        let mut levels = Vec::with_capacity(data.vertex_count);
+        for &n in &drawn {
+            let node = &self.tree.nodes[n as usize];
+            levels.extend(std::iter::repeat_n(node.key.l as u8, node.points as usize));
+        }
+        if levels.len() == data.vertex_count {
+            attributes.push(names::NODE_LEVEL, Values::U8(levels));
+        }
         let info = FileInfo {
             details: las_file::details(&self.header.las),
             crs: las_file::crs(&self.header.las),

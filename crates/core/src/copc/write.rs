@@ -10,7 +10,8 @@
 //! converted to point format 6, 7 (with RGB) or 8 (with NIR), extra bytes and
 //! the other VLRs kept. Each node is one layered LAZ chunk (variable-size
 //! chunks), compressed in parallel; coarse levels come first in the file. The
-//! hierarchy is one page in the EVLR. The file is written to a temporary
+//! hierarchy is in the EVLR: a root page for the levels above [`PAGE_LEVEL`]
+//! and a page per subtree below, as large files need. The file is written to a temporary
 //! file beside the output and renamed.
 
 use std::io::{Seek, SeekFrom, Write};
@@ -29,6 +30,8 @@ pub const GRID: u32 = 128;
 /// A node with at most this many points is a leaf.
 pub const LEAF_POINTS: usize = 100_000;
 const MAX_LEVEL: i32 = 20;
+/// Nodes from this level down are listed in pages of their own, one per subtree.
+pub const PAGE_LEVEL: i32 = 3;
 
 /// What was written.
 #[derive(Debug, Clone)]
@@ -207,31 +210,60 @@ pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written
     let table_at = out.stream_position().map_err(wfail)?;
     table.write_to(&mut out, &laz_vlr).map_err(wfail)?;
     let evlr_at = out.stream_position().map_err(wfail)?;
-    let mut page = Vec::with_capacity(entries.len() * 32);
-    for (key, offset, size, count) in &entries {
-        for v in [key.l, key.x, key.y, key.z] {
-            page.extend_from_slice(&v.to_le_bytes());
-        }
-        page.extend_from_slice(&offset.to_le_bytes());
-        page.extend_from_slice(&size.to_le_bytes());
-        page.extend_from_slice(&count.to_le_bytes());
-    }
-    let evlr = las::Vlr {
-        user_id: las::copc::USER_ID.into(),
-        record_id: 1000,
-        description: "EPT hierarchy".into(),
-        data: page,
-    };
-    let page_len = evlr.data.len() as u64;
+    // The EVLR's data: the root page, then one page per subtree below PAGE_LEVEL.
+    let data_at = evlr_at + 60;
+    let (data, root_len) = hierarchy_pages(&entries, data_at);
+    let evlr =
+        las::Vlr { user_id: las::copc::USER_ID.into(), record_id: 1000, description: "EPT hierarchy".into(), data };
     evlr.into_raw(true).and_then(|r| r.write_to(&mut out)).map_err(|e| fail(e.to_string()))?;
     out.seek(SeekFrom::Start(table_offset_at)).map_err(wfail)?;
     out.write_all(&(table_at as i64).to_le_bytes()).map_err(wfail)?;
     let f = out.into_inner().map_err(|e| wfail(e.into_error()))?;
     // The EVLR header is 60 bytes; its data is the root page.
-    write_head(f, (evlr_at + 60, page_len), evlr_at)?;
+    write_head(f, (data_at, root_len), evlr_at)?;
     let bytes = f.seek(SeekFrom::End(0)).map_err(wfail)?;
     file.persist(&target).map_err(|e| wfail(e.error))?;
     Ok(Written { points: positions.len() as u64, nodes: nodes.len(), depth, bytes })
+}
+
+/// Hierarchy entries: (key, chunk offset, chunk bytes, points).
+type Entry = (VoxelKey, u64, i32, i32);
+
+/// The hierarchy pages of `entries`, to be written at `at`: the root page
+/// holds the levels above [`PAGE_LEVEL`] and points (a count of −1) to one
+/// page per subtree rooted there, so a reader reads the deep levels' pages
+/// only when it reaches them. Returns the pages' bytes and the root page's size.
+fn hierarchy_pages(entries: &[Entry], at: u64) -> (Vec<u8>, u64) {
+    let mut top: Vec<Entry> = Vec::new();
+    let mut subtrees: std::collections::BTreeMap<(i32, i32, i32), Vec<Entry>> = Default::default();
+    for &entry in entries {
+        let key = entry.0;
+        if key.l < PAGE_LEVEL {
+            top.push(entry);
+        } else {
+            let shift = key.l - PAGE_LEVEL;
+            subtrees.entry((key.x >> shift, key.y >> shift, key.z >> shift)).or_default().push(entry);
+        }
+    }
+    let root_len = ((top.len() + subtrees.len()) * 32) as u64;
+    let mut pages = Vec::new();
+    let mut next = at + root_len;
+    for ((x, y, z), page) in &subtrees {
+        let len = (page.len() * 32) as u64;
+        top.push((VoxelKey { l: PAGE_LEVEL, x: *x, y: *y, z: *z }, next, len as i32, -1));
+        pages.extend(page.iter().copied());
+        next += len;
+    }
+    let mut data = Vec::with_capacity((top.len() + pages.len()) * 32);
+    for (key, offset, size, count) in top.iter().chain(&pages) {
+        for v in [key.l, key.x, key.y, key.z] {
+            data.extend_from_slice(&v.to_le_bytes());
+        }
+        data.extend_from_slice(&offset.to_le_bytes());
+        data.extend_from_slice(&size.to_le_bytes());
+        data.extend_from_slice(&count.to_le_bytes());
+    }
+    (data, root_len)
 }
 
 /// Keeps one point per grid cell in `node` (all of them in a leaf) and
