@@ -175,6 +175,11 @@ fn bad_servers_and_files_are_one_line_and_a_corrupt_node_is_skipped() {
     assert!(line.contains("ignores Range"), "{line}");
     let line = refused(&server.url("missing.copc.laz"), &out("missing"), "a 404");
     assert!(line.contains("404"), "{line}");
+    // A 503 is retried with backoff (0.25 + 0.5 + 1 + 2 s), then refused.
+    let started = std::time::Instant::now();
+    let line = refused(&server.url("unavailable/tile.copc.laz"), &out("unavailable"), "a 503");
+    assert!(line.contains("HTTP 503") && line.contains("after 4 retries"), "{line}");
+    assert!(started.elapsed().as_secs_f64() > 3.5, "no backoff: {:?}", started.elapsed());
     let line = refused(&server.url("short.copc.laz"), &out("short"), "a truncated file");
     assert!(line.contains("past the end"), "{line}");
     let line = refused(&server.url("past.copc.laz"), &out("past"), "a page past the end");
@@ -200,4 +205,36 @@ fn bad_servers_and_files_are_one_line_and_a_corrupt_node_is_skipped() {
     assert!(stderr.contains("1 nodes failed"), "the failure is not counted: {stderr}");
     let image = image::open(out("corrupt")).unwrap().to_rgba8();
     assert!(image.pixels().any(|p| p.0 != image.get_pixel(0, 0).0), "a blank frame");
+}
+
+#[test]
+fn the_disk_cache_serves_a_second_open_and_nothing_is_written_without_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let copc = made_copc(dir.path(), 300);
+    let cache = dir.path().join("chunks");
+    let name = copc.display().to_string();
+    let options = StreamOptions { cache_bytes: 1 << 30, disk_cache: Some(cache.clone()), ..Default::default() };
+    let camera = Camera::default_for(&stream(&name).bounds_cloud(), 1.0);
+    let mut read = Vec::new();
+    for _ in 0..2 {
+        let mut s = CopcStream::open(&name, options.clone()).unwrap();
+        let frame = s.frame(&camera, (SIZE, SIZE), everything(), &LoadOptions::default()).unwrap();
+        read.push((s.stats().bytes_read, frame.cloud.len()));
+    }
+    let files = std::fs::read_dir(cache.read_dir().unwrap().next().unwrap().unwrap().path()).unwrap().count();
+    println!("disk cache: {files} chunks; bytes read from the file {:?}", read);
+    assert!(files > 1, "the chunks were kept");
+    assert_eq!(read[0].1, read[1].1, "the same points");
+    assert!(
+        read[1].0 * 20 < read[0].0,
+        "the second open read {} bytes of the file, the first {}",
+        read[1].0,
+        read[0].0
+    );
+    // Without the option, streaming writes nothing beside the file.
+    let before: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let mut s = stream(&name);
+    s.frame(&camera, (SIZE, SIZE), everything(), &LoadOptions::default()).unwrap();
+    let after: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(before, after);
 }

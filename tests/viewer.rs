@@ -415,3 +415,26 @@ fn the_viewer_draws_a_hybrid_mesh_as_its_triangles() {
     println!("viewer: ε {eps:.3} against the triangles; the vertex splats {splat_eps:.3}");
     assert!(eps <= common::tolerances::MAX_HYBRID_EPS_RATIO * splat_eps, "ε {eps} against {splat_eps}");
 }
+
+#[test]
+fn a_copc_file_streams_its_view_and_the_point_budget_reselects_it() {
+    let dir = tempfile::tempdir().unwrap();
+    // 2 x 400² points: a root and its children (the writer's leaves hold at most 100,000).
+    let mut points = common::lidar::tilted_grid(400, 0.2, 0.1, [500_000.0, 4_000_000.0, 10.0]);
+    points.extend(common::lidar::tilted_grid(400, 0.2, 0.1, [500_000.0, 4_000_000.0, 13.0]));
+    let laz = common::lidar::write(&dir.path().join("tile.laz"), &points, [500_000.0, 4_000_000.0, 0.0], None);
+    let copc = dir.path().join("tile.copc.laz");
+    pointblend::copc::write::write_copc(&laz, &copc, false).unwrap();
+    let mut h = harness(ViewerOptions { file: Some(copc), ..options(dir.path()) });
+    let streamed = |app: &ViewerApp| app.is_settled() && app.model().is_some_and(|m| m.streamed.is_some());
+    wait_for(&mut h, "the streamed view", streamed);
+    let all = h.state().shown_splats().unwrap();
+    assert!(h.query_by_label_contains("streaming:").is_some(), "the statistics have a streaming line");
+    assert!(h.query_by_label_contains("node cache:").is_some(), "and the cache's");
+    // The panel's budget (250,000 when switched on) is below the default (1M): fewer nodes.
+    h.get_by_label("point budget").click();
+    wait_for(&mut h, "the view reselected", |app| streamed(app) && app.shown_splats().is_some_and(|n| n < all));
+    let fewer = h.state().shown_splats().unwrap();
+    println!("streamed: {all} splats under the default budget, {fewer} under the panel's");
+    assert!(fewer <= 250_000 && all > 250_000, "{fewer} of {all}");
+}

@@ -1,7 +1,8 @@
 //! A real HTTP server for the streaming tests: Debian's nginx (installed by
 //! `scripts/setup`), started on a free loopback port over a folder and
 //! stopped when dropped. `/norange/` serves the same folder with range
-//! requests switched off (`max_ranges 0`), as some servers do.
+//! requests switched off (`max_ranges 0`), as some servers do, and
+//! `/unavailable/` answers 503 to everything.
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -36,6 +37,7 @@ http {{
     listen 127.0.0.1:{port};
     root {root};
     location /norange/ {{ alias {root}/; max_ranges 0; }}
+    location /unavailable/ {{ return 503; }}
   }}
 }}
 "

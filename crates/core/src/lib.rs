@@ -8,7 +8,7 @@
 //! registry that every renderer (GPU or CPU) shares, [`scene`] places clouds
 //! with transforms and materials (and meshes, whose triangles [`hybrid`]
 //! splits into leaves drawn as triangles or splats), [`lod`] builds the multi-resolution
-//! hierarchy that frames under a point budget draw from, [`shadow`] finds the light each splat
+//! hierarchy that frames under a point budget draw from, [`copc`] streams COPC files node by node under the same selection, [`shadow`] finds the light each splat
 //! receives (translucent shadow maps and exact shadow rays), and
 //! [`reference`] renders exactly on the CPU. Under them all, [`hash`],
 //! [`memory`], [`output`] and [`progress`] are small helpers. No module imports one above it (`tests/architecture.rs`).

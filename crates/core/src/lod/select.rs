@@ -151,8 +151,10 @@ pub fn select(hierarchy: &Hierarchy, camera: &Camera, size: (u32, u32), options:
 }
 
 /// The nodes of `tree` to draw from `camera` at `size`: largest error first,
-/// while the budget allows. Under [`Refinement::Add`] a refined node stays
-/// drawn (its children add to it), so every selected node's ancestors are
+/// while the budget allows. Under [`Refinement::Replace`] a node is refined
+/// when all its visible children fit in its place. Under [`Refinement::Add`]
+/// a refined node stays drawn (its children add to it), each child is taken
+/// on its own while its points fit, and every selected node's ancestors are
 /// selected too.
 pub fn select_in(tree: &impl LodTree, camera: &Camera, size: (u32, u32), options: SelectOptions) -> Selection {
     let budget = options.budget;
@@ -177,9 +179,32 @@ pub fn select_in(tree: &impl LodTree, camera: &Camera, size: (u32, u32), options
     let Some(root_error) = error(root) else { return Selection { nodes: chosen, splats: 0 } };
     // Positive floats order as their bits do; the index breaks ties deterministically.
     heap.push((root_error.to_bits(), u32::MAX - root, root));
+    let mut candidates = Vec::with_capacity(8);
+    if additive {
+        // Potree's order: the visible node of largest error next, each child on
+        // its own, while its points fit (the root whatever it holds).
+        let mut drawn = 0;
+        while let Some((error_bits, _, at)) = heap.pop() {
+            let count = tree.count(at);
+            if at != root && drawn + count > budget {
+                continue;
+            }
+            drawn += count;
+            chosen.push(at);
+            candidates.clear();
+            if f32::from_bits(error_bits) >= options.finest_px {
+                tree.children(at, &mut candidates);
+            }
+            for &c in &candidates {
+                if let Some(e) = error(c) {
+                    heap.push((e.to_bits(), u32::MAX - c, c));
+                }
+            }
+        }
+        return Selection { nodes: chosen, splats: drawn };
+    }
     let mut drawn = tree.count(root);
     let mut children = Vec::with_capacity(8);
-    let mut candidates = Vec::with_capacity(8);
     while let Some((error_bits, _, at)) = heap.pop() {
         candidates.clear();
         if f32::from_bits(error_bits) >= options.finest_px {
@@ -188,8 +213,8 @@ pub fn select_in(tree: &impl LodTree, camera: &Camera, size: (u32, u32), options
         children.clear();
         children.extend(candidates.iter().filter_map(|&c| error(c).map(|e| (e, c))));
         let below: usize = children.iter().map(|&(_, c)| tree.count(c)).sum();
-        let after = if additive { drawn + below } else { drawn - tree.count(at) + below };
-        if additive || candidates.is_empty() || after > budget {
+        let after = drawn - tree.count(at) + below;
+        if candidates.is_empty() || after > budget {
             chosen.push(at);
         }
         if !candidates.is_empty() && after <= budget {
@@ -279,5 +304,48 @@ mod tests {
         // Unless the splats also cast shadows: then they are kept.
         let kept = select(&h, &camera, (256, 256), SelectOptions { cull: false, ..culled(usize::MAX) });
         assert_eq!(kept.splats, h.originals);
+    }
+
+    /// A root of 10 points over four children of 5, side by side along x.
+    struct Additive;
+
+    impl LodTree for Additive {
+        fn refinement(&self) -> Refinement {
+            Refinement::Add
+        }
+        fn root(&self) -> Option<u32> {
+            Some(0)
+        }
+        fn count(&self, node: u32) -> usize {
+            if node == 0 { 10 } else { 5 }
+        }
+        fn sphere(&self, node: u32) -> (Vec3, f32, f32) {
+            match node {
+                0 => (Vec3::ZERO, 2.0, 0.2),
+                c => (Vec3::new(c as f32 - 2.5, 0.0, 0.0), 0.8, 0.1),
+            }
+        }
+        fn children(&self, node: u32, out: &mut Vec<u32>) {
+            if node == 0 {
+                out.extend(1..5);
+            }
+        }
+    }
+
+    #[test]
+    fn additive_refinement_keeps_the_parent_and_takes_each_child_that_fits() {
+        let camera = Camera::framing(Vec3::ZERO, 3.0, 1.0);
+        let select =
+            |budget, finest_px| select_in(&Additive, &camera, (64, 64), SelectOptions { finest_px, ..culled(budget) });
+        let all = select(usize::MAX, 0.0);
+        assert_eq!((all.nodes.len(), all.splats), (5, 30), "the root and its four children add up");
+        let some = select(20, 0.0);
+        assert_eq!(some.nodes[0], 0, "the root first");
+        assert_eq!((some.nodes.len(), some.splats), (3, 20), "two children fit beside the root: {some:?}");
+        let none = select(4, 0.0);
+        assert_eq!(none.nodes, vec![0], "the root whatever the budget");
+        // Children whose parent's spacing projects below the limit are not read.
+        let coarse = select(usize::MAX, 1e6);
+        assert_eq!(coarse.nodes, vec![0]);
     }
 }
