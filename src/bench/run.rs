@@ -96,7 +96,7 @@ fn bench_model(
     config: &BenchConfig,
     renderer: &mut HeadlessRenderer,
 ) -> Result<(Vec<BenchRow>, Vec<OrderRow>), BenchError> {
-    if super::streamed::is_streamed(model) {
+    if crate::copc::is_streamed(model) {
         if config.animate.is_some() || config.orders {
             return Err(BenchError::Invalid("--animate and --orders need a file loaded whole, not streamed".into()));
         }

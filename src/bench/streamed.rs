@@ -18,12 +18,6 @@ use crate::lod::SelectOptions;
 use crate::render::{HeadlessRenderer, SceneFrames};
 use crate::scene::Scene;
 
-/// Whether `model` is streamed rather than loaded whole: a `.copc.laz` file or a URL.
-pub fn is_streamed(model: &Path) -> bool {
-    let name = model.to_string_lossy();
-    copc::is_copc(&name) || copc::is_url(&name)
-}
-
 /// Every view and variant of a streamed model.
 pub(super) fn bench_streamed(
     model: &Path,

@@ -91,7 +91,7 @@ pub fn run(args: &Args) -> Result<()> {
     for text in args.modes.iter().filter(|m| *m != "none") {
         variants.extend(ModeVariant::expand(text).map_err(|e| anyhow::anyhow!("--modes: {e}"))?);
     }
-    for file in args.files.iter().filter(|f| !pointblend::bench::streamed::is_streamed(f)) {
+    for file in args.files.iter().filter(|f| !pointblend::copc::is_streamed(f)) {
         let mut rates = Vec::new();
         for _ in 0..args.loads {
             let started = Instant::now();

@@ -12,7 +12,7 @@ pub struct Args {
 }
 
 pub fn run(args: &Args) -> Result<()> {
-    if pointblend::bench::streamed::is_streamed(&args.file) {
+    if pointblend::copc::is_streamed(&args.file) {
         return super::info_streamed::run(&args.file);
     }
     let started = std::time::Instant::now();
@@ -53,7 +53,7 @@ pub fn run(args: &Args) -> Result<()> {
             println!("rescaled:    positions and radii are in units of 1e{}", cloud.scale_exponent);
         }
     }
-    print_attributes(&cloud.attributes);
+    super::shared::print_attributes(&cloud.attributes);
     println!("normals:     {}", report.normals);
     println!("radii:       {} (mean {:.6})", report.radii, cloud.mean_radius());
     println!("colours:     {}", report.colours);
@@ -82,26 +82,4 @@ pub fn run(args: &Args) -> Result<()> {
         report.estimate_seconds
     );
     Ok(())
-}
-
-/// One line per attribute: its range, its distinct values (classes by name), and its bytes per point.
-pub(super) fn print_attributes(attributes: &pointblend::cloud::Attributes) {
-    use pointblend::cloud::attributes::{names, summary};
-    for channel in &attributes.channels {
-        let (lo, hi, distinct) = summary(&channel.values);
-        let mut line = format!("attribute:   {} in [{lo}, {hi}]", channel.name);
-        if let Some(d) = distinct {
-            line.push_str(&format!(", {d} distinct"));
-        }
-        line.push_str(&format!(" ({} bytes per point)", channel.values.bytes_per_value()));
-        println!("{line}");
-        if channel.name == names::CLASSIFICATION {
-            for (class, count) in pointblend::style::classes::counts(&channel.values) {
-                println!("  class {class:>3}: {count} points, {}", pointblend::style::classes::name(class));
-            }
-        }
-    }
-    if !attributes.is_empty() {
-        println!("attributes:  {} bytes per point in all", attributes.bytes_per_point());
-    }
 }

@@ -71,7 +71,7 @@ pub fn run(file: &Path) -> Result<()> {
             Some(crs) => println!("crs:         {}", crs.split_whitespace().collect::<Vec<_>>().join(" ")),
             None => println!("crs:         none declared"),
         }
-        super::info::print_attributes(&frame.cloud.attributes);
+        super::shared::print_attributes(&frame.cloud.attributes);
     }
     let stats = stream.stats();
     println!(

@@ -186,3 +186,25 @@ pub fn prepare_image_output(path: &Path) -> Result<()> {
 pub fn write_image(image: &image::RgbaImage, path: &Path) -> Result<()> {
     pointblend::output::save_image(image, path).with_context(|| format!("{}: cannot write the image", path.display()))
 }
+
+/// One line per attribute: its range, its distinct values (classes by name), and its bytes per point.
+pub fn print_attributes(attributes: &pointblend::cloud::Attributes) {
+    use pointblend::cloud::attributes::{names, summary};
+    for channel in &attributes.channels {
+        let (lo, hi, distinct) = summary(&channel.values);
+        let mut line = format!("attribute:   {} in [{lo}, {hi}]", channel.name);
+        if let Some(d) = distinct {
+            line.push_str(&format!(", {d} distinct"));
+        }
+        line.push_str(&format!(" ({} bytes per point)", channel.values.bytes_per_value()));
+        println!("{line}");
+        if channel.name == names::CLASSIFICATION {
+            for (class, count) in pointblend::style::classes::counts(&channel.values) {
+                println!("  class {class:>3}: {count} points, {}", pointblend::style::classes::name(class));
+            }
+        }
+    }
+    if !attributes.is_empty() {
+        println!("attributes:  {} bytes per point in all", attributes.bytes_per_point());
+    }
+}

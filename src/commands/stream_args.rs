@@ -4,8 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
-use pointblend::bench::streamed::is_streamed;
 use pointblend::cloud::LoadOptions;
+use pointblend::copc::is_streamed;
 use pointblend::copc::{self, CopcStream, StreamOptions};
 use pointblend::frame::Camera;
 use pointblend::lod::SelectOptions;

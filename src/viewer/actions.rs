@@ -50,11 +50,7 @@ impl ViewerApp {
             measure_error: self.measure_error.as_deref(),
             screenshot_dir: &self.options.screenshot_dir,
             status: self.status.as_deref(),
-            streaming: self
-                .model
-                .as_ref()
-                .and_then(|m| m.streamed.as_ref())
-                .map_or_else(Vec::new, |s| s.lines(self.load.is_some())),
+            streaming: self.model.as_ref().and_then(|m| m.streamed.as_ref()).map(|s| (s.status(), self.load.is_some())),
         }
     }
 

@@ -232,7 +232,7 @@ mod tests {
             measure_error: None,
             screenshot_dir: std::path::Path::new("."),
             status: None,
-            streaming: Vec::new(),
+            streaming: None,
         }
     }
 

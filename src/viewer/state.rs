@@ -182,8 +182,8 @@ pub struct PanelInfo<'a> {
     pub measure_error: Option<&'a str>,
     pub screenshot_dir: &'a Path,
     pub status: Option<&'a str>,
-    /// A streamed file's lines for the statistics (none for a file loaded whole).
-    pub streaming: Vec<String>,
+    /// A streamed file's state, and whether a new view is being loaded.
+    pub streaming: Option<(super::stream_source::StreamStatus, bool)>,
 }
 
 impl PanelInfo<'_> {

@@ -9,8 +9,8 @@ use super::widgets::{job_row, thousands};
 pub fn stats_section(ui: &mut Ui, info: &PanelInfo<'_>) {
     ui.heading("Statistics");
     ui.label(format!("window: {:.0} fps, slowest frame {:.0} ms (last 2 s)", info.ui_fps, info.slowest_ui_frame_ms));
-    for line in &info.streaming {
-        ui.label(line);
+    if let Some((status, refining)) = &info.streaming {
+        streaming_lines(ui, status, *refining);
     }
     let Some(shown) = &info.shown else {
         ui.label("no frame yet");
@@ -93,4 +93,25 @@ pub fn error_section(ui: &mut Ui, info: &PanelInfo<'_>, actions: &mut Vec<Action
         ui.add(egui::Image::new((m.difference.id(), size * (width / size.x.max(1.0)))))
             .on_hover_text("difference × 8 (false colour)");
     }
+}
+
+/// What a streamed file shows: the nodes and points on screen, what was read, the cache.
+fn streaming_lines(ui: &mut Ui, s: &super::stream_source::StreamStatus, refining: bool) {
+    let (used, nodes, bound) = s.cache;
+    ui.label(format!(
+        "streaming: {} nodes shown ({} of {} points){}",
+        s.nodes_shown,
+        thousands(s.points_shown),
+        thousands(s.points_in_file as usize),
+        if refining { ", refining the view" } else { "" }
+    ));
+    ui.label(format!(
+        "read {:.1} MB in {} requests{}; {} nodes known, {} failed",
+        s.stats.bytes_read as f64 / 1e6,
+        s.stats.requests,
+        s.mb_per_s.map_or(String::new(), |r| format!(", {r:.1} MB/s")),
+        s.nodes_known,
+        s.stats.failed
+    ));
+    ui.label(format!("node cache: {:.0} of {:.0} MB ({nodes} nodes)", used as f64 / 1e6, bound as f64 / 1e6));
 }

@@ -115,28 +115,4 @@ impl StreamedSource {
         }
         Ok((Scene::single(name, frame.cloud, hash), frame.report.warnings))
     }
-
-    /// The statistics' lines.
-    pub fn lines(&self, refining: bool) -> Vec<String> {
-        let s = self.status();
-        let (used, nodes, bound) = s.cache;
-        vec![
-            format!(
-                "streaming: {} nodes shown ({} of {} points){}",
-                s.nodes_shown,
-                super::widgets::thousands(s.points_shown),
-                super::widgets::thousands(s.points_in_file as usize),
-                if refining { ", refining the view" } else { "" }
-            ),
-            format!(
-                "read {:.1} MB in {} requests{}; {} nodes known, {} failed",
-                s.stats.bytes_read as f64 / 1e6,
-                s.stats.requests,
-                s.mb_per_s.map_or(String::new(), |r| format!(", {r:.1} MB/s")),
-                s.nodes_known,
-                s.stats.failed
-            ),
-            format!("node cache: {:.0} of {:.0} MB ({nodes} nodes)", used as f64 / 1e6, bound as f64 / 1e6),
-        ]
-    }
 }

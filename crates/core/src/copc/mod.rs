@@ -23,7 +23,7 @@ pub mod source;
 pub mod stream;
 pub mod write;
 
-pub use source::{is_copc, is_url};
+pub use source::{is_copc, is_streamed, is_url};
 pub use stream::{CopcStream, StreamOptions, StreamStats, StreamedFrame};
 
 /// A failure to stream a file: its path or URL and why, on one line.

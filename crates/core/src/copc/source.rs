@@ -57,6 +57,12 @@ pub fn is_copc(name: &str) -> bool {
     path.to_ascii_lowercase().ends_with(".copc.laz")
 }
 
+/// Whether `file` is streamed rather than loaded whole: a `.copc.laz` file or a URL.
+pub fn is_streamed(file: &Path) -> bool {
+    let name = file.to_string_lossy();
+    is_copc(&name) || is_url(&name)
+}
+
 /// A local file, read with positioned reads (no shared cursor between threads).
 pub struct FileSource {
     name: String,
