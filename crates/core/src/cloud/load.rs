@@ -19,6 +19,8 @@ use super::colour::to_u8;
 use super::estimate::{self, EstimateOptions};
 use super::formats::{ALPHA_NAMES, COLOR_NAMES, FileInfo, NORMAL_NAMES, is_wanted, ply_attributes};
 use super::gaussians;
+pub use super::given_radii::FILE_RADIUS_OVER_MEDIAN;
+use super::given_radii::clamp_given_radii;
 use super::mesh::face_vertex_normals;
 use super::placement::{Frame, place};
 use super::ply::{self, PlyData, Scalar};
@@ -231,6 +233,18 @@ fn build(
             "{merged} splats that repeat another's position, normal and radius exactly were merged into it (colour and opacity averaged)"
         ));
     }
+    // What the report keeps of the file; its columns go before the
+    // estimation, whose neighbour tables are the peak of a load.
+    let file = (
+        data.encoding.clone(),
+        data.comments.clone(),
+        data.elements
+            .iter()
+            .map(|e| (e.name.clone(), e.count, e.properties.iter().map(|p| p.name.clone()).collect()))
+            .collect(),
+        data.face_count + data.strip_triangles,
+    );
+    drop((data, positions, face_normals));
     let from_above = info.from_above || is_geo_terrain(&cloud, &frame);
     let options = &LoadOptions {
         estimate: super::estimate::EstimateOptions { orient_up: from_above, ..options.estimate.clone() },
@@ -242,16 +256,13 @@ fn build(
         normals_from = Provenance::FromFile;
     }
 
+    let (encoding, comments, elements, faces_in_file) = file;
     let report = LoadReport {
-        encoding: data.encoding.clone(),
-        comments: data.comments.clone(),
-        elements: data
-            .elements
-            .iter()
-            .map(|e| (e.name.clone(), e.count, e.properties.iter().map(|p| p.name.clone()).collect()))
-            .collect(),
+        encoding,
+        comments,
+        elements,
         vertices_in_file: n,
-        faces_in_file: data.face_count + data.strip_triangles,
+        faces_in_file,
         normals: normals_from,
         radii: radii_from,
         colours: colours_from,
@@ -565,29 +576,4 @@ fn estimate_missing(
     }
     cloud.scanner_position = estimated.scanner_position;
     estimate_started.elapsed().as_secs_f64()
-}
-
-/// Radii read from a file are clamped to this multiple of their median: one
-/// absurd radius would otherwise cover the view and push the framing away.
-pub const FILE_RADIUS_OVER_MEDIAN: f32 = 100.0;
-
-/// Clamps the radii that were given (not `needed`) to
-/// [`FILE_RADIUS_OVER_MEDIAN`] times their median, and to a quarter of the
-/// model's `diagonal` when it has one; returns how many were clamped, and the limit.
-fn clamp_given_radii(radii: &mut [f32], needed: &[bool], diagonal: f32) -> (usize, f32) {
-    let mut given: Vec<f32> = radii.iter().zip(needed).filter(|(_, n)| !**n).map(|(r, _)| *r).collect();
-    if given.is_empty() {
-        return (0, 0.0);
-    }
-    let mid = given.len() / 2;
-    let mut limit = *given.select_nth_unstable_by(mid, f32::total_cmp).1 * FILE_RADIUS_OVER_MEDIAN;
-    if diagonal > 0.0 {
-        limit = limit.min(0.25 * diagonal);
-    }
-    let mut clamped = 0;
-    for (r, _) in radii.iter_mut().zip(needed).filter(|(r, n)| !**n && **r > limit) {
-        *r = limit;
-        clamped += 1;
-    }
-    (clamped, limit)
 }

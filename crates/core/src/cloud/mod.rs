@@ -17,6 +17,7 @@ pub mod estimate;
 mod file_info;
 pub mod formats;
 pub mod gaussians;
+mod given_radii;
 pub mod las_file;
 pub mod load;
 pub mod mesh;
