@@ -34,7 +34,7 @@ pub(super) fn bench_streamed(
     let select = SelectOptions { budget, radius_scale: 1.0, cull: true, finest_px: copc::stream::FINEST_PX };
     // The stream applied the budget; the modes draw every point it selected.
     let config = &BenchConfig { settings: config.settings.without_budget(), ..config.clone() };
-    let short = name.rsplit(['/', '\\']).next().unwrap_or(&name).to_string();
+    let short = stream.file_name().to_string();
     let stem = crate::output::safe_stem(Path::new(&short));
     let mut rows = Vec::new();
     for view in &views {
@@ -58,11 +58,7 @@ pub(super) fn bench_streamed(
             bound as f64 / 1e6,
             if after.failed > 0 { format!(", {} nodes failed", after.failed) } else { String::new() }
         );
-        let mut hash = crate::hash::fnv1a(0, name.as_bytes());
-        for &n in &frame.drawn {
-            hash = crate::hash::fnv1a(hash, &n.to_le_bytes());
-        }
-        let scene = Scene::single(short.clone(), frame.cloud, hash);
+        let scene = Scene::single(short.clone(), frame.cloud, frame.hash);
         let opened = set_up(scene, &name, config, open_s + stream_s)?;
         let mut frames = SceneFrames::of(Arc::clone(&opened.scene));
         let prepared = prepare_variants(config, &opened, &mut frames, renderer)?;

@@ -55,12 +55,7 @@ impl StreamArgs {
 /// A scene standing for a streamed file before anything is loaded: the
 /// corners of its header's bounds (what the default views frame).
 pub fn bounds_scene(stream: &CopcStream) -> Scene {
-    Scene::single(display_name(stream.name()), stream.bounds_cloud(), 0)
-}
-
-/// The last part of a path or URL.
-fn display_name(name: &str) -> String {
-    name.rsplit(['/', '\\']).next().unwrap_or(name).to_string()
+    Scene::single(stream.file_name(), stream.bounds_cloud(), 0)
 }
 
 /// The scene of the nodes `stream` selects from `camera` at `size` under
@@ -91,9 +86,5 @@ pub fn frame_scene(stream: &mut CopcStream, camera: &Camera, size: (u32, u32), b
         if stats.failed > 0 { format!("; {} nodes failed and were skipped", stats.failed) } else { String::new() }
     );
     // The scene's hash names the nodes drawn, so caches keyed by it are not mixed up.
-    let mut hash = pointblend::hash::fnv1a(0, stream.name().as_bytes());
-    for &n in &frame.drawn {
-        hash = pointblend::hash::fnv1a(hash, &n.to_le_bytes());
-    }
-    Ok(Scene::single(display_name(stream.name()), frame.cloud, hash))
+    Ok(Scene::single(stream.file_name(), frame.cloud, frame.hash))
 }

@@ -109,10 +109,6 @@ impl StreamedSource {
             frame.drawn.len(),
             started.elapsed().as_secs_f64()
         );
-        let mut hash = crate::hash::fnv1a(0, stream.name().as_bytes());
-        for &n in &frame.drawn {
-            hash = crate::hash::fnv1a(hash, &n.to_le_bytes());
-        }
-        Ok((Scene::single(name, frame.cloud, hash), frame.report.warnings))
+        Ok((Scene::single(name, frame.cloud, frame.hash), frame.report.warnings))
     }
 }

@@ -24,7 +24,7 @@ pub struct CopcHeader {
     /// The extra-bytes fields each record carries.
     pub fields: Vec<extra_bytes::Field>,
     pub warnings: Vec<String>,
-    /// Most bytes the header and VLRs may take before the points.
+    /// The file's length in bytes.
     pub file_len: u64,
 }
 

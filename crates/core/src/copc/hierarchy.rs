@@ -97,13 +97,14 @@ impl CopcTree {
                 }
                 Some(_) => self.refused.push(format!("{}-{}-{}-{}: listed twice", key.l, key.x, key.y, key.z)),
                 None => {
-                    self.index.insert(key, self.nodes.len() as u32);
+                    let at = self.nodes.len() as u32;
+                    self.index.insert(key, at);
                     self.nodes.push(node);
+                    self.link(at);
                 }
             }
         }
         self.pages_read += 1;
-        self.link();
         Ok(())
     }
 
@@ -125,23 +126,19 @@ impl CopcTree {
         Ok(())
     }
 
-    /// Rebuilds every node's child list.
-    fn link(&mut self) {
-        for node in &mut self.nodes {
-            node.children.clear();
+    /// Links a node just added into the tree: under its parent, and over
+    /// the children already read (a page's entries come in any order).
+    fn link(&mut self, at: u32) {
+        let key = self.nodes[at as usize].key;
+        let parent = if key.l > 0 { self.index.get(&key.parent()).copied() } else { None };
+        if let Some(parent) = parent {
+            let siblings = &mut self.nodes[parent as usize].children;
+            siblings.push(at);
+            siblings.sort_unstable();
         }
-        for i in 0..self.nodes.len() {
-            let key = self.nodes[i].key;
-            if key.l == 0 {
-                continue;
-            }
-            if let Some(&parent) = self.index.get(&key.parent()) {
-                self.nodes[parent as usize].children.push(i as u32);
-            }
-        }
-        for node in &mut self.nodes {
-            node.children.sort_unstable();
-        }
+        let mut children: Vec<u32> = key.children().filter_map(|c| self.index.get(&c).copied()).collect();
+        children.sort_unstable();
+        self.nodes[at as usize].children = children;
     }
 
     pub fn node(&self, key: &VoxelKey) -> Option<u32> {

@@ -95,6 +95,8 @@ pub struct StreamedFrame {
     pub selection: Selection,
     /// The selected nodes that were drawn (loaded), in file order.
     pub drawn: Vec<u32>,
+    /// What identifies these points for caches: the source and the nodes drawn.
+    pub hash: u64,
 }
 
 impl CopcStream {
@@ -123,6 +125,12 @@ impl CopcStream {
 
     pub fn name(&self) -> &str {
         self.source.name()
+    }
+
+    /// The last part of the path or URL.
+    pub fn file_name(&self) -> &str {
+        let name = self.name();
+        name.rsplit(['/', '\\']).next().unwrap_or(name)
     }
 
     /// Points the header counts.
@@ -269,7 +277,11 @@ impl CopcStream {
         let options = LoadOptions { origin: Some(self.tree.origin.to_array()), ..options.clone() };
         let (cloud, report) = from_columns(Path::new(self.name()), data, attributes, info, 0.0, &options)
             .map_err(|e| CopcError::new(self.name(), e.to_string()))?;
-        Ok(StreamedFrame { cloud, report, selection: selection.clone(), drawn })
+        let mut hash = crate::hash::fnv1a(0, self.name().as_bytes());
+        for &n in &drawn {
+            hash = crate::hash::fnv1a(hash, &n.to_le_bytes());
+        }
+        Ok(StreamedFrame { cloud, report, selection: selection.clone(), drawn, hash })
     }
 
     /// Selects, loads and gathers one frame's points.
