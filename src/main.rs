@@ -1,4 +1,4 @@
-//! The `pointblend` command line: view | info | render | convert | bench | group.
+//! The `pointblend` command line: view | info | render | pick | measure | convert | bench | group.
 //!
 //! With no subcommand it is `pointblend view`, parsed by the same clap
 //! arguments (so the two cannot differ): the viewer on the demo scene in alg2,
@@ -34,6 +34,10 @@ enum Command {
     Info(commands::info::Args),
     /// Render a PLY file to a PNG image.
     Render(commands::render::Args),
+    /// List the surface layers a pixel's ray passes (the exact reference's), with their attributes.
+    Pick(commands::pick::Args),
+    /// Measure distances, angles and heights between the surfaces under pixels.
+    Measure(commands::pick::Args),
     /// Convert a mesh or cloud into a splat cloud (binary PLY with normals, radii, colours).
     Convert(commands::convert::Args),
     /// Time every mode and measure its error against the exact reference.
@@ -52,6 +56,8 @@ fn main() -> ExitCode {
         Some(Command::View(args)) => commands::view::run(&args),
         Some(Command::Info(args)) => commands::info::run(&args),
         Some(Command::Render(args)) => commands::render::run(&args),
+        Some(Command::Pick(args)) => commands::pick::run(&args),
+        Some(Command::Measure(args)) => commands::measure::run(&args),
         Some(Command::Convert(args)) => commands::convert::run(&args),
         Some(Command::Bench(args)) => commands::bench::run(&args),
         Some(Command::Group(args)) => commands::group::run(&args),
@@ -135,6 +141,9 @@ mod tests {
             "classes",
             "class-opacity",
             "opacity-by",
+            "clip-box",
+            "clip-hide",
+            "clip-plane",
         ];
         let own: [(&str, &[&str]); 3] = [
             ("render", &["out", "explain", "diff", "flat-background", "time"]),

@@ -30,6 +30,7 @@ fn options(epsilon: f32) -> ReferenceOptions {
         environment: Default::default(),
         lights: Default::default(),
         supersample: 1,
+        clip: Default::default(),
     }
 }
 

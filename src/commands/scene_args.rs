@@ -4,6 +4,7 @@
 
 use std::sync::Arc;
 
+use pointblend::frame::clip::{self, ClipBox, ClipRegion, Hidden};
 use pointblend::scene::{Materials, Scene};
 use pointblend::style::{ColorBy, Colormap, Style, parse};
 
@@ -39,9 +40,30 @@ pub struct SceneArgs {
     /// An attribute whose value (over its 2nd-98th percentile range) is each splat's opacity.
     #[arg(long = "opacity-by")]
     pub opacity_by: Option<String>,
+    /// Clip to a box MINX,MINY,MINZ,MAXX,MAXY,MAXZ in file coordinates (per pixel: a cut splat shows its kept part).
+    #[arg(long = "clip-box", value_parser = |t: &str| ClipBox::parse(t).map_err(|e| e.to_string()), allow_hyphen_values = true)]
+    pub clip_box: Option<ClipBox>,
+    /// Which side of --clip-box is hidden: outside (keep the box's contents) or inside (cut the box away).
+    #[arg(long = "clip-hide", value_parser = parse_hidden, requires = "clip_box")]
+    pub clip_hide: Option<Hidden>,
+    /// Keep the side of a plane NX,NY,NZ,D where n·x + d >= 0, x in file coordinates (repeatable, at most 6).
+    #[arg(long = "clip-plane", value_parser = |t: &str| clip::parse_plane(t).map_err(|e| e.to_string()), allow_hyphen_values = true)]
+    pub clip_planes: Vec<[f64; 4]>,
 }
 
 impl SceneArgs {
+    /// The clip region: the flags' when any is given (they replace a scene
+    /// file's `[clip]`), else the scene's.
+    pub fn clip_region(&self, scene: &Scene) -> Result<ClipRegion, String> {
+        if self.clip_box.is_none() && self.clip_planes.is_empty() {
+            return Ok(scene.clip.clone());
+        }
+        let clip_box = self.clip_box.map(|b| ClipBox { hide: self.clip_hide.unwrap_or_default(), ..b });
+        let region = ClipRegion { clip_box, planes: self.clip_planes.clone() };
+        region.check().map_err(|e| e.to_string())?;
+        Ok(region)
+    }
+
     /// Applies `--opacity`, `--color` and the style to the scene's objects.
     pub fn apply_materials(&self, scene: &mut Scene) -> Result<(), String> {
         self.materials(false).apply(scene)
@@ -105,4 +127,13 @@ pub fn parse_opacity(text: &str) -> Result<f32, String> {
 /// `--light X,Y,Z`.
 pub fn parse_light(text: &str) -> Result<pointblend::frame::Light, String> {
     pointblend::frame::Light::parse_point(text).map_err(|e| e.to_string())
+}
+
+/// `--clip-hide`: inside or outside.
+fn parse_hidden(text: &str) -> Result<Hidden, String> {
+    match text {
+        "inside" => Ok(Hidden::Inside),
+        "outside" => Ok(Hidden::Outside),
+        _ => Err(format!("'{text}' is not inside or outside")),
+    }
 }

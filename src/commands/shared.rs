@@ -100,6 +100,8 @@ impl ViewArgs {
         // Lights are given in file coordinates, like the objects.
         let lights: Vec<_> = scene.lights.iter().chain(&self.scene.lights).map(|l| scene.light_in_frame(l)).collect();
         settings.lights = pointblend::frame::Lights::new(&lights).map_err(|e| anyhow::anyhow!("lights: {e}"))?;
+        // The clip region too.
+        settings.clip = scene.clip_in_frame(&self.scene.clip_region(scene).map_err(anyhow::Error::msg)?);
         // After the lights, so that `--lighting headlight` sets the scene's aside.
         self.parameters.apply(&mut settings).map_err(anyhow::Error::msg)?;
         // The checks a sidecar's settings get too.

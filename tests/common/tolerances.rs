@@ -215,3 +215,8 @@ pub const MAX_HYBRID_EPS_RATIO: f64 = 0.5;
 /// exact triangles: the same surface, interpolated alike; what is left is
 /// f32 rasterisation against f32 ray casting, as for `tiled` (MAX_TILED_EPS).
 pub const MAX_MESH_EPS: f64 = 0.1;
+
+/// A disc cut through its centre by a clip plane, in every mode against the
+/// clipped reference at 128². Measured: 0.000 in all nine (the same rays
+/// meet the same disc and the same planes).
+pub const MAX_CLIP_EPS: f64 = 0.05;

@@ -10,7 +10,8 @@
 //! splits into leaves drawn as triangles or splats), [`lod`] builds the multi-resolution
 //! hierarchy that frames under a point budget draw from, [`copc`] streams COPC files node by node under the same selection, [`shadow`] finds the light each splat
 //! receives (translucent shadow maps and exact shadow rays), and
-//! [`reference`] renders exactly on the CPU. Under them all, [`hash`],
+//! [`reference`] renders exactly on the CPU (and picks the layers of a ray),
+//! on which [`inspect`] builds the pick and measure answers. Under them all, [`hash`],
 //! [`memory`], [`output`] and [`progress`] are small helpers. No module imports one above it (`tests/architecture.rs`).
 
 pub mod cloud;
@@ -19,6 +20,7 @@ pub mod frame;
 pub mod grouping;
 pub mod hash;
 pub mod hybrid;
+pub mod inspect;
 pub mod lod;
 pub mod memory;
 pub mod output;

@@ -28,6 +28,11 @@ struct Frame {
     lights: array<vec4<f32>, 16>,
     // The number of lights, unused ×3.
     light_count: vec4<u32>,
+    // Clip planes in eye space (unit normal, d; n·p + d >= 0 is kept): the
+    // user's, then the box's six (crates/core/src/frame/clip.rs).
+    clip: array<vec4<f32>, 12>,
+    // The user's planes, the box's (0 or 6), the box hides its inside (0/1), unused.
+    clip_counts: vec4<u32>,
 }
 
 struct Pass {
@@ -58,4 +63,28 @@ fn pixel_ray(position: vec2<f32>) -> vec3<f32> {
 // from the viewer at pixel `position`: what splits ε-layers by facing.
 fn faces_away(normal: vec3<f32>, position: vec2<f32>) -> bool {
     return dot(normal, pixel_ray(position)) > 0.0;
+}
+
+// Whether the point at view depth `t` along the pixel's ray `ray` (z = -1:
+// where the ray meets a splat) is kept by the clip planes and box: per
+// pixel, so a cut splat shows exactly its kept part. Each plane is tested
+// as (n·ray)·t + d, so the point ray·t is never formed beside the callers'
+// own (their arithmetic, and so their images, stay as they were unclipped).
+// The same test as EyeClip::keeps_along on the CPU.
+fn clip_keeps(ray: vec3<f32>, t: f32) -> bool {
+    let user = frame.clip_counts.x;
+    for (var i = 0u; i < user; i++) {
+        if dot(frame.clip[i].xyz, ray) * t + frame.clip[i].w < 0.0 {
+            return false;
+        }
+    }
+    let boxed = frame.clip_counts.y;
+    if boxed == 0u {
+        return true;
+    }
+    var inside = true;
+    for (var i = user; i < user + boxed; i++) {
+        inside = inside && dot(frame.clip[i].xyz, ray) * t + frame.clip[i].w >= 0.0;
+    }
+    return inside != (frame.clip_counts.z == 1u);
 }

@@ -242,6 +242,11 @@ fn splat_sample(v: SplatVarying) -> SplatSample {
     if !(rho2 < 1.0) || !(t > frame.depth.x && t < frame.depth.y) {
         discard;
     }
+#ifdef CLIP
+    if !clip_keeps(ray, t) {
+        discard;
+    }
+#endif
     return SplatSample(rho2, t, scale, front);
 }
 

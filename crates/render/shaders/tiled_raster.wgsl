@@ -356,6 +356,11 @@ fn hit_on(item: u32) -> vec2<f32> {
 #ifdef TRIANGLES
     if item >= tiles.grid.z {
         let hit = intersect_triangle(drawn_triangles[item - tiles.grid.z]);
+#ifdef CLIP
+        if !clip_keeps(ray, hit.depth) {
+            return miss;
+        }
+#endif
         return select(miss, vec2<f32>(hit.depth, 1.0), hit.depth > 0.0);
     }
 #endif
@@ -377,6 +382,11 @@ fn disc_hit(disc: vec4<f32>, plane: vec3<f32>) -> vec2<f32> {
     }
     let offset = ray * t - disc.xyz;
     let rho2 = dot(offset, offset) * disc.w;
+#ifdef CLIP
+    if !clip_keeps(ray, t) {
+        return miss;
+    }
+#endif
     return select(miss, vec2<f32>(t, exp(-rho2 * frame.splat.y)), rho2 < 1.0);
 }
 

@@ -109,8 +109,14 @@ pub struct FrameUniforms {
     pub lights: [[f32; 4]; 2 * MAX_LIGHTS],
     /// The number of lights, unused ×3.
     pub light_count: [u32; 4],
+    /// Clip planes in eye space (`EyeClip::planes`).
+    pub clip: [[f32; 4]; 2 * MAX_CLIP_PLANES],
+    /// `EyeClip::counts`, unused.
+    pub clip_counts: [u32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 288 + 32 * MAX_LIGHTS + 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 288 + 32 * MAX_LIGHTS + 16 + 32 * MAX_CLIP_PLANES + 16);
+
+use pointblend_core::frame::clip::MAX_CLIP_PLANES;
 
 use pointblend_core::frame::lights::MAX_LIGHTS;
 

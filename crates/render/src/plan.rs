@@ -157,6 +157,9 @@ pub struct RenderPlan {
     /// `tiled`: the pixels of the frame whose window of waiting hits
     /// overflowed (finished a layer at a time), once the frame was read back.
     pub window_overflows: Option<u32>,
+    /// The frame is clipped: its splat passes and tile raster are built
+    /// with `CLIP` and test every fragment's point (crates/core/src/frame/clip.rs).
+    pub clipped: bool,
 }
 
 impl RenderPlan {
@@ -175,6 +178,7 @@ impl RenderPlan {
             buffers: Vec::new(),
             notes: Vec::new(),
             window_overflows: None,
+            clipped: false,
         }
     }
 
@@ -206,6 +210,7 @@ impl RenderPlan {
             buffers: Vec::new(),
             notes: Vec::new(),
             window_overflows: None,
+            clipped: false,
         }
     }
 

@@ -387,6 +387,7 @@ fn frame_uniforms(
     let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
     let shading = &settings.shading;
     let to_cols = |m: Mat4| m.to_cols_array_2d();
+    let clip = settings.clip.in_eye(&camera.view_matrix());
     FrameUniforms {
         view: to_cols(camera.view_matrix()),
         proj: to_cols(camera.projection(aspect)),
@@ -413,6 +414,8 @@ fn frame_uniforms(
         environment_front: front.extend(0.0).to_array(),
         lights: eye_lights(camera, settings),
         light_count: [if settings.lit_by_lights() { settings.lights.len() as u32 } else { 0 }, 0, 0, 0],
+        clip: clip.planes.map(|p| p.to_array()),
+        clip_counts: [clip.counts[0], clip.counts[1], clip.counts[2], 0],
     }
 }
 

@@ -4,7 +4,7 @@
 //! `#include "file.wgsl"` (each file included once), `#ifdef NAME`,
 //! `#ifndef NAME`, `#else` and `#endif`. A [`Variant`] is a set of names
 //! (`LIT`, `WEIGHT_ONLY`, `OPAQUE_APART`, `ENVIRONMENT`, `LIGHTS`,
-//! `TRIANGLES`).
+//! `TRIANGLES`, `SUBGROUPS`, `COVERAGE`, `CLIP`).
 //! Chosen over WGSL `override` constants, which cannot remove a binding, a
 //! fragment output or a struct field (an unlit pass must neither declare nor
 //! write a normal target), and over `naga_oil`, which composes into naga IR
@@ -57,10 +57,14 @@ impl Variant {
     /// tests ε itself, sums the fragments behind the front apart, and adds
     /// each fragment's coverage; the normalisation composites by it.
     pub const COVERAGE: Variant = Variant(128);
+    /// The frame is clipped: splat fragments and tile hits whose point the
+    /// clip planes or box cut away are dropped (`clip_keeps`, frame.wgsl).
+    /// Only then, so an unclipped frame's shaders are those it always had.
+    pub const CLIP: Variant = Variant(256);
 
     /// Every name, by bit.
-    const NAMES: [&'static str; 8] =
-        ["LIT", "WEIGHT_ONLY", "OPAQUE_APART", "ENVIRONMENT", "LIGHTS", "TRIANGLES", "SUBGROUPS", "COVERAGE"];
+    const NAMES: [&'static str; 9] =
+        ["LIT", "WEIGHT_ONLY", "OPAQUE_APART", "ENVIRONMENT", "LIGHTS", "TRIANGLES", "SUBGROUPS", "COVERAGE", "CLIP"];
 
     pub const NONE: Variant = Variant(0);
 
@@ -154,6 +158,6 @@ mod tests {
         assert_eq!(lit.matches("struct Frame {").count(), 1, "frame.wgsl is included once");
         assert!(compose("missing.wgsl", Variant::NONE).is_err());
         assert_eq!(Variant::LIT.with(Variant::WEIGHT_ONLY, true).defines(), ["LIT", "WEIGHT_ONLY"]);
-        assert_eq!(Variant::all().count(), 1 << 8);
+        assert_eq!(Variant::all().count(), 1 << 9);
     }
 }

@@ -4,6 +4,7 @@
 //! produce images that compare pixel for pixel.
 
 pub mod camera;
+pub mod clip;
 pub mod environment;
 pub mod kernel;
 pub mod lights;
@@ -16,6 +17,7 @@ pub mod sidecar;
 pub mod variant;
 
 pub use camera::{Camera, UpAxis};
+pub use clip::{Clip, ClipRegion};
 pub use kernel::SplatKernel;
 pub use lights::{Light, LightKind, Lights, ShadowMethod, ShadowSettings};
 pub use modes::{ModeInfo, RenderMode};

@@ -56,6 +56,8 @@ pub struct RenderSettings {
     /// A hybrid object's leaf is drawn as triangles where its largest splat
     /// would be wider than this radius in pixels ([`crate::hybrid::select`]).
     pub hybrid_pixels: f32,
+    /// What is cut away, per pixel, in the flattened scene's frame (see [`super::clip`]).
+    pub clip: super::Clip,
 }
 
 /// The default of [`RenderSettings::hybrid_pixels`]: a hybrid leaf is drawn
@@ -198,6 +200,7 @@ impl Default for RenderSettings {
             supersample: 1,
             point_budget: None,
             hybrid_pixels: DEFAULT_HYBRID_PIXELS,
+            clip: Default::default(),
         }
     }
 }

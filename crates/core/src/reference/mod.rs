@@ -10,10 +10,12 @@
 //! GPU modes. A scene's mesh triangles are intersected exactly too
 //! (`triangles`): the reference draws every `mesh` and `hybrid` object as its
 //! triangles, the ruler of the GPU's triangle and hybrid frames. [`metrics`] holds the ε of Zhang & Pajarola 2007 §6.3, PSNR, the
-//! bad-pixel share and the difference image.
+//! bad-pixel share and the difference image. [`pick`] lists the layers one
+//! pixel's ray passes, for the inspection tools.
 
 mod environment;
 pub mod metrics;
+pub mod pick;
 mod raster;
 mod tiles;
 mod triangles;

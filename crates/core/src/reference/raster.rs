@@ -46,6 +46,8 @@ pub struct ReferenceOptions {
     /// ray through the pixel's centre. The exact answer to aliasing, which
     /// the splat passes' prefilter approximates.
     pub supersample: u32,
+    /// What is cut away (flattened frame): a hit whose point is not kept is dropped.
+    pub clip: crate::frame::Clip,
 }
 
 impl ReferenceOptions {
@@ -65,18 +67,19 @@ impl ReferenceOptions {
             environment: EnvironmentSettings { enabled: settings.draws_environment(), ..settings.environment },
             lights: settings.lights,
             supersample: settings.supersample.max(1),
+            clip: settings.clip,
         }
     }
 }
 
 /// One ray-splat intersection.
 #[derive(Debug, Clone, Copy)]
-struct Hit {
-    depth: f32,
-    weight: f32,
-    splat: u32,
+pub(super) struct Hit {
+    pub depth: f32,
+    pub weight: f32,
+    pub splat: u32,
     /// Whether the surface faces the viewer (its normal points against the ray).
-    facing: bool,
+    pub facing: bool,
 }
 
 /// Renders `scene` exactly, on the CPU, as the GPU modes would with the same camera.
@@ -136,28 +139,37 @@ fn eye_splats(
     (0..cloud.len())
         .into_par_iter()
         .filter(|&i| drawn[i])
-        .filter_map(|i| {
-            let centre = view.transform_point3(cloud.positions[i]);
-            let normal = view.transform_vector3(cloud.normals[i]).try_normalize().unwrap_or(Vec3::Z);
-            let depth = -centre.z;
-            let radius = cloud.radii[i] * options.radius_scale;
-            let culled = options.backface_culling && !cloud.is_two_sided(i) && normal.dot(centre) > 0.0;
-            // Discs that cross the near or far plane keep the part between them (the per-hit test).
-            let usable = depth - radius < far && depth + radius > near && radius > 0.0;
-            if culled || !usable {
-                return None;
-            }
-            let [r, g, b] = cloud.colours[i];
-            Some(EyeSplat {
-                centre,
-                normal,
-                plane: options.kernel.footprint_normal(normal, centre.normalize_or_zero()),
-                radius,
-                colour: Vec3::new(r as f32, g as f32, b as f32) / 255.0,
-                opacity: if options.transparent { cloud.opacity[i].clamp(0.0, 1.0) } else { 1.0 },
-            })
-        })
+        .filter_map(|i| eye_splat(cloud, i, view, (near, far), options))
         .collect()
+}
+
+/// Splat `i` in eye space, or `None` where the GPU passes cull it.
+pub(super) fn eye_splat(
+    cloud: &crate::cloud::PointCloud,
+    i: usize,
+    view: &glam::Mat4,
+    (near, far): (f32, f32),
+    options: &ReferenceOptions,
+) -> Option<EyeSplat> {
+    let centre = view.transform_point3(cloud.positions[i]);
+    let normal = view.transform_vector3(cloud.normals[i]).try_normalize().unwrap_or(Vec3::Z);
+    let depth = -centre.z;
+    let radius = cloud.radii[i] * options.radius_scale;
+    let culled = options.backface_culling && !cloud.is_two_sided(i) && normal.dot(centre) > 0.0;
+    // Discs that cross the near or far plane keep the part between them (the per-hit test).
+    let usable = depth - radius < far && depth + radius > near && radius > 0.0;
+    if culled || !usable {
+        return None;
+    }
+    let [r, g, b] = cloud.colours[i];
+    Some(EyeSplat {
+        centre,
+        normal,
+        plane: options.kernel.footprint_normal(normal, centre.normalize_or_zero()),
+        radius,
+        colour: Vec3::new(r as f32, g as f32, b as f32) / 255.0,
+        opacity: if options.transparent { cloud.opacity[i].clamp(0.0, 1.0) } else { 1.0 },
+    })
 }
 
 /// The pixels of a band's tiles in the band's rows, row-major: linear
@@ -219,6 +231,7 @@ fn render_samples(
         triangles::eye_triangles(cloud, surfaces.triangles(), &view, options.backface_culling, options.transparent);
     triangles::bin(&eye_triangles, &proj, (width, height), near, &mut bins);
     let centre_weight = options.kernel.weight(0.0);
+    let clip = options.clip.in_eye(&view);
     let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
     let lens = Vec2::new(tan_y * aspect, tan_y);
     let environment = scene.environment.as_deref().filter(|_| options.transparent && options.environment.enabled);
@@ -230,6 +243,7 @@ fn render_samples(
             transparent: options.transparent,
             epsilon: options.epsilon,
             kernel: options.kernel,
+            clip: options.clip,
         }),
         view,
         eye_to_world: view.inverse(),
@@ -268,13 +282,16 @@ fn render_samples(
                         for &s in &bins.bins[tile as usize] {
                             if s >= bins.first_triangle {
                                 let t = &eye_triangles[(s - bins.first_triangle) as usize];
-                                if let Some((depth, record)) = triangles::intersect(t, ray, near, far) {
+                                let hit = triangles::intersect(t, ray, near, far);
+                                if let Some((depth, record)) = hit.filter(|(d, _)| clip.keeps_along(ray, *d)) {
                                     let splat = bins.first_triangle + triangle_hits.len() as u32;
                                     let facing = t.face.dot(ray) < 0.0;
                                     hits.push(Hit { depth, weight: centre_weight, splat, facing });
                                     triangle_hits.push(record);
                                 }
-                            } else if let Some(hit) = intersect(&splats[s as usize], ray, &options.kernel, near, far) {
+                            } else if let Some(hit) = intersect(&splats[s as usize], ray, &options.kernel, near, far)
+                                .filter(|h| clip.keeps_along(ray, h.depth))
+                            {
                                 hits.push(Hit { splat: s, ..hit });
                             }
                         }
@@ -336,7 +353,7 @@ type TilePixel = (Vec3, u32, Option<GlassPixel>);
 /// Exact ray-disc intersection: the ray from the eye through `ray` (z = -1)
 /// meets the splat's footprint plane (see `SplatKernel::footprint_normal`) at
 /// view depth t; inside the disc it gets the Gaussian weight.
-fn intersect(s: &EyeSplat, ray: Vec3, kernel: &SplatKernel, near: f32, far: f32) -> Option<Hit> {
+pub(super) fn intersect(s: &EyeSplat, ray: Vec3, kernel: &SplatKernel, near: f32, far: f32) -> Option<Hit> {
     let denom = s.plane.dot(ray);
     if denom.abs() < 1e-12 {
         return None;
@@ -377,25 +394,15 @@ fn composite(
     let mut glass: Option<GlassPixel> = None;
     let mut start = 0;
     while start < hits.len() {
-        let (front, facing) = (hits[start].depth, hits[start].facing);
         let (mut sum_w, mut sum_c, mut sum_n, mut sum_a, mut sum_d) = (0.0f32, Vec3::ZERO, Vec3::ZERO, 0.0f32, 0.0f32);
-        for (h, taken) in
-            hits[start..].iter().zip(&mut used[start..]).take_while(|(h, _)| h.depth <= front + options.epsilon)
-        {
-            if *taken || (options.transparent && h.facing != facing) {
-                continue;
-            }
-            *taken = true;
+        start = take_layer(hits, used, start, options.epsilon, options.transparent, |h| {
             let s = splats.get(h.splat);
             sum_w += h.weight;
             sum_c += s.colour * h.weight;
             sum_n += s.normal * h.weight;
             sum_a += s.opacity * h.weight;
             sum_d += h.depth * h.weight;
-        }
-        while start < hits.len() && used[start] {
-            start += 1;
-        }
+        });
         if sum_w <= 0.0 || sum_w.is_nan() {
             continue;
         }
@@ -446,6 +453,32 @@ fn composite(
         }
     }
     (colour + transmittance * background, layers, glass)
+}
+
+/// The ε-layer of `hits` (sorted by depth) that starts at `start`: the
+/// hits within ε of its front hit not yet `used` (of the front hit's facing
+/// too, when `split_facing`), each marked and given to `visit`. Returns
+/// where the next layer starts.
+pub(super) fn take_layer(
+    hits: &[Hit],
+    used: &mut [bool],
+    mut start: usize,
+    epsilon: f32,
+    split_facing: bool,
+    mut visit: impl FnMut(&Hit),
+) -> usize {
+    let (front, facing) = (hits[start].depth, hits[start].facing);
+    for (h, taken) in hits[start..].iter().zip(&mut used[start..]).take_while(|(h, _)| h.depth <= front + epsilon) {
+        if *taken || (split_facing && h.facing != facing) {
+            continue;
+        }
+        *taken = true;
+        visit(h);
+    }
+    while start < hits.len() && used[start] {
+        start += 1;
+    }
+    start
 }
 
 /// Scene lights and the exact shadow rays the reference lights a layer with.

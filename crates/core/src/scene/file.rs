@@ -58,6 +58,10 @@
 //! color = [255, 240, 220]            # optional, 0..255 (default white)
 //! intensity = 1.0                    # optional (default 1)
 //! falloff = "inverse-square"         # optional (default "none")
+//!
+//! [clip]                             # optional, in file coordinates; cut per pixel
+//! box = { min = [-0.1, -0.1, -0.1], max = [0.1, 0.1, 0.0], hide = "outside" }  # or "inside"
+//! planes = [[0.0, 0.0, 1.0, 0.02]]   # at most 6; each keeps n·x + d >= 0
 //! ```
 //!
 //! Light positions are in file coordinates, like the objects' PLY files and
@@ -71,6 +75,7 @@
 //! `toml::Spanned`.
 
 mod style_keys;
+mod view_keys;
 
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -82,9 +87,8 @@ use toml::Spanned;
 
 use super::animation::{Animation, Deform, DeformFrame, Interpolation, Keyframe, Sequence};
 use super::primitives::{plane, sphere};
-use super::{Material, Scene, SceneCamera, SceneObject};
+use super::{Material, Scene, SceneObject};
 use crate::cloud::{self, LoadOptions};
-use crate::frame::UpAxis;
 use crate::frame::{Light, LightKind};
 use crate::hash::{FNV_OFFSET, fnv1a};
 use crate::hybrid::{Surface, SurfaceKind};
@@ -104,7 +108,8 @@ pub struct SceneError {
 struct SceneFile {
     background: Option<Spanned<[f32; 3]>>,
     environment: Option<Spanned<String>>,
-    camera: Option<CameraEntry>,
+    camera: Option<view_keys::CameraEntry>,
+    clip: Option<Spanned<crate::frame::ClipRegion>>,
     #[serde(rename = "object", default)]
     objects: Vec<Spanned<ObjectEntry>>,
     #[serde(rename = "light", default)]
@@ -128,16 +133,6 @@ struct PlaneEntry {
     size: f32,
     centre: [f32; 3],
     normal: Option<[f32; 3]>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CameraEntry {
-    azimuth: Option<f32>,
-    elevation: Option<f32>,
-    distance: Option<Spanned<f32>>,
-    fov: Option<Spanned<f32>>,
-    up: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -250,6 +245,9 @@ pub fn read(path: &Path, options: &LoadOptions) -> Result<(Scene, Vec<String>), 
     }
     for entry in &file.lights {
         scene.lights.push(reader.light(entry)?);
+    }
+    if let Some(clip) = &file.clip {
+        scene.clip = reader.clip(clip)?;
     }
     Ok((scene, warnings))
 }
@@ -558,31 +556,6 @@ impl Reader<'_> {
         let light = Light { kind, colour, intensity: e.intensity.unwrap_or(1.0), inverse_square };
         light.validate().map_err(|err| self.at(span, err.to_string()))?;
         Ok(light)
-    }
-
-    /// The `[camera]` table, checked.
-    fn camera(&self, c: &CameraEntry) -> Result<SceneCamera, SceneError> {
-        if let Some(fov) = &c.fov {
-            if !(0.5..=170.0).contains(fov.get_ref()) {
-                return Err(self.at(Some(fov.span()), "fov must be between 0.5 and 170 degrees".into()));
-            }
-        }
-        if let Some(d) = &c.distance {
-            if !(d.get_ref().is_finite() && *d.get_ref() > 0.0) {
-                return Err(self.at(Some(d.span()), "distance must be positive".into()));
-            }
-        }
-        let up = match &c.up {
-            Some(u) => Some(u.get_ref().parse::<UpAxis>().map_err(|e| self.at(Some(u.span()), e))?),
-            None => None,
-        };
-        Ok(SceneCamera {
-            azimuth: c.azimuth,
-            elevation: c.elevation,
-            distance: c.distance.as_ref().map(|d| *d.get_ref()),
-            fov: c.fov.as_ref().map(|f| *f.get_ref()),
-            up,
-        })
     }
 }
 

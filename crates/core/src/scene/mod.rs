@@ -117,6 +117,8 @@ pub struct Scene {
     pub environment: Option<Arc<environment::EnvironmentMap>>,
     /// The scene file's `[[light]]`s, in file coordinates (see [`Scene::light_in_frame`]).
     pub lights: Vec<crate::frame::Light>,
+    /// The scene file's `[clip]`, in file coordinates (see [`Scene::clip_in_frame`]).
+    pub clip: crate::frame::ClipRegion,
 }
 
 /// A scene's splats in one frame, materials applied.
@@ -228,6 +230,20 @@ impl Scene {
         }
     }
 
+    /// A clip region given in file coordinates (like lights), in the flattened frame.
+    pub fn clip_in_frame(&self, region: &crate::frame::ClipRegion) -> crate::frame::Clip {
+        let (origin, unit) = self.frame_placement();
+        region.in_frame(origin, unit)
+    }
+
+    /// Where the flattened frame lies in file coordinates: file = frame · unit + origin
+    /// (the first object's origin and unit).
+    pub fn frame_placement(&self) -> (glam::DVec3, f64) {
+        self.objects
+            .first()
+            .map_or((glam::DVec3::ZERO, 1.0), |o| (glam::DVec3::from_array(o.cloud.origin), o.cloud.unit()))
+    }
+
     /// All splats in one frame with the materials applied (see the module doc).
     pub fn flatten(&self) -> FlatScene<'_> {
         if let [one] = self.objects.as_slice() {
@@ -238,10 +254,7 @@ impl Scene {
         }
         let mut out = PointCloud::default();
         let mut objects = Vec::with_capacity(self.objects.len());
-        let (frame_origin, frame_unit) = self
-            .objects
-            .first()
-            .map_or((glam::DVec3::ZERO, 1.0), |o| (glam::DVec3::from_array(o.cloud.origin), o.cloud.unit()));
+        let (frame_origin, frame_unit) = self.frame_placement();
         for o in &self.objects {
             let start = out.len() as u32;
             // From the object's stored coordinates to the scene frame, in f64: the file

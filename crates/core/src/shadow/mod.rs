@@ -36,6 +36,8 @@ pub struct ShadowInput<'a> {
     /// Entries within this distance along a light direction join one layer.
     pub epsilon: f32,
     pub kernel: SplatKernel,
+    /// What is cut away: a caster's hit whose point is not kept casts no shadow.
+    pub clip: crate::frame::Clip,
 }
 
 impl<'a> ShadowInput<'a> {
@@ -48,6 +50,7 @@ impl<'a> ShadowInput<'a> {
             transparent,
             epsilon: settings.epsilon(cloud.mean_radius()),
             kernel: settings.kernel,
+            clip: settings.clip,
         }
     }
 

@@ -151,7 +151,7 @@ impl<'a> ShadowRays<'a> {
             }
             let hit = p + dir * t;
             let rho2 = (hit - c).length_squared() / (r * r);
-            if rho2 < 1.0 && self.cell_of(hit) == cell {
+            if rho2 < 1.0 && self.cell_of(hit) == cell && self.input.clip.keeps(hit) {
                 entries.push(Entry {
                     distance: length - t,
                     weight: self.input.kernel.weight(rho2),

@@ -247,6 +247,14 @@ impl Projection {
         matches!(self, Projection::Spherical { wrap: true, .. })
     }
 
+    /// A point of the projection's own frame in world coordinates (the inverse of [`Self::to_frame`]'s).
+    fn world_point(&self, q: DVec3) -> DVec3 {
+        match self {
+            Projection::Spherical { light, basis, .. } => basis.transpose() * q + *light,
+            Projection::Parallel { .. } => q,
+        }
+    }
+
     /// A world point and a world direction in the projection's own frame (see [`Self::ray`]).
     fn to_frame(&self, p: DVec3, n: DVec3) -> (DVec3, DVec3) {
         match self {
@@ -309,6 +317,8 @@ fn insert_entries(
                 continue;
             }
             let hit = if misses { None } else { meet(o, w, q, normal, r) };
+            // A hit the clip cuts away casts nothing (the splat's probe stays).
+            let hit = hit.filter(|(t, _)| input.clip.keeps(projection.world_point(o + w * *t).as_vec3()));
             let (distance, weight) = match hit {
                 Some((t, rho2)) if rho2 < 1.0 => (t, input.kernel.weight(rho2 as f32)),
                 // A probe (no weight) where the ray meets the disc's plane,

@@ -118,6 +118,12 @@ impl FrameDesc<'_> {
             RenderPlan::new(self.settings.mode, variant, size, self.splats, self.epsilon, groups, steps, targets);
         // Every plan says when sums can saturate; modes append their own notes.
         plan.notes.extend(self.sums.note());
+        let clip = &self.settings.clip;
+        plan.clipped = !clip.is_empty();
+        if plan.clipped {
+            let boxed = if clip.clip_box.is_some() { " and a box" } else { "" };
+            plan.notes.push(format!("clipped per pixel by {} plane(s){boxed}", clip.plane_count));
+        }
         plan
     }
 

@@ -59,7 +59,9 @@ impl GpuMode for Tiled {
                 shader,
                 entry,
                 variant: match work {
-                    TileWork::Raster => variant.with(Variant::TRIANGLES, frame.triangles > 0),
+                    TileWork::Raster => variant
+                        .with(Variant::TRIANGLES, frame.triangles > 0)
+                        .with(Variant::CLIP, !frame.settings.clip.is_empty()),
                     TileWork::Project => project_variant,
                     _ => Variant::NONE,
                 },

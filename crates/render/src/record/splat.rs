@@ -31,7 +31,10 @@ pub fn encode(
         cull_back: false,
     };
     // A pass that writes only depth reads no colour: its splats are not lit.
-    let variant = pass.variant.with(Variant::LIGHTS, pass.variant.has(Variant::LIGHTS) && !pass.colour.is_empty());
+    let variant = pass
+        .variant
+        .with(Variant::LIGHTS, pass.variant.has(Variant::LIGHTS) && !pass.colour.is_empty())
+        .with(Variant::CLIP, rec.plan.clipped);
     let key = PipelineKey { shader: pass.shader, entry: pass.entry, variant, kind };
     // The frame's mesh triangles, through the same fragment entry.
     let triangle_key =

@@ -1,0 +1,106 @@
+//! `pointblend pick FILE --at X,Y`: the layers the pixel's ray passes, by
+//! the exact reference (crates/core/src/reference/pick.rs), with the file's
+//! attributes; text for people, `--json` for scripts. `measure` picks the
+//! same way.
+
+use std::path::PathBuf;
+
+use anyhow::{Result, bail};
+use pointblend::frame::{Camera, RenderMode};
+use pointblend::inspect::PickReport;
+use pointblend::reference::{ReferenceOptions, pick};
+use pointblend::scene::Scene;
+
+use super::shared::{self, ViewArgs};
+
+/// The flags of `pick` and `measure`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Point cloud (PLY, LAS, LAZ, E57), scene file (.toml), or a COPC file or URL.
+    pub file: PathBuf,
+    /// A pixel X,Y (from the top left, in the --size image) whose ray is
+    /// cast; repeatable (measure: at least two, in order along the polyline).
+    #[arg(long = "at", value_parser = parse_pixel, required = true)]
+    pub at: Vec<(u32, u32)>,
+    /// Print JSON. pick: {"pixel": [x, y], "layers": [...]} (an array of them
+    /// for several --at); measure: {"points", "distance", "segments", "angle_deg", "angles_deg", "height"}.
+    #[arg(long)]
+    pub json: bool,
+    /// The camera, size, clip and scene flags of `render` (the layers are
+    /// always the exact reference's, of the scene as defined: --mode is not read).
+    #[command(flatten)]
+    pub view: ViewArgs,
+}
+
+/// `X,Y`: a pixel.
+pub fn parse_pixel(text: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("'{text}' is not a pixel X,Y (two whole numbers)");
+    let (x, y) = text.split_once(',').ok_or_else(bad)?;
+    Ok((x.trim().parse().map_err(|_| bad())?, y.trim().parse().map_err(|_| bad())?))
+}
+
+/// What picking needs: the scene (streamed files: the view's selection),
+/// the camera and the reference's options, as `render` makes them.
+pub struct Picking {
+    pub scene: Scene,
+    pub camera: Camera,
+    pub options: ReferenceOptions,
+    pub size: (u32, u32),
+}
+
+impl Picking {
+    pub fn open(file: &std::path::Path, view: &ViewArgs, pixels: &[(u32, u32)]) -> Result<Self> {
+        let size = view.size;
+        if let Some(&(x, y)) = pixels.iter().find(|(x, y)| *x >= size.0 || *y >= size.1) {
+            bail!("pixel {x},{y} is outside the {}x{} image (--size)", size.0, size.1);
+        }
+        let mut stream = view.stream.open(file)?;
+        let (mut scene, camera) = match &mut stream {
+            Some(stream) => {
+                let bounds = super::stream_args::bounds_scene(stream);
+                let camera = view.camera(&bounds)?;
+                let budget = view.base_settings(&bounds)?.point_budget;
+                (super::stream_args::frame_scene(stream, &camera, size, budget)?, camera)
+            }
+            None => {
+                let scene = shared::load_scene(file)?;
+                let camera = view.camera(&scene)?;
+                (scene, camera)
+            }
+        };
+        view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
+        let settings = view.base_settings(&scene)?;
+        let options = ReferenceOptions {
+            // The scene as defined: its transparent layers are listed whatever the mode.
+            transparent: scene.has_transparency(),
+            ..ReferenceOptions::matching(
+                &pointblend::frame::RenderSettings { mode: RenderMode::RULER, ..settings },
+                &scene,
+            )
+        };
+        Ok(Picking { scene, camera, options, size })
+    }
+
+    /// The layers under `pixel`.
+    pub fn pick(&self, (x, y): (u32, u32)) -> PickReport {
+        let layers = pick::pick(&self.scene, &self.camera, &self.options, self.size, (x, y));
+        PickReport::new([x, y], layers, &self.scene.flatten().cloud)
+    }
+}
+
+pub fn run(args: &Args) -> Result<()> {
+    let picking = Picking::open(&args.file, &args.view, &args.at)?;
+    let reports: Vec<PickReport> = args.at.iter().map(|&p| picking.pick(p)).collect();
+    if args.json {
+        let value = match reports.as_slice() {
+            [one] => one.json(),
+            many => serde_json::Value::Array(many.iter().map(PickReport::json).collect()),
+        };
+        println!("{}", serde_json::to_string_pretty(&value)?);
+    } else {
+        for report in &reports {
+            print!("{}", report.text());
+        }
+    }
+    Ok(())
+}
