@@ -4,43 +4,18 @@
 
 mod common;
 
+use common::viewer::{drag, harness, options, settled_in, wait_for};
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use pointblend::grouping::cache::Cache;
 use pointblend::render::{RenderMode, RenderSettings};
 use pointblend::viewer::{ViewerApp, ViewerOptions};
-
-/// Frames of the 3D view come from a render thread: generous for lavapipe on a busy machine.
-const PATIENCE: Duration = Duration::from_secs(180);
-
-fn harness(options: ViewerOptions) -> Harness<'static, ViewerApp> {
-    Harness::builder().with_size([900.0, 600.0]).wgpu().build_eframe(move |cc| ViewerApp::new(cc, options))
-}
-
-/// Screenshots into `dir`, and groupings cached beside them, not in the user's cache.
-fn options(dir: &Path) -> ViewerOptions {
-    let cache = Some(Cache::in_dir(dir.join("grouping-cache")));
-    ViewerOptions { screenshot_dir: dir.to_path_buf(), cache, ..Default::default() }
-}
-
-/// Steps the UI until `done` holds.
-fn wait_for(harness: &mut Harness<'_, ViewerApp>, what: &str, done: impl Fn(&ViewerApp) -> bool) {
-    let started = Instant::now();
-    while !done(harness.state()) {
-        assert!(started.elapsed() < PATIENCE, "timed out waiting for {what}");
-        harness.step();
-        std::thread::sleep(Duration::from_millis(20));
-    }
-}
-
-fn settled_in(mode: RenderMode) -> impl Fn(&ViewerApp) -> bool {
-    move |app| app.is_settled() && app.shown_frame().is_some_and(|(_, key)| key.settings.mode == mode)
-}
 
 #[derive(Debug)]
 struct Dropped(PathBuf);
@@ -348,21 +323,7 @@ fn a_moving_scene_plays_and_pauses_and_states_its_regroup_cost() {
 /// Drags across the 3D view (the right part of the window): an orbit.
 fn orbit(h: &mut Harness<'_, ViewerApp>) {
     let start = egui::pos2(700.0, 300.0);
-    let press = |pos, pressed| egui::Event::PointerButton {
-        pos,
-        button: egui::PointerButton::Primary,
-        pressed,
-        modifiers: Default::default(),
-    };
-    h.input_mut().events.push(egui::Event::PointerMoved(start));
-    h.input_mut().events.push(press(start, true));
-    h.step();
-    for k in 1..=6 {
-        h.input_mut().events.push(egui::Event::PointerMoved(start + egui::vec2(12.0 * k as f32, 4.0 * k as f32)));
-        h.step();
-    }
-    h.input_mut().events.push(press(start + egui::vec2(72.0, 24.0), false));
-    h.step();
+    drag(h, start, start + egui::vec2(72.0, 24.0), 6);
 }
 
 #[test]

@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Result, bail};
-use pointblend::frame::{Camera, RenderMode};
+use pointblend::frame::Camera;
 use pointblend::inspect::PickReport;
 use pointblend::reference::{ReferenceOptions, pick};
 use pointblend::scene::Scene;
@@ -70,14 +70,7 @@ impl Picking {
         };
         view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
         let settings = view.base_settings(&scene)?;
-        let options = ReferenceOptions {
-            // The scene as defined: its transparent layers are listed whatever the mode.
-            transparent: scene.has_transparency(),
-            ..ReferenceOptions::matching(
-                &pointblend::frame::RenderSettings { mode: RenderMode::RULER, ..settings },
-                &scene,
-            )
-        };
+        let options = pick::options(&settings, &scene);
         Ok(Picking { scene, camera, options, size })
     }
 

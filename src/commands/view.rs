@@ -36,6 +36,7 @@ pub fn run(args: &Args) -> Result<()> {
         parameters: args.parameters.values(),
         environment: args.env.clone(),
         lights: args.scene.lights.clone(),
+        clip: args.scene.clip_region(&Default::default()).map_err(anyhow::Error::msg)?,
     };
     match viewer::run_window(options) {
         Ok(()) => Ok(()),

@@ -50,6 +50,8 @@ pub struct ViewerOptions {
     pub environment: Option<PathBuf>,
     /// Point lights (file coordinates) every model opened is lit by, with its scene file's.
     pub lights: Vec<crate::frame::Light>,
+    /// The clip region to start with (`--clip-box`, `--clip-plane`), in file coordinates.
+    pub clip: crate::frame::ClipRegion,
 }
 
 /// The frame on screen.
@@ -88,6 +90,8 @@ pub struct ViewerApp {
     pub(super) frame_error: Option<String>,
     pub(super) shown: Option<ShownFrame>,
     pub(super) view_size: (u32, u32),
+    /// Where the 3D view is in the window (points).
+    pub(super) view_rect: egui::Rect,
     pub(super) last_camera_move: Option<Instant>,
     pub(super) measure: Option<Job<Result<MeasuredImages, String>>>,
     pub(super) measurement: Option<Measurement>,
@@ -125,6 +129,12 @@ impl ViewerApp {
             time: 0.0,
             playing: false,
             moving_budget: super::state::DEFAULT_MOVING_BUDGET,
+            inspect: super::state::Inspection {
+                clip_on: !options.clip.is_empty(),
+                clip_box: options.clip.clip_box,
+                clip_planes: options.clip.planes.clone(),
+                ..Default::default()
+            },
         };
         let mut app = Self {
             ui,
@@ -144,6 +154,7 @@ impl ViewerApp {
             frame_error: None,
             shown: None,
             view_size: (1, 1),
+            view_rect: egui::Rect::NOTHING,
             last_camera_move: None,
             measure: None,
             measurement: None,
@@ -192,6 +203,16 @@ impl ViewerApp {
     /// The settings the panels show now.
     pub fn settings(&self) -> &RenderSettings {
         &self.ui.settings
+    }
+
+    /// The clip box, the last pick and the measured points.
+    pub fn inspection(&self) -> &super::state::Inspection {
+        &self.ui.inspect
+    }
+
+    /// Where the 3D view is in the window, in points.
+    pub fn view_rect(&self) -> egui::Rect {
+        self.view_rect
     }
 
     /// The slowest UI frame of the last two seconds, in ms.
@@ -252,6 +273,7 @@ impl eframe::App for ViewerApp {
         });
         self.ui.apply_light_angles();
         self.apply(&ctx, actions);
+        self.ensure_clip_box();
         egui::CentralPanel::no_frame().show(ui, |ui| self.view_ui(ui));
         self.refine_stream(&ctx);
         self.ensure_grouping(&ctx);

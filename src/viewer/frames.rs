@@ -35,6 +35,7 @@ impl ViewerApp {
         let large = model.cloud.len() > budget as usize && !model.is_animated() && model.streamed.is_none();
         let preview = large && self.last_camera_move.is_some_and(|t| t.elapsed() < SETTLE);
         let mut settings = self.ui.settings;
+        settings.clip = model.scene.clip_in_frame(&self.ui.inspect.region());
         if model.streamed.is_some() {
             settings.point_budget = None;
         }

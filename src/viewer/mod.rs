@@ -20,6 +20,8 @@ mod camera_input;
 mod colour_panel;
 mod export;
 mod frames;
+mod inspect;
+mod inspect_panel;
 mod jobs;
 mod legend;
 mod lights_panel;
@@ -37,7 +39,7 @@ mod widgets;
 
 pub use app::{ViewerApp, ViewerOptions};
 pub use model::Model;
-pub use state::{FrameKey, ScreenshotSize};
+pub use state::{FrameKey, Inspection, ScreenshotSize, Tool};
 
 /// The model bundled with pointblend.
 pub const BUNDLED_MODEL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/lion.ply");

@@ -25,6 +25,8 @@ pub fn controls(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>) -> Vec<A
     ui.separator();
     camera_section(ui, state, &mut actions);
     ui.separator();
+    super::inspect_panel::inspect_section(ui, state, info.model.is_some());
+    ui.separator();
     super::stats::stats_section(ui, info);
     ui.separator();
     super::stats::error_section(ui, info, &mut actions);

@@ -246,6 +246,7 @@ mod tests {
             time: 0.0,
             playing: false,
             moving_budget: 100_000,
+            inspect: Default::default(),
         }
     }
 

@@ -85,6 +85,53 @@ pub struct UiState {
     /// Most splats a frame draws while the camera moves (a still scene with
     /// more splats is drawn from its hierarchy under this budget until the camera stops).
     pub moving_budget: u32,
+    /// The clip box, the pick and the measurement ([`super::inspect`]).
+    pub inspect: Inspection,
+}
+
+/// What a click in the 3D view does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Tool {
+    /// Nothing: the view only orbits, pans and zooms.
+    #[default]
+    Look,
+    /// List the layers under the pixel.
+    Pick,
+    /// Add the nearest surface under the pixel to the measured polyline.
+    Measure,
+}
+
+/// The inspection tools' state: the clip region (file coordinates), the
+/// last pick and the measured points.
+#[derive(Debug, Clone, Default)]
+pub struct Inspection {
+    pub tool: Tool,
+    pub clip_on: bool,
+    /// Set to the model's bounds when the clip is first switched on.
+    pub clip_box: Option<crate::frame::clip::ClipBox>,
+    /// Planes from the command line (`--clip-plane`), applied while the clip is on.
+    pub clip_planes: Vec<[f64; 4]>,
+    pub picked: Option<crate::inspect::PickReport>,
+    /// The measured points: the pixel clicked and the surface point under it.
+    pub measured: Vec<([u32; 2], glam::DVec3)>,
+    /// The box face whose handle is being dragged (axis · 2 + max).
+    pub dragging: Option<usize>,
+}
+
+impl Inspection {
+    /// The region frames are clipped by: the box and planes while the clip is on.
+    pub fn region(&self) -> crate::frame::ClipRegion {
+        if !self.clip_on {
+            return Default::default();
+        }
+        crate::frame::ClipRegion { clip_box: self.clip_box, planes: self.clip_planes.clone() }
+    }
+
+    /// What the measured points measure along `up`, with at least two of them.
+    pub fn measurement(&self, up: glam::DVec3) -> Option<crate::inspect::Measurement> {
+        let points: Vec<glam::DVec3> = self.measured.iter().map(|(_, p)| *p).collect();
+        (points.len() >= 2).then(|| crate::inspect::measure(&points, up))
+    }
 }
 
 pub use super::model::DEFAULT_MOVING_BUDGET;

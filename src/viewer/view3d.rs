@@ -1,5 +1,6 @@
 //! The 3D view: the latest frame from the render thread, the camera controls
-//! on it (orbit, pan, zoom, double-click to re-centre), keyboard shortcuts,
+//! on it (orbit, pan, zoom, double-click to re-centre), the inspection tools'
+//! input and overlay (`inspect.rs`), keyboard shortcuts,
 //! the frame-rate count and the scripted screenshot-and-exit sequence.
 
 use std::path::PathBuf;
@@ -29,6 +30,7 @@ impl ViewerApp {
     pub(super) fn view_ui(&mut self, ui: &mut egui::Ui) {
         let (rect, response) = ui.allocate_exact_size(ui.available_size(), egui::Sense::click_and_drag());
         let ppp = ui.ctx().pixels_per_point();
+        self.view_rect = rect;
         let max_side = 8192.0;
         self.view_size = (
             (rect.width() * ppp).round().clamp(1.0, max_side) as u32,
@@ -45,6 +47,7 @@ impl ViewerApp {
             let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
             painter.image(shown.texture.id(), rect, uv, egui::Color32::WHITE);
         }
+        self.draw_inspection(&painter, rect);
         if let Some((style, model)) = self.model.as_ref().and_then(|m| Some((m.style.as_ref()?, m))) {
             super::legend::draw(&painter, rect, style, &model.summary);
         }
@@ -59,7 +62,9 @@ impl ViewerApp {
         }
         let to_vec = |v: egui::Vec2| Vec2::new(v.x, v.y);
         let mut moved = false;
-        if response.dragged_by(egui::PointerButton::Primary) {
+        // A clip-box handle's drag moves the box, not the camera; a click picks or measures.
+        let taken = self.inspect_input(&response, rect, ppp);
+        if response.dragged_by(egui::PointerButton::Primary) && !taken {
             camera_input::orbit(&mut self.ui.camera, to_vec(response.drag_delta()));
             moved = true;
         }

@@ -9,6 +9,7 @@ pub mod lidar;
 pub mod nginx;
 pub mod plywriter;
 pub mod tolerances;
+pub mod viewer;
 
 use std::path::PathBuf;
 use std::sync::{Mutex, MutexGuard, OnceLock};

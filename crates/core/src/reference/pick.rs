@@ -40,6 +40,14 @@ pub struct PickedLayer {
     pub opacity: f32,
 }
 
+/// The options a pick casts with: a reference frame's of `settings` (its
+/// ε, kernel, culling, radius scale and clip), reading the scene's opacity
+/// whatever the mode, so a transparent scene lists every layer.
+pub fn options(settings: &crate::frame::RenderSettings, scene: &Scene) -> ReferenceOptions {
+    let reference = crate::frame::RenderSettings { mode: crate::frame::RenderMode::RULER, ..*settings };
+    ReferenceOptions { transparent: scene.has_transparency(), ..ReferenceOptions::matching(&reference, scene) }
+}
+
 /// The layers the ray through pixel (`x`, `y`) of a `width`×`height` image
 /// meets, nearest first (see the module doc); empty where it meets none.
 pub fn pick(

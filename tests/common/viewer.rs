@@ -1,0 +1,71 @@
+//! Driving the viewer in tests: a kittest harness rendered with wgpu on
+//! lavapipe, options that keep screenshots and groupings in a test's
+//! folder, waiting for the render thread, and pointer input.
+
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use egui_kittest::Harness;
+use pointblend::grouping::cache::Cache;
+use pointblend::render::RenderMode;
+use pointblend::viewer::{ViewerApp, ViewerOptions};
+
+/// Frames of the 3D view come from a render thread: generous for lavapipe on a busy machine.
+pub const PATIENCE: Duration = Duration::from_secs(180);
+
+pub fn harness(options: ViewerOptions) -> Harness<'static, ViewerApp> {
+    harness_sized(options, [900.0, 600.0])
+}
+
+/// [`harness`] in a window of `size` points (a tall one shows the whole left panel).
+pub fn harness_sized(options: ViewerOptions, size: [f32; 2]) -> Harness<'static, ViewerApp> {
+    Harness::builder().with_size(size).wgpu().build_eframe(move |cc| ViewerApp::new(cc, options))
+}
+
+/// Screenshots into `dir`, and groupings cached beside them, not in the user's cache.
+pub fn options(dir: &Path) -> ViewerOptions {
+    let cache = Some(Cache::in_dir(dir.join("grouping-cache")));
+    ViewerOptions { screenshot_dir: dir.to_path_buf(), cache, ..Default::default() }
+}
+
+/// Steps the UI until `done` holds.
+pub fn wait_for(harness: &mut Harness<'_, ViewerApp>, what: &str, done: impl Fn(&ViewerApp) -> bool) {
+    let started = Instant::now();
+    while !done(harness.state()) {
+        assert!(started.elapsed() < PATIENCE, "timed out waiting for {what}");
+        harness.step();
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+pub fn settled_in(mode: RenderMode) -> impl Fn(&ViewerApp) -> bool {
+    move |app| app.is_settled() && app.shown_frame().is_some_and(|(_, key)| key.settings.mode == mode)
+}
+
+fn press(pos: egui::Pos2, pressed: bool) -> egui::Event {
+    egui::Event::PointerButton { pos, button: egui::PointerButton::Primary, pressed, modifiers: Default::default() }
+}
+
+/// A primary-button drag from `from` to `to` in `steps` moves.
+pub fn drag(h: &mut Harness<'_, ViewerApp>, from: egui::Pos2, to: egui::Pos2, steps: u32) {
+    h.input_mut().events.push(egui::Event::PointerMoved(from));
+    h.input_mut().events.push(press(from, true));
+    h.step();
+    for k in 1..=steps {
+        h.input_mut().events.push(egui::Event::PointerMoved(from + (to - from) * (k as f32 / steps as f32)));
+        h.step();
+    }
+    h.input_mut().events.push(press(to, false));
+    h.step();
+}
+
+/// A primary click at `at`.
+pub fn click(h: &mut Harness<'_, ViewerApp>, at: egui::Pos2) {
+    h.input_mut().events.push(egui::Event::PointerMoved(at));
+    h.step();
+    h.input_mut().events.push(press(at, true));
+    h.step();
+    h.input_mut().events.push(press(at, false));
+    h.step();
+    h.step();
+}
