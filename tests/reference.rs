@@ -25,6 +25,7 @@ fn options(epsilon: f32) -> ReferenceOptions {
         shading: flat(),
         lighting: true,
         radius_scale: 1.0,
+        min_pixel_radius: 0.0,
         transparent: true,
         progress: false,
         environment: Default::default(),

@@ -15,7 +15,7 @@ struct Frame {
     // ambient, diffuse, specular, unused
     material: vec4<f32>,
     background: vec4<f32>,
-    // tan(fov_x/2), tan(fov_y/2), splat radius scale, unused
+    // tan(fov_x/2), tan(fov_y/2), splat radius scale, least radius per unit of view depth (--min-pixel-radius)
     lens: vec4<f32>,
     // Environment effects: η, dispersion δ, multi-layer (0/1), skybox (0/1)
     environment: vec4<f32>,
@@ -87,4 +87,10 @@ fn clip_keeps(ray: vec3<f32>, t: f32) -> bool {
         inside = inside && dot(frame.clip[i].xyz, ray) * t + frame.clip[i].w >= 0.0;
     }
     return inside != (frame.clip_counts.z == 1u);
+}
+
+// A splat's drawn radius: its own times the radius scale, and at least
+// --min-pixel-radius pixels at its view depth (RenderSettings::pixel_radius_floor).
+fn drawn_radius(radius: f32, view_depth: f32) -> f32 {
+    return max(abs(radius) * frame.lens.z, frame.lens.w * max(view_depth, 0.0));
 }

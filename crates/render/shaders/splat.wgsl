@@ -121,7 +121,7 @@ fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying 
     let distance = length(centre);
     // Back-face culling: the normal points away from the eye (two-sided splats are kept).
     let back_facing = dot(normal, centre) > 0.0 && frame.splat.w > 0.5 && splat.radius > 0.0;
-    let radius = abs(splat.radius) * frame.lens.z;
+    let radius = drawn_radius(splat.radius, -centre.z);
     if back_facing || !(radius > 0.0) || !(distance > 0.0) || -centre.z - radius >= frame.depth.y {
         out.clip = CULLED;
         return out;

@@ -39,7 +39,7 @@ fn cs_project(dispatch: Dispatch) {
     let normal_length = length(normal_eye);
     let normal = select(vec3<f32>(0.0, 0.0, 1.0), normal_eye / normal_length, normal_length > 1e-20);
     let depth = -centre.z;
-    let radius = abs(signed_radius) * frame.lens.z;
+    let radius = drawn_radius(signed_radius, depth);
     let distance = length(centre);
     let towards = select(vec3<f32>(0.0), centre / distance, distance > 0.0);
     let plane = footprint_normal(normal, towards, frame.splat.z);

@@ -95,7 +95,7 @@ pub struct FrameUniforms {
     pub material: [f32; 4],
     /// background colour, alpha
     pub background: [f32; 4],
-    /// tan(fov_x/2), tan(fov_y/2), splat radius scale, unused
+    /// tan(fov_x/2), tan(fov_y/2), splat radius scale, least radius per unit of view depth (`--min-pixel-radius`)
     pub lens: [f32; 4],
     /// Environment effects: η, dispersion δ, multi-layer (0/1), skybox (0/1)
     pub environment: [f32; 4],

@@ -403,7 +403,7 @@ fn frame_uniforms(
         light: shading.light_dir_eye.extend(shading.shininess).to_array(),
         material: [shading.ambient, shading.diffuse, shading.specular, 0.0],
         background: shading.background.extend(1.0).to_array(),
-        lens: [tan_y * aspect, tan_y, settings.radius_scale, 0.0],
+        lens: [tan_y * aspect, tan_y, settings.radius_scale, settings.pixel_radius_floor(camera.fov_y_deg, height)],
         environment: [
             env.eta,
             env.dispersion,

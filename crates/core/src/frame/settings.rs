@@ -27,6 +27,9 @@ pub struct RenderSettings {
     pub backface_culling: bool,
     /// Every splat radius is multiplied by this (1: as loaded).
     pub radius_scale: f32,
+    /// Far splats are drawn at least this many pixels in radius (0: as
+    /// they are); see [`Self::pixel_radius_floor`].
+    pub min_pixel_radius: f32,
     /// How modes that draw groups split the splats (the paper's opaque setting: MGC at c = 0.4).
     pub grouping: GroupingSpec,
     /// Voronoi rasterisation in the group images (Zhang & Pajarola Eq. 14).
@@ -171,6 +174,17 @@ impl RenderSettings {
         self.lighting && !self.lights.is_empty()
     }
 
+    /// The smallest radius a splat is drawn with, per unit of view depth,
+    /// in an image `height` pixels high under a vertical field of view
+    /// `fov_y_deg`: `--min-pixel-radius` pixels at that depth (0 when unset).
+    /// Every renderer applies it to the splat's disc in its own plane,
+    /// max(r · scale, this · depth), before the EWA prefilter stretches what
+    /// is still smaller than the low-pass radius: with a floor at or above
+    /// the prefilter's radius the filter has nothing left to stretch.
+    pub fn pixel_radius_floor(&self, fov_y_deg: f32, height: u32) -> f32 {
+        self.min_pixel_radius * 2.0 * (fov_y_deg.to_radians() * 0.5).tan() / height.max(1) as f32
+    }
+
     /// ε in view-depth units for a cloud whose mean splat radius is `mean_radius`.
     pub fn epsilon(&self, mean_radius: f32) -> f32 {
         self.epsilon_scale * mean_radius
@@ -186,6 +200,7 @@ impl Default for RenderSettings {
             depth_step: DEFAULT_DEPTH_STEP,
             backface_culling: true,
             radius_scale: 1.0,
+            min_pixel_radius: 0.0,
             grouping: GroupingSpec::default(),
             voronoi: true,
             lighting: true,

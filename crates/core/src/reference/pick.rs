@@ -67,13 +67,14 @@ pub fn pick(
     let ndc = Vec2::new((x as f32 + 0.5) / width as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / height as f32 * 2.0);
     let ray = (ndc * Vec2::new(tan_y * aspect, tan_y)).extend(-1.0);
     let clip = options.clip.in_eye(&view);
+    let floor = options.pixel_radius_floor(camera.fov_y_deg, height);
     let surfaces = scene.surfaces(&flat);
     let drawn = surfaces.loose_splats();
     let mut hits: Vec<(Hit, super::tiles::EyeSplat)> = (0..cloud.len())
         .into_par_iter()
         .filter(|&i| drawn[i])
         .filter_map(|i| {
-            let s = eye_splat(cloud, i, &view, (near, far), options)?;
+            let s = eye_splat(cloud, i, &view, (near, far), floor, options)?;
             let hit = intersect(&s, ray, &options.kernel, near, far).filter(|h| clip.keeps_along(ray, h.depth))?;
             Some((Hit { splat: i as u32, ..hit }, s))
         })

@@ -30,6 +30,10 @@ pub struct ReferenceOptions {
     pub lighting: bool,
     /// Every splat radius is multiplied by this.
     pub radius_scale: f32,
+    /// The least drawn radius per unit of view depth for one output pixel
+    /// of this many pixels high (`RenderSettings::pixel_radius_floor`); set by
+    /// the renderer from `min_pixel_radius`.
+    pub min_pixel_radius: f32,
     /// Read opacity (the scene as defined); else every splat is opaque, as opaque modes draw it.
     pub transparent: bool,
     /// Show a progress bar.
@@ -51,6 +55,12 @@ pub struct ReferenceOptions {
 }
 
 impl ReferenceOptions {
+    /// [`crate::frame::RenderSettings::pixel_radius_floor`] of these options.
+    pub fn pixel_radius_floor(&self, fov_y_deg: f32, height: u32) -> f32 {
+        crate::frame::RenderSettings { min_pixel_radius: self.min_pixel_radius, ..Default::default() }
+            .pixel_radius_floor(fov_y_deg, height)
+    }
+
     /// The options that match a GPU frame of `scene` rendered with `settings`.
     pub fn matching(settings: &crate::frame::RenderSettings, scene: &Scene) -> Self {
         Self {
@@ -60,6 +70,7 @@ impl ReferenceOptions {
             shading: settings.shading,
             lighting: settings.lighting,
             radius_scale: settings.radius_scale,
+            min_pixel_radius: settings.min_pixel_radius,
             // An opaque scene is measured as opaque modes draw it: facing is not split.
             transparent: settings.mode.info().transparent && scene.has_transparency(),
             progress: false,
@@ -134,27 +145,30 @@ fn eye_splats(
     drawn: &[bool],
     view: &glam::Mat4,
     (near, far): (f32, f32),
+    floor: f32,
     options: &ReferenceOptions,
 ) -> Vec<EyeSplat> {
     (0..cloud.len())
         .into_par_iter()
         .filter(|&i| drawn[i])
-        .filter_map(|i| eye_splat(cloud, i, view, (near, far), options))
+        .filter_map(|i| eye_splat(cloud, i, view, (near, far), floor, options))
         .collect()
 }
 
-/// Splat `i` in eye space, or `None` where the GPU passes cull it.
+/// Splat `i` in eye space, or `None` where the GPU passes cull it; `floor`:
+/// the least radius per unit of view depth (`--min-pixel-radius`).
 pub(super) fn eye_splat(
     cloud: &crate::cloud::PointCloud,
     i: usize,
     view: &glam::Mat4,
     (near, far): (f32, f32),
+    floor: f32,
     options: &ReferenceOptions,
 ) -> Option<EyeSplat> {
     let centre = view.transform_point3(cloud.positions[i]);
     let normal = view.transform_vector3(cloud.normals[i]).try_normalize().unwrap_or(Vec3::Z);
     let depth = -centre.z;
-    let radius = cloud.radii[i] * options.radius_scale;
+    let radius = (cloud.radii[i] * options.radius_scale).max(floor * depth.max(0.0));
     let culled = options.backface_culling && !cloud.is_two_sided(i) && normal.dot(centre) > 0.0;
     // Discs that cross the near or far plane keep the part between them (the per-hit test).
     let usable = depth - radius < far && depth + radius > near && radius > 0.0;
@@ -225,7 +239,9 @@ fn render_samples(
     // Objects with triangles are drawn as their triangles, and only their splats no triangle uses.
     let surfaces = scene.surfaces(&flat);
     let drawn = surfaces.loose_splats();
-    let splats = eye_splats(cloud, drawn, &view, (near, far), options);
+    // The floor is in output pixels: `row_multiple` rays per pixel side.
+    let floor = options.pixel_radius_floor(camera.fov_y_deg, height / row_multiple.max(1));
+    let splats = eye_splats(cloud, drawn, &view, (near, far), floor, options);
     let mut bins = tiles::bin(&splats, &proj, width, height, near);
     let eye_triangles =
         triangles::eye_triangles(cloud, surfaces.triangles(), &view, options.backface_culling, options.transparent);

@@ -27,6 +27,8 @@ pub enum Parameter {
     DepthStep,
     /// A factor on every splat radius.
     RadiusScale,
+    /// The least radius in pixels far splats are drawn with.
+    MinPixelRadius,
     BackfaceCulling,
     /// Phong lighting on/off and the light direction.
     Lighting,

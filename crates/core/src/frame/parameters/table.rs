@@ -147,7 +147,7 @@ fn set_environment_layers(s: &mut RenderSettings, value: &str) -> Result<(), Str
 }
 
 /// The table: row i is the parameter whose discriminant is i (a test checks it).
-pub const TABLE: [ParameterInfo; 19] = [
+pub const TABLE: [ParameterInfo; 20] = [
     ParameterInfo {
         parameter: Parameter::Quality,
         key: "quality",
@@ -212,6 +212,22 @@ pub const TABLE: [ParameterInfo; 19] = [
             Ok(())
         },
         get: |s| number(s.radius_scale),
+    },
+    ParameterInfo {
+        parameter: Parameter::MinPixelRadius,
+        key: "min-pixel-radius",
+        flag: "min-pixel-radius",
+        off_switch: None,
+        label: "min splat radius (px)",
+        help: "far splats are drawn at least this many pixels in radius, in their own plane (0: as they are); applied before the EWA prefilter, which then stretches only what is still smaller than its low-pass radius",
+        values: "a number of pixels, 0 to 64",
+        control: Control::Number { min: 0.0, max: 4.0, logarithmic: false },
+        set: |s, v| {
+            let px = v.parse::<f32>().ok().filter(|p| (0.0..=64.0).contains(p)).ok_or_else(String::new)?;
+            s.min_pixel_radius = px;
+            Ok(())
+        },
+        get: |s| number(s.min_pixel_radius),
     },
     ParameterInfo {
         parameter: Parameter::BackfaceCulling,
