@@ -36,18 +36,6 @@ fn right_half() -> ClipRegion {
     ClipRegion { clip_box: None, planes: vec![[1.0, 0.0, 0.0, 0.0]] }
 }
 
-fn render(scene: &Scene, settings: &RenderSettings, size: u32) -> image::RgbaImage {
-    let camera = common::looking_down_z();
-    if !settings.mode.is_gpu() {
-        return reference::render(scene, &camera, &ReferenceOptions::matching(settings, scene), size, size);
-    }
-    let cloud = scene.flattened();
-    let grouping = settings.mode.needs_grouping().then(|| settings.grouping_for_mode().compute(&cloud).unwrap());
-    let mut renderer = common::renderer();
-    let mut gpu = renderer.upload(scene, grouping.as_ref());
-    renderer.render_image(&mut gpu, &camera, settings, size, size).expect("render").0
-}
-
 #[test]
 fn a_plane_through_a_splat_centre_shows_half_its_disc_in_every_mode() {
     const SIZE: u32 = 128;
@@ -59,7 +47,7 @@ fn a_plane_through_a_splat_centre_shows_half_its_disc_in_every_mode() {
         let scene = one_disc(if transparent { 0.6 } else { 1.0 });
         let mut settings = RenderSettings { mode, lighting: false, ..Default::default() };
         settings.clip = scene.clip_in_frame(&right_half());
-        let image = render(&scene, &settings, SIZE);
+        let image = common::render_mode(&scene, &settings, SIZE);
         let background = image.get_pixel(2, 2).0;
         let want = reference::render(
             &scene,

@@ -27,18 +27,6 @@ fn two_discs(tiny: f32) -> Scene {
     })
 }
 
-fn render(scene: &Scene, settings: &RenderSettings) -> image::RgbaImage {
-    let camera = common::looking_down_z();
-    if !settings.mode.is_gpu() {
-        return reference::render(scene, &camera, &ReferenceOptions::matching(settings, scene), SIZE, SIZE);
-    }
-    let cloud = scene.flattened();
-    let grouping = settings.mode.needs_grouping().then(|| settings.grouping_for_mode().compute(&cloud).unwrap());
-    let mut renderer = common::renderer();
-    let mut gpu = renderer.upload(scene, grouping.as_ref());
-    renderer.render_image(&mut gpu, &camera, settings, SIZE, SIZE).expect("render").0
-}
-
 /// The drawn pixels left and right of the image's middle (the two discs).
 fn drawn_halves(image: &image::RgbaImage) -> (usize, usize) {
     let background = common::background_rgb();
@@ -63,8 +51,8 @@ fn a_minimum_pixel_radius_grows_a_tiny_splat_to_its_closed_form_area_in_every_mo
     for mode in RenderMode::ALL {
         let unfloored = RenderSettings { mode, lighting: false, ..Default::default() };
         let floored = RenderSettings { min_pixel_radius: MIN_PX, ..unfloored };
-        let (tiny_before, large_before) = drawn_halves(&render(&scene, &unfloored));
-        let image = render(&scene, &floored);
+        let (tiny_before, large_before) = drawn_halves(&common::render_mode(&scene, &unfloored, SIZE));
+        let image = common::render_mode(&scene, &floored, SIZE);
         let (tiny, large) = drawn_halves(&image);
         let area = std::f32::consts::PI * MIN_PX * MIN_PX;
         assert!(tiny_before <= 1, "{mode}: a 0.005 px splat draws {tiny_before} pixels");
@@ -81,7 +69,8 @@ fn a_minimum_pixel_radius_grows_a_tiny_splat_to_its_closed_form_area_in_every_mo
             let want = reference::render(&scene, &camera, &ReferenceOptions::matching(settings, &scene), SIZE, SIZE);
             reference::compare(image, &want).unwrap().eps
         };
-        let (with_floor, without) = (error_of(&floored, &image), error_of(&unfloored, &render(&scene, &unfloored)));
+        let (with_floor, without) =
+            (error_of(&floored, &image), error_of(&unfloored, &common::render_mode(&scene, &unfloored, SIZE)));
         assert!(
             with_floor <= without + MAX_POINT_SIZE_EPS,
             "{mode}: ε {with_floor:.3} against the reference at the same floor, {without:.3} without a floor"

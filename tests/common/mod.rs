@@ -375,3 +375,22 @@ pub fn stanford_scene(name: &str) -> Option<PathBuf> {
     std::fs::write(&path, text).expect("target/tmp is writable");
     Some(path)
 }
+
+/// `scene` in `settings.mode` (grouped as the mode needs), from
+/// [`looking_down_z`], at `size`²: a GPU frame, or the CPU reference.
+pub fn render_mode(
+    scene: &pointblend::scene::Scene,
+    settings: &pointblend::frame::RenderSettings,
+    size: u32,
+) -> image::RgbaImage {
+    use pointblend::reference::{self, ReferenceOptions};
+    let camera = looking_down_z();
+    if !settings.mode.is_gpu() {
+        return reference::render(scene, &camera, &ReferenceOptions::matching(settings, scene), size, size);
+    }
+    let cloud = scene.flattened();
+    let grouping = settings.mode.needs_grouping().then(|| settings.grouping_for_mode().compute(&cloud).unwrap());
+    let mut renderer = renderer();
+    let mut gpu = renderer.upload(scene, grouping.as_ref());
+    renderer.render_image(&mut gpu, &camera, settings, size, size).expect("render").0
+}
