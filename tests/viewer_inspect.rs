@@ -1,10 +1,12 @@
 //! The inspection tools in the viewer, driven with egui_kittest: dragging a
 //! clip-box handle hides the half beyond it, a click picks the layers under
 //! the pixel, and two clicks measure the distance between the surfaces
-//! under them (against the closed form of a plane).
+//! under them (against the closed form of a plane), and Ctrl+Shift+S saves
+//! 4× the view with the same content.
 
 mod common;
 
+use common::tolerances::MAX_LARGE_SHOT_CHANGED;
 use common::viewer::{click, drag, harness_sized, options, settled_in, wait_for};
 use egui_kittest::kittest::Queryable;
 use glam::{DVec3, Vec2};
@@ -150,4 +152,36 @@ fn a_click_picks_every_layer_under_it_and_two_clicks_measure_the_distance_betwee
     let got = app.inspection().measurement(DVec3::Y).unwrap().distance;
     assert!((got - want).abs() < 1e-3 * want, "measured {got}, the front plane's closed form {want}");
     assert!(h.query_by_label_contains(&format!("distance {got:.4}")).is_some(), "the panel shows the distance");
+}
+
+#[test]
+fn ctrl_shift_s_saves_four_times_the_view_with_the_same_content() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::viewer::harness(options(dir.path()));
+    wait_for(&mut h, "the lion in two-pass", settled_in(RenderMode::TwoPass));
+    let shown = h.state().shown_frame().unwrap().0.clone();
+    let modifiers = egui::Modifiers::COMMAND | egui::Modifiers::SHIFT;
+    h.input_mut().events.push(egui::Event::Key {
+        key: egui::Key::S,
+        physical_key: None,
+        pressed: true,
+        repeat: false,
+        modifiers,
+    });
+    h.step();
+    let png = || {
+        std::fs::read_dir(dir.path())
+            .unwrap()
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .find(|p| p.extension().is_some_and(|e| e == "png"))
+    };
+    wait_for(&mut h, "the large screenshot", |_| png().is_some_and(|p| p.with_extension("json").exists()));
+    let large = image::open(png().unwrap()).unwrap().to_rgba8();
+    assert_eq!(large.dimensions(), (shown.width() * 4, shown.height() * 4), "4 × the view's {:?}", shown.dimensions());
+    // Box-filtered down 4×, it is the view's image up to the splats' sampling.
+    let small = image::imageops::resize(&large, shown.width(), shown.height(), image::imageops::FilterType::Triangle);
+    let differing =
+        small.pixels().zip(shown.pixels()).filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 24)).count();
+    let share = differing as f64 / (shown.width() * shown.height()) as f64;
+    assert!(share < MAX_LARGE_SHOT_CHANGED, "{share:.3} of the pixels differ by more than 24/255 from the view");
 }

@@ -11,6 +11,7 @@ pub mod measure;
 pub mod parameter_flags;
 pub mod pick;
 pub mod render;
+pub mod render_path;
 pub mod scene_args;
 pub mod shared;
 pub mod stream_args;

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use pointblend::frame::{Parameter, RenderMode, RenderSettings, Sidecar};
+use pointblend::frame::{Parameter, RenderMode, RenderSettings, Sidecar, ViewPath};
 use pointblend::reference::{self, ReferenceOptions};
 use pointblend::render::{Frame, HeadlessRenderer, Readback, SceneFrames};
 use pointblend::scene::Scene;
@@ -45,6 +45,13 @@ pub struct Args {
     /// Renders a moving scene at this time, in seconds (animations loop)
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub time: Option<f64>,
+    /// Fly through the views of this file (bookmarked in the viewer):
+    /// --out frames/f.png writes frames/f-0000.png ... and the animated frames/f.gif.
+    #[arg(long, value_name = "VIEWS.json")]
+    pub path: Option<PathBuf>,
+    /// Frames of the --path flight, its first and last views included.
+    #[arg(long, value_name = "N", default_value_t = 60, value_parser = clap::value_parser!(u32).range(2..=100_000))]
+    pub path_frames: u32,
 }
 
 impl Args {
@@ -115,6 +122,10 @@ pub fn run(args: &Args) -> Result<()> {
     // Options are checked before anything is loaded or the GPU is opened.
     check_time(args.time)?;
     let sidecar = args.camera.as_deref().map(Sidecar::read).transpose()?;
+    let views = args.path.as_deref().map(ViewPath::read).transpose()?;
+    if views.is_some() && (args.camera.is_some() || args.diff.is_some()) {
+        bail!("--path flies its own views: it takes neither --camera nor --diff");
+    }
     // Every output is checked before the work starts, so none is written when another cannot be.
     shared::refuse_same_file(&args.out, "the input", &args.file)?;
     shared::prepare_image_output(&args.out)?;
@@ -125,6 +136,12 @@ pub fn run(args: &Args) -> Result<()> {
     }
     let started = Instant::now();
     // A COPC file or URL is streamed: the nodes the view selects under the point budget.
+    if views.is_some() && pointblend::copc::is_streamed(&args.file) {
+        bail!(
+            "{}: --path does not stream a COPC file yet (its views would each select their nodes)",
+            args.file.display()
+        );
+    }
     let mut stream = args.view.stream.open(&args.file)?;
     let mut stream_camera = None;
     let mut scene = match &mut stream {
@@ -157,6 +174,11 @@ pub fn run(args: &Args) -> Result<()> {
         Some(s) => (s.settings().map_err(anyhow::Error::msg)?, (s.size[0], s.size[1])),
         None => (args.view.settings(&scene)?, args.view.size),
     };
+    if let Some(s) = &sidecar {
+        // The screenshot's clip, unless the command line gives one.
+        let region = args.view.scene.clip_region_or(&s.clip.clone().unwrap_or_default()).map_err(anyhow::Error::msg)?;
+        settings.clip = scene.clip_in_frame(&region);
+    }
     args.apply_environment(&mut scene, &mut settings)?;
     if stream.is_some() {
         // The stream applied the budget when it selected the nodes.
@@ -201,6 +223,9 @@ pub fn run(args: &Args) -> Result<()> {
     // A screenshot of a moving scene names its time; --time overrides it.
     let time = args.time.or(sidecar.as_ref().and_then(|s| s.time));
     let mut frames = moving_frames(scene, time)?;
+    if let Some(views) = &views {
+        return super::render_path::run(args, views, &mut frames, gpu.as_mut(), &settings, (width, height));
+    }
     let Frame { image, plan } =
         frames.render_frame(gpu.as_mut(), &camera, &settings, (width, height), Readback::ImageWithProgress)?;
     let scene = frames.scene();

@@ -53,10 +53,15 @@ pub struct SceneArgs {
 
 impl SceneArgs {
     /// The clip region: the flags' when any is given (they replace a scene
-    /// file's `[clip]`), else the scene's.
+    /// file's `[clip]` and a sidecar's), else the scene's.
     pub fn clip_region(&self, scene: &Scene) -> Result<ClipRegion, String> {
+        self.clip_region_or(&scene.clip)
+    }
+
+    /// The flags' clip region when any is given, else `otherwise`.
+    pub fn clip_region_or(&self, otherwise: &ClipRegion) -> Result<ClipRegion, String> {
         if self.clip_box.is_none() && self.clip_planes.is_empty() {
-            return Ok(scene.clip.clone());
+            return Ok(otherwise.clone());
         }
         let clip_box = self.clip_box.map(|b| ClipBox { hide: self.clip_hide.unwrap_or_default(), ..b });
         let region = ClipRegion { clip_box, planes: self.clip_planes.clone() };

@@ -80,6 +80,8 @@ impl ViewerApp {
                 }
                 Action::MeasureError => self.measure_error(ctx),
                 Action::SaveScreenshot => self.save_screenshot(),
+                Action::SaveLargeScreenshot => self.save_large_screenshot(),
+                Action::SaveViews => self.save_views(),
                 Action::ResetCamera => self.reset_camera(),
                 Action::CameraMoved => self.camera_moved(),
                 Action::SetOpacity(opacity) => self.set_opacity(ctx, opacity),

@@ -135,6 +135,8 @@ impl ViewerApp {
                 clip_planes: options.clip.planes.clone(),
                 ..Default::default()
             },
+            bookmarks: Vec::new(),
+            large_factor: 4,
         };
         let mut app = Self {
             ui,

@@ -19,6 +19,27 @@ use crate::reference::{self, ReferenceOptions};
 impl ViewerApp {
     /// Renders the current view at the chosen size into a PNG and a JSON sidecar beside it.
     pub fn save_screenshot(&mut self) {
+        self.save_screenshot_at(self.ui.screenshot_size);
+    }
+
+    /// Ctrl+Shift+S: the current view at N × the view's size (N in the panel).
+    pub fn save_large_screenshot(&mut self) {
+        self.save_screenshot_at(super::state::ScreenshotSize::Times(self.ui.large_factor));
+    }
+
+    /// Writes the bookmarked views to `views.json` beside the screenshots, for `render --path`.
+    pub(super) fn save_views(&mut self) {
+        let path = self.options.screenshot_dir.join("views.json");
+        let written = std::fs::create_dir_all(&self.options.screenshot_dir)
+            .and_then(|()| crate::frame::ViewPath::new(&self.ui.bookmarks).write(&path));
+        self.status = Some(match written {
+            Ok(()) => format!("{} views -> {}", self.ui.bookmarks.len(), path.display()),
+            Err(e) => format!("{}: {e}", path.display()),
+        });
+    }
+
+    /// Renders the current view at `size` into a PNG and a JSON sidecar beside it.
+    fn save_screenshot_at(&mut self, size: super::state::ScreenshotSize) {
         let (Some(model), Some(mut key)) = (self.model.clone(), self.current_key()) else {
             self.status = Some("no model to take a screenshot of".into());
             return;
@@ -26,9 +47,13 @@ impl ViewerApp {
         let settings = self.ui.settings;
         // The full frame, never the preview's budget: what the sidecar says.
         key.preview = false;
-        key.settings = settings;
+        key.settings = crate::frame::RenderSettings { clip: key.settings.clip, ..settings };
         key.grouping = super::frames::drawn_grouping(&model, &settings);
-        let size = self.ui.screenshot_size.pixels(self.view_size);
+        let size = size.pixels(self.view_size);
+        if let Err(e) = crate::frame::settings::check_image_size(size.0, size.1) {
+            self.status = Some(format!("a screenshot of {e}"));
+            return;
+        }
         let png = next_free_path(&self.options.screenshot_dir, &model.name, settings.mode);
         let model_info = SidecarModel {
             name: model.name.clone(),
@@ -37,8 +62,14 @@ impl ViewerApp {
             splats: model.cloud.len(),
         };
         let style = model.style.as_deref().map(crate::style::record::StyleRecord::from);
-        let sidecar =
-            Box::new(Sidecar { time: key.time, style, ..Sidecar::new(model_info, &self.ui.camera, &settings, size) });
+        let region = self.ui.inspect.region();
+        let clip = (!region.is_empty()).then_some(region);
+        let sidecar = Box::new(Sidecar {
+            time: key.time,
+            style,
+            clip,
+            ..Sidecar::new(model_info, &self.ui.camera, &settings, size)
+        });
         if let Err(e) = std::fs::create_dir_all(&self.options.screenshot_dir) {
             self.status = Some(format!("{}: {e}", self.options.screenshot_dir.display()));
             return;

@@ -177,7 +177,30 @@ fn camera_section(ui: &mut Ui, state: &mut UiState, actions: &mut Vec<Action>) {
         if ui.button("Home").on_hover_text("reset the camera (Home key)").clicked() {
             actions.push(Action::ResetCamera);
         }
+        if ui.button("bookmark view").on_hover_text("add this view to the camera path").clicked() {
+            state.bookmarks.push(state.camera);
+        }
     });
+    if !state.bookmarks.is_empty() {
+        ui.horizontal_wrapped(|ui| {
+            let mut go = None;
+            for k in 0..state.bookmarks.len() {
+                if ui.small_button(format!("{}", k + 1)).on_hover_text("go to this view").clicked() {
+                    go = Some(k);
+                }
+            }
+            if let Some(k) = go {
+                state.camera = state.bookmarks[k];
+                actions.push(Action::CameraMoved);
+            }
+            if ui.button("save views").on_hover_text("views.json, for render --path").clicked() {
+                actions.push(Action::SaveViews);
+            }
+            if ui.small_button("clear").clicked() {
+                state.bookmarks.clear();
+            }
+        });
+    }
     ui.add(
         egui::Label::new(
             RichText::new("drag: orbit · right/middle drag: pan · wheel: zoom · double-click: centre").weak(),
@@ -196,6 +219,12 @@ fn screenshot_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, ac
         });
         if ui.button("Save (Ctrl+S)").clicked() {
             actions.push(Action::SaveScreenshot);
+        }
+    });
+    ui.horizontal(|ui| {
+        ui.add(egui::DragValue::new(&mut state.large_factor).range(1..=16).prefix("× "));
+        if ui.button("Save large (Ctrl+Shift+S)").on_hover_text("N × the view's size, up to 16384 a side").clicked() {
+            actions.push(Action::SaveLargeScreenshot);
         }
     });
     ui.label(RichText::new(format!("PNG + JSON sidecar in {}", info.screenshot_dir.display())).weak());

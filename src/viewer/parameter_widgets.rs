@@ -247,6 +247,8 @@ mod tests {
             playing: false,
             moving_budget: 100_000,
             inspect: Default::default(),
+            bookmarks: Vec::new(),
+            large_factor: 4,
         }
     }
 

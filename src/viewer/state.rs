@@ -17,14 +17,17 @@ use super::render_thread::FrameStats;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ScreenshotSize {
     Window,
-    Double,
+    /// N × the view's size (each side at most [`crate::frame::settings::MAX_IMAGE_SIDE`]).
+    Times(u32),
     Fixed(u32, u32),
 }
 
 impl ScreenshotSize {
-    pub const CHOICES: [ScreenshotSize; 4] = [
+    pub const CHOICES: [ScreenshotSize; 6] = [
         ScreenshotSize::Window,
-        ScreenshotSize::Double,
+        ScreenshotSize::Times(2),
+        ScreenshotSize::Times(4),
+        ScreenshotSize::Times(8),
         ScreenshotSize::Fixed(1920, 1080),
         ScreenshotSize::Fixed(3840, 2160),
     ];
@@ -32,7 +35,7 @@ impl ScreenshotSize {
     pub fn label(self) -> String {
         match self {
             ScreenshotSize::Window => "view size".into(),
-            ScreenshotSize::Double => "2 × view size".into(),
+            ScreenshotSize::Times(n) => format!("{n} × view size"),
             ScreenshotSize::Fixed(w, h) => format!("{w} × {h}"),
         }
     }
@@ -40,7 +43,7 @@ impl ScreenshotSize {
     pub fn pixels(self, view: (u32, u32)) -> (u32, u32) {
         match self {
             ScreenshotSize::Window => view,
-            ScreenshotSize::Double => (view.0 * 2, view.1 * 2),
+            ScreenshotSize::Times(n) => (view.0.saturating_mul(n), view.1.saturating_mul(n)),
             ScreenshotSize::Fixed(w, h) => (w, h),
         }
     }
@@ -87,6 +90,10 @@ pub struct UiState {
     pub moving_budget: u32,
     /// The clip box, the pick and the measurement ([`super::inspect`]).
     pub inspect: Inspection,
+    /// Views bookmarked for a camera path (`render --path`).
+    pub bookmarks: Vec<Camera>,
+    /// N of Ctrl+Shift+S: a screenshot at N × the view's size.
+    pub large_factor: u32,
 }
 
 /// What a click in the 3D view does.
@@ -175,6 +182,10 @@ pub enum Action {
     Cancel(JobKind),
     MeasureError,
     SaveScreenshot,
+    /// A screenshot at N × the view's size (Ctrl+Shift+S).
+    SaveLargeScreenshot,
+    /// Write the bookmarked views to a views file beside the screenshots.
+    SaveViews,
     ResetCamera,
     /// The camera was edited in the panel (field of view).
     CameraMoved,

@@ -18,6 +18,10 @@ impl ViewerApp {
         if let Some(path) = dropped.first() {
             self.open(ctx, path);
         }
+        let command_shift = egui::Modifiers::COMMAND | egui::Modifiers::SHIFT;
+        if ctx.input_mut(|i| i.consume_key(command_shift, egui::Key::S)) {
+            self.save_large_screenshot();
+        }
         if ctx.input_mut(|i| i.consume_key(egui::Modifiers::COMMAND, egui::Key::S)) {
             self.save_screenshot();
         }

@@ -226,3 +226,8 @@ pub const MAX_CLIP_EPS: f64 = 0.05;
 /// in every mode (alg1 and alg2 are 24.9 with and without the floor: their
 /// covering groups enlarge the lone large disc of the test scene).
 pub const MAX_POINT_SIZE_EPS: f64 = 0.05;
+
+/// A 4× screenshot of the viewer's view, box-filtered back down, against the
+/// view: the share of pixels off by more than 24/255 (the splats are
+/// sampled 16× as densely, so edges differ). Measured: 0.0068 (the lion in two-pass).
+pub const MAX_LARGE_SHOT_CHANGED: f64 = 0.03;

@@ -15,6 +15,7 @@ pub mod settings;
 pub mod shading;
 pub mod sidecar;
 pub mod variant;
+pub mod view_path;
 
 pub use camera::{Camera, UpAxis};
 pub use clip::{Clip, ClipRegion};
@@ -27,3 +28,4 @@ pub use settings::{Quality, RenderSettings};
 pub use shading::Shading;
 pub use sidecar::Sidecar;
 pub use variant::ModeVariant;
+pub use view_path::ViewPath;

@@ -71,6 +71,9 @@ pub struct Sidecar {
     /// The colour and opacity by attribute drawn (absent: the files' own).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub style: Option<crate::style::record::StyleRecord>,
+    /// The clip region, in file coordinates (absent: nothing clipped).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clip: Option<super::ClipRegion>,
 }
 
 const UP_AXES: [(UpAxis, [f32; 3]); 6] = [
@@ -82,23 +85,68 @@ const UP_AXES: [(UpAxis, [f32; 3]); 6] = [
     (UpAxis::NegZ, [0.0, 0.0, -1.0]),
 ];
 
+impl SidecarCamera {
+    /// The orbit parameters of `camera`.
+    pub fn of(camera: &Camera) -> Self {
+        let up = UP_AXES.iter().find(|(a, _)| *a == camera.up).map(|(_, v)| *v).unwrap_or([0.0, 1.0, 0.0]);
+        SidecarCamera {
+            target: camera.target.to_array(),
+            distance: camera.distance,
+            azimuth_deg: camera.azimuth_deg,
+            elevation_deg: camera.elevation_deg,
+            fov_y_deg: camera.fov_y_deg,
+            up,
+            scene_radius: camera.scene_radius,
+        }
+    }
+
+    /// The up axis its `up` names.
+    pub fn up_axis(&self) -> Result<UpAxis, String> {
+        UP_AXES
+            .iter()
+            .find(|(_, v)| *v == self.up)
+            .map(|(a, _)| *a)
+            .ok_or_else(|| format!("up {:?} is not an axis", self.up))
+    }
+
+    /// Checks that a camera can be drawn from: finite values in range and an axis for up.
+    pub fn check(&self) -> Result<(), String> {
+        let finite = self
+            .target
+            .iter()
+            .chain([self.distance, self.azimuth_deg, self.elevation_deg, self.fov_y_deg, self.scene_radius].iter())
+            .all(|v| v.is_finite());
+        if !finite
+            || self.distance <= 0.0
+            || !(self.fov_y_deg > 0.0 && self.fov_y_deg < 180.0)
+            || self.scene_radius <= 0.0
+        {
+            return Err("the camera has a non-finite or out-of-range value".into());
+        }
+        self.up_axis().map(|_| ())
+    }
+
+    pub fn camera(&self) -> Camera {
+        Camera {
+            target: Vec3::from_array(self.target),
+            distance: self.distance,
+            azimuth_deg: self.azimuth_deg,
+            elevation_deg: self.elevation_deg,
+            fov_y_deg: self.fov_y_deg,
+            up: self.up_axis().unwrap_or(UpAxis::PosY),
+            scene_radius: self.scene_radius,
+        }
+    }
+}
+
 impl Sidecar {
     pub fn new(model: SidecarModel, camera: &Camera, settings: &RenderSettings, size: (u32, u32)) -> Self {
-        let up = UP_AXES.iter().find(|(a, _)| *a == camera.up).map(|(_, v)| *v).unwrap_or([0.0, 1.0, 0.0]);
         Sidecar {
             generator: format!("pointblend {}", env!("CARGO_PKG_VERSION")),
             model,
             mode: settings.mode.name().to_string(),
             size: [size.0, size.1],
-            camera: SidecarCamera {
-                target: camera.target.to_array(),
-                distance: camera.distance,
-                azimuth_deg: camera.azimuth_deg,
-                elevation_deg: camera.elevation_deg,
-                fov_y_deg: camera.fov_y_deg,
-                up,
-                scene_radius: camera.scene_radius,
-            },
+            camera: SidecarCamera::of(camera),
             parameters: Parameter::ALL
                 .into_iter()
                 .filter_map(|p| Some((p.key().to_string(), p.text(settings)?)))
@@ -107,6 +155,7 @@ impl Sidecar {
             settings: None,
             time: None,
             style: None,
+            clip: None,
         }
     }
 
@@ -119,15 +168,9 @@ impl Sidecar {
         let bad = |message: String| SidecarError::Format { path: shown.clone(), message };
         // The checks the command line's flags get.
         sidecar.settings().and_then(|s| s.check()).map_err(bad)?;
-        sidecar.up_axis().map_err(bad)?;
-        let c = &sidecar.camera;
-        let finite = c
-            .target
-            .iter()
-            .chain([c.distance, c.azimuth_deg, c.elevation_deg, c.fov_y_deg, c.scene_radius].iter())
-            .all(|v| v.is_finite());
-        if !finite || c.distance <= 0.0 || !(c.fov_y_deg > 0.0 && c.fov_y_deg < 180.0) || c.scene_radius <= 0.0 {
-            return Err(bad("the camera has a non-finite or out-of-range value".into()));
+        sidecar.camera.check().map_err(bad)?;
+        if let Some(clip) = &sidecar.clip {
+            clip.check().map_err(|e| bad(format!("clip: {e}")))?;
         }
         super::settings::check_image_size(sidecar.size[0], sidecar.size[1]).map_err(|e| bad(format!("size {e}")))?;
         Ok(sidecar)
@@ -139,25 +182,8 @@ impl Sidecar {
         crate::output::write_atomically(path, text.as_bytes())
     }
 
-    fn up_axis(&self) -> Result<UpAxis, String> {
-        UP_AXES
-            .iter()
-            .find(|(_, v)| *v == self.camera.up)
-            .map(|(a, _)| *a)
-            .ok_or_else(|| format!("up {:?} is not an axis", self.camera.up))
-    }
-
     pub fn camera(&self) -> Camera {
-        let c = &self.camera;
-        Camera {
-            target: Vec3::from_array(c.target),
-            distance: c.distance,
-            azimuth_deg: c.azimuth_deg,
-            elevation_deg: c.elevation_deg,
-            fov_y_deg: c.fov_y_deg,
-            up: self.up_axis().unwrap_or(UpAxis::PosY),
-            scene_radius: c.scene_radius,
-        }
+        self.camera.camera()
     }
 
     /// The settings, starting from the defaults for what the sidecar does not hold.
