@@ -44,3 +44,43 @@ fn the_viewer_window_opens_on_the_demo_scene_in_alg2_shows_the_balls_through_the
         .count();
     assert!(red as f64 / view.len() as f64 > 0.005, "no red ball shows through the lion: {red} pixels");
 }
+
+#[test]
+#[ignore = "needs a display: scripts/test runs it under xvfb-run"]
+fn the_viewer_window_opens_clipped_by_the_command_lines_box_and_draws_its_handles() {
+    let dir = tempfile::tempdir().unwrap();
+    let (clipped, whole) = (dir.path().join("clipped.png"), dir.path().join("whole.png"));
+    let lion = common::bundled_model();
+    let run = |shot: &std::path::Path, extra: &[&str]| {
+        let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
+            .arg("view")
+            .arg(&lion)
+            .args(extra)
+            .args(["--exit-after-frames", "3", "--screenshot"])
+            .arg(shot)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+        assert!(output.status.success() && !stderr.contains("panicked"), "{stderr}");
+        image::open(shot).expect("the window screenshot is a PNG").to_rgba8()
+    };
+    // The half x > 0 of the lion (bounds x in -2.1..2.1) is cut away.
+    let window = run(&clipped, &["--clip-box", "0,-1,-3,3,5,3", "--clip-hide", "inside"]);
+    let plain = run(&whole, &[]);
+    let (w, h) = window.dimensions();
+    let view: Vec<_> = (0..h).flat_map(|y| (w / 2..w).map(move |x| (x, y))).collect();
+    // The box's edges and handles are drawn in (250, 200, 60).
+    let box_pixels = view
+        .iter()
+        .filter(|&&(x, y)| {
+            let p = window.get_pixel(x, y).0;
+            p[0].abs_diff(250) < 12 && p[1].abs_diff(200) < 12 && p[2].abs_diff(60) < 12
+        })
+        .count();
+    assert!(box_pixels > 200, "the clip box is drawn: {box_pixels} pixels of its colour");
+    let surface = |image: &image::RgbaImage| {
+        view.iter().filter(|&&(x, y)| (0..3).any(|c| image.get_pixel(x, y)[c].abs_diff([28, 31, 36][c]) > 30)).count()
+    };
+    let (cut, all) = (surface(&window) - box_pixels, surface(&plain));
+    assert!((cut as f64) < 0.8 * all as f64, "half the lion is cut away: {cut} surface pixels against {all}");
+}

@@ -224,7 +224,8 @@ pub fn run(args: &Args) -> Result<()> {
     let time = args.time.or(sidecar.as_ref().and_then(|s| s.time));
     let mut frames = moving_frames(scene, time)?;
     if let Some(views) = &views {
-        return super::render_path::run(args, views, &mut frames, gpu.as_mut(), &settings, (width, height));
+        let flight = super::render_path::Flight { file: &args.file, out: &args.out, frames: args.path_frames };
+        return super::render_path::run(&flight, views, &mut frames, gpu.as_mut(), &settings, (width, height));
     }
     let Frame { image, plan } =
         frames.render_frame(gpu.as_mut(), &camera, &settings, (width, height), Readback::ImageWithProgress)?;

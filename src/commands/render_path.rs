@@ -12,8 +12,6 @@ use anyhow::{Context, Result};
 use pointblend::frame::{RenderSettings, ViewPath};
 use pointblend::render::{Frame, HeadlessRenderer, Readback, SceneFrames};
 
-use super::render::Args;
-
 /// Frames per second of the animated GIF.
 const GIF_FPS: u32 = 25;
 
@@ -24,15 +22,22 @@ pub fn frame_path(out: &Path, k: u32) -> PathBuf {
     out.with_file_name(format!("{stem}-{k:04}.{extension}"))
 }
 
+/// What a flight writes: the input's name (for the report), the `--out` pattern and the frame count.
+pub struct Flight<'a> {
+    pub file: &'a Path,
+    pub out: &'a Path,
+    pub frames: u32,
+}
+
 pub fn run(
-    args: &Args,
+    args: &Flight<'_>,
     views: &ViewPath,
     frames: &mut SceneFrames,
     mut gpu: Option<&mut HeadlessRenderer>,
     settings: &RenderSettings,
     size: (u32, u32),
 ) -> Result<()> {
-    let n = args.path_frames;
+    let n = args.frames;
     let gif_path = args.out.with_extension("gif");
     let started = Instant::now();
     let bar = pointblend::progress::bar(n as u64, "camera path", true);
@@ -44,7 +49,7 @@ pub fn run(
             let camera = views.camera_at(k as f32 / (n - 1) as f32);
             let Frame { image, .. } =
                 frames.render_frame(gpu.as_deref_mut(), &camera, settings, size, Readback::Image)?;
-            super::shared::write_image(&image, &frame_path(&args.out, k))?;
+            super::shared::write_image(&image, &frame_path(args.out, k))?;
             let delay = image::Delay::from_numer_denom_ms(1000, GIF_FPS);
             gif.encode_frame(image::Frame::from_parts(image, 0, 0, delay))
                 .with_context(|| format!("{}: frame {k}", gif_path.display()))?;
@@ -60,8 +65,8 @@ pub fn run(
         n,
         views.views.len(),
         started.elapsed().as_secs_f64(),
-        frame_path(&args.out, 0).display(),
-        frame_path(&args.out, n - 1).display(),
+        frame_path(args.out, 0).display(),
+        frame_path(args.out, n - 1).display(),
         gif_path.display()
     );
     Ok(())
