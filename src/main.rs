@@ -146,7 +146,7 @@ mod tests {
             "clip-plane",
         ];
         let own: [(&str, &[&str]); 3] = [
-            ("render", &["out", "explain", "diff", "flat-background", "time"]),
+            ("render", &["out", "explain", "diff", "flat-background", "time", "path", "path-frames"]),
             ("bench", &["modes", "frames", "warm-up", "views", "loads", "orders", "out", "animate"]),
             ("view", &["screenshot", "exit-after-frames", "screenshot-dir", "out"]),
         ];

@@ -24,6 +24,9 @@ pub fn run(args: &Args) -> Result<()> {
     }
     // A first window shows what pointblend is for: see-through surfaces.
     let first_run = args.file.is_none() && args.camera.is_none();
+    // The flags' clip, else a screenshot's.
+    let shot_clip = view.as_ref().and_then(|v| v.clip.clone()).unwrap_or_default();
+    let clip = args.scene.clip_region_or(&shot_clip).map_err(anyhow::Error::msg)?;
     let options = ViewerOptions {
         file: args.file.clone().or_else(|| first_run.then(|| viewer::DEMO_SCENE.into())),
         screenshot: args.screenshot.clone(),
@@ -36,7 +39,7 @@ pub fn run(args: &Args) -> Result<()> {
         parameters: args.parameters.values(),
         environment: args.env.clone(),
         lights: args.scene.lights.clone(),
-        clip: args.scene.clip_region(&Default::default()).map_err(anyhow::Error::msg)?,
+        clip,
     };
     match viewer::run_window(options) {
         Ok(()) => Ok(()),

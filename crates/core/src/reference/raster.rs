@@ -30,9 +30,8 @@ pub struct ReferenceOptions {
     pub lighting: bool,
     /// Every splat radius is multiplied by this.
     pub radius_scale: f32,
-    /// The least drawn radius per unit of view depth for one output pixel
-    /// of this many pixels high (`RenderSettings::pixel_radius_floor`); set by
-    /// the renderer from `min_pixel_radius`.
+    /// Far splats are drawn at least this many (output) pixels in radius
+    /// (`RenderSettings::min_pixel_radius`).
     pub min_pixel_radius: f32,
     /// Read opacity (the scene as defined); else every splat is opaque, as opaque modes draw it.
     pub transparent: bool,
@@ -55,10 +54,9 @@ pub struct ReferenceOptions {
 }
 
 impl ReferenceOptions {
-    /// [`crate::frame::RenderSettings::pixel_radius_floor`] of these options.
+    /// [`crate::frame::settings::pixel_radius_floor`] of these options.
     pub fn pixel_radius_floor(&self, fov_y_deg: f32, height: u32) -> f32 {
-        crate::frame::RenderSettings { min_pixel_radius: self.min_pixel_radius, ..Default::default() }
-            .pixel_radius_floor(fov_y_deg, height)
+        crate::frame::settings::pixel_radius_floor(self.min_pixel_radius, fov_y_deg, height)
     }
 
     /// The options that match a GPU frame of `scene` rendered with `settings`.
