@@ -76,8 +76,7 @@ impl Picking {
 
     /// The layers under `pixel`.
     pub fn pick(&self, (x, y): (u32, u32)) -> PickReport {
-        let layers = pick::pick(&self.scene, &self.camera, &self.options, self.size, (x, y));
-        PickReport::new([x, y], layers, &self.scene.flatten().cloud)
+        PickReport::of(&self.scene, &self.camera, &self.options, self.size, [x, y])
     }
 }
 

@@ -40,15 +40,12 @@ impl ViewerApp {
 
     /// Renders the current view at `size` into a PNG and a JSON sidecar beside it.
     fn save_screenshot_at(&mut self, size: super::state::ScreenshotSize) {
-        let (Some(model), Some(mut key)) = (self.model.clone(), self.current_key()) else {
+        // The full frame, never the preview's budget: what the sidecar says.
+        let (Some(model), Some(key)) = (self.model.clone(), self.frame_key(false)) else {
             self.status = Some("no model to take a screenshot of".into());
             return;
         };
         let settings = self.ui.settings;
-        // The full frame, never the preview's budget: what the sidecar says.
-        key.preview = false;
-        key.settings = crate::frame::RenderSettings { clip: key.settings.clip, ..settings };
-        key.grouping = super::frames::drawn_grouping(&model, &settings);
         let size = size.pixels(self.view_size);
         if let Err(e) = crate::frame::settings::check_image_size(size.0, size.1) {
             self.status = Some(format!("a screenshot of {e}"));

@@ -29,11 +29,17 @@ pub(super) fn drawn_grouping(model: &super::model::Model, settings: &crate::rend
 impl ViewerApp {
     /// The frame the view should show now, if a model is loaded.
     pub fn current_key(&self) -> Option<FrameKey> {
+        self.frame_key(true)
+    }
+
+    /// The frame of the current state; `may_preview`: a large model whose
+    /// camera just moved is drawn under the moving budget (never in a screenshot).
+    pub(super) fn frame_key(&self, may_preview: bool) -> Option<FrameKey> {
         let model = self.model.as_ref()?;
         let budget = self.ui.moving_budget.min(self.ui.settings.point_budget.unwrap_or(u32::MAX));
         // A streamed model is the selection under the budget already.
         let large = model.cloud.len() > budget as usize && !model.is_animated() && model.streamed.is_none();
-        let preview = large && self.last_camera_move.is_some_and(|t| t.elapsed() < SETTLE);
+        let preview = may_preview && large && self.last_camera_move.is_some_and(|t| t.elapsed() < SETTLE);
         let mut settings = self.ui.settings;
         settings.clip = model.scene.clip_in_frame(&self.ui.inspect.region());
         if model.streamed.is_some() {

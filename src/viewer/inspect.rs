@@ -83,9 +83,7 @@ impl ViewerApp {
         let model = self.model.as_ref()?;
         let key = self.current_key()?;
         let options = crate::reference::pick::options(&key.settings, &model.scene);
-        let layers =
-            crate::reference::pick::pick(&model.scene, &self.ui.camera, &options, self.view_size, (pixel[0], pixel[1]));
-        Some(PickReport::new(pixel, layers, &model.scene.flatten().cloud))
+        Some(PickReport::of(&model.scene, &self.ui.camera, &options, self.view_size, pixel))
     }
 
     /// A click in the view at `pos`: a pick, or a measured point, by the tool chosen.

@@ -39,7 +39,7 @@ mod widgets;
 
 pub use app::{ViewerApp, ViewerOptions};
 pub use model::Model;
-pub use state::{FrameKey, Inspection, ScreenshotSize, Tool};
+pub use state::{FrameKey, Inspection, ScreenshotSize};
 
 /// The model bundled with pointblend.
 pub const BUNDLED_MODEL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/lion.ply");

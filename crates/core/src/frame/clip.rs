@@ -206,19 +206,10 @@ impl Clip {
 }
 
 impl EyeClip {
-    /// Whether the eye-space point `p` is kept.
-    pub fn keeps(&self, p: Vec3) -> bool {
-        self.keeps_with(|q| q.truncate().dot(p) + q.w)
-    }
-
     /// Whether the point at view depth `t` along `ray` (z = -1) is kept,
     /// each plane tested as (n·ray)·t + d: what `clip_keeps` in `frame.wgsl` computes.
     pub fn keeps_along(&self, ray: Vec3, t: f32) -> bool {
-        self.keeps_with(|q| q.truncate().dot(ray) * t + q.w)
-    }
-
-    /// The rule, given each plane's signed distance.
-    fn keeps_with(&self, distance: impl Fn(&Vec4) -> f32) -> bool {
+        let distance = |q: &Vec4| q.truncate().dot(ray) * t + q.w;
         let [user, boxed, hide_inside] = self.counts;
         if !self.planes[..user as usize].iter().all(|q| distance(q) >= 0.0) {
             return false;
@@ -228,10 +219,6 @@ impl EyeClip {
         }
         let inside = self.planes[user as usize..(user + boxed) as usize].iter().all(|q| distance(q) >= 0.0);
         inside != (hide_inside == 1)
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.counts[0] == 0 && self.counts[1] == 0
     }
 }
 
@@ -260,14 +247,16 @@ mod tests {
             (file(500_004.0, 4_000_001.0, 100.5), false), // outside the box
         ] {
             assert_eq!(clip.keeps(p), kept, "{p}");
-            assert_eq!(eye.keeps(view.transform_point3(p)), kept, "{p} in eye space");
+            let q = view.transform_point3(p);
+            assert_eq!(eye.keeps_along(q / -q.z, -q.z), kept, "{p} in eye space");
         }
         let inverted =
             ClipRegion { clip_box: region.clip_box.map(|b| ClipBox { hide: Hidden::Inside, ..b }), planes: vec![] };
         let clip = inverted.in_frame(origin, 1.0);
         assert!(!clip.keeps(file(500_002.0, 4_000_001.0, 100.5)));
         assert!(clip.keeps(file(500_004.0, 4_000_001.0, 100.5)));
-        assert!(clip.in_eye(&view).keeps(view.transform_point3(file(500_004.0, 4_000_001.0, 100.5))));
+        let q = view.transform_point3(file(500_004.0, 4_000_001.0, 100.5));
+        assert!(clip.in_eye(&view).keeps_along(q / -q.z, -q.z));
     }
 
     #[test]

@@ -18,6 +18,19 @@ pub struct PickReport {
 }
 
 impl PickReport {
+    /// Picks pixel `pixel` of a `size` image of `scene` ([`crate::reference::pick`]) and reads its attributes.
+    pub fn of(
+        scene: &crate::scene::Scene,
+        camera: &crate::frame::Camera,
+        options: &crate::reference::ReferenceOptions,
+        size: (u32, u32),
+        pixel: [u32; 2],
+    ) -> Self {
+        let flat = scene.flatten();
+        let layers = crate::reference::pick::pick_in(scene, &flat, camera, options, size, (pixel[0], pixel[1]));
+        PickReport::new(pixel, layers, &flat.cloud)
+    }
+
     /// The report of `layers` picked at `pixel` in a scene whose flattened cloud is `cloud`.
     pub fn new(pixel: [u32; 2], layers: Vec<PickedLayer>, cloud: &PointCloud) -> Self {
         let attributes = layers

@@ -16,7 +16,7 @@
 use glam::{DVec3, Vec2, Vec3};
 use rayon::prelude::*;
 
-use super::raster::{Hit, ReferenceOptions, eye_splat, intersect, take_layer};
+use super::raster::{Hit, ReferenceOptions, eye_splat, intersect, pixel_ray, take_layer};
 use crate::frame::Camera;
 use crate::scene::Scene;
 
@@ -54,21 +54,31 @@ pub fn pick(
     scene: &Scene,
     camera: &Camera,
     options: &ReferenceOptions,
+    size: (u32, u32),
+    pixel: (u32, u32),
+) -> Vec<PickedLayer> {
+    pick_in(scene, &scene.flatten(), camera, options, size, pixel)
+}
+
+/// [`pick`] in `flat`, the scene's [`Scene::flatten`] (made once by a caller that reads it too).
+pub fn pick_in(
+    scene: &Scene,
+    flat: &crate::scene::FlatScene<'_>,
+    camera: &Camera,
+    options: &ReferenceOptions,
     (width, height): (u32, u32),
     (x, y): (u32, u32),
 ) -> Vec<PickedLayer> {
-    let flat = scene.flatten();
     let cloud = flat.cloud.as_ref();
     let (width, height) = (width.max(1), height.max(1));
     let aspect = width as f32 / height as f32;
     let view = camera.view_matrix();
     let (near, far) = camera.near_far();
     let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
-    let ndc = Vec2::new((x as f32 + 0.5) / width as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / height as f32 * 2.0);
-    let ray = (ndc * Vec2::new(tan_y * aspect, tan_y)).extend(-1.0);
+    let ray = pixel_ray(Vec2::new(tan_y * aspect, tan_y), (width, height), (x, y));
     let clip = options.clip.in_eye(&view);
     let floor = options.pixel_radius_floor(camera.fov_y_deg, height);
-    let surfaces = scene.surfaces(&flat);
+    let surfaces = scene.surfaces(flat);
     let drawn = surfaces.loose_splats();
     let mut hits: Vec<(Hit, super::tiles::EyeSplat)> = (0..cloud.len())
         .into_par_iter()

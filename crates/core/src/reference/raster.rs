@@ -286,11 +286,7 @@ fn render_samples(
                 let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
                 for y in ty * TILE..((ty + 1) * TILE).min(height) {
                     for x in tx * TILE..((tx + 1) * TILE).min(width) {
-                        let ndc = Vec2::new(
-                            (x as f32 + 0.5) / width as f32 * 2.0 - 1.0,
-                            1.0 - (y as f32 + 0.5) / height as f32 * 2.0,
-                        );
-                        let ray = (ndc * lens).extend(-1.0);
+                        let ray = pixel_ray(lens, (width, height), (x, y));
                         hits.clear();
                         triangle_hits.clear();
                         for &s in &bins.bins[tile as usize] {
@@ -325,11 +321,7 @@ fn render_samples(
             let rays = (0..width * band_height)
                 .map(|i| {
                     let (x, y) = (i % width, rows.start + i / width);
-                    let ndc = Vec2::new(
-                        (x as f32 + 0.5) / width as f32 * 2.0 - 1.0,
-                        1.0 - (y as f32 + 0.5) / height as f32 * 2.0,
-                    );
-                    (ndc * lens).extend(-1.0).normalize()
+                    pixel_ray(lens, (width, height), (x, y)).normalize()
                 })
                 .collect::<Vec<_>>();
             // The band starts on a tile row (even), so the lookup's 2×2 pixel quads stay whole.
@@ -340,6 +332,14 @@ fn render_samples(
         emit(rows, &colours, &layer_counts);
     }
     bar.finish();
+}
+
+/// The eye-space ray through the centre of pixel (`x`, `y`) of a
+/// `width`×`height` image, at view depth 1 (z = -1); `lens`: tan of the half
+/// fields of view (x, y). The GPU's `pixel_ray` (frame.wgsl) is the same.
+pub(super) fn pixel_ray(lens: Vec2, (width, height): (u32, u32), (x, y): (u32, u32)) -> Vec3 {
+    let ndc = Vec2::new((x as f32 + 0.5) / width as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / height as f32 * 2.0);
+    (ndc * lens).extend(-1.0)
 }
 
 fn gcd(a: u32, b: u32) -> u32 {
