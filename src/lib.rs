@@ -17,4 +17,5 @@ pub use pointblend_core::{
 pub use pointblend_render as render;
 
 pub mod bench;
+pub mod font;
 pub mod viewer;

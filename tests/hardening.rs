@@ -224,7 +224,7 @@ fn convert_and_render_both_create_a_missing_output_folder() {
 }
 
 #[test]
-fn coincident_copies_are_merged_and_a_plan_over_the_memory_budget_gives_a_hint() {
+fn coincident_copies_are_merged_and_a_frame_over_the_memory_budget_is_drawn_in_windows_or_refused_with_a_hint() {
     let dir = test_dir();
     // 3,000 copies of one point: merged into one splat (they used to need
     // one group each, K = 3001), with a warning that counts them.
@@ -246,9 +246,20 @@ fn coincident_copies_are_merged_and_a_plan_over_the_memory_budget_gives_a_hint()
     let groups: usize = line.split_whitespace().next().unwrap().parse().unwrap();
     assert!(groups <= 64, "the copies need no group each: K = {groups}\n{explained}");
     assert!(out.exists());
-    // Within the layer limit but over the memory budget: refused with the size in the message.
+    // Over the memory budget: drawn a window at a time...
     let run = pointblend(dir.path())
         .env("POINTBLEND_GPU_MEMORY_MB", "16")
+        .arg("render")
+        .arg(model())
+        .args(["--mode", "deferred", "--group", "mgc-c1", "--size", "512x512", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let log = ok(&run, "over budget, in windows");
+    assert!(log.contains("is drawn in") && log.contains("windows"), "{log}");
+    // ...and where not even a small window fits, refused with the size in the message.
+    let run = pointblend(dir.path())
+        .env("POINTBLEND_GPU_MEMORY_MB", "1")
         .arg("render")
         .arg(model())
         .args(["--mode", "deferred", "--group", "mgc-c1", "--size", "512x512", "--out"])

@@ -32,6 +32,7 @@ fn options(epsilon: f32) -> ReferenceOptions {
         lights: Default::default(),
         supersample: 1,
         clip: Default::default(),
+        eye_dome: None,
     }
 }
 

@@ -1,7 +1,8 @@
 //! naga validates exactly the shader modules the renderer builds: every mode
 //! is rendered in every setting that picks another module (lighting,
 //! quality, a cloud of one colour or of many, transparency, opaque splats
-//! drawn apart, an environment map, scene lights, mesh triangles), the pipeline cache says which (root
+//! drawn apart, an environment map, scene lights, mesh triangles, eye-dome
+//! lighting), the pipeline cache says which (root
 //! file, variant) pairs it built, and each of those is composed and
 //! validated. Every root file must be among them, and every WGSL file must
 //! be part of one of them, so none escapes validation.
@@ -55,6 +56,12 @@ fn built_modules() -> BTreeSet<(&'static str, String)> {
                             .render(&mut gpu, &camera, &settings, 48, 48)
                             .unwrap_or_else(|e| panic!("{mode} on {what}: {e}"));
                     }
+                    // Eye-dome lighting (its pass reads a depth buffer or K group images).
+                    let eye_dome = Some(Default::default());
+                    let settings = RenderSettings { mode, lighting, quality, eye_dome, ..Default::default() };
+                    renderer
+                        .render(&mut gpu, &camera, &settings, 48, 48)
+                        .unwrap_or_else(|e| panic!("{mode} with eye-dome lighting on {what}: {e}"));
                 }
             }
         }

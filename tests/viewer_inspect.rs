@@ -2,12 +2,14 @@
 //! clip-box handle hides the half beyond it, a click picks the layers under
 //! the pixel, and two clicks measure the distance between the surfaces
 //! under them (against the closed form of a plane), and Ctrl+Shift+S saves
-//! 4× the view with the same content.
+//! 4× the view with the same content; the eye-dome toggle darkens the
+//! steps in depth and nothing else.
 
 mod common;
 
 use common::tolerances::MAX_LARGE_SHOT_CHANGED;
 use common::viewer::{click, drag, harness_sized, options, settled_in, wait_for};
+use egui::accesskit::Role;
 use egui_kittest::kittest::Queryable;
 use glam::{DVec3, Vec2};
 use pointblend::render::RenderMode;
@@ -152,6 +154,46 @@ fn a_click_picks_every_layer_under_it_and_two_clicks_measure_the_distance_betwee
     let got = app.inspection().measurement(DVec3::Y).unwrap().distance;
     assert!((got - want).abs() < 1e-3 * want, "measured {got}, the front plane's closed form {want}");
     assert!(h.query_by_label_contains(&format!("distance {got:.4}")).is_some(), "the panel shows the distance");
+
+    // A 4× screenshot carries the polyline, its dots and its label, where the view shows them.
+    let shown = app.shown_frame().unwrap().0.clone();
+    let scale = shown.width() as f32 / app.view_rect().width();
+    let on_shot = |p: egui::Pos2| (p - app.view_rect().min) * scale * 4.0;
+    let (a_shot, b_shot) = (on_shot(a), on_shot(b));
+    let shot = save_large_screenshot(&mut h, dir.path());
+    shot.save(std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("viewer-measure-shot.png")).unwrap();
+    let is_line = |p: &image::Rgba<u8>| p.0[..3] == [255, 110, 90];
+    assert_eq!(shown.pixels().filter(|p| is_line(p)).count(), 0, "the frame itself has no measurement drawn");
+    let near = |x: u32, y: u32, c: egui::Vec2, reach: f32| (egui::vec2(x as f32, y as f32) - c).length() < reach;
+    let dots = shot
+        .enumerate_pixels()
+        .filter(|(x, y, p)| is_line(p) && (near(*x, *y, a_shot, 20.0) || near(*x, *y, b_shot, 20.0)));
+    assert!(dots.count() > 500, "the dots at both points");
+    let middle = (a_shot + b_shot) * 0.5;
+    let line = shot.enumerate_pixels().filter(|(x, y, p)| is_line(p) && near(*x, *y, middle, 20.0)).count();
+    assert!(line > 100, "the segment through its middle: {line} pixels");
+    let label = shot.enumerate_pixels().filter(|(x, y, p)| p.0[..3] == [255, 255, 255] && near(*x, *y, middle, 120.0));
+    assert!(label.count() > 50, "the length's label over the middle");
+}
+
+/// Presses Ctrl+Shift+S and waits for the screenshot and its sidecar in `dir`: the PNG.
+fn save_large_screenshot(h: &mut egui_kittest::Harness<'_, ViewerApp>, dir: &std::path::Path) -> image::RgbaImage {
+    h.input_mut().events.push(egui::Event::Key {
+        key: egui::Key::S,
+        physical_key: None,
+        pressed: true,
+        repeat: false,
+        modifiers: egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
+    });
+    h.step();
+    let png = || {
+        std::fs::read_dir(dir)
+            .unwrap()
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .find(|p| p.extension().is_some_and(|e| e == "png"))
+    };
+    wait_for(h, "the large screenshot", |_| png().is_some_and(|p| p.with_extension("json").exists()));
+    image::open(png().unwrap()).unwrap().to_rgba8()
 }
 
 #[test]
@@ -160,23 +202,7 @@ fn ctrl_shift_s_saves_four_times_the_view_with_the_same_content() {
     let mut h = common::viewer::harness(options(dir.path()));
     wait_for(&mut h, "the lion in two-pass", settled_in(RenderMode::TwoPass));
     let shown = h.state().shown_frame().unwrap().0.clone();
-    let modifiers = egui::Modifiers::COMMAND | egui::Modifiers::SHIFT;
-    h.input_mut().events.push(egui::Event::Key {
-        key: egui::Key::S,
-        physical_key: None,
-        pressed: true,
-        repeat: false,
-        modifiers,
-    });
-    h.step();
-    let png = || {
-        std::fs::read_dir(dir.path())
-            .unwrap()
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .find(|p| p.extension().is_some_and(|e| e == "png"))
-    };
-    wait_for(&mut h, "the large screenshot", |_| png().is_some_and(|p| p.with_extension("json").exists()));
-    let large = image::open(png().unwrap()).unwrap().to_rgba8();
+    let large = save_large_screenshot(&mut h, dir.path());
     assert_eq!(large.dimensions(), (shown.width() * 4, shown.height() * 4), "4 × the view's {:?}", shown.dimensions());
     // Box-filtered down 4×, it is the view's image up to the splats' sampling.
     let small = image::imageops::resize(&large, shown.width(), shown.height(), image::imageops::FilterType::Triangle);
@@ -184,4 +210,37 @@ fn ctrl_shift_s_saves_four_times_the_view_with_the_same_content() {
         small.pixels().zip(shown.pixels()).filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 24)).count();
     let share = differing as f64 / (shown.width() * shown.height()) as f64;
     assert!(share < MAX_LARGE_SHOT_CHANGED, "{share:.3} of the pixels differ by more than 24/255 from the view");
+}
+
+#[test]
+fn the_eye_dome_toggle_darkens_the_steps_in_depth_and_nothing_else() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness_sized(options(dir.path()), TALL);
+    wait_for(&mut h, "the lion in two-pass", settled_in(RenderMode::TwoPass));
+    let before = h.state().shown_frame().unwrap().0.clone();
+    h.get_by_role_and_label(Role::CheckBox, "eye-dome lighting").click();
+    wait_for(&mut h, "the frame with eye-dome lighting", |app| {
+        app.is_settled() && app.shown_frame().is_some_and(|(_, k)| k.settings.eye_dome.is_some())
+    });
+    let after = h.state().shown_frame().unwrap().0.clone();
+    assert_eq!(before.dimensions(), after.dimensions());
+    let background = common::background_rgb();
+    let (mut darker, mut brighter, mut drawn) = (0, 0, 0);
+    for (a, b) in before.pixels().zip(after.pixels()) {
+        if a.0[..3] == background {
+            assert_eq!(a, b, "the background changed");
+            continue;
+        }
+        drawn += 1;
+        darker += (0..3).any(|c| b[c] + 1 < a[c]) as u32;
+        brighter += (0..3).any(|c| b[c] > a[c] + 1) as u32;
+    }
+    assert_eq!(brighter, 0, "eye-dome lighting only darkens: {brighter} pixels got brighter");
+    assert!(darker * 20 > drawn, "only {darker} of {drawn} drawn pixels darkened");
+    // Off again, the frame is the one before.
+    h.get_by_role_and_label(Role::CheckBox, "eye-dome lighting").click();
+    wait_for(&mut h, "the frame without", |app| {
+        app.is_settled() && app.shown_frame().is_some_and(|(_, k)| k.settings.eye_dome.is_none())
+    });
+    assert!(h.state().shown_frame().unwrap().0.pixels().eq(before.pixels()), "off again is not the frame before");
 }

@@ -52,8 +52,13 @@ pub fn entry(
         settings.radius_scale,
         settings.lights,
         // One ray per pixel keeps the key it had before supersampling was a choice.
-        if settings.supersample > 1 { format!("|ss{}", settings.supersample) } else { String::new() }
+        if settings.supersample > 1 { format!("|ss{}", settings.supersample) } else { String::new() },
     );
+    // Likewise without eye-dome lighting.
+    let key = match settings.eye_dome_drawn() {
+        Some(edl) => format!("{key}|edl{edl:?}"),
+        None => key,
+    };
     let name = format!("reference-{:016x}", fnv1a(FNV_OFFSET, key.as_bytes()));
     let dir = dir.join("cache");
     CacheEntry {

@@ -14,7 +14,7 @@ use super::ruler::{ruler, ruler_name};
 use super::timing::time_frames;
 use crate::cloud::LoadOptions;
 use crate::frame::environment::EnvironmentSettings;
-use crate::frame::{Camera, ModeVariant, RenderMode, RenderSettings};
+use crate::frame::{Camera, EyeDome, ModeVariant, RenderMode, RenderSettings};
 use crate::reference;
 use crate::render::{HeadlessRenderer, SceneFrames};
 use crate::scene::Scene;
@@ -151,6 +151,14 @@ pub(super) struct Rulers {
     /// With a map: the reference of what a transparent variant draws (its own
     /// environment settings, or none), keyed by those settings.
     pub(super) own: Vec<(Option<EnvironmentSettings>, Ruler)>,
+    /// Every splat opaque, with the eye-dome lighting an opaque variant asks
+    /// for: a shading, not an approximation, so its rows are measured with it.
+    pub(super) eye_dome_lit: Vec<(EyeDome, Ruler)>,
+}
+
+/// The eye-dome lighting a prepared variant draws (an opaque mode that reads it).
+pub(super) fn eye_dome_of(p: &Prepared) -> Option<EyeDome> {
+    p.settings.eye_dome_drawn()
 }
 
 /// Whether (and with which settings) a frame of `settings` draws `scene`'s environment map.
@@ -166,7 +174,9 @@ impl Rulers {
         prepared: &[Prepared],
         camera: &Camera,
     ) -> Result<Self, BenchError> {
-        let (scene, base) = (&opened.scene, &opened.base);
+        // Eye-dome lighting is added below, for the variants that draw it.
+        let base = &RenderSettings { eye_dome: None, ..opened.base };
+        let scene = &opened.scene;
         // One image when the scene is opaque.
         let opaque = ruler(config, scene, base, camera, false)?;
         // The reference mode's own image (with the scene's map, if any).
@@ -184,7 +194,14 @@ impl Rulers {
                 }
             }
         }
-        Ok(Rulers { opaque, with_opacity, own })
+        let mut eye_dome_lit: Vec<(EyeDome, Ruler)> = Vec::new();
+        for edl in prepared.iter().filter_map(eye_dome_of) {
+            if !eye_dome_lit.iter().any(|(e, _)| *e == edl) {
+                let settings = RenderSettings { mode: RenderMode::RULER, eye_dome: Some(edl), ..*base };
+                eye_dome_lit.push((edl, ruler(config, scene, &settings, camera, false)?));
+            }
+        }
+        Ok(Rulers { opaque, with_opacity, own, eye_dome_lit })
     }
 
     /// The ruler of a mode that is `transparent` or not.
@@ -195,7 +212,8 @@ impl Rulers {
     /// The ruler of a prepared variant.
     pub(super) fn of_variant(&self, scene: &Scene, p: &Prepared) -> &Ruler {
         if !p.variant.mode.info().transparent {
-            return &self.opaque;
+            let lit = eye_dome_of(p).and_then(|edl| self.eye_dome_lit.iter().find(|(e, _)| *e == edl));
+            return lit.map_or(&self.opaque, |(_, r)| r);
         }
         let key = drawn_environment(scene, &p.settings);
         self.own.iter().find(|(k, _)| *k == key).map_or(&self.with_opacity, |(_, r)| r)
@@ -349,7 +367,10 @@ pub(super) fn measure_views(
         bar.inc(1);
         for p in prepared {
             let reference = rulers.of_variant(&opened.scene, p);
-            let blank = row(&p.variant.label(), p.variant.mode);
+            let mut blank = row(&p.variant.label(), p.variant.mode);
+            if eye_dome_of(p).is_some() {
+                blank.reference += ", eye-dome lit";
+            }
             rows.push(measure_variant(renderer, frames, view, p, config, reference, (stem, blank))?);
             bar.inc(1);
         }

@@ -3,16 +3,14 @@
 //! the ruler the others are measured against, is a vertical line at its time.
 //!
 //! Drawn with `plotters` into an RGB buffer and encoded with `image`; labels
-//! use the DejaVu Sans font bundled in `assets/fonts`, so no system font is needed.
+//! use the bundled font (`crate::font`), so no system font is needed.
 
 use std::path::Path;
-use std::sync::Once;
 
 use plotters::prelude::*;
 
 use super::report::BenchRow;
 
-const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
 /// Width and least height of the plot; it grows to give every legend entry its line.
 const SIZE: (u32, u32) = (1300, 600);
 /// Height of one legend line.
@@ -61,19 +59,9 @@ pub fn mode_points(rows: &[BenchRow]) -> Vec<ModePoint> {
         .collect()
 }
 
-/// Makes the bundled font the "sans-serif" of `plotters` (once per process).
-pub fn register_font() {
-    static REGISTER: Once = Once::new();
-    REGISTER.call_once(|| {
-        if plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_err() {
-            log::warn!("the bundled plot font could not be read; labels may be missing");
-        }
-    });
-}
-
 /// Draws the plot to a PNG at `path` (written atomically).
 pub fn write(rows: &[BenchRow], title: &str, path: &Path) -> Result<(), String> {
-    register_font();
+    crate::font::register();
     let points = mode_points(rows);
     if points.is_empty() {
         return Err("nothing to plot".into());
@@ -140,7 +128,7 @@ type FramePoint = (usize, f64, Option<f64>, f64);
 /// variant that regroups, regroup + upload (left); ε against that frame's
 /// reference (right). Written atomically to `path`.
 pub fn write_animation(rows: &[BenchRow], title: &str, path: &Path) -> Result<(), String> {
-    register_font();
+    crate::font::register();
     let mut variants: Vec<String> = Vec::new();
     for r in rows.iter().filter(|r| r.frame.is_some() && !r.ruler) {
         if !variants.contains(&r.variant) {

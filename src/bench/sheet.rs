@@ -4,7 +4,7 @@
 //! frame time) and, where it applies, that it ran two-pass on an opaque scene.
 //!
 //! The tiles are scaled with `image` and the labels drawn with `plotters` in
-//! the bundled font (`plot::register_font`), like the error-against-time plot.
+//! the bundled font (`crate::font`), like the error-against-time plot.
 
 use std::path::{Path, PathBuf};
 
@@ -31,7 +31,7 @@ const BACKGROUND: RGBColor = RGBColor(16, 17, 20);
 
 /// Draws `rows` with tiles `tile` pixels square to a PNG at `path` (written atomically).
 pub fn write(rows: &[SheetRow], tile: u32, path: &Path) -> Result<(), String> {
-    super::plot::register_font();
+    crate::font::register();
     let columns = rows.iter().map(|r| r.tiles.len()).max().unwrap_or(0).max(1) as u32;
     let size = (columns * tile, rows.len().max(1) as u32 * (HEADING + LABEL + tile));
     let mut canvas =

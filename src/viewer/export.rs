@@ -71,7 +71,8 @@ impl ViewerApp {
             self.status = Some(format!("{}: {e}", self.options.screenshot_dir.display()));
             return;
         }
-        match self.frame_request(&key, size, Purpose::Screenshot { png: png.clone(), sidecar }) {
+        let annotation = Box::new(self.screenshot_annotation(size));
+        match self.frame_request(&key, size, Purpose::Screenshot { png: png.clone(), sidecar, annotation }) {
             Some(request) => {
                 self.status = Some(format!("rendering {} at {}x{}…", png.display(), size.0, size.1));
                 self.renderer.request(request);

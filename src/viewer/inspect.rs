@@ -6,6 +6,7 @@
 
 use glam::{DVec3, Vec2, Vec3};
 
+use super::annotate::Annotation;
 use super::app::ViewerApp;
 use super::state::Tool;
 use crate::frame::clip::{ClipBox, Hidden};
@@ -36,6 +37,11 @@ impl Projector {
     }
 }
 
+/// A measured segment's label: its length in file units.
+fn segment_label(a: DVec3, b: DVec3) -> String {
+    format!("{:.3}", a.distance(b))
+}
+
 /// The centre of face `face` (axis · 2 + 1 for the max side) of the box.
 fn face_centre(b: &ClipBox, face: usize) -> DVec3 {
     let (min, max) = (DVec3::from_array(b.min), DVec3::from_array(b.max));
@@ -58,6 +64,21 @@ impl ViewerApp {
     pub fn clip_handle(&self, face: usize) -> Option<egui::Pos2> {
         let b = self.ui.inspect.clip_box.as_ref().filter(|_| self.ui.inspect.clip_on)?;
         self.projector(self.view_rect)?.to_screen(face_centre(b, face))
+    }
+
+    /// The measurement drawn over a screenshot of `size` pixels of the view
+    /// (its own projection: a fixed size may have another aspect).
+    pub(super) fn screenshot_annotation(&self, size: (u32, u32)) -> Annotation {
+        let measured = &self.ui.inspect.measured;
+        let rect = egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(size.0 as f32, size.1 as f32));
+        let Some(projector) = self.projector(rect).filter(|_| measured.len() >= 2) else {
+            return Annotation::default();
+        };
+        Annotation {
+            points: measured.iter().map(|(_, p)| projector.to_screen(*p).map(|s| (s.x, s.y))).collect(),
+            segment_labels: measured.windows(2).map(|pair| segment_label(pair[0].1, pair[1].1)).collect(),
+            scale: size.0 as f32 / self.view_size.0.max(1) as f32,
+        }
     }
 
     /// Where the file point `p` is on screen, in points.
@@ -211,11 +232,12 @@ impl ViewerApp {
             }
         }
         let measured: Vec<Option<egui::Pos2>> = inspect.measured.iter().map(|(_, p)| projector.to_screen(*p)).collect();
-        let line = egui::Stroke::new(2.0, egui::Color32::from_rgb(255, 110, 90));
+        let [r, g, b] = super::annotate::MEASURE_RGB;
+        let line = egui::Stroke::new(2.0, egui::Color32::from_rgb(r, g, b));
         for (k, pair) in inspect.measured.windows(2).enumerate() {
             if let (Some(a), Some(b)) = (measured[k], measured[k + 1]) {
                 painter.line_segment([a, b], line);
-                let label = format!("{:.3}", pair[0].1.distance(pair[1].1));
+                let label = segment_label(pair[0].1, pair[1].1);
                 painter.text(a + (b - a) * 0.5, egui::Align2::CENTER_BOTTOM, label, font.clone(), egui::Color32::WHITE);
             }
         }

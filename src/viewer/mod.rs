@@ -15,6 +15,7 @@
 //! progress and Cancel, so the window never waits on them.
 
 mod actions;
+mod annotate;
 mod app;
 mod camera_input;
 mod colour_panel;

@@ -4,7 +4,7 @@
 //! help as hover text. A widget reads the parameter's text form and writes
 //! it back through the row's parser, so the viewer takes exactly the values
 //! the command line, bench and sidecars take. The parameters whose control is
-//! `Custom` (grouping, lighting, shadows, environment, point budget) have
+//! `Custom` (grouping, lighting, eye-dome lighting, shadows, environment, point budget) have
 //! widgets of their own below, each under the row's label.
 
 use egui::{RichText, Ui};
@@ -105,6 +105,17 @@ fn custom_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, paramet
                     ui.add(egui::Slider::new(&mut state.light_angles.1, -90.0..=90.0).text("headlight elevation °"));
                 }
                 super::lights_panel::lights_widget(ui, s, &state.camera);
+            }
+        }
+        Parameter::EyeDome => {
+            let mut on = s.eye_dome.is_some();
+            if ui.checkbox(&mut on, row.label).on_hover_text(row.help).changed() {
+                s.eye_dome = on.then(Default::default);
+            }
+            if let Some(edl) = &mut s.eye_dome {
+                use crate::frame::eye_dome::{MAX_RADIUS_PX, MAX_STRENGTH};
+                ui.add(egui::Slider::new(&mut edl.strength, 0.05..=MAX_STRENGTH).logarithmic(true).text("strength"));
+                ui.add(egui::Slider::new(&mut edl.radius_px, 1.0..=MAX_RADIUS_PX).text("radius (px)"));
             }
         }
         Parameter::Shadows => super::lights_panel::shadows_widget(ui, s, row.label),

@@ -28,8 +28,8 @@ use super::model::{GroupedModel, Model};
 pub enum Purpose {
     /// The 3D view.
     Display,
-    /// A PNG and its sidecar, written atomically.
-    Screenshot { png: PathBuf, sidecar: Box<Sidecar> },
+    /// A PNG and its sidecar, written atomically, with the measurement drawn over the PNG.
+    Screenshot { png: PathBuf, sidecar: Box<Sidecar>, annotation: Box<super::annotate::Annotation> },
 }
 
 /// One frame to draw.
@@ -179,9 +179,14 @@ fn serve(inbox: Receiver<FrameRequest>, outbox: Sender<FrameResult>, repaint: eg
 
 /// Writes a screenshot's files; the result says where, or why not.
 fn finish(mut result: FrameResult) -> FrameResult {
-    if let (Purpose::Screenshot { png, sidecar }, Ok(image)) = (&result.purpose, &result.image) {
+    if let (Purpose::Screenshot { png, sidecar, annotation }, Ok(image)) = (&result.purpose, &result.image) {
         let json = png.with_extension("json");
-        let written = crate::output::save_png(image, png)
+        let annotated = match annotation.is_empty() {
+            true => Ok(std::borrow::Cow::Borrowed(image.as_ref())),
+            false => super::annotate::draw(image, annotation).map(std::borrow::Cow::Owned),
+        };
+        let written = annotated
+            .and_then(|image| crate::output::save_png(&image, png).map_err(|e| e.to_string()))
             .map_err(|e| format!("{}: {e}", png.display()))
             .and_then(|_| sidecar.write(&json).map_err(|e| format!("{}: {e}", json.display())));
         if let Err(e) = written {

@@ -231,3 +231,22 @@ pub const MAX_POINT_SIZE_EPS: f64 = 0.05;
 /// view: the share of pixels off by more than 24/255 (the splats are
 /// sampled 16× as densely, so edges differ). Measured: 0.0068 (the lion in two-pass).
 pub const MAX_LARGE_SHOT_CHANGED: f64 = 0.03;
+
+/// two-pass and deferred with eye-dome lighting against the exact reference
+/// with it, on the bundled lidar tile at 192×128 (ε, mean |ΔRGB| per pixel).
+/// Eye-dome lighting multiplies each pixel by exp(−300·Δlog2 depth), so a
+/// 1e-4 difference in a neighbour's depth moves a shade by 3 %: the bound
+/// follows the modes' own error without it (MAX_TWO_PASS_EPS). Deferred is
+/// measured with independent groups. Measured: two-pass 0.026 (filtered and
+/// unfiltered), deferred 0.031, against 111 that eye-dome lighting itself
+/// changes. Bound: 4× the worst measured.
+pub const MAX_EYE_DOME_EPS: f64 = 0.12;
+
+/// A frame drawn in windows against the frame drawn whole (320×240, every
+/// GPU mode): the windows' off-axis projections and pixel rays are the
+/// frame's up to f32 rounding, which moves a splat's edge across a pixel
+/// centre now and then. Measured: at most 6 levels (alg1, one pixel; 1-4
+/// elsewhere), on at most 150 of 76800 pixels (0.2 %, deferred). Bounds:
+/// twice the worst measured, 2.5× the share.
+pub const MAX_WINDOWED_PIXEL_DIFF: u8 = 12;
+pub const MAX_WINDOWED_CHANGED_PIXELS: f64 = 0.005;

@@ -15,7 +15,7 @@ struct Frame {
     // ambient, diffuse, specular, unused
     material: vec4<f32>,
     background: vec4<f32>,
-    // tan(fov_x/2), tan(fov_y/2), splat radius scale, least radius per unit of view depth (--min-pixel-radius)
+    // The window's half extent at view depth 1 (tan(fov_x/2), tan(fov_y/2) for a whole frame), splat radius scale, least radius per unit of view depth (--min-pixel-radius)
     lens: vec4<f32>,
     // Environment effects: η, dispersion δ, multi-layer (0/1), skybox (0/1)
     environment: vec4<f32>,
@@ -33,6 +33,9 @@ struct Frame {
     clip: array<vec4<f32>, 12>,
     // The user's planes, the box's (0 or 6), the box hides its inside (0/1), unused.
     clip_counts: vec4<u32>,
+    // The centre of the frame's window at view depth 1 (eye space; 0 for a
+    // whole frame), unused ×2 (crates/render/src/window.rs).
+    window: vec4<f32>,
 }
 
 struct Pass {
@@ -42,6 +45,9 @@ struct Pass {
     depth: vec4<f32>,
     // this pass's layer, layer count K, Voronoi depth (0/1), unused
     layers: vec4<u32>,
+    // A full-screen effect's parameters: eye-dome lighting's strength, radius
+    // (pixels) and the depth buffer's push behind the front (ε or 0), unused.
+    effect: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -56,7 +62,7 @@ fn depth_to_buffer(view_depth: f32) -> f32 {
 // The eye-space direction of the view ray through pixel `position`, scaled to view depth 1.
 fn pixel_ray(position: vec2<f32>) -> vec3<f32> {
     let ndc = vec2<f32>(position.x * frame.viewport.z * 2.0 - 1.0, 1.0 - position.y * frame.viewport.w * 2.0);
-    return vec3<f32>(ndc * frame.lens.xy, -1.0);
+    return vec3<f32>(ndc * frame.lens.xy + frame.window.xy, -1.0);
 }
 
 // Whether `normal` (eye space; a splat's, or a layer's Σw·n) points away

@@ -95,7 +95,7 @@ pub struct FrameUniforms {
     pub material: [f32; 4],
     /// background colour, alpha
     pub background: [f32; 4],
-    /// tan(fov_x/2), tan(fov_y/2), splat radius scale, least radius per unit of view depth (`--min-pixel-radius`)
+    /// the window's half extent at view depth 1 (tan(fov_x/2), tan(fov_y/2) for a whole frame), splat radius scale, least radius per unit of view depth (`--min-pixel-radius`)
     pub lens: [f32; 4],
     /// Environment effects: η, dispersion δ, multi-layer (0/1), skybox (0/1)
     pub environment: [f32; 4],
@@ -113,8 +113,12 @@ pub struct FrameUniforms {
     pub clip: [[f32; 4]; 2 * MAX_CLIP_PLANES],
     /// `EyeClip::counts`, unused.
     pub clip_counts: [u32; 4],
+    /// The centre of the frame's window at view depth 1 (eye space; 0 for a
+    /// whole frame), unused ×2 (`crate::window`).
+    pub window: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 288 + 32 * MAX_LIGHTS + 16 + 32 * MAX_CLIP_PLANES + 16);
+const _: () =
+    assert!(std::mem::size_of::<FrameUniforms>() == 288 + 32 * MAX_LIGHTS + 16 + 32 * MAX_CLIP_PLANES + 16 + 16);
 
 use pointblend_core::frame::clip::MAX_CLIP_PLANES;
 
@@ -146,8 +150,11 @@ pub struct PassUniforms {
     pub depth: [f32; 4],
     /// this pass's layer, layer count K, Voronoi depth (0/1), unused
     pub layers: [u32; 4],
+    /// A full-screen effect's parameters: eye-dome lighting's strength,
+    /// radius (pixels) and the depth buffer's push behind the front (ε or 0), unused.
+    pub effect: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<PassUniforms>() == 48);
+const _: () = assert!(std::mem::size_of::<PassUniforms>() == 64);
 
 /// Bytes between two pass slots: the largest dynamic-offset alignment wgpu allows a device to ask.
 pub const PASS_SLOT_BYTES: u64 = 256;

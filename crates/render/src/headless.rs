@@ -9,22 +9,35 @@ use crate::frame::Camera;
 use crate::frame::settings::RenderSettings;
 use crate::grouping::Grouping;
 use crate::scene::Scene;
+use crate::window::{self, FrameWindow};
 
 /// Format of headless output images.
 pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+/// Most bytes of render targets (with the output texture and its readback)
+/// one render of an image may take: a frame that needs more is drawn a
+/// window at a time ([`crate::window`]), so its memory does not grow with its size.
+pub const DEFAULT_WINDOW_BUDGET: u64 = 1 << 30;
 
 /// A GPU context, a renderer and an output texture.
 pub struct HeadlessRenderer {
     pub ctx: GpuContext,
     pub renderer: Renderer,
     output: Option<wgpu::Texture>,
+    /// [`DEFAULT_WINDOW_BUDGET`], or what [`Self::set_window_budget`] set.
+    window_budget: u64,
 }
 
 impl HeadlessRenderer {
     pub fn new() -> Result<Self, GpuError> {
         let ctx = GpuContext::headless()?;
         let renderer = Renderer::new(&ctx)?;
-        Ok(Self { ctx, renderer, output: None })
+        Ok(Self { ctx, renderer, output: None, window_budget: DEFAULT_WINDOW_BUDGET })
+    }
+
+    /// Sets the most bytes one render of an image may take (see [`DEFAULT_WINDOW_BUDGET`]).
+    pub fn set_window_budget(&mut self, bytes: u64) {
+        self.window_budget = bytes;
     }
 
     /// Uploads `scene`, group by group when a grouping of it is given, with
@@ -59,6 +72,18 @@ impl HeadlessRenderer {
         width: u32,
         height: u32,
     ) -> Result<RenderPlan, GpuError> {
+        self.render_window(scene, camera, settings, FrameWindow::whole((width, height)))
+    }
+
+    /// Renders `window` of a frame into an output texture of its size and submits it.
+    fn render_window(
+        &mut self,
+        scene: &mut GpuScene,
+        camera: &Camera,
+        settings: &RenderSettings,
+        window: FrameWindow,
+    ) -> Result<RenderPlan, GpuError> {
+        let (width, height) = window.size;
         self.ctx.check_size(width, height)?;
         if self.output.as_ref().is_none_or(|t| (t.width(), t.height()) != (width, height)) {
             self.output = Some(self.ctx.device.create_texture(&wgpu::TextureDescriptor {
@@ -73,7 +98,7 @@ impl HeadlessRenderer {
             }));
         }
         let view = self.output_texture()?.create_view(&Default::default());
-        self.renderer.render(&self.ctx, scene, camera, settings, &view, OUTPUT_FORMAT, (width, height))
+        self.renderer.render_window(&self.ctx, scene, camera, settings, (&view, OUTPUT_FORMAT), window)
     }
 
     /// Renders one frame and reads it back.
@@ -85,6 +110,10 @@ impl HeadlessRenderer {
         width: u32,
         height: u32,
     ) -> Result<(image::RgbaImage, RenderPlan), GpuError> {
+        let windows = self.windows(scene, camera, settings, (width, height))?;
+        if windows.len() > 1 {
+            return self.render_windows(scene, camera, settings, &windows);
+        }
         let mut plan = self.render(scene, camera, settings, width, height)?;
         let image = readback::read_rgba8(&self.ctx, self.output_texture()?)?;
         if let Some(tiles) = self.renderer.tile_engine().filter(|_| plan.compute_passes() > 0) {
@@ -95,6 +124,68 @@ impl HeadlessRenderer {
                 super::tile_engine::WINDOW
             ));
         }
+        Ok((image, plan))
+    }
+
+    /// The windows a `size` frame is drawn in: the whole frame when its
+    /// targets, output texture and readback fit the window budget and the
+    /// GPU's limits, else windows that do ([`window::tiles`]). When not even
+    /// a window of [`window::MIN_SIDE`] fits, the whole frame, which the
+    /// renderer then refuses with the memory it needs and what to change.
+    fn windows(
+        &self,
+        scene: &GpuScene,
+        camera: &Camera,
+        settings: &RenderSettings,
+        size: (u32, u32),
+    ) -> Result<Vec<FrameWindow>, GpuError> {
+        let limits = self.ctx.device.limits();
+        let plan = Renderer::plan(scene, camera, settings, size)?;
+        let pixels = (size.0 as u64 * size.1 as u64).max(1);
+        // The output texture and its readback take 4 bytes a pixel each.
+        let per_pixel = plan.target_bytes() as f64 / pixels as f64 + 8.0;
+        let budget = self.window_budget.min(self.ctx.target_budget());
+        let max_pixels = ((budget as f64 / per_pixel) as u64).min(limits.max_buffer_size / 4);
+        if max_pixels < (window::MIN_SIDE * window::MIN_SIDE) as u64 {
+            return Ok(vec![FrameWindow::whole(size)]);
+        }
+        Ok(window::tiles(size, max_pixels, limits.max_texture_dimension_2d))
+    }
+
+    /// A frame drawn window by window, each grown by [`window::MARGIN`] for
+    /// the passes that read neighbours and cropped to the part it keeps.
+    fn render_windows(
+        &mut self,
+        scene: &mut GpuScene,
+        camera: &Camera,
+        settings: &RenderSettings,
+        windows: &[FrameWindow],
+    ) -> Result<(image::RgbaImage, RenderPlan), GpuError> {
+        let (width, height) = windows[0].frame;
+        log::info!("{width}x{height} is drawn in {} windows, so that its memory stays bounded", windows.len());
+        let mut image = image::RgbaImage::new(width, height);
+        let mut largest: Option<RenderPlan> = None;
+        for kept in windows {
+            let drawn = kept.grown(window::MARGIN);
+            let plan = self.render_window(scene, camera, settings, drawn)?;
+            let part = readback::read_rgba8(&self.ctx, self.output_texture()?)?;
+            let (x, y) = (kept.origin.0 - drawn.origin.0, kept.origin.1 - drawn.origin.1);
+            let kept_part = image::imageops::crop_imm(&part, x, y, kept.size.0, kept.size.1).to_image();
+            image::imageops::replace(&mut image, &kept_part, kept.origin.0 as i64, kept.origin.1 as i64);
+            if largest.as_ref().is_none_or(|p| p.target_bytes() < plan.target_bytes()) {
+                largest = Some(plan);
+            }
+        }
+        let mut plan = largest.ok_or_else(|| GpuError::Device("a frame of no windows".into()))?;
+        plan.notes.push(format!(
+            "drawn in {} windows (this plan is the largest's, {}x{} with a {} px margin): the whole {width}x{height} \
+             frame's targets would pass the GPU's limits or the {} MiB a render may take",
+            windows.len(),
+            plan.width,
+            plan.height,
+            window::MARGIN,
+            self.window_budget.min(self.ctx.target_budget()) >> 20
+        ));
         Ok((image, plan))
     }
 

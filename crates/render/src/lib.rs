@@ -45,6 +45,7 @@ pub mod targets;
 pub mod tile_engine;
 pub mod timer;
 pub mod touches;
+pub mod window;
 
 pub use crate::frame::{Quality, RenderMode, RenderSettings};
 pub use context::{GpuContext, GpuError};

@@ -24,6 +24,7 @@ use super::targets::TargetPool;
 use super::tile_engine::{self, TileEngine};
 use super::timer::PassTimer;
 use super::touches::Bound;
+use super::window::FrameWindow;
 use crate::frame::{Camera, RenderSettings};
 
 pub struct Renderer {
@@ -216,6 +217,20 @@ impl Renderer {
         format: wgpu::TextureFormat,
         size: (u32, u32),
     ) -> Result<RenderPlan, GpuError> {
+        self.render_window(ctx, scene, camera, settings, (output, format), FrameWindow::whole(size))
+    }
+
+    /// [`Self::render`] of `window` of the frame: `output` is the window's size.
+    pub fn render_window(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &mut GpuScene,
+        camera: &Camera,
+        settings: &RenderSettings,
+        (output, format): (&wgpu::TextureView, wgpu::TextureFormat),
+        window: FrameWindow,
+    ) -> Result<RenderPlan, GpuError> {
+        let size = window.size;
         ctx.check_size(size.0, size.1)?;
         let mut plan = Self::plan(scene, camera, settings, size)?;
         plan.check_fits(&ctx.device.limits(), ctx.target_budget())?;
@@ -244,7 +259,7 @@ impl Renderer {
             bytemuck::bytes_of(&frame_uniforms(
                 camera,
                 settings,
-                size,
+                &window,
                 scene.environment.as_ref().map_or(0, |e| e.width),
             )),
         );
@@ -376,21 +391,21 @@ fn frame_bind_group(
 fn frame_uniforms(
     camera: &Camera,
     settings: &RenderSettings,
-    (width, height): (u32, u32),
+    window: &FrameWindow,
     environment_width: u32,
 ) -> FrameUniforms {
     use crate::frame::environment::LayerEffects;
     let env = &settings.environment;
     let (up, front) = camera.up.frame();
-    let aspect = width as f32 / height as f32;
+    let (width, height) = window.size;
     let (near, far) = camera.near_far();
-    let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
+    let (lens, centre) = window.lens(camera);
     let shading = &settings.shading;
     let to_cols = |m: Mat4| m.to_cols_array_2d();
     let clip = settings.clip.in_eye(&camera.view_matrix());
     FrameUniforms {
         view: to_cols(camera.view_matrix()),
-        proj: to_cols(camera.projection(aspect)),
+        proj: to_cols(window.projection(camera)),
         viewport: [width as f32, height as f32, 1.0 / width as f32, 1.0 / height as f32],
         depth: [near, far, 0.0, 1.0 / (far - near).max(f32::MIN_POSITIVE)],
         splat: [
@@ -403,7 +418,8 @@ fn frame_uniforms(
         light: shading.light_dir_eye.extend(shading.shininess).to_array(),
         material: [shading.ambient, shading.diffuse, shading.specular, 0.0],
         background: shading.background.extend(1.0).to_array(),
-        lens: [tan_y * aspect, tan_y, settings.radius_scale, settings.pixel_radius_floor(camera.fov_y_deg, height)],
+        // The floor is in the frame's pixels, whatever part of it the window is.
+        lens: [lens.x, lens.y, settings.radius_scale, settings.pixel_radius_floor(camera.fov_y_deg, window.frame.1)],
         environment: [
             env.eta,
             env.dispersion,
@@ -416,6 +432,7 @@ fn frame_uniforms(
         light_count: [if settings.lit_by_lights() { settings.lights.len() as u32 } else { 0 }, 0, 0, 0],
         clip: clip.planes.map(|p| p.to_array()),
         clip_counts: [clip.counts[0], clip.counts[1], clip.counts[2], 0],
+        window: [centre.x, centre.y, 0.0, 0.0],
     }
 }
 

@@ -61,10 +61,23 @@ impl Variant {
     /// clip planes or box cut away are dropped (`clip_keeps`, frame.wgsl).
     /// Only then, so an unclipped frame's shaders are those it always had.
     pub const CLIP: Variant = Variant(256);
+    /// Eye-dome lighting reads the nearest surface's depth from K group
+    /// images (deferred) rather than a depth buffer (two-pass).
+    pub const GROUP_DEPTH: Variant = Variant(512);
 
     /// Every name, by bit.
-    const NAMES: [&'static str; 9] =
-        ["LIT", "WEIGHT_ONLY", "OPAQUE_APART", "ENVIRONMENT", "LIGHTS", "TRIANGLES", "SUBGROUPS", "COVERAGE", "CLIP"];
+    const NAMES: [&'static str; 10] = [
+        "LIT",
+        "WEIGHT_ONLY",
+        "OPAQUE_APART",
+        "ENVIRONMENT",
+        "LIGHTS",
+        "TRIANGLES",
+        "SUBGROUPS",
+        "COVERAGE",
+        "CLIP",
+        "GROUP_DEPTH",
+    ];
 
     pub const NONE: Variant = Variant(0);
 
@@ -158,6 +171,6 @@ mod tests {
         assert_eq!(lit.matches("struct Frame {").count(), 1, "frame.wgsl is included once");
         assert!(compose("missing.wgsl", Variant::NONE).is_err());
         assert_eq!(Variant::LIT.with(Variant::WEIGHT_ONLY, true).defines(), ["LIT", "WEIGHT_ONLY"]);
-        assert_eq!(Variant::all().count(), 1 << 9);
+        assert_eq!(Variant::all().count(), 1 << Variant::NAMES.len());
     }
 }

@@ -6,6 +6,7 @@
 pub mod camera;
 pub mod clip;
 pub mod environment;
+pub mod eye_dome;
 pub mod kernel;
 pub mod lights;
 pub mod modes;
@@ -19,6 +20,7 @@ pub mod view_path;
 
 pub use camera::{Camera, UpAxis};
 pub use clip::{Clip, ClipRegion};
+pub use eye_dome::EyeDome;
 pub use kernel::SplatKernel;
 pub use lights::{Light, LightKind, Lights, ShadowMethod, ShadowSettings};
 pub use modes::{ModeInfo, RenderMode};

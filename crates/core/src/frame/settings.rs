@@ -37,6 +37,8 @@ pub struct RenderSettings {
     /// Phong lighting; without it the normalised colour is shown and no
     /// normal targets are allocated or written.
     pub lighting: bool,
+    /// Eye-dome lighting of the nearest surface's depth (opaque modes), or none.
+    pub eye_dome: Option<super::EyeDome>,
     /// Transparent layers k of a peeling mode; 0 leaves it to the mode's default.
     pub peel_layers: u32,
     pub kernel: SplatKernel,
@@ -185,6 +187,13 @@ impl RenderSettings {
         self.lighting && !self.lights.is_empty()
     }
 
+    /// The eye-dome lighting a frame of these settings draws: asked for, and
+    /// read by the mode (a transparent mode drawing an opaque scene with the
+    /// two-pass plan, or `tiled`, does not).
+    pub fn eye_dome_drawn(&self) -> Option<super::EyeDome> {
+        self.eye_dome.filter(|_| self.mode.reads(super::Parameter::EyeDome))
+    }
+
     /// [`pixel_radius_floor`] of these settings' `min_pixel_radius`.
     pub fn pixel_radius_floor(&self, fov_y_deg: f32, height: u32) -> f32 {
         pixel_radius_floor(self.min_pixel_radius, fov_y_deg, height)
@@ -209,6 +218,7 @@ impl Default for RenderSettings {
             grouping: GroupingSpec::default(),
             voronoi: true,
             lighting: true,
+            eye_dome: None,
             peel_layers: 0,
             kernel: SplatKernel::default(),
             shading: Shading::default(),

@@ -51,6 +51,8 @@ pub struct ReferenceOptions {
     pub supersample: u32,
     /// What is cut away (flattened frame): a hit whose point is not kept is dropped.
     pub clip: crate::frame::Clip,
+    /// Eye-dome lighting of each pixel's nearest hit ([`crate::frame::EyeDome`]).
+    pub eye_dome: Option<crate::frame::EyeDome>,
 }
 
 impl ReferenceOptions {
@@ -77,6 +79,7 @@ impl ReferenceOptions {
             lights: settings.lights,
             supersample: settings.supersample.max(1),
             clip: settings.clip,
+            eye_dome: settings.eye_dome_drawn(),
         }
     }
 }
@@ -110,21 +113,32 @@ pub fn render_with_layers(
     let pixels = width as usize * height as usize;
     let mut sums = vec![Vec3::ZERO; pixels];
     let mut layer_counts = vec![0u32; pixels];
+    // The nearest hit of each pixel's rays, for eye-dome lighting.
+    let mut front = if options.eye_dome.is_some() { vec![f32::INFINITY; pixels] } else { Vec::new() };
     // N×N rays per pixel are the pixels of an N× larger image of the same
     // view: ray (i, j) of pixel (x, y) passes through (x + (i + ½)/N, y + (j + ½)/N).
     // They are cast a band of rows at a time, so memory stays bounded.
-    render_samples(scene, camera, options, (width * n, height * n), n, |rows, colours, layers| {
+    render_samples(scene, camera, options, (width * n, height * n), n, |rows, band| {
         let sample_width = (width * n) as usize;
         for (r, y) in rows.enumerate() {
             let out_row = (y / n) as usize * width as usize;
             for x in 0..sample_width {
                 let at = out_row + x / n as usize;
                 let sample = r * sample_width + x;
-                sums[at] += colours[sample].clamp(Vec3::ZERO, Vec3::ONE);
-                layer_counts[at] = layer_counts[at].max(layers[sample]);
+                sums[at] += band.colours[sample].clamp(Vec3::ZERO, Vec3::ONE);
+                layer_counts[at] = layer_counts[at].max(band.layers[sample]);
+                if let Some(nearest) = front.get_mut(at) {
+                    *nearest = nearest.min(band.front[sample]);
+                }
             }
         }
     });
+    // Eye-dome lighting shades the pixel's colour by its nearest hit (of its N×N rays).
+    if let Some(edl) = options.eye_dome {
+        for (sum, factor) in sums.iter_mut().zip(edl.factors(&front, (width, height))) {
+            *sum *= factor;
+        }
+    }
     let mut image = image::RgbaImage::new(width, height);
     for (i, sum) in sums.iter().enumerate() {
         image.put_pixel(
@@ -184,32 +198,46 @@ pub(super) fn eye_splat(
     })
 }
 
-/// The pixels of a band's tiles in the band's rows, row-major: linear
-/// colours, layer counts, and what an environment lookup needs.
-#[allow(clippy::type_complexity)]
+/// A band of rows of [`render_samples`], row-major.
+struct Band {
+    /// Linear colours.
+    colours: Vec<Vec3>,
+    /// The layers each ray met.
+    layers: Vec<u32>,
+    /// The view depth of each ray's nearest hit (infinite: none).
+    front: Vec<f32>,
+    /// What an environment lookup needs.
+    glass: Vec<Option<GlassPixel>>,
+}
+
+/// The pixels of a band's tiles in the band's rows.
 fn band_pixels(
     tiles: Vec<(u32, Vec<TilePixel>)>,
     rows: &std::ops::Range<u32>,
     (width, height): (u32, u32),
     columns: u32,
-) -> (Vec<Vec3>, Vec<u32>, Vec<Option<GlassPixel>>) {
+) -> Band {
     let band_pixels = rows.len() * width as usize;
-    let mut colours = vec![Vec3::ZERO; band_pixels];
-    let mut glass = vec![None; band_pixels];
-    let mut layer_counts = vec![0u32; band_pixels];
+    let mut band = Band {
+        colours: vec![Vec3::ZERO; band_pixels],
+        layers: vec![0u32; band_pixels],
+        front: vec![f32::INFINITY; band_pixels],
+        glass: vec![None; band_pixels],
+    };
     for (tile, pixels) in tiles {
         let (tx, ty) = (tile % columns, tile / columns);
         let mut it = pixels.into_iter();
         for y in ty * TILE..((ty + 1) * TILE).min(height) {
             for x in tx * TILE..((tx + 1) * TILE).min(width) {
-                if let Some((colour, layers, g)) = it.next() {
+                if let Some(pixel) = it.next() {
                     let at = (y - rows.start) as usize * width as usize + x as usize;
-                    (colours[at], layer_counts[at], glass[at]) = (colour, layers, g);
+                    (band.colours[at], band.layers[at], band.glass[at], band.front[at]) =
+                        (pixel.colour, pixel.layers, pixel.glass, pixel.front);
                 }
             }
         }
     }
-    (colours, layer_counts, glass)
+    band
 }
 
 /// Most rays a band of [`render_samples`] holds at once.
@@ -217,15 +245,14 @@ const BAND_RAYS: usize = 1 << 22;
 
 /// One ray through the centre of each pixel of a `width`×`height` image,
 /// a band of rows at a time (whole tiles, and whole groups of `row_multiple`
-/// rows): `emit` gets each band's rows and their linear colours and layer
-/// counts, row-major.
+/// rows): `emit` gets each band's rows and their pixels.
 fn render_samples(
     scene: &Scene,
     camera: &Camera,
     options: &ReferenceOptions,
     (width, height): (u32, u32),
     row_multiple: u32,
-    mut emit: impl FnMut(std::ops::Range<u32>, &[Vec3], &[u32]),
+    mut emit: impl FnMut(std::ops::Range<u32>, &Band),
 ) {
     let flat = scene.flatten();
     let cloud = flat.cloud.as_ref();
@@ -308,14 +335,16 @@ fn render_samples(
                         let records = Records { splats: &splats, triangle_hits: &triangle_hits };
                         let (colour, layers, glass) =
                             composite(&mut hits, &mut used, &records, ray, options, glassy, lit.as_ref());
-                        pixels.push((colour, layers, glass));
+                        // `composite` sorted the hits by depth.
+                        let front = hits.first().map_or(f32::INFINITY, |h| h.depth);
+                        pixels.push(TilePixel { colour, layers, glass, front });
                     }
                 }
                 bar.inc(1);
                 (tile, pixels)
             })
             .collect();
-        let (mut colours, layer_counts, glass) = band_pixels(tiles, &rows, (width, height), bins.columns);
+        let mut band = band_pixels(tiles, &rows, (width, height), bins.columns);
         if let Some(map) = environment {
             let band_height = rows.len() as u32;
             let rays = (0..width * band_height)
@@ -327,9 +356,9 @@ fn render_samples(
             // The band starts on a tile row (even), so the lookup's 2×2 pixel quads stay whole.
             let lookup =
                 super::environment::Lookup { map, camera, settings: &options.environment, width, height: band_height };
-            lookup.apply(&rays, &glass, &layer_counts, &mut colours);
+            lookup.apply(&rays, &band.glass, &band.layers, &mut band.colours);
         }
-        emit(rows, &colours, &layer_counts);
+        emit(rows, &band);
     }
     bar.finish();
 }
@@ -362,7 +391,14 @@ impl Records<'_> {
 
 /// One pixel of a tile: its colour, how many layers it composited, and its
 /// nearest transparent layer for the environment effects.
-type TilePixel = (Vec3, u32, Option<GlassPixel>);
+/// One ray's result: its colour, the layers it met, what an environment
+/// lookup needs, and the view depth of its nearest hit.
+struct TilePixel {
+    colour: Vec3,
+    layers: u32,
+    glass: Option<GlassPixel>,
+    front: f32,
+}
 
 /// Exact ray-disc intersection: the ray from the eye through `ray` (z = -1)
 /// meets the splat's footprint plane (see `SplatKernel::footprint_normal`) at

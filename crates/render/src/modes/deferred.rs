@@ -8,7 +8,11 @@
 //! surface layers by the Eq. 10 low-precision depth and picks the nearest
 //! centre within one). A full-screen pass then takes d = min_k depth_k, sums
 //! the layers within d + ε, normalises and shades (Fig. 6).
+//!
+//! With `--edl` the composite shades into an image of its own, and eye-dome
+//! lighting (`super::eye_dome`) reads it with the group images' depths.
 
+use super::eye_dome::{self, FrontDepth};
 use super::{FrameDesc, GpuMode, depth_step_note, per_group};
 use crate::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, SplatPass};
 use crate::plan::{Layout, RenderPlan, Step, TargetId};
@@ -66,16 +70,17 @@ impl GpuMode for Deferred {
     fn plan(&self, frame: &FrameDesc<'_>) -> RenderPlan {
         let k = groups(frame);
         let target = |id, format, why| frame.target(id, format, Layout::Array { layers: k }, why);
-        let targets = vec![
+        let mut targets = vec![
             target(WEIGHT, colour_format(true), "Eq. 4's weight per group; the scene has one colour"),
             target(COLOUR, colour_format(false), "Eq. 4: each group's weighted colour w·rgb, w"),
             target(NORMAL, ACCUM_FORMAT, "w·n, w·α for deferred shading"),
             target(VIEW_DEPTH, VIEW_DEPTH_FORMAT, "true view depth for the ε-z test of Fig. 6"),
             target(Z_BUFFER, DEPTH_FORMAT, "z-test within each group (Voronoi depth if on)"),
         ];
+        targets.extend(eye_dome::targets(frame));
         let variant = frame.shading_variant().with(Variant::WEIGHT_ONLY, frame.weight_only());
         let uniforms = |layer: u32| frame.uniforms(layer, k, frame.settings.voronoi as u32);
-        let colour: Vec<ColourOutput> =
+        let outputs: Vec<ColourOutput> =
             layer_outputs(frame).into_iter().map(|target| ColourOutput { target, blend: Blend::Replace }).collect();
         let z_test = DepthTest { write: true, compare: wgpu::CompareFunction::Less, clear: true };
         let geometry = SplatPass {
@@ -83,7 +88,7 @@ impl GpuMode for Deferred {
             shader: "deferred_geometry.wgsl",
             entry: "fs_group",
             variant,
-            colour,
+            colour: outputs,
             depth: Some((Z_BUFFER, z_test)),
             inputs: Vec::new(),
             layer: 0,
@@ -92,14 +97,17 @@ impl GpuMode for Deferred {
             uniforms: uniforms(0),
             triangles: false,
         };
-        let composite = FullscreenPass::into_frame(
-            "Composite::pass",
-            ("deferred_composite.wgsl", "fs_composite"),
-            variant,
-            composite_inputs(frame),
-            uniforms(0),
-        );
-        let steps = vec![
+        let composite = FullscreenPass {
+            output: eye_dome::output(frame),
+            ..FullscreenPass::into_frame(
+                "Composite::pass",
+                ("deferred_composite.wgsl", "fs_composite"),
+                variant,
+                composite_inputs(frame),
+                uniforms(0),
+            )
+        };
+        let mut steps = vec![
             Step::new(
                 "group images",
                 "splats of group k -> layer k: w·rgb, w (+ w·n) + depth; z-test per group",
@@ -111,6 +119,8 @@ impl GpuMode for Deferred {
                 vec![Command::Fullscreen(composite)],
             ),
         ];
+        let front = FrontDepth::Groups { colour: colour(frame), depth: VIEW_DEPTH, groups: k };
+        steps.extend(eye_dome::step(frame, front));
         let variant = format!(
             "{}, {}, Voronoi {}{}",
             frame.settings.grouping,

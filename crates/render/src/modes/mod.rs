@@ -19,6 +19,7 @@ mod approx_peel;
 mod covering;
 mod deferred;
 mod depth_peel;
+mod eye_dome;
 mod opaque_part;
 mod peeling;
 mod tiled;
@@ -88,6 +89,11 @@ impl FrameDesc<'_> {
         }
     }
 
+    /// The eye-dome lighting the frame draws (`RenderSettings::eye_dome_drawn`).
+    pub fn eye_dome(&self) -> Option<crate::frame::EyeDome> {
+        self.settings.eye_dome_drawn()
+    }
+
     /// Whether the splat passes low-pass filter (the EWA prefilter, in a mode that reads it).
     pub fn prefiltered(&self) -> bool {
         self.settings.low_pass_radius_px() > 0.0
@@ -135,6 +141,7 @@ impl FrameDesc<'_> {
             uniform_colour: self.uniform_colour_rgba(),
             depth: [self.epsilon, self.depth_steps, 0.0, 0.0],
             layers: [layer, count, flag, 0],
+            effect: [0.0; 4],
         }
     }
 

@@ -14,7 +14,11 @@
 //!
 //! The transparent grouped modes draw a scene's opaque splats with the same
 //! steps (`super::opaque_part`) into an image of their own, under their layers.
+//!
+//! With `--edl` the normalisation shades into an image of its own, and eye-dome
+//! lighting (`super::eye_dome`) reads it with the visibility depth.
 
+use super::eye_dome::{self, FrontDepth};
 use super::{FrameDesc, GpuMode};
 use crate::frame::Quality;
 use crate::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, SplatPass};
@@ -139,8 +143,9 @@ pub(super) fn targets(frame: &FrameDesc<'_>, ids: &Targets) -> Vec<TargetDesc> {
         };
         targets.push(target(id, frame.sum_format(false), why));
     }
-    if let Some(image) = ids.image {
-        targets.push(target(image, ACCUM_FORMAT, "the opaque splats shaded over the background"));
+    match ids.image {
+        Some(image) => targets.push(target(image, ACCUM_FORMAT, "the opaque splats shaded over the background")),
+        None => targets.extend(eye_dome::targets(frame)),
     }
     targets
 }
@@ -226,18 +231,27 @@ pub(super) fn steps(frame: &FrameDesc<'_>, ids: &Targets, splats: Range<u32>) ->
         // Into the opaque image, α says where an opaque splat was drawn.
         variant: variant.with(Variant::OPAQUE_APART, ids.image.is_some()).with(Variant::COVERAGE, covered),
         inputs: ids.sums(frame),
-        output: ids.image.map_or(Output::Frame, Output::Target),
+        output: ids.image.map_or(eye_dome::output(frame), Output::Target),
         blend: Blend::Replace,
         clear: true,
         uniforms,
     };
-    let into = if ids.image.is_some() { "opaque image" } else { "output" };
+    let into = match (ids.image, frame.eye_dome()) {
+        (Some(_), _) => "opaque image",
+        (None, Some(_)) => "shaded image",
+        (None, None) => "output",
+    };
     let cover = if covered { ", the front over what is behind it by coverage" } else { "" };
     steps.push(Step::new(
         "normalize",
         format!("full screen: divide by Σw, Phong shading{cover} -> {into}"),
         vec![Command::Fullscreen(normalize)],
     ));
+    if ids.image.is_none() {
+        // The visibility pass pushed the front back by ε; the nearest-splat pass wrote it as it is.
+        let push = if filtered(frame, ids) { frame.epsilon } else { 0.0 };
+        steps.extend(eye_dome::step(frame, FrontDepth::Buffer { target: ids.depth, push }));
+    }
     steps
 }
 

@@ -32,6 +32,8 @@ pub enum Parameter {
     BackfaceCulling,
     /// Phong lighting on/off and the light direction.
     Lighting,
+    /// Eye-dome lighting: its strength and radius, or off.
+    EyeDome,
     /// Grouping algorithm and its parameters (c, K, collision handling).
     Grouping,
     /// Voronoi rasterisation inside a group (Zhang & Pajarola Eq. 14).
@@ -150,6 +152,7 @@ mod tests {
             (Parameter::RadiusScale, "1.3"),
             (Parameter::BackfaceCulling, "off"),
             (Parameter::Lighting, "off"),
+            (Parameter::EyeDome, "0.5,2"),
             (Parameter::Grouping, "hash-k8-kept"),
             (Parameter::Voronoi, "off"),
             (Parameter::Background, "255,0,51"),

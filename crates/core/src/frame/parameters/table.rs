@@ -147,7 +147,7 @@ fn set_environment_layers(s: &mut RenderSettings, value: &str) -> Result<(), Str
 }
 
 /// The table: row i is the parameter whose discriminant is i (a test checks it).
-pub const TABLE: [ParameterInfo; 20] = [
+pub const TABLE: [ParameterInfo; 21] = [
     ParameterInfo {
         parameter: Parameter::Quality,
         key: "quality",
@@ -264,6 +264,21 @@ pub const TABLE: [ParameterInfo; 20] = [
             Ok(())
         },
         get: |s| on_off_text(s.lighting),
+    },
+    ParameterInfo {
+        parameter: Parameter::EyeDome,
+        key: "edl",
+        flag: "edl",
+        off_switch: None,
+        label: "eye-dome lighting",
+        help: "eye-dome lighting (Boucheny): shades the nearest surface by its depth's steps to 8 neighbours, for clouds without normals; on, off, STRENGTH or STRENGTH,RADIUS (defaults 1, 1.4 px)",
+        values: "on, off, STRENGTH or STRENGTH,RADIUS (strength in (0, 100], radius 1 to 16 px)",
+        control: Control::Custom,
+        set: |s, v| {
+            s.eye_dome = crate::frame::EyeDome::parse(v)?;
+            Ok(())
+        },
+        get: |s| Some(s.eye_dome.map_or("off".to_string(), |e| e.text())),
     },
     ParameterInfo {
         parameter: Parameter::Grouping,
