@@ -246,26 +246,22 @@ fn coincident_copies_are_merged_and_a_frame_over_the_memory_budget_is_drawn_in_w
     let groups: usize = line.split_whitespace().next().unwrap().parse().unwrap();
     assert!(groups <= 64, "the copies need no group each: K = {groups}\n{explained}");
     assert!(out.exists());
-    // Over the memory budget: drawn a window at a time...
-    let run = pointblend(dir.path())
-        .env("POINTBLEND_GPU_MEMORY_MB", "16")
-        .arg("render")
-        .arg(model())
-        .args(["--mode", "deferred", "--group", "mgc-c1", "--size", "512x512", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    let log = ok(&run, "over budget, in windows");
+    // The bundled model in deferred with independent groups, under a memory budget of `mb` MiB.
+    let under_budget = |mb: &str| {
+        pointblend(dir.path())
+            .env("POINTBLEND_GPU_MEMORY_MB", mb)
+            .arg("render")
+            .arg(model())
+            .args(["--mode", "deferred", "--group", "mgc-c1", "--size", "512x512", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap()
+    };
+    // Over the budget: drawn a window at a time...
+    let log = ok(&under_budget("16"), "over budget, in windows");
     assert!(log.contains("is drawn in") && log.contains("windows"), "{log}");
     // ...and where not even a small window fits, refused with the size in the message.
-    let run = pointblend(dir.path())
-        .env("POINTBLEND_GPU_MEMORY_MB", "1")
-        .arg("render")
-        .arg(model())
-        .args(["--mode", "deferred", "--group", "mgc-c1", "--size", "512x512", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let run = under_budget("1");
     let error = one_error(&run, "over budget");
     assert!(error.contains("GiB of render targets") && error.contains("--size"), "{error}");
 }
