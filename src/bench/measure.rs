@@ -156,11 +156,6 @@ pub(super) struct Rulers {
     pub(super) eye_dome_lit: Vec<(EyeDome, Ruler)>,
 }
 
-/// The eye-dome lighting a prepared variant draws (an opaque mode that reads it).
-pub(super) fn eye_dome_of(p: &Prepared) -> Option<EyeDome> {
-    p.settings.eye_dome_drawn()
-}
-
 /// Whether (and with which settings) a frame of `settings` draws `scene`'s environment map.
 pub(super) fn drawn_environment(scene: &Scene, settings: &RenderSettings) -> Option<EnvironmentSettings> {
     (scene.environment.is_some() && settings.draws_environment()).then_some(settings.environment)
@@ -195,7 +190,7 @@ impl Rulers {
             }
         }
         let mut eye_dome_lit: Vec<(EyeDome, Ruler)> = Vec::new();
-        for edl in prepared.iter().filter_map(eye_dome_of) {
+        for edl in prepared.iter().filter_map(|p| p.settings.eye_dome_drawn()) {
             if !eye_dome_lit.iter().any(|(e, _)| *e == edl) {
                 let settings = RenderSettings { mode: RenderMode::RULER, eye_dome: Some(edl), ..*base };
                 eye_dome_lit.push((edl, ruler(config, scene, &settings, camera, false)?));
@@ -212,7 +207,7 @@ impl Rulers {
     /// The ruler of a prepared variant.
     pub(super) fn of_variant(&self, scene: &Scene, p: &Prepared) -> &Ruler {
         if !p.variant.mode.info().transparent {
-            let lit = eye_dome_of(p).and_then(|edl| self.eye_dome_lit.iter().find(|(e, _)| *e == edl));
+            let lit = p.settings.eye_dome_drawn().and_then(|edl| self.eye_dome_lit.iter().find(|(e, _)| *e == edl));
             return lit.map_or(&self.opaque, |(_, r)| r);
         }
         let key = drawn_environment(scene, &p.settings);
@@ -285,6 +280,9 @@ pub(super) fn measure_variant(
     let (image, plan, wall, per_pass, profiled) = time_frames(renderer, frames, &view.camera, &p.settings, config)
         .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?;
     row.window_overflows = plan.window_overflows;
+    if p.settings.eye_dome_drawn().is_some() {
+        row.reference += ", eye-dome lit"; // its ruler is (`Rulers::of_variant`)
+    }
     if let Some(budget) = frames.applied_budget(&p.settings).and(frames.last_budget()) {
         row.points = budget.splats;
         row.budget_select_ms = Some(budget.select_ms);
@@ -367,10 +365,7 @@ pub(super) fn measure_views(
         bar.inc(1);
         for p in prepared {
             let reference = rulers.of_variant(&opened.scene, p);
-            let mut blank = row(&p.variant.label(), p.variant.mode);
-            if eye_dome_of(p).is_some() {
-                blank.reference += ", eye-dome lit";
-            }
+            let blank = row(&p.variant.label(), p.variant.mode);
             rows.push(measure_variant(renderer, frames, view, p, config, reference, (stem, blank))?);
             bar.inc(1);
         }

@@ -190,10 +190,7 @@ fn bench_animation(
             bar.inc(1);
             for p in &prepared {
                 let reference = rulers.of_variant(&now.scene, p);
-                let mut blank = blank_row(&name, &now, view.name, config, &p.variant.label(), p.variant.mode);
-                if super::measure::eye_dome_of(p).is_some() {
-                    blank.reference += ", eye-dome lit";
-                }
+                let blank = blank_row(&name, &now, view.name, config, &p.variant.label(), p.variant.mode);
                 let spec = frames.drawn_grouping(&p.settings);
                 let mut row = measure_variant(renderer, &mut frames, view, p, config, reference, (&stem, blank))?;
                 (row.frame, row.time) = (Some(i), Some(t));

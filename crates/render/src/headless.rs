@@ -72,16 +72,19 @@ impl HeadlessRenderer {
         width: u32,
         height: u32,
     ) -> Result<RenderPlan, GpuError> {
-        self.render_window(scene, camera, settings, FrameWindow::whole((width, height)))
+        let plan = Renderer::plan(scene, camera, settings, (width, height))?;
+        self.render_window(scene, camera, settings, FrameWindow::whole((width, height)), plan)
     }
 
-    /// Renders `window` of a frame into an output texture of its size and submits it.
+    /// Renders `window` of a frame by `plan` (the window's) into an output
+    /// texture of its size and submits it.
     fn render_window(
         &mut self,
         scene: &mut GpuScene,
         camera: &Camera,
         settings: &RenderSettings,
         window: FrameWindow,
+        plan: RenderPlan,
     ) -> Result<RenderPlan, GpuError> {
         let (width, height) = window.size;
         self.ctx.check_size(width, height)?;
@@ -98,7 +101,7 @@ impl HeadlessRenderer {
             }));
         }
         let view = self.output_texture()?.create_view(&Default::default());
-        self.renderer.render_window(&self.ctx, scene, camera, settings, (&view, OUTPUT_FORMAT), window)
+        self.renderer.render_planned(&self.ctx, scene, camera, settings, (&view, OUTPUT_FORMAT), window, plan)
     }
 
     /// Renders one frame and reads it back.
@@ -110,11 +113,13 @@ impl HeadlessRenderer {
         width: u32,
         height: u32,
     ) -> Result<(image::RgbaImage, RenderPlan), GpuError> {
-        let windows = self.windows(scene, camera, settings, (width, height))?;
+        // The whole frame's plan, made once: it says whether the frame fits, and runs when it does.
+        let whole = Renderer::plan(scene, camera, settings, (width, height))?;
+        let windows = self.windows(&whole, (width, height));
         if windows.len() > 1 {
             return self.render_windows(scene, camera, settings, &windows);
         }
-        let mut plan = self.render(scene, camera, settings, width, height)?;
+        let mut plan = self.render_window(scene, camera, settings, FrameWindow::whole((width, height)), whole)?;
         let image = readback::read_rgba8(&self.ctx, self.output_texture()?)?;
         if let Some(tiles) = self.renderer.tile_engine().filter(|_| plan.compute_passes() > 0) {
             let overflowed = tiles.window_overflows(&self.ctx)?;
@@ -127,29 +132,22 @@ impl HeadlessRenderer {
         Ok((image, plan))
     }
 
-    /// The windows a `size` frame is drawn in: the whole frame when its
+    /// The windows a `size` frame whose plan is `plan` is drawn in: the whole frame when its
     /// targets, output texture and readback fit the window budget and the
     /// GPU's limits, else windows that do ([`window::tiles`]). When not even
     /// a window of [`window::MIN_SIDE`] fits, the whole frame, which the
     /// renderer then refuses with the memory it needs and what to change.
-    fn windows(
-        &self,
-        scene: &GpuScene,
-        camera: &Camera,
-        settings: &RenderSettings,
-        size: (u32, u32),
-    ) -> Result<Vec<FrameWindow>, GpuError> {
+    fn windows(&self, plan: &RenderPlan, size: (u32, u32)) -> Vec<FrameWindow> {
         let limits = self.ctx.device.limits();
-        let plan = Renderer::plan(scene, camera, settings, size)?;
         let pixels = (size.0 as u64 * size.1 as u64).max(1);
         // The output texture and its readback take 4 bytes a pixel each.
         let per_pixel = plan.target_bytes() as f64 / pixels as f64 + 8.0;
         let budget = self.window_budget.min(self.ctx.target_budget());
         let max_pixels = ((budget as f64 / per_pixel) as u64).min(limits.max_buffer_size / 4);
         if max_pixels < (window::MIN_SIDE * window::MIN_SIDE) as u64 {
-            return Ok(vec![FrameWindow::whole(size)]);
+            return vec![FrameWindow::whole(size)];
         }
-        Ok(window::tiles(size, max_pixels, limits.max_texture_dimension_2d))
+        window::tiles(size, max_pixels, limits.max_texture_dimension_2d)
     }
 
     /// A frame drawn window by window, each grown by [`window::MARGIN`] for
@@ -167,7 +165,8 @@ impl HeadlessRenderer {
         let mut largest: Option<RenderPlan> = None;
         for kept in windows {
             let drawn = kept.grown(window::MARGIN);
-            let plan = self.render_window(scene, camera, settings, drawn)?;
+            let plan = Renderer::plan(scene, camera, settings, drawn.size)?;
+            let plan = self.render_window(scene, camera, settings, drawn, plan)?;
             let part = readback::read_rgba8(&self.ctx, self.output_texture()?)?;
             let (x, y) = (kept.origin.0 - drawn.origin.0, kept.origin.1 - drawn.origin.1);
             let kept_part = image::imageops::crop_imm(&part, x, y, kept.size.0, kept.size.1).to_image();

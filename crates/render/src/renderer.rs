@@ -217,11 +217,14 @@ impl Renderer {
         format: wgpu::TextureFormat,
         size: (u32, u32),
     ) -> Result<RenderPlan, GpuError> {
-        self.render_window(ctx, scene, camera, settings, (output, format), FrameWindow::whole(size))
+        let plan = Self::plan(scene, camera, settings, size)?;
+        self.render_planned(ctx, scene, camera, settings, (output, format), FrameWindow::whole(size), plan)
     }
 
-    /// [`Self::render`] of `window` of the frame: `output` is the window's size.
-    pub fn render_window(
+    /// [`Self::render`] of `window` of the frame (`output` is the window's
+    /// size), by the window's plan, made already ([`Self::plan`] at its size).
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_planned(
         &mut self,
         ctx: &GpuContext,
         scene: &mut GpuScene,
@@ -229,10 +232,10 @@ impl Renderer {
         settings: &RenderSettings,
         (output, format): (&wgpu::TextureView, wgpu::TextureFormat),
         window: FrameWindow,
+        mut plan: RenderPlan,
     ) -> Result<RenderPlan, GpuError> {
         let size = window.size;
         ctx.check_size(size.0, size.1)?;
-        let mut plan = Self::plan(scene, camera, settings, size)?;
         plan.check_fits(&ctx.device.limits(), ctx.target_budget())?;
         if plan.back_to_front() {
             scene.order_back_to_front(&ctx.queue, camera.view_ray(), settings.order);

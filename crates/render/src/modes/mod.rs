@@ -89,11 +89,6 @@ impl FrameDesc<'_> {
         }
     }
 
-    /// The eye-dome lighting the frame draws (`RenderSettings::eye_dome_drawn`).
-    pub fn eye_dome(&self) -> Option<crate::frame::EyeDome> {
-        self.settings.eye_dome_drawn()
-    }
-
     /// Whether the splat passes low-pass filter (the EWA prefilter, in a mode that reads it).
     pub fn prefiltered(&self) -> bool {
         self.settings.low_pass_radius_px() > 0.0
