@@ -11,8 +11,8 @@
 //! names, so `pointblend::cloud` and `pointblend::render` read as before.
 
 pub use pointblend_core::{
-    cloud, copc, frame, grouping, hash, hybrid, inspect, lod, memory, output, progress, reference, scene, shadow,
-    spatial, style,
+    cloud, copc, formats, frame, grouping, hash, hybrid, input, inspect, lod, memory, output, progress, reference,
+    scene, shadow, spatial, style,
 };
 pub use pointblend_render as render;
 

@@ -15,7 +15,7 @@ use clap::{Parser, Subcommand};
 #[command(
     name = "pointblend",
     version,
-    about = "Point-based surface splatting: render, inspect and benchmark PLY scans",
+    about = commands::formats_help::program_about(),
     args_conflicts_with_subcommands = true
 )]
 struct Cli {
@@ -30,15 +30,15 @@ struct Cli {
 enum Command {
     /// Open the interactive viewer (the default); headless, render every mode to ./out/.
     View(commands::view::Args),
-    /// Show what a PLY file holds and what loading it estimates or repairs.
+    #[command(about = commands::formats_help::info_about())]
     Info(commands::info::Args),
-    /// Render a PLY file to a PNG image.
+    #[command(about = commands::formats_help::render_about())]
     Render(commands::render::Args),
     /// List the surface layers a pixel's ray passes (the exact reference's), with their attributes.
     Pick(commands::pick::Args),
     /// Measure distances, angles and heights between the surfaces under pixels.
     Measure(commands::pick::Args),
-    /// Convert a mesh or cloud into a splat cloud (binary PLY with normals, radii, colours).
+    /// Convert a mesh, cloud or volume into splats: PLY with normals, radii and colours, LAS/LAZ, or COPC.
     Convert(commands::convert::Args),
     /// Time every mode and measure its error against the exact reference.
     Bench(commands::bench::Args),

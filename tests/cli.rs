@@ -98,7 +98,7 @@ fn group_prints_the_required_json_for_every_test_scan_and_caches_it() {
                 .env("POINTBLEND_CACHE", cache.path())
                 .arg("group")
                 .arg(&scan)
-                .args(["--algo", "mgc", "--c", "0.4", "--json"])
+                .args(["--group", "mgc-c0.4", "--json"])
                 .output()
                 .unwrap()
         };

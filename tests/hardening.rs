@@ -384,9 +384,9 @@ fn group_and_render_share_the_default_grouping() {
     let run = pointblend(dir.path()).arg("group").arg(model()).args(["--json", "--no-cache"]).output().unwrap();
     ok(&run, "group");
     let json: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
-    let c = json["c"].as_f64().unwrap();
-    assert!((c - 0.4).abs() < 1e-6, "group's default c is {c}, --group's is mgc-c0.4");
-    assert_eq!(pointblend::grouping::GroupingSpec::default().to_string(), "mgc-c0.4");
+    let grouping = json["grouping"].as_str().unwrap();
+    assert_eq!(grouping, pointblend::grouping::GroupingSpec::default().to_string(), "group's default is --group's");
+    assert_eq!(grouping, "mgc-c0.4");
     assert!(pointblend::frame::RenderSettings::default().voronoi, "deferred defaults to Voronoi depth everywhere");
 }
 

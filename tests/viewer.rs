@@ -117,6 +117,9 @@ fn bench_image(sidecar: &Path, cache: &Path) -> image::RgbaImage {
         animate: None,
         environment: None,
         stream: Default::default(),
+        camera: Default::default(),
+        time: None,
+        stream_budget: Default::default(),
     };
     let mut renderer = pointblend::render::HeadlessRenderer::new().unwrap();
     let timed = pointblend::bench::timing::time_frames(&mut renderer, &mut frames, &view.camera(), &settings, &config);

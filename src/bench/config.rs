@@ -48,8 +48,14 @@ pub struct BenchConfig {
     pub animate: Option<usize>,
     /// The environment map every model is set in, if any (§5.2.3).
     pub environment: Option<std::sync::Arc<crate::scene::environment::EnvironmentMap>>,
-    /// How streamed models (COPC files and URLs) are read.
+    /// How streamed models (COPC files and URLs) are read, and the points they draw.
     pub stream: crate::copc::StreamOptions,
+    pub stream_budget: crate::copc::StreamBudget,
+    /// The camera asked for (the headless main job's `--azimuth` and the
+    /// like): when it asks for anything, the first view is that camera.
+    pub camera: crate::frame::CameraRequest,
+    /// The time a moving scene is measured at, in seconds (0 when `None`).
+    pub time: Option<f64>,
 }
 
 pub(super) fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> BenchError + '_ {

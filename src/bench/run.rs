@@ -109,8 +109,12 @@ fn bench_model(
     let mut opened = open_model(model, config)?;
     let moving = opened.scene.is_animated().then(|| crate::render::rest_lattice(&opened.scene));
     if moving.is_some() {
-        log::info!("{}: the scene moves; it is measured at 0 s (--animate N measures its frames)", model.display());
-        opened.scene = Arc::new(opened.scene.at_time(0.0).map_err(BenchError::Invalid)?.scene);
+        let time = config.time.unwrap_or(0.0);
+        log::info!(
+            "{}: the scene moves; it is measured at {time} s (--animate N measures its frames)",
+            model.display()
+        );
+        opened.scene = Arc::new(opened.scene.at_time(time).map_err(BenchError::Invalid)?.scene);
     }
     let frames = SceneFrames::of(Arc::clone(&opened.scene));
     let mut frames = match moving {
@@ -121,7 +125,7 @@ fn bench_model(
     let prepared = prepare_variants(config, &opened, &mut frames, renderer)?;
     let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let stem = crate::output::safe_stem(model);
-    let views = standard_views(&cloud, w as f32 / h as f32, config.views);
+    let views = standard_views(&cloud, w as f32 / h as f32, config.views, &config.camera);
     let orders = if config.orders {
         log::info!("timing the back-to-front orders of {name}");
         time_orders(&name, &cloud, &views, config.frames, config.warm_up)
@@ -161,7 +165,8 @@ fn bench_animation(
     let framed = Opened { scene: first, base: opened.base, load_s: opened.load_s };
     let prepared = prepare_variants(config, &framed, &mut frames, renderer)?;
     let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let views = standard_views(frames.cloud(), config.width as f32 / config.height as f32, config.views);
+    let views =
+        standard_views(frames.cloud(), config.width as f32 / config.height as f32, config.views, &config.camera);
     let bar = crate::progress::bar(
         (count * views.len() * (prepared.len() + 1)) as u64,
         &format!("bench {} frames", crate::output::safe_stem(model)),

@@ -13,8 +13,7 @@ use super::report::BenchRow;
 use super::views::standard_views;
 use super::{BenchConfig, BenchError};
 use crate::cloud::LoadOptions;
-use crate::copc::{self, CopcStream};
-use crate::lod::SelectOptions;
+use crate::copc::CopcStream;
 use crate::render::{HeadlessRenderer, SceneFrames};
 use crate::scene::Scene;
 
@@ -29,9 +28,8 @@ pub(super) fn bench_streamed(
     let mut stream = CopcStream::open(&name, config.stream.clone()).map_err(|e| BenchError::Invalid(e.to_string()))?;
     let open_s = opened_at.elapsed().as_secs_f64();
     let (w, h) = (config.width, config.height);
-    let views = standard_views(&stream.bounds_cloud(), w as f32 / h as f32, config.views);
-    let budget = config.settings.point_budget.map_or(copc::stream::DEFAULT_BUDGET, |b| b as usize);
-    let select = SelectOptions { budget, radius_scale: 1.0, cull: true, finest_px: copc::stream::FINEST_PX };
+    let views = standard_views(&stream.bounds_cloud(), w as f32 / h as f32, config.views, &config.camera);
+    let budget = config.stream_budget;
     // The stream applied the budget; the modes draw every point it selected.
     let config = &BenchConfig { settings: config.settings.without_budget(), ..config.clone() };
     let short = stream.file_name().to_string();
@@ -41,7 +39,7 @@ pub(super) fn bench_streamed(
         let before = stream.stats();
         let started = Instant::now();
         let frame = stream
-            .frame(&view.camera, (w, h), select, &LoadOptions { progress: config.progress, ..Default::default() })
+            .frame_under(&view.camera, (w, h), budget, &LoadOptions { progress: config.progress, ..Default::default() })
             .map_err(|e| BenchError::Invalid(e.to_string()))?;
         let stream_s = started.elapsed().as_secs_f64();
         let after = stream.stats();

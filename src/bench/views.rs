@@ -8,7 +8,7 @@
 //! scanner's direction, the grazing one looking steeply down across it.
 
 use crate::cloud::PointCloud;
-use crate::frame::Camera;
+use crate::frame::{Camera, CameraRequest};
 
 /// A named camera.
 #[derive(Debug, Clone)]
@@ -35,13 +35,25 @@ const SINGLE_VIEW_SCAN_VIEWS: [(&str, f32, f32, f32); 5] = [
     ("grazing", 0.0, 55.0, 1.0),
 ];
 
-/// The first `count` standard views (at most 5) of `cloud` for images of `aspect`.
-pub fn standard_views(cloud: &PointCloud, aspect: f32, count: usize) -> Vec<NamedView> {
-    let base = Camera::default_for(cloud, aspect);
+/// The first `count` standard views (at most 5) of `cloud` for images of
+/// `aspect`; when `asked` asks for anything, the first is the camera it
+/// makes (named "asked") and the others turn around that one.
+pub fn standard_views(cloud: &PointCloud, aspect: f32, count: usize, asked: &CameraRequest) -> Vec<NamedView> {
+    if !asked.is_empty() {
+        // Checked by the command line before the run.
+        let camera = asked.camera(cloud, aspect).unwrap_or_else(|_| Camera::default_for(cloud, aspect));
+        let mut views = vec![NamedView { name: "asked", camera }];
+        views.extend(turned_views(camera, cloud, aspect).into_iter().skip(1).take(count.saturating_sub(1)));
+        return views;
+    }
+    turned_views(Camera::default_for(cloud, aspect), cloud, aspect).into_iter().take(count).collect()
+}
+
+/// Every standard view, turned from `base`.
+fn turned_views(base: Camera, cloud: &PointCloud, aspect: f32) -> Vec<NamedView> {
     let table = if cloud.scanner_position.is_some() { &SINGLE_VIEW_SCAN_VIEWS } else { &VIEWS };
     table
         .iter()
-        .take(count)
         .map(|&(name, az, el, factor)| {
             let mut camera = base;
             camera.azimuth_deg += az;

@@ -7,15 +7,13 @@ use anyhow::{Context, Result, bail};
 use pointblend::bench::{self, BenchConfig};
 use pointblend::cloud;
 use pointblend::frame::{ModeVariant, Parameter};
-use pointblend::render::HeadlessRenderer;
+use pointblend::render::{HeadlessRenderer, RenderMode};
 
 use super::shared::ViewArgs;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Point clouds or scene files; COPC files (.copc.laz, or http(s) URLs) are
-    /// streamed view by view under the point budget (1M unless --point-budget).
-    #[arg(required = true)]
+    #[arg(required = true, help = super::formats_help::benched_files())]
     pub files: Vec<PathBuf>,
     #[command(flatten)]
     pub view: ViewArgs,
@@ -49,9 +47,7 @@ pub struct Args {
     /// time, regroup and upload milliseconds and ε against that frame's reference.
     #[arg(long, value_name = "N")]
     pub animate: Option<usize>,
-    /// Environment map every model is set in (equirectangular OpenEXR, HDR,
-    /// PNG or JPEG); variants choose the effects with env-layers=single|multi|off.
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", help = format!("{}; variants choose the effects with env-layers=single|multi|off", super::shared::environment_help()))]
     pub env: Option<PathBuf>,
 }
 
@@ -68,16 +64,6 @@ pub fn run(args: &Args) -> Result<()> {
     if let Some(frames) = args.animate.filter(|n| *n > MAX_ANIMATE_FRAMES) {
         bail!(
             "--animate {frames}: at most {MAX_ANIMATE_FRAMES} frames (each frame writes an image and a difference image per mode and view)"
-        );
-    }
-    let camera_options = [
-        ("--azimuth", args.view.azimuth.is_some()),
-        ("--elevation", args.view.elevation.is_some()),
-        ("--distance", args.view.distance.is_some()),
-    ];
-    if let Some((option, _)) = camera_options.iter().find(|(_, given)| *given) {
-        bail!(
-            "{option}: bench renders its own views (--views N of front, side, back-top, close-up, grazing); `pointblend render` renders one view"
         );
     }
     if args.views == 0 || args.views > bench::views::MAX_VIEWS {
@@ -127,7 +113,7 @@ pub fn run(args: &Args) -> Result<()> {
         environment,
         stream: args.view.stream.options(true),
         variants,
-        settings: args.view.base_settings(&pointblend::scene::Scene::default())?,
+        settings: args.view.base_settings(&pointblend::scene::Scene::default(), RenderMode::DEFAULT)?,
         materials: args.view.scene.materials(args.view.parameters.given(Parameter::Background).is_some()),
         width: args.view.size.0,
         height: args.view.size.1,
@@ -138,6 +124,9 @@ pub fn run(args: &Args) -> Result<()> {
         progress: true,
         orders: args.orders,
         animate: args.animate,
+        camera: Default::default(),
+        time: None,
+        stream_budget: args.view.stream_budget()?,
     };
     let outcome = bench::run(&args.files, &config, &mut renderer)?;
     if !outcome.rows.is_empty() {

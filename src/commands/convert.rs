@@ -10,11 +10,9 @@ use pointblend::cloud::{self, LoadOptions};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Input PLY (mesh or cloud), LAS, LAZ or E57, or a NIfTI-1 volume (.nii, .nii.gz).
+    #[arg(help = super::formats_help::converted_input())]
     pub input: PathBuf,
-    /// Output PLY (binary: x y z nx ny nz radius red green blue, then the attributes),
-    /// or LAS/LAZ (.las, .laz: the attributes in their fields, normals and radii as extra bytes),
-    /// or COPC (.copc.laz: an octree of LAZ chunks that `render`, `bench` and `info` stream).
+    #[arg(help = super::formats_help::converted_output())]
     pub output: PathBuf,
     /// Sample this many splats uniformly over the mesh surface instead of using its vertices.
     #[arg(long)]

@@ -4,67 +4,33 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Result, bail};
-use clap::ValueEnum;
 use pointblend::cloud::PointCloud;
 use pointblend::frame::Camera;
-use pointblend::grouping::{
-    self, Extension, Grouping, GroupingAlgo, GroupingReport, GroupingSpec, Relaxations, Tuning, cache, metrics,
-};
+use pointblend::grouping::{self, Grouping, GroupingAlgo, GroupingReport, GroupingSpec, Tuning, cache, metrics};
 use serde_json::json;
-
-#[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
-pub enum Algo {
-    Mgc,
-    Wgc,
-    Hash,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
-pub enum CollisionArg {
-    None,
-    All,
-    Near,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
-pub enum ExtendArg {
-    Dup,
-    Radius,
-}
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// PLY file.
+    #[arg(help = super::formats_help::grouped_file())]
     pub file: PathBuf,
-    /// Grouping algorithm.
-    #[arg(long, value_enum, default_value = "mgc")]
-    pub algo: Algo,
-    /// Number of groups (wgc, hash; for mgc: the largest c with at most K groups is searched).
-    #[arg(long)]
-    pub k: Option<usize>,
-    /// Overlap relaxation c in 0..=1: edges join splats closer than c·(r_i + r_j)
-    /// (0.4 is the paper's opaque setting, and `--group`'s default).
-    #[arg(long, default_value_t = 0.4)]
-    pub c: f32,
-    /// Relaxation (2): no edge between splats whose normals point in opposite directions.
-    #[arg(long)]
-    pub relax_normals: bool,
-    /// Relaxation (1): no edge between nearly coplanar splats of the same colour.
-    #[arg(long)]
-    pub relax_coplanar: bool,
-    /// WGC weights without Eq. 7's (1 - n_i·n_j) factor.
+    /// The grouping, written as `render --group` and bench's `group=` write it.
+    #[arg(long, default_value = "mgc-c0.4", value_name = "SPEC", help = format!(
+        "The grouping, written as `render --group` and bench's `group=` write it: {}",
+        grouping::spec::GRAMMAR
+    ))]
+    pub group: GroupingSpec,
+    /// MGC: search the largest c (to 1/64) that needs at most K groups, in place of the spec's c.
+    #[arg(long, value_name = "K")]
+    pub max_groups: Option<usize>,
+    /// WGC: the overlap graph's relaxation c in 0..=1, edges between splats closer than c·(r_i + r_j) [default: 1].
+    #[arg(long, value_name = "C")]
+    pub graph_c: Option<f32>,
+    /// WGC: weights are the plain overlap area, without Eq. 7's (1 - n_i·n_j) factor.
     #[arg(long)]
     pub pure_area: bool,
-    /// WGC's MinimizeOverlap picks the colour of least Eq. 7 weight instead of
-    /// the paper's least overlap area.
+    /// Hashing that resolves collisions: only for splats nearer the default camera than the median.
     #[arg(long)]
-    pub eq7: bool,
-    /// Hash grouping collision handling; `near` resolves splats nearer the default camera than the median.
-    #[arg(long, value_enum, default_value = "all")]
-    pub collisions: CollisionArg,
-    /// Extend each group to cover the surface, for transparency.
-    #[arg(long, value_enum)]
-    pub extend: Option<ExtendArg>,
+    pub near_only: bool,
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,
@@ -74,53 +40,40 @@ pub struct Args {
 }
 
 impl Args {
-    /// The grouping these arguments name, and the knobs a spec's name does not hold.
-    fn spec(&self, cloud: &PointCloud) -> (GroupingSpec, Tuning) {
-        let k = self.k.unwrap_or(8);
-        let graph_relax = Relaxations { coplanar: self.relax_coplanar, opposite: self.relax_normals };
-        let mut tuning = Tuning::default();
-        let (algo, relax) = match self.algo {
-            Algo::Mgc => {
-                tuning.max_groups = self.k;
-                (GroupingAlgo::Mgc { c: self.c }, graph_relax)
-            }
-            Algo::Wgc => {
-                tuning.wgc_c = Some(self.c);
-                tuning.pure_area = self.pure_area;
-                (GroupingAlgo::Wgc { k, eq7: self.eq7 }, graph_relax)
-            }
-            Algo::Hash => {
-                if self.collisions == CollisionArg::Near {
-                    let camera = Camera::default_for(cloud, 1.0);
-                    tuning.near = Some((camera.eye(), camera.distance));
-                }
-                let resolve_collisions = self.collisions != CollisionArg::None;
-                (GroupingAlgo::Hash { k, resolve_collisions }, Relaxations::default())
-            }
-        };
-        let extension = match self.extend {
-            None => Extension::None,
-            Some(ExtendArg::Dup) => Extension::Duplicate,
-            Some(ExtendArg::Radius) => Extension::Enlarge,
-        };
-        (GroupingSpec { algo, relax, extension }, tuning)
+    /// The knobs a spec's name does not hold, checked against the spec's algorithm.
+    fn tuning(&self, cloud: &PointCloud) -> Result<Tuning> {
+        let spec = self.group;
+        let (mgc, wgc) = (matches!(spec.algo, GroupingAlgo::Mgc { .. }), matches!(spec.algo, GroupingAlgo::Wgc { .. }));
+        let resolving = matches!(spec.algo, GroupingAlgo::Hash { resolve_collisions: true, .. });
+        if self.max_groups.is_some() && !mgc {
+            bail!("--max-groups searches MGC's c; {spec} is not an MGC grouping");
+        }
+        if (self.graph_c.is_some() || self.pure_area) && !wgc {
+            bail!("--graph-c and --pure-area tune WGC; {spec} is not a WGC grouping");
+        }
+        if self.near_only && !resolving {
+            bail!("--near-only tunes hashing that resolves collisions; {spec} is not one (hash-kK without -kept)");
+        }
+        if let Some(k) = self.max_groups.filter(|k| *k == 0 || *k > grouping::MAX_GROUPS) {
+            bail!("--max-groups must be 1..={}, not {k}", grouping::MAX_GROUPS);
+        }
+        if let Some(c) = self.graph_c.filter(|c| !(0.0..=1.0).contains(c)) {
+            bail!("--graph-c must be in 0..=1, not {c}");
+        }
+        let near = self.near_only.then(|| {
+            let camera = Camera::default_for(cloud, 1.0);
+            (camera.eye(), camera.distance)
+        });
+        Ok(Tuning { max_groups: self.max_groups, wgc_c: self.graph_c, pure_area: self.pure_area, near })
     }
 }
 
 pub fn run(args: &Args) -> Result<()> {
-    if !(0.0..=1.0).contains(&args.c) {
-        bail!("--c must be in 0..=1, not {}", args.c);
-    }
-    if let Some(k) = args.k {
-        if k == 0 || k > grouping::MAX_GROUPS {
-            bail!("--k must be 1..={}, not {k}", grouping::MAX_GROUPS);
-        }
-    }
     let mut stages: Vec<(&str, f64)> = Vec::new();
     let t = Instant::now();
     let (cloud, _) = super::shared::load(&args.file)?;
     stages.push(("load", t.elapsed().as_secs_f64()));
-    let (spec, tuning) = args.spec(&cloud);
+    let (spec, tuning) = (args.group, args.tuning(&cloud)?);
     let cache = cache::Cache::from_env();
     let file_hash = if args.no_cache { None } else { pointblend::hash::file_hash(&args.file).ok() };
 
@@ -166,7 +119,7 @@ pub fn run(args: &Args) -> Result<()> {
 /// collisions hashing resolved, the radius enlargement.
 fn notes(args: &Args, report: &GroupingReport) -> Vec<String> {
     let mut notes = Vec::new();
-    if let (Some(c), Some(k)) = (report.c, args.k) {
+    if let (Some(c), Some(k)) = (report.c, args.max_groups) {
         notes.push(format!("c = {c:.4} is the largest relaxation with at most {k} groups"));
     }
     if let Some(wgc) = &report.wgc {
@@ -216,8 +169,7 @@ fn print_json(args: &Args, o: &Outcome<'_>) {
     let object = json!({
         "file": args.file.display().to_string(),
         "points": o.cloud.len(),
-        "algo": format!("{:?}", args.algo).to_lowercase(),
-        "c": args.c,
+        "grouping": args.group.to_string(),
         "k": m.k,
         "group_sizes": m.group_sizes,
         "max_degree": max_degree,
@@ -239,10 +191,10 @@ fn print_json(args: &Args, o: &Outcome<'_>) {
 fn print_text(args: &Args, o: &Outcome<'_>) {
     let m = o.metrics;
     println!(
-        "{}: {} splats, {:?}{}",
+        "{}: {} splats, {}{}",
         args.file.display(),
         o.cloud.len(),
-        args.algo,
+        args.group,
         if o.from_cache { " (from the cache)" } else { "" }
     );
     println!("K:               {}", m.k);

@@ -6,8 +6,7 @@ use anyhow::Result;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Point cloud file: PLY, LAS, LAZ or E57; a COPC file (.copc.laz, or an
-    /// http(s) URL) prints its header and hierarchy without decoding its points.
+    #[arg(help = super::formats_help::described_by_info())]
     pub file: PathBuf,
 }
 

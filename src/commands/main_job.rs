@@ -62,15 +62,15 @@ pub fn run(args: &Args) -> Result<()> {
             variants.extend(ModeVariant::expand(mode.name()).map_err(anyhow::Error::msg)?);
         }
         let mut settings = RenderSettings::default();
-        args.parameters.apply(&mut settings).map_err(anyhow::Error::msg)?;
+        args.view.parameters.apply(&mut settings).map_err(anyhow::Error::msg)?;
         let config = BenchConfig {
             environment: environment.clone(),
-            stream: Default::default(),
+            stream: args.view.stream.options(true),
             variants,
             settings,
-            materials: args.scene.materials(args.parameters.given(Parameter::Background).is_some()),
-            width: args.size.0,
-            height: args.size.1,
+            materials: args.view.scene.materials(args.view.parameters.given(Parameter::Background).is_some()),
+            width: args.view.size.0,
+            height: args.view.size.1,
             frames: 5,
             warm_up: 2,
             views: 1,
@@ -78,6 +78,9 @@ pub fn run(args: &Args) -> Result<()> {
             progress: true,
             orders: false,
             animate: None,
+            camera: args.camera_flags.request(),
+            time: args.time,
+            stream_budget: args.view.stream_budget()?,
         };
         let outcome = bench::run(std::slice::from_ref(&part.model), &config, &mut renderer)?;
         sheet.push(sheet_row(part, &outcome.rows));
@@ -86,7 +89,7 @@ pub fn run(args: &Args) -> Result<()> {
     print!("{}", compact_table(&rows));
     let json = args.out.join("bench.json");
     bench::report::write_json(&rows, &json).with_context(|| format!("{}: cannot write", json.display()))?;
-    let title = format!("error against frame time, {}x{}", args.size.0, args.size.1);
+    let title = format!("error against frame time, {}x{}", args.view.size.0, args.view.size.1);
     bench::plot::write(&rows, &title, &args.out.join("error_vs_time.png")).map_err(anyhow::Error::msg)?;
     bench::sheet::write(&sheet, 256, &args.out.join("modes.png")).map_err(anyhow::Error::msg)?;
     println!(

@@ -3,6 +3,7 @@
 
 pub mod bench;
 pub mod convert;
+pub mod formats_help;
 pub mod group;
 pub mod info;
 pub mod info_streamed;

@@ -6,17 +6,17 @@
 use std::path::PathBuf;
 
 use anyhow::{Result, bail};
-use pointblend::frame::Camera;
+use pointblend::frame::{Camera, RenderMode};
 use pointblend::inspect::PickReport;
 use pointblend::reference::{ReferenceOptions, pick};
 use pointblend::scene::Scene;
 
-use super::shared::{self, ViewArgs};
+use super::shared::{self, CameraArgs, ViewArgs};
 
 /// The flags of `pick` and `measure`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Point cloud (PLY, LAS, LAZ, E57), scene file (.toml), or a COPC file or URL.
+    #[arg(help = super::formats_help::drawn_file())]
     pub file: PathBuf,
     /// A pixel X,Y (from the top left, in the --size image) whose ray is
     /// cast; repeatable (measure: at least two, in order along the polyline).
@@ -26,8 +26,10 @@ pub struct Args {
     /// for several --at); measure: {"points", "distance", "segments", "angle_deg", "angles_deg", "height"}.
     #[arg(long)]
     pub json: bool,
-    /// The camera, size, clip and scene flags of `render` (the layers are
-    /// always the exact reference's, of the scene as defined: --mode is not read).
+    #[command(flatten)]
+    pub camera: CameraArgs,
+    /// The size, parameter, scene and streaming flags of `render` (the layers
+    /// are always the exact reference's, of the scene as defined).
     #[command(flatten)]
     pub view: ViewArgs,
 }
@@ -49,7 +51,7 @@ pub struct Picking {
 }
 
 impl Picking {
-    pub fn open(file: &std::path::Path, view: &ViewArgs, pixels: &[(u32, u32)]) -> Result<Self> {
+    pub fn open(file: &std::path::Path, view: &ViewArgs, flags: &CameraArgs, pixels: &[(u32, u32)]) -> Result<Self> {
         let size = view.size;
         if let Some(&(x, y)) = pixels.iter().find(|(x, y)| *x >= size.0 || *y >= size.1) {
             bail!("pixel {x},{y} is outside the {}x{} image (--size)", size.0, size.1);
@@ -58,18 +60,17 @@ impl Picking {
         let (mut scene, camera) = match &mut stream {
             Some(stream) => {
                 let bounds = super::stream_args::bounds_scene(stream);
-                let camera = view.camera(&bounds)?;
-                let budget = view.base_settings(&bounds)?.point_budget;
-                (super::stream_args::frame_scene(stream, &camera, size, budget)?, camera)
+                let camera = view.camera(flags, &bounds)?;
+                (super::stream_args::frame_scene(stream, &camera, size, view.stream_budget()?)?, camera)
             }
             None => {
                 let scene = shared::load_scene(file)?;
-                let camera = view.camera(&scene)?;
+                let camera = view.camera(flags, &scene)?;
                 (scene, camera)
             }
         };
         view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
-        let settings = view.base_settings(&scene)?;
+        let settings = view.base_settings(&scene, RenderMode::RULER)?;
         let options = pick::options(&settings, &scene);
         Ok(Picking { scene, camera, options, size })
     }
@@ -81,7 +82,7 @@ impl Picking {
 }
 
 pub fn run(args: &Args) -> Result<()> {
-    let picking = Picking::open(&args.file, &args.view, &args.at)?;
+    let picking = Picking::open(&args.file, &args.view, &args.camera, &args.at)?;
     let reports: Vec<PickReport> = args.at.iter().map(|&p| picking.pick(p)).collect();
     if args.json {
         let value = match reports.as_slice() {

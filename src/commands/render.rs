@@ -4,19 +4,24 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
+use pointblend::copc::StreamBudget;
 use pointblend::frame::{Parameter, RenderMode, RenderSettings, Sidecar, ViewPath};
 use pointblend::reference::{self, ReferenceOptions};
 use pointblend::render::{Frame, HeadlessRenderer, Readback, SceneFrames};
 use pointblend::scene::Scene;
 use pointblend::scene::environment::EnvironmentMap;
 
-use super::shared::{self, ViewArgs};
+use super::shared::{self, CameraArgs, ViewArgs};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Point cloud (PLY, LAS, LAZ, E57), scene file (.toml), or a COPC file
-    /// (.copc.laz, a path or an http(s) URL), streamed under the point budget.
+    #[arg(help = super::formats_help::drawn_file())]
     pub file: PathBuf,
+    /// Rendering mode.
+    #[arg(long, default_value_t = RenderMode::DEFAULT, value_parser = shared::mode_parser())]
+    pub mode: RenderMode,
+    #[command(flatten)]
+    pub camera_flags: CameraArgs,
     #[command(flatten)]
     pub view: ViewArgs,
     /// Output image (.png or .jpg).
@@ -34,10 +39,7 @@ pub struct Args {
     /// colour and opacity by attribute unless --color-by and the like are given.
     #[arg(long, value_name = "SIDECAR.json")]
     pub camera: Option<PathBuf>,
-    /// Environment map that transparent surfaces reflect and refract: an
-    /// equirectangular OpenEXR, Radiance HDR, PNG or JPEG (assets/venice.exr
-    /// is bundled). Drawn by modes whose registry entry says so (alg2, reference).
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", help = shared::environment_help())]
     pub env: Option<PathBuf>,
     /// Keep the flat background colour where nothing is drawn, instead of the environment map.
     #[arg(long)]
@@ -97,7 +99,7 @@ impl Args {
 /// The scene's frames at `--time` (0 for a moving scene without it), and a
 /// note when a still scene is given a time.
 fn moving_frames(scene: Scene, time: Option<f64>) -> Result<SceneFrames> {
-    check_time(time)?;
+    shared::check_time(time)?;
     if !scene.is_animated() {
         if time.is_some() {
             log::warn!("{}: nothing in the scene moves, so --time changes nothing", scene.name());
@@ -110,17 +112,9 @@ fn moving_frames(scene: Scene, time: Option<f64>) -> Result<SceneFrames> {
     Ok(SceneFrames::of(std::sync::Arc::new(at.scene)).moving_on(lattice))
 }
 
-/// A time to draw the scene at: a number of seconds ≥ 0.
-fn check_time(time: Option<f64>) -> Result<()> {
-    match time {
-        Some(t) if !(t.is_finite() && t >= 0.0) => bail!("--time must be a number of seconds ≥ 0, not {t}"),
-        _ => Ok(()),
-    }
-}
-
 pub fn run(args: &Args) -> Result<()> {
     // Options are checked before anything is loaded or the GPU is opened.
-    check_time(args.time)?;
+    shared::check_time(args.time)?;
     let sidecar = args.camera.as_deref().map(Sidecar::read).transpose()?;
     let views = args.path.as_deref().map(ViewPath::read).transpose()?;
     if views.is_some() && (args.camera.is_some() || args.diff.is_some()) {
@@ -149,12 +143,12 @@ pub fn run(args: &Args) -> Result<()> {
             let bounds = super::stream_args::bounds_scene(stream);
             let camera = match &sidecar {
                 Some(s) => s.camera(),
-                None => args.view.camera(&bounds)?,
+                None => args.view.camera(&args.camera_flags, &bounds)?,
             };
             let size = sidecar.as_ref().map_or(args.view.size, |s| (s.size[0], s.size[1]));
             let budget = match &sidecar {
-                Some(s) => s.settings().map_err(anyhow::Error::msg)?.point_budget,
-                None => args.view.base_settings(&bounds)?.point_budget,
+                Some(s) => StreamBudget::of_settings(s.settings().map_err(anyhow::Error::msg)?.point_budget, false),
+                None => args.view.stream_budget()?,
             };
             stream_camera = Some(camera);
             super::stream_args::frame_scene(stream, &camera, size, budget)?
@@ -172,7 +166,7 @@ pub fn run(args: &Args) -> Result<()> {
     let load_seconds = started.elapsed().as_secs_f64();
     let (mut settings, (width, height)) = match &sidecar {
         Some(s) => (s.settings().map_err(anyhow::Error::msg)?, (s.size[0], s.size[1])),
-        None => (args.view.settings(&scene)?, args.view.size),
+        None => (args.view.settings(&scene, args.mode)?, args.view.size),
     };
     if let Some(s) = &sidecar {
         // The screenshot's clip, unless the command line gives one.
@@ -210,7 +204,7 @@ pub fn run(args: &Args) -> Result<()> {
             }
             s.camera()
         }
-        None => args.view.camera(&scene)?,
+        None => args.view.camera(&args.camera_flags, &scene)?,
     };
     let mut gpu = match settings.mode.is_gpu() {
         true => Some(HeadlessRenderer::new().context("opening the GPU")?),

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 use pointblend::cloud::{self, LoadOptions, LoadReport, PointCloud};
-use pointblend::frame::{Camera, UpAxis};
+use pointblend::frame::{Camera, CameraRequest, UpAxis};
 use pointblend::output::ImageFormat;
 use pointblend::render::{RenderMode, RenderSettings};
 use pointblend::scene::Scene;
@@ -43,36 +43,56 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
 }
 
 /// `--mode`: one of the registry's names, listed with their descriptions in `--help`.
-fn mode_parser() -> impl clap::builder::TypedValueParser<Value = RenderMode> {
+pub fn mode_parser() -> impl clap::builder::TypedValueParser<Value = RenderMode> {
     use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
     let values = RenderMode::ALL.map(|m| PossibleValue::new(m.name()).help(m.description()));
     PossibleValuesParser::new(values).try_map(|name| name.parse::<RenderMode>())
 }
 
-/// Camera and render options.
-#[derive(clap::Args, Debug, Clone)]
-pub struct ViewArgs {
-    /// Rendering mode [default: two-pass].
-    #[arg(long, default_value_t = RenderMode::DEFAULT, value_parser = mode_parser())]
-    pub mode: RenderMode,
-    /// Image size.
-    #[arg(long, default_value = "512x512", value_parser = parse_size)]
-    pub size: (u32, u32),
+/// The camera flags of the commands that draw one view (`render`, `view`,
+/// `pick`, `measure`): what they leave out, a scene file's `[camera]` and
+/// then the model's default view fill.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct CameraArgs {
     /// Degrees around the up axis (default: front, or the scanner's side for a single-view scan).
     #[arg(long, allow_negative_numbers = true)]
     pub azimuth: Option<f32>,
-    /// Degrees above the horizon, -90..90.
+    /// Degrees above the horizon, -90..90 (default 0; 40 for z-up lidar and E57 data).
     #[arg(long, allow_negative_numbers = true)]
     pub elevation: Option<f32>,
-    /// Distance from the model's centre (default: the bounding sphere fills the view).
+    /// Distance from the model's centre (default: every point fits the view).
     #[arg(long, allow_negative_numbers = true)]
     pub distance: Option<f32>,
     /// Vertical field of view in degrees, 0.5..170 [default: 35].
     #[arg(long, allow_negative_numbers = true)]
     pub fov: Option<f32>,
-    /// Axis that points up: x, -x, y, -y, z or -z (default y; -y for single-view scans).
+    /// Axis that points up: x, -x, y, -y, z or -z (default: y; z for LAS, LAZ,
+    /// COPC and E57 files; -y for single-view scans, seen from their scanner).
     #[arg(long, allow_hyphen_values = true)]
     pub up: Option<UpAxis>,
+}
+
+impl CameraArgs {
+    /// The camera these flags ask for.
+    pub fn request(&self) -> CameraRequest {
+        CameraRequest {
+            azimuth: self.azimuth,
+            elevation: self.elevation,
+            distance: self.distance,
+            fov: self.fov,
+            up: self.up,
+        }
+    }
+}
+
+/// What every command that renders reads: the image size, the rendering
+/// parameters, the scene flags (materials, styling, lights, clipping) and
+/// the streaming flags.
+#[derive(clap::Args, Debug, Clone)]
+pub struct ViewArgs {
+    /// Image size.
+    #[arg(long, default_value = "512x512", value_parser = parse_size)]
+    pub size: (u32, u32),
     #[command(flatten)]
     pub parameters: ParameterFlags,
     #[command(flatten)]
@@ -82,18 +102,18 @@ pub struct ViewArgs {
 }
 
 impl ViewArgs {
-    /// The settings of `--mode` for `scene`, saying which given options it does not read.
-    pub fn settings(&self, scene: &Scene) -> Result<RenderSettings> {
-        let settings = self.base_settings(scene)?;
-        self.parameters.warn_ignored(self.mode);
+    /// The settings of `mode` for `scene`, saying which given options it does not read.
+    pub fn settings(&self, scene: &Scene, mode: RenderMode) -> Result<RenderSettings> {
+        let settings = self.base_settings(scene, mode)?;
+        self.parameters.warn_ignored(mode);
         Ok(settings)
     }
 
-    /// The settings, without checking them against `--mode` (bench's base
+    /// The settings, without checking them against `mode` (bench's base
     /// for every variant): the defaults, then the scene's background and
     /// lights, then the parameters given.
-    pub fn base_settings(&self, scene: &Scene) -> Result<RenderSettings> {
-        let mut settings = RenderSettings { mode: self.mode, ..Default::default() };
+    pub fn base_settings(&self, scene: &Scene, mode: RenderMode) -> Result<RenderSettings> {
+        let mut settings = RenderSettings { mode, ..Default::default() };
         if let Some(bg) = scene.background {
             settings.shading.background = bg;
         }
@@ -109,55 +129,37 @@ impl ViewArgs {
         Ok(settings)
     }
 
-    /// The camera: the options given, else the scene file's, else framing every object.
-    pub fn camera(&self, scene: &Scene) -> Result<Camera> {
+    /// The points a streamed file draws: `--point-budget` as given (all, a
+    /// number, or the streamed default when not given).
+    pub fn stream_budget(&self) -> Result<pointblend::copc::StreamBudget> {
+        let given = self.parameters.given(pointblend::frame::Parameter::PointBudget);
+        pointblend::copc::StreamBudget::given(given).map_err(anyhow::Error::msg)
+    }
+
+    /// The camera: the flags' values, else the scene file's, else the default view framing every object.
+    pub fn camera(&self, flags: &CameraArgs, scene: &Scene) -> Result<Camera> {
         let flat = scene.flatten();
-        let cloud = flat.cloud.as_ref();
         let aspect = self.size.0 as f32 / self.size.1 as f32;
-        let mut camera = Camera::default_for(cloud, aspect);
-        let asked = scene.camera.unwrap_or_default();
-        let given = ViewArgs {
-            up: self.up.or(asked.up),
-            fov: self.fov.or(asked.fov),
-            azimuth: self.azimuth.or(asked.azimuth),
-            elevation: self.elevation.or(asked.elevation),
-            distance: self.distance.or(asked.distance),
-            ..self.clone()
-        };
-        let this = &given;
-        if let Some(up) = this.up {
-            if up != camera.up {
-                let dir = camera.direction();
-                camera.up = up;
-                camera.look_from_direction(dir);
-            }
-        }
-        if let Some(fov) = this.fov {
-            if !(0.5..=170.0).contains(&fov) {
-                bail!("--fov must be between 0.5 and 170 degrees, not {fov}");
-            }
-            camera.fov_y_deg = fov;
-        }
-        if let Some(a) = this.azimuth {
-            if !a.is_finite() {
-                bail!("--azimuth must be a finite number of degrees, not {a}");
-            }
-            camera.azimuth_deg = a;
-        }
-        if let Some(e) = this.elevation {
-            if !e.is_finite() {
-                bail!("--elevation must be a finite number of degrees, not {e}");
-            }
-            camera.elevation_deg = e.clamp(-90.0, 90.0);
-        }
-        camera.distance = camera.fit_distance(&cloud.positions, aspect);
-        if let Some(d) = this.distance {
-            if !(d.is_finite() && d > 0.0) {
-                bail!("--distance must be a positive number, not {d}");
-            }
-            camera.distance = d;
-        }
-        Ok(camera)
+        let request = flags.request().over(scene.camera.unwrap_or_default());
+        request.camera(flat.cloud.as_ref(), aspect).map_err(|e| anyhow::anyhow!("--{e}"))
+    }
+}
+
+/// `--env`'s help: the map's formats, and the modes that draw it (from the mode registry).
+pub fn environment_help() -> String {
+    let modes: Vec<&str> = RenderMode::ALL.iter().filter(|m| m.info().environment).map(|m| m.name()).collect();
+    format!(
+        "Environment map that transparent surfaces reflect and refract: an equirectangular OpenEXR, Radiance HDR, \
+         PNG or JPEG (assets/venice.exr is bundled); drawn by {}",
+        modes.join(", ")
+    )
+}
+
+/// A time to draw a moving scene at: a number of seconds ≥ 0.
+pub fn check_time(time: Option<f64>) -> Result<()> {
+    match time {
+        Some(t) if !(t.is_finite() && t >= 0.0) => bail!("--time must be a number of seconds ≥ 0, not {t}"),
+        _ => Ok(()),
     }
 }
 

@@ -6,9 +6,8 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 use pointblend::cloud::LoadOptions;
 use pointblend::copc::is_streamed;
-use pointblend::copc::{self, CopcStream, StreamOptions};
+use pointblend::copc::{self, CopcStream, StreamBudget, StreamOptions};
 use pointblend::frame::Camera;
-use pointblend::lod::SelectOptions;
 use pointblend::scene::Scene;
 
 #[derive(clap::Args, Debug, Clone, Default)]
@@ -58,16 +57,9 @@ pub fn bounds_scene(stream: &CopcStream) -> Scene {
     Scene::single(stream.file_name(), stream.bounds_cloud(), 0)
 }
 
-/// The scene of the nodes `stream` selects from `camera` at `size` under
-/// `budget` (`None`: the streamed default), loaded as needed.
-pub fn frame_scene(stream: &mut CopcStream, camera: &Camera, size: (u32, u32), budget: Option<u32>) -> Result<Scene> {
-    let select = SelectOptions {
-        budget: budget.map_or(copc::stream::DEFAULT_BUDGET, |b| b as usize),
-        radius_scale: 1.0,
-        cull: true,
-        finest_px: copc::stream::FINEST_PX,
-    };
-    let frame = stream.frame(camera, size, select, &LoadOptions { progress: true, ..Default::default() })?;
+/// The scene of the nodes `stream` selects from `camera` at `size` under `budget`, loaded as needed.
+pub fn frame_scene(stream: &mut CopcStream, camera: &Camera, size: (u32, u32), budget: StreamBudget) -> Result<Scene> {
+    let frame = stream.frame_under(camera, size, budget, &LoadOptions { progress: true, ..Default::default() })?;
     for warning in &frame.report.warnings {
         log::warn!("{}: {warning}", stream.name());
     }

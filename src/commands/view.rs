@@ -18,15 +18,18 @@ pub use super::view_args::Args;
 
 pub fn run(args: &Args) -> Result<()> {
     let view = args.camera.as_deref().map(Sidecar::read).transpose()?;
-    if let Some(file) = &args.file {
-        // Fail early and on one line, before a window opens, when the file is not there.
-        std::fs::metadata(file).with_context(|| format!("{}: cannot open", file.display()))?;
+    if let Some(file) = args.file.as_ref().filter(|f| !pointblend::copc::is_url(&f.to_string_lossy())) {
+        // Fail early and on one line, before a window opens, when the file is not
+        // there or not a file (a URL is opened by the stream, which says why it cannot).
+        pointblend::input::regular_size(file).with_context(|| format!("{}: cannot open", file.display()))?;
     }
+    args.camera_flags.request().check().map_err(|e| anyhow::anyhow!("--{e}"))?;
+    super::shared::check_time(args.time)?;
     // A first window shows what pointblend is for: see-through surfaces.
     let first_run = args.file.is_none() && args.camera.is_none();
     // The flags' clip, else a screenshot's.
     let shot_clip = view.as_ref().and_then(|v| v.clip.clone()).unwrap_or_default();
-    let clip = args.scene.clip_region_or(&shot_clip).map_err(anyhow::Error::msg)?;
+    let clip = args.view.scene.clip_region_or(&shot_clip).map_err(anyhow::Error::msg)?;
     let options = ViewerOptions {
         file: args.file.clone().or_else(|| first_run.then(|| viewer::DEMO_SCENE.into())),
         screenshot: args.screenshot.clone(),
@@ -35,11 +38,14 @@ pub fn run(args: &Args) -> Result<()> {
         view,
         mode: args.mode.or_else(|| first_run.then_some(RenderMode::FIRST_RUN)),
         cache: None,
-        materials: args.scene.materials(args.parameters.given(Parameter::Background).is_some()),
-        parameters: args.parameters.values(),
+        materials: args.view.scene.materials(args.view.parameters.given(Parameter::Background).is_some()),
+        parameters: args.view.parameters.values(),
         environment: args.env.clone(),
-        lights: args.scene.lights.clone(),
+        lights: args.view.scene.lights.clone(),
         clip,
+        camera: args.camera_flags.request(),
+        stream: args.view.stream.options(false),
+        time: args.time,
     };
     match viewer::run_window(options) {
         Ok(()) => Ok(()),

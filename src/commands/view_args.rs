@@ -1,13 +1,16 @@
 //! The flags of `pointblend view`, which the window and the headless main
-//! job both read (its own module, so that neither imports the other).
+//! job both read (its own module, so that neither imports the other). The
+//! window takes every camera, streaming and time flag that `render` takes.
 
 use std::path::PathBuf;
 
 use pointblend::render::RenderMode;
 
+use super::shared::{CameraArgs, ViewArgs};
+
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// PLY file or scene file (.toml) to open (default: the demo scene).
+    #[arg(help = super::formats_help::opened_by_view())]
     pub file: Option<PathBuf>,
     /// Save a screenshot of the whole window (UI included) to this PNG once the
     /// first full-quality frame is shown, then close (for documentation and tests).
@@ -17,26 +20,25 @@ pub struct Args {
     #[arg(long)]
     pub exit_after_frames: Option<u64>,
     /// Start with the mode, parameters and camera of a screenshot's JSON sidecar.
-    #[arg(long)]
+    #[arg(long, value_name = "SIDECAR.json")]
     pub camera: Option<PathBuf>,
-    /// Mode to start in (see `render --help` for the list).
-    #[arg(long)]
+    /// Mode to start in [default: two-pass; alg2 on the demo scene].
+    #[arg(long, value_parser = super::shared::mode_parser())]
     pub mode: Option<RenderMode>,
-    /// Folder for screenshots saved with Ctrl+S.
+    /// Folder for screenshots saved with Ctrl+S and Ctrl+Shift+S.
     #[arg(long, default_value = "screenshots")]
     pub screenshot_dir: PathBuf,
     /// Output folder of the headless main job (when no window can open).
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
-    /// Image size of the headless main job.
-    #[arg(long, default_value = "512x512", value_parser = super::shared::parse_size)]
-    pub size: (u32, u32),
     #[command(flatten)]
-    pub scene: super::scene_args::SceneArgs,
+    pub camera_flags: CameraArgs,
+    /// Size of the headless main job's images, and the rest of `render`'s view flags.
     #[command(flatten)]
-    pub parameters: super::parameter_flags::ParameterFlags,
-    /// Environment map the model is set in (equirectangular OpenEXR, HDR, PNG
-    /// or JPEG; assets/venice.exr is bundled); alg2 and the reference draw it.
-    #[arg(long, value_name = "FILE")]
+    pub view: ViewArgs,
+    #[arg(long, value_name = "FILE", help = super::shared::environment_help())]
     pub env: Option<PathBuf>,
+    /// Start a moving scene at this time, in seconds (paused there; animations loop).
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub time: Option<f64>,
 }

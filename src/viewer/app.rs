@@ -52,6 +52,14 @@ pub struct ViewerOptions {
     pub lights: Vec<crate::frame::Light>,
     /// The clip region to start with (`--clip-box`, `--clip-plane`), in file coordinates.
     pub clip: crate::frame::ClipRegion,
+    /// The camera the command line asks for (`--azimuth` and the like), over a
+    /// scene file's `[camera]`; every model opened starts there, and Home returns there.
+    pub camera: crate::frame::CameraRequest,
+    /// How streamed files (COPC files and URLs) are read: the node cache's
+    /// bound (`--cache-mb`) and the disk cache (`--disk-cache`).
+    pub stream: crate::copc::StreamOptions,
+    /// The time a moving scene starts at, paused (`--time`).
+    pub time: Option<f64>,
 }
 
 /// The frame on screen.
@@ -126,7 +134,7 @@ impl ViewerApp {
             camera,
             screenshot_size: ScreenshotSize::Window,
             opacity_pending: None,
-            time: 0.0,
+            time: options.time.unwrap_or(0.0),
             playing: false,
             moving_budget: super::state::DEFAULT_MOVING_BUDGET,
             inspect: super::state::Inspection {

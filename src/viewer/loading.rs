@@ -123,7 +123,12 @@ impl ViewerApp {
     /// Puts `model` on screen, with its camera and background.
     fn adopt(&mut self, model: Model) {
         let aspect = self.view_size.0 as f32 / self.view_size.1.max(1) as f32;
-        let fresh = Camera::default_for(&model.cloud, aspect);
+        // The command line's camera over the scene file's, else the default view.
+        let asked = self.options.camera.over(model.scene.camera.unwrap_or_default());
+        let fresh = match &model.streamed {
+            Some(source) => source.home_camera(&asked, aspect),
+            None => asked.camera(&model.cloud, aspect).unwrap_or_else(|_| Camera::default_for(&model.cloud, aspect)),
+        };
         self.scene = SceneSphere { centre: fresh.target, radius: fresh.scene_radius };
         self.home = fresh;
         // The same file with other materials (the opacity slider) keeps the view.

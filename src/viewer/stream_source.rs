@@ -16,9 +16,8 @@ use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use crate::cloud::LoadOptions;
-use crate::copc::{self, CopcStream, StreamOptions, StreamStats};
-use crate::frame::Camera;
-use crate::lod::SelectOptions;
+use crate::copc::{CopcStream, StreamBudget, StreamOptions, StreamStats};
+use crate::frame::{Camera, CameraRequest};
 use crate::scene::Scene;
 
 /// What a selection is made for: the camera, the view's size and the budget.
@@ -26,7 +25,7 @@ use crate::scene::Scene;
 pub struct ViewKey {
     pub camera: Camera,
     pub size: (u32, u32),
-    pub budget: usize,
+    pub budget: StreamBudget,
 }
 
 /// What the statistics show.
@@ -58,8 +57,8 @@ impl std::fmt::Debug for StreamedSource {
 }
 
 impl StreamedSource {
-    pub fn open(path: &Path) -> Result<Arc<Self>, String> {
-        let stream = CopcStream::open(&path.to_string_lossy(), StreamOptions::default()).map_err(|e| e.to_string())?;
+    pub fn open(path: &Path, options: StreamOptions) -> Result<Arc<Self>, String> {
+        let stream = CopcStream::open(&path.to_string_lossy(), options).map_err(|e| e.to_string())?;
         Ok(Arc::new(Self { stream: Mutex::new(stream), status: Mutex::new(StreamStatus::default()) }))
     }
 
@@ -67,13 +66,12 @@ impl StreamedSource {
         self.status.lock().map(|s| s.clone()).unwrap_or_default()
     }
 
-    /// The camera that frames the file's bounds (its header's) at `aspect`.
-    pub fn home_camera(&self, aspect: f32) -> Camera {
+    /// The camera `asked` makes of the file's bounds (its header's) at `aspect`:
+    /// with nothing asked, the default view framing them.
+    pub fn home_camera(&self, asked: &CameraRequest, aspect: f32) -> Camera {
         let stream = self.stream.lock().expect("no panics while held");
         let bounds = stream.bounds_cloud();
-        let mut camera = Camera::default_for(&bounds, aspect);
-        camera.distance = camera.fit_distance(&bounds.positions, aspect);
-        camera
+        asked.camera(&bounds, aspect).unwrap_or_else(|_| Camera::default_for(&bounds, aspect))
     }
 
     /// The scene of the nodes `view` selects (named `name`), and its load warnings.
@@ -81,11 +79,10 @@ impl StreamedSource {
         let mut stream = self.stream.lock().map_err(|_| "the stream was poisoned".to_string())?;
         let before = stream.stats();
         let started = Instant::now();
-        let select =
-            SelectOptions { budget: view.budget, radius_scale: 1.0, cull: true, finest_px: copc::stream::FINEST_PX };
         crate::progress::stage("selecting and loading nodes");
-        let frame =
-            stream.frame(&view.camera, view.size, select, &LoadOptions::default()).map_err(|e| e.to_string())?;
+        let frame = stream
+            .frame_under(&view.camera, view.size, view.budget, &LoadOptions::default())
+            .map_err(|e| e.to_string())?;
         let after = stream.stats();
         let seconds = after.load_seconds - before.load_seconds;
         let read = after.bytes_read - before.bytes_read;

@@ -9,7 +9,7 @@ use super::app::ViewerApp;
 use super::jobs::Job;
 use super::model::Model;
 use super::stream_source::{StreamedSource, ViewKey};
-use crate::copc;
+use crate::copc::StreamBudget;
 use crate::scene::Materials;
 
 /// The model of the nodes `view` selects from `source`, with `materials` and `style`.
@@ -37,18 +37,21 @@ impl ViewerApp {
         let size = self.view_size;
         let budget = self.stream_budget();
         let materials = self.options.materials.clone();
+        let (stream, asked) = (self.options.stream.clone(), self.options.camera);
         let label = format!("streaming {}", path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default());
         self.load = Some(Job::spawn(label, ctx.clone(), move || {
             crate::progress::stage("reading the header and the hierarchy");
-            let source = StreamedSource::open(&path)?;
-            let camera = source.home_camera(size.0 as f32 / size.1.max(1) as f32);
+            let source = StreamedSource::open(&path, stream)?;
+            let camera = source.home_camera(&asked, size.0 as f32 / size.1.max(1) as f32);
             streamed_model(&source, &path, ViewKey { camera, size, budget }, generation, (&materials, None))
         }));
     }
 
-    /// The budget a streamed view selects under: the panel's, else 1M.
-    fn stream_budget(&self) -> usize {
-        self.ui.settings.point_budget.map_or(copc::stream::DEFAULT_BUDGET, |b| b as usize)
+    /// The budget a streamed view selects under: the panel's, else every
+    /// point when the command line said `--point-budget all`, else 1M.
+    fn stream_budget(&self) -> StreamBudget {
+        let all = self.options.parameters.iter().any(|(p, v)| *p == crate::frame::Parameter::PointBudget && v == "all");
+        StreamBudget::of_settings(self.ui.settings.point_budget, all)
     }
 
     /// When the camera rests somewhere the selection was not made for,

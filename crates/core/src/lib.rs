@@ -11,15 +11,18 @@
 //! hierarchy that frames under a point budget draw from, [`copc`] streams COPC files node by node under the same selection, [`shadow`] finds the light each splat
 //! receives (translucent shadow maps and exact shadow rays), and
 //! [`reference`] renders exactly on the CPU (and picks the layers of a ray),
-//! on which [`inspect`] builds the pick and measure answers. Under them all, [`hash`],
+//! on which [`inspect`] builds the pick and measure answers. Under them all, [`formats`] (the table of
+//! file formats every reader dispatches on), [`input`] (regular files only, bounded), [`hash`],
 //! [`memory`], [`output`] and [`progress`] are small helpers. No module imports one above it (`tests/architecture.rs`).
 
 pub mod cloud;
 pub mod copc;
+pub mod formats;
 pub mod frame;
 pub mod grouping;
 pub mod hash;
 pub mod hybrid;
+pub mod input;
 pub mod inspect;
 pub mod lod;
 pub mod memory;

@@ -26,6 +26,7 @@ fn e57_error(path: &Path, e: impl std::fmt::Display) -> CloudError {
 
 /// Reads every scan of the E57 file at `path` as vertex columns and attributes.
 pub fn read(path: &Path) -> Result<(PlyData, Attributes, FileInfo), CloudError> {
+    crate::input::regular_size(path).map_err(|e| CloudError::io(path, e))?;
     let mut reader = e57::E57Reader::from_file(path).map_err(|e| e57_error(path, e))?;
     let scans = reader.pointclouds();
     if scans.is_empty() {

@@ -12,18 +12,38 @@ pub use super::file_info::FileInfo;
 use super::gaussians;
 use super::ply::{self, PlyData, Scalar};
 
-/// Reads `path` by its extension: `.las`/`.laz`, `.e57`, else PLY.
+/// Reads `path` by its format in the registry ([`crate::formats`]): LAS,
+/// LAZ and COPC (a COPC file opened whole is a LAZ file), E57, and PLY,
+/// which is also tried on a name with no known extension.
 pub fn read(path: &Path) -> Result<(PlyData, Attributes, FileInfo), CloudError> {
-    if super::las_file::is_las(path) {
-        super::las_file::read(path)
-    } else if super::e57_file::is_e57(path) {
-        super::e57_file::read(path)
-    } else {
-        let bytes = std::fs::read(path).map_err(|e| CloudError::io(path, e))?;
-        let mut data = ply::parse(path, &bytes, &is_wanted)?;
-        drop(bytes);
-        let attributes = ply_attributes(&mut data);
-        Ok((data, attributes, FileInfo::default()))
+    use crate::formats::{self, Reader};
+    let format = formats::format_of(path);
+    if formats::is_url(&path.to_string_lossy()) && !format.is_some_and(|f| f.streamed) {
+        let streamed = formats::names_with_extensions(|f| f.streamed);
+        return Err(CloudError::content(
+            path,
+            format!("only {streamed} files are read over http(s); download this one first"),
+        ));
+    }
+    match format.map(|f| f.reader) {
+        Some(Reader::Las | Reader::Copc) => super::las_file::read(path),
+        Some(Reader::E57) => super::e57_file::read(path),
+        Some(Reader::Ply) | None => {
+            let bytes = crate::input::read(path, None).map_err(|e| CloudError::io(path, e))?;
+            if format.is_none() && !bytes.starts_with(b"ply") {
+                let known = formats::names_with_extensions(formats::is_cloud_opened_whole);
+                return Err(CloudError::content(path, format!("not a point cloud format pointblend reads: {known}")));
+            }
+            let mut data = ply::parse(path, &bytes, &is_wanted)?;
+            drop(bytes);
+            let attributes = ply_attributes(&mut data);
+            Ok((data, attributes, FileInfo::default()))
+        }
+        Some(Reader::Scene | Reader::Volume) => {
+            let name = format.map_or("", |f| f.name);
+            let known = formats::names(formats::is_cloud_opened_whole, "or");
+            Err(CloudError::content(path, format!("a {name}, not a point cloud; this command reads {known}")))
+        }
     }
 }
 

@@ -150,8 +150,7 @@ fn check_chunk_size(path: &Path, file: &mut File, data: u64, len: u64, record_le
 /// Reads the LAS or LAZ file at `path` as vertex columns (x, y, z and, with
 /// colour, red, green, blue) and the other per-point attributes.
 pub fn read(path: &Path) -> Result<(PlyData, Attributes, FileInfo), CloudError> {
-    let mut file = File::open(path).map_err(|e| CloudError::io(path, e))?;
-    let file_len = file.metadata().map_err(|e| CloudError::io(path, e))?.len();
+    let (mut file, file_len) = crate::input::open(path).map_err(|e| CloudError::io(path, e))?;
     check_offsets(path, &mut file, file_len)?;
     let mut reader = las::Reader::new(BufReader::new(file)).map_err(|e| crate_error(path, e))?;
     let header = reader.header().clone();

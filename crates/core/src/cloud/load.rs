@@ -73,7 +73,7 @@ pub fn load_surface_samples(
     count: usize,
     options: &LoadOptions,
 ) -> Result<(PointCloud, LoadReport), CloudError> {
-    let bytes = std::fs::read(path).map_err(|e| CloudError::io(path, e))?;
+    let bytes = crate::input::read(path, None).map_err(|e| CloudError::io(path, e))?;
     let started = Instant::now();
     let mut data = ply::parse(path, &bytes, &|name| matches!(name, "x" | "y" | "z"))?;
     drop(bytes);
@@ -118,7 +118,7 @@ pub fn load_surface_samples(
 /// winding. A file with no faces, or with none
 /// left, is an error.
 pub fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(PointCloud, Vec<[u32; 3]>, LoadReport), CloudError> {
-    let bytes = std::fs::read(path).map_err(|e| CloudError::io(path, e))?;
+    let bytes = crate::input::read(path, None).map_err(|e| CloudError::io(path, e))?;
     let started = Instant::now();
     let mut data = ply::parse(path, &bytes, &is_wanted)?;
     drop(bytes);

@@ -171,6 +171,7 @@ struct Slices {
 
 impl Slices {
     fn open(path: &Path) -> Result<(Self, nifti::NiftiHeader), VolumeError> {
+        crate::input::regular_size(path).map_err(|e| read_error(path, e))?;
         check_dims(path)?;
         // Slices of rank 2 whatever the volume's rank, so a 4D file of one time step reads as 3D.
         let object = ReaderStreamedOptions::new().read_file_rank(path, 2).map_err(|e| read_error(path, e))?;

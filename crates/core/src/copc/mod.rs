@@ -13,6 +13,7 @@
 //! load, and build the selection into a [`crate::cloud::PointCloud`].
 //! [`write`] makes COPC files.
 
+pub mod budget;
 pub(crate) mod cache;
 pub(crate) mod decode;
 pub mod header;
@@ -23,6 +24,7 @@ pub mod source;
 pub mod stream;
 pub mod write;
 
+pub use budget::StreamBudget;
 pub use source::{is_copc, is_streamed, is_url};
 pub use stream::{CopcStream, StreamOptions, StreamStats, StreamedFrame};
 

@@ -47,20 +47,17 @@ impl Counters {
 
 /// Whether `name` is an `http://` or `https://` URL.
 pub fn is_url(name: &str) -> bool {
-    let lower = name.to_ascii_lowercase();
-    lower.starts_with("http://") || lower.starts_with("https://")
+    crate::formats::is_url(name)
 }
 
 /// Whether `name` (a path or URL) names a COPC file: it ends in `.copc.laz`.
 pub fn is_copc(name: &str) -> bool {
-    let path = name.split(['?', '#']).next().unwrap_or(name);
-    path.to_ascii_lowercase().ends_with(".copc.laz")
+    crate::formats::by_extension(name).is_some_and(|f| f.reader == crate::formats::Reader::Copc)
 }
 
 /// Whether `file` is streamed rather than loaded whole: a `.copc.laz` file or a URL.
 pub fn is_streamed(file: &Path) -> bool {
-    let name = file.to_string_lossy();
-    is_copc(&name) || is_url(&name)
+    crate::formats::format_of(file).is_some_and(|f| f.streamed)
 }
 
 /// A local file, read with positioned reads (no shared cursor between threads).
@@ -74,8 +71,7 @@ pub struct FileSource {
 impl FileSource {
     pub fn open(path: &Path) -> Result<Self, CopcError> {
         let name = path.display().to_string();
-        let file = File::open(path).map_err(|e| CopcError::new(&name, e.to_string()))?;
-        let len = file.metadata().map_err(|e| CopcError::new(&name, e.to_string()))?.len();
+        let (file, len) = crate::input::open(path).map_err(|e| CopcError::new(&name, e.to_string()))?;
         Ok(Self { name, file, len, counters: Counters::default() })
     }
 }

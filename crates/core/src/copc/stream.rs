@@ -35,10 +35,7 @@ use crate::cloud::{FileInfo, LoadOptions, LoadReport, PointCloud, Values};
 use crate::frame::Camera;
 use crate::lod::{self, LodTree, SelectOptions, Selection};
 
-/// The budget a streamed file is drawn under unless told otherwise.
-pub const DEFAULT_BUDGET: usize = 1_000_000;
-/// Nodes whose spacing projects below this many pixels are not refined.
-pub const FINEST_PX: f32 = 1.0;
+pub use super::budget::{DEFAULT_BUDGET, FINEST_PX, StreamBudget};
 
 /// How a file is streamed.
 #[derive(Debug, Clone)]
@@ -282,6 +279,20 @@ impl CopcStream {
             hash = crate::hash::fnv1a(hash, &n.to_le_bytes());
         }
         Ok(StreamedFrame { cloud, report, selection: selection.clone(), drawn, hash })
+    }
+
+    /// Selects, loads and gathers one frame's points under `budget`
+    /// (refused in one line when `all` would not fit the node cache).
+    pub fn frame_under(
+        &mut self,
+        camera: &Camera,
+        size: (u32, u32),
+        budget: StreamBudget,
+        load: &LoadOptions,
+    ) -> Result<StreamedFrame, CopcError> {
+        let record = u64::from(self.header.las.point_format().len());
+        budget.check_fits(self.name(), self.points(), record, self.options.cache_bytes)?;
+        self.frame(camera, size, budget.select_options(), load)
     }
 
     /// Selects, loads and gathers one frame's points.

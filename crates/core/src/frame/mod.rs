@@ -4,6 +4,7 @@
 //! produce images that compare pixel for pixel.
 
 pub mod camera;
+pub mod camera_request;
 pub mod clip;
 pub mod environment;
 pub mod eye_dome;
@@ -19,6 +20,7 @@ pub mod variant;
 pub mod view_path;
 
 pub use camera::{Camera, UpAxis};
+pub use camera_request::CameraRequest;
 pub use clip::{Clip, ClipRegion};
 pub use eye_dome::EyeDome;
 pub use kernel::SplatKernel;

@@ -36,7 +36,8 @@ impl ViewPath {
     /// Reads and checks a views file: at least one view, each one a camera that can be drawn from.
     pub fn read(path: &Path) -> Result<Self, SidecarError> {
         let shown = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| SidecarError::Io { path: shown.clone(), source })?;
+        let text =
+            crate::input::read_settings(path).map_err(|source| SidecarError::Io { path: shown.clone(), source })?;
         let bad = |message: String| SidecarError::Format { path: shown.clone(), message };
         let views: ViewPath = serde_json::from_str(&text).map_err(|e| bad(format!("not a views file: {e}")))?;
         if views.views.is_empty() {

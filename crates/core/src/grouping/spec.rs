@@ -362,15 +362,14 @@ impl std::fmt::Display for GroupingSpec {
     }
 }
 
+/// How a grouping is written, for help texts and errors.
+pub const GRAMMAR: &str = "mgc-cC, wgc-kK or hash-kK, then any of -kept (hash), -eq7 (wgc), -coplanar, -opposite \
+                           (mgc, wgc), then one of -dup, -radius or -est (hash)";
+
 impl std::str::FromStr for GroupingSpec {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        let bad = || {
-            format!(
-                "'{s}' is not a grouping; use mgc-cC, wgc-kK or hash-kK, then any of -kept (hash), -eq7 (wgc), \
-                 -coplanar, -opposite (mgc, wgc), -dup, -radius or -est (e.g. mgc-c0.4, wgc-k4-dup, hash-k8-radius)"
-            )
-        };
+        let bad = || format!("'{s}' is not a grouping; use {GRAMMAR} (e.g. mgc-c0.4, wgc-k4-dup, hash-k8-radius)");
         let mut words = s.split('-');
         let (algo, value) = (words.next().ok_or_else(bad)?, words.next().ok_or_else(bad)?);
         let number = |prefix: char| value.strip_prefix(prefix).ok_or_else(bad);

@@ -58,6 +58,7 @@ impl EnvironmentMap {
     /// Loads `path` (OpenEXR, Radiance HDR, PNG or JPEG, by content).
     pub fn load(path: &Path) -> Result<Self, EnvError> {
         let fail = |problem: String| EnvError { path: path.display().to_string(), problem };
+        crate::input::regular_size(path).map_err(|e| fail(format!("cannot open: {e}")))?;
         let reader = image::ImageReader::open(path).map_err(|e| fail(format!("cannot open: {e}")))?;
         let reader = reader.with_guessed_format().map_err(|e| fail(format!("cannot read: {e}")))?;
         let format = reader.format();

@@ -205,7 +205,7 @@ const MAX_SPHERE_SPLATS: usize = 50_000_000;
 /// Reads the scene file at `path`; PLY paths in it are relative to its folder.
 /// Returns the scene and the load warnings of its objects.
 pub fn read(path: &Path, options: &LoadOptions) -> Result<(Scene, Vec<String>), SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+    let text = crate::input::read_settings(path).map_err(|e| SceneError {
         path: path.to_path_buf(),
         location: None,
         message: e.to_string(),

@@ -25,7 +25,6 @@ use std::sync::Arc;
 use glam::{Affine3A, Vec3};
 
 use crate::cloud::{self, CloudError, LoadOptions, LoadReport, PointCloud};
-use crate::frame::UpAxis;
 use crate::hash::{FNV_OFFSET, fnv1a};
 pub use file::SceneError;
 
@@ -96,23 +95,14 @@ pub struct SceneAtTime {
     pub frames: Vec<Option<usize>>,
 }
 
-/// How a scene file asks to be seen; what it leaves out, the defaults frame.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct SceneCamera {
-    pub azimuth: Option<f32>,
-    pub elevation: Option<f32>,
-    pub distance: Option<f32>,
-    pub fov: Option<f32>,
-    pub up: Option<UpAxis>,
-}
-
 /// Objects rendered together.
 #[derive(Debug, Clone, Default)]
 pub struct Scene {
     pub objects: Vec<SceneObject>,
     /// Background colour (0..1), when the scene sets one.
     pub background: Option<Vec3>,
-    pub camera: Option<SceneCamera>,
+    /// How the scene file asks to be seen (`[camera]`); what it leaves out, the defaults frame.
+    pub camera: Option<crate::frame::CameraRequest>,
     /// The environment map transparent surfaces reflect and refract (§5.2.3).
     pub environment: Option<Arc<environment::EnvironmentMap>>,
     /// The scene file's `[[light]]`s, in file coordinates (see [`Scene::light_in_frame`]).

@@ -287,7 +287,7 @@ pub const TABLE: [ParameterInfo; 21] = [
         off_switch: None,
         label: "grouping",
         help: "the grouping of the deferred modes (Zhang & Pajarola §4)",
-        values: "mgc-cC, wgc-kK or hash-kK, then any of -kept, -eq7, -coplanar, -opposite, -dup, -radius",
+        values: crate::grouping::spec::GRAMMAR,
         control: Control::Custom,
         set: |s, v| {
             s.grouping = v.parse::<GroupingSpec>()?;

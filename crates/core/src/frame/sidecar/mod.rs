@@ -10,7 +10,7 @@ use std::path::Path;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::{Camera, Parameter, RenderMode, RenderSettings, UpAxis};
+use super::{Camera, CameraRequest, Parameter, RenderMode, RenderSettings, UpAxis};
 
 mod legacy;
 
@@ -109,19 +109,22 @@ impl SidecarCamera {
             .ok_or_else(|| format!("up {:?} is not an axis", self.up))
     }
 
-    /// Checks that a camera can be drawn from: finite values in range and an axis for up.
+    /// Checks that a camera can be drawn from: the rule every camera request
+    /// gets ([`CameraRequest::check`]), a finite target and scene radius, and an axis for up.
     pub fn check(&self) -> Result<(), String> {
-        let finite = self
-            .target
-            .iter()
-            .chain([self.distance, self.azimuth_deg, self.elevation_deg, self.fov_y_deg, self.scene_radius].iter())
-            .all(|v| v.is_finite());
-        if !finite
-            || self.distance <= 0.0
-            || !(self.fov_y_deg > 0.0 && self.fov_y_deg < 180.0)
-            || self.scene_radius <= 0.0
-        {
-            return Err("the camera has a non-finite or out-of-range value".into());
+        let request = CameraRequest {
+            azimuth: Some(self.azimuth_deg),
+            elevation: Some(self.elevation_deg),
+            distance: Some(self.distance),
+            fov: Some(self.fov_y_deg),
+            up: None,
+        };
+        request.check().map_err(|e| format!("the camera's {e}"))?;
+        if !self.target.iter().all(|v| v.is_finite()) {
+            return Err(format!("the camera's target {:?} is not finite", self.target));
+        }
+        if !(self.scene_radius.is_finite() && self.scene_radius > 0.0) {
+            return Err(format!("the camera's scene radius must be a positive number, not {}", self.scene_radius));
         }
         self.up_axis().map(|_| ())
     }
@@ -162,7 +165,8 @@ impl Sidecar {
     /// Reads and checks a sidecar file.
     pub fn read(path: &Path) -> Result<Self, SidecarError> {
         let shown = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| SidecarError::Io { path: shown.clone(), source })?;
+        let text =
+            crate::input::read_settings(path).map_err(|source| SidecarError::Io { path: shown.clone(), source })?;
         let sidecar: Sidecar = serde_json::from_str(&text)
             .map_err(|e| SidecarError::Format { path: shown.clone(), message: e.to_string() })?;
         let bad = |message: String| SidecarError::Format { path: shown.clone(), message };

@@ -5,43 +5,44 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::{Reader, SceneError};
-use crate::frame::{ClipRegion, UpAxis};
-use crate::scene::SceneCamera;
+use crate::frame::{CameraRequest, ClipRegion, UpAxis};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct CameraEntry {
-    azimuth: Option<f32>,
-    elevation: Option<f32>,
+    azimuth: Option<Spanned<f32>>,
+    elevation: Option<Spanned<f32>>,
     distance: Option<Spanned<f32>>,
     fov: Option<Spanned<f32>>,
     up: Option<Spanned<String>>,
 }
 
 impl Reader<'_> {
-    /// The `[camera]` table, checked.
-    pub(super) fn camera(&self, c: &CameraEntry) -> Result<SceneCamera, SceneError> {
-        if let Some(fov) = &c.fov {
-            if !(0.5..=170.0).contains(fov.get_ref()) {
-                return Err(self.at(Some(fov.span()), "fov must be between 0.5 and 170 degrees".into()));
-            }
-        }
-        if let Some(d) = &c.distance {
-            if !(d.get_ref().is_finite() && *d.get_ref() > 0.0) {
-                return Err(self.at(Some(d.span()), "distance must be positive".into()));
-            }
-        }
+    /// The `[camera]` table, checked by the rule the command line's flags get
+    /// ([`CameraRequest::check`]), each bad value reported at its line and column.
+    pub(super) fn camera(&self, c: &CameraEntry) -> Result<CameraRequest, SceneError> {
         let up = match &c.up {
             Some(u) => Some(u.get_ref().parse::<UpAxis>().map_err(|e| self.at(Some(u.span()), e))?),
             None => None,
         };
-        Ok(SceneCamera {
-            azimuth: c.azimuth,
-            elevation: c.elevation,
-            distance: c.distance.as_ref().map(|d| *d.get_ref()),
-            fov: c.fov.as_ref().map(|f| *f.get_ref()),
+        let value = |v: &Option<Spanned<f32>>| v.as_ref().map(|v| *v.get_ref());
+        let request = CameraRequest {
+            azimuth: value(&c.azimuth),
+            elevation: value(&c.elevation),
+            distance: value(&c.distance),
+            fov: value(&c.fov),
             up,
-        })
+        };
+        request.check().map_err(|e| {
+            let entry = match e.key {
+                "azimuth" => &c.azimuth,
+                "elevation" => &c.elevation,
+                "distance" => &c.distance,
+                _ => &c.fov,
+            };
+            self.at(entry.as_ref().map(|v| v.span()), e.to_string())
+        })?;
+        Ok(request)
     }
 
     /// The `[clip]` table, checked.
