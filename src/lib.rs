@@ -16,6 +16,7 @@ pub use pointblend_core::{
 };
 pub use pointblend_render as render;
 
+pub mod assets;
 pub mod bench;
 pub mod font;
 pub mod viewer;

@@ -6,6 +6,8 @@
 //! transparent ones on the demo scene rendered to `./out/`.
 
 mod commands;
+#[cfg(test)]
+mod doc_flags_tests;
 
 use std::process::ExitCode;
 

@@ -220,7 +220,8 @@ fn an_environment_map_picked_in_the_viewer_is_reflected_and_refracted_by_alg2() 
         settled_in(RenderMode::Alg2)(app) && app.shown_frame().is_some_and(|(_, k)| k.settings.mode == RenderMode::Alg2)
     });
     let (plain, key) = h.state().shown_frame().map(|(i, k)| (i.clone(), k.clone())).unwrap();
-    h.state_mut().set_environment(&ctx, Some(PathBuf::from(pointblend::viewer::BUNDLED_ENVIRONMENT)));
+    h.state_mut()
+        .set_environment(&ctx, Some(pointblend::assets::path(pointblend::assets::BUNDLED_ENVIRONMENT).unwrap()));
     wait_for(&mut h, "the lion in the Venice map", |app| {
         settled_in(RenderMode::Alg2)(app)
             && app.model().is_some_and(|m| m.scene.environment.is_some())

@@ -13,7 +13,6 @@ use anyhow::{Context, Result};
 use pointblend::bench::{self, BenchConfig, BenchRow};
 use pointblend::frame::{ModeVariant, Parameter, RenderSettings};
 use pointblend::render::{HeadlessRenderer, RenderMode};
-use pointblend::viewer;
 
 use super::view_args::Args;
 
@@ -31,6 +30,7 @@ struct Part {
 /// for. Then one compact table, `bench.json` and the plot of all rows, and
 /// the contact sheet `modes.png`.
 pub fn run(args: &Args) -> Result<()> {
+    let asset = |name| pointblend::assets::path(name).map_err(anyhow::Error::msg);
     let parts = match &args.file {
         Some(file) => vec![Part { model: file.clone(), modes: RenderMode::ALL.to_vec(), out: args.out.clone() }],
         None => {
@@ -38,13 +38,21 @@ pub fn run(args: &Args) -> Result<()> {
                 RenderMode::ALL.into_iter().filter(|m| m.is_gpu()).partition(|m| m.info().transparent);
             let with_ruler = |modes: Vec<RenderMode>| [modes, vec![RenderMode::RULER]].concat();
             vec![
-                Part { model: viewer::BUNDLED_MODEL.into(), modes: with_ruler(opaque), out: args.out.join("lion") },
                 Part {
-                    model: viewer::DEMO_SCENE.into(),
+                    model: asset(pointblend::assets::BUNDLED_MODEL)?,
+                    modes: with_ruler(opaque),
+                    out: args.out.join("lion"),
+                },
+                Part {
+                    model: asset(pointblend::assets::DEMO_SCENE)?,
                     modes: with_ruler(transparent.clone()),
                     out: args.out.join("demo-scene"),
                 },
-                Part { model: viewer::LIDAR_DEMO.into(), modes: with_ruler(transparent), out: args.out.join("lidar") },
+                Part {
+                    model: asset(pointblend::assets::LIDAR_DEMO)?,
+                    modes: with_ruler(transparent),
+                    out: args.out.join("lidar"),
+                },
             ]
         }
     };

@@ -84,7 +84,8 @@ impl SceneArgs {
             class_opacity: self.class_opacity.clone(),
             opacity_by: self.opacity_by.clone(),
         };
-        (!style.is_plain()).then_some(style)
+        // `--color-by rgb` alone asks for the file's own colours, over a default colouring.
+        (self.color_by.is_some() || !style.is_plain()).then_some(style)
     }
 
     /// The materials of every object opened; `background_given`: the scene's

@@ -78,5 +78,5 @@ pub fn frame_scene(stream: &mut CopcStream, camera: &Camera, size: (u32, u32), b
         if stats.failed > 0 { format!("; {} nodes failed and were skipped", stats.failed) } else { String::new() }
     );
     // The scene's hash names the nodes drawn, so caches keyed by it are not mixed up.
-    Ok(Scene::single(stream.file_name(), frame.cloud, frame.hash))
+    Ok(Scene::single(stream.file_name(), frame.cloud, frame.hash).coloured_by_default())
 }

@@ -31,7 +31,13 @@ pub fn run(args: &Args) -> Result<()> {
     let shot_clip = view.as_ref().and_then(|v| v.clip.clone()).unwrap_or_default();
     let clip = args.view.scene.clip_region_or(&shot_clip).map_err(anyhow::Error::msg)?;
     let options = ViewerOptions {
-        file: args.file.clone().or_else(|| first_run.then(|| viewer::DEMO_SCENE.into())),
+        file: match &args.file {
+            Some(file) => Some(file.clone()),
+            None if first_run => {
+                Some(pointblend::assets::path(pointblend::assets::DEMO_SCENE).map_err(anyhow::Error::msg)?)
+            }
+            None => None,
+        },
         screenshot: args.screenshot.clone(),
         exit_after_frames: args.exit_after_frames,
         screenshot_dir: args.screenshot_dir.clone(),

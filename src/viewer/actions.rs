@@ -87,6 +87,7 @@ impl ViewerApp {
                 Action::SetOpacity(opacity) => self.set_opacity(ctx, opacity),
                 Action::SetStyle(style) => self.set_style(ctx, style),
                 Action::SetEnvironment(path) => self.set_environment(ctx, path),
+                Action::ShowError(message) => self.load_error = Some(message),
             }
         }
     }

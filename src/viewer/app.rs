@@ -178,8 +178,10 @@ impl ViewerApp {
             play_clock: None,
             options,
         };
-        let file = app.options.file.clone().unwrap_or_else(|| PathBuf::from(super::BUNDLED_MODEL));
-        app.open(&ctx, &file);
+        match app.options.file.clone().map_or_else(|| crate::assets::path(crate::assets::BUNDLED_MODEL), Ok) {
+            Ok(file) => app.open(&ctx, &file),
+            Err(e) => app.load_error = Some(e),
+        }
         app
     }
 

@@ -29,9 +29,11 @@ pub fn draw(painter: &Painter, view: Rect, style: &Style, summary: &Summary) {
                 .map(|c| c.0)
                 .filter(|c| style.classes.as_ref().is_none_or(|list| list.contains(c)))
                 .collect();
-            let rect = panel(ROW * shown.len() as f32, 190.0);
+            let rect = panel(ROW * (shown.len() + 1) as f32, 190.0);
+            // The title says what the colours show.
+            painter.text(rect.left_top(), Align2::LEFT_TOP, "classification", font.clone(), text);
             for (row, class) in shown.iter().enumerate() {
-                let y = rect.top() + ROW * row as f32;
+                let y = rect.top() + ROW * (row + 1) as f32;
                 let [r, g, b] = classes::colour(*class);
                 painter.rect_filled(
                     Rect::from_min_size(pos2(rect.left(), y + 3.0), vec2(10.0, 10.0)),

@@ -42,18 +42,6 @@ pub use app::{ViewerApp, ViewerOptions};
 pub use model::Model;
 pub use state::{FrameKey, Inspection, ScreenshotSize};
 
-/// The model bundled with pointblend.
-pub const BUNDLED_MODEL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/lion.ply");
-
-/// The demo scene: the bundled lion at opacity 0.5 with opaque balls inside
-/// and around it. `pointblend view` opens it when given no file.
-pub const DEMO_SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/demo.toml");
-/// The lidar demo: an airborne tile coloured by class, its vegetation translucent.
-pub const LIDAR_DEMO: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/lidar-classes.toml");
-
-/// The environment map the viewer offers first.
-pub const BUNDLED_ENVIRONMENT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/venice.exr");
-
 /// Errors opening the window.
 #[derive(Debug, thiserror::Error)]
 pub enum ViewerError {

@@ -5,8 +5,6 @@
 //! shows the widget of each parameter it lists, made from the parameter's row
 //! of the descriptor table ([`super::parameter_widgets`]).
 
-use std::path::PathBuf;
-
 use egui::{RichText, Ui};
 
 use super::state::{Action, JobKind, PanelInfo, ScreenshotSize, UiState};
@@ -116,7 +114,10 @@ fn environment_widget(ui: &mut Ui, current: Option<&str>, actions: &mut Vec<Acti
             actions.push(Action::SetEnvironment(None));
         }
         if ui.selectable_label(false, "venice.exr (bundled)").clicked() {
-            actions.push(Action::SetEnvironment(Some(PathBuf::from(crate::viewer::BUNDLED_ENVIRONMENT))));
+            match crate::assets::path(crate::assets::BUNDLED_ENVIRONMENT) {
+                Ok(map) => actions.push(Action::SetEnvironment(Some(map))),
+                Err(e) => actions.push(Action::ShowError(e)),
+            }
         }
         if ui.selectable_label(false, "Open…").clicked() {
             let dialog = rfd::FileDialog::new().add_filter("environment map", &["exr", "hdr", "png", "jpg", "jpeg"]);

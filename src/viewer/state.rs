@@ -195,6 +195,8 @@ pub enum Action {
     SetEnvironment(Option<PathBuf>),
     /// Colour the model and set its opacity by its attributes (or draw it as loaded).
     SetStyle(Option<crate::style::Style>),
+    /// Show this error where load errors are shown (a bundled file that is missing).
+    ShowError(String),
 }
 
 /// The model on screen, as the panels show it.

@@ -218,6 +218,7 @@ fn build(
     let (mut normals_from, mut radii_from) =
         source.normals(&mut cloud, &mut needs, face_normals.as_deref(), &mut warnings);
     let colours_from = source.colours(&mut cloud);
+    cloud.colourless = colours_from == Provenance::Default;
     let opacity_from = source.opacity(&mut cloud, &mut warnings);
     if let Some(from) = source.radii(&mut cloud, &mut needs, frame.diagonal, &mut warnings) {
         radii_from = from;

@@ -65,6 +65,9 @@ pub struct PointCloud {
     pub attributes: Attributes,
     /// The file's z axis points up (lidar, E57 and geo-referenced data), so views default to z up.
     pub z_up: bool,
+    /// The file has no colours: `colours` hold the default colour (survey
+    /// data is then coloured by its attributes, [`crate::style::Style::default_for`]).
+    pub colourless: bool,
 }
 
 /// Axis-aligned bounds and the bounding sphere of a cloud.
@@ -149,6 +152,7 @@ impl PointCloud {
             origin: self.origin,
             scale_exponent: self.scale_exponent,
             z_up: self.z_up,
+            colourless: self.colourless,
             ..PointCloud::default()
         }
     }

@@ -244,6 +244,7 @@ pub fn gather(hierarchy: &Hierarchy, selection: &Selection) -> PointCloud {
         scanner_position: all.scanner_position,
         attributes: Default::default(),
         z_up: all.z_up,
+        colourless: all.colourless,
     };
     for &at in &selection.nodes {
         let node = &hierarchy.nodes[at as usize];

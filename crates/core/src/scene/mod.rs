@@ -160,7 +160,21 @@ impl Scene {
         let (cloud, report) = cloud::load_with(path, options)?;
         let hash = crate::hash::file_hash(path).map_err(|e| CloudError::io(path, e))?;
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());
-        Ok((Scene::single(name, cloud, hash), report))
+        Ok((Scene::single(name, cloud, hash).coloured_by_default(), report))
+    }
+
+    /// This scene with every survey object that has no colours coloured
+    /// as [`crate::style::Style::default_for`] says (by class, else by
+    /// elevation), and a line saying so.
+    pub fn coloured_by_default(mut self) -> Scene {
+        for o in &mut self.objects {
+            let Some(style) = crate::style::Style::default_for(&o.cloud) else { continue };
+            let shown = style.color_by.as_ref().map(|c| c.text()).unwrap_or_default();
+            if o.restyle(&Arc::new(style)).is_ok() {
+                log::info!("{}: the file has no colours; coloured by {shown} (--color-by to choose)", o.name);
+            }
+        }
+        self
     }
 
     /// Splats over all objects.
@@ -306,6 +320,8 @@ impl Scene {
     /// whose file lacks an attribute the style reads.
     pub fn apply_style(&mut self, style: &crate::style::Style) -> Result<(), String> {
         if style.is_plain() {
+            // The file's own colours (`--color-by rgb`): no style, not even the default one.
+            *self = self.unstyled();
             return Ok(());
         }
         let style = Arc::new(style.clone());

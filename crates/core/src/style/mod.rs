@@ -63,6 +63,23 @@ pub struct Applied {
 }
 
 impl Style {
+    /// The colours survey data without colours opens in, as QGIS opens a
+    /// point cloud: RGB when the file has colours (no style), else its
+    /// classes when it holds more than one, else its elevation. Other files
+    /// (not z-up) keep their own or the default colour.
+    pub fn default_for(cloud: &PointCloud) -> Option<Style> {
+        if !(cloud.colourless && cloud.z_up) || cloud.is_empty() {
+            return None;
+        }
+        let classes = cloud.attributes.get(names::CLASSIFICATION).map_or(0, |c| {
+            let mut seen = [false; 256];
+            (0..c.len()).for_each(|i| seen[c.get(i) as usize & 255] = true);
+            seen.iter().filter(|s| **s).count()
+        });
+        let color_by = if classes > 1 { ColorBy::Classification } else { ColorBy::Elevation };
+        Some(Style { color_by: Some(color_by), ..Default::default() })
+    }
+
     /// True when the style changes nothing.
     pub fn is_plain(&self) -> bool {
         matches!(self.color_by, None | Some(ColorBy::Rgb))
