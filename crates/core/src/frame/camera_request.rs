@@ -94,9 +94,12 @@ impl CameraRequest {
         if let Some(elevation) = self.elevation {
             camera.elevation_deg = elevation.clamp(-90.0, 90.0);
         }
+        let turned = self.up.is_some() || self.fov.is_some() || self.azimuth.is_some() || self.elevation.is_some();
         camera.distance = match self.distance {
             Some(distance) => distance,
-            None => camera.fit_distance(&cloud.positions, aspect),
+            // The default view is fitted already; a turned one fits again.
+            None if turned => camera.fit_distance(&cloud.positions, aspect),
+            None => camera.distance,
         };
         Ok(camera)
     }
