@@ -403,3 +403,25 @@ fn a_copc_file_streams_its_view_and_the_point_budget_reselects_it() {
     println!("streamed: {all} splats under the default budget, {fewer} under the panel's");
     assert!(fewer <= 250_000 && all > 250_000, "{fewer} of {all}");
 }
+
+#[test]
+fn the_viewer_streams_a_url_from_a_real_server_with_the_command_lines_camera_and_cache() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut points = common::lidar::tilted_grid(200, 0.2, 0.1, [500_000.0, 4_000_000.0, 10.0]);
+    points.extend(common::lidar::tilted_grid(200, 0.2, 0.1, [500_000.0, 4_000_000.0, 13.0]));
+    let laz = common::lidar::write(&dir.path().join("tile.laz"), &points, [500_000.0, 4_000_000.0, 0.0], None);
+    let served = dir.path().join("served");
+    std::fs::create_dir_all(&served).unwrap();
+    pointblend::copc::write::write_copc(&laz, &served.join("tile.copc.laz"), false).unwrap();
+    let server = common::nginx::Nginx::serve(&served);
+    let url = PathBuf::from(server.url("tile.copc.laz"));
+    let asked = pointblend::frame::CameraRequest { azimuth: Some(70.0), elevation: Some(25.0), ..Default::default() };
+    let stream = pointblend::copc::StreamOptions { cache_bytes: 64_000_000, ..Default::default() };
+    let mut h = harness(ViewerOptions { file: Some(url), camera: asked, stream, ..options(dir.path()) });
+    let streamed = |app: &ViewerApp| app.is_settled() && app.model().is_some_and(|m| m.streamed.is_some());
+    wait_for(&mut h, "the streamed view of the URL", streamed);
+    assert!(h.state().shown_splats().unwrap() > 1000, "the URL's points are drawn");
+    let camera = h.state().camera();
+    assert_eq!((camera.azimuth_deg, camera.elevation_deg), (70.0, 25.0), "the command line's camera");
+    assert!(h.query_by_label_contains(" of 64 MB (").is_some(), "the node cache's line shows the bound given");
+}

@@ -84,3 +84,33 @@ fn the_viewer_window_opens_clipped_by_the_command_lines_box_and_draws_its_handle
     let (cut, all) = (surface(&window) - box_pixels, surface(&plain));
     assert!((cut as f64) < 0.8 * all as f64, "half the lion is cut away: {cut} surface pixels against {all}");
 }
+
+#[test]
+#[ignore = "needs a display: scripts/test runs it under xvfb-run"]
+fn the_viewer_window_opens_a_copc_url_from_a_real_server_as_the_readme_shows() {
+    let dir = tempfile::tempdir().unwrap();
+    let points = common::lidar::tilted_grid(300, 0.2, 0.1, [500_000.0, 4_000_000.0, 10.0]);
+    let laz = common::lidar::write(&dir.path().join("tile.laz"), &points, [500_000.0, 4_000_000.0, 0.0], None);
+    let served = dir.path().join("served");
+    std::fs::create_dir_all(&served).unwrap();
+    pointblend::copc::write::write_copc(&laz, &served.join("tile.copc.laz"), false).unwrap();
+    let server = common::nginx::Nginx::serve(&served);
+    let shot = dir.path().join("url.png");
+    // `pointblend view URL`, with render's camera and streaming flags.
+    let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .args(["view", &server.url("tile.copc.laz"), "--azimuth", "30", "--cache-mb", "64"])
+        .args(["--exit-after-frames", "3", "--screenshot"])
+        .arg(&shot)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(!stderr.contains("panicked") && !stderr.contains("cannot open"), "{stderr}");
+    let window = image::open(&shot).expect("the window screenshot is a PNG").to_rgba8();
+    let (w, h) = window.dimensions();
+    let background = [28, 31, 36];
+    let view: Vec<_> = (0..h).flat_map(|y| (w / 2..w).map(move |x| (x, y))).collect();
+    let surface =
+        view.iter().filter(|&&(x, y)| (0..3).any(|c| window.get_pixel(x, y)[c].abs_diff(background[c]) > 30)).count();
+    assert!(surface as f64 / view.len() as f64 > 0.05, "the streamed tile fills part of the view: {surface} pixels");
+}

@@ -203,6 +203,11 @@ impl ViewerApp {
         self.shown.as_ref().map(|s| (s.image.as_ref(), &s.key))
     }
 
+    /// The camera of the view.
+    pub fn camera(&self) -> Camera {
+        self.ui.camera
+    }
+
     /// How many splats the frame on screen drew.
     pub fn shown_splats(&self) -> Option<usize> {
         self.shown.as_ref().map(|s| s.stats.splats_drawn)
