@@ -1,7 +1,8 @@
 //! Coincident splats merged on load.
 //!
 //! Splats with the same centre, normal and radius (bit for bit, after the
-//! f64 re-centring) are one surface sample drawn several times: files carry
+//! f64 re-centring; the centre's residual too, so two points 1 mm apart far
+//! from the origin stay two) are one surface sample drawn several times: files carry
 //! them where tiles or scans were exported twice. They are merged into one
 //! splat whose colour and opacity are the means of theirs. Every renderer
 //! that normalises a layer (Zhang & Pajarola Eq. 1: Σw·c/Σw, Σw·α/Σw) gives
@@ -18,8 +19,9 @@ use rustc_hash::FxHashMap;
 
 use super::PointCloud;
 
-/// What a splat is, bit for bit: position, and the normal and radius when the file gives them.
-type Key = ([u32; 3], Option<[u32; 3]>, Option<u32>);
+/// What a splat is, bit for bit: position (and its residual), and the
+/// normal and radius when the file gives them.
+type Key = ([u32; 3], [u32; 3], Option<[u32; 3]>, Option<u32>);
 
 /// Merges coincident splats of `cloud` in place (`needs_normal` and
 /// `needs_radius` say which attributes are still to be estimated, and are
@@ -39,6 +41,7 @@ pub fn merge_indexed(cloud: &mut PointCloud, needs_normal: &mut Vec<bool>, needs
     let key = |i: usize| -> Key {
         (
             cloud.positions[i].to_array().map(bits),
+            cloud.residuals.get(i).map_or([0; 3], |r| r.to_array().map(bits)),
             (!needs_normal[i]).then(|| cloud.normals[i].to_array().map(bits)),
             (!needs_radius[i]).then(|| bits(cloud.radii[i])),
         )
@@ -71,6 +74,9 @@ pub fn merge_indexed(cloud: &mut PointCloud, needs_normal: &mut Vec<bool>, needs
         moved_to[i] = write as u32;
         let (colour, opacity, count) = sums[i];
         cloud.positions[write] = cloud.positions[i];
+        if !cloud.residuals.is_empty() {
+            cloud.residuals[write] = cloud.residuals[i];
+        }
         cloud.normals[write] = cloud.normals[i];
         cloud.radii[write] = cloud.radii[i];
         cloud.colours[write] = colour.map(|c| ((c as f64 / count as f64).round()).min(255.0) as u8);
@@ -83,6 +89,9 @@ pub fn merge_indexed(cloud: &mut PointCloud, needs_normal: &mut Vec<bool>, needs
         write += 1;
     }
     cloud.positions.truncate(write);
+    if !cloud.residuals.is_empty() {
+        cloud.residuals.truncate(write);
+    }
     cloud.normals.truncate(write);
     cloud.radii.truncate(write);
     cloud.colours.truncate(write);

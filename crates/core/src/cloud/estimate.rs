@@ -138,11 +138,25 @@ fn across(direction: Vec3, towards: Vec3) -> Option<Vec3> {
 fn estimate_normals(cloud: &mut PointCloud, nb: &Neighbours, needed: &[bool], k: usize) {
     let positions = &cloud.positions;
     let k = k.min(nb.k);
+    let residuals = &cloud.residuals;
     cloud.normals.par_iter_mut().enumerate().for_each(|(i, n)| {
         if !needed[i] {
             return;
         }
         let around = &nb.of(i)[..k];
+        if !residuals.is_empty() {
+            // Far from the origin f32 positions are millimetres coarse: the
+            // neighbourhood is taken relative to splat i (a difference of
+            // close f32 values is exact) with what f32 lost added back.
+            let local = |j: usize| (positions[j] - positions[i]) + (residuals[j] - residuals[i]);
+            let centre = around.iter().map(|&j| local(j as usize)).sum::<Vec3>() / (k + 1) as f32;
+            let mut cov = Mat3::ZERO;
+            for d in std::iter::once(Vec3::ZERO).chain(around.iter().map(|&j| local(j as usize))).map(|p| p - centre) {
+                cov += Mat3::from_cols(d * d.x, d * d.y, d * d.z);
+            }
+            *n = smallest_eigenvector(cov).unwrap_or(Vec3::Z);
+            return;
+        }
         let centre = (positions[i] + around.iter().map(|&j| positions[j as usize]).sum::<Vec3>()) / (k + 1) as f32;
         let mut cov = Mat3::ZERO;
         for p in std::iter::once(positions[i]).chain(around.iter().map(|&j| positions[j as usize])) {

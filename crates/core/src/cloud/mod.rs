@@ -21,7 +21,7 @@ mod given_radii;
 pub mod las_file;
 pub mod load;
 pub mod mesh;
-mod placement;
+pub mod placement;
 pub mod ply;
 pub mod volume;
 pub mod write;
@@ -68,6 +68,12 @@ pub struct PointCloud {
     /// The file has no colours: `colours` hold the default colour (survey
     /// data is then coloured by its attributes, [`crate::style::Style::default_for`]).
     pub colourless: bool,
+    /// What f32 positions lose: per splat, the file's position minus the
+    /// stored one, in the cloud's units (file = (position + residual) · unit
+    /// + origin, exact to f64). Empty when every position is held to within
+    /// [`placement::RESIDUAL_KEPT`] (small extents); kept by [`PointCloud::select`],
+    /// so picks and measures report the file's own coordinates at any extent.
+    pub residuals: Vec<Vec3>,
 }
 
 /// Axis-aligned bounds and the bounding sphere of a cloud.
@@ -118,6 +124,18 @@ impl PointCloud {
     }
 
     /// The length of one unit of the cloud in the file's units.
+    /// Splat `i`'s position in the file's coordinates, in f64: exact to the
+    /// file's own precision where [`PointCloud::residuals`] are kept.
+    pub fn file_position(&self, i: usize) -> glam::DVec3 {
+        self.frame_position(i) * self.unit() + glam::DVec3::from_array(self.origin)
+    }
+
+    /// Splat `i`'s position in the cloud's own frame (re-centred and scaled), in f64.
+    pub fn frame_position(&self, i: usize) -> glam::DVec3 {
+        let residual = self.residuals.get(i).copied().unwrap_or(Vec3::ZERO);
+        self.positions[i].as_dvec3() + residual.as_dvec3()
+    }
+
     pub fn unit(&self) -> f64 {
         10f64.powi(self.scale_exponent)
     }
@@ -148,6 +166,11 @@ impl PointCloud {
                 Vec::new()
             } else {
                 indices.iter().map(|i| self.two_sided[pick(i)]).collect()
+            },
+            residuals: if self.residuals.is_empty() {
+                Vec::new()
+            } else {
+                indices.iter().map(|i| self.residuals[pick(i)]).collect()
             },
             origin: self.origin,
             scale_exponent: self.scale_exponent,

@@ -1,8 +1,13 @@
 //! Where a cloud sits: its positions re-centred in f64 on the bounding-box
-//! centre before they become f32 offsets (so UTM-sized coordinates keep their
-//! millimetres; [`PointCloud::origin`] keeps the centre), and models whose
-//! size f32 cannot square (or resolve) rescaled by a power of ten
-//! ([`PointCloud::scale_exponent`]).
+//! centre before they become f32 offsets ([`PointCloud::origin`] keeps the
+//! centre), and models whose size f32 cannot square (or resolve) rescaled by
+//! a power of ten ([`PointCloud::scale_exponent`]).
+//!
+//! An f32 offset holds 24 bits: 2 mm at 16 km from the centre, 4 mm at
+//! 50 km. Where that loses more than [`RESIDUAL_KEPT`] of a unit, what it
+//! loses is kept per splat ([`PointCloud::residuals`], an f32 remainder, so
+//! position + residual is the file's value to f64 precision): rendering reads
+//! the f32 positions, picking and measuring the exact ones.
 
 use glam::DVec3;
 
@@ -39,17 +44,25 @@ pub(super) fn place(
             "the model spans {extent:.3e} units, beyond what f32 rendering handles; coordinates and radii are in units of 1e{scale_exponent}"
         ));
     }
-    let cloud = PointCloud {
-        positions: kept.iter().map(|&i| ((positions[i] - origin) / unit).as_vec3()).collect(),
-        origin: origin.to_array(),
-        scale_exponent,
-        ..Default::default()
+    let exact: Vec<DVec3> = kept.iter().map(|&i| (positions[i] - origin) / unit).collect();
+    let stored: Vec<glam::Vec3> = exact.iter().map(|p| p.as_vec3()).collect();
+    let lost = exact.iter().zip(&stored).map(|(e, s)| (*e - s.as_dvec3()).abs().max_element()).fold(0.0, f64::max);
+    let residuals = if lost * unit > RESIDUAL_KEPT {
+        exact.iter().zip(&stored).map(|(e, s)| (*e - s.as_dvec3()).as_vec3()).collect()
+    } else {
+        Vec::new()
     };
+    let cloud =
+        PointCloud { positions: stored, residuals, origin: origin.to_array(), scale_exponent, ..Default::default() };
     if extent > 0.0 && extent / (hi.abs().max(lo.abs()).max_element().max(1e-300)) < 1e-6 {
         warnings.push("the coordinates span less than a millionth of their magnitude; precision may be lost".into());
     }
     (cloud, Frame { origin, unit, diagonal: ((hi - lo) / unit).length() as f32 })
 }
+
+/// The most of a file unit f32 positions may lose before the residuals are
+/// kept: a hundredth of a millimetre in metres (a tile wider than about 300 m).
+pub const RESIDUAL_KEPT: f64 = 1e-5;
 
 /// Models larger than this (or smaller than [`SMALLEST_EXTENT`]) are rescaled
 /// by a power of ten: f32 squared distances overflow near 1e19, and f32

@@ -180,6 +180,21 @@ impl Camera {
         glam::camera::rh::view::look_at_mat4(self.eye(), self.target, up)
     }
 
+    /// [`Camera::view_matrix`] computed in f64 from the camera's own values:
+    /// the eye far from the frame's origin keeps its millimetres (an f32
+    /// matrix's translation rounds to 4 mm at 50 km), for picking and measuring.
+    pub fn view_matrix_f64(&self) -> glam::DMat4 {
+        let (up, front) = self.up.frame();
+        let (up, front) = (up.as_dvec3(), front.as_dvec3());
+        let right = up.cross(front);
+        let (az, el) = ((self.azimuth_deg as f64).to_radians(), (self.elevation_deg as f64).to_radians());
+        let direction = (right * az.sin() * el.cos() + front * az.cos() * el.cos() + up * el.sin()).normalize();
+        let target = self.target.as_dvec3();
+        let eye = target + direction * self.distance as f64;
+        let up = if direction.cross(up).length_squared() < 1e-8 { up.any_orthonormal_vector() } else { up };
+        glam::dcamera::rh::view::look_at_mat4(eye, target, up)
+    }
+
     /// Near and far clipping distances, enclosing the scene sphere.
     pub fn near_far(&self) -> (f32, f32) {
         let r = self.scene_radius * 1.02;

@@ -51,7 +51,9 @@ impl PickReport {
     }
 
     /// `{"pixel": [x, y], "layers": [...]}`: per layer its depth, position
-    /// (f64 file coordinates), splats, normal, radius, colour, opacity and attributes.
+    /// (where the ray meets it, f64 file coordinates), stored position (its
+    /// heaviest splat's, as the file holds it), splats, normal, radius,
+    /// colour, opacity and attributes.
     pub fn json(&self) -> Value {
         let layers: Vec<Value> = self
             .layers
@@ -63,6 +65,7 @@ impl PickReport {
                 json!({
                     "depth": l.depth,
                     "position": l.position.to_array(),
+                    "stored_position": l.stored.to_array(),
                     "splats": l.splats,
                     "normal": l.normal.to_array(),
                     "radius": l.radius,
@@ -85,11 +88,12 @@ impl PickReport {
         for (k, (l, attributes)) in self.layers.iter().zip(&self.attributes).enumerate() {
             let [r, g, b] = l.colour;
             let [px, py, pz] = l.position.to_array();
+            let [sx, sy, sz] = l.stored.to_array();
             let [nx, ny, nz] = l.normal.to_array();
             let shown: Vec<String> = l.splats.iter().take(5).map(u32::to_string).collect();
             let more = if l.splats.len() > 5 { ", ..." } else { "" };
             out.push_str(&format!(
-                "layer {}: at ({px:.4}, {py:.4}, {pz:.4}), depth {:.4}, normal ({nx:.3}, {ny:.3}, {nz:.3}), radius {:.4}, colour ({r}, {g}, {b}), opacity {:.3}, {} splat(s): {}{more}\n",
+                "layer {}: at ({px:.4}, {py:.4}, {pz:.4}), splat stored at ({sx}, {sy}, {sz}), depth {:.4}, normal ({nx:.3}, {ny:.3}, {nz:.3}), radius {:.4}, colour ({r}, {g}, {b}), opacity {:.3}, {} splat(s): {}{more}\n",
                 k + 1,
                 l.depth,
                 l.radius,

@@ -245,6 +245,8 @@ pub fn gather(hierarchy: &Hierarchy, selection: &Selection) -> PointCloud {
         attributes: Default::default(),
         z_up: all.z_up,
         colourless: all.colourless,
+        // A frame under a budget draws; picks read the whole cloud's exact positions.
+        residuals: Vec::new(),
     };
     for &at in &selection.nodes {
         let node = &hierarchy.nodes[at as usize];

@@ -201,6 +201,8 @@ impl Deform {
             })
             .collect();
         let mut out = cloud.clone();
+        // Moved splats are where they are drawn: no file position to keep.
+        out.residuals.clear();
         for (i, (p, n, r)) in moved.into_iter().enumerate() {
             out.positions[i] = p;
             out.normals[i] = n;

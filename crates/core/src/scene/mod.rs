@@ -259,6 +259,7 @@ impl Scene {
         let mut out = PointCloud::default();
         let mut objects = Vec::with_capacity(self.objects.len());
         let (frame_origin, frame_unit) = self.frame_placement();
+        let exact = self.objects.iter().any(|o| !o.cloud.residuals.is_empty());
         for o in &self.objects {
             let start = out.len() as u32;
             // From the object's stored coordinates to the scene frame, in f64: the file
@@ -268,7 +269,17 @@ impl Scene {
             let to_frame = |p: Vec3| (p.as_dvec3() * (unit / frame_unit) + shift).as_vec3();
             let scale = o.transform.matrix3.determinant().abs().cbrt() * (unit / frame_unit) as f32;
             let normal_matrix = o.transform.matrix3.inverse().transpose();
-            out.positions.extend(o.cloud.positions.iter().map(|p| o.transform.transform_point3(to_frame(*p))));
+            if exact {
+                // The file positions in the scene frame, in f64, and what f32 loses of them.
+                let transform = glam::DAffine3::from_mat4(glam::Mat4::from(o.transform).as_dmat4());
+                for i in 0..o.cloud.len() {
+                    let at = transform.transform_point3(o.cloud.frame_position(i) * (unit / frame_unit) + shift);
+                    out.positions.push(at.as_vec3());
+                    out.residuals.push((at - at.as_vec3().as_dvec3()).as_vec3());
+                }
+            } else {
+                out.positions.extend(o.cloud.positions.iter().map(|p| o.transform.transform_point3(to_frame(*p))));
+            }
             out.normals.extend(
                 o.cloud.normals.iter().map(|n| Vec3::from(normal_matrix * glam::Vec3A::from(*n)).normalize_or_zero()),
             );
