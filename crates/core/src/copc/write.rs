@@ -24,6 +24,8 @@ use rayon::prelude::*;
 use rustc_hash::FxHashSet;
 
 use super::CopcError;
+use crate::cloud::CloudError;
+use crate::cloud::las_file;
 
 /// Cells per side of a node's sampling grid.
 pub const GRID: u32 = 128;
@@ -51,7 +53,12 @@ struct Node {
 pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written, CopcError> {
     let name = input.display().to_string();
     let fail = |e: String| CopcError::new(&name, e);
-    let mut reader = las::Reader::from_path(input).map_err(|e| fail(e.to_string()))?;
+    // The checks of a whole-file read (header, records, LAZ chunks), and its messages.
+    let reason = |e: CloudError| match e {
+        CloudError::Content { reason, .. } => reason,
+        e => e.to_string(),
+    };
+    let (mut reader, _) = las_file::open(input).map_err(|e| fail(reason(e)))?;
     let header = reader.header().clone();
     let in_format = *header.point_format();
     let mut out_format = las::point::Format::new(match (in_format.has_nir, in_format.has_color) {
@@ -69,7 +76,9 @@ pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written
     let mut positions: Vec<DVec3> = Vec::new();
     let mut batch = las::PointDataBuilder::new().for_header(&header).build();
     loop {
-        let n = reader.fill_points(1 << 20, &mut batch).map_err(|e| fail(e.to_string()))?;
+        let n = reader
+            .fill_points(1 << 20, &mut batch)
+            .map_err(|e| fail(reason(las_file::points_error(input, e, in_format.is_compressed))))?;
         if n == 0 {
             break;
         }
