@@ -7,7 +7,7 @@
 //! seek fail with "Invalid argument"), and hands LAZ points to the `laz`
 //! crate, which trusts its chunk table and chunks
 //! ([`super::laz_check`]). So the raw header is read first and each of
-//! those is checked against the file's length: the
+//! those is checked against the file's length: the header's own size, the
 //! records' offsets and lengths, the LAZ record, the point count against
 //! the bytes (LAS) or the chunk table (LAZ).
 
@@ -29,12 +29,22 @@ pub(crate) fn open(path: &Path) -> Result<(las::Reader, u64), CloudError> {
     Ok((reader, file_len))
 }
 
-/// Refuses a header whose point
+/// Refuses a header whose size is too small for its version, whose point
 /// data, VLRs or EVLRs would lie past the file's end, whose point count
 /// the file cannot hold, or whose LAZ chunks would not decode safely,
 /// before the `las` crate reads them. Returns the version the header says.
 fn check_offsets(path: &Path, file: &mut File, file_len: u64) -> Result<las::Version, CloudError> {
     let raw = las::raw::Header::read_from(&mut *file).map_err(|e| crate_error(path, e))?;
+    let least = raw.version.header_size();
+    if raw.header_size < least {
+        return Err(las_error(
+            path,
+            format!(
+                "its header says it is {} bytes long, but a LAS {} header takes {least}",
+                raw.header_size, raw.version
+            ),
+        ));
+    }
     let start = raw.offset_to_point_data as u64;
     if start > file_len {
         return Err(las_error(
