@@ -10,6 +10,10 @@
 //! those is checked against the file's length: the header's own size, the
 //! records' offsets and lengths, the LAZ record, the point count against
 //! the bytes (LAS) or the chunk table (LAZ).
+//!
+//! The crate also raises a file's version when its contents need a later
+//! one, and logs that without the file's name; its line is silenced by the
+//! command line and [`open`] logs one naming the file.
 
 use std::fs::File;
 use std::io::{BufReader, Read, Seek, SeekFrom};
@@ -24,8 +28,15 @@ use crate::cloud::CloudError;
 /// the reader and the file's length.
 pub(crate) fn open(path: &Path) -> Result<(las::Reader, u64), CloudError> {
     let (mut file, file_len) = crate::input::open(path).map_err(|e| CloudError::io(path, e))?;
-    check_offsets(path, &mut file, file_len)?;
+    let version = check_offsets(path, &mut file, file_len)?;
     let reader = las::Reader::new(BufReader::new(file)).map_err(|e| crate_error(path, e))?;
+    let read_as = reader.header().version();
+    if read_as != version {
+        log::warn!(
+            "{}: its header says LAS {version}, but its point format or records need LAS {read_as}; read as LAS {read_as}",
+            path.display()
+        );
+    }
     Ok((reader, file_len))
 }
 
