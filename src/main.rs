@@ -8,6 +8,7 @@
 mod commands;
 #[cfg(test)]
 mod doc_flags_tests;
+mod interrupt;
 
 use std::process::ExitCode;
 
@@ -55,6 +56,7 @@ fn main() -> ExitCode {
         // The las crate's "upgrading las version" names no file; the reader logs its own line that does.
         .filter_module("las::header", log::LevelFilter::Error)
         .init();
+    interrupt::install();
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::View(args)) => commands::view::run(&args),

@@ -131,7 +131,7 @@ fn run_copc(args: &Args) -> Result<()> {
         args.input.as_path()
     } else {
         let (cloud, _) = super::shared::load(&args.input)?;
-        las_input = tempfile::Builder::new().suffix(".las").tempfile()?;
+        las_input = pointblend::output::Temporary::with_suffix(".las")?;
         cloud::write_las::write_las(&cloud, las_input.path())?;
         las_input.path()
     };

@@ -103,14 +103,14 @@ pub fn write_las(cloud: &PointCloud, path: &Path) -> Result<(), CloudError> {
     let header = builder.into_header().map_err(err)?;
     let target = crate::output::prepare(path).map_err(|e| CloudError::io(path, e))?;
     let dir = crate::output::folder_of(&target);
-    let tmp = tempfile::NamedTempFile::new_in(dir).map_err(|e| CloudError::io(path, e))?;
+    let tmp = crate::output::Temporary::new_in(dir).map_err(|e| CloudError::io(path, e))?;
     let file = tmp.reopen().map_err(|e| CloudError::io(path, e))?;
     let mut writer = las::Writer::new(sink::Fused::new(std::io::BufWriter::new(file)), header).map_err(err)?;
     let written = write_points(&mut writer, cloud, &extras);
     // Always closed here: the crate's writer panics if its drop has to close it and cannot.
     sink::close(writer, written).map_err(err)?;
     crate::output::make_readable(tmp.as_file()).map_err(|e| CloudError::io(path, e))?;
-    tmp.persist(&target).map_err(|e| CloudError::io(path, e.error))?;
+    tmp.persist(&target).map_err(|e| CloudError::io(path, e))?;
     Ok(())
 }
 

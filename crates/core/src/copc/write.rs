@@ -142,7 +142,7 @@ pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written
     let out_name = output.display().to_string();
     let wfail = |e: std::io::Error| CopcError::new(&out_name, e.to_string());
     let target = crate::output::prepare(output).map_err(wfail)?;
-    let mut file = tempfile::NamedTempFile::new_in(crate::output::folder_of(&target)).map_err(wfail)?;
+    let mut file = crate::output::Temporary::new_in(crate::output::folder_of(&target)).map_err(wfail)?;
     crate::output::make_readable(file.as_file()).map_err(wfail)?;
     let info = |root: (u64, u64)| {
         let mut data = Vec::with_capacity(160);
@@ -231,7 +231,7 @@ pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written
     // The EVLR header is 60 bytes; its data is the root page.
     write_head(f, (data_at, root_len), evlr_at)?;
     let bytes = f.seek(SeekFrom::End(0)).map_err(wfail)?;
-    file.persist(&target).map_err(|e| wfail(e.error))?;
+    file.persist(&target).map_err(wfail)?;
     Ok(Written { points: positions.len() as u64, nodes: nodes.len(), depth, bytes })
 }
 
