@@ -8,6 +8,7 @@
 mod commands;
 #[cfg(test)]
 mod doc_flags_tests;
+mod interrupt;
 
 use std::process::ExitCode;
 
@@ -52,7 +53,10 @@ fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn,pointblend=info"))
         .format_timestamp(None)
         .format_target(false)
+        // The las crate's "upgrading las version" names no file; the reader logs its own line that does.
+        .filter_module("las::header", log::LevelFilter::Error)
         .init();
+    interrupt::install();
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::View(args)) => commands::view::run(&args),

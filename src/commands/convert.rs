@@ -1,12 +1,14 @@
 //! `pointblend convert IN OUT [--points N]`: a mesh or cloud (PLY, LAS,
-//! LAZ, E57) to a splat cloud PLY, or to LAS/LAZ by OUT's extension, with
+//! LAZ, E57) to a splat cloud PLY, or to LAS/LAZ/COPC by OUT's extension, with
 //! every attribute; or a scalar volume (NIfTI-1, `.nii` / `.nii.gz`) to one point per
 //! voxel above a threshold, coloured by a transfer function (`--transfer`).
+//! OUT's extension must name a format the registry says `convert` writes.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Result, bail};
 use pointblend::cloud::{self, LoadOptions};
+use pointblend::formats::{self, Format, Reader};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -37,7 +39,10 @@ fn is_volume(path: &std::path::Path) -> bool {
 }
 
 /// A volume to points.
-fn run_volume(args: &Args) -> Result<()> {
+fn run_volume(args: &Args, format: &Format) -> Result<()> {
+    if format.reader == Reader::Copc {
+        bail!("a volume converts to PLY, LAS or LAZ; convert that file to COPC");
+    }
     if args.points.is_some() {
         bail!("--points samples a mesh; a volume makes one point per voxel above --threshold");
     }
@@ -57,7 +62,11 @@ fn run_volume(args: &Args) -> Result<()> {
         format!("transfer {}", report.transfer.to_text()),
         format!("normals from the 3D Sobel gradient, radius half the voxel diagonal, units {}", report.units),
     ];
-    cloud::write::write_ply(&cloud, &args.output, &comments)?;
+    if format.reader == Reader::Las {
+        cloud::write_las::write_las(&cloud, &args.output)?;
+    } else {
+        cloud::write::write_ply(&cloud, &args.output, &comments)?;
+    }
     let [x, y, z] = report.dims;
     println!(
         "{} -> {}: {x}x{y}x{z} voxels of {:.3}x{:.3}x{:.3} {}, values {}..{}, {} points at or above {} (transfer {})",
@@ -76,15 +85,32 @@ fn run_volume(args: &Args) -> Result<()> {
     Ok(())
 }
 
+/// The format OUT's extension names, refused unless `convert` writes it.
+fn output_format(output: &Path) -> Result<&'static Format> {
+    let name = output.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    match formats::by_extension(&name) {
+        Some(format) if format.written => Ok(format),
+        found => {
+            let what = match (found, output.extension()) {
+                (Some(format), _) => format!("not {}", format.name),
+                (None, Some(ext)) => format!("not '.{}'", ext.to_string_lossy()),
+                (None, None) => "and this name has no extension".to_string(),
+            };
+            bail!("{}: convert writes {}, {what}", output.display(), formats::names_with_extensions(|f| f.written))
+        }
+    }
+}
+
 pub fn run(args: &Args) -> Result<()> {
+    let format = output_format(&args.output)?;
     super::shared::refuse_same_file(&args.output, "the input", &args.input)?;
     if is_volume(&args.input) {
-        return run_volume(args);
+        return run_volume(args, format);
     }
     if args.transfer.is_some() || args.threshold.is_some() {
         bail!("--transfer and --threshold apply to volumes (.nii, .nii.gz), not {}", args.input.display());
     }
-    if pointblend::copc::is_copc(&args.output.to_string_lossy()) && args.points.is_none() {
+    if format.reader == Reader::Copc && args.points.is_none() {
         return run_copc(args);
     }
     let (cloud, report) = match args.points {
@@ -104,7 +130,7 @@ pub fn run(args: &Args) -> Result<()> {
     let source = args.input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let mut comments = vec![format!("pointblend convert from {source}")];
     comments.push(format!("normals {}, radii {}, colours {}", report.normals, report.radii, report.colours));
-    if cloud::las_file::is_las(&args.output) {
+    if format.reader != Reader::Ply {
         cloud::write_las::write_las(&cloud, &args.output)?;
     } else {
         cloud::write::write_ply(&cloud, &args.output, &comments)?;
@@ -131,7 +157,7 @@ fn run_copc(args: &Args) -> Result<()> {
         args.input.as_path()
     } else {
         let (cloud, _) = super::shared::load(&args.input)?;
-        las_input = tempfile::Builder::new().suffix(".las").tempfile()?;
+        las_input = pointblend::output::Temporary::with_suffix(".las")?;
         cloud::write_las::write_las(&cloud, las_input.path())?;
         las_input.path()
     };

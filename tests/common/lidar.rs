@@ -41,21 +41,65 @@ pub fn tilted_grid(side: usize, spacing: f64, slope: f64, origin: [f64; 3]) -> V
 /// 0.001 and the given offset; `extra` adds an f32 extra-bytes attribute of
 /// that name, whose value is the point's index.
 pub fn write(path: &Path, points: &[LidarPoint], offset: [f64; 3], extra: Option<&str>) -> PathBuf {
+    let fields: Vec<ExtraField> = extra.map(|name| ExtraField { name, scale: None }).into_iter().collect();
+    write_fields(path, points, offset, &fields)
+}
+
+/// One f32 extra-bytes field: its name and, when given, the scale its
+/// descriptor states (option bit 3).
+#[derive(Debug, Clone, Copy)]
+pub struct ExtraField<'a> {
+    pub name: &'a str,
+    pub scale: Option<f64>,
+}
+
+/// [`write`] with any number of f32 extra-bytes fields, each described in
+/// the one `LASF_Spec` record; field j of point k holds k · (j + 1).
+pub fn write_fields(path: &Path, points: &[LidarPoint], offset: [f64; 3], fields: &[ExtraField]) -> PathBuf {
     let mut builder = las::Builder::from((1, 4));
     builder.point_format = las::point::Format::new(7).unwrap();
     builder.point_format.is_compressed = path.extension().is_some_and(|e| e == "laz");
-    if let Some(name) = extra {
-        builder.point_format.extra_bytes = 4;
-        let mut d = vec![0u8; 192];
-        d[2] = 9;
-        d[4..4 + name.len()].copy_from_slice(name.as_bytes());
-        builder.vlrs.push(las::Vlr { user_id: "LASF_Spec".into(), record_id: 4, description: "extra".into(), data: d });
+    if !fields.is_empty() {
+        builder.point_format.extra_bytes = 4 * fields.len() as u16;
+        let mut data = Vec::new();
+        for field in fields {
+            let mut d = vec![0u8; 192];
+            d[2] = 9;
+            d[4..4 + field.name.len()].copy_from_slice(field.name.as_bytes());
+            if let Some(scale) = field.scale {
+                d[3] |= 8;
+                d[112..120].copy_from_slice(&scale.to_le_bytes());
+            }
+            data.extend(d);
+        }
+        builder.vlrs.push(las::Vlr { user_id: "LASF_Spec".into(), record_id: 4, description: "extra".into(), data });
     }
     for (t, o) in
         [&mut builder.transforms.x, &mut builder.transforms.y, &mut builder.transforms.z].into_iter().zip(offset)
     {
         *t = las::Transform { scale: 0.001, offset: o };
     }
+    let count = fields.len();
+    write_points(path, builder, points, |k| (0..count).flat_map(|j| ((k * (j + 1)) as f32).to_le_bytes()).collect())
+}
+
+/// Writes `points` as LAS 1.2 point format 3 (RGB and GPS time), with scale
+/// 0.001 and no offset: the layout of the oldest files still made.
+pub fn write_las12(path: &Path, points: &[LidarPoint]) -> PathBuf {
+    let mut builder = las::Builder::from((1, 2));
+    builder.point_format = las::point::Format::new(3).unwrap();
+    for t in [&mut builder.transforms.x, &mut builder.transforms.y, &mut builder.transforms.z] {
+        *t = las::Transform { scale: 0.001, offset: 0.0 };
+    }
+    write_points(path, builder, points, |_| Vec::new())
+}
+
+fn write_points(
+    path: &Path,
+    builder: las::Builder,
+    points: &[LidarPoint],
+    extra_bytes: impl Fn(usize) -> Vec<u8>,
+) -> PathBuf {
     let header = builder.into_header().unwrap();
     let mut writer = las::Writer::from_path(path, header).unwrap();
     for (k, p) in points.iter().enumerate() {
@@ -70,7 +114,7 @@ pub fn write(path: &Path, points: &[LidarPoint], offset: [f64; 3], extra: Option
                 classification: las::point::Classification::new(p.class).unwrap(),
                 gps_time: Some(p.gps_time),
                 color: Some(las::Color::new(p.rgb[0], p.rgb[1], p.rgb[2])),
-                extra_bytes: if extra.is_some() { (k as f32).to_le_bytes().to_vec() } else { Vec::new() },
+                extra_bytes: extra_bytes(k),
                 ..Default::default()
             })
             .unwrap();

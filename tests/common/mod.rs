@@ -4,6 +4,7 @@
 //! and one GPU renderer per test binary.
 #![allow(dead_code)]
 
+pub mod corrupt;
 pub mod fuzz;
 pub mod lidar;
 pub mod nginx;
@@ -43,19 +44,26 @@ pub fn shared_dir() -> PathBuf {
 pub fn shared_data(name: &str) -> Option<PathBuf> {
     let dir = shared_dir();
     if !dir.is_dir() {
-        let test = std::thread::current().name().unwrap_or("a test").to_string();
-        let line = format!("skipped {test}: it needs {} from {}", name, dir.display());
-        eprintln!("{line} (set POINTBLEND_DATA to the folder of the scans)");
-        let log = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("skipped-tests.txt");
-        if let Ok(mut file) = std::fs::OpenOptions::new().create(true).append(true).open(log) {
-            use std::io::Write;
-            let _ = writeln!(file, "{line}");
-        }
+        skip(&format!("it needs {} from {}", name, dir.display()), " (set POINTBLEND_DATA to the folder of the scans)");
         return None;
     }
     let path = dir.join(name);
     assert!(path.exists(), "{} is missing: the folder of the scans is there but lacks it", path.display());
     Some(path)
+}
+
+/// Records that the running test is skipped because of `why`: one line on
+/// stderr (with `hint` after it) and one in `target/tmp/skipped-tests.txt`,
+/// which `scripts/test` counts.
+pub fn skip(why: &str, hint: &str) {
+    let test = std::thread::current().name().unwrap_or("a test").to_string();
+    let line = format!("skipped {test}: {why}");
+    eprintln!("{line}{hint}");
+    let log = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("skipped-tests.txt");
+    if let Ok(mut file) = std::fs::OpenOptions::new().create(true).append(true).open(log) {
+        use std::io::Write;
+        let _ = writeln!(file, "{line}");
+    }
 }
 
 /// Runs the test on to its end only when a scan of [`shared_data`] is there:

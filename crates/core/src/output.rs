@@ -11,9 +11,16 @@
 //! [`same_file`] tells whether two paths name one file however they are
 //! spelt (`..`, `.`, absolute or relative, symbolic links), so a command can
 //! refuse an output that would overwrite its input or another output.
+//!
+//! Every temporary file is a [`Temporary`], listed while it exists, so that
+//! a run ended by a signal removes them ([`remove_temporaries`]).
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
+
+mod temporary;
+
+pub use temporary::{Temporary, remove_temporaries};
 
 /// Most symbolic links followed before a path is called a loop.
 const MAX_LINKS: usize = 40;
@@ -55,7 +62,7 @@ fn ensure_writable_folder(target: PathBuf) -> std::io::Result<PathBuf> {
     let dir = folder_of(&target);
     std::fs::create_dir_all(dir)?;
     // The temporary file's own name means nothing to the user: say only where and why.
-    tempfile::NamedTempFile::new_in(dir).map_err(|e| {
+    Temporary::new_in(dir).map_err(|e| {
         std::io::Error::new(e.kind(), format!("cannot create a file in {}: {}", dir.display(), e.kind()))
     })?;
     Ok(target)
@@ -69,16 +76,15 @@ pub fn folder_of(path: &Path) -> &Path {
 /// Writes `bytes` to `path` atomically (see the module doc).
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let target = prepare(path)?;
-    let mut tmp = tempfile::NamedTempFile::new_in(folder_of(&target))?;
-    tmp.write_all(bytes)?;
-    tmp.flush()?;
+    let mut tmp = Temporary::new_in(folder_of(&target))?;
+    tmp.as_file_mut().write_all(bytes)?;
+    tmp.as_file_mut().flush()?;
     match std::fs::metadata(&target) {
         // A replaced file keeps its permissions.
         Ok(old) => tmp.as_file().set_permissions(old.permissions())?,
         Err(_) => make_readable(tmp.as_file())?,
     }
-    tmp.persist(&target).map_err(|e| e.error)?;
-    Ok(())
+    tmp.persist(&target)
 }
 
 /// Whether `a` and `b` name the same file: the same device and inode where

@@ -16,11 +16,16 @@
 //! Extra bytes named `nx`, `ny`, `nz`, `radius` or `alpha` (what `convert`
 //! writes) are the splats' own normals, radii and opacity.
 //! [`extra_bytes`] reads the descriptors (192 bytes each, fixed layout) and
-//! the values they describe; that is the only hand-written part.
+//! the values they describe.
+//!
+//! Neither crate checks the sizes a file states before it allocates or seeks
+//! by them, so every file is opened through [`open`] ([`precheck`]), which
+//! checks the header, the records and the point count against the file's
+//! length, and the LAZ chunk table and chunks ([`laz_check`]) against the
+//! bytes that hold them. Those two and [`extra_bytes`] are the hand-written
+//! parts.
 
 use std::collections::HashMap;
-use std::fs::File;
-use std::io::BufReader;
 use std::path::Path;
 
 use super::CloudError;
@@ -29,6 +34,10 @@ use super::file_info::FileInfo;
 use super::ply::{ElementSpec, PlyData, PropertyKind, PropertySpec, Scalar};
 
 pub(crate) mod extra_bytes;
+pub(crate) mod laz_check;
+mod precheck;
+
+pub(crate) use precheck::open;
 
 /// Points decoded per batch, and the most bytes a batch may take (records can be 64 KiB with extra bytes).
 const BATCH: u64 = 1 << 20;
@@ -59,100 +68,28 @@ fn crate_error(path: &Path, e: las::Error) -> CloudError {
     }
 }
 
-/// Refuses a header whose point data, VLRs or EVLRs would lie past the
-/// file's end, before the `las` crate reads them (it allocates each record's
-/// stated length first: a flipped EVLR count once asked for 2 GB).
-fn check_offsets(path: &Path, file: &mut File, file_len: u64) -> Result<(), CloudError> {
-    use std::io::{Read, Seek, SeekFrom};
-    let raw = las::raw::Header::read_from(&mut *file).map_err(|e| crate_error(path, e))?;
-    let start = raw.offset_to_point_data as u64;
-    if start > file_len {
-        return Err(las_error(
+/// A `las` crate error met while decoding points. The chunks of a LAZ file
+/// opened through [`open`] all lie within the file, so a read past a chunk's
+/// end (or past the last chunk) is corrupt data, not a short file.
+pub(crate) fn points_error(path: &Path, e: las::Error, compressed: bool) -> CloudError {
+    let text = e.to_string();
+    let past_end = matches!(&e, las::Error::Io(io) if io.kind() == std::io::ErrorKind::UnexpectedEof)
+        || text.ends_with("failed to fill whole buffer")
+        || text.ends_with("no chunks available in chunk table");
+    if compressed && past_end {
+        las_error(
             path,
-            format!("the point data starts at byte {start}, past the file's end ({file_len} bytes)"),
-        ));
-    }
-    // Each record's header holds its length at byte 20: u16 for VLRs (54-byte headers), u64 for EVLRs (60).
-    let mut walk = |first: u64, count: u64, header: u64, what: &str| -> Result<(), CloudError> {
-        let mut at = first;
-        for i in 0..count {
-            let mut bytes = [0u8; 60];
-            let fits = at.checked_add(header).is_some_and(|end| end <= file_len);
-            if !fits
-                || file.seek(SeekFrom::Start(at)).and_then(|_| file.read_exact(&mut bytes[..header as usize])).is_err()
-            {
-                return Err(las_error(
-                    path,
-                    format!("{what} {i} of {count} starts past the file's end ({file_len} bytes)"),
-                ));
-            }
-            let len = if header == 54 {
-                u16::from_le_bytes([bytes[20], bytes[21]]) as u64
-            } else {
-                u64::from_le_bytes(bytes[20..28].try_into().unwrap_or([0xff; 8]))
-            };
-            if header == 54 && &bytes[2..16] == b"laszip encoded" && u16::from_le_bytes([bytes[18], bytes[19]]) == 22204
-            {
-                check_chunk_size(path, file, at + header, len, raw.point_data_record_length)?;
-            }
-            at = match at.checked_add(header + len) {
-                Some(end) if end <= file_len => end,
-                _ => return Err(las_error(path, format!("{what} {i} says it holds {len} bytes, past the file's end"))),
-            };
-        }
-        Ok(())
-    };
-    walk(raw.header_size as u64, raw.number_of_variable_length_records as u64, 54, "VLR")?;
-    if let Some(evlr) = raw.evlr.filter(|e| e.number_of_evlrs > 0) {
-        walk(evlr.start_of_first_evlr, evlr.number_of_evlrs as u64, 60, "EVLR")?;
-    }
-    file.rewind().map_err(|e| CloudError::io(path, e))?;
-    Ok(())
-}
-
-/// Largest LAZ chunk, in decoded bytes, that a file may ask for: the `laz`
-/// crate allocates a whole chunk before it decodes one (default chunks of
-/// 50,000 points take a few MB).
-const MAX_CHUNK_BYTES: u64 = 256 << 20;
-
-/// Refuses a LAZ record (the `laszip encoded` VLR) that the `laz` crate
-/// would act on unchecked: a chunk size (u32 at byte 12; u32::MAX: chunks of
-/// any size) that makes it allocate more than [`MAX_CHUNK_BYTES`] at once, or
-/// items (6 bytes each from byte 34, their size at +2) whose sizes do not add
-/// up to the header's record length (the crate asserts they do).
-fn check_chunk_size(path: &Path, file: &mut File, data: u64, len: u64, record_len: u16) -> Result<(), CloudError> {
-    use std::io::{Read, Seek, SeekFrom};
-    let mut bytes = vec![0u8; len as usize];
-    if len < 34 || file.seek(SeekFrom::Start(data)).and_then(|_| file.read_exact(&mut bytes)).is_err() {
-        return Err(las_error(path, "the LAZ record is too short"));
-    }
-    let chunk = u32::from_le_bytes(bytes[12..16].try_into().unwrap_or([0; 4]));
-    if chunk != u32::MAX && chunk as u64 * record_len as u64 > MAX_CHUNK_BYTES {
-        return Err(las_error(
-            path,
-            format!("the LAZ chunk size of {chunk} points is implausible ({record_len}-byte records)"),
-        ));
-    }
-    let items = u16::from_le_bytes([bytes[32], bytes[33]]) as usize;
-    let sizes: Option<u64> = (0..items)
-        .map(|i| bytes.get(34 + 6 * i + 2..34 + 6 * i + 4).map(|b| u16::from_le_bytes([b[0], b[1]]) as u64))
-        .sum();
-    match sizes {
-        Some(total) if total == record_len as u64 => Ok(()),
-        Some(total) => Err(las_error(
-            path,
-            format!("the LAZ items take {total} bytes per point, but the header's records are {record_len} bytes"),
-        )),
-        None => Err(las_error(path, format!("the LAZ record lists {items} items but holds fewer"))),
+            "the LAZ points do not decode (corrupt compressed data, or a header that counts more points than the chunks hold)",
+        )
+    } else {
+        crate_error(path, e)
     }
 }
 
 /// Reads the LAS or LAZ file at `path` as vertex columns (x, y, z and, with
 /// colour, red, green, blue) and the other per-point attributes.
 pub fn read(path: &Path) -> Result<(PlyData, Attributes, FileInfo), CloudError> {
-    let (mut file, file_len) = crate::input::open(path).map_err(|e| CloudError::io(path, e))?;
-    check_offsets(path, &mut file, file_len)?;
-    let mut reader = las::Reader::new(BufReader::new(file)).map_err(|e| crate_error(path, e))?;
+    let (mut reader, file_len) = open(path)?;
     let header = reader.header().clone();
     let format = *header.point_format();
     let transforms = *header.transforms();
@@ -163,14 +100,6 @@ pub fn read(path: &Path) -> Result<(PlyData, Attributes, FileInfo), CloudError> 
     }
     let declared = header.number_of_points();
     let record_len = format.len() as u64;
-    if !format.is_compressed && declared.saturating_mul(record_len) > file_len {
-        return Err(las_error(
-            path,
-            format!(
-                "the header counts {declared} points of {record_len} bytes, but the file holds only {file_len} bytes"
-            ),
-        ));
-    }
     let descriptors = extra_bytes::descriptors(&header, format.extra_bytes).map_err(|e| las_error(path, e))?;
     let mut columns = Columns::default();
     let mut batch = las::PointDataBuilder::new().for_header(&header).build();
@@ -182,7 +111,7 @@ pub fn read(path: &Path) -> Result<(PlyData, Attributes, FileInfo), CloudError> 
     let mut read_so_far = 0u64;
     while read_so_far < declared {
         let n = reader.fill_points(batch_points.min(declared - read_so_far), &mut batch).map_err(
-            |e| match crate_error(path, e) {
+            |e| match points_error(path, e, format.is_compressed) {
                 CloudError::Content { reason, .. } => las_error(
                     path,
                     format!(

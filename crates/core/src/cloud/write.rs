@@ -18,7 +18,7 @@ pub fn write_ply(cloud: &PointCloud, path: &Path, comments: &[String]) -> Result
     let with_alpha = cloud.has_transparency();
     let target = crate::output::prepare(path).map_err(|e| CloudError::io(path, e))?;
     let dir = crate::output::folder_of(&target);
-    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(|e| CloudError::io(path, e))?;
+    let mut tmp = crate::output::Temporary::new_in(dir).map_err(|e| CloudError::io(path, e))?;
     {
         let mut w = BufWriter::new(tmp.as_file_mut());
         let io = |e| CloudError::io(path, e);
@@ -93,6 +93,6 @@ pub fn write_ply(cloud: &PointCloud, path: &Path, comments: &[String]) -> Result
         w.flush().map_err(io)?;
     }
     crate::output::make_readable(tmp.as_file()).map_err(|e| CloudError::io(path, e))?;
-    tmp.persist(&target).map_err(|e| CloudError::io(path, e.error))?;
+    tmp.persist(&target).map_err(|e| CloudError::io(path, e))?;
     Ok(())
 }

@@ -9,7 +9,8 @@
 //! a round trip through LAS keeps every channel. Coordinates are written as
 //! integers of a power-of-ten scale fine enough for the cloud's f32
 //! resolution, offset by its f64 origin. The file is written beside the
-//! target and renamed, so a failed write leaves nothing.
+//! target and renamed, so a failed write leaves nothing; the writer is
+//! finished explicitly ([`sink`]), so a full disk is an error, not a panic.
 
 use std::path::Path;
 
@@ -17,6 +18,8 @@ use las::point::Classification;
 
 use super::attributes::{Values, names};
 use super::{CloudError, PointCloud};
+
+mod sink;
 
 /// The standard fields, which are not written again as extra bytes.
 const STANDARD: [&str; 10] = [
@@ -57,7 +60,15 @@ fn descriptor(name: &str, double: bool) -> [u8; 192] {
 
 /// Writes `cloud` to `path` as LAS, or LAZ when the name ends in `.laz`.
 pub fn write_las(cloud: &PointCloud, path: &Path) -> Result<(), CloudError> {
-    let err = |e: las::Error| CloudError::content(path, format!("cannot write LAS: {e}"));
+    let format = if is_laz(path) { "LAZ" } else { "LAS" };
+    let err = |e: las::Error| {
+        let reason = match e {
+            // The laz crate's wrapper of an I/O error adds only "IoError: ".
+            las::Error::LasZipError(laz::LasZipError::IoError(io)) => io.to_string(),
+            e => e.to_string(),
+        };
+        CloudError::content(path, format!("cannot write {format}: {reason}"))
+    };
     let attrs = &cloud.attributes;
     let nir = attrs.get(names::NIR);
     let mut extras: Vec<Extra> = Vec::new();
@@ -92,52 +103,62 @@ pub fn write_las(cloud: &PointCloud, path: &Path) -> Result<(), CloudError> {
     let header = builder.into_header().map_err(err)?;
     let target = crate::output::prepare(path).map_err(|e| CloudError::io(path, e))?;
     let dir = crate::output::folder_of(&target);
-    let tmp = tempfile::NamedTempFile::new_in(dir).map_err(|e| CloudError::io(path, e))?;
-    {
-        let file = tmp.reopen().map_err(|e| CloudError::io(path, e))?;
-        let mut writer = las::Writer::new(std::io::BufWriter::new(file), header).map_err(err)?;
-        let get = |name: &str, i: usize| attrs.get(name).map(|v| v.get(i));
-        let unit = cloud.unit();
-        for i in 0..cloud.len() {
-            let p = cloud.positions[i];
-            let flags = get(names::CLASSIFICATION_FLAGS, i).unwrap_or(0.0) as u8;
-            let mut extra_bytes = Vec::with_capacity(64);
-            for e in &extras {
-                let v = (e.value)(i);
-                if e.double {
-                    extra_bytes.extend_from_slice(&v.to_le_bytes());
-                } else {
-                    extra_bytes.extend_from_slice(&(v as f32).to_le_bytes());
-                }
-            }
-            let c = cloud.colours[i];
-            let point = las::Point {
-                x: p.x as f64 * unit + cloud.origin[0],
-                y: p.y as f64 * unit + cloud.origin[1],
-                z: p.z as f64 * unit + cloud.origin[2],
-                intensity: get(names::INTENSITY, i).unwrap_or(0.0) as u16,
-                return_number: get(names::RETURN_NUMBER, i).unwrap_or(0.0) as u8,
-                number_of_returns: get(names::NUMBER_OF_RETURNS, i).unwrap_or(0.0) as u8,
-                classification: Classification::new(get(names::CLASSIFICATION, i).unwrap_or(0.0) as u8)
-                    .unwrap_or(Classification::CreatedNeverClassified),
-                is_synthetic: flags & 1 != 0,
-                is_key_point: flags & 2 != 0,
-                is_withheld: flags & 4 != 0,
-                is_overlap: flags & 8 != 0,
-                scan_angle: get(names::SCAN_ANGLE, i).unwrap_or(0.0) as f32,
-                user_data: get(names::USER_DATA, i).unwrap_or(0.0) as u8,
-                point_source_id: get(names::POINT_SOURCE_ID, i).unwrap_or(0.0) as u16,
-                gps_time: Some(get(names::GPS_TIME, i).unwrap_or(0.0)),
-                color: Some(las::Color::new(c[0] as u16 * 257, c[1] as u16 * 257, c[2] as u16 * 257)),
-                nir: nir.map(|v| v.get(i) as u16),
-                extra_bytes,
-                ..Default::default()
-            };
-            writer.write_point(point).map_err(err)?;
-        }
-        writer.close().map_err(err)?;
-    }
+    let tmp = crate::output::Temporary::new_in(dir).map_err(|e| CloudError::io(path, e))?;
+    let file = tmp.reopen().map_err(|e| CloudError::io(path, e))?;
+    let mut writer = las::Writer::new(sink::Fused::new(std::io::BufWriter::new(file)), header).map_err(err)?;
+    let written = write_points(&mut writer, cloud, &extras);
+    // Always closed here: the crate's writer panics if its drop has to close it and cannot.
+    sink::close(writer, written).map_err(err)?;
     crate::output::make_readable(tmp.as_file()).map_err(|e| CloudError::io(path, e))?;
-    tmp.persist(&target).map_err(|e| CloudError::io(path, e.error))?;
+    tmp.persist(&target).map_err(|e| CloudError::io(path, e))?;
+    Ok(())
+}
+
+/// Writes the cloud's points, stopping at the first error.
+fn write_points<W>(writer: &mut las::Writer<W>, cloud: &PointCloud, extras: &[Extra]) -> las::Result<()>
+where
+    W: std::io::Write + std::io::Seek + Send + Sync + 'static,
+{
+    let attrs = &cloud.attributes;
+    let nir = attrs.get(names::NIR);
+    let get = |name: &str, i: usize| attrs.get(name).map(|v| v.get(i));
+    let unit = cloud.unit();
+    for i in 0..cloud.len() {
+        let p = cloud.positions[i];
+        let flags = get(names::CLASSIFICATION_FLAGS, i).unwrap_or(0.0) as u8;
+        let mut extra_bytes = Vec::with_capacity(64);
+        for e in extras {
+            let v = (e.value)(i);
+            if e.double {
+                extra_bytes.extend_from_slice(&v.to_le_bytes());
+            } else {
+                extra_bytes.extend_from_slice(&(v as f32).to_le_bytes());
+            }
+        }
+        let c = cloud.colours[i];
+        let point = las::Point {
+            x: p.x as f64 * unit + cloud.origin[0],
+            y: p.y as f64 * unit + cloud.origin[1],
+            z: p.z as f64 * unit + cloud.origin[2],
+            intensity: get(names::INTENSITY, i).unwrap_or(0.0) as u16,
+            return_number: get(names::RETURN_NUMBER, i).unwrap_or(0.0) as u8,
+            number_of_returns: get(names::NUMBER_OF_RETURNS, i).unwrap_or(0.0) as u8,
+            classification: Classification::new(get(names::CLASSIFICATION, i).unwrap_or(0.0) as u8)
+                .unwrap_or(Classification::CreatedNeverClassified),
+            is_synthetic: flags & 1 != 0,
+            is_key_point: flags & 2 != 0,
+            is_withheld: flags & 4 != 0,
+            is_overlap: flags & 8 != 0,
+            scan_angle: get(names::SCAN_ANGLE, i).unwrap_or(0.0) as f32,
+            user_data: get(names::USER_DATA, i).unwrap_or(0.0) as u8,
+            point_source_id: get(names::POINT_SOURCE_ID, i).unwrap_or(0.0) as u16,
+            gps_time: Some(get(names::GPS_TIME, i).unwrap_or(0.0)),
+            color: Some(las::Color::new(c[0] as u16 * 257, c[1] as u16 * 257, c[2] as u16 * 257)),
+            nir: nir.map(|v| v.get(i) as u16),
+            extra_bytes,
+            ..Default::default()
+        };
+        writer.write_point(point)?;
+    }
     Ok(())
 }

@@ -2,13 +2,14 @@
 //! chunk (point formats 6-8, COPC 1.0 section 6), decompressed with the
 //! `laz` crate's record decompressor straight from the bytes read, then
 //! split into the same columns a whole LAS/LAZ file fills
-//! ([`crate::cloud::las_file`]).
+//! ([`crate::cloud::las_file`]). The chunk's layer sizes and code starts
+//! are checked first ([`laz_check::check_chunk`]), as in a whole file.
 
 use glam::DVec3;
 use laz::record::{LayeredPointRecordDecompressor, RecordDecompressor};
 
 use super::header::CopcHeader;
-use crate::cloud::las_file::Columns;
+use crate::cloud::las_file::{Columns, laz_check};
 
 /// The node's points, or why its chunk does not decode. `cube` (minimum
 /// corner and side, file coordinates) is where they must lie: a corrupt
@@ -20,6 +21,9 @@ pub fn decode(header: &CopcHeader, chunk: &[u8], points: u32, cube: (DVec3, f64)
     if bytes > chunk.len().saturating_mul(64).max(1 << 16) {
         return Err(format!("{points} points of {record_len} bytes cannot come from a chunk of {} bytes", chunk.len()));
     }
+    // Before the crate zero-fills a buffer of each layer's stated size (4 GB for a flipped u32).
+    laz_check::check_chunk(&mut std::io::Cursor::new(chunk), 0, chunk.len() as u64, header.laz.items())
+        .map_err(|reason| format!("its LAZ chunk: {reason}"))?;
     let mut raw = vec![0u8; bytes];
     let mut decompressor = LayeredPointRecordDecompressor::new(std::io::Cursor::new(chunk));
     decompressor.set_fields_from(header.laz.items()).map_err(|e| format!("its LAZ items: {e}"))?;

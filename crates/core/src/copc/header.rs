@@ -38,9 +38,19 @@ pub fn read(source: &dyn ByteSource) -> Result<CopcHeader, CopcError> {
     let file_len = source.len();
     let head = source.read(0, 375.min(file_len))?;
     let raw = las::raw::Header::read_from(&head[..]).map_err(|e| bad(e.to_string()))?;
+    let least = raw.version.header_size();
+    if raw.header_size < least {
+        return Err(bad(format!(
+            "its header says it is {} bytes long, but a LAS {} header takes {least}",
+            raw.header_size, raw.version
+        )));
+    }
     let points_at = u64::from(raw.offset_to_point_data);
     if points_at > file_len.min(MAX_HEADER_BYTES) || points_at < 375 {
         return Err(bad(format!("the points start at byte {points_at}, in a file of {file_len} bytes")));
+    }
+    if u64::from(raw.header_size) > points_at {
+        return Err(bad(format!("its header is {} bytes long, past the points at byte {points_at}", raw.header_size)));
     }
     let bytes = source.read(0, points_at)?;
     let mut cursor = &bytes[usize::from(raw.header_size)..];

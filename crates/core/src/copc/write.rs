@@ -24,6 +24,8 @@ use rayon::prelude::*;
 use rustc_hash::FxHashSet;
 
 use super::CopcError;
+use crate::cloud::CloudError;
+use crate::cloud::las_file;
 
 /// Cells per side of a node's sampling grid.
 pub const GRID: u32 = 128;
@@ -51,7 +53,12 @@ struct Node {
 pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written, CopcError> {
     let name = input.display().to_string();
     let fail = |e: String| CopcError::new(&name, e);
-    let mut reader = las::Reader::from_path(input).map_err(|e| fail(e.to_string()))?;
+    // The checks of a whole-file read (header, records, LAZ chunks), and its messages.
+    let reason = |e: CloudError| match e {
+        CloudError::Content { reason, .. } => reason,
+        e => e.to_string(),
+    };
+    let (mut reader, _) = las_file::open(input).map_err(|e| fail(reason(e)))?;
     let header = reader.header().clone();
     let in_format = *header.point_format();
     let mut out_format = las::point::Format::new(match (in_format.has_nir, in_format.has_color) {
@@ -69,7 +76,9 @@ pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written
     let mut positions: Vec<DVec3> = Vec::new();
     let mut batch = las::PointDataBuilder::new().for_header(&header).build();
     loop {
-        let n = reader.fill_points(1 << 20, &mut batch).map_err(|e| fail(e.to_string()))?;
+        let n = reader
+            .fill_points(1 << 20, &mut batch)
+            .map_err(|e| fail(reason(las_file::points_error(input, e, in_format.is_compressed))))?;
         if n == 0 {
             break;
         }
@@ -133,7 +142,7 @@ pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written
     let out_name = output.display().to_string();
     let wfail = |e: std::io::Error| CopcError::new(&out_name, e.to_string());
     let target = crate::output::prepare(output).map_err(wfail)?;
-    let mut file = tempfile::NamedTempFile::new_in(crate::output::folder_of(&target)).map_err(wfail)?;
+    let mut file = crate::output::Temporary::new_in(crate::output::folder_of(&target)).map_err(wfail)?;
     crate::output::make_readable(file.as_file()).map_err(wfail)?;
     let info = |root: (u64, u64)| {
         let mut data = Vec::with_capacity(160);
@@ -222,7 +231,7 @@ pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written
     // The EVLR header is 60 bytes; its data is the root page.
     write_head(f, (data_at, root_len), evlr_at)?;
     let bytes = f.seek(SeekFrom::End(0)).map_err(wfail)?;
-    file.persist(&target).map_err(|e| wfail(e.error))?;
+    file.persist(&target).map_err(wfail)?;
     Ok(Written { points: positions.len() as u64, nodes: nodes.len(), depth, bytes })
 }
 

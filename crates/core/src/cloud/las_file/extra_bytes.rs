@@ -8,7 +8,10 @@
 //! 0 is `options` undocumented bytes (skipped); types 11-30 are the
 //! deprecated 2- and 3-element arrays (their first element is read, with a
 //! warning); any other type is an error. Option bit 3 says the scale is
-//! given, bit 4 the offset: value = raw · scale + offset.
+//! given, bit 4 the offset: value = raw · scale + offset (a scale of 0 or
+//! not finite is taken as 1, an offset not finite as 0, with a warning). A
+//! name already taken (by an earlier field or a standard attribute) gets a
+//! suffix, `_2` and up, with a warning.
 
 use crate::cloud::attributes::Values;
 
@@ -80,16 +83,50 @@ pub fn descriptors(header: &las::Header, extra_bytes: u16) -> Result<Descriptors
             ));
         }
         if let Some(kind) = first {
+            let name = unique(name, &mut out);
             let number = |at: usize| f64::from_le_bytes(d[at..at + 8].try_into().unwrap_or([0; 8]));
-            let scale = if options & 8 != 0 { number(112) } else { 1.0 };
-            let add = if options & 16 != 0 { number(136) } else { 0.0 };
-            let (scale, add) =
-                (if scale.is_finite() && scale != 0.0 { scale } else { 1.0 }, if add.is_finite() { add } else { 0.0 });
+            let mut scale = if options & 8 != 0 { number(112) } else { 1.0 };
+            let mut add = if options & 16 != 0 { number(136) } else { 0.0 };
+            if !(scale.is_finite() && scale != 0.0) {
+                out.warnings.push(format!("extra-bytes field '{name}' has a scale of {scale}; 1 is used"));
+                scale = 1.0;
+            }
+            if !add.is_finite() {
+                out.warnings.push(format!("extra-bytes field '{name}' has an offset of {add}; 0 is used"));
+                add = 0.0;
+            }
             out.fields.push(Field { name, offset, kind, scale, add });
         }
         offset += size;
     }
     Ok(out)
+}
+
+/// `name`, or when a field read before or a standard attribute already has
+/// it, `name_2` (or the first free `name_N`), with a warning: two columns
+/// of one name would be kept as one.
+fn unique(name: String, out: &mut Descriptors) -> String {
+    use crate::cloud::attributes::names;
+    let standard = [
+        names::INTENSITY,
+        names::CLASSIFICATION,
+        names::CLASSIFICATION_FLAGS,
+        names::RETURN_NUMBER,
+        names::NUMBER_OF_RETURNS,
+        names::GPS_TIME,
+        names::POINT_SOURCE_ID,
+        names::USER_DATA,
+        names::SCAN_ANGLE,
+        names::NIR,
+        names::NODE_LEVEL,
+    ];
+    let taken = |n: &str| standard.contains(&n) || out.fields.iter().any(|f| f.name == n);
+    if !taken(&name) {
+        return name;
+    }
+    let free = (2..).map(|k| format!("{name}_{k}")).find(|n| !taken(n)).expect("a free name");
+    out.warnings.push(format!("two fields are named '{name}'; the second is kept as '{free}'"));
+    free
 }
 
 impl Field {
