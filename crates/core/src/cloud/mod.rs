@@ -69,8 +69,9 @@ pub struct PointCloud {
     /// data is then coloured by its attributes, [`crate::style::Style::default_for`]).
     pub colourless: bool,
     /// What f32 positions lose: per splat, the file's position minus the
-    /// stored one, in the cloud's units (file = (position + residual) · unit
-    /// + origin, exact to f64). Empty when every position is held to within
+    /// stored one, in the cloud's units, so that the file's position is
+    /// (position + residual) times the unit, plus the origin, exact to f64.
+    /// Empty when every position is held to within
     /// [`placement::RESIDUAL_KEPT`] (small extents); kept by [`PointCloud::select`],
     /// so picks and measures report the file's own coordinates at any extent.
     pub residuals: Vec<Vec3>,
