@@ -10,7 +10,7 @@ mod common;
 use glam::Vec3;
 use pointblend::bench::views::standard_views;
 use pointblend::cloud::{self, PointCloud};
-use pointblend::frame::Camera;
+use pointblend::frame::{Camera, CameraRequest};
 use pointblend::grouping::GroupingSpec;
 use pointblend::spatial::order::BspTree;
 use pointblend::spatial::order::{BucketSort, OrderKind, Orderer, ViewRay, full_sort};
@@ -161,7 +161,7 @@ fn bucket_and_sort_orders_are_back_to_front_along_every_pixel_ray_of_real_scans(
         let scale = cloud.bounds().unwrap().radius();
         for kind in [OrderKind::Bucket, OrderKind::Sort] {
             let mut orderer = Orderer::new(kind, &cloud.positions, &cloud.radii);
-            for view in standard_views(&cloud, 1.0, 5) {
+            for view in standard_views(&cloud, 1.0, 5, &CameraRequest::default()) {
                 let mut order = Vec::new();
                 let slab = orderer.back_to_front(&cloud.positions, view.camera.view_ray(), &mut order);
                 assert!(is_permutation(&order, cloud.len()), "{name} {kind} {}: not a permutation", view.name);
@@ -189,7 +189,7 @@ fn bucket_and_sort_orders_are_back_to_front_along_every_pixel_ray_of_real_scans(
 fn the_bucket_order_is_the_full_sort_up_to_one_slab() {
     for (name, cloud) in scans() {
         let mut buckets = BucketSort::for_radii(&cloud.radii);
-        for view in standard_views(&cloud, 1.0, 5) {
+        for view in standard_views(&cloud, 1.0, 5, &CameraRequest::default()) {
             let ray = view.camera.view_ray();
             let (mut sorted, mut sliced) = (Vec::new(), Vec::new());
             full_sort(&cloud.positions, ray, &mut sorted);
@@ -254,7 +254,7 @@ fn the_bsp_visits_its_cells_back_to_front_along_every_pixel_ray_of_real_scans() 
         let tree = BspTree::build(&cloud.positions, &cloud.radii);
         let bounds = cloud.bounds().unwrap();
         let scale = bounds.radius();
-        for view in standard_views(&cloud, 1.0, 5) {
+        for view in standard_views(&cloud, 1.0, 5, &CameraRequest::default()) {
             let ray_view = view.camera.view_ray();
             let cells = tree.cells_back_to_front(ray_view.eye, (bounds.min, bounds.max));
             assert_eq!(cells.iter().map(|(_, run)| run.len()).sum::<usize>(), cloud.len());
@@ -339,7 +339,7 @@ fn each_group_is_sorted_back_to_front_in_the_instance_buffers_only_when_the_view
     let mut gpu = renderer.upload_cloud(&cloud, Some(&grouping));
     let uploaded = gpu.instance_order().map(|o| o.current().to_vec()).expect("a transparent scene keeps its instances");
     let scale = cloud.bounds().unwrap().radius();
-    let views = standard_views(&cloud, 1.0, 2);
+    let views = standard_views(&cloud, 1.0, 2, &CameraRequest::default());
     for (round, view) in views.iter().enumerate() {
         let ray = view.camera.view_ray();
         assert!(gpu.order_back_to_front(&ctx.queue, ray, OrderKind::Bucket), "{}: a new view is sorted", view.name);
@@ -395,7 +395,7 @@ fn how_often_the_orders_draw_a_nearer_layer_before_a_farther_one_on_real_scans()
         for kind in OrderKind::ALL {
             let mut orderer = Orderer::new(kind, &cloud.positions, &cloud.radii);
             let (mut misordered, mut pairs) = (0, 0);
-            for view in standard_views(&cloud, 1.0, 5) {
+            for view in standard_views(&cloud, 1.0, 5, &CameraRequest::default()) {
                 let mut order = Vec::new();
                 orderer.back_to_front(&cloud.positions, view.camera.view_ray(), &mut order);
                 let (m, p) = misordered_layer_pairs(&cloud, &view.camera, &order, epsilon);
@@ -432,7 +432,7 @@ fn the_order_setting_decides_what_the_instance_buffers_hold_each_frame() {
     let uploaded = gpu.instance_order().map(|o| o.current().to_vec()).unwrap();
     let positions: Vec<Vec3> = uploaded.iter().map(|s| Vec3::from_array(s.position)).collect();
     let radii: Vec<f32> = uploaded.iter().map(|s| s.radius.abs()).collect();
-    let camera = standard_views(&cloud, 1.0, 2)[1].camera;
+    let camera = standard_views(&cloud, 1.0, 2, &CameraRequest::default())[1].camera;
     // What each group's run must hold: the chosen order over all splats, split by group.
     let expected = |kind: OrderKind| -> Vec<[f32; 3]> {
         let mut order = Vec::new();
