@@ -1,10 +1,11 @@
 //! Helpers shared by the integration tests: data paths (shipped, and the
 //! shared scans that skip a test when absent), tolerances, an
 //! independent PLY reader for the test scans, a CPU silhouette rasteriser,
-//! E57 files rewritten byte by byte (`e57bytes`) and one GPU renderer per
-//! test binary.
+//! E57 and COPC files rewritten byte by byte (`e57bytes`, `copcbytes`) and
+//! one GPU renderer per test binary.
 #![allow(dead_code)]
 
+pub mod copcbytes;
 pub mod e57bytes;
 pub mod fuzz;
 pub mod lidar;

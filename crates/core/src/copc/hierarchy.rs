@@ -4,12 +4,15 @@
 //! The root page is read on open. An entry with a point count of −1 points
 //! to a child page, whose entries start with that key's own; such a key is a
 //! node of unknown content until its page is read ([`CopcTree::pending`]).
+//! A child page holds the subtree under its key: it settles only that key,
+//! entries outside the subtree are refused, and each page is read once
+//! ([`CopcTree::claim_page`]), however many entries point at it.
 //! A node's cube comes from the octree's centre and half-size and its key:
 //! level `l` halves the side `l` times, and its point spacing is the root's
 //! halved as often. Positions are relative to `origin` (the header bounds'
 //! centre, as a whole-file load re-centres) in f32.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use glam::{DVec3, Vec3};
 use las::copc::VoxelKey;
@@ -39,6 +42,8 @@ pub struct CopcTree {
     spacing: f64,
     pub origin: DVec3,
     file_len: u64,
+    /// Offsets of the pages claimed for reading (each is read once).
+    pages: HashSet<u64>,
     /// Pages read, and entries that were refused (with why).
     pub pages_read: usize,
     pub refused: Vec<String>,
@@ -59,13 +64,24 @@ impl CopcTree {
             spacing: i.spacing,
             origin,
             file_len: header.file_len,
+            pages: HashSet::new(),
             pages_read: 0,
             refused: Vec::new(),
         }
     }
 
-    /// Adds the entries of one page's bytes (read from `name`).
-    pub fn add_page(&mut self, name: &str, bytes: &[u8]) -> Result<(), CopcError> {
+    /// Claims the page at byte `at` for reading: an error when an entry led to it already.
+    pub fn claim_page(&mut self, at: u64) -> Result<(), String> {
+        if self.pages.insert(at) {
+            Ok(())
+        } else {
+            Err(format!("the page at byte {at} was read already for another entry (two entries name one page)"))
+        }
+    }
+
+    /// Adds the entries of one page's bytes (read from `name`); `owner` is
+    /// the key whose entry pointed at the page (`None` for the root page).
+    pub fn add_page(&mut self, name: &str, owner: Option<VoxelKey>, bytes: &[u8]) -> Result<(), CopcError> {
         if bytes.len() % ENTRY_BYTES != 0 {
             return Err(CopcError::new(
                 name,
@@ -81,6 +97,13 @@ impl CopcTree {
                 self.refused.push(format!("{}-{}-{}-{}: {reason}", key.l, key.x, key.y, key.z));
                 continue;
             }
+            if owner.is_some_and(|o| !descends(&key, &o)) {
+                self.refused.push(format!(
+                    "{}-{}-{}-{}: lies outside the subtree of the page that lists it",
+                    key.l, key.x, key.y, key.z
+                ));
+                continue;
+            }
             let node = CopcNode {
                 key,
                 offset: if count > 0 { offset } else { 0 },
@@ -90,8 +113,8 @@ impl CopcTree {
                 children: Vec::new(),
             };
             match self.index.get(&key) {
-                // A page's own key: it had only the pointer to this page.
-                Some(&at) if self.nodes[at as usize].page.is_some() && node.page.is_none() => {
+                // The page's own key: its entry had only pointed here.
+                Some(&at) if Some(key) == owner && self.nodes[at as usize].page.is_some() && node.page.is_none() => {
                     let children = std::mem::take(&mut self.nodes[at as usize].children);
                     self.nodes[at as usize] = CopcNode { children, ..node };
                 }
@@ -141,6 +164,7 @@ impl CopcTree {
         self.nodes[at as usize].children = children;
     }
 
+    /// The node of `key`, if it was read.
     pub fn node(&self, key: &VoxelKey) -> Option<u32> {
         self.index.get(key).copied()
     }
@@ -167,6 +191,12 @@ impl CopcTree {
     pub fn spacing(&self, key: &VoxelKey) -> f64 {
         self.spacing / f64::from(1u32 << key.l)
     }
+}
+
+/// Whether `key` is `owner` or lies under it.
+fn descends(key: &VoxelKey, owner: &VoxelKey) -> bool {
+    let up = key.l - owner.l;
+    (0..=MAX_LEVEL).contains(&up) && (key.x >> up, key.y >> up, key.z >> up) == (owner.x, owner.y, owner.z)
 }
 
 impl LodTree for CopcTree {

@@ -109,10 +109,11 @@ impl CopcStream {
         };
         let mut tree = CopcTree::new(&header, origin);
         let (at, size) = header.root_page;
+        tree.claim_page(at).map_err(|e| CopcError::new(name, e))?;
         let page = source
             .read(at, size)
             .map_err(|e| CopcError::new(name, format!("its root hierarchy page: {}", e.reason)))?;
-        tree.add_page(name, &page)?;
+        tree.add_page(name, None, &page)?;
         if tree.root().is_none() {
             return Err(CopcError::new(name, "its root hierarchy page has no root node (0-0-0-0)"));
         }
@@ -168,12 +169,21 @@ impl CopcStream {
                 return selection;
             }
             for n in pending {
-                let (at, size) = self.tree.nodes[n as usize].page.expect("pending");
-                let page = self.source.read(at, size).and_then(|bytes| self.tree.add_page(self.source.name(), &bytes));
+                // A page read earlier in this round may have settled this node already.
+                let Some((at, size)) = self.tree.nodes[n as usize].page else { continue };
+                let owner = self.tree.nodes[n as usize].key;
+                let page = match self.tree.claim_page(at) {
+                    Ok(()) => self
+                        .source
+                        .read(at, size)
+                        .and_then(|bytes| self.tree.add_page(self.source.name(), Some(owner), &bytes))
+                        .map_err(|e| e.reason),
+                    Err(reason) => Err(reason),
+                };
                 let node = &mut self.tree.nodes[n as usize];
-                if let Err(e) = page {
+                if let Err(reason) = page {
                     node.page = None;
-                    self.fail(n, format!("its hierarchy page: {}", e.reason));
+                    self.fail(n, format!("its hierarchy page: {reason}"));
                 } else if node.page.is_some() {
                     // The page did not list its own key: the node holds nothing.
                     node.page = None;
