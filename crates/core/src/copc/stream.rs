@@ -12,6 +12,10 @@
 //! at a node's border, and radii follow the density actually drawn (a
 //! coarse node's points grow as its children are left out). With every
 //! node selected this is exactly the whole-file load.
+//!
+//! A node that cannot be read (its page or chunk) is skipped: the first few
+//! are logged with why, the rest counted in one line per load, and a frame
+//! whose every node failed says why, naming the first.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -81,9 +85,14 @@ pub struct CopcStream {
     cache: NodeCache,
     /// Nodes that failed, with why (skipped from then on).
     failed: HashMap<u32, String>,
+    /// Failures not logged one by one, for the next summary line.
+    unlogged: usize,
     options: StreamOptions,
     stats: StreamStats,
 }
+
+/// Node failures logged one by one; later ones are counted in one line per load.
+const LOGGED_FAILURES: usize = 3;
 
 /// One frame's points.
 pub struct StreamedFrame {
@@ -115,10 +124,23 @@ impl CopcStream {
             .map_err(|e| CopcError::new(name, format!("its root hierarchy page: {}", e.reason)))?;
         tree.add_page(name, None, &page)?;
         if tree.root().is_none() {
-            return Err(CopcError::new(name, "its root hierarchy page has no root node (0-0-0-0)"));
+            let reason = match &tree.refused.root {
+                Some(why) => format!("its root node was refused: {why}"),
+                None => "its root hierarchy page has no root node (0-0-0-0)".to_string(),
+            };
+            return Err(CopcError::new(name, reason));
         }
         let cache = NodeCache::new(options.cache_bytes);
-        Ok(Self { source, header, tree, cache, failed: HashMap::new(), options, stats: StreamStats::default() })
+        Ok(Self {
+            source,
+            header,
+            tree,
+            cache,
+            failed: HashMap::new(),
+            unlogged: 0,
+            options,
+            stats: StreamStats::default(),
+        })
     }
 
     pub fn name(&self) -> &str {
@@ -166,6 +188,7 @@ impl CopcStream {
             let selection = lod::select_in(&self.tree, camera, size, options);
             let pending: Vec<u32> = self.tree.pending(&selection.nodes).collect();
             if pending.is_empty() {
+                self.log_unlogged();
                 return selection;
             }
             for n in pending {
@@ -194,9 +217,21 @@ impl CopcStream {
 
     fn fail(&mut self, node: u32, reason: String) {
         let k = self.tree.nodes[node as usize].key;
-        log::warn!("{}: node {}-{}-{}-{} skipped: {reason}", self.source.name(), k.l, k.x, k.y, k.z);
+        if self.failed.len() < LOGGED_FAILURES {
+            log::warn!("{}: node {}-{}-{}-{} skipped: {reason}", self.source.name(), k.l, k.x, k.y, k.z);
+        } else {
+            self.unlogged += 1;
+        }
         self.failed.insert(node, reason);
         self.stats.failed = self.failed.len();
+    }
+
+    /// One line for the failures [`Self::fail`] did not log (at the end of a select or a load).
+    fn log_unlogged(&mut self) {
+        if self.unlogged > 0 {
+            log::warn!("{}: {} more nodes skipped ({} in all)", self.source.name(), self.unlogged, self.failed.len());
+            self.unlogged = 0;
+        }
     }
 
     /// Loads the selected nodes that are neither cached nor failed; returns how many loaded.
@@ -241,6 +276,7 @@ impl CopcStream {
         }
         self.stats.nodes_loaded += loaded;
         self.stats.load_seconds += started.elapsed().as_secs_f64();
+        self.log_unlogged();
         loaded
     }
 
@@ -253,7 +289,7 @@ impl CopcStream {
             columns.extend(&self.cache.get(n).expect("checked above"));
         }
         if columns.len() == 0 {
-            return Err(CopcError::new(self.name(), "no point of the file is in view"));
+            return Err(CopcError::new(self.name(), self.why_nothing_is_drawn(selection)));
         }
         let format = self.header.las.point_format();
         let mut warnings = self.header.warnings.clone();
@@ -289,6 +325,30 @@ impl CopcStream {
             hash = crate::hash::fnv1a(hash, &n.to_le_bytes());
         }
         Ok(StreamedFrame { cloud, report, selection: selection.clone(), drawn, hash })
+    }
+
+    /// Why a selection gave no point: nothing in view, or the nodes in view failed (the first named).
+    fn why_nothing_is_drawn(&self, selection: &Selection) -> String {
+        let failed: Vec<String> = selection
+            .nodes
+            .iter()
+            .filter_map(|n| {
+                let k = self.tree.nodes[*n as usize].key;
+                self.failed.get(n).map(|why| format!("node {}-{}-{}-{}: {why}", k.l, k.x, k.y, k.z))
+            })
+            .collect();
+        match failed.first() {
+            None if selection.nodes.is_empty() => "no point of the file is in view".to_string(),
+            None => "the nodes in view hold no points".to_string(),
+            Some(first) if failed.len() == 1 => format!("the only node in view with points could not be read: {first}"),
+            Some(first) => {
+                format!(
+                    "none of the {} nodes in view could be read ({first}; and {} more)",
+                    failed.len(),
+                    failed.len() - 1
+                )
+            }
+        }
     }
 
     /// Selects, loads and gathers one frame's points under `budget`
@@ -332,6 +392,11 @@ impl CopcStream {
     /// Points the node decoded to, while it is cached.
     pub fn decoded_points(&mut self, node: u32) -> Option<usize> {
         self.cache.get(node).map(|c| c.len())
+    }
+
+    /// Why the node failed, if it did.
+    pub fn failure(&self, node: u32) -> Option<&str> {
+        self.failed.get(&node).map(String::as_str)
     }
 
     /// Why each failed node failed.
