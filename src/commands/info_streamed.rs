@@ -17,7 +17,7 @@ pub fn run(file: &Path) -> Result<()> {
     let name = file.to_string_lossy().to_string();
     let mut stream = CopcStream::open(&name, StreamOptions { progress: true, ..Default::default() })?;
     let header = &stream.header.las;
-    println!("file:        {name}");
+    println!("file:        {}", stream.name());
     println!(
         "encoding:    COPC, LAS {}, point format {}",
         header.version(),

@@ -12,10 +12,15 @@
 //! is one line; a 206 whose range or body is shorter than asked is a short
 //! read. Timeouts, 5xx answers and lost connections are retried
 //! [`HttpOptions::retries`] times, waiting 0.25 s, 0.5 s, 1 s... between.
+//!
+//! A URL's user and password are sent (as Basic authorisation) but never
+//! shown: [`ByteSource::name`] is the URL with them masked, and caches key on
+//! [`ByteSource::identity`], the URL without them.
 
 use std::time::Duration;
 
 use super::CopcError;
+use super::redact::{shown, without_credentials};
 use super::source::{ByteSource, Counters, check_range};
 
 /// Bytes the first request asks for (the header and VLRs), and the least a
@@ -45,7 +50,12 @@ impl Default for HttpOptions {
 }
 
 pub struct HttpSource {
+    /// The URL as given, credentials included: for requests only, never shown.
     url: String,
+    /// The URL as messages show it: its credentials and query values masked.
+    name: String,
+    /// The URL without its user and password: what caches key on, never shown.
+    identity: String,
     agent: ureq::Agent,
     options: HttpOptions,
     len: u64,
@@ -71,6 +81,8 @@ impl HttpSource {
             .build();
         let mut source = Self {
             url: url.to_string(),
+            name: shown(url),
+            identity: without_credentials(url),
             agent: config.into(),
             options: options.clone(),
             len: u64::MAX,
@@ -90,15 +102,16 @@ impl HttpSource {
         loop {
             match self.attempt(offset, len, clip) {
                 Ok(answer) => return Ok(answer),
-                Err(Failure::Fatal(reason)) => return Err(CopcError::new(&self.url, reason)),
+                Err(Failure::Fatal(reason)) => return Err(CopcError::new(&self.name, reason)),
                 Err(Failure::Retry(reason)) if attempt >= self.options.retries => {
                     return Err(CopcError::new(
-                        &self.url,
+                        &self.name,
                         format!("{reason} (after {} retries)", self.options.retries),
                     ));
                 }
                 Err(Failure::Retry(reason)) => {
-                    log::warn!("{}: {reason}; retrying in {:.2} s", self.url, wait.as_secs_f64());
+                    let line = format!("{}: {reason}; retrying in {:.2} s", self.name, wait.as_secs_f64());
+                    log::warn!("{}", shown(&line));
                     std::thread::sleep(wait);
                     wait *= 2;
                     attempt += 1;
@@ -179,13 +192,16 @@ fn parse_content_range(text: &str) -> Option<(u64, u64, u64)> {
 
 impl ByteSource for HttpSource {
     fn name(&self) -> &str {
-        &self.url
+        &self.name
+    }
+    fn identity(&self) -> &str {
+        &self.identity
     }
     fn len(&self) -> u64 {
         self.len
     }
     fn read(&self, offset: u64, len: u64) -> Result<Vec<u8>, CopcError> {
-        check_range(&self.url, offset, len, self.len)?;
+        check_range(&self.name, offset, len, self.len)?;
         if offset + len <= self.prefix.len() as u64 {
             return Ok(self.prefix[offset as usize..(offset + len) as usize].to_vec());
         }

@@ -124,8 +124,10 @@ impl Fetch<'_> {
     fn disk_path(&self, n: u32) -> Option<PathBuf> {
         let dir = self.disk.as_ref()?;
         let key = self.tree.nodes[n as usize].key;
-        let id =
-            crate::hash::fnv1a(crate::hash::fnv1a(0, self.source.name().as_bytes()), &self.source.len().to_le_bytes());
+        let id = crate::hash::fnv1a(
+            crate::hash::fnv1a(0, self.source.identity().as_bytes()),
+            &self.source.len().to_le_bytes(),
+        );
         Some(dir.join(format!("{id:016x}")).join(format!("{}-{}-{}-{}.laz", key.l, key.x, key.y, key.z)))
     }
 

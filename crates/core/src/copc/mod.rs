@@ -11,7 +11,8 @@
 //! together: select by projected spacing (additive refinement, the same
 //! selection as the in-memory hierarchy's, [`crate::lod::select_in`]),
 //! load, and build the selection into a [`crate::cloud::PointCloud`].
-//! [`write`] makes COPC files.
+//! [`write`] makes COPC files. [`redact`] masks a URL's credentials in
+//! whatever is shown: every [`CopcError`] goes through it.
 
 pub mod budget;
 pub(crate) mod cache;
@@ -20,15 +21,18 @@ pub mod header;
 pub mod hierarchy;
 pub mod http;
 pub(crate) mod load;
+pub mod redact;
 pub mod source;
 pub mod stream;
 pub mod write;
 
 pub use budget::StreamBudget;
+pub use redact::shown;
 pub use source::{is_copc, is_streamed, is_url};
 pub use stream::{CopcStream, StreamOptions, StreamStats, StreamedFrame};
 
-/// A failure to stream a file: its path or URL and why, on one line.
+/// A failure to stream a file: its path or URL and why, on one line, a
+/// URL's credentials masked in both (an HTTP client's text may quote it).
 #[derive(Debug, Clone, thiserror::Error)]
 #[error("{name}: {reason}")]
 pub struct CopcError {
@@ -38,6 +42,6 @@ pub struct CopcError {
 
 impl CopcError {
     pub fn new(name: &str, reason: impl Into<String>) -> Self {
-        Self { name: name.to_string(), reason: crate::cloud::one_line(&reason.into()) }
+        Self { name: redact::shown(name), reason: crate::cloud::one_line(&redact::shown(&reason.into())) }
     }
 }

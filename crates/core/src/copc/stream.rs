@@ -118,6 +118,7 @@ impl CopcStream {
         };
         let mut tree = CopcTree::new(&header, origin);
         let (at, size) = header.root_page;
+        let name = source.name();
         tree.claim_page(at).map_err(|e| CopcError::new(name, e))?;
         let page = source
             .read(at, size)
@@ -147,9 +148,10 @@ impl CopcStream {
         self.source.name()
     }
 
-    /// The last part of the path or URL.
+    /// The last part of the path or URL (a URL's query and fragment left out).
     pub fn file_name(&self) -> &str {
         let name = self.name();
+        let name = if is_url(name) { name.split(['?', '#']).next().unwrap_or(name) } else { name };
         name.rsplit(['/', '\\']).next().unwrap_or(name)
     }
 
@@ -320,7 +322,7 @@ impl CopcStream {
         let options = LoadOptions { origin: Some(self.tree.origin.to_array()), ..options.clone() };
         let (cloud, report) = from_columns(Path::new(self.name()), data, attributes, info, 0.0, &options)
             .map_err(|e| CopcError::new(self.name(), e.to_string()))?;
-        let mut hash = crate::hash::fnv1a(0, self.name().as_bytes());
+        let mut hash = crate::hash::fnv1a(0, self.source.identity().as_bytes());
         for &n in &drawn {
             hash = crate::hash::fnv1a(hash, &n.to_le_bytes());
         }
