@@ -6,7 +6,8 @@
 //! [`header`] the header and COPC info VLR, [`hierarchy`] the octree page by
 //! page as the traversal reaches it, [`decode`] one node's chunk into the
 //! columns a LAS file fills, [`load`] fetches and decodes the chunks a
-//! selection lacks (at most four requests in flight), [`cache`] keeps
+//! selection lacks (at most four requests in flight), [`disk`] keeps the
+//! chunks fetched on disk (`--disk-cache`), [`cache`] keeps
 //! decoded nodes in an LRU bounded in bytes, and [`stream`] puts them
 //! together: select by projected spacing (additive refinement, the same
 //! selection as the in-memory hierarchy's, [`crate::lod::select_in`]),
@@ -17,6 +18,7 @@
 pub mod budget;
 pub(crate) mod cache;
 pub(crate) mod decode;
+pub(crate) mod disk;
 pub mod header;
 pub mod hierarchy;
 pub mod http;

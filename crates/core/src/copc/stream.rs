@@ -27,6 +27,7 @@ use glam::{DVec3, Vec3};
 
 use super::CopcError;
 use super::cache::NodeCache;
+use super::disk::DiskCache;
 use super::header::CopcHeader;
 use super::hierarchy::CopcTree;
 use super::http::HttpOptions;
@@ -87,6 +88,8 @@ pub struct CopcStream {
     failed: HashMap<u32, String>,
     /// Failures not logged one by one, for the next summary line.
     unlogged: usize,
+    /// `--disk-cache DIR`, in the folder of this source's content.
+    disk: Option<DiskCache>,
     options: StreamOptions,
     stats: StreamStats,
 }
@@ -131,6 +134,10 @@ impl CopcStream {
             };
             return Err(CopcError::new(name, reason));
         }
+        let disk = options
+            .disk_cache
+            .as_deref()
+            .map(|dir| DiskCache::new(dir, super::disk::source_id(source.identity(), source.len(), &page)));
         let cache = NodeCache::new(options.cache_bytes);
         Ok(Self {
             source,
@@ -139,6 +146,7 @@ impl CopcStream {
             cache,
             failed: HashMap::new(),
             unlogged: 0,
+            disk,
             options,
             stats: StreamStats::default(),
         })
@@ -253,12 +261,8 @@ impl CopcStream {
         let total: u64 = wanted.iter().map(|&n| u64::from(self.tree.nodes[n as usize].points)).sum();
         let bar = crate::progress::bar(total, "streaming nodes", self.options.progress);
         let done = AtomicU64::new(0);
-        let fetch = Fetch {
-            source: self.source.as_ref(),
-            header: &self.header,
-            tree: &self.tree,
-            disk: self.options.disk_cache.clone(),
-        };
+        let fetch =
+            Fetch { source: self.source.as_ref(), header: &self.header, tree: &self.tree, disk: self.disk.as_ref() };
         let results = fetch.nodes(&wanted, &|points| {
             done.fetch_add(points, Ordering::Relaxed);
             bar.inc(points);
