@@ -72,7 +72,8 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {
-            eprintln!("error: {}", one_line(&error));
+            // Whatever the error quotes, a URL's credentials are not shown.
+            eprintln!("error: {}", pointblend::copc::shown(&one_line(&error)));
             ExitCode::FAILURE
         }
     }

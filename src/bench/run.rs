@@ -55,7 +55,7 @@ pub fn run(
             Err(e) => {
                 // Loading errors name the file already.
                 let text = e.to_string();
-                let shown = model.display().to_string();
+                let shown = crate::copc::shown(&model.to_string_lossy());
                 let line = if text.starts_with(&shown) { text } else { format!("{shown}: {text}") };
                 log::warn!("skipped {line}");
                 outcome.skipped.push(line);

@@ -27,6 +27,8 @@ pub(super) fn bench_streamed(
     let opened_at = Instant::now();
     let mut stream = CopcStream::open(&name, config.stream.clone()).map_err(|e| BenchError::Invalid(e.to_string()))?;
     let open_s = opened_at.elapsed().as_secs_f64();
+    // What the report names: the URL's credentials masked.
+    let shown = stream.name().to_string();
     let (w, h) = (config.width, config.height);
     let views = standard_views(&stream.bounds_cloud(), w as f32 / h as f32, config.views, &config.camera);
     let budget = config.stream_budget;
@@ -57,7 +59,7 @@ pub(super) fn bench_streamed(
             if after.failed > 0 { format!(", {} nodes failed", after.failed) } else { String::new() }
         );
         let scene = Scene::single(short.clone(), frame.cloud, frame.hash);
-        let opened = set_up(scene, &name, config, open_s + stream_s)?;
+        let opened = set_up(scene, &shown, config, open_s + stream_s)?;
         let mut frames = SceneFrames::of(Arc::clone(&opened.scene));
         let prepared = prepare_variants(config, &opened, &mut frames, renderer)?;
         let one = std::slice::from_ref(view);

@@ -1,6 +1,8 @@
 //! `pointblend info FILE.copc.laz` (or a URL): the header, the octree and
 //! the hierarchy read page by page, and the attributes of the root node's
-//! points; the rest of the points are not decoded.
+//! points; the rest of the points are not decoded. The hierarchy's refused
+//! entries are shown for the first few and counted; a root node that does
+//! not decode says why.
 
 use std::path::Path;
 
@@ -15,7 +17,7 @@ pub fn run(file: &Path) -> Result<()> {
     let name = file.to_string_lossy().to_string();
     let mut stream = CopcStream::open(&name, StreamOptions { progress: true, ..Default::default() })?;
     let header = &stream.header.las;
-    println!("file:        {name}");
+    println!("file:        {}", stream.name());
     println!(
         "encoding:    COPC, LAS {}, point format {}",
         header.version(),
@@ -55,23 +57,34 @@ pub fn run(file: &Path) -> Result<()> {
     for (l, (nodes, points)) in levels.iter().enumerate() {
         println!("  level {l:>2}: {nodes} nodes, {points} points, spacing {:.4}", i.spacing / f64::from(1u32 << l));
     }
-    for refused in &stream.tree.refused {
-        println!("refused:     entry {refused}");
+    let refused = &stream.tree.refused;
+    for line in &refused.first {
+        println!("refused:     entry {line}");
+    }
+    if refused.total > refused.first.len() {
+        println!(
+            "refused:     ... and {} more entries ({} in all)",
+            refused.total - refused.first.len(),
+            refused.total
+        );
     }
     // The root's points, for the attributes the file carries.
     let root = stream.tree.root().expect("checked on open");
     let only_root = pointblend::lod::Selection { nodes: vec![root], splats: stream.tree.count(root) };
     stream.load(&only_root);
-    if let Ok(frame) = stream.gather(&only_root, &LoadOptions::default()) {
-        println!("root node:   {} points decoded", frame.cloud.len());
-        for line in &frame.report.format_details {
-            println!("format:      {line}");
+    match stream.gather(&only_root, &LoadOptions::default()) {
+        Ok(frame) => {
+            println!("root node:   {} points decoded", frame.cloud.len());
+            for line in &frame.report.format_details {
+                println!("format:      {line}");
+            }
+            match &frame.report.crs {
+                Some(crs) => println!("crs:         {}", crs.split_whitespace().collect::<Vec<_>>().join(" ")),
+                None => println!("crs:         none declared"),
+            }
+            super::shared::print_attributes(&frame.cloud.attributes);
         }
-        match &frame.report.crs {
-            Some(crs) => println!("crs:         {}", crs.split_whitespace().collect::<Vec<_>>().join(" ")),
-            None => println!("crs:         none declared"),
-        }
-        super::shared::print_attributes(&frame.cloud.attributes);
+        Err(e) => println!("root node:   not decoded: {}", stream.failure(root).unwrap_or(&e.reason)),
     }
     let stats = stream.stats();
     println!(

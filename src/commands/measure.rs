@@ -18,7 +18,7 @@ pub fn run(args: &Args) -> Result<()> {
     for &(x, y) in &args.at {
         let report = picking.pick((x, y));
         let Some(nearest) = report.layers.first() else {
-            bail!("{}: pixel {x},{y} shows no surface (its ray meets nothing)", args.file.display());
+            bail!("{}: pixel {x},{y} shows no surface (its ray meets nothing)", super::shared::shown_path(&args.file));
         };
         points.push(nearest.position);
     }

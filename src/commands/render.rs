@@ -133,7 +133,7 @@ pub fn run(args: &Args) -> Result<()> {
     if views.is_some() && pointblend::copc::is_streamed(&args.file) {
         bail!(
             "{}: --path does not stream a COPC file yet (its views would each select their nodes)",
-            args.file.display()
+            shared::shown_path(&args.file)
         );
     }
     let mut stream = args.view.stream.open(&args.file)?;
@@ -197,7 +197,7 @@ pub fn run(args: &Args) -> Result<()> {
             if hash != s.model.hash {
                 log::warn!(
                     "{}: this file is not the one the view was saved from ({}, hash {})",
-                    args.file.display(),
+                    shared::shown_path(&args.file),
                     s.model.name,
                     s.model.hash
                 );
@@ -231,7 +231,7 @@ pub fn run(args: &Args) -> Result<()> {
     if settings.mode.runs_opaque(scene.has_transparency()) {
         println!(
             "{}: this model is opaque, so {} ran two-pass; set --opacity below 1 to see through it",
-            args.file.display(),
+            shared::shown_path(&args.file),
             settings.mode
         );
     }
@@ -253,7 +253,7 @@ pub fn run(args: &Args) -> Result<()> {
     }
     println!(
         "{}: {} splats, {} {}x{} in {:.0} ms (load {:.2} s) -> {}",
-        args.file.display(),
+        shared::shown_path(&args.file),
         scene.len(),
         plan.mode,
         width,

@@ -61,7 +61,7 @@ pub fn run(
         .with_context(|| format!("{}: cannot write the animation", gif_path.display()))?;
     println!(
         "{}: {} frames through {} views in {:.1} s -> {} .. {} and {}",
-        args.file.display(),
+        super::shared::shown_path(args.file),
         n,
         views.views.len(),
         started.elapsed().as_secs_f64(),

@@ -12,6 +12,11 @@ use pointblend::scene::Scene;
 use super::parameter_flags::ParameterFlags;
 use super::scene_args::SceneArgs;
 
+/// The input as messages show it: a URL's user, password and query values masked.
+pub fn shown_path(path: &Path) -> String {
+    pointblend::copc::shown(&path.to_string_lossy())
+}
+
 /// Loads a cloud with progress bars and logs its warnings.
 pub fn load(path: &Path) -> Result<(PointCloud, LoadReport)> {
     let options = LoadOptions { progress: true, ..Default::default() };

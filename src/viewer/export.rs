@@ -54,7 +54,7 @@ impl ViewerApp {
         let png = next_free_path(&self.options.screenshot_dir, &model.name, settings.mode);
         let model_info = SidecarModel {
             name: model.name.clone(),
-            path: model.path.display().to_string(),
+            path: crate::copc::shown(&model.path.to_string_lossy()),
             hash: model.hash_hex(),
             splats: model.cloud.len(),
         };

@@ -159,12 +159,12 @@ impl ViewerApp {
             let lights: Vec<_> =
                 model.scene.lights.iter().chain(&self.options.lights).map(|l| model.scene.light_in_frame(l)).collect();
             self.ui.settings.lights = crate::frame::Lights::new(&lights).unwrap_or_else(|e| {
-                self.load_error = Some(format!("{}: lights: {e}", model.path.display()));
+                self.load_error = Some(format!("{}: lights: {e}", crate::copc::shown(&model.path.to_string_lossy())));
                 Default::default()
             });
         }
         for warning in &model.warnings {
-            log::warn!("{}: {warning}", model.path.display());
+            log::warn!("{}: {warning}", crate::copc::shown(&model.path.to_string_lossy()));
         }
         self.model = Some(Arc::new(model));
     }

@@ -63,7 +63,7 @@ pub fn run_window(options: ViewerOptions) -> Result<(), ViewerError> {
         return Err(e);
     }
     let title = match &options.file {
-        Some(f) => format!("pointblend: {}", f.display()),
+        Some(f) => format!("pointblend: {}", crate::copc::shown(&f.to_string_lossy())),
         None => "pointblend".to_string(),
     };
     let native = eframe::NativeOptions {

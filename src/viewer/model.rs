@@ -66,7 +66,7 @@ impl Model {
         crate::progress::stage("reading the file");
         let (mut scene, warnings) = crate::scene::open(path, &LoadOptions::default()).map_err(|e| e.to_string())?;
         if scene.is_empty() {
-            return Err(format!("{}: the file holds no usable splats", path.display()));
+            return Err(format!("{}: the file holds no usable splats", crate::copc::shown(&path.to_string_lossy())));
         }
         Materials { style: None, ..materials.clone() }.apply(&mut scene)?;
         let model = Self::of_scene(path, scene, warnings, generation);

@@ -53,7 +53,7 @@ fn model_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, actions
     ui.heading("Model");
     match &info.model {
         Some(m) => {
-            ui.label(RichText::new(m.name).strong()).on_hover_text(m.path.display().to_string());
+            ui.label(RichText::new(m.name).strong()).on_hover_text(crate::copc::shown(&m.path.to_string_lossy()));
             ui.label(format!("{} splats", thousands(m.splats)));
             opacity_widget(ui, &mut state.opacity_pending, m.opacity, actions);
             if state.settings.mode.info().transparent && !m.transparent && state.opacity_pending.is_none() {

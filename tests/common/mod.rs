@@ -1,10 +1,15 @@
 //! Helpers shared by the integration tests: data paths (shipped, and the
 //! shared scans that skip a test when absent), tolerances, an
-//! independent PLY reader for the test scans, a CPU silhouette rasteriser
-//! and one GPU renderer per test binary.
+//! independent PLY reader for the test scans, a CPU silhouette rasteriser,
+//! E57 and COPC files rewritten byte by byte (`e57bytes`, `copcbytes`), an
+//! HTTP server that misbehaves (`bad_http`) and one GPU renderer per test
+//! binary.
 #![allow(dead_code)]
 
+pub mod bad_http;
+pub mod copcbytes;
 pub mod corrupt;
+pub mod e57bytes;
 pub mod fuzz;
 pub mod lidar;
 pub mod nginx;

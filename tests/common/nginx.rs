@@ -2,7 +2,8 @@
 //! `scripts/setup`), started on a free loopback port over a folder and
 //! stopped when dropped. `/norange/` serves the same folder with range
 //! requests switched off (`max_ranges 0`), as some servers do, and
-//! `/unavailable/` answers 503 to everything.
+//! `/unavailable/` answers 503 to everything. [`Nginx::serve_tls`] serves
+//! the folder over HTTPS with a given certificate.
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -17,6 +18,17 @@ pub struct Nginx {
 impl Nginx {
     /// Serves `root` (files under it at `/NAME`, and again at `/norange/NAME`).
     pub fn serve(root: &Path) -> Nginx {
+        Self::start(root, "", "")
+    }
+
+    /// Serves `root` over HTTPS with the certificate and key at `cert` and `key` (PEM files).
+    pub fn serve_tls(root: &Path, cert: &Path, key: &Path) -> Nginx {
+        let tls = format!("ssl_certificate {}; ssl_certificate_key {};", cert.display(), key.display());
+        Self::start(root, " ssl", &tls)
+    }
+
+    /// nginx on a free port over `root`; `listen` follows the address, `server` adds to the server block.
+    fn start(root: &Path, listen: &str, server: &str) -> Nginx {
         let binary = ["/usr/sbin/nginx", "/usr/bin/nginx"]
             .into_iter()
             .map(PathBuf::from)
@@ -34,8 +46,9 @@ http {{
   client_body_temp_path {d}/body; proxy_temp_path {d}/proxy; fastcgi_temp_path {d}/fastcgi;
   uwsgi_temp_path {d}/uwsgi; scgi_temp_path {d}/scgi;
   server {{
-    listen 127.0.0.1:{port};
+    listen 127.0.0.1:{port}{listen};
     root {root};
+    {server}
     location /norange/ {{ alias {root}/; max_ranges 0; }}
     location /unavailable/ {{ return 503; }}
   }}

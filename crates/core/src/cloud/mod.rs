@@ -12,6 +12,7 @@ pub mod attributes;
 mod colour;
 pub mod duplicates;
 pub mod e57_file;
+mod e57_sections;
 mod error;
 pub mod estimate;
 mod file_info;

@@ -4,12 +4,17 @@
 //! The root page is read on open. An entry with a point count of −1 points
 //! to a child page, whose entries start with that key's own; such a key is a
 //! node of unknown content until its page is read ([`CopcTree::pending`]).
+//! A child page holds the subtree under its key: it settles only that key,
+//! entries outside the subtree are refused, and each page is read once
+//! ([`CopcTree::claim_page`]), however many entries point at it. Refused
+//! entries are kept with their reason only for the first few
+//! ([`Refusals`]); the rest are counted.
 //! A node's cube comes from the octree's centre and half-size and its key:
 //! level `l` halves the side `l` times, and its point spacing is the root's
 //! halved as often. Positions are relative to `origin` (the header bounds'
 //! centre, as a whole-file load re-centres) in f32.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use glam::{DVec3, Vec3};
 use las::copc::VoxelKey;
@@ -39,9 +44,38 @@ pub struct CopcTree {
     spacing: f64,
     pub origin: DVec3,
     file_len: u64,
+    /// Points the header counts for the whole file.
+    total_points: u64,
+    /// Offsets of the pages claimed for reading (each is read once).
+    pages: HashSet<u64>,
     /// Pages read, and entries that were refused (with why).
     pub pages_read: usize,
-    pub refused: Vec<String>,
+    pub refused: Refusals,
+}
+
+/// Entries the pages listed that were not taken: the first few with why, and how many in all.
+#[derive(Debug, Default)]
+pub struct Refusals {
+    pub first: Vec<String>,
+    pub total: usize,
+    /// Why the root entry (0-0-0-0) was refused, if it was.
+    pub root: Option<String>,
+}
+
+impl Refusals {
+    /// Refusals kept with their reason; the rest are only counted.
+    pub const KEPT: usize = 5;
+
+    fn push(&mut self, key: VoxelKey, reason: &str) {
+        let line = || format!("{}-{}-{}-{}: {reason}", key.l, key.x, key.y, key.z);
+        if key == VoxelKey::ROOT && self.root.is_none() {
+            self.root = Some(line());
+        }
+        if self.first.len() < Self::KEPT {
+            self.first.push(line());
+        }
+        self.total += 1;
+    }
 }
 
 const ENTRY_BYTES: usize = 32;
@@ -59,13 +93,25 @@ impl CopcTree {
             spacing: i.spacing,
             origin,
             file_len: header.file_len,
+            total_points: header.las.number_of_points(),
+            pages: HashSet::new(),
             pages_read: 0,
-            refused: Vec::new(),
+            refused: Refusals::default(),
         }
     }
 
-    /// Adds the entries of one page's bytes (read from `name`).
-    pub fn add_page(&mut self, name: &str, bytes: &[u8]) -> Result<(), CopcError> {
+    /// Claims the page at byte `at` for reading: an error when an entry led to it already.
+    pub fn claim_page(&mut self, at: u64) -> Result<(), String> {
+        if self.pages.insert(at) {
+            Ok(())
+        } else {
+            Err(format!("the page at byte {at} was read already for another entry (two entries name one page)"))
+        }
+    }
+
+    /// Adds the entries of one page's bytes (read from `name`); `owner` is
+    /// the key whose entry pointed at the page (`None` for the root page).
+    pub fn add_page(&mut self, name: &str, owner: Option<VoxelKey>, bytes: &[u8]) -> Result<(), CopcError> {
         if bytes.len() % ENTRY_BYTES != 0 {
             return Err(CopcError::new(
                 name,
@@ -78,7 +124,11 @@ impl CopcTree {
             let byte_size = i32::from_le_bytes(entry[24..28].try_into().expect("four bytes"));
             let count = i32::from_le_bytes(entry[28..32].try_into().expect("four bytes"));
             if let Err(reason) = self.check(key, offset, byte_size, count) {
-                self.refused.push(format!("{}-{}-{}-{}: {reason}", key.l, key.x, key.y, key.z));
+                self.refused.push(key, &reason);
+                continue;
+            }
+            if owner.is_some_and(|o| !descends(&key, &o)) {
+                self.refused.push(key, "lies outside the subtree of the page that lists it");
                 continue;
             }
             let node = CopcNode {
@@ -90,12 +140,12 @@ impl CopcTree {
                 children: Vec::new(),
             };
             match self.index.get(&key) {
-                // A page's own key: it had only the pointer to this page.
-                Some(&at) if self.nodes[at as usize].page.is_some() && node.page.is_none() => {
+                // The page's own key: its entry had only pointed here.
+                Some(&at) if Some(key) == owner && self.nodes[at as usize].page.is_some() && node.page.is_none() => {
                     let children = std::mem::take(&mut self.nodes[at as usize].children);
                     self.nodes[at as usize] = CopcNode { children, ..node };
                 }
-                Some(_) => self.refused.push(format!("{}-{}-{}-{}: listed twice", key.l, key.x, key.y, key.z)),
+                Some(_) => self.refused.push(key, "listed twice"),
                 None => {
                     let at = self.nodes.len() as u32;
                     self.index.insert(key, at);
@@ -114,6 +164,12 @@ impl CopcTree {
         }
         if count < -1 {
             return Err(format!("a point count of {count}"));
+        }
+        if count > 0 && count as u64 > self.total_points {
+            return Err(format!(
+                "a point count of {count}, more than the {} the header counts for the whole file",
+                self.total_points
+            ));
         }
         if count != 0 && (byte_size <= 0 || offset.checked_add(byte_size as u64).is_none_or(|end| end > self.file_len))
         {
@@ -141,6 +197,7 @@ impl CopcTree {
         self.nodes[at as usize].children = children;
     }
 
+    /// The node of `key`, if it was read.
     pub fn node(&self, key: &VoxelKey) -> Option<u32> {
         self.index.get(key).copied()
     }
@@ -167,6 +224,12 @@ impl CopcTree {
     pub fn spacing(&self, key: &VoxelKey) -> f64 {
         self.spacing / f64::from(1u32 << key.l)
     }
+}
+
+/// Whether `key` is `owner` or lies under it.
+fn descends(key: &VoxelKey, owner: &VoxelKey) -> bool {
+    let up = key.l - owner.l;
+    (0..=MAX_LEVEL).contains(&up) && (key.x >> up, key.y >> up, key.z >> up) == (owner.x, owner.y, owner.z)
 }
 
 impl LodTree for CopcTree {

@@ -6,14 +6,16 @@
 //! (a gap under [`super::http::MIN_REQUEST`], up to [`MAX_MERGED`] in all),
 //! as COPC readers do against object storage, where each request costs far
 //! more than the bytes between two chunks. With `--disk-cache DIR`, chunks
-//! are read from and written to DIR (one file per node and source).
+//! are read from and written to DIR (one file per node and source, checked
+//! on reading, see [`super::disk`]); unusable ones are fetched again, and
+//! counted in one line.
 
-use std::path::PathBuf;
 use std::sync::Mutex;
 use std::sync::mpsc;
 
 use rayon::prelude::*;
 
+use super::disk::{DiskCache, Miss};
 use super::header::CopcHeader;
 use super::hierarchy::CopcTree;
 use super::source::ByteSource;
@@ -36,8 +38,8 @@ pub struct Fetch<'a> {
     pub source: &'a dyn ByteSource,
     pub header: &'a CopcHeader,
     pub tree: &'a CopcTree,
-    /// `--disk-cache DIR`, keyed by the source.
-    pub disk: Option<PathBuf>,
+    /// `--disk-cache DIR`, in the folder of this source's content.
+    pub disk: Option<&'a DiskCache>,
 }
 
 impl Fetch<'_> {
@@ -45,11 +47,21 @@ impl Fetch<'_> {
     pub fn nodes(&self, nodes: &[u32], on_done: &(dyn Fn(u64) + Sync)) -> Vec<(u32, Result<Columns, String>)> {
         let mut from_disk = Vec::new();
         let mut wanted = Vec::new();
+        let mut unusable = 0;
         for &n in nodes {
             match self.disk_read(n) {
-                Some(bytes) => from_disk.push((n, bytes)),
-                None => wanted.push(n),
+                Ok(bytes) => from_disk.push((n, bytes)),
+                Err(miss) => {
+                    unusable += usize::from(miss != Miss::Absent);
+                    wanted.push(n);
+                }
             }
+        }
+        if unusable > 0 {
+            log::warn!(
+                "{}: --disk-cache: {unusable} cached chunks were damaged or not plain files; removed and fetched again",
+                self.source.name()
+            );
         }
         let runs = Mutex::new(self.runs(wanted));
         let (sender, receiver) = mpsc::channel::<(u32, Result<Vec<u8>, String>)>();
@@ -121,24 +133,21 @@ impl Fetch<'_> {
         runs
     }
 
-    fn disk_path(&self, n: u32) -> Option<PathBuf> {
-        let dir = self.disk.as_ref()?;
+    /// The node's name in the disk cache: its key.
+    fn key_name(&self, n: u32) -> String {
         let key = self.tree.nodes[n as usize].key;
-        let id =
-            crate::hash::fnv1a(crate::hash::fnv1a(0, self.source.name().as_bytes()), &self.source.len().to_le_bytes());
-        Some(dir.join(format!("{id:016x}")).join(format!("{}-{}-{}-{}.laz", key.l, key.x, key.y, key.z)))
+        format!("{}-{}-{}-{}", key.l, key.x, key.y, key.z)
     }
 
-    fn disk_read(&self, n: u32) -> Option<Vec<u8>> {
-        let path = self.disk_path(n)?;
-        let bytes = std::fs::read(&path).ok()?;
-        (bytes.len() as u64 == self.tree.nodes[n as usize].byte_size).then_some(bytes)
+    fn disk_read(&self, n: u32) -> Result<Vec<u8>, Miss> {
+        let Some(disk) = self.disk else { return Err(Miss::Absent) };
+        let node = &self.tree.nodes[n as usize];
+        disk.read(&self.key_name(n), node.offset, node.byte_size)
     }
 
     fn disk_write(&self, n: u32, bytes: &[u8]) {
-        let Some(path) = self.disk_path(n) else { return };
-        if let Err(e) = crate::output::write_atomically(&path, bytes) {
-            crate::progress::warn_once(format!("--disk-cache: cannot write {}: {e}", path.display()));
+        if let Some(disk) = self.disk {
+            disk.keep(&self.key_name(n), self.tree.nodes[n as usize].offset, bytes);
         }
     }
 }

@@ -6,29 +6,35 @@
 //! [`header`] the header and COPC info VLR, [`hierarchy`] the octree page by
 //! page as the traversal reaches it, [`decode`] one node's chunk into the
 //! columns a LAS file fills, [`load`] fetches and decodes the chunks a
-//! selection lacks (at most four requests in flight), [`cache`] keeps
+//! selection lacks (at most four requests in flight), [`disk`] keeps the
+//! chunks fetched on disk (`--disk-cache`), [`cache`] keeps
 //! decoded nodes in an LRU bounded in bytes, and [`stream`] puts them
 //! together: select by projected spacing (additive refinement, the same
 //! selection as the in-memory hierarchy's, [`crate::lod::select_in`]),
 //! load, and build the selection into a [`crate::cloud::PointCloud`].
-//! [`write`] makes COPC files.
+//! [`write`] makes COPC files. [`redact`] masks a URL's credentials in
+//! whatever is shown: every [`CopcError`] goes through it.
 
 pub mod budget;
 pub(crate) mod cache;
 pub(crate) mod decode;
+pub(crate) mod disk;
 pub mod header;
 pub mod hierarchy;
 pub mod http;
 pub(crate) mod load;
+pub mod redact;
 pub mod source;
 pub mod stream;
 pub mod write;
 
 pub use budget::StreamBudget;
+pub use redact::shown;
 pub use source::{is_copc, is_streamed, is_url};
 pub use stream::{CopcStream, StreamOptions, StreamStats, StreamedFrame};
 
-/// A failure to stream a file: its path or URL and why, on one line.
+/// A failure to stream a file: its path or URL and why, on one line, a
+/// URL's credentials masked in both (an HTTP client's text may quote it).
 #[derive(Debug, Clone, thiserror::Error)]
 #[error("{name}: {reason}")]
 pub struct CopcError {
@@ -38,6 +44,6 @@ pub struct CopcError {
 
 impl CopcError {
     pub fn new(name: &str, reason: impl Into<String>) -> Self {
-        Self { name: name.to_string(), reason: crate::cloud::one_line(&reason.into()) }
+        Self { name: redact::shown(name), reason: crate::cloud::one_line(&redact::shown(&reason.into())) }
     }
 }

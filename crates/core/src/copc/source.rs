@@ -11,8 +11,14 @@ use super::CopcError;
 
 /// Byte ranges of one file, read from several threads at once.
 pub trait ByteSource: Send + Sync {
-    /// What users call it (the path or URL), for messages.
+    /// What users call it (the path or URL), for messages: a URL's user,
+    /// password and query values masked ([`super::redact::shown`]).
     fn name(&self) -> &str;
+    /// What identifies the file for caches, never shown: the name, unless
+    /// that masks part of it (a URL without its user and password).
+    fn identity(&self) -> &str {
+        self.name()
+    }
     /// The file's length in bytes.
     fn len(&self) -> u64;
     /// `len` bytes from `offset`; exactly that many, or an error naming the

@@ -12,6 +12,10 @@
 //! at a node's border, and radii follow the density actually drawn (a
 //! coarse node's points grow as its children are left out). With every
 //! node selected this is exactly the whole-file load.
+//!
+//! A node that cannot be read (its page or chunk) is skipped: the first few
+//! are logged with why, the rest counted in one line per load, and a frame
+//! whose every node failed says why, naming the first.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -23,6 +27,7 @@ use glam::{DVec3, Vec3};
 
 use super::CopcError;
 use super::cache::NodeCache;
+use super::disk::DiskCache;
 use super::header::CopcHeader;
 use super::hierarchy::CopcTree;
 use super::http::HttpOptions;
@@ -81,9 +86,16 @@ pub struct CopcStream {
     cache: NodeCache,
     /// Nodes that failed, with why (skipped from then on).
     failed: HashMap<u32, String>,
+    /// Failures not logged one by one, for the next summary line.
+    unlogged: usize,
+    /// `--disk-cache DIR`, in the folder of this source's content.
+    disk: Option<DiskCache>,
     options: StreamOptions,
     stats: StreamStats,
 }
+
+/// Node failures logged one by one; later ones are counted in one line per load.
+const LOGGED_FAILURES: usize = 3;
 
 /// One frame's points.
 pub struct StreamedFrame {
@@ -109,24 +121,45 @@ impl CopcStream {
         };
         let mut tree = CopcTree::new(&header, origin);
         let (at, size) = header.root_page;
+        let name = source.name();
+        tree.claim_page(at).map_err(|e| CopcError::new(name, e))?;
         let page = source
             .read(at, size)
             .map_err(|e| CopcError::new(name, format!("its root hierarchy page: {}", e.reason)))?;
-        tree.add_page(name, &page)?;
+        tree.add_page(name, None, &page)?;
         if tree.root().is_none() {
-            return Err(CopcError::new(name, "its root hierarchy page has no root node (0-0-0-0)"));
+            let reason = match &tree.refused.root {
+                Some(why) => format!("its root node was refused: {why}"),
+                None => "its root hierarchy page has no root node (0-0-0-0)".to_string(),
+            };
+            return Err(CopcError::new(name, reason));
         }
+        let disk = options
+            .disk_cache
+            .as_deref()
+            .map(|dir| DiskCache::new(dir, super::disk::source_id(source.identity(), source.len(), &page)));
         let cache = NodeCache::new(options.cache_bytes);
-        Ok(Self { source, header, tree, cache, failed: HashMap::new(), options, stats: StreamStats::default() })
+        Ok(Self {
+            source,
+            header,
+            tree,
+            cache,
+            failed: HashMap::new(),
+            unlogged: 0,
+            disk,
+            options,
+            stats: StreamStats::default(),
+        })
     }
 
     pub fn name(&self) -> &str {
         self.source.name()
     }
 
-    /// The last part of the path or URL.
+    /// The last part of the path or URL (a URL's query and fragment left out).
     pub fn file_name(&self) -> &str {
         let name = self.name();
+        let name = if is_url(name) { name.split(['?', '#']).next().unwrap_or(name) } else { name };
         name.rsplit(['/', '\\']).next().unwrap_or(name)
     }
 
@@ -165,15 +198,25 @@ impl CopcStream {
             let selection = lod::select_in(&self.tree, camera, size, options);
             let pending: Vec<u32> = self.tree.pending(&selection.nodes).collect();
             if pending.is_empty() {
+                self.log_unlogged();
                 return selection;
             }
             for n in pending {
-                let (at, size) = self.tree.nodes[n as usize].page.expect("pending");
-                let page = self.source.read(at, size).and_then(|bytes| self.tree.add_page(self.source.name(), &bytes));
+                // A page read earlier in this round may have settled this node already.
+                let Some((at, size)) = self.tree.nodes[n as usize].page else { continue };
+                let owner = self.tree.nodes[n as usize].key;
+                let page = match self.tree.claim_page(at) {
+                    Ok(()) => self
+                        .source
+                        .read(at, size)
+                        .and_then(|bytes| self.tree.add_page(self.source.name(), Some(owner), &bytes))
+                        .map_err(|e| e.reason),
+                    Err(reason) => Err(reason),
+                };
                 let node = &mut self.tree.nodes[n as usize];
-                if let Err(e) = page {
+                if let Err(reason) = page {
                     node.page = None;
-                    self.fail(n, format!("its hierarchy page: {}", e.reason));
+                    self.fail(n, format!("its hierarchy page: {reason}"));
                 } else if node.page.is_some() {
                     // The page did not list its own key: the node holds nothing.
                     node.page = None;
@@ -184,9 +227,21 @@ impl CopcStream {
 
     fn fail(&mut self, node: u32, reason: String) {
         let k = self.tree.nodes[node as usize].key;
-        log::warn!("{}: node {}-{}-{}-{} skipped: {reason}", self.source.name(), k.l, k.x, k.y, k.z);
+        if self.failed.len() < LOGGED_FAILURES {
+            log::warn!("{}: node {}-{}-{}-{} skipped: {reason}", self.source.name(), k.l, k.x, k.y, k.z);
+        } else {
+            self.unlogged += 1;
+        }
         self.failed.insert(node, reason);
         self.stats.failed = self.failed.len();
+    }
+
+    /// One line for the failures [`Self::fail`] did not log (at the end of a select or a load).
+    fn log_unlogged(&mut self) {
+        if self.unlogged > 0 {
+            log::warn!("{}: {} more nodes skipped ({} in all)", self.source.name(), self.unlogged, self.failed.len());
+            self.unlogged = 0;
+        }
     }
 
     /// Loads the selected nodes that are neither cached nor failed; returns how many loaded.
@@ -206,12 +261,8 @@ impl CopcStream {
         let total: u64 = wanted.iter().map(|&n| u64::from(self.tree.nodes[n as usize].points)).sum();
         let bar = crate::progress::bar(total, "streaming nodes", self.options.progress);
         let done = AtomicU64::new(0);
-        let fetch = Fetch {
-            source: self.source.as_ref(),
-            header: &self.header,
-            tree: &self.tree,
-            disk: self.options.disk_cache.clone(),
-        };
+        let fetch =
+            Fetch { source: self.source.as_ref(), header: &self.header, tree: &self.tree, disk: self.disk.as_ref() };
         let results = fetch.nodes(&wanted, &|points| {
             done.fetch_add(points, Ordering::Relaxed);
             bar.inc(points);
@@ -231,6 +282,7 @@ impl CopcStream {
         }
         self.stats.nodes_loaded += loaded;
         self.stats.load_seconds += started.elapsed().as_secs_f64();
+        self.log_unlogged();
         loaded
     }
 
@@ -243,7 +295,7 @@ impl CopcStream {
             columns.extend(&self.cache.get(n).expect("checked above"));
         }
         if columns.len() == 0 {
-            return Err(CopcError::new(self.name(), "no point of the file is in view"));
+            return Err(CopcError::new(self.name(), self.why_nothing_is_drawn(selection)));
         }
         let format = self.header.las.point_format();
         let mut warnings = self.header.warnings.clone();
@@ -274,11 +326,35 @@ impl CopcStream {
         let options = LoadOptions { origin: Some(self.tree.origin.to_array()), ..options.clone() };
         let (cloud, report) = from_columns(Path::new(self.name()), data, attributes, info, 0.0, &options)
             .map_err(|e| CopcError::new(self.name(), e.to_string()))?;
-        let mut hash = crate::hash::fnv1a(0, self.name().as_bytes());
+        let mut hash = crate::hash::fnv1a(0, self.source.identity().as_bytes());
         for &n in &drawn {
             hash = crate::hash::fnv1a(hash, &n.to_le_bytes());
         }
         Ok(StreamedFrame { cloud, report, selection: selection.clone(), drawn, hash })
+    }
+
+    /// Why a selection gave no point: nothing in view, or the nodes in view failed (the first named).
+    fn why_nothing_is_drawn(&self, selection: &Selection) -> String {
+        let failed: Vec<String> = selection
+            .nodes
+            .iter()
+            .filter_map(|n| {
+                let k = self.tree.nodes[*n as usize].key;
+                self.failed.get(n).map(|why| format!("node {}-{}-{}-{}: {why}", k.l, k.x, k.y, k.z))
+            })
+            .collect();
+        match failed.first() {
+            None if selection.nodes.is_empty() => "no point of the file is in view".to_string(),
+            None => "the nodes in view hold no points".to_string(),
+            Some(first) if failed.len() == 1 => format!("the only node in view with points could not be read: {first}"),
+            Some(first) => {
+                format!(
+                    "none of the {} nodes in view could be read ({first}; and {} more)",
+                    failed.len(),
+                    failed.len() - 1
+                )
+            }
+        }
     }
 
     /// Selects, loads and gathers one frame's points under `budget`
@@ -322,6 +398,11 @@ impl CopcStream {
     /// Points the node decoded to, while it is cached.
     pub fn decoded_points(&mut self, node: u32) -> Option<usize> {
         self.cache.get(node).map(|c| c.len())
+    }
+
+    /// Why the node failed, if it did.
+    pub fn failure(&self, node: u32) -> Option<&str> {
+        self.failed.get(&node).map(String::as_str)
     }
 
     /// Why each failed node failed.
