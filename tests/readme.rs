@@ -58,7 +58,46 @@ fn the_quick_start_is_the_two_commands_that_ci_and_users_run() {
     let test_script = read("scripts/test");
     assert!(test_script.contains("cargo test"), "scripts/test runs the test suite");
     let run_script = read("scripts/run");
-    assert!(run_script.contains("cargo run"), "scripts/run runs pointblend");
+    assert!(run_script.contains("cargo build --release"), "scripts/run builds pointblend, showing cargo's progress");
+    assert!(run_script.contains("exec \"$binary\" \"$@\""), "scripts/run runs the binary it built");
+}
+
+/// `scripts/setup` with `cargo` as given by `fake_cargo` (a script body, or
+/// none): its exit status, its stderr, and whether it called apt-get.
+fn setup_with(fake_cargo: Option<&str>) -> (std::process::ExitStatus, String, bool) {
+    use std::os::unix::fs::PermissionsExt;
+    let bin = tempfile::tempdir().unwrap();
+    let called = bin.path().join("apt-get-called");
+    let script = |name: &str, body: String| {
+        let path = bin.path().join(name);
+        std::fs::write(&path, format!("#!/bin/sh\n{body}\n")).unwrap();
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+    };
+    for name in ["apt-get", "sudo"] {
+        script(name, format!("touch {}", called.display()));
+    }
+    if let Some(body) = fake_cargo {
+        script("cargo", body.to_string());
+    }
+    let output = std::process::Command::new(root().join("scripts/setup"))
+        .env("PATH", format!("{}:/usr/bin:/bin", bin.path().display()))
+        .output()
+        .unwrap();
+    (output.status, String::from_utf8_lossy(&output.stderr).into_owned(), called.exists())
+}
+
+#[cfg(unix)]
+#[test]
+fn setup_checks_for_rust_1_85_before_it_installs_anything() {
+    for (cargo, what) in [(Some("echo 'cargo 1.63.0'"), "Debian 12's cargo"), (None, "no cargo")] {
+        let (status, stderr, installed) = setup_with(cargo);
+        assert!(!status.success(), "{what}: setup must fail: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{what}: one line: {stderr}");
+        assert!(stderr.contains("1.85") && stderr.contains("rustup"), "{what}: names 1.85 and rustup: {stderr}");
+        assert!(!installed, "{what}: nothing is installed before Rust is there");
+    }
+    let (status, stderr, _) = setup_with(Some("echo 'cargo 1.95.0 (f2d3ce0bd 2026-03-21)'"));
+    assert!(!stderr.contains("1.85"), "a recent cargo passes the check: {stderr} ({status})");
 }
 
 #[test]

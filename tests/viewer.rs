@@ -425,3 +425,48 @@ fn the_viewer_streams_a_url_from_a_real_server_with_the_command_lines_camera_and
     assert_eq!((camera.azimuth_deg, camera.elevation_deg), (70.0, 25.0), "the command line's camera");
     assert!(h.query_by_label_contains(" of 64 MB (").is_some(), "the node cache's line shows the bound given");
 }
+
+/// A lit view's sidecar records its lights, so `render --camera` lights it
+/// again: the scene file's light here (headlit, the image would differ).
+#[test]
+fn a_lit_screenshot_is_rendered_again_with_its_lights() {
+    let dir = tempfile::tempdir().unwrap();
+    let shots = dir.path().join("shots");
+    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/shadow-floor.toml");
+    let mut h = harness(ViewerOptions { file: Some(file.clone()), mode: Some(RenderMode::TwoPass), ..options(&shots) });
+    let lit =
+        |app: &ViewerApp| app.is_settled() && app.shown_frame().is_some_and(|(_, k)| k.settings.lights.len() == 1);
+    wait_for(&mut h, "the floor scene lit by its light", lit);
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
+    wait_for(&mut h, "the screenshot", |app| app.status().is_some_and(|s| s.starts_with("saved")));
+    let png = std::fs::read_dir(&shots)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "png"))
+        .expect("a PNG in the screenshot folder");
+    let sidecar = pointblend::frame::Sidecar::read(&png.with_extension("json")).unwrap();
+    let lights = sidecar.lights().unwrap();
+    assert_eq!(lights.len(), 1, "the sidecar records the light");
+    let pointblend::frame::LightKind::Point(at) = lights[0].kind else { panic!("a point light") };
+    assert!(
+        at.distance(glam::Vec3::new(-3.0, 8.5, 3.5)) < 1e-4,
+        "in file coordinates, as the scene file gives it: {at}"
+    );
+    let shot = image::open(&png).unwrap().to_rgba8();
+    let again = dir.path().join("again.png");
+    let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .arg("render")
+        .arg(&file)
+        .arg("--camera")
+        .arg(png.with_extension("json"))
+        .arg("--out")
+        .arg(&again)
+        .env("POINTBLEND_CACHE", dir.path().join("cache"))
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let rendered = image::open(&again).unwrap().to_rgba8();
+    assert_eq!(rendered.dimensions(), shot.dimensions());
+    let differing = rendered.pixels().zip(shot.pixels()).filter(|(a, b)| a != b).count();
+    assert_eq!(differing, 0, "{differing} pixels differ between the lit screenshot and its re-render");
+}

@@ -172,6 +172,9 @@ pub fn run(args: &Args) -> Result<()> {
         // The screenshot's clip, unless the command line gives one.
         let region = args.view.scene.clip_region_or(&s.clip.clone().unwrap_or_default()).map_err(anyhow::Error::msg)?;
         settings.clip = scene.clip_in_frame(&region);
+        // Its lights, from file coordinates into the scene's frame.
+        let lights: Vec<_> = s.lights().map_err(anyhow::Error::msg)?.iter().map(|l| scene.light_in_frame(l)).collect();
+        settings.lights = pointblend::frame::Lights::new(&lights).map_err(|e| anyhow::anyhow!("lights: {e}"))?;
     }
     args.apply_environment(&mut scene, &mut settings)?;
     if stream.is_some() {

@@ -61,10 +61,12 @@ impl ViewerApp {
         let style = model.style.as_deref().map(crate::style::record::StyleRecord::from);
         let region = self.ui.inspect.region();
         let clip = (!region.is_empty()).then_some(region);
+        let lights = crate::frame::sidecar::lights::records(&settings.lights, model.scene.frame_placement());
         let sidecar = Box::new(Sidecar {
             time: key.time,
             style,
             clip,
+            lights,
             ..Sidecar::new(model_info, &self.ui.camera, &settings, size)
         });
         if let Err(e) = std::fs::create_dir_all(&self.options.screenshot_dir) {

@@ -71,14 +71,23 @@ impl ViewerApp {
     pub(super) fn screenshot_annotation(&self, size: (u32, u32)) -> Annotation {
         let measured = &self.ui.inspect.measured;
         let rect = egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(size.0 as f32, size.1 as f32));
+        let scale = size.0 as f32 / self.view_size.0.max(1) as f32;
+        let legend = self.legend();
         let Some(projector) = self.projector(rect).filter(|_| measured.len() >= 2) else {
-            return Annotation::default();
+            return Annotation { scale, legend, ..Annotation::default() };
         };
         Annotation {
             points: measured.iter().map(|(_, p)| projector.to_screen(*p).map(|s| (s.x, s.y))).collect(),
             segment_labels: measured.windows(2).map(|pair| segment_label(pair[0].1, pair[1].1)).collect(),
-            scale: size.0 as f32 / self.view_size.0.max(1) as f32,
+            scale,
+            legend,
         }
+    }
+
+    /// The legend of the model's colours, if they show an attribute.
+    pub(super) fn legend(&self) -> Option<super::legend::Legend> {
+        let model = self.model.as_ref()?;
+        super::legend::Legend::of(model.style.as_ref()?, &model.summary)
     }
 
     /// Where the file point `p` is on screen, in points.

@@ -156,8 +156,13 @@ impl ViewerApp {
         // new model only: the same geometry again keeps the lights as they were moved).
         // Another model's lights sit in its coordinates: a new model starts from its own (or none).
         if !same_geometry {
-            let lights: Vec<_> =
-                model.scene.lights.iter().chain(&self.options.lights).map(|l| model.scene.light_in_frame(l)).collect();
+            // A screenshot's sidecar brings the lights it was lit by, for the first model.
+            let shot = self.options.view.as_ref().filter(|_| self.model.is_none()).map(|v| v.lights());
+            let given: Vec<crate::frame::Light> = match shot {
+                Some(Ok(lights)) => lights,
+                _ => model.scene.lights.iter().chain(&self.options.lights).copied().collect(),
+            };
+            let lights: Vec<_> = given.iter().map(|l| model.scene.light_in_frame(l)).collect();
             self.ui.settings.lights = crate::frame::Lights::new(&lights).unwrap_or_else(|e| {
                 self.load_error = Some(format!("{}: lights: {e}", crate::copc::shown(&model.path.to_string_lossy())));
                 Default::default()

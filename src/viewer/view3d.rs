@@ -52,8 +52,8 @@ impl ViewerApp {
             painter.image(shown.texture.id(), rect, uv, egui::Color32::WHITE);
         }
         self.draw_inspection(&painter, rect);
-        if let Some((style, model)) = self.model.as_ref().and_then(|m| Some((m.style.as_ref()?, m))) {
-            super::legend::draw(&painter, rect, style, &model.summary);
+        if let Some(legend) = self.legend() {
+            super::legend::draw(&painter, rect, &legend);
         }
         if let Some(e) = &self.frame_error {
             painter.text(

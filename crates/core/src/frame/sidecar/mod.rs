@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 use super::{Camera, CameraRequest, Parameter, RenderMode, RenderSettings, UpAxis};
 
 mod legacy;
+pub mod lights;
 
 pub use legacy::LegacySettings;
 
@@ -74,6 +75,9 @@ pub struct Sidecar {
     /// The clip region, in file coordinates (absent: nothing clipped).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub clip: Option<super::ClipRegion>,
+    /// The scene lights, in file coordinates (absent: the headlight).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lights: Vec<lights::LightRecord>,
 }
 
 const UP_AXES: [(UpAxis, [f32; 3]); 6] = [
@@ -159,6 +163,7 @@ impl Sidecar {
             time: None,
             style: None,
             clip: None,
+            lights: Vec::new(),
         }
     }
 
@@ -176,6 +181,8 @@ impl Sidecar {
         if let Some(clip) = &sidecar.clip {
             clip.check().map_err(|e| bad(format!("clip: {e}")))?;
         }
+        let lights = sidecar.lights().map_err(|e| bad(format!("lights: {e}")))?;
+        super::Lights::new(&lights).map_err(|e| bad(format!("lights: {e}")))?;
         super::settings::check_image_size(sidecar.size[0], sidecar.size[1]).map_err(|e| bad(format!("size {e}")))?;
         Ok(sidecar)
     }
@@ -188,6 +195,11 @@ impl Sidecar {
 
     pub fn camera(&self) -> Camera {
         self.camera.camera()
+    }
+
+    /// The scene lights the view was lit by, in file coordinates (none: the headlight).
+    pub fn lights(&self) -> Result<Vec<super::Light>, String> {
+        self.lights.iter().map(lights::LightRecord::light).collect()
     }
 
     /// The settings, starting from the defaults for what the sidecar does not hold.
