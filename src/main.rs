@@ -189,6 +189,20 @@ mod tests {
         assert_eq!(sidecar.settings(), Ok(settings));
     }
 
+    /// The window takes every camera, streaming and time flag that `render` takes.
+    #[test]
+    fn view_takes_renders_camera_streaming_and_time_flags() {
+        let (view, render) = (long_flags("view"), long_flags("render"));
+        let wanted = ["azimuth", "elevation", "distance", "fov", "up", "cache-mb", "disk-cache", "time", "mode", "env"];
+        for flag in wanted {
+            assert!(render.contains(flag), "render --{flag}");
+            assert!(view.contains(flag), "view lacks render's --{flag}");
+        }
+        // And the commands that do not read a flag do not show it.
+        assert!(!long_flags("bench").contains("mode") && !long_flags("bench").contains("azimuth"));
+        assert!(!long_flags("pick").contains("mode") && !long_flags("measure").contains("mode"));
+    }
+
     /// Shell words of one command line: quotes group, `#` outside quotes ends it.
     fn shell_words(line: &str) -> Vec<String> {
         let (mut words, mut word, mut quote, mut in_word) = (Vec::new(), String::new(), None, false);

@@ -238,3 +238,67 @@ fn the_disk_cache_serves_a_second_open_and_nothing_is_written_without_it() {
     let after: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
     assert_eq!(before, after);
 }
+
+/// `render`'s last line: `FILE: N splats, …`, N the splats drawn.
+fn splats_drawn(file: &Path, extra: &[&str]) -> usize {
+    let out = tempfile::tempdir().unwrap();
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .arg("render")
+        .arg(file)
+        .args(extra)
+        .arg("--out")
+        .arg(out.path().join("f.png"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let last = stdout.lines().last().unwrap_or_default();
+    let n = last.split(": ").nth(1).and_then(|rest| rest.split(' ').next()).and_then(|n| n.parse().ok());
+    n.unwrap_or_else(|| panic!("no splat count in {last}"))
+}
+
+#[test]
+fn point_budget_all_draws_every_point_of_a_streamed_file_and_a_number_keeps_the_pixel_stop() {
+    let dir = tempfile::tempdir().unwrap();
+    // Above the writer's 100,000 points a node: a root and its children.
+    let copc = made_copc(dir.path(), 230);
+    let stream = CopcStream::open(&copc.to_string_lossy(), Default::default()).unwrap();
+    let total = stream.points() as usize;
+    // A far, small view: under a number the one-pixel stop leaves the fine levels out.
+    let far = ["--size", "64x64", "--distance", "2000"];
+    let all = splats_drawn(&copc, &[&far[..], &["--point-budget", "all"]].concat());
+    let numbered = splats_drawn(&copc, &[&far[..], &["--point-budget", "1000000"]].concat());
+    println!("{total} points: all drew {all}, a budget of 1M drew {numbered}");
+    assert_eq!(all, total, "--point-budget all draws every point");
+    assert!(numbered < total, "a numeric budget keeps the pixel stop: {numbered} of {total}");
+    // When every point would not fit the node cache: one line that says so.
+    let out = dir.path().join("never.png");
+    let (ok, stderr) = common::render_cli(
+        &[copc.display().to_string(), "--point-budget".into(), "all".into(), "--cache-mb".into(), "1".into()],
+        &out,
+    );
+    assert!(!ok && stderr.contains("--point-budget all") && stderr.contains("--cache-mb"), "{stderr}");
+    assert!(!out.exists());
+    // The sample the README's users meet first: all of its 1,065 points.
+    let sample = require!(common::shared_data("lidar/1.2-with-color.copc.laz"));
+    let sample_points = CopcStream::open(&sample.to_string_lossy(), Default::default()).unwrap().points() as usize;
+    assert_eq!(splats_drawn(&sample, &["--size", "256x256", "--point-budget", "all"]), sample_points);
+}
+
+#[test]
+fn a_scene_file_opens_a_url_as_the_command_line_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let copc = made_copc(dir.path(), 120);
+    let server = Nginx::serve(dir.path());
+    let url = server.url(copc.file_name().unwrap().to_str().unwrap());
+    let scene = dir.path().join("elsewhere").join("scene.toml");
+    std::fs::create_dir_all(scene.parent().unwrap()).unwrap();
+    std::fs::write(&scene, format!("[[object]]\ncloud = {url:?}\nopacity = 0.5\n")).unwrap();
+    let total = CopcStream::open(&copc.to_string_lossy(), Default::default()).unwrap().points() as usize;
+    assert_eq!(splats_drawn(&scene, &["--size", "96x96", "--mode", "tiled"]), total, "every point of the URL");
+    // A URL the server does not have: the scene file's line and column, and the URL.
+    std::fs::write(&scene, format!("[[object]]\ncloud = \"{}\"\n", server.url("gone.copc.laz"))).unwrap();
+    let out = dir.path().join("never.png");
+    let error = common::refused_in_one_line(&[scene.display().to_string()], &out, "a URL that is not there");
+    assert!(error.contains("scene.toml:2:9") && error.contains("gone.copc.laz"), "{error}");
+}

@@ -690,3 +690,54 @@ fn odd_volume_headers_and_an_invisible_transfer_function_say_what_is_wrong() {
     let error = one_error(&output, "a transfer function of opacity 0");
     assert!(error.contains("opacity 0"), "{error}");
 }
+
+/// Runs `pointblend ARGS` and gives its output, failing the test if it is
+/// still running after `seconds` (it is killed then).
+fn within(dir: &Path, args: &[&std::ffi::OsStr], seconds: u64) -> Output {
+    let mut child = pointblend(dir)
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed().as_secs() >= seconds {
+            let _ = child.kill();
+            panic!("pointblend {args:?} still ran after {seconds} s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    child.wait_with_output().unwrap()
+}
+
+#[cfg(unix)]
+#[test]
+fn pipes_devices_and_oversized_settings_files_are_refused_in_one_line_without_reading_them() {
+    let dir = test_dir();
+    let fifo = dir.path().join("fifo.ply");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let error = one_error(&within(dir.path(), &["info".as_ref(), fifo.as_os_str()], 30), "a FIFO");
+    assert!(error.contains("fifo.ply") && error.contains("named pipe"), "{error}");
+    // A link named like a scan, to an endless device.
+    let zero = dir.path().join("zero.ply");
+    std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+    let error = one_error(&within(dir.path(), &["info".as_ref(), zero.as_os_str()], 30), "/dev/zero");
+    assert!(error.contains("zero.ply") && error.contains("device"), "{error}");
+    // Settings files: a device, and one far larger than any real one.
+    let big = dir.path().join("big.json");
+    std::fs::write(&big, vec![b' '; 17 << 20]).unwrap();
+    let out = dir.path().join("never.png");
+    let lion = model();
+    for (flag, file, problem) in [
+        ("--camera", Path::new("/dev/zero"), "device"),
+        ("--path", Path::new("/dev/zero"), "device"),
+        ("--camera", big.as_path(), "more than"),
+        ("--path", big.as_path(), "more than"),
+    ] {
+        let args = ["render".as_ref(), lion.as_os_str(), flag.as_ref(), file.as_os_str(), "--out".as_ref(), out.as_os_str()];
+        let error = one_error(&within(dir.path(), &args, 30), flag);
+        assert!(error.contains(problem), "{flag} {}: {error}", file.display());
+    }
+    assert!(!out.exists());
+}

@@ -85,6 +85,20 @@ fn bad_scene_files_name_the_file_line_column_and_problem() {
     let error = the_one_error(&pointblend().arg("render").arg(&path).arg("--out").arg(&out).output().unwrap());
     assert!(error.contains("no-map.toml:1:15"), "{error}");
     assert!(error.contains("gone.exr"), "{error}");
+    // A camera key out of range: its place in the scene file, not a flag's name.
+    for (key, value, problem) in [
+        ("elevation", "nan", "elevation must be a finite number of degrees"),
+        ("azimuth", "inf", "azimuth must be a finite number of degrees"),
+        ("fov", "171.0", "fov must be between 0.5 and 170 degrees"),
+    ] {
+        let path = dir.path().join("camera.toml");
+        std::fs::write(&path, format!("[camera]\n{key} = {value}\n\n[[object]]\nply = {:?}\n", model.to_str().unwrap()))
+            .unwrap();
+        let error = the_one_error(&pointblend().arg("render").arg(&path).arg("--out").arg(&out).output().unwrap());
+        let column = key.len() + 4;
+        assert!(error.contains(&format!("camera.toml:2:{column}")) && error.contains(problem), "{key}: {error}");
+        assert!(!error.contains("--"), "{key}: the scene file's key, not a flag: {error}");
+    }
 }
 
 #[test]

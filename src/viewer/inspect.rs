@@ -84,6 +84,11 @@ impl ViewerApp {
         }
     }
 
+    /// The legend drawn over the view (and burnt into screenshots), if the colours show an attribute.
+    pub fn legend_shown(&self) -> Option<super::legend::Legend> {
+        self.legend()
+    }
+
     /// The legend of the model's colours, if they show an attribute.
     pub(super) fn legend(&self) -> Option<super::legend::Legend> {
         let model = self.model.as_ref()?;

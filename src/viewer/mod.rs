@@ -39,6 +39,7 @@ mod view3d;
 mod widgets;
 
 pub use app::{ViewerApp, ViewerOptions};
+pub use legend::Legend;
 pub use model::Model;
 pub use state::{FrameKey, Inspection, ScreenshotSize};
 

@@ -83,6 +83,19 @@ pub fn write_fields(path: &Path, points: &[LidarPoint], offset: [f64; 3], fields
     write_points(path, builder, points, |k| (0..count).flat_map(|j| ((k * (j + 1)) as f32).to_le_bytes()).collect())
 }
 
+/// Writes `points` as LAS 1.4 point format 6 (no colours, as most airborne
+/// lidar comes) with scale 0.001 and the given offset.
+pub fn write_colourless(path: &Path, points: &[LidarPoint], offset: [f64; 3]) -> PathBuf {
+    let mut builder = las::Builder::from((1, 4));
+    builder.point_format = las::point::Format::new(6).unwrap();
+    for (t, o) in
+        [&mut builder.transforms.x, &mut builder.transforms.y, &mut builder.transforms.z].into_iter().zip(offset)
+    {
+        *t = las::Transform { scale: 0.001, offset: o };
+    }
+    write_points(path, builder, points, |_| Vec::new())
+}
+
 /// Writes `points` as LAS 1.2 point format 3 (RGB and GPS time), with scale
 /// 0.001 and no offset: the layout of the oldest files still made.
 pub fn write_las12(path: &Path, points: &[LidarPoint]) -> PathBuf {
@@ -100,6 +113,7 @@ fn write_points(
     points: &[LidarPoint],
     extra_bytes: impl Fn(usize) -> Vec<u8>,
 ) -> PathBuf {
+    let has_colour = builder.point_format.has_color;
     let header = builder.into_header().unwrap();
     let mut writer = las::Writer::from_path(path, header).unwrap();
     for (k, p) in points.iter().enumerate() {
@@ -113,7 +127,7 @@ fn write_points(
                 number_of_returns: p.returns,
                 classification: las::point::Classification::new(p.class).unwrap(),
                 gps_time: Some(p.gps_time),
-                color: Some(las::Color::new(p.rgb[0], p.rgb[1], p.rgb[2])),
+                color: has_colour.then(|| las::Color::new(p.rgb[0], p.rgb[1], p.rgb[2])),
                 extra_bytes: extra_bytes(k),
                 ..Default::default()
             })

@@ -486,6 +486,9 @@ impl Reader<'_> {
         ply: &Spanned<String>,
         warnings: &mut Vec<String>,
     ) -> Result<(String, cloud::PointCloud, u64), SceneError> {
+        if crate::formats::is_url(ply.get_ref()) {
+            return self.streamed(ply, warnings);
+        }
         let file = self.folder.join(ply.get_ref());
         let (cloud, report) = cloud::load_with(&file, self.options)
             .map_err(|e| self.at(Some(ply.span()), cloud::one_line(&e.to_string())))?;
@@ -494,6 +497,26 @@ impl Reader<'_> {
         warnings.extend(report.warnings.iter().map(|w| format!("{}: {w}", file.display())));
         let name = file.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
         Ok((name, cloud, hash))
+    }
+
+    /// An object given as an http(s) URL, streamed as the command line
+    /// streams one: a COPC file, every node of it (a scene's objects are
+    /// loaded before any view is chosen), refused in one line when its points
+    /// would not fit the node cache.
+    fn streamed(
+        &self,
+        url: &Spanned<String>,
+        warnings: &mut Vec<String>,
+    ) -> Result<(String, cloud::PointCloud, u64), SceneError> {
+        use crate::copc::{CopcStream, StreamBudget, StreamOptions};
+        let at = |e: crate::copc::CopcError| self.at(Some(url.span()), e.to_string());
+        let options = StreamOptions { progress: self.options.progress, ..Default::default() };
+        let mut stream = CopcStream::open(url.get_ref(), options).map_err(at)?;
+        let bounds = stream.bounds_cloud();
+        let camera = crate::frame::Camera::default_for(&bounds, 1.0);
+        let frame = stream.frame_under(&camera, (1, 1), StreamBudget::All, self.options).map_err(at)?;
+        warnings.extend(frame.report.warnings.iter().map(|w| format!("{}: {w}", stream.name())));
+        Ok((stream.file_name().to_string(), frame.cloud, frame.hash))
     }
 
     /// A `sphere` object: its name, generated cloud and a hash of its parameters.

@@ -72,6 +72,13 @@ impl SceneObject {
         if let Some((lo, hi)) = applied.range {
             log::info!("{}: the colormap spans {lo} .. {hi}", self.name);
         }
+        if applied.opacity_unset > 0 {
+            log::warn!(
+                "{}: {} splats have no --opacity-by value (NaN) and are drawn fully transparent",
+                self.name,
+                applied.opacity_unset
+            );
+        }
         self.cloud = Arc::new(cloud);
         self.content_hash = fnv1a(source_hash, style.key().as_bytes());
         self.material.two_sided |= applied.translucent;

@@ -60,6 +60,8 @@ pub struct Applied {
     pub hidden: usize,
     /// Whether some splat is now translucent.
     pub translucent: bool,
+    /// Splats whose `--opacity-by` value is not a number (NaN): drawn fully transparent.
+    pub opacity_unset: usize,
 }
 
 impl Style {
@@ -146,10 +148,18 @@ impl Style {
         if let Some(name) = &self.opacity_by {
             let c = column(&out, name, "--opacity-by")?;
             let values: Vec<f64> = (0..out.len()).map(|i| c.get(i)).collect();
+            if !values.iter().any(|v| v.is_finite()) && !values.is_empty() {
+                return Err(format!("--opacity-by {name}: the attribute has no value that is a number (every one is NaN or infinite), so every splat would vanish"));
+            }
             let (lo, hi) = percentile_range(&values);
             let span = if hi > lo { hi - lo } else { 1.0 };
             for (a, v) in out.opacity.iter_mut().zip(&values) {
-                *a *= ((v - lo) / span).clamp(0.0, 1.0) as f32;
+                if v.is_nan() {
+                    applied.opacity_unset += 1;
+                    *a = 0.0;
+                } else {
+                    *a *= ((v - lo) / span).clamp(0.0, 1.0) as f32;
+                }
             }
         }
         applied.translucent = out.has_transparency();
@@ -197,6 +207,21 @@ mod tests {
         cloud.attributes.push("intensity", Values::U16((0..n as u16).collect()));
         cloud.attributes.push(names::CLASSIFICATION, Values::U8((0..n).map(|i| [2, 5][i % 2]).collect()));
         cloud
+    }
+
+    #[test]
+    fn opacity_by_an_attribute_of_no_numbers_is_refused_and_a_few_nans_are_counted() {
+        let mut all_nan = cloud(10);
+        all_nan.attributes.push("height", Values::F32(vec![f32::NAN; 10]));
+        let style = Style { opacity_by: Some("height".into()), ..Default::default() };
+        let error = style.apply(&all_nan).unwrap_err();
+        assert!(error.contains("--opacity-by height") && error.contains("NaN"), "{error}");
+        let mut some_nan = cloud(10);
+        some_nan.attributes.push("height", Values::F32((0..10).map(|i| if i < 3 { f32::NAN } else { i as f32 }).collect()));
+        let (out, applied) = style.apply(&some_nan).unwrap();
+        assert_eq!(applied.opacity_unset, 3);
+        assert!(out.opacity.iter().all(|a| a.is_finite()), "no NaN opacity reaches the renderers");
+        assert_eq!(&out.opacity[..3], &[0.0; 3]);
     }
 
     #[test]
