@@ -79,3 +79,46 @@ fn bench_writes_json_markdown_plot_and_images_and_reuses_the_reference_cache() {
     let again: Vec<_> = cached.iter().map(|p| std::fs::metadata(p).unwrap().modified().unwrap()).collect();
     assert_eq!(stamps, again, "the cached references were rewritten");
 }
+
+/// `--ruler depth-peel:layers=8` measures every row against 8-layer depth
+/// peeling, as Zhang & Pajarola's ε is measured: a row's ε is then its image
+/// against the peeled one, which the test computes again from the images.
+#[test]
+fn a_ruler_mode_measures_every_row_against_its_image_instead_of_the_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let demo = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/demo.toml");
+    let run = |extra: &[&str]| {
+        let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
+            .arg("bench")
+            .arg(&demo)
+            .args(["--modes", "alg2,depth-peel:layers=8", "--size", "128x128", "--frames", "1", "--warm-up", "1"])
+            .args(["--views", "1", "--loads", "1", "--out"])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+        let rows: Vec<serde_json::Value> =
+            serde_json::from_slice(&std::fs::read(out.join("bench.json")).unwrap()).unwrap();
+        rows
+    };
+    let exact = run(&[]);
+    let peeled = run(&["--ruler", "depth-peel:layers=8"]);
+    let row = |rows: &[serde_json::Value], variant: &str| {
+        rows.iter().find(|r| r["variant"] == variant).unwrap_or_else(|| panic!("no {variant} row")).clone()
+    };
+    let (alg2, alg2_peeled) = (row(&exact, "alg2"), row(&peeled, "alg2"));
+    assert!(alg2["reference"].as_str().unwrap().starts_with("reference"), "{}", alg2["reference"]);
+    assert_eq!(alg2_peeled["reference"], "depth-peel:layers=8 (--ruler)");
+    // The ruler's own row is still measured against the exact reference.
+    assert_eq!(row(&peeled, "depth-peel:layers=8")["eps"], row(&exact, "depth-peel:layers=8")["eps"]);
+    // alg2's ε against the ruler is its image against the peeled image.
+    let image = |name: &str| image::open(out.join(name)).unwrap().to_rgba8();
+    let peel_image = image(row(&peeled, "depth-peel:layers=8")["image"].as_str().unwrap());
+    let want = pointblend::reference::compare(&image(alg2_peeled["image"].as_str().unwrap()), &peel_image).unwrap().eps;
+    let got = alg2_peeled["eps"].as_f64().unwrap();
+    println!("alg2: ε {} against the reference, {got} against 8-layer peeling (recomputed {want})", alg2["eps"]);
+    assert!((got - want).abs() < 1e-9, "{got} against {want}");
+    assert_ne!(alg2["eps"], alg2_peeled["eps"], "another ruler, another ε");
+}

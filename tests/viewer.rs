@@ -120,6 +120,7 @@ fn bench_image(sidecar: &Path, cache: &Path) -> image::RgbaImage {
         camera: Default::default(),
         time: None,
         stream_budget: Default::default(),
+        ruler: None,
     };
     let mut renderer = pointblend::render::HeadlessRenderer::new().unwrap();
     let timed = pointblend::bench::timing::time_frames(&mut renderer, &mut frames, &view.camera(), &settings, &config);

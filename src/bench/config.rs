@@ -56,6 +56,10 @@ pub struct BenchConfig {
     pub camera: crate::frame::CameraRequest,
     /// The time a moving scene is measured at, in seconds (0 when `None`).
     pub time: Option<f64>,
+    /// Another mode to measure every row against instead of the exact
+    /// reference (`--ruler`: Zhang & Pajarola measure against 8-layer depth
+    /// peeling); `None`: the reference.
+    pub ruler: Option<ModeVariant>,
 }
 
 pub(super) fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> BenchError + '_ {

@@ -49,6 +49,8 @@ pub(super) struct Prepared {
     pub(super) group_s: Option<f64>,
     /// Milliseconds the shadow coefficients took and the MiB of their TSM tables (lit by scene lights).
     pub(super) shadows: Option<(f64, f64)>,
+    /// Whether it is only `--ruler`'s variant, not a row of its own.
+    pub(super) ruler_only: bool,
 }
 
 /// A model's scene as the run sets it up: materials, environment, background.
@@ -108,7 +110,11 @@ pub(super) fn prepare_variants(
             )));
         }
     }
-    for variant in config.variants.iter().filter(|v| v.mode.is_gpu()) {
+    let ruler = config.ruler.iter().filter(|r| !config.variants.contains(r));
+    for (variant, ruler_only) in config.variants.iter().map(|v| (v, false)).chain(ruler.map(|r| (r, true))) {
+        if !variant.mode.is_gpu() {
+            continue;
+        }
         let settings = variant.apply(&opened.base).map_err(BenchError::Invalid)?;
         let triangles = frames.draws_triangles(&settings);
         if triangles || frames.applied_budget(&settings).is_some() {
@@ -122,7 +128,7 @@ pub(super) fn prepare_variants(
                 Some(crate::grouping::GroupingAlgo::Hash { k, .. }) => k,
                 _ => 1,
             };
-            prepared.push(Prepared { variant: variant.clone(), settings, k, group_s: None, shadows: None });
+            prepared.push(Prepared { variant: variant.clone(), settings, k, group_s: None, shadows: None, ruler_only });
             continue;
         }
         let (k, group_s) = match frames.drawn_grouping(&settings) {
@@ -137,7 +143,7 @@ pub(super) fn prepare_variants(
             let table_bytes: u64 = c.tables.iter().map(|t| t.bytes).sum();
             (c.seconds * 1e3, table_bytes as f64 / (1u64 << 20) as f64)
         });
-        prepared.push(Prepared { variant: variant.clone(), settings, k, group_s, shadows });
+        prepared.push(Prepared { variant: variant.clone(), settings, k, group_s, shadows, ruler_only });
     }
     Ok(prepared)
 }
@@ -328,6 +334,22 @@ pub(super) fn measure_variant(
     Ok(row)
 }
 
+/// `--ruler`'s ruler of one view: the variant's image (its frame time, and
+/// the exact reference's layer count per pixel, for ε by layers), and its name.
+fn mode_ruler(
+    renderer: &mut HeadlessRenderer,
+    frames: &mut SceneFrames,
+    view: &super::views::NamedView,
+    p: &Prepared,
+    config: &BenchConfig,
+    exact: &Ruler,
+) -> Result<(Ruler, String), BenchError> {
+    let (image, _, wall, _, _) = time_frames(renderer, frames, &view.camera, &p.settings, config)
+        .map_err(|e| BenchError::Invalid(format!("{} ({} view, the ruler): {e}", p.variant, view.name)))?;
+    let ms = spread(&wall).median;
+    Ok((Ruler { image, ms, layers: exact.layers.clone() }, p.variant.label()))
+}
+
 /// Every view's rows of one model (`name`, its file stem `stem`): the
 /// reference's, then each prepared variant's.
 #[allow(clippy::too_many_arguments)]
@@ -363,9 +385,20 @@ pub(super) fn measure_views(
             rows.push(row);
         }
         bar.inc(1);
-        for p in prepared {
-            let reference = rulers.of_variant(&opened.scene, p);
-            let blank = row(&p.variant.label(), p.variant.mode);
+        // `--ruler MODE`: that mode's image of the view, with the reference's layer counts.
+        let asked = match prepared.iter().find(|p| Some(&p.variant) == config.ruler.as_ref()) {
+            Some(p) => Some(mode_ruler(renderer, frames, view, p, config, &rulers.with_opacity)?),
+            None => None,
+        };
+        for p in prepared.iter().filter(|p| !p.ruler_only) {
+            let mut blank = row(&p.variant.label(), p.variant.mode);
+            let reference = match &asked {
+                Some(asked) if Some(&p.variant) != config.ruler.as_ref() => {
+                    blank.reference = format!("{} (--ruler)", asked.1);
+                    &asked.0
+                }
+                _ => rulers.of_variant(&opened.scene, p),
+            };
             rows.push(measure_variant(renderer, frames, view, p, config, reference, (stem, blank))?);
             bar.inc(1);
         }

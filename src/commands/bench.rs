@@ -23,6 +23,11 @@ pub struct Args {
     /// The reference is always rendered (it is the ruler).
     #[arg(long, value_delimiter = ',', default_value = "two-pass,deferred,reference")]
     pub modes: Vec<String>,
+    /// Measure every row against this mode variant (MODE[:KEY=VALUE...]) instead of
+    /// the exact reference, e.g. depth-peel:layers=8, the ruler of Zhang & Pajarola's
+    /// ε (its own row, if listed, is still measured against the reference) [default: reference].
+    #[arg(long, value_name = "VARIANT")]
+    pub ruler: Option<String>,
     /// Timed frames per mode and view.
     #[arg(long, default_value_t = 10)]
     pub frames: usize,
@@ -68,6 +73,17 @@ pub fn run(args: &Args) -> Result<()> {
     }
     if args.views == 0 || args.views > bench::views::MAX_VIEWS {
         bail!("--views must be 1..={}", bench::views::MAX_VIEWS);
+    }
+    let ruler = match args.ruler.as_deref() {
+        None | Some("reference") => None,
+        Some(text) => match ModeVariant::expand(text).map_err(|e| anyhow::anyhow!("--ruler: {e}"))?.as_slice() {
+            [one] if one.mode.is_gpu() => Some(one.clone()),
+            [_] => bail!("--ruler {text}: the reference is the default ruler; give a GPU mode's variant"),
+            _ => bail!("--ruler {text}: one variant, e.g. {text}:KEY=VALUE"),
+        },
+    };
+    if ruler.is_some() && args.animate.is_some() {
+        bail!("--ruler measures still frames; --animate measures each frame against its own reference");
     }
     let mut variants = Vec::new();
     let no_modes = args.modes.iter().all(|m| m == "none");
@@ -127,6 +143,7 @@ pub fn run(args: &Args) -> Result<()> {
         camera: Default::default(),
         time: None,
         stream_budget: args.view.stream_budget()?,
+        ruler,
     };
     let outcome = bench::run(&args.files, &config, &mut renderer)?;
     if !outcome.rows.is_empty() {

@@ -89,6 +89,7 @@ pub fn run(args: &Args) -> Result<()> {
             camera: args.camera_flags.request(),
             time: args.time,
             stream_budget: args.view.stream_budget()?,
+            ruler: None,
         };
         let outcome = bench::run(std::slice::from_ref(&part.model), &config, &mut renderer)?;
         sheet.push(sheet_row(part, &outcome.rows));
