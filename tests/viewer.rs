@@ -127,6 +127,34 @@ fn bench_image(sidecar: &Path, cache: &Path) -> image::RgbaImage {
     timed.unwrap().0
 }
 
+/// Ctrl+S, then the PNG it saved in `shots`.
+fn save_screenshot(h: &mut Harness<'_, ViewerApp>, shots: &Path) -> PathBuf {
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
+    wait_for(h, "the screenshot", |app| app.status().is_some_and(|s| s.starts_with("saved")));
+    std::fs::read_dir(shots)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "png"))
+        .expect("a PNG in the screenshot folder")
+}
+
+/// `pointblend render FILE --camera SIDECAR`: the image.
+fn render_again(file: &Path, sidecar: &Path, dir: &Path) -> image::RgbaImage {
+    let again = dir.join("again.png");
+    let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .arg("render")
+        .arg(file)
+        .arg("--camera")
+        .arg(sidecar)
+        .arg("--out")
+        .arg(&again)
+        .env("POINTBLEND_CACHE", dir.join("cache"))
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    image::open(&again).unwrap().to_rgba8()
+}
+
 /// The viewer, `render` and bench draw the same image of one view: all
 /// three make it through `SceneFrames::render_frame`.
 #[test]
@@ -135,29 +163,13 @@ fn a_screenshot_and_its_sidecar_reproduce_the_image_through_render_and_bench() {
     let shots = dir.path().join("shots");
     let mut h = harness(ViewerOptions { mode: Some(RenderMode::Deferred), ..options(&shots) });
     wait_for(&mut h, "the deferred lion", settled_in(RenderMode::Deferred));
-    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
-    wait_for(&mut h, "the screenshot", |app| app.status().is_some_and(|s| s.starts_with("saved")));
-    let png = std::fs::read_dir(&shots)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .find(|p| p.extension().is_some_and(|e| e == "png"))
-        .expect("a PNG in the screenshot folder");
+    let png = save_screenshot(&mut h, &shots);
     let sidecar = png.with_extension("json");
     assert!(sidecar.exists(), "{} has no sidecar", png.display());
     let shot = image::open(&png).unwrap().to_rgba8();
     assert_eq!(Some(shot.dimensions()), h.state().shown_frame().map(|(i, _)| i.dimensions()));
 
-    let again = dir.path().join("again.png");
-    let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
-        .args(["render", common::bundled_model().to_str().unwrap(), "--camera"])
-        .arg(&sidecar)
-        .arg("--out")
-        .arg(&again)
-        .env("POINTBLEND_CACHE", dir.path().join("cache"))
-        .output()
-        .unwrap();
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    let rendered = image::open(&again).unwrap().to_rgba8();
+    let rendered = render_again(&common::bundled_model(), &sidecar, dir.path());
     assert_eq!(rendered.dimensions(), shot.dimensions());
     let differing = rendered.pixels().zip(shot.pixels()).filter(|(a, b)| a != b).count();
     assert_eq!(differing, 0, "{differing} pixels differ between the screenshot and its re-render");
@@ -438,13 +450,7 @@ fn a_lit_screenshot_is_rendered_again_with_its_lights() {
     let lit =
         |app: &ViewerApp| app.is_settled() && app.shown_frame().is_some_and(|(_, k)| k.settings.lights.len() == 1);
     wait_for(&mut h, "the floor scene lit by its light", lit);
-    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
-    wait_for(&mut h, "the screenshot", |app| app.status().is_some_and(|s| s.starts_with("saved")));
-    let png = std::fs::read_dir(&shots)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .find(|p| p.extension().is_some_and(|e| e == "png"))
-        .expect("a PNG in the screenshot folder");
+    let png = save_screenshot(&mut h, &shots);
     let sidecar = pointblend::frame::Sidecar::read(&png.with_extension("json")).unwrap();
     let lights = sidecar.lights().unwrap();
     assert_eq!(lights.len(), 1, "the sidecar records the light");
@@ -454,19 +460,7 @@ fn a_lit_screenshot_is_rendered_again_with_its_lights() {
         "in file coordinates, as the scene file gives it: {at}"
     );
     let shot = image::open(&png).unwrap().to_rgba8();
-    let again = dir.path().join("again.png");
-    let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
-        .arg("render")
-        .arg(&file)
-        .arg("--camera")
-        .arg(png.with_extension("json"))
-        .arg("--out")
-        .arg(&again)
-        .env("POINTBLEND_CACHE", dir.path().join("cache"))
-        .output()
-        .unwrap();
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    let rendered = image::open(&again).unwrap().to_rgba8();
+    let rendered = render_again(&file, &png.with_extension("json"), dir.path());
     assert_eq!(rendered.dimensions(), shot.dimensions());
     let differing = rendered.pixels().zip(shot.pixels()).filter(|(a, b)| a != b).count();
     assert_eq!(differing, 0, "{differing} pixels differ between the lit screenshot and its re-render");

@@ -23,6 +23,19 @@ pub mod names {
     pub const NIR: &str = "nir";
     /// A streamed point's octree level (COPC), so a view can show its selection.
     pub const NODE_LEVEL: &str = "node_level";
+    /// The columns LAS records hold in standard fields (not extra bytes).
+    pub const LAS_STANDARD: [&str; 10] = [
+        INTENSITY,
+        CLASSIFICATION,
+        CLASSIFICATION_FLAGS,
+        RETURN_NUMBER,
+        NUMBER_OF_RETURNS,
+        GPS_TIME,
+        POINT_SOURCE_ID,
+        USER_DATA,
+        SCAN_ANGLE,
+        NIR,
+    ];
 }
 
 /// One column's values, in the narrowest type that holds them.

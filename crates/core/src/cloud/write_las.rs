@@ -22,18 +22,7 @@ use super::{CloudError, PointCloud};
 mod sink;
 
 /// The standard fields, which are not written again as extra bytes.
-const STANDARD: [&str; 10] = [
-    names::INTENSITY,
-    names::CLASSIFICATION,
-    names::CLASSIFICATION_FLAGS,
-    names::RETURN_NUMBER,
-    names::NUMBER_OF_RETURNS,
-    names::GPS_TIME,
-    names::POINT_SOURCE_ID,
-    names::USER_DATA,
-    names::SCAN_ANGLE,
-    names::NIR,
-];
+const STANDARD: [&str; 10] = names::LAS_STANDARD;
 
 /// The splat's own columns, written as f32 extra bytes.
 pub const SPLAT_FIELDS: [&str; 5] = ["nx", "ny", "nz", "radius", "alpha"];

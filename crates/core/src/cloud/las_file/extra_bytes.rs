@@ -107,20 +107,8 @@ pub fn descriptors(header: &las::Header, extra_bytes: u16) -> Result<Descriptors
 /// of one name would be kept as one.
 fn unique(name: String, out: &mut Descriptors) -> String {
     use crate::cloud::attributes::names;
-    let standard = [
-        names::INTENSITY,
-        names::CLASSIFICATION,
-        names::CLASSIFICATION_FLAGS,
-        names::RETURN_NUMBER,
-        names::NUMBER_OF_RETURNS,
-        names::GPS_TIME,
-        names::POINT_SOURCE_ID,
-        names::USER_DATA,
-        names::SCAN_ANGLE,
-        names::NIR,
-        names::NODE_LEVEL,
-    ];
-    let taken = |n: &str| standard.contains(&n) || out.fields.iter().any(|f| f.name == n);
+    let standard = |n: &str| names::LAS_STANDARD.contains(&n) || n == names::NODE_LEVEL;
+    let taken = |n: &str| standard(n) || out.fields.iter().any(|f| f.name == n);
     if !taken(&name) {
         return name;
     }
