@@ -128,7 +128,18 @@ fn the_readme_names_every_mode_and_subcommand() {
     for mode in pointblend::frame::RenderMode::ALL {
         assert!(readme.contains(&format!("`{}`", mode.name())), "the README does not describe mode {mode}");
     }
-    for command in ["view", "render", "info", "convert", "bench", "group"] {
+    // Every subcommand the program lists in its help.
+    let help = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend")).arg("--help").output().unwrap();
+    let help = String::from_utf8_lossy(&help.stdout).into_owned();
+    let listed = help.split("Commands:").nth(1).expect("the help lists the subcommands");
+    let commands: Vec<&str> = listed
+        .lines()
+        .take_while(|l| !l.trim().is_empty())
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|c| *c != "help")
+        .collect();
+    assert!(commands.len() >= 8, "{commands:?}");
+    for command in commands {
         assert!(readme.contains(&format!("pointblend {command}")), "the README has no example of {command}");
     }
 }

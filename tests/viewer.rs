@@ -465,3 +465,35 @@ fn a_lit_screenshot_is_rendered_again_with_its_lights() {
     let differing = rendered.pixels().zip(shot.pixels()).filter(|(a, b)| a != b).count();
     assert_eq!(differing, 0, "{differing} pixels differ between the lit screenshot and its re-render");
 }
+
+/// A screenshot of a view coloured by attribute carries the legend, where
+/// the view draws it (the lower left corner), and the frame unchanged elsewhere.
+#[test]
+fn a_screenshot_of_a_view_coloured_by_class_carries_its_legend() {
+    let dir = tempfile::tempdir().unwrap();
+    let shots = dir.path().join("shots");
+    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/lidar-classes.toml");
+    let mut h = harness(ViewerOptions { file: Some(file), mode: Some(RenderMode::TwoPass), ..options(&shots) });
+    wait_for(&mut h, "the lidar demo", settled_in(RenderMode::TwoPass));
+    let legend = h.state().legend_shown().expect("the lidar demo is coloured by class");
+    let png = save_screenshot(&mut h, &shots);
+    let shot = image::open(&png).unwrap().to_rgba8();
+    let frame = h.state().shown_frame().unwrap().0.clone();
+    assert_eq!(shot.dimensions(), frame.dimensions());
+    let (height, width) = legend.size();
+    let (w, h_px) = shot.dimensions();
+    let in_corner = |x: u32, y: u32| x < width as u32 + 20 && y + height as u32 + 20 > h_px;
+    let changed: Vec<(u32, u32)> = (0..h_px)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| shot.get_pixel(x, y) != frame.get_pixel(x, y))
+        .collect();
+    println!("{} pixels carry the legend {legend:?}", changed.len());
+    assert!(changed.len() > 500, "the legend is drawn in: {} pixels", changed.len());
+    assert!(changed.iter().all(|&(x, y)| in_corner(x, y)), "only the corner changes");
+    // Its swatches are the classes' colours.
+    let pointblend::viewer::Legend::Classes { rows, .. } = legend else { panic!("a class legend") };
+    for (colour, label) in rows {
+        let swatch = changed.iter().filter(|&&(x, y)| shot.get_pixel(x, y).0[..3] == colour).count();
+        assert!(swatch >= 50, "{label}'s swatch: {swatch} pixels");
+    }
+}
