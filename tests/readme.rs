@@ -134,6 +134,7 @@ fn the_readme_names_every_mode_and_subcommand() {
     let listed = help.split("Commands:").nth(1).expect("the help lists the subcommands");
     let commands: Vec<&str> = listed
         .lines()
+        .skip_while(|l| l.trim().is_empty())
         .take_while(|l| !l.trim().is_empty())
         .filter_map(|l| l.split_whitespace().next())
         .filter(|c| *c != "help")

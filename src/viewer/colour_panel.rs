@@ -22,7 +22,7 @@ pub fn colour_section(ui: &mut Ui, model: &ModelInfo<'_>, actions: &mut Vec<Acti
     let current = model.style.cloned().unwrap_or_default();
     let mut edited = current.clone();
     color_by_widget(ui, &mut edited, summary);
-    if let Some(column) = scalar_column(&edited, summary) {
+    if let Some(column) = summary.scalar_column(&edited) {
         egui::ComboBox::new("colormap", "colormap").selected_text(edited.colormap.name()).show_ui(ui, |ui| {
             for map in Colormap::ALL {
                 ui.selectable_value(&mut edited.colormap, map, map.name());
@@ -36,15 +36,6 @@ pub fn colour_section(ui: &mut Ui, model: &ModelInfo<'_>, actions: &mut Vec<Acti
     opacity_by_widget(ui, &mut edited, summary);
     if edited != current {
         actions.push(Action::SetStyle((!edited.is_plain()).then_some(edited)));
-    }
-}
-
-/// The column a scalar colouring reads, if the colours show one.
-pub fn scalar_column<'a>(style: &Style, summary: &'a Summary) -> Option<&'a ColumnSummary> {
-    match style.color_by.as_ref()? {
-        ColorBy::Elevation => summary.column("elevation"),
-        ColorBy::Attribute(name) => summary.column(name),
-        ColorBy::Rgb | ColorBy::Classification => None,
     }
 }
 

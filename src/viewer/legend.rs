@@ -6,7 +6,6 @@
 
 use egui::{Align2, Color32, FontId, Painter, Rect, pos2, vec2};
 
-use super::colour_panel::scalar_column;
 use crate::style::summary::Summary;
 use crate::style::{ColorBy, Colormap, Style, classes};
 
@@ -47,7 +46,7 @@ impl Legend {
                 Some(Legend::Classes { title: "classification".into(), rows })
             }
             by => {
-                let column = scalar_column(style, summary)?;
+                let column = summary.scalar_column(style)?;
                 let range = style.range.unwrap_or(column.percentiles);
                 Some(Legend::Scale { title: by.text(), colormap: style.colormap, range })
             }

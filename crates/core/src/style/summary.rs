@@ -31,6 +31,16 @@ pub struct Summary {
 }
 
 impl Summary {
+    /// The column a scalar colouring of `style` reads (elevation or an
+    /// attribute), if the colours show one.
+    pub fn scalar_column(&self, style: &super::Style) -> Option<&ColumnSummary> {
+        match style.color_by.as_ref()? {
+            super::ColorBy::Elevation => self.column("elevation"),
+            super::ColorBy::Attribute(name) => self.column(name),
+            super::ColorBy::Rgb | super::ColorBy::Classification => None,
+        }
+    }
+
     /// The summary of `cloud` (empty when it has no attributes: nothing to colour by).
     pub fn of(cloud: &PointCloud) -> Summary {
         if cloud.attributes.is_empty() {
