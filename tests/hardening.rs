@@ -735,7 +735,8 @@ fn pipes_devices_and_oversized_settings_files_are_refused_in_one_line_without_re
         ("--camera", big.as_path(), "more than"),
         ("--path", big.as_path(), "more than"),
     ] {
-        let args = ["render".as_ref(), lion.as_os_str(), flag.as_ref(), file.as_os_str(), "--out".as_ref(), out.as_os_str()];
+        let args =
+            ["render".as_ref(), lion.as_os_str(), flag.as_ref(), file.as_os_str(), "--out".as_ref(), out.as_os_str()];
         let error = one_error(&within(dir.path(), &args, 30), flag);
         assert!(error.contains(problem), "{flag} {}: {error}", file.display());
     }

@@ -92,8 +92,11 @@ fn bad_scene_files_name_the_file_line_column_and_problem() {
         ("fov", "171.0", "fov must be between 0.5 and 170 degrees"),
     ] {
         let path = dir.path().join("camera.toml");
-        std::fs::write(&path, format!("[camera]\n{key} = {value}\n\n[[object]]\nply = {:?}\n", model.to_str().unwrap()))
-            .unwrap();
+        std::fs::write(
+            &path,
+            format!("[camera]\n{key} = {value}\n\n[[object]]\nply = {:?}\n", model.to_str().unwrap()),
+        )
+        .unwrap();
         let error = the_one_error(&pointblend().arg("render").arg(&path).arg("--out").arg(&out).output().unwrap());
         let column = key.len() + 4;
         assert!(error.contains(&format!("camera.toml:2:{column}")) && error.contains(problem), "{key}: {error}");

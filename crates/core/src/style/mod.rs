@@ -149,7 +149,9 @@ impl Style {
             let c = column(&out, name, "--opacity-by")?;
             let values: Vec<f64> = (0..out.len()).map(|i| c.get(i)).collect();
             if !values.iter().any(|v| v.is_finite()) && !values.is_empty() {
-                return Err(format!("--opacity-by {name}: the attribute has no value that is a number (every one is NaN or infinite), so every splat would vanish"));
+                return Err(format!(
+                    "--opacity-by {name}: the attribute has no value that is a number (every one is NaN or infinite), so every splat would vanish"
+                ));
             }
             let (lo, hi) = percentile_range(&values);
             let span = if hi > lo { hi - lo } else { 1.0 };
@@ -217,7 +219,9 @@ mod tests {
         let error = style.apply(&all_nan).unwrap_err();
         assert!(error.contains("--opacity-by height") && error.contains("NaN"), "{error}");
         let mut some_nan = cloud(10);
-        some_nan.attributes.push("height", Values::F32((0..10).map(|i| if i < 3 { f32::NAN } else { i as f32 }).collect()));
+        some_nan
+            .attributes
+            .push("height", Values::F32((0..10).map(|i| if i < 3 { f32::NAN } else { i as f32 }).collect()));
         let (out, applied) = style.apply(&some_nan).unwrap();
         assert_eq!(applied.opacity_unset, 3);
         assert!(out.opacity.iter().all(|a| a.is_finite()), "no NaN opacity reaches the renderers");
