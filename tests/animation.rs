@@ -97,9 +97,15 @@ fn scene_file(dir: &Path, name: &str, body: &str) -> std::path::PathBuf {
     path
 }
 
-/// A scene file's line naming the Stanford bunny (`None`: the shared scans are absent).
-fn bunny_line() -> Option<String> {
-    Some(format!("ply = {:?}", common::stanford_bunny()?.display().to_string()))
+/// A scene file's line naming the bundled lion.
+fn lion_line() -> String {
+    format!("ply = {:?}", common::bundled_model().display().to_string())
+}
+
+/// The lion framed whole (it stands 4.6 units tall), as the default view frames it.
+fn lion_camera() -> Camera {
+    let (lion, _) = pointblend::cloud::load(&common::bundled_model()).unwrap();
+    Camera::default_for(&lion, 1.0)
 }
 
 fn render_both(
@@ -108,7 +114,7 @@ fn render_both(
     mode: RenderMode,
     grouping: &str,
 ) -> (image::RgbaImage, image::RgbaImage) {
-    let camera = Camera::framing(Vec3::ZERO, 0.12, 1.0);
+    let camera = lion_camera();
     let settings = RenderSettings { mode, grouping: grouping.parse::<GroupingSpec>().unwrap(), ..Default::default() };
     let mut gpu = common::renderer();
     let mut still_frames = SceneFrames::of(Arc::new(still.clone()));
@@ -122,19 +128,19 @@ fn render_both(
 #[test]
 fn a_deformation_of_amount_zero_or_a_keyframed_object_at_its_first_key_renders_as_the_still_scene() {
     let dir = tempfile::tempdir().unwrap();
-    let bunny = require!(bunny_line());
+    let lion = lion_line();
     let still = scene_file(
         dir.path(),
         "still.toml",
-        &format!("[[object]]\n{bunny}\nopacity = 0.5\ntranslate = [0.01, 0.0, 0.0]\n"),
+        &format!("[[object]]\n{lion}\nopacity = 0.5\ntranslate = [0.3, 0.0, 0.0]\n"),
     );
     let moving = scene_file(
         dir.path(),
         "moving.toml",
         &format!(
-            "[[object]]\n{bunny}\nopacity = 0.5\ndeform = {{ kind = \"wave\", amount = 0.0, period = 2.0 }}\n\
-             [[object.keyframe]]\ntime = 0.0\ntranslate = [0.01, 0.0, 0.0]\n\
-             [[object.keyframe]]\ntime = 1.0\ntranslate = [0.03, 0.02, 0.0]\nrotate = [0, 40, 0]\n"
+            "[[object]]\n{lion}\nopacity = 0.5\ndeform = {{ kind = \"wave\", amount = 0.0, period = 2.0 }}\n\
+             [[object.keyframe]]\ntime = 0.0\ntranslate = [0.3, 0.0, 0.0]\n\
+             [[object.keyframe]]\ntime = 1.0\ntranslate = [0.9, 0.6, 0.0]\nrotate = [0, 40, 0]\n"
         ),
     );
     let (still, _) = scene::open(&still, &Default::default()).unwrap();
@@ -157,7 +163,7 @@ fn a_deformation_of_amount_zero_or_a_keyframed_object_at_its_first_key_renders_a
 #[test]
 fn keyframes_interpolate_and_a_long_list_stays_cheap() {
     let dir = tempfile::tempdir().unwrap();
-    let mut body = format!("[[object]]\n{}\n", require!(bunny_line()));
+    let mut body = format!("[[object]]\n{}\n", lion_line());
     for k in 0..10_000 {
         body.push_str(&format!("[[object.keyframe]]\ntime = {}\ntranslate = [{}, 0.0, 0.0]\n", k as f32 * 0.01, k % 2));
     }
@@ -186,15 +192,15 @@ fn a_sequence_plays_its_frames_and_shows_the_one_before_an_unreadable_frame() {
     let dir = tempfile::tempdir().unwrap();
     let frames = dir.path().join("frames");
     std::fs::create_dir(&frames).unwrap();
-    let (bunny, _) = pointblend::cloud::load(&require!(common::stanford_bunny())).unwrap();
-    let mut moved = bunny.clone();
-    moved.positions.iter_mut().for_each(|p| p.y += 0.05);
+    let (lion, _) = pointblend::cloud::load(&common::bundled_model()).unwrap();
+    let mut moved = lion.clone();
+    moved.positions.iter_mut().for_each(|p| p.y += 1.5);
     moved.positions.truncate(20_000); // frames may differ in point count
     moved.normals.truncate(20_000);
     moved.radii.truncate(20_000);
     moved.colours.truncate(20_000);
     moved.opacity.truncate(20_000);
-    write_frame(&frames.join("f_000.ply"), &bunny);
+    write_frame(&frames.join("f_000.ply"), &lion);
     std::fs::write(frames.join("f_001.ply"), b"ply\nformat ascii 1.0\nelement vertex 3\nend_header\n1 2\n").unwrap();
     write_frame(&frames.join("f_002.ply"), &moved);
     std::fs::write(frames.join("notes.txt"), "not a frame").unwrap();
@@ -205,10 +211,10 @@ fn a_sequence_plays_its_frames_and_shows_the_one_before_an_unreadable_frame() {
         let at = scene.at_time(t).unwrap();
         (at.frames[0], at.scene.objects[0].cloud.len())
     };
-    assert_eq!(shown(0.0), (Some(0), bunny.len()));
-    assert_eq!(shown(0.6), (Some(0), bunny.len()), "the unreadable frame 1 shows frame 0");
+    assert_eq!(shown(0.0), (Some(0), lion.len()));
+    assert_eq!(shown(0.6), (Some(0), lion.len()), "the unreadable frame 1 shows frame 0");
     assert_eq!(shown(1.2), (Some(2), 20_000));
-    assert_eq!(shown(1.6), (Some(0), bunny.len()), "the sequence loops");
+    assert_eq!(shown(1.6), (Some(0), lion.len()), "the sequence loops");
     // A sequence of one frame, named as a folder.
     let single = dir.path().join("single");
     std::fs::create_dir(&single).unwrap();
@@ -286,7 +292,7 @@ fn bad_animation_input_is_one_clear_line_and_writes_nothing() {
 fn bench_animate_records_each_frames_regroup_upload_and_error() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    let wave = require!(common::stanford_scene("bunny-wave.toml"));
+    let wave = common::asset("lion-wave.toml");
     let args = [
         "bench",
         wave.to_str().unwrap(),
@@ -321,15 +327,14 @@ fn bench_animate_records_each_frames_regroup_upload_and_error() {
         assert_eq!(row["upload_ms"].is_null(), frame == 0, "an upload is timed from frame 1 on: {row}");
         assert!(row["eps"].as_f64().unwrap().is_finite());
     }
-    let (ok, stderr) = pointblend(&["bench", require!(common::stanford_bunny()).to_str().unwrap(), "--animate", "2"]);
+    let (ok, stderr) = pointblend(&["bench", common::bundled_model().to_str().unwrap(), "--animate", "2"]);
     assert!(!ok && error_line(&stderr).contains("nothing in the scene moves"), "{stderr}");
 }
 
 #[test]
 fn a_scene_moved_on_frame_by_frame_draws_what_a_fresh_upload_of_that_frame_draws() {
-    let wave = require!(common::stanford_scene("bunny-wave.toml"));
-    let (scene, _) = scene::open(&wave, &Default::default()).unwrap();
-    let camera = Camera::framing(Vec3::new(-0.02, 0.1, 0.0), 0.11, 1.0);
+    let (scene, _) = scene::open(&common::asset("lion-wave.toml"), &Default::default()).unwrap();
+    let camera = lion_camera();
     let mut gpu = common::renderer();
     for mode in [RenderMode::Deferred, RenderMode::Alg2, RenderMode::DepthPeel, RenderMode::Tiled] {
         let settings = RenderSettings { mode, ..Default::default() };
@@ -364,12 +369,11 @@ fn a_scene_moved_on_frame_by_frame_draws_what_a_fresh_upload_of_that_frame_draws
 const MAX_PER_FRAME_OVERLAP_GROWTH: f64 = 1.10;
 
 #[test]
-fn per_frame_hash_groups_of_the_waving_bunny_overlap_about_as_little_as_the_still_ones() {
+fn per_frame_hash_groups_of_the_waving_lion_overlap_about_as_little_as_the_still_ones() {
     use pointblend::grouping::hash::{Collisions, HashOptions};
     use pointblend::grouping::metrics;
     use pointblend::grouping::regroup::{HashRegrouper, Lattice};
-    let wave = require!(common::stanford_scene("bunny-wave.toml"));
-    let (scene, _) = scene::open(&wave, &Default::default()).unwrap();
+    let (scene, _) = scene::open(&common::asset("lion-wave.toml"), &Default::default()).unwrap();
     let rest = Arc::clone(&scene.objects[0].cloud);
     let options = HashOptions { k: 8, collisions: Collisions::All };
     let mut regrouper = HashRegrouper::new(Lattice::of(&rest), options).unwrap();
@@ -379,7 +383,7 @@ fn per_frame_hash_groups_of_the_waving_bunny_overlap_about_as_little_as_the_stil
         let per_frame = metrics::measure(&cloud, &regrouper.regroup(&cloud)).overlap_factor;
         let one_off = metrics::measure(&cloud, &pointblend::grouping::hash::group(&cloud, &options).unwrap().0);
         let one_off = one_off.overlap_factor;
-        println!("t {t}: overlap factor per frame {per_frame:.4}, one-off {one_off:.4} (the still bunny {still:.4})");
+        println!("t {t}: overlap factor per frame {per_frame:.4}, one-off {one_off:.4} (the still lion {still:.4})");
         assert!(per_frame <= one_off * MAX_PER_FRAME_OVERLAP_GROWTH, "t {t}: per frame {per_frame}, one-off {one_off}");
         assert!(per_frame <= still * MAX_PER_FRAME_OVERLAP_GROWTH, "t {t}: per frame {per_frame}, still {still}");
     }
@@ -390,15 +394,15 @@ fn a_sequence_with_an_empty_frame_plays_through_it_in_every_grouped_mode() {
     let dir = tempfile::tempdir().unwrap();
     let frames = dir.path().join("frames");
     std::fs::create_dir(&frames).unwrap();
-    let (bunny, _) = pointblend::cloud::load(&require!(common::stanford_bunny())).unwrap();
-    write_frame(&frames.join("f_0.ply"), &bunny);
+    let lion = common::thinned_lion(3);
+    write_frame(&frames.join("f_0.ply"), &lion);
     let empty =
         "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
     std::fs::write(frames.join("f_1.ply"), empty).unwrap();
-    write_frame(&frames.join("f_2.ply"), &bunny);
+    write_frame(&frames.join("f_2.ply"), &lion);
     let path = scene_file(dir.path(), "seq.toml", "[[object]]\nsequence = \"frames\"\nfps = 1\nopacity = 0.5\n");
     let (scene, _) = scene::open(&path, &Default::default()).unwrap();
-    let camera = Camera::framing(Vec3::ZERO, 0.12, 1.0);
+    let camera = lion_camera();
     let mut gpu = common::renderer();
     for mode in [RenderMode::Deferred, RenderMode::Alg2, RenderMode::Tiled] {
         let settings = RenderSettings { mode, ..Default::default() };
@@ -419,13 +423,13 @@ fn a_sequence_with_an_empty_frame_plays_through_it_in_every_grouped_mode() {
 fn a_copy_sorted_back_to_front_and_then_moved_draws_the_moved_frame_in_a_mode_that_does_not_sort() {
     let dir = tempfile::tempdir().unwrap();
     let body = format!(
-        "[[object]]\n{}\nopacity = 0.5\n\n[[object]]\nsphere = {{ splats = 2000, radius = 0.02, centre = [-0.005, 0.075, 0.005] }}\n\
-         [[object.keyframe]]\ntime = 0.0\n[[object.keyframe]]\ntime = 1.0\ntranslate = [0.0, 0.03, 0.0]\n",
-        require!(bunny_line())
+        "[[object]]\n{}\nopacity = 0.5\n\n[[object]]\nsphere = {{ splats = 2000, radius = 0.5, centre = [0.0, 2.2, -0.6] }}\n\
+         [[object.keyframe]]\ntime = 0.0\n[[object.keyframe]]\ntime = 1.0\ntranslate = [0.0, 0.9, 0.0]\n",
+        lion_line()
     );
     let (scene, _) = scene::open(&scene_file(dir.path(), "still-and-moving.toml", &body), &Default::default()).unwrap();
     let lattice = pointblend::render::rest_lattice(&scene).unwrap();
-    let camera = Camera::framing(Vec3::new(-0.02, 0.1, 0.0), 0.11, 1.0);
+    let camera = lion_camera();
     let sorted = RenderSettings { mode: RenderMode::AlphaBlend, ..Default::default() };
     let unsorted = RenderSettings { mode: RenderMode::DepthPeel, ..Default::default() };
     let mut gpu = common::renderer();

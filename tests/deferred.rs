@@ -26,6 +26,11 @@ fn render(
     renderer.render_image(&mut gpu, camera, settings, 128, 128).expect("render").0
 }
 
+/// The bundled lion (94K splats).
+fn lion() -> PointCloud {
+    cloud::load(&common::bundled_model()).unwrap().0
+}
+
 fn deferred() -> RenderSettings {
     RenderSettings { mode: RenderMode::Deferred, ..Default::default() }
 }
@@ -77,7 +82,7 @@ fn with_one_group_per_splat_deferred_equals_two_pass() {
 
 #[test]
 fn with_independent_groups_deferred_is_close_to_two_pass() {
-    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+    let cloud = lion();
     let grouping = GroupingSpec::mgc(1.0).compute(&cloud).unwrap();
     for az in [0.0, 120.0, 240.0] {
         let mut camera = Camera::default_for(&cloud, 1.0);
@@ -144,7 +149,7 @@ fn deferred_gives_sane_images_in_extreme_views() {
 
 #[test]
 fn without_lighting_no_normal_target_is_planned_and_images_match_the_reference() {
-    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+    let cloud = lion();
     let grouping = GroupingSpec::mgc(1.0).compute(&cloud).unwrap();
     let camera = Camera::default_for(&cloud, 1.0);
     for mode in [RenderMode::TwoPass, RenderMode::Deferred] {
@@ -168,7 +173,9 @@ fn without_lighting_no_normal_target_is_planned_and_images_match_the_reference()
 
 #[test]
 fn a_cloud_of_one_colour_writes_only_weights_and_looks_the_same() {
-    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+    // The lion in one clay colour: its scanned colours would take the full colour path.
+    let mut cloud = lion();
+    cloud.colours.iter_mut().for_each(|c| *c = [200, 170, 140]);
     let mut full_colour = cloud.clone();
     full_colour.colours[0][0] ^= 1; // one splat one unit off: the full colour path
     let grouping = GroupingSpec::mgc(0.4).compute(&cloud).unwrap();
@@ -200,7 +207,7 @@ fn deferred_in_the_papers_opaque_setting_stays_close_to_the_reference() {
     // MGC at c = 0.4 with Voronoi depth (the default): splats of one group may
     // overlap, and there the nearest wins instead of blending, so the image
     // departs from the exact blend; the bound says how far.
-    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+    let cloud = lion();
     let grouping = GroupingSpec::default().compute(&cloud).unwrap();
     let settings = deferred();
     assert!(settings.voronoi);

@@ -331,7 +331,7 @@ fn read_u32s(ctx: &pointblend::render::GpuContext, source: &wgpu::Buffer, count:
 fn each_group_is_sorted_back_to_front_in_the_instance_buffers_only_when_the_view_changes() {
     use pointblend::render::gpu_data::SplatInstance;
     const WORDS: usize = std::mem::size_of::<SplatInstance>() / 4;
-    let (mut cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+    let mut cloud = common::thinned_lion(3);
     cloud.opacity.iter_mut().for_each(|a| *a = 0.5); // only transparent scenes are drawn in order
     let grouping = "hash-k4-dup".parse::<GroupingSpec>().unwrap().compute(&cloud).unwrap();
     let renderer = common::renderer();
@@ -424,7 +424,7 @@ fn how_often_the_orders_draw_a_nearer_layer_before_a_farther_one_on_real_scans()
 fn the_order_setting_decides_what_the_instance_buffers_hold_each_frame() {
     use pointblend::frame::RenderSettings;
     use pointblend::render::gpu_data::SplatInstance;
-    let (mut cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+    let mut cloud = common::thinned_lion(3);
     cloud.opacity.iter_mut().for_each(|a| *a = 0.5);
     let grouping = "wgc-k4-radius".parse::<GroupingSpec>().unwrap().compute(&cloud).unwrap();
     let mut renderer = common::renderer();

@@ -6,6 +6,7 @@ mod common;
 use common::tolerances::*;
 use glam::Vec3;
 use pointblend::cloud::{self, PointCloud};
+use pointblend::frame::prefilter::LOW_PASS_RADIUS_PX;
 use pointblend::frame::{Camera, Prefilter};
 use pointblend::reference::{self, ReferenceOptions};
 use pointblend::render::RenderSettings;
@@ -44,6 +45,20 @@ fn render_at(cloud: &PointCloud, camera: &Camera, settings: &RenderSettings, siz
     renderer.render_image(&mut gpu, camera, settings, size, size).expect("render").0
 }
 
+/// The bundled lion (94K splats).
+fn lion() -> PointCloud {
+    cloud::load(&common::bundled_model()).unwrap().0
+}
+
+/// The default view of `cloud` moved back until the model is about
+/// `pixels` tall in a frame `size` pixels tall (the default view fits it to
+/// the frame).
+fn far(cloud: &PointCloud, pixels: u32, size: u32) -> Camera {
+    let mut camera = Camera::default_for(cloud, 1.0);
+    camera.distance *= size as f32 / pixels as f32;
+    camera
+}
+
 fn settings(prefilter: Prefilter) -> RenderSettings {
     RenderSettings { prefilter, lighting: false, ..Default::default() }
 }
@@ -77,22 +92,34 @@ fn splats_larger_than_the_filter_are_drawn_as_without_it() {
         (render(&cloud, &camera, &settings(Prefilter::None)), render(&cloud, &camera, &settings(Prefilter::Ewa)));
     let differing = none.pixels().zip(ewa.pixels()).filter(|(a, b)| a != b).count();
     assert_eq!(differing, 0, "a close-up (every splat above the low-pass radius) changed in {differing} pixels");
-    // The bundled bunny, lit, close: its splats are over a pixel wide, and
-    // those seen edge-on along its silhouette (thin on screen) are not widened either.
-    let (bunny, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
-    let mut camera = Camera::default_for(&bunny, 1.0);
-    camera.distance = camera.fit_distance(&bunny.positions, 1.0) * 0.5;
+    // The bundled lion, lit, close at 320²: every splat is over the low-pass
+    // radius on screen (checked below; at 160² its smallest splats are not,
+    // and are rightly stretched), and those seen edge-on along its silhouette
+    // (thin on screen) are not widened either.
+    let lion = lion();
+    let size = 320;
+    let mut camera = Camera::default_for(&lion, 1.0);
+    camera.distance = camera.fit_distance(&lion.positions, 1.0) * 0.5;
+    let view = camera.view_matrix();
+    let smallest = (0..lion.len())
+        .map(|i| lion.radii[i] * camera.focal_pixels(size) / -view.transform_point3(lion.positions[i]).z)
+        .fold(f32::INFINITY, f32::min);
+    assert!(smallest > LOW_PASS_RADIUS_PX, "the smallest splat is {smallest} px: not a close-up");
     let lit = |p: Prefilter| RenderSettings { prefilter: p, ..Default::default() };
-    let (none, ewa) = (render(&bunny, &camera, &lit(Prefilter::None)), render(&bunny, &camera, &lit(Prefilter::Ewa)));
-    // A widened silhouette turns background pixels into surface, tens of levels
-    // apart. Measured: 2 pixels off by 1/255, at the image's left edge.
+    let (none, ewa) =
+        (render_at(&lion, &camera, &lit(Prefilter::None), size), render_at(&lion, &camera, &lit(Prefilter::Ewa), size));
+    // A widened silhouette turns background pixels into surface, tens of
+    // levels apart. Measured (2026-11-29, lavapipe): smallest splat 1.18 px,
+    // 2 pixels off by 1/255 (the Stanford bunny: 2 pixels by 1/255 too).
     let worst = none.pixels().zip(ewa.pixels()).flat_map(|(a, b)| (0..3).map(|c| a[c].abs_diff(b[c]))).max();
-    assert!(worst <= Some(1), "the close bunny changed by up to {worst:?}/255");
+    let changed = none.pixels().zip(ewa.pixels()).filter(|(a, b)| a != b).count();
+    println!("the close lion: smallest splat {smallest:.2} px; {changed} pixels changed, by up to {worst:?}/255");
+    assert!(worst <= Some(1), "the close lion changed by up to {worst:?}/255");
 }
 
 #[test]
 fn a_supersampled_reference_is_the_box_filter_of_its_rays() {
-    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+    let cloud = lion();
     let scene = Scene::from(cloud.clone());
     let mut camera = Camera::default_for(&cloud, 1.0);
     camera.distance = camera.fit_distance(&cloud.positions, 1.0) * 3.0;
@@ -155,6 +182,11 @@ fn bad_supersample_and_prefilter_values_are_one_line_and_write_nothing() {
 /// shaded by edge-on normals, a dark rim; deferred's within-group z-test
 /// did the same. The outline's pixels must be no darker with the filter
 /// than without it, in two-pass and in deferred.
+///
+/// Kept on the bunny: the property does not carry to the lion. There the
+/// prefiltered two-pass outline is 3-9 % darker at 24, 32 and 48 px tall
+/// (mean r+g+b 255 against 281 at 24 px; deferred's is brighter), with its
+/// scanned colours or in one colour alike (measured 2026-11-29, lavapipe).
 #[test]
 fn a_far_prefiltered_outline_is_no_darker_than_an_unfiltered_one() {
     let (bunny, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
@@ -215,33 +247,65 @@ fn eps_over_model(image: &image::RgbaImage, exact: &image::RgbaImage, unfiltered
     sum / ((high.0 - low.0 + 1) * (high.1 - low.1 + 1)) as f64
 }
 
-/// The Stanford bunny far away, about 48 px tall on black, every splat below
-/// the low-pass radius: what aliases is its outline and its shading. The
+/// A model far away, about 48 px tall on black, every splat below the
+/// low-pass radius: what aliases is its outline and its shading. The
 /// prefilter's coverage blends the outline with what is behind it and its
 /// stretched splats are shaded before they are averaged, so the error
-/// against the 4×4-supersampled reference, over the bunny's box, is at most
-/// half of the unfiltered image's (measured at 256²: lit 4.28 against 10.18,
-/// unlit 5.29 against 12.68). Without coverage the filter widened the
-/// outline by half a pixel and tripled the error.
-#[test]
-fn a_far_bunny_is_at_least_twice_as_near_the_supersampled_reference_with_the_prefilter() {
-    let (bunny, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
-    let scene = Scene::from(bunny.clone());
-    let mut camera = Camera::default_for(&bunny, 1.0);
-    camera.distance = 1.3;
+/// against the 4×4-supersampled reference, over the model's box, is a share
+/// of the unfiltered image's: at most `bound` lit and unlit. Without coverage
+/// the filter widened the outline by half a pixel and tripled the error.
+fn far_model_is_nearer_the_supersampled_reference_with_the_prefilter(
+    what: &str,
+    cloud: &PointCloud,
+    camera: &Camera,
+    bound: f64,
+) {
+    let scene = Scene::from(cloud.clone());
     let size = 256;
     let shading = pointblend::frame::Shading { background: Vec3::ZERO, ..Default::default() };
     for lighting in [true, false] {
         let settings = |prefilter| RenderSettings { prefilter, lighting, shading, ..Default::default() };
-        let exact = supersampled(&scene, &camera, &settings(Prefilter::None), 4, size);
-        let none = render_at(&bunny, &camera, &settings(Prefilter::None), size);
-        let ewa = render_at(&bunny, &camera, &settings(Prefilter::Ewa), size);
+        let exact = supersampled(&scene, camera, &settings(Prefilter::None), 4, size);
+        let none = render_at(cloud, camera, &settings(Prefilter::None), size);
+        let ewa = render_at(cloud, camera, &settings(Prefilter::Ewa), size);
         let (eps_none, eps_ewa) = (eps_over_model(&none, &exact, &none), eps_over_model(&ewa, &exact, &none));
-        println!("lighting {lighting}: ε none {eps_none:.2}, ewa {eps_ewa:.2}, ratio {:.3}", eps_ewa / eps_none);
-        assert!(eps_none > 5.0, "lighting {lighting}: the unfiltered bunny aliases too little ({eps_none:.2}) to test");
-        assert!(
-            eps_ewa <= MAX_EWA_ALIASING_RATIO * eps_none,
-            "lighting {lighting}: ε ewa {eps_ewa:.2} against none {eps_none:.2}"
+        let ratio = eps_ewa / eps_none;
+        println!(
+            "{what}, lighting {lighting}: ε none {eps_none:.2}, ewa {eps_ewa:.2}, ratio {ratio:.3} (bound {bound:.3})"
         );
+        assert!(eps_none > 5.0, "{what}, lighting {lighting}: the unfiltered model aliases too little ({eps_none:.2})");
+        assert!(ratio <= bound, "{what}, lighting {lighting}: ε ewa {eps_ewa:.2} against none {eps_none:.2}");
     }
+}
+
+/// The bundled lion about 48 px tall at 256²: a regression bound measured on it.
+#[test]
+fn a_far_lion_is_nearer_the_supersampled_reference_with_the_prefilter() {
+    let lion = lion();
+    let camera = far(&lion, 48, 256);
+    far_model_is_nearer_the_supersampled_reference_with_the_prefilter(
+        "far lion",
+        &lion,
+        &camera,
+        MAX_EWA_FAR_LION_RATIO,
+    );
+}
+
+/// The Stanford bunny at distance 1.3 (about 48 px tall at 256²): the
+/// issue's goal, at most half the unfiltered error (measured: lit 4.28
+/// against 10.18, unlit 5.29 against 12.68). Kept on the bunny because the
+/// goal was set and met there and docs/BENCHMARKS.md reports its far view;
+/// the lion, whose colours and varied splat sizes alias otherwise, has its
+/// own measured bound above.
+#[test]
+fn a_far_bunny_is_at_least_twice_as_near_the_supersampled_reference_with_the_prefilter() {
+    let (bunny, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+    let mut camera = Camera::default_for(&bunny, 1.0);
+    camera.distance = 1.3;
+    far_model_is_nearer_the_supersampled_reference_with_the_prefilter(
+        "far bunny",
+        &bunny,
+        &camera,
+        MAX_EWA_ALIASING_RATIO,
+    );
 }

@@ -160,8 +160,8 @@ fn a_disc_seen_at_89_degrees_gives_no_nan() {
 }
 
 #[test]
-fn two_pass_matches_the_reference_on_the_bunny() {
-    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+fn two_pass_matches_the_reference_on_the_lion() {
+    let (cloud, _) = cloud::load(&common::bundled_model()).unwrap();
     let settings = RenderSettings::default();
     let size = 256;
     let mut renderer = common::renderer();

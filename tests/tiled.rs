@@ -2,7 +2,7 @@
 //! reference: parallel planes, a closed sphere from outside and from inside,
 //! coincident splats by the thousand and the hundred thousand, thousands of
 //! layers over one tile, edge-on planes, a floor crossing the near plane,
-//! and the bundled bunny in three views, opaque and transparent.
+//! and the bundled lion in three views, opaque and transparent.
 
 mod common;
 
@@ -327,15 +327,15 @@ fn reading_lists_by_subgroup_or_by_pixel_gives_the_same_image() {
 }
 
 #[test]
-fn the_bundled_bunny_matches_the_reference_opaque_and_transparent_in_three_views() {
-    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+fn the_bundled_lion_matches_the_reference_opaque_and_transparent_in_three_views() {
+    let (cloud, _) = cloud::load(&common::bundled_model()).unwrap();
     for opacity in [1.0, 0.5] {
         let mut scene = Scene::from(cloud.clone());
         scene.set_opacity(opacity);
         for (azimuth, elevation) in [(0.0, 0.0), (90.0, 20.0), (200.0, -30.0)] {
             let (error, early) = against_reference(&scene, (azimuth, elevation), 160);
             println!(
-                "bunny at {opacity}, view ({azimuth}, {elevation}): ε {:.4}, bad pixels {:.4}%, {early} window overflows",
+                "lion at {opacity}, view ({azimuth}, {elevation}): ε {:.4}, bad pixels {:.4}%, {early} window overflows",
                 error.eps,
                 100.0 * error.bad_pixel_share
             );
@@ -346,9 +346,8 @@ fn the_bundled_bunny_matches_the_reference_opaque_and_transparent_in_three_views
 }
 
 #[test]
-fn the_glass_bunny_reflects_and_refracts_as_the_reference_does() {
-    let scene =
-        pointblend::scene::open(&require!(common::stanford_scene("glass-bunny.toml")), &Default::default()).unwrap().0;
+fn the_glass_lion_reflects_and_refracts_as_the_reference_does() {
+    let scene = pointblend::scene::open(&common::asset("glass.toml"), &Default::default()).unwrap().0;
     let camera = Camera::default_for(&scene.flattened(), 1.0);
     for layers in ["single", "multi"] {
         let mut settings = settings(true);
@@ -356,14 +355,14 @@ fn the_glass_bunny_reflects_and_refracts_as_the_reference_does() {
         let (image, _) = render(&scene, &camera, &settings, 128);
         let (want, _) = exact(&scene, &camera, &settings, 128);
         let error = reference::compare(&image, &want).unwrap();
-        println!("glass bunny, {layers}-layer effects: ε {:.4}", error.eps);
+        println!("glass lion, {layers}-layer effects: ε {:.4}", error.eps);
         assert!(error.eps <= MAX_TILED_ENVIRONMENT_EPS, "{layers}: ε {}", error.eps);
     }
 }
 
 #[test]
 fn an_opaque_scene_runs_the_tile_pipeline_and_the_plan_states_its_memory() {
-    let (cloud, _) = cloud::load(&require!(common::stanford_bunny())).unwrap();
+    let (cloud, _) = cloud::load(&common::bundled_model()).unwrap();
     let scene = Scene::from(cloud);
     let camera = Camera::default_for(&scene.flattened(), 1.0);
     let mut renderer = common::renderer();
@@ -389,15 +388,7 @@ fn tile_lists_that_do_not_fit_give_one_clear_error_and_no_image() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("never.png");
     let result = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
-        .args([
-            "render",
-            require!(common::stanford_bunny()).to_str().unwrap(),
-            "--mode",
-            "tiled",
-            "--size",
-            "256x256",
-            "--out",
-        ])
+        .args(["render", common::bundled_model().to_str().unwrap(), "--mode", "tiled", "--size", "256x256", "--out"])
         .arg(&out)
         .env("POINTBLEND_GPU_MEMORY_MB", "3")
         .output()

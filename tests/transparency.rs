@@ -5,7 +5,7 @@ mod common;
 
 use common::tolerances::*;
 use glam::Vec3;
-use pointblend::cloud::{self, PointCloud};
+use pointblend::cloud::PointCloud;
 use pointblend::frame::{Camera, RenderSettings};
 use pointblend::grouping::Grouping;
 use pointblend::reference::{self, ReferenceOptions};
@@ -13,14 +13,6 @@ use pointblend::render::RenderMode;
 use pointblend::render::plan::TargetId;
 use pointblend::scene::{Material, Scene, primitives};
 use pointblend::spatial::order::OrderKind;
-
-/// The Stanford bunny at `opacity` (`None`: the shared scans are absent).
-fn transparent_bunny(opacity: f32) -> Option<Scene> {
-    let (cloud, _) = cloud::load(&common::stanford_bunny()?).unwrap();
-    let mut scene = Scene::from(cloud);
-    scene.set_opacity(opacity);
-    Some(scene)
-}
 
 /// The bundled lion (a third of its splats) at `opacity`.
 fn transparent_lion(opacity: f32) -> Scene {
@@ -57,15 +49,15 @@ fn exact(scene: &Scene, camera: &Camera, settings: &RenderSettings, size: u32) -
 }
 
 #[test]
-fn depth_peel_with_enough_layers_matches_the_reference_on_the_transparent_bunny() {
-    let scene = require!(transparent_bunny(0.5));
+fn depth_peel_with_enough_layers_matches_the_reference_on_the_transparent_lion() {
+    let scene = transparent_lion(0.5);
     let size = 160;
     for (az, el) in [(0.0, 10.0), (90.0, 25.0), (200.0, 40.0)] {
         let camera = view(&scene, az, el);
         let probe = settings("depth-peel", 0);
         let (want, counts) = exact(&scene, &camera, &probe, size);
         let deepest = counts.iter().copied().max().unwrap();
-        assert!(deepest >= 2, "az {az}: the bunny is seen through ({deepest} layers)");
+        assert!(deepest >= 2, "az {az}: the lion is seen through ({deepest} layers)");
         let settings = settings("depth-peel", deepest);
         let got = render(&scene, &camera, &settings, size);
         let error = reference::compare(&got, &want).unwrap();
@@ -76,7 +68,7 @@ fn depth_peel_with_enough_layers_matches_the_reference_on_the_transparent_bunny(
 
 #[test]
 fn fewer_peeled_layers_cost_accuracy_and_approximate_peeling_recovers_most_of_it() {
-    let scene = require!(transparent_bunny(0.5));
+    let scene = transparent_lion(0.5);
     let camera = view(&scene, 20.0, 10.0);
     let size = 160;
     let (want, _) = exact(&scene, &camera, &settings("depth-peel", 0), size);
@@ -542,20 +534,21 @@ fn alg1_and_alg2_with_one_group_with_the_most_layers_the_device_allows_and_edge_
 }
 
 #[test]
-fn each_transparent_mode_stays_as_accurate_as_measured_on_the_bunny() {
-    // The bundled bunny at opacity 0.5, lit, 128², one view, each mode at
-    // its defaults (alg1 and alg2 with their covering grouping) against the
-    // exact reference: a regression guard on the accuracy of each algorithm.
-    let scene = require!(transparent_bunny(0.5));
+fn each_transparent_mode_stays_as_accurate_as_measured_on_the_lion() {
+    // The bundled lion (a third of its splats) at opacity 0.5, lit, 128², one
+    // view, each mode at its defaults (alg1 and alg2 with their covering
+    // grouping) against the exact reference: a regression guard on the
+    // accuracy of each algorithm.
+    let scene = transparent_lion(0.5);
     let camera = view(&scene, 30.0, 15.0);
     let size = 128;
     let (want, _) = exact(&scene, &camera, &settings("reference", 0), size);
     let flat = scene.flattened();
     for (name, bound) in [
-        ("depth-peel", MAX_BUNNY_DEPTH_PEEL_EPS),
-        ("approx-peel", MAX_BUNNY_APPROX_PEEL_EPS),
-        ("alg1", MAX_BUNNY_ALG1_EPS),
-        ("alg2", MAX_BUNNY_ALG2_EPS),
+        ("depth-peel", MAX_LION_DEPTH_PEEL_EPS),
+        ("approx-peel", MAX_LION_APPROX_PEEL_EPS),
+        ("alg1", MAX_LION_ALG1_EPS),
+        ("alg2", MAX_LION_ALG2_EPS),
     ] {
         let settings = settings(name, 0);
         let grouping = settings.mode.needs_grouping().then(|| settings.grouping_for_mode().compute(&flat).unwrap());

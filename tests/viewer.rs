@@ -281,7 +281,7 @@ fn a_scene_lights_the_view_and_lights_move_and_go() {
 #[test]
 fn a_moving_scene_plays_and_pauses_and_states_its_regroup_cost() {
     let dir = tempfile::tempdir().unwrap();
-    let file = require!(common::stanford_scene("bunny-wave.toml"));
+    let file = common::asset("lion-wave.toml");
     let mut h = harness(ViewerOptions { file: Some(file), mode: Some(RenderMode::Deferred), ..options(dir.path()) });
     let shown_at = |app: &ViewerApp| app.shown_frame().and_then(|(_, k)| k.time);
     wait_for(&mut h, "the first frame of the moving scene", |app| shown_at(app) == Some(0.0));
@@ -289,7 +289,7 @@ fn a_moving_scene_plays_and_pauses_and_states_its_regroup_cost() {
     h.get_by_label("play").click();
     wait_for(&mut h, "a later frame", |app| shown_at(app).is_some_and(|t| t > 0.2));
     let later = h.state().shown_frame().unwrap().0.clone();
-    assert!(changed_share(&first, &later) > 0.005, "the bunny moved");
+    assert!(changed_share(&first, &later) > 0.005, "the lion moved");
     assert!(h.query_all_by_label_contains("regrouped").next().is_some(), "the statistics state the regroup cost");
     h.get_by_label("pause").click();
     h.step();
@@ -321,7 +321,7 @@ fn a_moving_scene_plays_and_pauses_and_states_its_regroup_cost() {
         serde_json::from_slice(&std::fs::read(png.with_extension("json")).unwrap()).unwrap();
     assert_eq!(sidecar["time"].as_f64(), still, "the sidecar's time");
     let again = dir.path().join("again.png");
-    let wave = require!(common::stanford_scene("bunny-wave.toml"));
+    let wave = common::asset("lion-wave.toml");
     let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
         .arg("render")
         .arg(&wave)
@@ -346,15 +346,22 @@ fn orbit(h: &mut Harness<'_, ViewerApp>) {
 #[test]
 fn a_large_model_is_drawn_under_the_point_budget_while_the_camera_moves_then_in_full() {
     let dir = tempfile::tempdir().unwrap();
-    let file = require!(common::shared_data("bunny_range_scans_merged.ply"));
+    // Two lions side by side: 188,826 splats, a still model above the default moving budget.
+    let lion = common::bundled_model().display().to_string();
+    let file = dir.path().join("two-lions.toml");
+    std::fs::write(
+        &file,
+        format!("[[object]]\nply = {lion:?}\n\n[[object]]\nply = {lion:?}\ntranslate = [5.0, 0.0, 0.0]\n"),
+    )
+    .unwrap();
     let mut h = harness(ViewerOptions { file: Some(file), ..options(dir.path()) });
-    wait_for(&mut h, "the merged scans in two-pass", settled_in(RenderMode::TwoPass));
+    wait_for(&mut h, "the two lions in two-pass", settled_in(RenderMode::TwoPass));
     let total = h.state().model().unwrap().cloud.len();
     assert_eq!(h.state().shown_splats(), Some(total), "a still frame draws every splat");
     let hierarchy = h.state().model().unwrap().hierarchy.clone().expect("built while loading");
     assert_eq!(hierarchy.originals, total);
     orbit(&mut h);
-    // 362,272 splats are over the default budget while moving: the frames drawn then keep to it.
+    // 188,826 splats are over the default budget while moving: the frames drawn then keep to it.
     wait_for(&mut h, "a preview under the budget", |app| {
         app.shown_frame().is_some_and(|(_, key)| key.preview && key.settings.point_budget.is_some())
     });
@@ -372,14 +379,14 @@ fn a_large_model_is_drawn_under_the_point_budget_while_the_camera_moves_then_in_
 
 #[test]
 fn the_viewer_draws_a_hybrid_mesh_as_its_triangles() {
-    // The bunny mesh in the viewer's default view, where its splats are
-    // several pixels wide and every leaf is triangles: the view is the
+    // The bundled knot mesh in the viewer's default view, where its splats
+    // are several pixels wide and every leaf is triangles: the view is the
     // reference's exact triangles, not the vertex splats.
     let dir = tempfile::tempdir().unwrap();
-    let file = require!(common::stanford_scene("bunny-hybrid.toml"));
+    let file = common::asset("knot-hybrid.toml");
     let mut h =
         harness(ViewerOptions { file: Some(file.clone()), mode: Some(RenderMode::TwoPass), ..options(dir.path()) });
-    wait_for(&mut h, "the hybrid bunny in two-pass", settled_in(RenderMode::TwoPass));
+    wait_for(&mut h, "the hybrid knot in two-pass", settled_in(RenderMode::TwoPass));
     let (image, key) = h.state().shown_frame().map(|(i, k)| (i.clone(), k.clone())).unwrap();
     let (scene, _) = pointblend::scene::open(&file, &Default::default()).unwrap();
     let options = pointblend::reference::ReferenceOptions::matching(&key.settings, &scene);

@@ -371,7 +371,7 @@ pub fn coincident(count: usize, opacity: f32, colour: [u8; 3]) -> pointblend::sc
 
 /// A scene file of `tests/common/scenes` on the Stanford bunny, the way the
 /// scenes in `assets/` were before the bundled model became the lion (the
-/// tests calibrated on them keep their figures): written once per test
+/// scenes docs/BENCHMARKS.md's bunny figures were measured on): written once per test
 /// binary into `target/tmp` with the converted bunny, the shared mesh and
 /// the bundled environment map in place of its relative paths. `None` (the
 /// test is skipped) without the shared scans.
