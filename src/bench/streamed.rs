@@ -58,7 +58,7 @@ pub(super) fn bench_streamed(
             bound as f64 / 1e6,
             if after.failed > 0 { format!(", {} nodes failed", after.failed) } else { String::new() }
         );
-        let scene = Scene::single(short.clone(), frame.cloud, frame.hash);
+        let scene = Scene::single(short.clone(), frame.cloud, frame.hash).coloured_by_default();
         let opened = set_up(scene, &shown, config, open_s + stream_s)?;
         let mut frames = SceneFrames::of(Arc::clone(&opened.scene));
         let prepared = prepare_variants(config, &opened, &mut frames, renderer)?;

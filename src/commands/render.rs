@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use pointblend::copc::StreamBudget;
-use pointblend::frame::{Parameter, RenderMode, RenderSettings, Sidecar, ViewPath};
+use pointblend::frame::{Camera, Parameter, RenderMode, RenderSettings, Sidecar, ViewPath};
 use pointblend::reference::{self, ReferenceOptions};
 use pointblend::render::{Frame, HeadlessRenderer, Readback, SceneFrames};
 use pointblend::scene::Scene;
@@ -117,97 +117,14 @@ pub fn run(args: &Args) -> Result<()> {
     shared::check_time(args.time)?;
     let sidecar = args.camera.as_deref().map(Sidecar::read).transpose()?;
     let views = args.path.as_deref().map(ViewPath::read).transpose()?;
-    if views.is_some() && (args.camera.is_some() || args.diff.is_some()) {
-        bail!("--path flies its own views: it takes neither --camera nor --diff");
-    }
-    // Every output is checked before the work starts, so none is written when another cannot be.
-    shared::refuse_same_file(&args.out, "the input", &args.file)?;
-    shared::prepare_image_output(&args.out)?;
-    if let Some(diff) = &args.diff {
-        shared::refuse_same_file(diff, "the input", &args.file)?;
-        shared::refuse_same_file(diff, "the --out image", &args.out)?;
-        shared::prepare_image_output(diff)?;
-    }
+    check_outputs(args, views.is_some())?;
     let started = Instant::now();
-    // A COPC file or URL is streamed: the nodes the view selects under the point budget.
-    if views.is_some() && pointblend::copc::is_streamed(&args.file) {
-        bail!(
-            "{}: --path does not stream a COPC file yet (its views would each select their nodes)",
-            shared::shown_path(&args.file)
-        );
-    }
-    let mut stream = args.view.stream.open(&args.file)?;
-    let mut stream_camera = None;
-    let mut scene = match &mut stream {
-        Some(stream) => {
-            let bounds = super::stream_args::bounds_scene(stream);
-            let camera = match &sidecar {
-                Some(s) => s.camera(),
-                None => args.view.camera(&args.camera_flags, &bounds)?,
-            };
-            let size = sidecar.as_ref().map_or(args.view.size, |s| (s.size[0], s.size[1]));
-            let budget = match &sidecar {
-                Some(s) => StreamBudget::of_settings(s.settings().map_err(anyhow::Error::msg)?.point_budget, false),
-                None => args.view.stream_budget()?,
-            };
-            stream_camera = Some(camera);
-            super::stream_args::frame_scene(stream, &camera, size, budget)?
-        }
-        None => shared::load_scene(&args.file)?,
-    };
-    args.view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
-    // A screenshot's colours by attribute, unless the command line gives its own.
-    if let (None, Some(record), Some(path)) =
-        (args.view.scene.style(), sidecar.as_ref().and_then(|s| s.style.as_ref()), &args.camera)
-    {
-        let style = record.style().map_err(|e| anyhow::anyhow!("{}: style: {e}", path.display()))?;
-        scene.apply_style(&style).map_err(anyhow::Error::msg)?;
-    }
+    let (mut scene, stream_camera) = open_scene(args, sidecar.as_ref())?;
     let load_seconds = started.elapsed().as_secs_f64();
-    let (mut settings, (width, height)) = match &sidecar {
-        Some(s) => (s.settings().map_err(anyhow::Error::msg)?, (s.size[0], s.size[1])),
-        None => (args.view.settings(&scene, args.mode)?, args.view.size),
-    };
-    if let Some(s) = &sidecar {
-        // The screenshot's clip, unless the command line gives one.
-        let region = args.view.scene.clip_region_or(&s.clip.clone().unwrap_or_default()).map_err(anyhow::Error::msg)?;
-        settings.clip = scene.clip_in_frame(&region);
-        // Its lights, from file coordinates into the scene's frame.
-        let lights: Vec<_> = s.lights().map_err(anyhow::Error::msg)?.iter().map(|l| scene.light_in_frame(l)).collect();
-        settings.lights = pointblend::frame::Lights::new(&lights).map_err(|e| anyhow::anyhow!("lights: {e}"))?;
-    }
-    args.apply_environment(&mut scene, &mut settings)?;
-    if stream.is_some() {
-        // The stream applied the budget when it selected the nodes.
-        settings = settings.without_budget();
-    }
-    let supersample = args.view.parameters.given(Parameter::Supersample);
-    if let (Some(_), Some(n)) = (&sidecar, supersample) {
-        // The sidecar sets the view; --supersample still sets the reference's rays (and --diff's ruler).
-        Parameter::Supersample.apply(&mut settings, n).map_err(anyhow::Error::msg)?;
-    }
-    let reads_supersample = settings.mode.parameters().contains(&Parameter::Supersample);
-    if supersample.is_some() && !reads_supersample && args.diff.is_none() {
-        log::warn!(
-            "--supersample is ignored: mode {} does not use it (the reference does, and the ruler of --diff)",
-            settings.mode
-        );
-    }
-    let camera = match &sidecar {
-        _ if stream_camera.is_some() => stream_camera.expect("checked"),
-        Some(s) => {
-            let hash = format!("{:016x}", scene.geometry_hash());
-            if hash != s.model.hash {
-                log::warn!(
-                    "{}: this file is not the one the view was saved from ({}, hash {})",
-                    shared::shown_path(&args.file),
-                    s.model.name,
-                    s.model.hash
-                );
-            }
-            s.camera()
-        }
-        None => args.view.camera(&args.camera_flags, &scene)?,
+    let (settings, (width, height)) = frame_settings(args, sidecar.as_ref(), &mut scene, stream_camera.is_some())?;
+    let camera = match stream_camera {
+        Some(camera) => camera,
+        None => frame_camera(args, sidecar.as_ref(), &scene)?,
     };
     let mut gpu = match settings.mode.is_gpu() {
         true => Some(HeadlessRenderer::new().context("opening the GPU")?),
@@ -240,19 +157,7 @@ pub fn run(args: &Args) -> Result<()> {
     }
     shared::write_image(&image, &args.out)?;
     if let Some(diff_path) = &args.diff {
-        let options = ReferenceOptions { progress: true, ..ReferenceOptions::matching(&settings, scene) };
-        let exact = reference::render(scene, &camera, &options, width, height);
-        let error = reference::compare(&image, &exact).context("image sizes differ")?;
-        let diff = reference::difference_image(&image, &exact, 8.0).context("image sizes differ")?;
-        shared::write_image(&diff, diff_path)?;
-        println!(
-            "error against the reference: ε {:.3}, PSNR {:.2} dB, {:.2}% pixels off by more than {}/255 -> {}",
-            error.eps,
-            error.psnr,
-            100.0 * error.bad_pixel_share,
-            reference::metrics::BAD_PIXEL_THRESHOLD,
-            diff_path.display()
-        );
+        write_difference(scene, (&camera, &settings), &image, diff_path)?;
     }
     println!(
         "{}: {} splats, {} {}x{} in {:.0} ms (load {:.2} s) -> {}",
@@ -264,6 +169,143 @@ pub fn run(args: &Args) -> Result<()> {
         render_seconds * 1e3,
         load_seconds,
         args.out.display()
+    );
+    Ok(())
+}
+
+/// Checks every output before the work starts, so that none is written when
+/// another cannot be; and that a camera path (`flying`) is given what it reads.
+fn check_outputs(args: &Args, flying: bool) -> Result<()> {
+    if flying && (args.camera.is_some() || args.diff.is_some()) {
+        bail!("--path flies its own views: it takes neither --camera nor --diff");
+    }
+    if flying && pointblend::copc::is_streamed(&args.file) {
+        bail!(
+            "{}: --path does not stream a COPC file yet (its views would each select their nodes)",
+            shared::shown_path(&args.file)
+        );
+    }
+    shared::refuse_same_file(&args.out, "the input", &args.file)?;
+    shared::prepare_image_output(&args.out)?;
+    if let Some(diff) = &args.diff {
+        shared::refuse_same_file(diff, "the input", &args.file)?;
+        shared::refuse_same_file(diff, "the --out image", &args.out)?;
+        shared::prepare_image_output(diff)?;
+    }
+    Ok(())
+}
+
+/// The scene to draw, with the command line's materials and a screenshot's
+/// style; a COPC file or URL is streamed: the nodes its view selects under
+/// the point budget, and that view's camera.
+fn open_scene(args: &Args, sidecar: Option<&Sidecar>) -> Result<(Scene, Option<Camera>)> {
+    let mut stream = args.view.stream.open(&args.file)?;
+    let mut stream_camera = None;
+    let mut scene = match &mut stream {
+        Some(stream) => {
+            let bounds = super::stream_args::bounds_scene(stream);
+            let camera = match sidecar {
+                Some(s) => s.camera(),
+                None => args.view.camera(&args.camera_flags, &bounds)?,
+            };
+            let size = sidecar.map_or(args.view.size, |s| (s.size[0], s.size[1]));
+            let budget = match sidecar {
+                Some(s) => StreamBudget::of_settings(s.settings().map_err(anyhow::Error::msg)?.point_budget, false),
+                None => args.view.stream_budget()?,
+            };
+            stream_camera = Some(camera);
+            super::stream_args::frame_scene(stream, &camera, size, budget)?
+        }
+        None => shared::load_scene(&args.file)?,
+    };
+    args.view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
+    // A screenshot's colours by attribute, unless the command line gives its own.
+    if let (None, Some(record), Some(path)) =
+        (args.view.scene.style(), sidecar.and_then(|s| s.style.as_ref()), &args.camera)
+    {
+        let style = record.style().map_err(|e| anyhow::anyhow!("{}: style: {e}", path.display()))?;
+        scene.apply_style(&style).map_err(anyhow::Error::msg)?;
+    }
+    Ok((scene, stream_camera))
+}
+
+/// The frame's settings and size: the flags', or a screenshot's with its
+/// clip and lights; the environment applied; no budget left for a
+/// `streamed` scene (its selection applied it).
+fn frame_settings(
+    args: &Args,
+    sidecar: Option<&Sidecar>,
+    scene: &mut Scene,
+    streamed: bool,
+) -> Result<(RenderSettings, (u32, u32))> {
+    let (mut settings, size) = match sidecar {
+        Some(s) => (s.settings().map_err(anyhow::Error::msg)?, (s.size[0], s.size[1])),
+        None => (args.view.settings(scene, args.mode)?, args.view.size),
+    };
+    if let Some(s) = sidecar {
+        // The screenshot's clip, unless the command line gives one.
+        let region = args.view.scene.clip_region_or(&s.clip.clone().unwrap_or_default()).map_err(anyhow::Error::msg)?;
+        settings.clip = scene.clip_in_frame(&region);
+        // Its lights, from file coordinates into the scene's frame.
+        let lights: Vec<_> = s.lights().map_err(anyhow::Error::msg)?.iter().map(|l| scene.light_in_frame(l)).collect();
+        settings.lights = pointblend::frame::Lights::new(&lights).map_err(|e| anyhow::anyhow!("lights: {e}"))?;
+    }
+    args.apply_environment(scene, &mut settings)?;
+    if streamed {
+        settings = settings.without_budget();
+    }
+    let supersample = args.view.parameters.given(Parameter::Supersample);
+    if let (Some(_), Some(n)) = (sidecar, supersample) {
+        // The sidecar sets the view; --supersample still sets the reference's rays (and --diff's ruler).
+        Parameter::Supersample.apply(&mut settings, n).map_err(anyhow::Error::msg)?;
+    }
+    let reads_supersample = settings.mode.parameters().contains(&Parameter::Supersample);
+    if supersample.is_some() && !reads_supersample && args.diff.is_none() {
+        log::warn!(
+            "--supersample is ignored: mode {} does not use it (the reference does, and the ruler of --diff)",
+            settings.mode
+        );
+    }
+    Ok((settings, size))
+}
+
+/// The camera: a screenshot's (with a line when the file is not the one it
+/// was saved from), else the flags' over the scene file's and the default view.
+fn frame_camera(args: &Args, sidecar: Option<&Sidecar>, scene: &Scene) -> Result<Camera> {
+    let Some(s) = sidecar else { return args.view.camera(&args.camera_flags, scene) };
+    let hash = format!("{:016x}", scene.geometry_hash());
+    if hash != s.model.hash {
+        log::warn!(
+            "{}: this file is not the one the view was saved from ({}, hash {})",
+            shared::shown_path(&args.file),
+            s.model.name,
+            s.model.hash
+        );
+    }
+    Ok(s.camera())
+}
+
+/// `--diff`: the exact reference of the frame, the error against it in one
+/// line, and the false-colour difference image (amplified 8×) at `path`.
+fn write_difference(
+    scene: &Scene,
+    (camera, settings): (&Camera, &RenderSettings),
+    image: &image::RgbaImage,
+    path: &std::path::Path,
+) -> Result<()> {
+    let (width, height) = image.dimensions();
+    let options = ReferenceOptions { progress: true, ..ReferenceOptions::matching(settings, scene) };
+    let exact = reference::render(scene, camera, &options, width, height);
+    let error = reference::compare(image, &exact).context("image sizes differ")?;
+    let diff = reference::difference_image(image, &exact, 8.0).context("image sizes differ")?;
+    shared::write_image(&diff, path)?;
+    println!(
+        "error against the reference: ε {:.3}, PSNR {:.2} dB, {:.2}% pixels off by more than {}/255 -> {}",
+        error.eps,
+        error.psnr,
+        100.0 * error.bad_pixel_share,
+        reference::metrics::BAD_PIXEL_THRESHOLD,
+        path.display()
     );
     Ok(())
 }

@@ -106,6 +106,6 @@ impl StreamedSource {
             frame.drawn.len(),
             started.elapsed().as_secs_f64()
         );
-        Ok((Scene::single(name, frame.cloud, frame.hash).coloured_by_default(), frame.report.warnings))
+        Ok((Scene::single(name, frame.cloud, frame.hash), frame.report.warnings))
     }
 }

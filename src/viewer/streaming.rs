@@ -22,6 +22,10 @@ fn streamed_model(
 ) -> Result<Model, String> {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let (mut scene, warnings) = source.scene(name, view)?;
+    if style.is_none() && materials.style.is_none() {
+        // The first selection: colours by default (a later one keeps the style shown, restyled once below).
+        scene = scene.coloured_by_default();
+    }
     Materials { style: None, ..materials.clone() }.apply(&mut scene)?;
     let model = Model::of_scene(path, scene, warnings, generation);
     let model = match style.or_else(|| materials.style.clone()) {

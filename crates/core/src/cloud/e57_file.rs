@@ -20,11 +20,6 @@ use super::attributes::{Attributes, Values, names};
 use super::file_info::FileInfo;
 use super::ply::{ElementSpec, PlyData, PropertyKind, PropertySpec, Scalar};
 
-/// Whether `path` names an E57 file.
-pub fn is_e57(path: &Path) -> bool {
-    path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("e57"))
-}
-
 fn e57_error(path: &Path, e: impl std::fmt::Display) -> CloudError {
     CloudError::content(path, format!("not a valid E57 file: {e}"))
 }

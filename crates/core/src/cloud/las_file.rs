@@ -43,11 +43,10 @@ pub(crate) use precheck::open;
 const BATCH: u64 = 1 << 20;
 const BATCH_BYTES: u64 = 64 << 20;
 
-/// Whether `path` names a LAS or LAZ file (`.copc.laz` included).
+/// Whether `path` names a LAS or LAZ file (`.copc.laz` included), by the format registry.
 pub fn is_las(path: &Path) -> bool {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("las") || e.eq_ignore_ascii_case("laz"))
+    use crate::formats::Reader;
+    crate::formats::format_of(path).is_some_and(|f| matches!(f.reader, Reader::Las | Reader::Copc))
 }
 
 fn las_error(path: &Path, e: impl std::fmt::Display) -> CloudError {

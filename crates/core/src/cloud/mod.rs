@@ -126,13 +126,9 @@ impl PointCloud {
     }
 
     /// The length of one unit of the cloud in the file's units.
-    /// Splat `i`'s position in the file's coordinates, in f64: exact to the
-    /// file's own precision where [`PointCloud::residuals`] are kept.
-    pub fn file_position(&self, i: usize) -> glam::DVec3 {
-        self.frame_position(i) * self.unit() + glam::DVec3::from_array(self.origin)
-    }
-
-    /// Splat `i`'s position in the cloud's own frame (re-centred and scaled), in f64.
+    /// Splat `i`'s position in the cloud's own frame (re-centred and scaled),
+    /// in f64: times the unit plus the origin, the file's position, exact to
+    /// the file's own precision where [`PointCloud::residuals`] are kept.
     pub fn frame_position(&self, i: usize) -> glam::DVec3 {
         let residual = self.residuals.get(i).copied().unwrap_or(Vec3::ZERO);
         self.positions[i].as_dvec3() + residual.as_dvec3()

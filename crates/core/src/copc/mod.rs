@@ -30,7 +30,7 @@ pub mod write;
 
 pub use budget::StreamBudget;
 pub use redact::shown;
-pub use source::{is_copc, is_streamed, is_url};
+pub use source::{is_streamed, is_url};
 pub use stream::{CopcStream, StreamOptions, StreamStats, StreamedFrame};
 
 /// A failure to stream a file: its path or URL and why, on one line, a

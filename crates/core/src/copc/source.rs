@@ -56,11 +56,6 @@ pub fn is_url(name: &str) -> bool {
     crate::formats::is_url(name)
 }
 
-/// Whether `name` (a path or URL) names a COPC file: it ends in `.copc.laz`.
-pub fn is_copc(name: &str) -> bool {
-    crate::formats::by_extension(name).is_some_and(|f| f.reader == crate::formats::Reader::Copc)
-}
-
 /// Whether `file` is streamed rather than loaded whole: a `.copc.laz` file or a URL.
 pub fn is_streamed(file: &Path) -> bool {
     crate::formats::format_of(file).is_some_and(|f| f.streamed)

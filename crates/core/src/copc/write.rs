@@ -51,9 +51,37 @@ struct Node {
 
 /// Writes `input` (LAS or LAZ) as a COPC file at `output`.
 pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written, CopcError> {
+    let read = read_records(input, progress)?;
+    let cube = Cube::around(&read.positions, read.transforms.x.scale);
+    let (nodes, depth) = octree(&read.positions, &cube);
+    let fail = |e: String| CopcError::new(&input.display().to_string(), e);
+    let laz_vlr = laz::LazVlrBuilder::default()
+        .with_point_format(read.format.to_u8().expect("6-8"), read.format.extra_bytes)
+        .map_err(|e| fail(e.to_string()))?
+        .with_variable_chunk_size()
+        .build();
+    let chunks = compress(&nodes, &read, &laz_vlr, progress).map_err(|e| fail(format!("compressing: {e}")))?;
+    let bytes = write_file(output, &read, &cube, (&nodes, &chunks), &laz_vlr)?;
+    Ok(Written { points: read.positions.len() as u64, nodes: nodes.len(), depth, bytes })
+}
+
+/// A LAS/LAZ file's points, as the COPC file will hold them.
+struct Records {
+    header: las::Header,
+    /// The output's point format (6, 7 or 8, the input's extra bytes kept).
+    format: las::point::Format,
+    transforms: las::Vector<las::Transform>,
+    /// Every point's record in `format`, one after another.
+    records: Vec<u8>,
+    positions: Vec<DVec3>,
+}
+
+/// Reads `input` whole, through the checks of a whole-file read (header,
+/// records, LAZ chunks) and with its messages, converting each record to
+/// point format 6, 7 (RGB) or 8 (NIR).
+fn read_records(input: &Path, progress: bool) -> Result<Records, CopcError> {
     let name = input.display().to_string();
     let fail = |e: String| CopcError::new(&name, e);
-    // The checks of a whole-file read (header, records, LAZ chunks), and its messages.
     let reason = |e: CloudError| match e {
         CloudError::Content { reason, .. } => reason,
         e => e.to_string(),
@@ -61,17 +89,15 @@ pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written
     let (mut reader, _) = las_file::open(input).map_err(|e| fail(reason(e)))?;
     let header = reader.header().clone();
     let in_format = *header.point_format();
-    let mut out_format = las::point::Format::new(match (in_format.has_nir, in_format.has_color) {
+    let mut format = las::point::Format::new(match (in_format.has_nir, in_format.has_color) {
         (true, _) => 8,
         (false, true) => 7,
         _ => 6,
     })
     .expect("formats 6-8 exist");
-    out_format.extra_bytes = in_format.extra_bytes;
+    format.extra_bytes = in_format.extra_bytes;
     let transforms = *header.transforms();
-    let declared = header.number_of_points();
-    let record_len = usize::from(out_format.len());
-    let bar = crate::progress::bar(declared, "reading", progress);
+    let bar = crate::progress::bar(header.number_of_points(), "reading", progress);
     let mut records: Vec<u8> = Vec::new();
     let mut positions: Vec<DVec3> = Vec::new();
     let mut batch = las::PointDataBuilder::new().for_header(&header).build();
@@ -83,14 +109,14 @@ pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written
             break;
         }
         positions.extend(batch.x().zip(batch.y()).zip(batch.z()).map(|((x, y), z)| DVec3::new(x, y, z)));
-        if in_format == out_format {
+        if in_format == format {
             records.extend_from_slice(batch.raw_bytes());
         } else {
             for record in batch.raw_bytes().chunks_exact(usize::from(in_format.len())) {
                 let raw = las::raw::Point::read_from(record, &in_format).map_err(|e| fail(e.to_string()))?;
                 let point = las::Point::new(raw, &transforms);
                 let raw = point.into_raw(&transforms).map_err(|e| fail(e.to_string()))?;
-                raw.write_to(&mut records, &out_format).map_err(|e| fail(e.to_string()))?;
+                raw.write_to(&mut records, &format).map_err(|e| fail(e.to_string()))?;
             }
         }
         bar.inc(n);
@@ -99,54 +125,31 @@ pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written
     if positions.is_empty() {
         return Err(fail("the file has no points".into()));
     }
-    let (lo, hi) = positions.iter().fold((positions[0], positions[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
-    let centre = (lo + hi) * 0.5;
-    let halfsize = ((hi - lo).max_element() * 0.5).max(1e-3) * (1.0 + 1e-9) + transforms.x.scale.abs();
-    let spacing = 2.0 * halfsize / f64::from(GRID);
+    Ok(Records { header, format, transforms, records, positions })
+}
 
-    // The octree: nodes level by level (so the file holds the coarse ones first).
-    let mut nodes = Vec::new();
-    let mut level = vec![Node { key: VoxelKey::ROOT, points: (0..positions.len() as u32).collect() }];
-    let mut depth = 0;
-    while !level.is_empty() {
-        let next: Vec<Vec<Node>> = level.par_iter_mut().map(|node| split(node, &positions, centre, halfsize)).collect();
-        depth = level[0].key.l;
-        nodes.extend(level.into_iter().filter(|n| !n.points.is_empty()));
-        level = next.into_iter().flatten().collect();
+/// The octree's cube around the points, and their bounds.
+struct Cube {
+    lo: DVec3,
+    hi: DVec3,
+    centre: DVec3,
+    halfsize: f64,
+    /// The root's point spacing: the cube's side / [`GRID`].
+    spacing: f64,
+}
+
+impl Cube {
+    /// The cube around `positions` (not empty), widened by the file's `scale` so every point is inside.
+    fn around(positions: &[DVec3], scale: f64) -> Cube {
+        let (lo, hi) = positions.iter().fold((positions[0], positions[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+        let halfsize = ((hi - lo).max_element() * 0.5).max(1e-3) * (1.0 + 1e-9) + scale.abs();
+        Cube { lo, hi, centre: (lo + hi) * 0.5, halfsize, spacing: 2.0 * halfsize / f64::from(GRID) }
     }
 
-    let laz_vlr = laz::LazVlrBuilder::default()
-        .with_point_format(out_format.to_u8().expect("6-8"), out_format.extra_bytes)
-        .map_err(|e| fail(e.to_string()))?
-        .with_variable_chunk_size()
-        .build();
-    let bar = crate::progress::bar(nodes.len() as u64, "compressing nodes", progress);
-    let chunks: Vec<Vec<u8>> = nodes
-        .par_iter()
-        .map(|node| {
-            let mut compressor = LayeredPointRecordCompressor::new(std::io::Cursor::new(Vec::new()));
-            compressor.set_fields_from(laz_vlr.items()).map_err(std::io::Error::other)?;
-            for &i in &node.points {
-                let at = i as usize * record_len;
-                compressor.compress_next(&records[at..at + record_len])?;
-            }
-            compressor.done()?;
-            bar.inc(1);
-            Ok(compressor.get_mut().get_ref().clone())
-        })
-        .collect::<Result<_, std::io::Error>>()
-        .map_err(|e| fail(format!("compressing: {e}")))?;
-    bar.finish();
-    drop(records);
-
-    let out_name = output.display().to_string();
-    let wfail = |e: std::io::Error| CopcError::new(&out_name, e.to_string());
-    let target = crate::output::prepare(output).map_err(wfail)?;
-    let mut file = crate::output::Temporary::new_in(crate::output::folder_of(&target)).map_err(wfail)?;
-    crate::output::make_readable(file.as_file()).map_err(wfail)?;
-    let info = |root: (u64, u64)| {
+    /// The COPC info VLR's data, with the root hierarchy page at `root` (offset, bytes).
+    fn info(&self, root: (u64, u64)) -> Vec<u8> {
         let mut data = Vec::with_capacity(160);
-        for v in [centre.x, centre.y, centre.z, halfsize, spacing] {
+        for v in [self.centre.x, self.centre.y, self.centre.z, self.halfsize, self.spacing] {
             data.extend_from_slice(&v.to_le_bytes());
         }
         data.extend_from_slice(&root.0.to_le_bytes());
@@ -155,47 +158,99 @@ pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written
         data.extend_from_slice(&0f64.to_le_bytes());
         data.resize(160, 0);
         data
-    };
+    }
+}
+
+/// The octree's nodes, level by level (so the file holds the coarse ones
+/// first), empty ones left out; and the deepest level.
+fn octree(positions: &[DVec3], cube: &Cube) -> (Vec<Node>, i32) {
+    let mut nodes = Vec::new();
+    let mut level = vec![Node { key: VoxelKey::ROOT, points: (0..positions.len() as u32).collect() }];
+    let mut depth = 0;
+    while !level.is_empty() {
+        let next: Vec<Vec<Node>> =
+            level.par_iter_mut().map(|node| split(node, positions, cube.centre, cube.halfsize)).collect();
+        depth = level[0].key.l;
+        nodes.extend(level.into_iter().filter(|n| !n.points.is_empty()));
+        level = next.into_iter().flatten().collect();
+    }
+    (nodes, depth)
+}
+
+/// Each node's points as one layered LAZ chunk, compressed in parallel.
+fn compress(nodes: &[Node], read: &Records, laz_vlr: &laz::LazVlr, progress: bool) -> std::io::Result<Vec<Vec<u8>>> {
+    let record_len = usize::from(read.format.len());
+    let bar = crate::progress::bar(nodes.len() as u64, "compressing nodes", progress);
+    let chunks = nodes
+        .par_iter()
+        .map(|node| {
+            let mut compressor = LayeredPointRecordCompressor::new(std::io::Cursor::new(Vec::new()));
+            compressor.set_fields_from(laz_vlr.items()).map_err(std::io::Error::other)?;
+            for &i in &node.points {
+                let at = i as usize * record_len;
+                compressor.compress_next(&read.records[at..at + record_len])?;
+            }
+            compressor.done()?;
+            bar.inc(1);
+            Ok(compressor.get_mut().get_ref().clone())
+        })
+        .collect::<std::io::Result<_>>();
+    bar.finish();
+    chunks
+}
+
+/// Writes the COPC file: the header and VLRs, the chunks and their table,
+/// then the hierarchy EVLR, and the header again with where the EVLR and
+/// the root page are; to a temporary file beside `output`, then renamed.
+/// Returns the file's bytes.
+fn write_file(
+    output: &Path,
+    read: &Records,
+    cube: &Cube,
+    (nodes, chunks): (&[Node], &[Vec<u8>]),
+    laz_vlr: &laz::LazVlr,
+) -> Result<u64, CopcError> {
+    let out_name = output.display().to_string();
+    let fail = |e: String| CopcError::new(&out_name, e);
+    let wfail = |e: std::io::Error| CopcError::new(&out_name, e.to_string());
+    let target = crate::output::prepare(output).map_err(wfail)?;
+    let mut file = crate::output::Temporary::new_in(crate::output::folder_of(&target)).map_err(wfail)?;
+    crate::output::make_readable(file.as_file()).map_err(wfail)?;
     let mut laz_data = Vec::new();
     laz_vlr.write_to(&mut laz_data).map_err(wfail)?;
+    // Its data is rewritten with the root page's place once that is known (the same 160 bytes).
+    let info = cube.info((0, 0));
+    let copc_info =
+        las::Vlr { user_id: las::copc::USER_ID.into(), record_id: 1, description: "copc info".into(), data: info };
     let mut vlrs = vec![
-        las::Vlr {
-            user_id: las::copc::USER_ID.into(),
-            record_id: 1,
-            description: "copc info".into(),
-            data: info((0, 0)),
-        },
+        copc_info,
         las::Vlr { user_id: "laszip encoded".into(), record_id: 22204, description: "laz-rs".into(), data: laz_data },
     ];
-    vlrs.extend(
-        header.vlrs().iter().filter(|v| !(v.user_id == "laszip encoded" || v.user_id == las::copc::USER_ID)).cloned(),
-    );
+    let kept =
+        read.header.vlrs().iter().filter(|v| !(v.user_id == "laszip encoded" || v.user_id == las::copc::USER_ID));
+    vlrs.extend(kept.cloned());
     let mut builder = las::Builder::from((1, 4));
-    builder.point_format = out_format;
+    builder.point_format = read.format;
     builder.point_format.is_compressed = true;
-    builder.transforms = transforms;
+    builder.transforms = read.transforms;
     builder.vlrs = vlrs.clone();
     builder.generating_software = "pointblend".into();
     let out_header = builder.into_header().map_err(|e| fail(e.to_string()))?;
     let write_head = |file: &mut std::fs::File, root: (u64, u64), evlr_at: u64| -> Result<(), CopcError> {
         let mut raw = out_header.clone().into_raw().map_err(|e| fail(e.to_string()))?;
-        raw.min_x = lo.x;
-        raw.min_y = lo.y;
-        raw.min_z = lo.z;
-        raw.max_x = hi.x;
-        raw.max_y = hi.y;
-        raw.max_z = hi.z;
+        (raw.min_x, raw.min_y, raw.min_z) = (cube.lo.x, cube.lo.y, cube.lo.z);
+        (raw.max_x, raw.max_y, raw.max_z) = (cube.hi.x, cube.hi.y, cube.hi.z);
         raw.number_of_point_records = 0;
         raw.number_of_points_by_return = [0; 5];
         raw.large_file = Some(las::raw::header::LargeFile {
-            number_of_point_records: positions.len() as u64,
+            number_of_point_records: read.positions.len() as u64,
             number_of_points_by_return: [0; 15],
         });
         raw.evlr = Some(las::raw::header::Evlr { start_of_first_evlr: evlr_at, number_of_evlrs: 1 });
         file.seek(SeekFrom::Start(0)).map_err(wfail)?;
         raw.write_to(&mut *file).map_err(|e| fail(e.to_string()))?;
         for (i, vlr) in vlrs.iter().enumerate() {
-            let vlr = if i == 0 { las::Vlr { data: info(root), ..vlr.clone() } } else { vlr.clone() };
+            let vlr = if i == 0 { las::Vlr { data: cube.info(root), ..vlr.clone() } } else { vlr.clone() };
             vlr.into_raw(false).and_then(|r| r.write_to(&mut *file)).map_err(|e| fail(e.to_string()))?;
         }
         Ok(())
@@ -207,19 +262,17 @@ pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written
     out.write_all(&(-1i64).to_le_bytes()).map_err(wfail)?;
     let mut entries = Vec::with_capacity(nodes.len());
     let mut table = laz::laszip::ChunkTable::with_capacity(nodes.len());
-    for (node, chunk) in nodes.iter().zip(&chunks) {
+    for (node, chunk) in nodes.iter().zip(chunks) {
         let offset = out.stream_position().map_err(wfail)?;
         out.write_all(chunk).map_err(wfail)?;
         entries.push((node.key, offset, chunk.len() as i32, node.points.len() as i32));
-        table.push(laz::laszip::ChunkTableEntry {
-            point_count: node.points.len() as u64,
-            byte_count: chunk.len() as u64,
-        });
+        let (point_count, byte_count) = (node.points.len() as u64, chunk.len() as u64);
+        table.push(laz::laszip::ChunkTableEntry { point_count, byte_count });
     }
     let table_at = out.stream_position().map_err(wfail)?;
-    table.write_to(&mut out, &laz_vlr).map_err(wfail)?;
+    table.write_to(&mut out, laz_vlr).map_err(wfail)?;
     let evlr_at = out.stream_position().map_err(wfail)?;
-    // The EVLR's data: the root page, then one page per subtree below PAGE_LEVEL.
+    // The EVLR's data (after its 60-byte header): the root page, then one page per subtree below PAGE_LEVEL.
     let data_at = evlr_at + 60;
     let (data, root_len) = hierarchy_pages(&entries, data_at);
     let evlr =
@@ -228,11 +281,10 @@ pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written
     out.seek(SeekFrom::Start(table_offset_at)).map_err(wfail)?;
     out.write_all(&(table_at as i64).to_le_bytes()).map_err(wfail)?;
     let f = out.into_inner().map_err(|e| wfail(e.into_error()))?;
-    // The EVLR header is 60 bytes; its data is the root page.
     write_head(f, (data_at, root_len), evlr_at)?;
     let bytes = f.seek(SeekFrom::End(0)).map_err(wfail)?;
     file.persist(&target).map_err(wfail)?;
-    Ok(Written { points: positions.len() as u64, nodes: nodes.len(), depth, bytes })
+    Ok(bytes)
 }
 
 /// Hierarchy entries: (key, chunk offset, chunk bytes, points).

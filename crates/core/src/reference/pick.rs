@@ -11,7 +11,7 @@
 //! opaque scene lists one layer and a transparent scene every layer it
 //! blends. A layer's point is where the ray meets its splats' planes (the
 //! weighted mean of each splat's ray-plane point), computed in f64 from the
-//! splats' exact positions ([`crate::cloud::PointCloud::file_position`]), so
+//! splats' exact positions ([`crate::cloud::PointCloud::frame_position`]), so
 //! it stays within a fraction of a millimetre at any distance from the
 //! file's origin; the layer also names the file position of its heaviest
 //! splat, exact to the file's own precision. Triangles of mesh and hybrid
