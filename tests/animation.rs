@@ -347,8 +347,8 @@ fn a_scene_moved_on_frame_by_frame_draws_what_a_fresh_upload_of_that_frame_draws
             let a = moved.render(Some(&mut gpu), &camera, &settings, (128, 128), false).unwrap().image;
             // The same groups (the moved copy's lattice is the first frame's), uploaded afresh.
             let mut fresh = SceneFrames::of(Arc::clone(&at)).moving();
-            if let Some(spec) = moved.drawn_grouping(&settings) {
-                fresh.add_grouping(moved.grouping(spec).unwrap().clone());
+            if let Some(drawn) = moved.resolve(&settings, pointblend::frame::View::still((128, 128))).grouping {
+                fresh.add_grouping(moved.grouping(drawn.spec).unwrap().clone());
             }
             let b = fresh.render(Some(&mut gpu), &camera, &settings, (128, 128), false).unwrap().image;
             let differing = a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count();

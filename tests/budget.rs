@@ -8,9 +8,9 @@ use std::sync::Arc;
 
 use common::tolerances::{BOUNDARY_RIM_PIXELS, MAX_BUDGET_HOLE_SHARE};
 use pointblend::cloud;
-use pointblend::frame::Camera;
+use pointblend::frame::{Camera, Selection, View};
 use pointblend::reference::{self, ReferenceOptions};
-use pointblend::render::{RenderMode, RenderSettings, SceneFrames};
+use pointblend::render::{Readback, RenderMode, RenderSettings, SceneFrames};
 use pointblend::scene::Scene;
 
 const SIZE: u32 = 192;
@@ -25,7 +25,7 @@ fn lion() -> (Arc<Scene>, Camera) {
 fn frame(frames: &mut SceneFrames, camera: &Camera, settings: &RenderSettings) -> (image::RgbaImage, Vec<String>) {
     let mut renderer = common::renderer();
     let frame = frames.render(Some(&mut *renderer), camera, settings, (SIZE, SIZE), false).expect("render");
-    (frame.image, frame.plan.notes)
+    (frame.image, frame.plan.notes.into_iter().chain(frame.report.lines()).collect())
 }
 
 #[test]
@@ -41,14 +41,14 @@ fn a_budget_of_the_whole_model_is_todays_image_and_a_budget_of_one_draws_the_roo
     // Through the budgeted path itself: a budget of every splat selects the
     // hierarchy's leaves, which hold every original splat, so the frame is
     // today's but for the order the splats are summed in.
-    let whole = {
+    let (whole, stats) = {
         let mut renderer = common::renderer();
-        let (gpu, settings) =
-            frames.budgeted_scene(&renderer, &camera, &at_size, (SIZE, SIZE), scene.len() as u32).expect("select");
-        assert_eq!(gpu.len, scene.len(), "every splat is selected");
-        renderer.render_image(gpu, &camera, &settings, SIZE, SIZE).expect("render").0
+        // resolve draws such a frame whole; the spec is made to take the budgeted path here.
+        let mut spec = frames.resolve(&at_size, View::still((SIZE, SIZE)));
+        spec.selection = Selection::Budget(scene.len() as u32);
+        let frame = frames.render_frame(Some(&mut *renderer), &camera, &spec, Readback::Image).expect("render");
+        (frame.image, frame.report.budget.expect("a budgeted frame"))
     };
-    let stats = frames.last_budget().expect("a budgeted frame").clone();
     assert_eq!(stats.splats, scene.len(), "{stats:?}");
     let error = reference::compare(&whole, &today).unwrap();
     let worst =
@@ -85,7 +85,7 @@ fn every_gpu_mode_draws_a_budgeted_frame_closer_to_the_reference_than_a_subsampl
         let (scene, frames) = if transparent { (&glass, &mut glass_frames) } else { (&opaque, &mut opaque_frames) };
         let settings = RenderSettings { mode, point_budget: Some(budget), ..Default::default() };
         let (image, notes) = frame(frames, &camera, &settings);
-        let note = notes.iter().find(|n| n.contains("point budget")).expect("the plan states the budget");
+        let note = notes.iter().find(|n| n.starts_with("point budget")).expect("the report states the budget");
         let drawn: usize = note.split(": ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
         assert!(drawn <= budget as usize && drawn > budget as usize / 2, "{mode}: {note}");
         let full = RenderSettings { point_budget: None, ..settings };

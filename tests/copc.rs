@@ -12,9 +12,9 @@ use std::sync::Arc;
 use common::lidar::{self, tilted_grid};
 use common::nginx::Nginx;
 use pointblend::cloud::{self, LoadOptions};
-use pointblend::copc::{CopcStream, StreamOptions};
+use pointblend::copc::{CopcStream, StreamBudget, StreamOptions};
 use pointblend::frame::Camera;
-use pointblend::lod::SelectOptions;
+use pointblend::lod::{Choosing, SelectOptions};
 use pointblend::render::{RenderMode, RenderSettings, SceneFrames};
 use pointblend::scene::Scene;
 
@@ -301,4 +301,28 @@ fn a_scene_file_opens_a_url_as_the_command_line_does() {
     let out = dir.path().join("never.png");
     let error = common::refused_in_one_line(&[scene.display().to_string()], &out, "a URL that is not there");
     assert!(error.contains("scene.toml:2:9") && error.contains("gone.copc.laz"), "{error}");
+}
+
+#[test]
+fn a_lit_streamed_frame_keeps_the_nodes_off_screen_that_cast_its_shadows() {
+    let dir = tempfile::tempdir().unwrap();
+    let copc = made_copc(dir.path(), 230);
+    let mut s = stream(&copc.display().to_string());
+    // Close up on a corner of the 57 m tile: under a budget the nodes out of
+    // view are left out, unless the frame is lit by scene lights, whose
+    // shadows those nodes still cast (as the in-memory budget keeps them).
+    let bounds = s.bounds_cloud();
+    let mut camera = Camera::default_for(&bounds, 1.0);
+    camera.target = bounds.positions.iter().copied().fold(glam::Vec3::INFINITY, glam::Vec3::min);
+    camera.distance = 8.0;
+    let unlit = RenderSettings::default();
+    let light = pointblend::frame::Light::point(camera.target + glam::Vec3::new(0.0, 0.0, 50.0));
+    let lit = RenderSettings { lights: pointblend::frame::Lights::new(&[light]).unwrap(), ..unlit };
+    let mut drawn = |settings: &RenderSettings| {
+        let budget = (StreamBudget::Points(1_000_000), Choosing::of(settings));
+        s.frame_under(&camera, (64, 64), budget, &LoadOptions::default()).unwrap().cloud.len()
+    };
+    let (unlit, lit) = (drawn(&unlit), drawn(&lit));
+    println!("a close view of a corner drew {unlit} splats unlit and {lit} lit by a scene light");
+    assert!(lit > unlit, "the lit frame culled the off-screen casters: {lit} splats against {unlit} unlit");
 }

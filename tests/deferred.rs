@@ -160,7 +160,8 @@ fn without_lighting_no_normal_target_is_planned_and_images_match_the_reference()
         drop(renderer);
         assert!(plan.targets.iter().all(|t| !t.id.0.contains("normal")), "{mode}: {plan}");
         let lit = RenderSettings { mode, ..Default::default() };
-        let lit_plan = pointblend::render::Renderer::plan(&gpu, &camera, &lit, (128, 128)).unwrap();
+        let lit = pointblend::frame::resolve(&lit, &gpu.facts(), &pointblend::frame::View::still((128, 128)));
+        let lit_plan = pointblend::render::Renderer::plan_spec(&gpu, &camera, &lit, (128, 128)).unwrap();
         assert!(plan.target_bytes() < lit_plan.target_bytes());
         let scene = Scene::from(cloud.clone());
         let exact =

@@ -11,6 +11,7 @@ use std::sync::Arc;
 use common::tolerances::{BOUNDARY_RIM_PIXELS, MAX_HYBRID_EPS_RATIO, MAX_MESH_EPS};
 use pointblend::frame::Camera;
 use pointblend::reference::{self, ReferenceOptions};
+use pointblend::render::report::HybridStats;
 use pointblend::render::{RenderMode, RenderSettings, SceneFrames};
 use pointblend::scene::{self, Scene};
 
@@ -91,10 +92,16 @@ fn corner_camera(scene: &Scene) -> Camera {
     camera
 }
 
-fn render(frames: &mut SceneFrames, camera: &Camera, settings: &RenderSettings) -> (image::RgbaImage, Vec<String>) {
+/// A frame's image, its plan's notes and the leaves it drew as triangles, if any.
+fn render(
+    frames: &mut SceneFrames,
+    camera: &Camera,
+    settings: &RenderSettings,
+) -> (image::RgbaImage, Vec<String>, Option<HybridStats>) {
     let mut renderer = common::renderer();
     let frame = frames.render(Some(&mut *renderer), camera, settings, (SIZE, SIZE), false).expect("render");
-    (frame.image, frame.plan.notes)
+    let notes = frame.plan.notes.into_iter().chain(frame.report.lines()).collect();
+    (frame.image, notes, frame.report.hybrid)
 }
 
 #[test]
@@ -107,12 +114,12 @@ fn a_hybrid_cube_matches_the_reference_on_its_triangles_without_cracks_between_t
         // Leaves whose splats would be wider than 9 px are triangles: the near faces here.
         let hybrid = RenderSettings { mode, hybrid_pixels: 9.0, ..Default::default() };
         let exact = reference::render(&scene, &camera, &ReferenceOptions::matching(&hybrid, &scene), SIZE, SIZE);
-        let (image, notes) = render(&mut frames, &camera, &hybrid);
-        let stats = frames.last_hybrid().cloned().expect("a hybrid frame");
+        let (image, notes, stats) = render(&mut frames, &camera, &hybrid);
+        let stats = stats.expect("a hybrid frame");
         assert!(stats.triangle_leaves > 0 && stats.splat_leaves > 0, "{mode}: not a mix of both: {notes:?}");
         let splats_only = RenderSettings { hybrid_pixels: f32::INFINITY, ..hybrid };
-        let (splats, _) = render(&mut frames, &camera, &splats_only);
-        assert_eq!(frames.last_hybrid().unwrap().triangles, 0);
+        let (splats, _, splat_stats) = render(&mut frames, &camera, &splats_only);
+        assert_eq!(splat_stats.unwrap().triangles, 0);
         let eps = reference::compare(&image, &exact).unwrap().eps;
         let splat_eps = reference::compare(&splats, &exact).unwrap().eps;
         println!(
@@ -144,11 +151,11 @@ fn meshes_opaque_and_transparent_are_their_triangles_and_modes_without_triangles
         for &mode in modes {
             let settings = RenderSettings { mode, ..Default::default() };
             let exact = reference::render(&mesh, &camera, &ReferenceOptions::matching(&settings, &mesh), SIZE, SIZE);
-            let (image, notes) = render(&mut mesh_frames, &camera, &settings);
-            let stats = mesh_frames.last_hybrid().cloned().expect("a frame with triangles");
+            let (image, notes, stats) = render(&mut mesh_frames, &camera, &settings);
+            let stats = stats.expect("a frame with triangles");
             assert_eq!((stats.splats, stats.splat_leaves), (0, 0), "{mode}: a mesh is triangles only: {notes:?}");
             let splats_only = RenderSettings { hybrid_pixels: f32::INFINITY, ..settings };
-            let (splats, _) = render(&mut splat_frames, &camera, &splats_only);
+            let (splats, _, _) = render(&mut splat_frames, &camera, &splats_only);
             let eps = reference::compare(&image, &exact).unwrap().eps;
             let splat_eps = reference::compare(&splats, &exact).unwrap().eps;
             println!("{mode} {opacity}: ε {eps:.4} ({} triangles), as splats alone {splat_eps:.3}", stats.triangles);
@@ -160,7 +167,7 @@ fn meshes_opaque_and_transparent_are_their_triangles_and_modes_without_triangles
         // A mode that cannot draw triangles draws the vertices' splats, and says so in the plan;
         // given an opaque scene it runs the two-pass plan, which draws them.
         let settings = RenderSettings { mode: RenderMode::Alg2, ..Default::default() };
-        let (_, notes) = render(&mut mesh_frames, &camera, &settings);
+        let (_, notes, _) = render(&mut mesh_frames, &camera, &settings);
         let said = |what: &str| notes.iter().any(|n| n.contains(what));
         match opacity.is_empty() {
             true => assert!(said("meshes: 4800 triangles") && !said("cannot draw"), "{notes:?}"),
@@ -184,7 +191,7 @@ fn one_sided_triangles_seen_from_behind_are_culled_and_a_mesh_after_a_cloud_keep
         let mut frames = SceneFrames::of(Arc::clone(&scene));
         for mode in [RenderMode::TwoPass, RenderMode::Deferred, RenderMode::Tiled, RenderMode::Reference] {
             let settings = RenderSettings { mode, ..Default::default() };
-            let (image, notes) = render(&mut frames, &camera, &settings);
+            let (image, notes, _) = render(&mut frames, &camera, &settings);
             let shown = common::foreground(&image, bg).iter().filter(|&&f| f).count();
             assert_eq!(shown > 0, drawn, "{mode} {sides}: {shown} pixels of the quad shown: {notes:?}");
         }
@@ -209,7 +216,7 @@ fn one_sided_triangles_seen_from_behind_are_culled_and_a_mesh_after_a_cloud_keep
     let mut camera = Camera::default_for(&scene.flattened(), 1.0);
     camera.look_from_direction(glam::Vec3::X);
     let mut frames = SceneFrames::of(Arc::new(scene));
-    let (image, _) = render(&mut frames, &camera, &RenderSettings::default());
+    let (image, _, _) = render(&mut frames, &camera, &RenderSettings::default());
     assert!(common::foreground(&image, bg).iter().any(|&f| f), "the turned face is culled");
 
     // A cloud first, then a mesh: the mesh's triangles index its own splats, after the cloud's.
@@ -226,8 +233,8 @@ fn one_sided_triangles_seen_from_behind_are_culled_and_a_mesh_after_a_cloud_keep
     for mode in [RenderMode::TwoPass, RenderMode::Tiled] {
         let settings = RenderSettings { mode, ..Default::default() };
         let exact = reference::render(&scene, &camera, &ReferenceOptions::matching(&settings, &scene), SIZE, SIZE);
-        let (image, _) = render(&mut frames, &camera, &settings);
-        let stats = frames.last_hybrid().cloned().unwrap();
+        let (image, _, stats) = render(&mut frames, &camera, &settings);
+        let stats = stats.unwrap();
         assert_eq!(stats.splats, 4000, "{mode}: the sphere's splats, and none of the cube's");
         let eps = reference::compare(&image, &exact).unwrap().eps;
         println!("{mode}, a sphere of splats and a cube mesh: ε {eps:.4}");

@@ -20,12 +20,12 @@ fn render(
     settings: &RenderSettings,
     size: (u32, u32),
     budget: u64,
-) -> (image::RgbaImage, pointblend::render::RenderPlan) {
+) -> (image::RgbaImage, pointblend::render::RenderPlan, Vec<String>) {
     renderer.set_window_budget(budget);
     let mut frames = SceneFrames::of(Arc::clone(scene));
     let camera = Camera::default_for(frames.cloud(), size.0 as f32 / size.1 as f32);
     let frame = frames.render(Some(renderer), &camera, settings, size, false).expect("the frame renders");
-    (frame.image, frame.plan)
+    (frame.image, frame.plan, frame.report.lines())
 }
 
 #[test]
@@ -48,13 +48,12 @@ fn a_frame_drawn_in_windows_is_the_frame_drawn_whole_in_every_gpu_mode() {
     let deferred = RenderSettings { mode: RenderMode::Deferred, eye_dome: edl, ..Default::default() };
     cases.push(("deferred, eye-dome".into(), deferred, &opaque));
     for (what, settings, scene) in cases {
-        let (whole, plan) = render(&mut renderer, scene, &settings, size, u64::MAX);
-        assert!(!plan.notes.iter().any(|n| n.starts_with("drawn in")), "{what}: the whole frame fits");
+        let (whole, plan, report) = render(&mut renderer, scene, &settings, size, u64::MAX);
+        assert!(!report.iter().any(|n| n.starts_with("drawn in")), "{what}: the whole frame fits");
         // A budget of a quarter of the whole frame's memory: several windows.
         let per_pixel = plan.target_bytes() / (size.0 * size.1) as u64 + 8;
-        let (windowed, plan) = render(&mut renderer, scene, &settings, size, per_pixel * 160 * 160);
-        let note =
-            plan.notes.iter().find(|n| n.starts_with("drawn in")).unwrap_or_else(|| panic!("{what}: not windowed"));
+        let (windowed, plan, report) = render(&mut renderer, scene, &settings, size, per_pixel * 160 * 160);
+        let note = report.iter().find(|n| n.starts_with("drawn in")).unwrap_or_else(|| panic!("{what}: not windowed"));
         assert!(plan.width < size.0 && plan.height < size.1, "{what}: {note}");
         let (mut changed, mut largest) = (0, 0);
         for (x, y, a) in whole.enumerate_pixels() {
@@ -87,11 +86,11 @@ fn an_8192_square_render_of_the_bundled_model_takes_bounded_memory() {
     let small = render(&mut renderer, &scene, &settings, (512, 512), u64::MAX).0;
     let before = peak_resident_bytes();
     let budget = pointblend::render::headless::DEFAULT_WINDOW_BUDGET;
-    let (image, plan) = render(&mut renderer, &scene, &settings, (SIDE, SIDE), budget);
+    let (image, plan, report) = render(&mut renderer, &scene, &settings, (SIDE, SIDE), budget);
     let grown = peak_resident_bytes().saturating_sub(before);
     let whole_targets = plan.target_bytes() / (plan.width as u64 * plan.height as u64) * (SIDE as u64 * SIDE as u64);
     let image_bytes = SIDE as u64 * SIDE as u64 * 4;
-    let note = plan.notes.iter().find(|n| n.starts_with("drawn in")).expect("an 8192² frame is drawn in windows");
+    let note = report.iter().find(|n| n.starts_with("drawn in")).expect("an 8192² frame is drawn in windows");
     println!(
         "{note}; peak memory grew by {} MiB: the image is {} MiB, the window budget {} MiB, the whole frame's targets {} MiB",
         grown >> 20,

@@ -446,7 +446,7 @@ fn the_order_setting_decides_what_the_instance_buffers_hold_each_frame() {
     for (frame, kind) in [OrderKind::Bucket, OrderKind::Bsp, OrderKind::Bucket].into_iter().enumerate() {
         for mode in ["alg1", "alg2", "alpha-blend"] {
             let settings = RenderSettings { mode: mode.parse().unwrap(), order: kind, ..Default::default() };
-            let plan = renderer.render(&mut gpu, &camera, &settings, 64, 64).unwrap();
+            let plan = renderer.render(&mut gpu, &camera, &settings, (64, 64)).unwrap();
             assert!(plan.back_to_front(), "{mode} draws in order");
             let held: Vec<[f32; 3]> =
                 gpu.instance_order().map(|o| o.current().iter().map(|s: &SplatInstance| s.position).collect()).unwrap();

@@ -291,7 +291,7 @@ fn every_target_the_recorded_passes_bind_is_allocated_as_bound_explained_as_used
         for cloud in [&colour, &one_colour, &see_through] {
             for settings in settings_of(mode) {
                 let mut gpu = upload(&renderer, cloud, &settings);
-                let plan = renderer.render(&mut gpu, &camera, &settings, 96, 80).unwrap();
+                let plan = renderer.render(&mut gpu, &camera, &settings, (96, 80)).unwrap();
                 let held = renderer.renderer.allocated_targets();
                 let given = given_views(&renderer.renderer, &mode.to_string());
                 let what = format!("{mode} ({})", plan.variant);
@@ -368,19 +368,19 @@ fn a_new_plan_frees_the_targets_it_does_not_use_and_pipelines_are_built_once() {
     let two_pass = RenderSettings { mode: "two-pass".parse().unwrap(), ..Default::default() };
     let mut grouped = upload(&renderer, &cloud, &deferred);
     let mut plain = upload(&renderer, &cloud, &two_pass);
-    renderer.render(&mut grouped, &camera, &deferred, 128, 128).unwrap();
+    renderer.render(&mut grouped, &camera, &deferred, (128, 128)).unwrap();
     let deferred_bytes = renderer.renderer.allocated_bytes();
-    let plan = renderer.render(&mut plain, &camera, &two_pass, 128, 128).unwrap();
+    let plan = renderer.render(&mut plain, &camera, &two_pass, (128, 128)).unwrap();
     assert_eq!(renderer.renderer.allocated_bytes(), plan.target_bytes());
     assert!(plan.target_bytes() < deferred_bytes, "the group layers were freed");
     let built = renderer.renderer.pipelines_built();
     for _ in 0..3 {
-        renderer.render(&mut grouped, &camera, &deferred, 128, 128).unwrap();
-        renderer.render(&mut plain, &camera, &two_pass, 128, 128).unwrap();
+        renderer.render(&mut grouped, &camera, &deferred, (128, 128)).unwrap();
+        renderer.render(&mut plain, &camera, &two_pass, (128, 128)).unwrap();
     }
     assert_eq!(renderer.renderer.pipelines_built(), built, "the same frames built new pipelines");
     // A new output size reallocates targets but needs no new pipeline.
-    renderer.render(&mut plain, &camera, &two_pass, 64, 200).unwrap();
+    renderer.render(&mut plain, &camera, &two_pass, (64, 200)).unwrap();
     assert_eq!(renderer.renderer.pipelines_built(), built);
 }
 
@@ -397,7 +397,7 @@ fn every_plan_pass_is_timed_even_with_many_groups() {
     for settings in settings_of("deferred".parse().unwrap()).into_iter().chain(settings_of("two-pass".parse().unwrap()))
     {
         let mut gpu = upload(&renderer, &cloud, &settings);
-        let plan = renderer.render(&mut gpu, &camera, &settings, 96, 96).unwrap();
+        let plan = renderer.render(&mut gpu, &camera, &settings, (96, 96)).unwrap();
         let times = renderer.renderer.pass_times(&renderer.ctx, &plan).unwrap().expect("timing is on");
         assert_eq!(times.len(), plan.steps.len(), "{plan}");
         assert!(times.iter().all(|t| t.is_finite() && *t >= 0.0), "{times:?}");
@@ -409,8 +409,11 @@ fn each_group_layer_pass_carries_its_own_layer_in_its_uniforms() {
     let cloud = model();
     let grouping = GroupingSpec::mgc(1.0).compute(&cloud).unwrap();
     let settings = RenderSettings { mode: "deferred".parse().unwrap(), ..Default::default() };
+    let facts = pointblend::frame::SceneFacts { splats: cloud.len(), mean_radius: 0.001, ..Default::default() };
+    let spec = pointblend::frame::resolve(&settings, &facts, &pointblend::frame::View::still((64, 64)));
     let frame = FrameDesc {
-        settings: &settings,
+        settings: &spec.drawn,
+        spec: &spec,
         width: 64,
         height: 64,
         splats: cloud.len(),

@@ -53,14 +53,14 @@ fn built_modules() -> BTreeSet<(&'static str, String)> {
                     for prefilter in pointblend::frame::Prefilter::ALL {
                         let settings = RenderSettings { mode, lighting, quality, prefilter, ..Default::default() };
                         renderer
-                            .render(&mut gpu, &camera, &settings, 48, 48)
+                            .render(&mut gpu, &camera, &settings, (48, 48))
                             .unwrap_or_else(|e| panic!("{mode} on {what}: {e}"));
                     }
                     // Eye-dome lighting (its pass reads a depth buffer or K group images).
                     let eye_dome = Some(Default::default());
                     let settings = RenderSettings { mode, lighting, quality, eye_dome, ..Default::default() };
                     renderer
-                        .render(&mut gpu, &camera, &settings, 48, 48)
+                        .render(&mut gpu, &camera, &settings, (48, 48))
                         .unwrap_or_else(|e| panic!("{mode} with eye-dome lighting on {what}: {e}"));
                 }
             }

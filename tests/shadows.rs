@@ -253,12 +253,13 @@ fn no_lights_plan_allocate_and_upload_no_shadow_work() {
     let mut renderer = common::renderer();
     let settings = RenderSettings { mode: RenderMode::DEFAULT, ..Default::default() };
     let frame = frames.render(Some(&mut renderer), &common::looking_down_z(), &settings, (64, 64), false).unwrap();
-    assert!(frames.last_shadows().is_none(), "no coefficients were computed");
-    assert!(frames.gpu_scene(&renderer, &settings).unwrap().light_chunks().is_none(), "no buffer was made");
+    assert!(frame.report.shadows.is_empty() && frame.report.shadow_ms.is_none(), "no coefficients were computed");
+    let spec = frames.resolve(&settings, pointblend::frame::View::still((64, 64)));
+    assert!(frames.gpu_scene(&renderer, &spec).unwrap().light_chunks().is_none(), "no buffer was made");
     assert!(!frame.plan.to_string().contains("light"), "the plan names no lights: {}", frame.plan);
-    // With a light, the plan states the tables.
+    // With a light, the frame's report states the tables.
     let lit = lit("two-pass", ShadowMethod::Tsm, LIGHT);
     let frame = frames.render(Some(&mut renderer), &common::looking_down_z(), &lit, (64, 64), false).unwrap();
-    let text = frame.plan.to_string();
+    let text = frame.report.to_string();
     assert!(text.contains("TSM table of light 1: 512x512 cells") && text.contains("MiB"), "{text}");
 }

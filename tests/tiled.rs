@@ -9,7 +9,7 @@ mod common;
 use common::tolerances::*;
 use glam::Vec3;
 use pointblend::cloud::{self, PointCloud};
-use pointblend::frame::{Camera, RenderSettings};
+use pointblend::frame::{Camera, RenderSettings, View, resolve};
 use pointblend::reference::{self, ReferenceOptions};
 use pointblend::render::RenderMode;
 use pointblend::scene::{Material, Scene, primitives};
@@ -26,9 +26,10 @@ fn settings(lighting: bool) -> RenderSettings {
 fn render(scene: &Scene, camera: &Camera, settings: &RenderSettings, size: u32) -> (image::RgbaImage, u32) {
     let mut renderer = common::renderer();
     let mut gpu = renderer.upload(scene, None);
-    let (image, plan) = renderer.render_image(&mut gpu, camera, settings, size, size).expect("render");
+    let spec = resolve(settings, &gpu.facts(), &View::still((size, size)));
+    let (image, plan, report) = renderer.render_spec(&mut gpu, camera, &spec, true).expect("render");
     assert!(plan.compute_passes() > 0, "tiled ran its own plan: {plan}");
-    (image, plan.window_overflows.expect("the tile pipeline counts its overflows"))
+    (image, report.window_overflows.expect("the tile pipeline counts its overflows"))
 }
 
 fn exact(scene: &Scene, camera: &Camera, settings: &RenderSettings, size: u32) -> (image::RgbaImage, Vec<u32>) {
@@ -367,16 +368,19 @@ fn an_opaque_scene_runs_the_tile_pipeline_and_the_plan_states_its_memory() {
     let camera = Camera::default_for(&scene.flattened(), 1.0);
     let mut renderer = common::renderer();
     let mut gpu = renderer.upload(&scene, None);
-    let (_, plan) = renderer.render_image(&mut gpu, &camera, &settings(true), 96, 96).unwrap();
-    let text = plan.to_string();
+    let spec = resolve(&settings(true), &gpu.facts(), &View::still((96, 96)));
+    let (_, plan, report) = renderer.render_spec(&mut gpu, &camera, &spec, true).unwrap();
+    let text = format!("{plan}{report}");
     assert!(plan.compute_passes() == 4 && !text.contains("two-pass plan"), "{text}");
     let engine = renderer.renderer.tile_engine().unwrap();
     let entries = engine.last.entries;
     assert!(entries >= scene.len() as u64 / 2, "most splats are binned: {entries}");
     assert!(engine.entry_capacity() >= entries, "room for every entry");
-    let stated = plan.buffers.iter().find(|b| b.name == "tile entries").unwrap().bytes;
+    let lists = report.tile_lists.expect("the report states the tile lists");
+    let stated = lists.buffers.iter().find(|b| b.name == "tile entries").unwrap().bytes;
     assert_eq!(stated, engine.entry_capacity() * pointblend::render::tile_engine::ENTRY_BYTES, "{text}");
-    assert!(engine.bytes() <= plan.buffer_bytes() + (1 << 16), "the plan states what the engine holds: {text}");
+    let reported: u64 = lists.buffers.iter().map(|b| b.bytes).sum();
+    assert!(engine.bytes() <= reported + (1 << 16), "the report states what the engine holds: {text}");
     assert!(text.contains("GPU memory of the frame"), "{text}");
 }
 

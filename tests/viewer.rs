@@ -123,8 +123,9 @@ fn bench_image(sidecar: &Path, cache: &Path) -> image::RgbaImage {
         ruler: None,
     };
     let mut renderer = pointblend::render::HeadlessRenderer::new().unwrap();
-    let timed = pointblend::bench::timing::time_frames(&mut renderer, &mut frames, &view.camera(), &settings, &config);
-    timed.unwrap().0
+    let spec = frames.resolve(&settings, pointblend::frame::View::still((config.width, config.height)));
+    let timed = pointblend::bench::timing::time_frames(&mut renderer, &mut frames, &view.camera(), &spec, &config);
+    timed.unwrap().0.image
 }
 
 /// Ctrl+S, then the PNG it saved in `shots`.
@@ -363,15 +364,15 @@ fn a_large_model_is_drawn_under_the_point_budget_while_the_camera_moves_then_in_
     orbit(&mut h);
     // 188,826 splats are over the default budget while moving: the frames drawn then keep to it.
     wait_for(&mut h, "a preview under the budget", |app| {
-        app.shown_frame().is_some_and(|(_, key)| key.preview && key.settings.point_budget.is_some())
+        app.shown_frame().is_some_and(|(_, key)| key.preview.is_some())
     });
-    let budget = h.state().shown_frame().unwrap().1.settings.point_budget.unwrap() as usize;
+    let budget = h.state().shown_frame().unwrap().1.preview.unwrap().budget as usize;
     let drawn = h.state().shown_splats().unwrap();
     assert!(drawn <= budget && drawn * 2 > budget, "{drawn} splats drawn under a budget of {budget}");
     assert!(budget < total);
     // When the camera stops, the full frame follows.
     wait_for(&mut h, "the full frame after the orbit", |app| {
-        settled_in(RenderMode::TwoPass)(app) && app.shown_frame().is_some_and(|(_, key)| !key.preview)
+        settled_in(RenderMode::TwoPass)(app) && app.shown_frame().is_some_and(|(_, key)| key.preview.is_none())
     });
     assert_eq!(h.state().shown_splats(), Some(total));
     assert!(h.state().shown_frame().unwrap().1.settings.point_budget.is_none());

@@ -14,9 +14,10 @@ use super::ruler::{ruler, ruler_name};
 use super::timing::time_frames;
 use crate::cloud::LoadOptions;
 use crate::frame::environment::EnvironmentSettings;
-use crate::frame::{Camera, EyeDome, ModeVariant, RenderMode, RenderSettings};
+use crate::frame::spec::Selection;
+use crate::frame::{Camera, EyeDome, FrameSpec, ModeVariant, RenderMode, RenderSettings, View};
 use crate::reference;
-use crate::render::{HeadlessRenderer, SceneFrames};
+use crate::render::{Frame, HeadlessRenderer, SceneFrames};
 use crate::scene::Scene;
 
 use super::config::save_png;
@@ -45,6 +46,8 @@ pub(super) fn spread(values: &[f64]) -> Spread {
 pub(super) struct Prepared {
     pub(super) variant: ModeVariant,
     pub(super) settings: RenderSettings,
+    /// Its frame, decided once ([`crate::frame::resolve`]): bench's rows are labelled from it.
+    pub(super) spec: FrameSpec,
     pub(super) k: usize,
     pub(super) group_s: Option<f64>,
     /// Milliseconds the shadow coefficients took and the MiB of their TSM tables (lit by scene lights).
@@ -116,34 +119,35 @@ pub(super) fn prepare_variants(
             continue;
         }
         let settings = variant.apply(&opened.base).map_err(BenchError::Invalid)?;
-        let triangles = frames.draws_triangles(&settings);
-        if triangles || frames.applied_budget(&settings).is_some() {
+        let spec = frames.resolve(&settings, View::still((config.width, config.height)));
+        if spec.selection.changes_with_view() {
             // The hierarchy is built (or read) here, not in a timed frame; its
             // splats, groups and shadows depend on the view: made by each frame
             // (see time_frames). So do a frame with triangles' splats.
-            if !triangles {
+            if matches!(spec.selection, Selection::Budget(_)) {
                 frames.hierarchy();
             }
-            let k = match frames.drawn_grouping(&settings).map(|s| crate::render::per_frame_grouping(s).algo) {
+            let k = match spec.grouping.map(|g| g.spec.algo) {
                 Some(crate::grouping::GroupingAlgo::Hash { k, .. }) => k,
                 _ => 1,
             };
-            prepared.push(Prepared { variant: variant.clone(), settings, k, group_s: None, shadows: None, ruler_only });
+            let shadows = None;
+            prepared.push(Prepared { variant: variant.clone(), settings, spec, k, group_s: None, shadows, ruler_only });
             continue;
         }
-        let (k, group_s) = match frames.drawn_grouping(&settings) {
-            Some(spec) => {
-                let grouping = frames.grouping(spec).map_err(|e| BenchError::Invalid(e.to_string()))?;
+        let (k, group_s) = match spec.grouping {
+            Some(drawn) => {
+                let grouping = frames.grouping(drawn.spec).map_err(|e| BenchError::Invalid(e.to_string()))?;
                 (grouping.grouping.k(), Some(grouping.seconds))
             }
             None => (1, None),
         };
-        frames.gpu_scene(renderer, &settings).map_err(|e| BenchError::Invalid(e.to_string()))?;
-        let shadows = frames.shadow_key(&settings).and(frames.last_shadows()).map(|c| {
+        let shadows = frames.shadows(&spec.drawn).map_err(|e| BenchError::Invalid(e.to_string()))?.map(|c| {
             let table_bytes: u64 = c.tables.iter().map(|t| t.bytes).sum();
             (c.seconds * 1e3, table_bytes as f64 / (1u64 << 20) as f64)
         });
-        prepared.push(Prepared { variant: variant.clone(), settings, k, group_s, shadows, ruler_only });
+        frames.gpu_scene(renderer, &spec).map_err(|e| BenchError::Invalid(e.to_string()))?;
+        prepared.push(Prepared { variant: variant.clone(), settings, spec, k, group_s, shadows, ruler_only });
     }
     Ok(prepared)
 }
@@ -239,7 +243,7 @@ pub(super) fn blank_row(
         variant: variant.to_string(),
         reference: ruler_name(mode.info().transparent, config.settings.supersample),
         ruler: mode == RenderMode::RULER,
-        fallback: mode.runs_opaque(opened.scene.has_transparency()).then(|| OPAQUE_FALLBACK.to_string()),
+        fallback: None,
         view: view.to_string(),
         frame_ms: 0.0,
         frame_ms_min: 0.0,
@@ -283,17 +287,19 @@ pub(super) fn measure_variant(
     reference: &Ruler,
     (stem, mut row): (&str, BenchRow),
 ) -> Result<BenchRow, BenchError> {
-    let (image, plan, wall, per_pass, profiled) = time_frames(renderer, frames, &view.camera, &p.settings, config)
-        .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?;
-    row.window_overflows = plan.window_overflows;
+    let (Frame { image, plan, report }, wall, per_pass, profiled) =
+        time_frames(renderer, frames, &view.camera, &p.spec, config)
+            .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?;
+    row.fallback = p.spec.opaque_fallback.then(|| OPAQUE_FALLBACK.to_string());
+    row.window_overflows = report.window_overflows;
     if p.settings.eye_dome_drawn().is_some() {
         row.reference += ", eye-dome lit"; // its ruler is (`Rulers::of_variant`)
     }
-    if let Some(budget) = frames.applied_budget(&p.settings).and(frames.last_budget()) {
+    if let Some(budget) = &report.budget {
         row.points = budget.splats;
         row.budget_select_ms = Some(budget.select_ms);
     }
-    if let Some(hybrid) = frames.last_hybrid().filter(|_| frames.draws_triangles(&p.settings)) {
+    if let Some(hybrid) = &report.hybrid {
         row.points = hybrid.splats;
         row.triangles = Some(hybrid.triangles);
     }
@@ -344,7 +350,7 @@ fn mode_ruler(
     config: &BenchConfig,
     exact: &Ruler,
 ) -> Result<(Ruler, String), BenchError> {
-    let (image, _, wall, _, _) = time_frames(renderer, frames, &view.camera, &p.settings, config)
+    let (Frame { image, .. }, wall, _, _) = time_frames(renderer, frames, &view.camera, &p.spec, config)
         .map_err(|e| BenchError::Invalid(format!("{} ({} view, the ruler): {e}", p.variant, view.name)))?;
     let ms = spread(&wall).median;
     Ok((Ruler { image, ms, layers: exact.layers.clone() }, p.variant.label()))

@@ -196,13 +196,13 @@ fn bench_animation(
             for p in &prepared {
                 let reference = rulers.of_variant(&now.scene, p);
                 let blank = blank_row(&name, &now, view.name, config, &p.variant.label(), p.variant.mode);
-                let spec = frames.drawn_grouping(&p.settings);
+                let spec = p.spec.grouping.map(|g| g.spec);
                 let mut row = measure_variant(renderer, &mut frames, view, p, config, reference, (&stem, blank))?;
                 (row.frame, row.time) = (Some(i), Some(t));
                 row.regroup_ms = match &update {
                     Some(u) => spec.map(|s| u.regroup_ms_for(Some(s))),
                     // Frame 0: the first grouping of this algorithm (variants of one share it).
-                    None => spec.map(|s| first_regroup_ms(&frames, &prepared, s)),
+                    None => spec.map(|s| first_regroup_ms(&prepared, s)),
                 };
                 row.upload_ms = update.as_ref().map(|u| u.upload_for(spec).0);
                 rows.push(row);
@@ -216,7 +216,7 @@ fn bench_animation(
 
 /// The milliseconds of the first grouping by `spec`'s algorithm among the
 /// prepared variants (the later ones of one algorithm reuse its groups).
-fn first_regroup_ms(frames: &SceneFrames, prepared: &[Prepared], spec: GroupingSpec) -> f64 {
-    let same = |p: &&Prepared| frames.drawn_grouping(&p.settings).is_some_and(|s| s.algo == spec.algo);
+fn first_regroup_ms(prepared: &[Prepared], spec: GroupingSpec) -> f64 {
+    let same = |p: &&Prepared| p.spec.grouping.is_some_and(|g| g.spec.algo == spec.algo);
     prepared.iter().filter(same).filter_map(|p| p.group_s).fold(0.0, f64::max) * 1e3
 }

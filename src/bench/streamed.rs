@@ -31,9 +31,9 @@ pub(super) fn bench_streamed(
     let shown = stream.name().to_string();
     let (w, h) = (config.width, config.height);
     let views = standard_views(&stream.bounds_cloud(), w as f32 / h as f32, config.views, &config.camera);
-    let budget = config.stream_budget;
-    // The stream applied the budget; the modes draw every point it selected.
-    let config = &BenchConfig { settings: config.settings.without_budget(), ..config.clone() };
+    // Chosen as the variants' base settings say (their radius scale, and
+    // every node when lit: off-screen nodes cast shadows).
+    let budget = (config.stream_budget, crate::lod::Choosing::of(&config.settings));
     let short = stream.file_name().to_string();
     let stem = crate::output::safe_stem(Path::new(&short));
     let mut rows = Vec::new();
@@ -60,7 +60,8 @@ pub(super) fn bench_streamed(
         );
         let scene = Scene::single(short.clone(), frame.cloud, frame.hash).coloured_by_default();
         let opened = set_up(scene, &shown, config, open_s + stream_s)?;
-        let mut frames = SceneFrames::of(Arc::clone(&opened.scene));
+        // The stream applied the budget: every frame draws the points it selected.
+        let mut frames = SceneFrames::of(Arc::clone(&opened.scene)).streamed();
         let prepared = prepare_variants(config, &opened, &mut frames, renderer)?;
         let one = std::slice::from_ref(view);
         rows.extend(measure_views((&short, &stem), &opened, &mut frames, &prepared, one, config, renderer)?);

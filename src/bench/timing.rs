@@ -8,26 +8,26 @@
 use std::time::Instant;
 
 use super::config::BenchConfig;
-use crate::frame::{Camera, RenderSettings};
-use crate::render::{Frame, FrameError, HeadlessRenderer, Readback, RenderPlan, SceneFrames};
+use crate::frame::{Camera, FrameSpec};
+use crate::render::{Frame, FrameError, HeadlessRenderer, Readback, SceneFrames};
 
-/// Warm-up and timed frames of one variant from one view: the last image,
-/// the plan, wall times and GPU times per plan pass.
+/// Warm-up and timed frames of one variant (its frame `variant`, decided
+/// once) from one view: the last frame read back (image, plan and report),
+/// wall times and GPU times per plan pass.
 #[allow(clippy::type_complexity)]
 pub fn time_frames(
     renderer: &mut HeadlessRenderer,
     frames: &mut SceneFrames,
     camera: &Camera,
-    variant: &RenderSettings,
+    variant: &FrameSpec,
     config: &BenchConfig,
-) -> Result<(image::RgbaImage, RenderPlan, Vec<f64>, Vec<Vec<f64>>, bool), FrameError> {
-    let (w, h) = (config.width, config.height);
+) -> Result<(Frame, Vec<f64>, Vec<Vec<f64>>, bool), FrameError> {
     let mut wall = Vec::new();
     let mut per_pass: Vec<Vec<f64>> = Vec::new();
     for frame in 0..config.warm_up + config.frames {
         let t = Instant::now();
         // Under a point budget the frame selects its splats first (part of its time).
-        let plan = frames.render_frame(Some(renderer), camera, variant, (w, h), Readback::Nothing)?.plan;
+        let plan = frames.render_frame(Some(renderer), camera, variant, Readback::Nothing)?.plan;
         renderer.ctx.wait_idle()?;
         let ms = t.elapsed().as_secs_f64() * 1e3;
         if frame >= config.warm_up {
@@ -46,7 +46,7 @@ pub fn time_frames(
         // adapter): time each step on its own in frames of their own.
         renderer.renderer.profile_steps(true);
         for _ in 0..config.frames.min(3) {
-            let profiled = frames.render_frame(Some(renderer), camera, variant, (w, h), Readback::Nothing);
+            let profiled = frames.render_frame(Some(renderer), camera, variant, Readback::Nothing);
             let times = renderer.renderer.step_times().map(<[f64]>::to_vec);
             if let Err(e) = profiled {
                 renderer.renderer.profile_steps(false);
@@ -59,6 +59,6 @@ pub fn time_frames(
         }
         renderer.renderer.profile_steps(false);
     }
-    let Frame { image, plan } = frames.render_frame(Some(renderer), camera, variant, (w, h), Readback::Image)?;
-    Ok((image, plan, wall, per_pass, profiled))
+    let frame = frames.render_frame(Some(renderer), camera, variant, Readback::Image)?;
+    Ok((frame, wall, per_pass, profiled))
 }

@@ -9,7 +9,7 @@ use pointblend::formats::{self, Format, Reader};
 pub const STREAMING_COMMANDS: [&str; 6] = ["view", "render", "bench", "info", "pick", "measure"];
 
 fn whole(format: &Format) -> bool {
-    formats::is_cloud_opened_whole(format)
+    pointblend::cloud::formats::opened_whole(format)
 }
 
 fn streamed_formats() -> String {
@@ -107,4 +107,32 @@ pub fn program_about() -> String {
         "Point-based surface splatting with correct transparency: render, inspect and benchmark point clouds ({})",
         formats::names(|f| whole(f) || f.streamed, "and")
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_help_that_lists_point_files_names_every_format_of_the_registry() {
+        let helps = [
+            ("render", drawn_file()),
+            ("bench", benched_files()),
+            ("view", opened_by_view()),
+            ("info", described_by_info()),
+            ("convert", converted_input()),
+            ("group", grouped_file()),
+            ("info's about", info_about()),
+            ("render's about", render_about()),
+            ("the program", program_about()),
+        ];
+        for (command, help) in &helps {
+            for format in formats::FORMATS.iter().filter(|f| whole(f)) {
+                assert!(help.contains(format.name), "{command}'s help does not name {}: {help}", format.name);
+            }
+        }
+        for format in formats::FORMATS.iter().filter(|f| f.written) {
+            assert!(converted_output().contains(format.name), "convert's output help: {}", converted_output());
+        }
+    }
 }

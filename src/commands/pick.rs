@@ -61,7 +61,8 @@ impl Picking {
             Some(stream) => {
                 let bounds = super::stream_args::bounds_scene(stream);
                 let camera = view.camera(flags, &bounds)?;
-                (super::stream_args::frame_scene(stream, &camera, size, view.stream_budget()?)?, camera)
+                let choosing = pointblend::lod::Choosing::of(&view.base_settings(&bounds, RenderMode::RULER)?);
+                (super::stream_args::frame_scene(stream, &camera, size, (view.stream_budget()?, choosing))?, camera)
             }
             None => {
                 let scene = shared::load_scene(file)?;
@@ -71,7 +72,9 @@ impl Picking {
         };
         view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
         let settings = view.base_settings(&scene, RenderMode::RULER)?;
-        let options = pick::options(&settings, &scene);
+        let facts = scene.facts(&scene.flattened());
+        let spec = pointblend::frame::resolve(&settings, &facts, &pointblend::frame::View::still(size));
+        let options = pick::options(&spec.drawn, &scene);
         Ok(Picking { scene, camera, options, size })
     }
 

@@ -5,7 +5,8 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use pointblend::copc::StreamBudget;
-use pointblend::frame::{Camera, Parameter, RenderMode, RenderSettings, Sidecar, ViewPath};
+use pointblend::frame::{Camera, Parameter, RenderMode, RenderSettings, Sidecar, View, ViewPath};
+use pointblend::lod::Choosing;
 use pointblend::reference::{self, ReferenceOptions};
 use pointblend::render::{Frame, HeadlessRenderer, Readback, SceneFrames};
 use pointblend::scene::Scene;
@@ -121,7 +122,7 @@ pub fn run(args: &Args) -> Result<()> {
     let started = Instant::now();
     let (mut scene, stream_camera) = open_scene(args, sidecar.as_ref())?;
     let load_seconds = started.elapsed().as_secs_f64();
-    let (settings, (width, height)) = frame_settings(args, sidecar.as_ref(), &mut scene, stream_camera.is_some())?;
+    let (settings, (width, height)) = frame_settings(args, sidecar.as_ref(), &mut scene)?;
     let camera = match stream_camera {
         Some(camera) => camera,
         None => frame_camera(args, sidecar.as_ref(), &scene)?,
@@ -137,18 +138,23 @@ pub fn run(args: &Args) -> Result<()> {
     // A screenshot of a moving scene names its time; --time overrides it.
     let time = args.time.or(sidecar.as_ref().and_then(|s| s.time));
     let mut frames = moving_frames(scene, time)?;
+    if stream_camera.is_some() {
+        frames = frames.streamed(); // the selection applied the budget
+    }
     if let Some(views) = &views {
         let flight = super::render_path::Flight { file: &args.file, out: &args.out, frames: args.path_frames };
         return super::render_path::run(&flight, views, &mut frames, gpu.as_mut(), &settings, (width, height));
     }
-    let Frame { image, plan } =
-        frames.render_frame(gpu.as_mut(), &camera, &settings, (width, height), Readback::ImageWithProgress)?;
+    let spec = frames.resolve(&settings, View::still((width, height)));
+    let Frame { image, plan, report } =
+        frames.render_frame(gpu.as_mut(), &camera, &spec, Readback::ImageWithProgress)?;
     let scene = frames.scene();
     let render_seconds = render_started.elapsed().as_secs_f64();
     if args.explain {
         println!("{plan}");
+        print!("{report}");
     }
-    if settings.mode.runs_opaque(scene.has_transparency()) {
+    if spec.opaque_fallback {
         println!(
             "{}: this model is opaque, so {} ran two-pass; set --opacity below 1 to see through it",
             shared::shown_path(&args.file),
@@ -209,9 +215,15 @@ fn open_scene(args: &Args, sidecar: Option<&Sidecar>) -> Result<(Scene, Option<C
                 None => args.view.camera(&args.camera_flags, &bounds)?,
             };
             let size = sidecar.map_or(args.view.size, |s| (s.size[0], s.size[1]));
+            // Chosen as the frame's settings say: their radius scale, and every node when lit.
             let budget = match sidecar {
-                Some(s) => StreamBudget::of_settings(s.settings().map_err(anyhow::Error::msg)?.point_budget, false),
-                None => args.view.stream_budget()?,
+                Some(s) => {
+                    let settings = s.settings().map_err(anyhow::Error::msg)?;
+                    let lit = settings.lighting && !s.lights().map_err(anyhow::Error::msg)?.is_empty();
+                    let choosing = Choosing { radius_scale: settings.radius_scale, cull: !lit };
+                    (StreamBudget::of_settings(settings.point_budget, false), choosing)
+                }
+                None => (args.view.stream_budget()?, Choosing::of(&args.view.base_settings(&bounds, args.mode)?)),
             };
             stream_camera = Some(camera);
             super::stream_args::frame_scene(stream, &camera, size, budget)?
@@ -230,14 +242,8 @@ fn open_scene(args: &Args, sidecar: Option<&Sidecar>) -> Result<(Scene, Option<C
 }
 
 /// The frame's settings and size: the flags', or a screenshot's with its
-/// clip and lights; the environment applied; no budget left for a
-/// `streamed` scene (its selection applied it).
-fn frame_settings(
-    args: &Args,
-    sidecar: Option<&Sidecar>,
-    scene: &mut Scene,
-    streamed: bool,
-) -> Result<(RenderSettings, (u32, u32))> {
+/// clip and lights; the environment applied.
+fn frame_settings(args: &Args, sidecar: Option<&Sidecar>, scene: &mut Scene) -> Result<(RenderSettings, (u32, u32))> {
     let (mut settings, size) = match sidecar {
         Some(s) => (s.settings().map_err(anyhow::Error::msg)?, (s.size[0], s.size[1])),
         None => (args.view.settings(scene, args.mode)?, args.view.size),
@@ -251,9 +257,6 @@ fn frame_settings(
         settings.lights = pointblend::frame::Lights::new(&lights).map_err(|e| anyhow::anyhow!("lights: {e}"))?;
     }
     args.apply_environment(scene, &mut settings)?;
-    if streamed {
-        settings = settings.without_budget();
-    }
     let supersample = args.view.parameters.given(Parameter::Supersample);
     if let (Some(_), Some(n)) = (sidecar, supersample) {
         // The sidecar sets the view; --supersample still sets the reference's rays (and --diff's ruler).

@@ -40,6 +40,8 @@ pub fn run(
     let n = args.frames;
     let gif_path = args.out.with_extension("gif");
     let started = Instant::now();
+    // One frame decided once, drawn from every view of the path.
+    let spec = frames.resolve(settings, pointblend::frame::View::still(size));
     let bar = pointblend::progress::bar(n as u64, "camera path", true);
     let mut gif_bytes = Vec::new();
     {
@@ -47,8 +49,7 @@ pub fn run(
         gif.set_repeat(image::codecs::gif::Repeat::Infinite).context("the animated GIF")?;
         for k in 0..n {
             let camera = views.camera_at(k as f32 / (n - 1) as f32);
-            let Frame { image, .. } =
-                frames.render_frame(gpu.as_deref_mut(), &camera, settings, size, Readback::Image)?;
+            let Frame { image, .. } = frames.render_frame(gpu.as_deref_mut(), &camera, &spec, Readback::Image)?;
             super::shared::write_image(&image, &frame_path(args.out, k))?;
             let delay = image::Delay::from_numer_denom_ms(1000, GIF_FPS);
             gif.encode_frame(image::Frame::from_parts(image, 0, 0, delay))

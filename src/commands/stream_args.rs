@@ -8,6 +8,7 @@ use pointblend::cloud::LoadOptions;
 use pointblend::copc::is_streamed;
 use pointblend::copc::{self, CopcStream, StreamBudget, StreamOptions};
 use pointblend::frame::Camera;
+use pointblend::lod::Choosing;
 use pointblend::scene::Scene;
 
 #[derive(clap::Args, Debug, Clone, Default)]
@@ -57,8 +58,14 @@ pub fn bounds_scene(stream: &CopcStream) -> Scene {
     Scene::single(stream.file_name(), stream.bounds_cloud(), 0)
 }
 
-/// The scene of the nodes `stream` selects from `camera` at `size` under `budget`, loaded as needed.
-pub fn frame_scene(stream: &mut CopcStream, camera: &Camera, size: (u32, u32), budget: StreamBudget) -> Result<Scene> {
+/// The scene of the nodes `stream` selects from `camera` at `size` under
+/// `budget`, chosen as the frame's settings say (`choosing`), loaded as needed.
+pub fn frame_scene(
+    stream: &mut CopcStream,
+    camera: &Camera,
+    size: (u32, u32),
+    budget: (StreamBudget, Choosing),
+) -> Result<Scene> {
     let frame = stream.frame_under(camera, size, budget, &LoadOptions { progress: true, ..Default::default() })?;
     for warning in &frame.report.warnings {
         log::warn!("{}: {warning}", stream.name());

@@ -11,19 +11,25 @@ use super::jobs::Job;
 use super::model::GroupedModel;
 use super::render_thread::{FrameRequest, Purpose};
 use super::state::FrameKey;
+use crate::frame::View;
+use crate::frame::spec::Preview;
+use crate::grouping::GroupingSpec;
 use crate::grouping::cache::Cache;
 
 /// How long after the last camera move large models still draw their budgeted preview.
 pub(super) const SETTLE: Duration = Duration::from_millis(300);
 
 /// The grouping (from the grouping job) a full frame of `settings` waits
-/// for, if any. A moving scene regroups by hashing in the render thread,
-/// every frame, and so does a frame under a point budget (the splats it
-/// draws change with the view).
-pub(super) fn drawn_grouping(model: &super::model::Model, settings: &crate::render::RenderSettings) -> Option<String> {
-    let budgeted = settings.point_budget.is_some_and(|b| (b as usize) < model.cloud.len());
-    (settings.mode.needs_grouping_for(model.transparent) && !model.is_animated() && !budgeted)
-        .then(|| settings.grouping_for_mode().to_string())
+/// for, if any: the one its spec draws ([`crate::frame::resolve`]), unless
+/// that is redone every frame in the render thread (a moving scene, or
+/// splats chosen per view under a point budget or beside triangles).
+pub(super) fn drawn_grouping(
+    model: &super::model::Model,
+    settings: &crate::render::RenderSettings,
+    size: (u32, u32),
+) -> Option<GroupingSpec> {
+    let spec = crate::frame::resolve(settings, &model.facts(), &View::still(size));
+    spec.grouping.filter(|g| !g.per_frame).map(|g| g.spec)
 }
 
 impl ViewerApp {
@@ -39,19 +45,15 @@ impl ViewerApp {
         let budget = self.ui.moving_budget.min(self.ui.settings.point_budget.unwrap_or(u32::MAX));
         // A streamed model is the selection under the budget already.
         let large = model.cloud.len() > budget as usize && !model.is_animated() && model.streamed.is_none();
-        let preview = may_preview && large && self.last_camera_move.is_some_and(|t| t.elapsed() < SETTLE);
+        let moving = may_preview && large && self.last_camera_move.is_some_and(|t| t.elapsed() < SETTLE);
+        // The viewer's preview rule: the registry's faster mode, under the moving budget.
+        let preview = moving.then(|| Preview { mode: self.ui.settings.mode.info().preview, budget });
         let mut settings = self.ui.settings;
         settings.clip = model.scene.clip_in_frame(&self.ui.inspect.region());
-        if model.streamed.is_some() {
-            settings.point_budget = None;
-        }
-        if preview {
-            settings.point_budget = Some(budget);
-        }
-        let grouping = if preview { None } else { drawn_grouping(model, &settings) };
+        let grouping = if preview.is_some() { None } else { drawn_grouping(model, &settings, self.view_size) };
         Some(FrameKey {
             generation: model.generation,
-            grouping,
+            grouping: grouping.map(|g| g.to_string()),
             camera: self.ui.camera,
             settings,
             size: self.view_size,
@@ -71,16 +73,13 @@ impl ViewerApp {
     /// Progress of a CPU-mode frame (the reference) the view is waiting for.
     pub(super) fn view_progress(&self) -> Option<(String, Option<f32>)> {
         let (_, key) = self.in_flight.last()?;
-        (!key.settings.mode.is_gpu() && !key.preview).then(|| self.renderer.tracker.snapshot())
+        (!key.settings.mode.is_gpu() && key.preview.is_none()).then(|| self.renderer.tracker.snapshot())
     }
 
     /// Starts a grouping when the mode draws groups and the one it needs is not there.
     pub(super) fn ensure_grouping(&mut self, ctx: &egui::Context) {
         let Some(model) = self.model.clone() else { return };
-        if drawn_grouping(&model, &self.ui.settings).is_none() {
-            return;
-        }
-        let spec = self.ui.settings.grouping_for_mode();
+        let Some(spec) = drawn_grouping(&model, &self.ui.settings, self.view_size) else { return };
         let have = self.grouped.as_ref().is_some_and(|g| g.generation == model.generation && g.spec == spec);
         let running = self.grouping_job.as_ref().is_some_and(|(s, _)| *s == spec);
         if have || running || ctx.input(|i| i.pointer.any_down()) {
@@ -121,7 +120,7 @@ impl ViewerApp {
         if self.view_size.0 < 1 || self.view_size.1 < 1 || ctx.input(|i| i.viewport().minimized == Some(true)) {
             return;
         }
-        if key.preview {
+        if key.preview.is_some() {
             ctx.request_repaint_after(SETTLE); // to draw the full frame once the camera rests
         }
         if self.requested.as_ref() == Some(&key) {
@@ -136,9 +135,8 @@ impl ViewerApp {
     /// A request for the frame of `key` at `size`, or `None` while its grouping is not ready.
     pub(super) fn frame_request(&mut self, key: &FrameKey, size: (u32, u32), purpose: Purpose) -> Option<FrameRequest> {
         let model = self.model.clone()?;
-        let grouping = if key.grouping.is_some() {
-            let wanted = key.settings.grouping_for_mode();
-            let g = self.grouped.clone().filter(|g| g.generation == model.generation && g.spec == wanted);
+        let grouping = if let Some(wanted) = &key.grouping {
+            let g = self.grouped.clone().filter(|g| g.generation == model.generation && g.spec.to_string() == *wanted);
             Some(g?) // the old image stays until the grouping is ready
         } else {
             None
@@ -170,7 +168,7 @@ impl ViewerApp {
                         image.height(),
                         result.stats.frame_ms,
                         result.stats.splats_drawn,
-                        if result.stats.preview { ", preview" } else { "" }
+                        if result.stats.preview.is_some() { ", preview" } else { "" }
                     );
                     let Some(at) = self.in_flight.iter().position(|(id, _)| *id == result.id) else { continue };
                     // Requests before this one were skipped by the renderer.

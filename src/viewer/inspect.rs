@@ -92,7 +92,7 @@ impl ViewerApp {
     /// The legend of the model's colours, if they show an attribute.
     pub(super) fn legend(&self) -> Option<super::legend::Legend> {
         let model = self.model.as_ref()?;
-        super::legend::Legend::of(model.style.as_ref()?, &model.summary)
+        super::legend::Legend::of(model.style.as_ref()?, &model.summary, model.scene.colour_range())
     }
 
     /// Where the file point `p` is on screen, in points.

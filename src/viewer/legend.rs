@@ -23,8 +23,10 @@ pub enum Legend {
 }
 
 impl Legend {
-    /// The legend of `style` over a model summed up by `summary` (none for the file's own colours).
-    pub fn of(style: &Style, summary: &Summary) -> Option<Legend> {
+    /// The legend of `style` over a model summed up by `summary` (none for
+    /// the file's own colours); a scale spans `used`, the range the colours
+    /// were made with ([`crate::scene::Scene::colour_range`]), else the style's.
+    pub fn of(style: &Style, summary: &Summary, used: Option<(f64, f64)>) -> Option<Legend> {
         match style.color_by.as_ref()? {
             ColorBy::Rgb => None,
             ColorBy::Classification => {
@@ -47,7 +49,7 @@ impl Legend {
             }
             by => {
                 let column = summary.scalar_column(style)?;
-                let range = style.range.unwrap_or(column.percentiles);
+                let range = used.or(style.range).unwrap_or(column.percentiles);
                 Some(Legend::Scale { title: by.text(), colormap: style.colormap, range })
             }
         }
@@ -100,5 +102,57 @@ pub fn draw(painter: &Painter, view: Rect, legend: &Legend) {
             painter.text(pos2(bar.left(), below), Align2::LEFT_TOP, lo, font.clone(), text);
             painter.text(pos2(bar.right(), below), Align2::RIGHT_TOP, hi, font, text);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cloud::PointCloud;
+    use crate::cloud::attributes::{Values, names};
+    use crate::scene::Scene;
+
+    /// Ground (class 2) from 0 to 10 m and trees (class 5) from 100 to 200 m.
+    fn ground_and_trees() -> PointCloud {
+        let n = 200;
+        let z = |i: usize| if i % 2 == 0 { (i / 2) as f32 * 0.1 } else { 100.0 + (i / 2) as f32 };
+        let mut cloud = PointCloud {
+            positions: (0..n).map(|i| glam::Vec3::new(i as f32, 0.0, z(i))).collect(),
+            normals: vec![glam::Vec3::Z; n],
+            radii: vec![0.5; n],
+            colours: vec![[10, 20, 30]; n],
+            opacity: vec![1.0; n],
+            two_sided: vec![false; n],
+            ..Default::default()
+        };
+        cloud.attributes.push(names::CLASSIFICATION, Values::U8((0..n).map(|i| [2, 5][i % 2]).collect()));
+        cloud
+    }
+
+    #[test]
+    fn the_scale_spans_the_range_the_colours_used_after_hidden_classes_left() {
+        let cloud = ground_and_trees();
+        let summary = Summary::of(&cloud);
+        let mut scene = Scene::from(cloud);
+        let style = Style { color_by: Some(ColorBy::Elevation), classes: Some(vec![2]), ..Default::default() };
+        scene.apply_style(&style).unwrap();
+        let used = scene.colour_range().expect("elevation colours span a range");
+        assert!(used.1 < 11.0, "the ground alone is coloured: {used:?}");
+        let Some(Legend::Scale { range, .. }) = Legend::of(&style, &summary, scene.colour_range()) else {
+            panic!("a scale");
+        };
+        assert_eq!(
+            range,
+            used,
+            "the legend shows the colours' range, not the unstyled file's {:?}",
+            summary.scalar_column(&style).unwrap().percentiles
+        );
+        // A range given by the user is the one the colours use, and so the legend's.
+        let fixed = Style { range: Some((1.0, 5.0)), ..style };
+        scene.apply_style(&fixed).unwrap();
+        let Some(Legend::Scale { range, .. }) = Legend::of(&fixed, &summary, scene.colour_range()) else {
+            panic!("a scale");
+        };
+        assert_eq!(range, (1.0, 5.0));
     }
 }

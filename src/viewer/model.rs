@@ -30,6 +30,8 @@ pub struct Model {
     pub cloud: Arc<PointCloud>,
     /// Whether some splat is drawn less than opaque (known once, not per frame).
     pub transparent: bool,
+    /// The mean splat radius of `cloud` (what ε is a multiple of), found once.
+    pub mean_radius: f32,
     pub warnings: Vec<String>,
     /// Tells models apart, also two loads of the same file.
     pub generation: u64,
@@ -136,6 +138,7 @@ impl Model {
         let period = scene.animation_period();
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());
         let transparent = scene.has_transparency();
+        let mean_radius = cloud.mean_radius();
         let scene = Arc::new(scene);
         Model {
             path: path.to_path_buf(),
@@ -147,6 +150,7 @@ impl Model {
             scene,
             cloud,
             transparent,
+            mean_radius,
             warnings,
             generation,
             period,
@@ -173,6 +177,20 @@ impl Model {
     /// Whether something in the scene moves.
     pub fn is_animated(&self) -> bool {
         self.period > 0.0
+    }
+
+    /// What a frame of this model is decided over ([`crate::frame::resolve`]),
+    /// as the render thread's [`crate::render::SceneFrames::facts`] finds it.
+    pub fn facts(&self) -> crate::frame::SceneFacts {
+        crate::frame::SceneFacts {
+            splats: self.cloud.len(),
+            transparent: self.transparent,
+            surfaces: self.scene.has_surfaces(),
+            moving: self.is_animated(),
+            streamed: self.streamed.is_some(),
+            mean_radius: self.mean_radius,
+            shadows_at_hand: true,
+        }
     }
 
     pub fn hash_hex(&self) -> String {

@@ -16,7 +16,8 @@ use std::sync::Arc;
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::time::Instant;
 
-use crate::frame::{Camera, RenderSettings, Sidecar};
+use crate::frame::spec::Preview;
+use crate::frame::{Camera, RenderSettings, Sidecar, View};
 use crate::grouping::cache::Cache;
 use crate::progress::{self, Tracker};
 use crate::render::{Frame, HeadlessRenderer, RenderPlan, SceneFrames, SceneGrouping};
@@ -42,8 +43,8 @@ pub struct FrameRequest {
     pub camera: Camera,
     pub settings: RenderSettings,
     pub size: (u32, u32),
-    /// Draw with the mode's preview mode, under the moving budget in the settings (while the camera moves).
-    pub preview: bool,
+    /// While the camera moves: the preview's mode and budget.
+    pub preview: Option<Preview>,
     /// The time to draw a moving scene at, in seconds.
     pub time: Option<f64>,
     pub purpose: Purpose,
@@ -57,9 +58,11 @@ pub struct FrameStats {
     /// GPU time per pass, where the adapter has timestamps.
     pub pass_ms: Vec<(String, f64)>,
     pub splats_drawn: usize,
-    pub preview: bool,
+    pub preview: Option<Preview>,
     pub plan: Option<String>,
     pub plan_bytes: u64,
+    /// What the frame measured while it ran ([`crate::render::FrameReport`]), in lines.
+    pub report: Vec<String>,
     pub geometry_passes: usize,
     /// A moving scene's frame: milliseconds to regroup its splats and to
     /// write them to the GPU (none when the time did not change).
@@ -199,20 +202,18 @@ fn finish(mut result: FrameResult) -> FrameResult {
 fn draw(r: &mut HeadlessRenderer, scenes: &mut Scenes, request: &FrameRequest) -> FrameResult {
     let started = Instant::now();
     let mut stats = FrameStats { preview: request.preview, ..Default::default() };
-    let mut settings = request.settings;
-    if request.preview {
-        settings.mode = settings.mode.info().preview;
-    }
     let frames = match request.time {
         Some(t) => moving_frames(r, scenes, request, t, &mut stats),
         None => Ok(scene_frames(scenes, request)),
     };
     let frame = frames.and_then(|frames| {
+        let spec = frames.resolve(&request.settings, View { size: request.size, preview: request.preview });
         frames
-            .render_frame(Some(&mut *r), &request.camera, &settings, request.size, crate::render::Readback::Image)
+            .render_frame(Some(&mut *r), &request.camera, &spec, crate::render::Readback::Image)
             .map_err(|e| e.to_string())
     });
-    let image = frame.map(|Frame { image, plan }| {
+    let image = frame.map(|Frame { image, plan, report }| {
+        stats.report = report.lines();
         stats.splats_drawn = plan.splats;
         stats.pass_ms = if plan.steps.is_empty() { Vec::new() } else { pass_times(r, &plan) };
         describe_plan(&mut stats, &plan);
@@ -234,13 +235,17 @@ fn scene_frames<'a>(scenes: &'a mut Scenes, request: &FrameRequest) -> &'a mut S
         let mut frames = SceneFrames::new(Arc::clone(&model.scene), Arc::clone(cloud))
             .handed_groupings(1)
             .with_cache(scenes.cache.clone());
+        if model.streamed.is_some() {
+            frames = frames.streamed(); // the selection applied the budget
+        }
         if let Some(hierarchy) = &model.hierarchy {
             frames = frames.with_hierarchy(Arc::clone(hierarchy));
         }
         *slot = Some((generation, frames));
     }
     let (_, frames) = slot.as_mut().expect("filled above");
-    if let Some(grouped) = request.grouping.as_ref().filter(|g| g.generation == generation && !request.preview) {
+    if let Some(grouped) = request.grouping.as_ref().filter(|g| g.generation == generation && request.preview.is_none())
+    {
         frames.add_grouping(SceneGrouping {
             spec: grouped.spec,
             grouping: Arc::clone(&grouped.grouping),

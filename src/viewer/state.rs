@@ -58,7 +58,8 @@ pub struct FrameKey {
     pub camera: Camera,
     pub settings: RenderSettings,
     pub size: (u32, u32),
-    pub preview: bool,
+    /// Set while the camera moves on a large model: the faster mode and budget drawn.
+    pub preview: Option<crate::frame::spec::Preview>,
     /// The time shown, in seconds, for a moving scene.
     pub time: Option<f64>,
 }

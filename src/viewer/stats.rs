@@ -18,12 +18,9 @@ pub fn stats_section(ui: &mut Ui, info: &PanelInfo<'_>) {
     };
     let stats = shown.stats;
     let (w, h) = shown.key.size;
-    let mode = shown.key.settings.mode;
-    let what = match shown.key.settings.point_budget.filter(|_| stats.preview) {
-        Some(budget) => {
-            format!("preview ({} under a budget of {} splats)", mode.info().preview, thousands(budget as usize))
-        }
-        None => mode.to_string(),
+    let what = match stats.preview {
+        Some(p) => format!("preview ({} under a budget of {} splats)", p.mode, thousands(p.budget as usize)),
+        None => shown.key.settings.mode.to_string(),
     };
     ui.label(format!("{what}, {w}×{h}: {:.1} ms per frame", stats.frame_ms));
     ui.label(format!("{} splats drawn, {} geometry pass(es)", thousands(stats.splats_drawn), stats.geometry_passes));
@@ -42,7 +39,7 @@ pub fn stats_section(ui: &mut Ui, info: &PanelInfo<'_>) {
                 ui.end_row();
             }
         });
-    } else if mode.is_gpu() {
+    } else if shown.key.settings.mode.is_gpu() {
         // No timestamps, or (lavapipe) none that enclose a compute pass's dispatches.
         ui.label(RichText::new("no per-pass GPU times on this adapter").weak());
     }
@@ -59,8 +56,8 @@ pub fn stats_section(ui: &mut Ui, info: &PanelInfo<'_>) {
 pub fn error_section(ui: &mut Ui, info: &PanelInfo<'_>, actions: &mut Vec<Action>) {
     ui.heading("Error against the reference");
     let shown_key = info.shown.as_ref().map(|s| s.key);
-    let comparable =
-        shown_key.is_some_and(|k| !k.preview && k.settings.mode.is_gpu()) && shown_key == info.current.as_ref();
+    let comparable = shown_key.is_some_and(|k| k.preview.is_none() && k.settings.mode.is_gpu())
+        && shown_key == info.current.as_ref();
     if let Some(job) = info.job(JobKind::Measure) {
         if job_row(ui, job) {
             actions.push(Action::Cancel(JobKind::Measure));

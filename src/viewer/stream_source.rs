@@ -20,12 +20,14 @@ use crate::copc::{CopcStream, StreamBudget, StreamOptions, StreamStats};
 use crate::frame::{Camera, CameraRequest};
 use crate::scene::Scene;
 
-/// What a selection is made for: the camera, the view's size and the budget.
+/// What a selection is made for: the camera, the view's size, the budget
+/// and how the frame's settings choose splats (as an in-memory budget does).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ViewKey {
     pub camera: Camera,
     pub size: (u32, u32),
     pub budget: StreamBudget,
+    pub choosing: crate::lod::Choosing,
 }
 
 /// What the statistics show.
@@ -81,7 +83,7 @@ impl StreamedSource {
         let started = Instant::now();
         crate::progress::stage("selecting and loading nodes");
         let frame = stream
-            .frame_under(&view.camera, view.size, view.budget, &LoadOptions::default())
+            .frame_under(&view.camera, view.size, (view.budget, view.choosing), &LoadOptions::default())
             .map_err(|e| e.to_string())?;
         let after = stream.stats();
         let seconds = after.load_seconds - before.load_seconds;

@@ -40,6 +40,7 @@ impl ViewerApp {
     pub(super) fn open_streamed(&mut self, ctx: &egui::Context, path: PathBuf, generation: u64) {
         let size = self.view_size;
         let budget = self.stream_budget();
+        let choosing = crate::lod::Choosing::of(&self.ui.settings);
         let materials = self.options.materials.clone();
         let (stream, asked) = (self.options.stream.clone(), self.options.camera);
         let label = format!("streaming {}", path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default());
@@ -47,7 +48,7 @@ impl ViewerApp {
             crate::progress::stage("reading the header and the hierarchy");
             let source = StreamedSource::open(&path, stream)?;
             let camera = source.home_camera(&asked, size.0 as f32 / size.1.max(1) as f32);
-            streamed_model(&source, &path, ViewKey { camera, size, budget }, generation, (&materials, None))
+            streamed_model(&source, &path, ViewKey { camera, size, budget, choosing }, generation, (&materials, None))
         }));
     }
 
@@ -67,7 +68,8 @@ impl ViewerApp {
         if self.load.is_some() || moving {
             return;
         }
-        let view = ViewKey { camera: self.ui.camera, size: self.view_size, budget: self.stream_budget() };
+        let choosing = crate::lod::Choosing::of(&self.ui.settings);
+        let view = ViewKey { camera: self.ui.camera, size: self.view_size, budget: self.stream_budget(), choosing };
         if source.status().view == Some(view) {
             return;
         }

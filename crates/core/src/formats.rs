@@ -3,9 +3,10 @@
 //! node by node under a point budget, from disk or over HTTP) rather than
 //! opened whole, and whether `convert` writes it.
 //!
-//! Readers dispatch on this table ([`format_of`]), and the command line's
-//! help and errors list formats from it ([`names`]), so that a format added
-//! here is read, written and named everywhere at once.
+//! Readers dispatch on this table ([`format_of`]; `cloud::formats::reader_of`
+//! gives each kind of file its reader), and the command line's help and
+//! errors list formats from it ([`names`]), so that a format added here is
+//! read, written and named everywhere at once.
 
 use std::path::Path;
 
@@ -155,11 +156,6 @@ pub fn names_with_extensions(keep: impl Fn(&Format) -> bool) -> String {
         .join(", ")
 }
 
-/// Clouds opened whole: every point format but the streamed one.
-pub fn is_cloud_opened_whole(format: &Format) -> bool {
-    matches!(format.reader, Reader::Ply | Reader::Las | Reader::E57)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -183,7 +179,6 @@ mod tests {
 
     #[test]
     fn names_read_as_a_list() {
-        assert_eq!(names(is_cloud_opened_whole, "or"), "PLY, LAS, LAZ or E57");
         assert_eq!(names(|f| f.written, "and"), "PLY, LAS, LAZ and COPC");
         assert_eq!(names(|f| f.streamed, "or"), "COPC");
         assert!(names_with_extensions(|f| f.written).contains("COPC (.copc.laz)"));

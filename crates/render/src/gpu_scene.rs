@@ -65,18 +65,13 @@ pub struct GpuScene {
 /// [`GpuScene::set_triangles`]), found once: each is a pass over every splat.
 #[derive(Debug, Clone, Copy)]
 pub struct WholeScene {
-    pub mean_radius: f32,
     pub uniform_colour: Option<[u8; 3]>,
     pub transparent: bool,
 }
 
 impl WholeScene {
     pub fn of(cloud: &PointCloud) -> Self {
-        Self {
-            mean_radius: cloud.mean_radius(),
-            uniform_colour: uniform_colour(cloud),
-            transparent: cloud.has_transparency(),
-        }
+        Self { uniform_colour: uniform_colour(cloud), transparent: cloud.has_transparency() }
     }
 }
 
@@ -211,12 +206,12 @@ impl GpuScene {
         }
     }
 
-    /// Draws `triangles` beside the splats from now on, with ε, the single
+    /// Draws `triangles` beside the splats from now on, with the single
     /// colour and the transparency of the `whole` scene they belong to, as a
-    /// frame of every splat would (the splats drawn beside them are a part).
+    /// frame of every splat would (the splats drawn beside them are a part;
+    /// ε is the whole scene's too, as the frame's spec says).
     pub fn set_triangles(&mut self, triangles: Option<TriangleDraw>, whole: &WholeScene) {
         if triangles.is_some() {
-            self.mean_radius = whole.mean_radius;
             self.uniform_colour = whole.uniform_colour;
             self.transparent |= whole.transparent;
         }
@@ -345,6 +340,21 @@ impl GpuScene {
             }
         }
         self.lights = Some((buffers, key));
+    }
+
+    /// What a frame of this upload alone is decided over (a bare upload, as
+    /// tests and `render_image` draw it): its splats, transparency and mean
+    /// radius, whether it draws triangles, and whether shadow coefficients are uploaded.
+    pub fn facts(&self) -> crate::frame::SceneFacts {
+        crate::frame::SceneFacts {
+            splats: self.len,
+            transparent: self.transparent,
+            surfaces: self.triangles.is_some(),
+            moving: false,
+            streamed: false,
+            mean_radius: self.mean_radius,
+            shadows_at_hand: self.light_chunks().is_some(),
+        }
     }
 
     /// What the uploaded shadow coefficients were computed for, if any are.

@@ -1,12 +1,16 @@
-//! Rendering to an image without a window (CLI `render`, tests, benchmarks).
+//! The GPU renderer with its own output texture: every GPU frame is drawn
+//! here and read back (`render`, bench, the viewer's render thread, tests).
+//! A frame arrives decided ([`FrameSpec`]); a frame too large for the
+//! window budget is drawn a sub-frame at a time ([`crate::window`]).
 
 use super::context::{GpuContext, GpuError};
 use super::gpu_scene::GpuScene;
 use super::plan::RenderPlan;
 use super::readback;
 use super::renderer::Renderer;
-use crate::frame::Camera;
+use super::report::{FrameReport, TileLists, Windows};
 use crate::frame::settings::RenderSettings;
+use crate::frame::{Camera, FrameSpec, View, resolve};
 use crate::grouping::Grouping;
 use crate::scene::Scene;
 use crate::window::{self, FrameWindow};
@@ -63,17 +67,63 @@ impl HeadlessRenderer {
         GpuScene::upload_cloud(&self.ctx.device, cloud, grouping)
     }
 
-    /// Renders one frame and submits it, without reading it back.
+    /// Renders one frame of `settings` at `size` on a bare upload and
+    /// submits it, without reading it back ([`Self::render_image`]'s frame).
     pub fn render(
+        &mut self,
+        scene: &mut GpuScene,
+        camera: &Camera,
+        settings: &RenderSettings,
+        size: (u32, u32),
+    ) -> Result<RenderPlan, GpuError> {
+        let spec = resolve(settings, &scene.facts(), &View::still(size));
+        Ok(self.render_spec(scene, camera, &spec, false)?.1)
+    }
+
+    /// Renders one frame of `settings` on a bare upload (resolved over what
+    /// `scene` holds, [`GpuScene::facts`]) and reads it back.
+    pub fn render_image(
         &mut self,
         scene: &mut GpuScene,
         camera: &Camera,
         settings: &RenderSettings,
         width: u32,
         height: u32,
-    ) -> Result<RenderPlan, GpuError> {
-        let plan = Renderer::plan(scene, camera, settings, (width, height))?;
-        self.render_window(scene, camera, settings, FrameWindow::whole((width, height)), plan)
+    ) -> Result<(image::RgbaImage, RenderPlan), GpuError> {
+        let spec = resolve(settings, &scene.facts(), &View::still((width, height)));
+        self.render_spec(scene, camera, &spec, true).map(|(image, plan, _)| (image, plan))
+    }
+
+    /// The one way a GPU frame is drawn: the frame `spec` of `scene` from
+    /// `camera`, read back when `read` (else the image is empty, 0×0: bench's
+    /// timed frames). A frame whose targets pass the window budget is drawn
+    /// a window at a time whether or not it is read back, so a timed frame
+    /// runs the plan the saved image runs. Returns the image, the plan (the
+    /// largest window's when windowed) and what the frame measured.
+    pub fn render_spec(
+        &mut self,
+        scene: &mut GpuScene,
+        camera: &Camera,
+        spec: &FrameSpec,
+        read: bool,
+    ) -> Result<(image::RgbaImage, RenderPlan, FrameReport), GpuError> {
+        let (width, height) = spec.size;
+        // The whole frame's plan, made once: it says whether the frame fits, and runs when it does.
+        let whole = Renderer::plan_spec(scene, camera, spec, (width, height))?;
+        let windows = self.windows(&whole, (width, height));
+        if windows.len() > 1 {
+            return self.render_windows(scene, camera, spec, &windows, read);
+        }
+        let tile_lists = self.render_window(scene, (camera, spec), FrameWindow::whole((width, height)), &whole)?;
+        let mut report = FrameReport { tile_lists, ..Default::default() };
+        if !read {
+            return Ok((image::RgbaImage::new(0, 0), whole, report));
+        }
+        let image = readback::read_rgba8(&self.ctx, self.output_texture()?)?;
+        if let Some(tiles) = self.renderer.tile_engine().filter(|_| whole.compute_passes() > 0) {
+            report.window_overflows = Some(tiles.window_overflows(&self.ctx)?);
+        }
+        Ok((image, whole, report))
     }
 
     /// Renders `window` of a frame by `plan` (the window's) into an output
@@ -81,11 +131,10 @@ impl HeadlessRenderer {
     fn render_window(
         &mut self,
         scene: &mut GpuScene,
-        camera: &Camera,
-        settings: &RenderSettings,
+        frame: (&Camera, &FrameSpec),
         window: FrameWindow,
-        plan: RenderPlan,
-    ) -> Result<RenderPlan, GpuError> {
+        plan: &RenderPlan,
+    ) -> Result<Option<TileLists>, GpuError> {
         let (width, height) = window.size;
         self.ctx.check_size(width, height)?;
         if self.output.as_ref().is_none_or(|t| (t.width(), t.height()) != (width, height)) {
@@ -101,35 +150,7 @@ impl HeadlessRenderer {
             }));
         }
         let view = self.output_texture()?.create_view(&Default::default());
-        self.renderer.render_planned(&self.ctx, scene, camera, settings, (&view, OUTPUT_FORMAT), window, plan)
-    }
-
-    /// Renders one frame and reads it back.
-    pub fn render_image(
-        &mut self,
-        scene: &mut GpuScene,
-        camera: &Camera,
-        settings: &RenderSettings,
-        width: u32,
-        height: u32,
-    ) -> Result<(image::RgbaImage, RenderPlan), GpuError> {
-        // The whole frame's plan, made once: it says whether the frame fits, and runs when it does.
-        let whole = Renderer::plan(scene, camera, settings, (width, height))?;
-        let windows = self.windows(&whole, (width, height));
-        if windows.len() > 1 {
-            return self.render_windows(scene, camera, settings, &windows);
-        }
-        let mut plan = self.render_window(scene, camera, settings, FrameWindow::whole((width, height)), whole)?;
-        let image = readback::read_rgba8(&self.ctx, self.output_texture()?)?;
-        if let Some(tiles) = self.renderer.tile_engine().filter(|_| plan.compute_passes() > 0) {
-            let overflowed = tiles.window_overflows(&self.ctx)?;
-            plan.window_overflows = Some(overflowed);
-            plan.notes.push(format!(
-                "tile windows: {overflowed} pixels had more than {} hits waiting and were finished a layer at a time, exactly",
-                super::tile_engine::WINDOW
-            ));
-        }
-        Ok((image, plan))
+        self.renderer.render_planned(&self.ctx, scene, frame, (&view, OUTPUT_FORMAT), window, plan)
     }
 
     /// The windows a `size` frame whose plan is `plan` is drawn in: the whole frame when its
@@ -151,41 +172,42 @@ impl HeadlessRenderer {
     }
 
     /// A frame drawn window by window, each grown by [`window::MARGIN`] for
-    /// the passes that read neighbours and cropped to the part it keeps.
+    /// the passes that read neighbours and cropped to the part it keeps
+    /// (read back only when `read`).
     fn render_windows(
         &mut self,
         scene: &mut GpuScene,
         camera: &Camera,
-        settings: &RenderSettings,
+        spec: &FrameSpec,
         windows: &[FrameWindow],
-    ) -> Result<(image::RgbaImage, RenderPlan), GpuError> {
+        read: bool,
+    ) -> Result<(image::RgbaImage, RenderPlan, FrameReport), GpuError> {
         let (width, height) = windows[0].frame;
         log::info!("{width}x{height} is drawn in {} windows, so that its memory stays bounded", windows.len());
-        let mut image = image::RgbaImage::new(width, height);
-        let mut largest: Option<RenderPlan> = None;
+        let mut image = image::RgbaImage::new(if read { width } else { 0 }, if read { height } else { 0 });
+        let mut largest: Option<(RenderPlan, Option<TileLists>)> = None;
         for kept in windows {
             let drawn = kept.grown(window::MARGIN);
-            let plan = Renderer::plan(scene, camera, settings, drawn.size)?;
-            let plan = self.render_window(scene, camera, settings, drawn, plan)?;
-            let part = readback::read_rgba8(&self.ctx, self.output_texture()?)?;
-            let (x, y) = (kept.origin.0 - drawn.origin.0, kept.origin.1 - drawn.origin.1);
-            let kept_part = image::imageops::crop_imm(&part, x, y, kept.size.0, kept.size.1).to_image();
-            image::imageops::replace(&mut image, &kept_part, kept.origin.0 as i64, kept.origin.1 as i64);
-            if largest.as_ref().is_none_or(|p| p.target_bytes() < plan.target_bytes()) {
-                largest = Some(plan);
+            let plan = Renderer::plan_spec(scene, camera, spec, drawn.size)?;
+            let lists = self.render_window(scene, (camera, spec), drawn, &plan)?;
+            if read {
+                let part = readback::read_rgba8(&self.ctx, self.output_texture()?)?;
+                let (x, y) = (kept.origin.0 - drawn.origin.0, kept.origin.1 - drawn.origin.1);
+                let kept_part = image::imageops::crop_imm(&part, x, y, kept.size.0, kept.size.1).to_image();
+                image::imageops::replace(&mut image, &kept_part, kept.origin.0 as i64, kept.origin.1 as i64);
+            }
+            if largest.as_ref().is_none_or(|(p, _)| p.target_bytes() < plan.target_bytes()) {
+                largest = Some((plan, lists));
             }
         }
-        let mut plan = largest.ok_or_else(|| GpuError::Device("a frame of no windows".into()))?;
-        plan.notes.push(format!(
-            "drawn in {} windows (this plan is the largest's, {}x{} with a {} px margin): the whole {width}x{height} \
-             frame's targets would pass the GPU's limits or the {} MiB a render may take",
-            windows.len(),
-            plan.width,
-            plan.height,
-            window::MARGIN,
-            self.window_budget.min(self.ctx.target_budget()) >> 20
-        ));
-        Ok((image, plan))
+        let (plan, tile_lists) = largest.ok_or_else(|| GpuError::Device("a frame of no windows".into()))?;
+        let windows = Windows {
+            count: windows.len(),
+            largest: (plan.width, plan.height),
+            margin: window::MARGIN,
+            budget_mib: self.window_budget.min(self.ctx.target_budget()) >> 20,
+        };
+        Ok((image, plan, FrameReport { windows: Some(windows), tile_lists, ..Default::default() }))
     }
 
     /// [`Renderer::use_subgroups`] on this renderer's device.

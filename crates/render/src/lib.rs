@@ -38,6 +38,7 @@ pub mod plan;
 pub mod readback;
 pub mod record;
 pub mod renderer;
+pub mod report;
 pub mod scene_frames;
 pub mod shaders;
 pub mod target_id;
@@ -53,6 +54,7 @@ pub use gpu_scene::GpuScene;
 pub use headless::HeadlessRenderer;
 pub use plan::RenderPlan;
 pub use renderer::Renderer;
+pub use report::FrameReport;
 pub use scene_frames::{
     Frame, FrameError, FrameUpdate, Readback, SceneFrames, SceneGrouping, per_frame_grouping, rest_lattice,
 };

@@ -154,9 +154,6 @@ pub struct RenderPlan {
     pub buffers: Vec<BufferDesc>,
     /// Remarks on the choices the plan made.
     pub notes: Vec<String>,
-    /// `tiled`: the pixels of the frame whose window of waiting hits
-    /// overflowed (finished a layer at a time), once the frame was read back.
-    pub window_overflows: Option<u32>,
     /// The frame is clipped: its splat passes and tile raster are built
     /// with `CLIP` and test every fragment's point (crates/core/src/frame/clip.rs).
     pub clipped: bool,
@@ -177,7 +174,6 @@ impl RenderPlan {
             targets: Vec::new(),
             buffers: Vec::new(),
             notes: Vec::new(),
-            window_overflows: None,
             clipped: false,
         }
     }
@@ -209,7 +205,6 @@ impl RenderPlan {
             targets,
             buffers: Vec::new(),
             notes: Vec::new(),
-            window_overflows: None,
             clipped: false,
         }
     }

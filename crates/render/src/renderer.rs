@@ -25,7 +25,9 @@ use super::tile_engine::{self, TileEngine};
 use super::timer::PassTimer;
 use super::touches::Bound;
 use super::window::FrameWindow;
-use crate::frame::{Camera, RenderSettings};
+use crate::frame::spec::EpsilonRadius;
+use crate::frame::{Camera, FrameSpec, RenderSettings};
+use crate::report::TileLists;
 
 pub struct Renderer {
     cache: PipelineCache,
@@ -159,20 +161,26 @@ impl Renderer {
         self.pool.target_of(view)
     }
 
-    /// What the frame's mode needs to know: settings, size and the scene.
+    /// What the frame's mode needs to know: the spec, the size and the scene.
     fn frame_desc<'a>(
         scene: &'a GpuScene,
         camera: &Camera,
-        settings: &'a RenderSettings,
+        spec: &'a FrameSpec,
         (width, height): (u32, u32),
     ) -> FrameDesc<'a> {
-        let epsilon = settings.epsilon(scene.mean_radius);
+        let settings = &spec.drawn;
+        let mean_radius = match spec.epsilon_radius {
+            EpsilonRadius::Drawn => scene.mean_radius,
+            EpsilonRadius::Scene(radius) => radius,
+        };
+        let epsilon = settings.epsilon(mean_radius);
         let (near, far) = camera.near_far();
         // Eq. 10 over the scene's depth range (near and far enclose its sphere).
         let depth_steps = super::depth_steps::depth_steps(near, far, epsilon * settings.depth_step);
-        let lights = settings.lit_by_lights() && scene.light_chunks().is_some();
+        let lights = spec.lights;
         FrameDesc {
             settings,
+            spec,
             width,
             height,
             splats: scene.len,
@@ -184,61 +192,43 @@ impl Renderer {
             epsilon,
             depth_steps,
             transparent: scene.transparent,
-            environment: scene.environment.as_ref().filter(|_| settings.draws_environment()),
+            environment: scene.environment.as_ref().filter(|_| spec.environment),
             sums: scene.sums,
             lights,
             triangles: scene.triangles.as_ref().map_or(0, |t| t.count()),
         }
     }
 
-    /// The plan a frame of `settings` would run, without running it.
-    pub fn plan(
+    /// The plan of the frame `spec` at `size` (the frame's, or a window's), without running it.
+    pub fn plan_spec(
         scene: &GpuScene,
         camera: &Camera,
-        settings: &RenderSettings,
+        spec: &FrameSpec,
         size: (u32, u32),
     ) -> Result<RenderPlan, GpuError> {
-        super::modes::plan(&Self::frame_desc(scene, camera, settings, size))
-            .ok_or_else(|| GpuError::Device(format!("mode {} does not run on the GPU", settings.mode)))
+        super::modes::plan(&Self::frame_desc(scene, camera, spec, size))
+            .ok_or_else(|| GpuError::Device(format!("mode {} does not run on the GPU", spec.mode())))
     }
 
-    /// Renders `scene` into `output` (of `format`, `width` x `height`) and
-    /// returns the plan it ran. The scene is changed only where the plan
-    /// blends in order: its instances are sorted back to front for the
-    /// camera first (in place, so an unchanged view sorts nothing).
-    #[allow(clippy::too_many_arguments)]
-    pub fn render(
-        &mut self,
-        ctx: &GpuContext,
-        scene: &mut GpuScene,
-        camera: &Camera,
-        settings: &RenderSettings,
-        output: &wgpu::TextureView,
-        format: wgpu::TextureFormat,
-        size: (u32, u32),
-    ) -> Result<RenderPlan, GpuError> {
-        let plan = Self::plan(scene, camera, settings, size)?;
-        self.render_planned(ctx, scene, camera, settings, (output, format), FrameWindow::whole(size), plan)
-    }
-
-    /// [`Self::render`] of `window` of the frame (`output` is the window's
-    /// size), by the window's plan, made already ([`Self::plan`] at its size).
-    #[allow(clippy::too_many_arguments)]
+    /// Renders `window` of the frame `spec` into `output` (of `format`, the
+    /// window's size) by the window's plan, made already ([`Self::plan_spec`]
+    /// at its size), and returns what the run measured. The scene is changed
+    /// only where the plan blends in order: its instances are sorted back to
+    /// front for the camera first (in place, so an unchanged view sorts nothing).
     pub fn render_planned(
         &mut self,
         ctx: &GpuContext,
         scene: &mut GpuScene,
-        camera: &Camera,
-        settings: &RenderSettings,
+        (camera, spec): (&Camera, &FrameSpec),
         (output, format): (&wgpu::TextureView, wgpu::TextureFormat),
         window: FrameWindow,
-        mut plan: RenderPlan,
-    ) -> Result<RenderPlan, GpuError> {
+        plan: &RenderPlan,
+    ) -> Result<Option<TileLists>, GpuError> {
         let size = window.size;
         ctx.check_size(size.0, size.1)?;
         plan.check_fits(&ctx.device.limits(), ctx.target_budget())?;
         if plan.back_to_front() {
-            scene.order_back_to_front(&ctx.queue, camera.view_ray(), settings.order);
+            scene.order_back_to_front(&ctx.queue, camera.view_ray(), spec.drawn.order);
         }
         let scene = &*scene;
         if plan.compute_passes() > 0 && !self.tiles.as_ref().is_some_and(|t| t.fits(scene, size)) {
@@ -256,16 +246,9 @@ impl Renderer {
         if self.timing && self.timer.as_ref().is_none_or(|t| t.capacity() < plan.steps.len()) {
             self.timer = PassTimer::new(ctx, plan.steps.len());
         }
-        ctx.queue.write_buffer(
-            &self.frame_buffer,
-            0,
-            bytemuck::bytes_of(&frame_uniforms(
-                camera,
-                settings,
-                &window,
-                scene.environment.as_ref().map_or(0, |e| e.width),
-            )),
-        );
+        let environment_width = scene.environment.as_ref().map_or(0, |e| e.width);
+        let uniforms = frame_uniforms(camera, spec, &window, environment_width);
+        ctx.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&uniforms));
         let mut slots = vec![0u8; commands.len() * PASS_SLOT_BYTES as usize];
         for (i, (_, command)) in commands.iter().enumerate() {
             let uniforms = command.uniforms();
@@ -273,17 +256,14 @@ impl Renderer {
             slots[at..at + std::mem::size_of::<PassUniforms>()].copy_from_slice(bytemuck::bytes_of(uniforms));
         }
         ctx.queue.write_buffer(&self.pass_buffer, 0, &slots);
-        ctx.checked("rendering", || self.encode(ctx, scene, &plan, &commands, output, format))??;
-        if let Some(tiles) = self.tiles.as_ref().filter(|_| plan.compute_passes() > 0) {
-            // The entries' size is known now: the plan says what the frame used.
-            let entries = (tiles.last.entries, tiles.entry_capacity());
-            plan.buffers = tile_engine::planned_buffers(scene.len, size, Some(entries));
-            plan.notes.push(format!(
-                "tile lists: {} entries, the longest {} splats",
-                tiles.last.entries, tiles.last.longest_list
-            ));
-        }
-        Ok(plan)
+        ctx.checked("rendering", || self.encode(ctx, scene, plan, &commands, output, format))??;
+        // The entries' count is known now: the report says what the frame used.
+        Ok(self.tiles.as_ref().filter(|_| plan.compute_passes() > 0).map(|tiles| TileLists {
+            entries: tiles.last.entries,
+            capacity: tiles.entry_capacity(),
+            longest: tiles.last.longest_list,
+            buffers: tile_engine::planned_buffers(scene.len, size, Some((tiles.last.entries, tiles.entry_capacity()))),
+        }))
     }
 
     /// Grows the pass uniform buffer to at least `slots` slots.
@@ -391,12 +371,8 @@ fn frame_bind_group(
 }
 
 /// The uniforms of one frame.
-fn frame_uniforms(
-    camera: &Camera,
-    settings: &RenderSettings,
-    window: &FrameWindow,
-    environment_width: u32,
-) -> FrameUniforms {
+fn frame_uniforms(camera: &Camera, spec: &FrameSpec, window: &FrameWindow, environment_width: u32) -> FrameUniforms {
+    let settings = &spec.drawn;
     use crate::frame::environment::LayerEffects;
     let env = &settings.environment;
     let (up, front) = camera.up.frame();
@@ -413,7 +389,7 @@ fn frame_uniforms(
         depth: [near, far, 0.0, 1.0 / (far - near).max(f32::MIN_POSITIVE)],
         splat: [
             // Only modes whose passes weight their fragments filter (the registry lists them).
-            settings.low_pass_radius_px(),
+            spec.low_pass_px,
             settings.kernel.sharpness(),
             settings.kernel.min_normal_z,
             if settings.backface_culling { 1.0 } else { 0.0 },
@@ -432,7 +408,7 @@ fn frame_uniforms(
         environment_up: up.extend(std::f32::consts::TAU / environment_width.max(1) as f32).to_array(),
         environment_front: front.extend(0.0).to_array(),
         lights: eye_lights(camera, settings),
-        light_count: [if settings.lit_by_lights() { settings.lights.len() as u32 } else { 0 }, 0, 0, 0],
+        light_count: [if spec.lights { settings.lights.len() as u32 } else { 0 }, 0, 0, 0],
         clip: clip.planes.map(|p| p.to_array()),
         clip_counts: [clip.counts[0], clip.counts[1], clip.counts[2], 0],
         window: [centre.x, centre.y, 0.0, 0.0],

@@ -17,18 +17,19 @@ mod render_frame;
 
 use std::sync::Arc;
 
-pub use budget::{BudgetStats, load_hierarchy};
-pub use hybrid::HybridStats;
+pub use crate::report::{BudgetStats, FrameUpdate, HybridStats};
+pub use budget::load_hierarchy;
 pub use render_frame::{Frame, Readback};
 
 use super::context::GpuError;
 use super::gpu_scene::GpuScene;
 use super::headless::HeadlessRenderer;
 use crate::cloud::PointCloud;
-use crate::frame::RenderSettings;
+use crate::frame::{FrameSpec, RenderSettings};
 use crate::grouping::hash::{Collisions, HashOptions};
 use crate::grouping::regroup::{HashRegrouper, Lattice};
 use crate::grouping::{Extension, Grouping, GroupingAlgo, GroupingError, GroupingSpec, cache::Cache};
+use crate::report::FrameReport;
 use crate::scene::Scene;
 use crate::shadow::{self, ShadowCoefficients, ShadowInput};
 
@@ -90,44 +91,16 @@ pub struct SceneFrames {
     lattice: Option<Lattice>,
     /// Counts the frames a moving scene has shown (keys the shadows).
     generation: u64,
-    /// What the last [`Self::advance`] cost.
-    last_update: FrameUpdate,
+    /// The splats are a streamed file's selection, made under its budget already.
+    streamed: bool,
+    /// The mean splat radius of `cloud` (what ε is a multiple of), found once.
+    mean_radius: f32,
     /// Frames under a point budget (see `budget.rs`), made on first use.
     budget: Option<Box<budget::BudgetFrames>>,
     /// Frames that draw the scene's mesh triangles (see `hybrid.rs`), made on first use.
     hybrid: Option<Box<hybrid::HybridFrames>>,
-    /// Why its groupings are redone every frame, for the one warning that says so.
-    regroup_reason: &'static str,
     /// Where groupings and hierarchies are cached.
     cache: Cache,
-}
-
-/// What moving a scene to its next frame cost.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct FrameUpdate {
-    /// Hash regrouping of every grouping drawn, in milliseconds.
-    pub regroup_ms: f64,
-    /// Writing the splats to the GPU (the records built and the buffers written), in milliseconds.
-    pub upload_ms: f64,
-    /// Splats whose group was computed (all of them unless the change was local).
-    pub regrouped: usize,
-    pub uploaded_bytes: u64,
-    /// Per grouping kept: the milliseconds of its regroup (shared by specs of one algorithm).
-    pub regroup_ms_of: Vec<(GroupingSpec, f64)>,
-    /// Per GPU copy (by the grouping it draws): milliseconds of its rewrite and bytes written.
-    pub upload_of: Vec<(Option<GroupingSpec>, f64, u64)>,
-}
-
-impl FrameUpdate {
-    /// The regroup milliseconds of grouping `spec` (0 for none, or one not kept).
-    pub fn regroup_ms_for(&self, spec: Option<GroupingSpec>) -> f64 {
-        self.regroup_ms_of.iter().find(|(s, _)| Some(*s) == spec).map_or(0.0, |(_, ms)| *ms)
-    }
-
-    /// The upload milliseconds and bytes of the GPU copy drawing `spec`.
-    pub fn upload_for(&self, spec: Option<GroupingSpec>) -> (f64, u64) {
-        self.upload_of.iter().find(|(s, _, _)| *s == spec).map_or((0.0, 0), |(_, ms, bytes)| (*ms, *bytes))
-    }
 }
 
 /// The lattice of a moving scene's hash groups: that of its splats at 0 s
@@ -135,6 +108,8 @@ impl FrameUpdate {
 pub fn rest_lattice(scene: &Scene) -> Result<Lattice, String> {
     Ok(Lattice::of(&scene.at_time(0.0)?.scene.flattened()))
 }
+
+pub use crate::frame::spec::per_frame_grouping;
 
 /// A hash grouping with `spec`'s extension: §4.4.2's radius estimate, or none.
 fn with_extension(mut grouping: Grouping, spec: GroupingSpec) -> Grouping {
@@ -144,21 +119,6 @@ fn with_extension(mut grouping: Grouping, spec: GroupingSpec) -> Grouping {
     grouping
 }
 
-/// The grouping a moving scene draws in place of `spec`: the same hash
-/// grouping, or hash with K = 8 for MGC and WGC (which cannot run every
-/// frame), with §4.4.2's radius estimate in place of an extension.
-pub fn per_frame_grouping(spec: GroupingSpec) -> GroupingSpec {
-    let algo = match spec.algo {
-        GroupingAlgo::Hash { .. } => spec.algo,
-        _ => GroupingAlgo::Hash { k: 8, resolve_collisions: true },
-    };
-    let extension = match spec.extension {
-        Extension::None => Extension::None,
-        _ => Extension::Estimate,
-    };
-    GroupingSpec { algo, relax: Default::default(), extension }
-}
-
 impl SceneFrames {
     /// `scene` with its splats in world space, `cloud` (`scene.flatten()`'s).
     /// Missing groupings are computed through the grouping cache, and every
@@ -166,6 +126,7 @@ impl SceneFrames {
     pub fn new(scene: Arc<Scene>, cloud: Arc<PointCloud>) -> Self {
         let hash = scene.geometry_hash();
         let transparent = cloud.has_transparency();
+        let mean_radius = cloud.mean_radius();
         Self {
             scene,
             cloud,
@@ -179,10 +140,10 @@ impl SceneFrames {
             regroupers: None,
             lattice: None,
             generation: 0,
-            last_update: FrameUpdate::default(),
+            streamed: false,
+            mean_radius,
             budget: None,
             hybrid: None,
-            regroup_reason: "the scene moves",
             cache: Cache::from_env(),
         }
     }
@@ -208,14 +169,16 @@ impl SceneFrames {
         self.moving()
     }
 
+    /// The splats are a streamed file's selection, made under its budget
+    /// already: a frame draws them all ([`crate::frame::spec::Selection::Streamed`]).
+    pub fn streamed(mut self) -> Self {
+        self.streamed = true;
+        self
+    }
+
     /// Whether the scene moves.
     pub fn is_moving(&self) -> bool {
         self.regroupers.is_some()
-    }
-
-    /// What the last [`Self::advance`] cost.
-    pub fn last_update(&self) -> &FrameUpdate {
-        &self.last_update
     }
 
     /// Moves a moving scene on to another frame: `scene` at that time and
@@ -230,6 +193,7 @@ impl SceneFrames {
     ) -> Result<FrameUpdate, FrameError> {
         self.hash = scene.geometry_hash();
         self.transparent = cloud.has_transparency();
+        self.mean_radius = cloud.mean_radius();
         self.scene = scene;
         self.cloud = cloud;
         self.generation += 1;
@@ -276,7 +240,6 @@ impl SceneFrames {
             }
             None => self.uploads.clear(),
         }
-        self.last_update = update.clone();
         Ok(update)
     }
 
@@ -327,23 +290,6 @@ impl SceneFrames {
 
     pub fn cloud(&self) -> &Arc<PointCloud> {
         &self.cloud
-    }
-
-    /// The grouping a frame of `settings` draws, if any: the mode draws groups
-    /// and (for a transparent mode) the scene has something transparent.
-    pub fn drawn_grouping(&self, settings: &RenderSettings) -> Option<GroupingSpec> {
-        let spec = settings.mode.needs_grouping_for(self.transparent).then(|| settings.grouping_for_mode())?;
-        if !self.is_moving() {
-            return Some(spec);
-        }
-        let per_frame = per_frame_grouping(spec);
-        if per_frame != spec {
-            pointblend_core::progress::warn_once(format!(
-                "{}: {} cannot be redone every frame, so {} is drawn instead",
-                self.regroup_reason, spec, per_frame
-            ));
-        }
-        Some(per_frame)
     }
 
     /// Hands in a grouping computed elsewhere (nothing happens when it is here
@@ -448,33 +394,31 @@ impl SceneFrames {
         Ok(Some((key, computed)))
     }
 
-    /// The last shadow coefficients computed, if any.
-    pub fn last_shadows(&self) -> Option<&Arc<ShadowCoefficients>> {
-        self.shadows.last().map(|(_, c)| c)
-    }
-
-    /// The GPU copy a frame of `settings` draws, uploaded (and its grouping
+    /// The GPU copy a frame of `spec` draws, uploaded (and its grouping
     /// computed) on first use, with the frame's shadow coefficients beside its splats.
-    pub fn gpu_scene(&mut self, gpu: &HeadlessRenderer, settings: &RenderSettings) -> Result<&GpuScene, FrameError> {
-        Ok(self.gpu_scene_mut(gpu, settings)?)
+    pub fn gpu_scene(&mut self, gpu: &HeadlessRenderer, spec: &FrameSpec) -> Result<&GpuScene, FrameError> {
+        Ok(self.gpu_scene_mut(gpu, spec, &mut FrameReport::default())?)
     }
 
-    /// [`Self::gpu_scene`], to change.
+    /// [`Self::gpu_scene`], to change, with what its shadows took in `report`.
     fn gpu_scene_mut(
         &mut self,
         gpu: &HeadlessRenderer,
-        settings: &RenderSettings,
+        spec: &FrameSpec,
+        report: &mut FrameReport,
     ) -> Result<&mut GpuScene, FrameError> {
-        let shadows = self.keyed_shadows(settings)?;
-        let at = self.upload(gpu, settings)?;
+        let shadows = self.keyed_shadows(&spec.drawn)?;
+        if let Some((_, coefficients)) = &shadows {
+            self.report_shadows(&spec.drawn, coefficients, report);
+        }
+        let at = self.upload(gpu, spec.grouping.map(|g| g.spec))?;
         let upload = &mut self.uploads[at].1;
         upload.set_shadows(&gpu.ctx.device, &gpu.ctx.queue, shadows.as_ref().map(|(key, c)| (c.as_ref(), *key)));
         Ok(&mut self.uploads[at].1)
     }
 
-    /// The index of the upload a frame of `settings` draws, made on first use.
-    fn upload(&mut self, gpu: &HeadlessRenderer, settings: &RenderSettings) -> Result<usize, FrameError> {
-        let spec = self.drawn_grouping(settings);
+    /// The index of the upload drawing grouping `spec` (or none), made on first use.
+    fn upload(&mut self, gpu: &HeadlessRenderer, spec: Option<GroupingSpec>) -> Result<usize, FrameError> {
         if let Some(at) = self.uploads.iter().position(|(s, _)| *s == spec) {
             return Ok(at);
         }
@@ -491,9 +435,12 @@ impl SceneFrames {
         Ok(self.uploads.len() - 1)
     }
 
-    /// What the frame's shadows took, in words, for the plan's notes.
-    pub fn shadow_notes(&self, settings: &RenderSettings) -> Vec<String> {
-        let Some(c) = self.shadow_key(settings).and(self.last_shadows()) else { return Vec::new() };
+    /// What the frame's shadows `c` took, in `report`: in words, and the
+    /// milliseconds and MiB of their tables.
+    fn report_shadows(&self, settings: &RenderSettings, c: &ShadowCoefficients, report: &mut FrameReport) {
+        let table_bytes: u64 = c.tables.iter().map(|t| t.bytes).sum();
+        report.shadow_ms = Some(c.seconds * 1e3);
+        report.shadow_table_mib = Some(table_bytes as f64 / (1u64 << 20) as f64);
         let mut notes = vec![format!(
             "{} scene light(s), shadows by {}: {:.1} ms; shadow coefficients {:.1} MiB on the GPU (8 B per splat)",
             settings.lights.len(),
@@ -512,6 +459,6 @@ impl SceneFrames {
                 t.build_ms
             ));
         }
-        notes
+        report.shadows = notes;
     }
 }

@@ -18,7 +18,7 @@ use std::path::Path;
 use super::CloudError;
 use super::attributes::{Attributes, Values, names};
 use super::file_info::FileInfo;
-use super::ply::{ElementSpec, PlyData, PropertyKind, PropertySpec, Scalar};
+use super::ply::{ElementSpec, PointColumns, PropertyKind, PropertySpec, Scalar};
 
 fn e57_error(path: &Path, e: impl std::fmt::Display) -> CloudError {
     CloudError::content(path, format!("not a valid E57 file: {e}"))
@@ -29,7 +29,7 @@ fn e57_error(path: &Path, e: impl std::fmt::Display) -> CloudError {
 const BYTES_PER_POINT: u64 = 120;
 
 /// Reads every scan of the E57 file at `path` as vertex columns and attributes.
-pub fn read(path: &Path) -> Result<(PlyData, Attributes, FileInfo), CloudError> {
+pub fn read(path: &Path) -> Result<(PointColumns, Attributes, FileInfo), CloudError> {
     crate::input::regular_size(path).map_err(|e| CloudError::io(path, e))?;
     let mut reader = e57::E57Reader::from_file(path).map_err(|e| e57_error(path, e))?;
     let scans = reader.pointclouds();
@@ -124,7 +124,7 @@ pub fn read(path: &Path) -> Result<(PlyData, Attributes, FileInfo), CloudError> 
     if with_intensity {
         attributes.push(names::INTENSITY, Values::F32(intensity));
     }
-    let data = PlyData {
+    let data = PointColumns {
         encoding: format!("E57 ({})", reader.format_name()),
         elements: vec![ElementSpec { name: "vertex".into(), count: n, properties }],
         vertex_columns: columns,

@@ -31,7 +31,7 @@ use std::path::Path;
 use super::CloudError;
 use super::attributes::{Attributes, Values, names};
 use super::file_info::FileInfo;
-use super::ply::{ElementSpec, PlyData, PropertyKind, PropertySpec, Scalar};
+use super::ply::{ElementSpec, PointColumns, PropertyKind, PropertySpec, Scalar};
 
 pub(crate) mod extra_bytes;
 pub(crate) mod laz_check;
@@ -87,7 +87,7 @@ pub(crate) fn points_error(path: &Path, e: las::Error, compressed: bool) -> Clou
 
 /// Reads the LAS or LAZ file at `path` as vertex columns (x, y, z and, with
 /// colour, red, green, blue) and the other per-point attributes.
-pub fn read(path: &Path) -> Result<(PlyData, Attributes, FileInfo), CloudError> {
+pub fn read(path: &Path) -> Result<(PointColumns, Attributes, FileInfo), CloudError> {
     let (mut reader, file_len) = open(path)?;
     let header = reader.header().clone();
     let format = *header.point_format();
@@ -258,7 +258,7 @@ impl Columns {
         fields: &[extra_bytes::Field],
         encoding: String,
         warnings: &mut Vec<String>,
-    ) -> (PlyData, Attributes) {
+    ) -> (PointColumns, Attributes) {
         let n = self.x.len();
         let mut vertex_columns = HashMap::new();
         let mut vertex_types = HashMap::new();
@@ -312,7 +312,7 @@ impl Columns {
                 attributes.push(field.name.clone(), field.narrowest(values));
             }
         }
-        let data = PlyData {
+        let data = PointColumns {
             encoding,
             elements: vec![ElementSpec {
                 name: "vertex".into(),

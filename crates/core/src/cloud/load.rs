@@ -23,7 +23,7 @@ pub use super::given_radii::FILE_RADIUS_OVER_MEDIAN;
 use super::given_radii::clamp_given_radii;
 use super::mesh::face_vertex_normals;
 use super::placement::{Frame, place};
-use super::ply::{self, PlyData, Scalar};
+use super::ply::{self, PointColumns, Scalar};
 use super::{CloudError, LoadReport, PointCloud, Provenance};
 
 /// Colour used when a file has none (a light clay tone).
@@ -57,7 +57,7 @@ pub fn load_with(path: &Path, options: &LoadOptions) -> Result<(PointCloud, Load
 /// `name` in messages, built as a file's are.
 pub(crate) fn from_columns(
     name: &Path,
-    data: PlyData,
+    data: PointColumns,
     attributes: Attributes,
     info: FileInfo,
     decode_seconds: f64,
@@ -180,7 +180,7 @@ pub fn load_mesh(path: &Path, options: &LoadOptions) -> Result<(PointCloud, Vec<
     Ok((cloud, triangles, report))
 }
 
-fn columns<'a>(data: &'a PlyData, names: &[&str; 3]) -> Option<[&'a Vec<f64>; 3]> {
+fn columns<'a>(data: &'a PointColumns, names: &[&str; 3]) -> Option<[&'a Vec<f64>; 3]> {
     let c = &data.vertex_columns;
     Some([c.get(names[0])?, c.get(names[1])?, c.get(names[2])?])
 }
@@ -190,7 +190,7 @@ fn columns<'a>(data: &'a PlyData, names: &[&str; 3]) -> Option<[&'a Vec<f64>; 3]
 /// the splat each file vertex became (`u32::MAX` for those skipped).
 fn build(
     path: &Path,
-    data: PlyData,
+    data: PointColumns,
     attributes: Attributes,
     info: FileInfo,
     decode_seconds: f64,
@@ -286,7 +286,7 @@ fn build(
 /// on a line that could be read); warns of the records the parser skipped.
 fn read_positions(
     path: &Path,
-    data: &PlyData,
+    data: &PointColumns,
     warnings: &mut Vec<String>,
 ) -> Result<(Vec<DVec3>, Vec<bool>), CloudError> {
     let n = data.vertex_count;
@@ -324,7 +324,7 @@ fn read_positions(
 /// Mesh faces: area-weighted vertex normals (per file vertex), and the
 /// vertices no face uses are dropped from `keep`. `None` without faces.
 fn drop_off_surface_vertices(
-    data: &PlyData,
+    data: &PointColumns,
     positions: &[DVec3],
     keep: &mut [bool],
     warnings: &mut Vec<String>,
@@ -350,7 +350,7 @@ fn drop_off_surface_vertices(
 /// What the attributes are read from: the file's columns, the vertices kept
 /// (splat k is file vertex `kept[k]`), and the unit lengths are divided by.
 struct Source<'a> {
-    data: &'a PlyData,
+    data: &'a PointColumns,
     kept: &'a [usize],
     unit: f64,
     /// The file holds 3D Gaussian splats.

@@ -9,7 +9,7 @@
 //! points would not fit the node cache's bound.
 
 use super::CopcError;
-use crate::lod::SelectOptions;
+use crate::lod::{Choosing, SelectOptions};
 
 /// The budget a streamed file is drawn under unless told otherwise.
 pub const DEFAULT_BUDGET: usize = 1_000_000;
@@ -55,14 +55,15 @@ impl StreamBudget {
         }
     }
 
-    /// How the selection runs under this budget.
-    pub fn select_options(self) -> SelectOptions {
+    /// How a frame's selection runs under this budget, choosing as the
+    /// in-memory budget does ([`Choosing`]: the frame's radius scale, and no
+    /// culling when lit, so off-screen nodes still cast their shadows), with
+    /// the one-pixel stop under a number; `all` culls nothing and refines everything.
+    pub fn select_options(self, choosing: Choosing) -> SelectOptions {
         match self {
-            StreamBudget::Default => {
-                SelectOptions { budget: DEFAULT_BUDGET, radius_scale: 1.0, cull: true, finest_px: FINEST_PX }
-            }
-            StreamBudget::Points(n) => SelectOptions { budget: n, ..StreamBudget::Default.select_options() },
-            StreamBudget::All => SelectOptions { budget: usize::MAX, radius_scale: 1.0, cull: false, finest_px: 0.0 },
+            StreamBudget::Default => SelectOptions::for_frame(DEFAULT_BUDGET, choosing, FINEST_PX),
+            StreamBudget::Points(n) => SelectOptions::for_frame(n, choosing, FINEST_PX),
+            StreamBudget::All => SelectOptions { cull: false, ..SelectOptions::for_frame(usize::MAX, choosing, 0.0) },
         }
     }
 
@@ -94,12 +95,27 @@ mod tests {
 
     #[test]
     fn all_draws_every_point_and_a_number_keeps_the_pixel_stop() {
-        let all = StreamBudget::given(Some("all")).unwrap().select_options();
+        let drawn = Choosing::default();
+        let all = StreamBudget::given(Some("all")).unwrap().select_options(drawn);
         assert_eq!((all.budget, all.cull, all.finest_px), (usize::MAX, false, 0.0));
-        let some = StreamBudget::given(Some("5000")).unwrap().select_options();
+        let some = StreamBudget::given(Some("5000")).unwrap().select_options(drawn);
         assert_eq!((some.budget, some.cull, some.finest_px), (5000, true, FINEST_PX));
-        assert_eq!(StreamBudget::given(None).unwrap().select_options().budget, DEFAULT_BUDGET);
+        assert_eq!(StreamBudget::given(None).unwrap().select_options(drawn).budget, DEFAULT_BUDGET);
         assert!(StreamBudget::given(Some("0")).is_err());
+    }
+
+    #[test]
+    fn a_streamed_frame_chooses_as_an_in_memory_budget_does() {
+        let mut lit = crate::frame::RenderSettings { radius_scale: 2.5, ..Default::default() };
+        lit.lights = crate::frame::Lights::new(&[crate::frame::Light::directional(glam::Vec3::NEG_Z)]).unwrap();
+        let options = StreamBudget::Points(5000).select_options(Choosing::of(&lit));
+        assert_eq!(options.radius_scale, 2.5, "the frame's radius scale");
+        assert!(!options.cull, "a lit frame keeps the nodes off screen, which cast shadows");
+        let in_memory = SelectOptions::for_frame(5000, Choosing::of(&lit), FINEST_PX);
+        assert_eq!(
+            (options.budget, options.radius_scale, options.cull),
+            (5000, in_memory.radius_scale, in_memory.cull)
+        );
     }
 
     #[test]

@@ -357,18 +357,19 @@ impl CopcStream {
         }
     }
 
-    /// Selects, loads and gathers one frame's points under `budget`
-    /// (refused in one line when `all` would not fit the node cache).
+    /// Selects, loads and gathers the points of one frame under `budget`,
+    /// chosen as `choosing` says (refused in one line when `all` would not
+    /// fit the node cache); see [`StreamBudget::select_options`].
     pub fn frame_under(
         &mut self,
         camera: &Camera,
         size: (u32, u32),
-        budget: StreamBudget,
+        (budget, choosing): (StreamBudget, crate::lod::Choosing),
         load: &LoadOptions,
     ) -> Result<StreamedFrame, CopcError> {
         let record = u64::from(self.header.las.point_format().len());
         budget.check_fits(self.name(), self.points(), record, self.options.cache_bytes)?;
-        self.frame(camera, size, budget.select_options(), load)
+        self.frame(camera, size, budget.select_options(choosing), load)
     }
 
     /// Selects, loads and gathers one frame's points.

@@ -16,6 +16,7 @@ pub mod prefilter;
 pub mod settings;
 pub mod shading;
 pub mod sidecar;
+pub mod spec;
 pub mod variant;
 pub mod view_path;
 
@@ -31,5 +32,6 @@ pub use prefilter::Prefilter;
 pub use settings::{Quality, RenderSettings};
 pub use shading::Shading;
 pub use sidecar::Sidecar;
+pub use spec::{FrameNote, FrameSpec, SceneFacts, Selection, View, resolve};
 pub use variant::ModeVariant;
 pub use view_path::ViewPath;

@@ -26,7 +26,7 @@ use rayon::prelude::*;
 
 use crate::cloud::PointCloud;
 
-pub use select::{LodTree, Refinement, SelectOptions, Selection, gather, select, select_in};
+pub use select::{Choosing, LodTree, Refinement, SelectOptions, Selection, gather, select, select_in};
 
 /// Most original splats a leaf holds. With [`CELLS`], chosen so that a
 /// surface node just above the leaves holds about a quarter of their

@@ -98,6 +98,36 @@ pub struct SelectOptions {
     pub finest_px: f32,
 }
 
+/// What a frame's settings say about choosing its splats, in memory and
+/// streamed alike: the radius scale the splats are drawn at, and whether
+/// nodes outside the view are dropped (not when the frame is lit by scene
+/// lights: off-screen splats still cast its shadows).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Choosing {
+    pub radius_scale: f32,
+    pub cull: bool,
+}
+
+impl Choosing {
+    /// How a frame drawn with `drawn` chooses its splats.
+    pub fn of(drawn: &crate::frame::RenderSettings) -> Self {
+        Choosing { radius_scale: drawn.radius_scale, cull: !drawn.lit_by_lights() }
+    }
+}
+
+impl Default for Choosing {
+    fn default() -> Self {
+        Choosing::of(&Default::default())
+    }
+}
+
+impl SelectOptions {
+    /// At most `budget` splats chosen as `choosing` says, refined down to `finest_px`.
+    pub fn for_frame(budget: usize, choosing: Choosing, finest_px: f32) -> Self {
+        SelectOptions { budget, radius_scale: choosing.radius_scale, cull: choosing.cull, finest_px }
+    }
+}
+
 /// How a child relates to its parent.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Refinement {

@@ -514,7 +514,8 @@ impl Reader<'_> {
         let mut stream = CopcStream::open(url.get_ref(), options).map_err(at)?;
         let bounds = stream.bounds_cloud();
         let camera = crate::frame::Camera::default_for(&bounds, 1.0);
-        let frame = stream.frame_under(&camera, (1, 1), StreamBudget::All, self.options).map_err(at)?;
+        let frame =
+            stream.frame_under(&camera, (1, 1), (StreamBudget::All, Default::default()), self.options).map_err(at)?;
         warnings.extend(frame.report.warnings.iter().map(|w| format!("{}: {w}", stream.name())));
         Ok((stream.file_name().to_string(), frame.cloud, frame.hash))
     }

@@ -59,6 +59,8 @@ pub struct Styled {
     pub style: Arc<crate::style::Style>,
     pub source: Arc<PointCloud>,
     pub source_hash: u64,
+    /// What applying the style did: the range its colours span, the splats it hid.
+    pub applied: crate::style::Applied,
 }
 
 impl SceneObject {
@@ -82,7 +84,7 @@ impl SceneObject {
         self.cloud = Arc::new(cloud);
         self.content_hash = fnv1a(source_hash, style.key().as_bytes());
         self.material.two_sided |= applied.translucent;
-        self.styled = Some(Styled { style: style.clone(), source, source_hash });
+        self.styled = Some(Styled { style: style.clone(), source, source_hash, applied });
         Ok(())
     }
 
@@ -325,6 +327,21 @@ impl Scene {
         self.objects.iter().any(|o| o.surface.is_some())
     }
 
+    /// What a still frame of this scene drawn whole from its splats in world
+    /// space, `cloud`, is decided over ([`crate::frame::resolve`]; the front
+    /// ends that ray cast it, `pick` and `measure`, and the viewer's model).
+    pub fn facts(&self, cloud: &crate::cloud::PointCloud) -> crate::frame::SceneFacts {
+        crate::frame::SceneFacts {
+            splats: cloud.len(),
+            transparent: cloud.has_transparency(),
+            surfaces: self.has_surfaces(),
+            moving: self.is_animated(),
+            streamed: false,
+            mean_radius: cloud.mean_radius(),
+            shadows_at_hand: true,
+        }
+    }
+
     /// Sets every object's opacity (and makes transparent ones two-sided).
     pub fn set_opacity(&mut self, opacity: f32) {
         for o in &mut self.objects {
@@ -347,6 +364,14 @@ impl Scene {
             o.restyle(&style)?;
         }
         Ok(())
+    }
+
+    /// The range of values the first object's colours span, when its style
+    /// colours by a scalar: what the legend shows (the first object's, as
+    /// the colour panel's summary is), taken where the colours were made,
+    /// after hidden classes left.
+    pub fn colour_range(&self) -> Option<(f64, f64)> {
+        self.objects.first()?.styled.as_ref()?.applied.range
     }
 
     /// This scene as loaded: every object's cloud before its style.

@@ -27,19 +27,19 @@ pub enum FrontDepth {
 
 /// Where a mode that would write the frame writes instead: the shaded image under eye-dome lighting.
 pub fn output(frame: &FrameDesc<'_>) -> Output {
-    if frame.settings.eye_dome_drawn().is_some() { Output::Target(SHADED_IMAGE) } else { Output::Frame }
+    if frame.eye_dome().is_some() { Output::Target(SHADED_IMAGE) } else { Output::Frame }
 }
 
 /// The shaded image's target, when eye-dome lighting is on.
 pub fn targets(frame: &FrameDesc<'_>) -> Vec<TargetDesc> {
     let image = frame.target(SHADED_IMAGE, ACCUM_FORMAT, Layout::Single, "the shaded image, before eye-dome lighting");
-    frame.settings.eye_dome_drawn().map(|_| image).into_iter().collect()
+    frame.eye_dome().map(|_| image).into_iter().collect()
 }
 
 /// The eye-dome step, when eye-dome lighting is on; `depth` says where the
 /// mode keeps the nearest surface's depth.
 pub fn step(frame: &FrameDesc<'_>, depth: FrontDepth) -> Option<Step> {
-    let edl = frame.settings.eye_dome_drawn()?;
+    let edl = frame.eye_dome()?;
     let (variant, inputs, push, groups) = match depth {
         FrontDepth::Buffer { target, push } => (Variant::NONE, vec![SHADED_IMAGE, target], push, 1),
         FrontDepth::Groups { colour, depth, groups } => (

@@ -30,12 +30,15 @@ use std::ops::Range;
 use super::gpu_data::PassUniforms;
 use super::passes::Command;
 use super::plan::{RenderPlan, Step};
-use crate::frame::{RenderMode, RenderSettings};
+use crate::frame::{FrameSpec, RenderMode, RenderSettings};
 
 /// Everything a mode needs to know to plan and record a frame.
 #[derive(Debug, Clone)]
 pub struct FrameDesc<'a> {
+    /// The settings the passes read (the spec's `drawn`).
     pub settings: &'a RenderSettings,
+    /// The frame as [`crate::frame::resolve`] decided it.
+    pub spec: &'a FrameSpec,
     pub width: u32,
     pub height: u32,
     pub splats: usize,
@@ -91,7 +94,12 @@ impl FrameDesc<'_> {
 
     /// Whether the splat passes low-pass filter (the EWA prefilter, in a mode that reads it).
     pub fn prefiltered(&self) -> bool {
-        self.settings.low_pass_radius_px() > 0.0
+        self.spec.low_pass_px > 0.0
+    }
+
+    /// The eye-dome lighting the frame draws, if any.
+    pub fn eye_dome(&self) -> Option<crate::frame::EyeDome> {
+        self.spec.eye_dome
     }
 
     /// Whether colour targets hold only weights (a scene of one colour).
@@ -233,17 +241,11 @@ pub fn gpu_mode(mode: RenderMode) -> Option<&'static dyn GpuMode> {
 }
 
 /// The plan of a frame in its settings' mode, `None` for a mode that runs on
-/// the CPU. A transparent mode draws a scene with nothing transparent as
-/// `two-pass` does (no layer, peel or group target), and says so.
+/// the CPU. Under the spec's opaque fallback a transparent mode draws as
+/// `two-pass` does (no layer, peel or group target); the spec's notes say so.
 pub fn plan(frame: &FrameDesc<'_>) -> Option<RenderPlan> {
-    let mode = frame.settings.mode;
-    let implementation = gpu_mode(mode)?;
-    if mode.runs_opaque(frame.transparent) {
-        let mut plan = two_pass::TwoPass.plan(frame);
-        plan.notes.push(format!(
-            "nothing in the scene is transparent, so {mode} runs the opaque two-pass plan: no peeling pass, no layer target"
-        ));
-        return Some(plan);
-    }
-    Some(implementation.plan(frame))
+    let implementation = gpu_mode(frame.settings.mode)?;
+    let mut plan = if frame.spec.opaque_fallback { two_pass::TwoPass.plan(frame) } else { implementation.plan(frame) };
+    plan.notes.extend(frame.spec.note_lines());
+    Some(plan)
 }

@@ -236,7 +236,7 @@ pub(super) fn steps(frame: &FrameDesc<'_>, ids: &Targets, splats: Range<u32>) ->
         clear: true,
         uniforms,
     };
-    let into = match (ids.image, frame.settings.eye_dome_drawn()) {
+    let into = match (ids.image, frame.eye_dome()) {
         (Some(_), _) => "opaque image",
         (None, Some(_)) => "shaded image",
         (None, None) => "output",

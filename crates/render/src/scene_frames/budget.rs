@@ -21,49 +21,12 @@ use std::time::Instant;
 use super::chosen::ChosenFrames;
 use super::{FrameError, SceneFrames};
 use crate::cloud::PointCloud;
-use crate::frame::{Camera, RenderSettings};
+use crate::frame::{Camera, FrameSpec};
 use crate::gpu_scene::GpuScene;
 use crate::grouping::cache::Cache;
 use crate::headless::HeadlessRenderer;
 use crate::lod::{self, Hierarchy, Selection};
-
-/// What the last budgeted frame drew and cost.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct BudgetStats {
-    pub budget: u32,
-    /// Nodes and splats drawn.
-    pub nodes: usize,
-    pub splats: usize,
-    /// Node selection, in milliseconds.
-    pub select_ms: f64,
-    /// Gathering the selected splats, regrouping and rewriting the GPU copies
-    /// (only when the selection changed), in milliseconds.
-    pub update_ms: f64,
-    /// Whether the selection changed.
-    pub changed: bool,
-    /// The hierarchy: its build seconds (0 when it came from the cache), nodes and bytes.
-    pub build_s: f64,
-    pub hierarchy_nodes: usize,
-    pub hierarchy_bytes: usize,
-}
-
-impl BudgetStats {
-    /// One line for the plan's notes and `--explain`.
-    pub fn describe(&self) -> String {
-        format!(
-            "point budget {}: {} splats of {} nodes drawn; selection {:.2} ms, update {:.1} ms{}; hierarchy {} nodes, {:.1} MiB, {}",
-            self.budget,
-            self.splats,
-            self.nodes,
-            self.select_ms,
-            self.update_ms,
-            if self.changed { "" } else { " (unchanged)" },
-            self.hierarchy_nodes,
-            self.hierarchy_bytes as f64 / (1 << 20) as f64,
-            if self.build_s > 0.0 { format!("built in {:.2} s", self.build_s) } else { "from the cache".into() },
-        )
-    }
-}
+use crate::report::{BudgetStats, FrameReport};
 
 /// The hierarchy of `cloud`, a scene's splats in world space whose scene
 /// has geometry hash `geometry`: from `cache`, else built and stored; and a
@@ -91,32 +54,17 @@ pub(super) struct BudgetFrames {
     hierarchy: Arc<Hierarchy>,
     selected: Option<Selection>,
     chosen: ChosenFrames,
-    last: BudgetStats,
 }
 
 impl BudgetFrames {
     /// Nothing selected yet from `hierarchy` (cache key `key`) of `parent`'s splats.
     fn new(key: u64, hierarchy: Arc<Hierarchy>, parent: &SceneFrames) -> Box<Self> {
-        let reason = "under a point budget the splats drawn change with the view";
-        let chosen = ChosenFrames::of(parent, "budget", reason);
-        Box::new(Self { key, hierarchy, selected: None, chosen, last: BudgetStats::default() })
+        let chosen = ChosenFrames::of(parent, "budget");
+        Box::new(Self { key, hierarchy, selected: None, chosen })
     }
 }
 
 impl SceneFrames {
-    /// The budget a frame of `settings` keeps, if one applies: a GPU mode,
-    /// a still scene, and fewer splats than the scene has.
-    pub fn applied_budget(&self, settings: &RenderSettings) -> Option<u32> {
-        let budget = settings.point_budget?;
-        let applies = settings.mode.is_gpu() && !self.is_moving() && (budget as usize) < self.cloud.len();
-        if settings.mode.is_gpu() && self.is_moving() {
-            pointblend_core::progress::warn_once(
-                "the scene moves: every splat is drawn (a point budget applies to still scenes)".to_string(),
-            );
-        }
-        applies.then_some(budget)
-    }
-
     /// The hierarchy of the scene's splats, built (or read from the cache) on first use.
     pub fn hierarchy(&mut self) -> Arc<Hierarchy> {
         self.budget_frames().hierarchy.clone()
@@ -150,36 +98,20 @@ impl SceneFrames {
         self.budget.as_mut().expect("made above")
     }
 
-    /// The frames of the last budgeted selection, if one was made.
-    pub(super) fn budget_frames_shown(&self) -> Option<&SceneFrames> {
-        self.budget.as_ref().and_then(|b| b.chosen.current())
-    }
-
-    /// What the last budgeted frame drew and cost.
-    pub fn last_budget(&self) -> Option<&BudgetStats> {
-        self.budget.as_ref().map(|b| &b.last)
-    }
-
-    /// Selects the nodes a frame from `camera` at `size` draws under
+    /// Selects the nodes the frame `spec` from `camera` draws under
     /// `budget` and, when they changed, hands their splats to the budget's
-    /// frames. Returns those frames.
+    /// frames. Returns those frames, and what the selection drew and cost.
     pub(super) fn select_for(
         &mut self,
         gpu: Option<&HeadlessRenderer>,
         camera: &Camera,
-        settings: &RenderSettings,
-        size: (u32, u32),
+        spec: &FrameSpec,
         budget: u32,
-    ) -> Result<&mut SceneFrames, FrameError> {
+    ) -> Result<(&mut SceneFrames, BudgetStats), FrameError> {
         let state = self.budget_frames();
         let started = Instant::now();
-        let options = lod::SelectOptions {
-            budget: budget as usize,
-            radius_scale: settings.radius_scale,
-            cull: !settings.lit_by_lights(),
-            finest_px: 0.0,
-        };
-        let selection = lod::select(&state.hierarchy, camera, size, options);
+        let options = lod::SelectOptions::for_frame(budget as usize, lod::Choosing::of(&spec.drawn), 0.0);
+        let selection = lod::select(&state.hierarchy, camera, spec.size, options);
         let select_ms = started.elapsed().as_secs_f64() * 1e3;
         let changed = state.selected.as_ref() != Some(&selection);
         let started = Instant::now();
@@ -190,7 +122,7 @@ impl SceneFrames {
             (lod::gather(hierarchy, &selection), pointblend_core::hash::fnv1a(state.key, &nodes))
         })?;
         let h = &state.hierarchy;
-        state.last = BudgetStats {
+        let stats = BudgetStats {
             budget,
             nodes: selection.nodes.len(),
             splats: selection.splats,
@@ -202,23 +134,22 @@ impl SceneFrames {
             hierarchy_bytes: h.bytes(),
         };
         state.selected = Some(selection);
-        Ok(frames)
+        Ok((frames, stats))
     }
 
-    /// The GPU copy of the splats selected under `budget` from `camera` at
-    /// `size`, and the settings to draw it with: the budgeted path, whatever
-    /// the budget (a frame takes this path only for a budget below the
-    /// scene's splats, [`Self::applied_budget`]).
-    pub fn budgeted_scene(
+    /// The GPU copy of the splats selected under `budget` from `camera` for
+    /// the frame `spec` (whose selection is this budget, [`crate::frame::resolve`]),
+    /// with what the selection and its shadows cost in `report`.
+    pub(super) fn budgeted_scene(
         &mut self,
         gpu: &HeadlessRenderer,
         camera: &Camera,
-        settings: &RenderSettings,
-        size: (u32, u32),
+        spec: &FrameSpec,
         budget: u32,
-    ) -> Result<(&mut GpuScene, RenderSettings), FrameError> {
-        let unbudgeted = settings.without_budget();
-        let frames = self.select_for(Some(gpu), camera, settings, size, budget)?;
-        Ok((frames.gpu_scene_mut(gpu, &unbudgeted)?, unbudgeted))
+        report: &mut FrameReport,
+    ) -> Result<&mut GpuScene, FrameError> {
+        let (frames, stats) = self.select_for(Some(gpu), camera, spec, budget)?;
+        report.budget = Some(stats);
+        frames.gpu_scene_mut(gpu, spec, report)
     }
 }

@@ -25,26 +25,18 @@ pub(super) struct ChosenFrames {
     cache: Cache,
     /// The chosen scene's name ("budget", "hybrid").
     name: &'static str,
-    /// Why groupings are redone every frame, for the one warning that says so.
-    reason: &'static str,
 }
 
 impl ChosenFrames {
     /// Nothing chosen yet from `parent`'s splats.
-    pub(super) fn of(parent: &SceneFrames, name: &'static str, reason: &'static str) -> Self {
+    pub(super) fn of(parent: &SceneFrames, name: &'static str) -> Self {
         Self {
             frames: None,
             lattice: Lattice::of(&parent.cloud),
             environment: parent.scene.environment.clone(),
             cache: parent.cache.clone(),
             name,
-            reason,
         }
-    }
-
-    /// The frames of the last choice, if one was made.
-    pub(super) fn current(&self) -> Option<&SceneFrames> {
-        self.frames.as_deref()
     }
 
     /// The frames of the chosen splats: when `changed` (or on first use),
@@ -69,11 +61,7 @@ impl ChosenFrames {
                 frames.advance(gpu, scene, cloud)?;
                 frames
             }
-            None => {
-                let mut frames = SceneFrames::new(scene, cloud).moving_on(self.lattice).with_cache(self.cache.clone());
-                frames.regroup_reason = self.reason;
-                Box::new(frames)
-            }
+            None => Box::new(SceneFrames::new(scene, cloud).moving_on(self.lattice).with_cache(self.cache.clone())),
         };
         Ok(self.frames.insert(frames))
     }

@@ -9,13 +9,9 @@
 //! hash grouping of the splats drawn), and the mode's passes draw the
 //! triangles' ranges beside them.
 //!
-//! A mode that cannot draw triangles draws the scene's every splat (the
-//! mesh's vertices among them) and says so, once in the log and in the
-//! plan's notes; so does a frame lit by scene lights (translucent shadows
-//! are cast and received by splats) and a moving scene; those frames
-//! draw every splat as splat frames do, under a point budget if one is set.
-//! A frame that draws triangles draws every splat it chooses: a point
-//! budget does not apply to it, and its plan's notes say so.
+//! Whether a frame draws triangles at all is decided by
+//! [`crate::frame::resolve`] (a mode that cannot, a lit frame and a moving
+//! scene draw the meshes as their vertex splats, and the spec says why).
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -23,44 +19,12 @@ use std::time::Instant;
 use super::chosen::ChosenFrames;
 use super::{FrameError, SceneFrames};
 use crate::context::GpuError;
-use crate::frame::{Camera, RenderMode, RenderSettings};
+use crate::frame::{Camera, FrameSpec};
 use crate::gpu_data::TriangleVertex;
 use crate::gpu_scene::{GpuScene, TriangleDraw, WholeScene};
 use crate::headless::HeadlessRenderer;
+use crate::report::{FrameReport, HybridStats};
 use pointblend_core::hybrid::select::{HybridOptions, HybridSelection, SceneSurfaces};
-
-/// What the last frame with triangles drew and cost.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct HybridStats {
-    pub triangles: u32,
-    pub splats: usize,
-    pub triangle_leaves: usize,
-    pub splat_leaves: usize,
-    pub transition_splats: usize,
-    /// Choosing the leaves, in milliseconds.
-    pub select_ms: f64,
-    /// Gathering the splats and rewriting their GPU copy (when they changed), in milliseconds.
-    pub update_ms: f64,
-    pub changed: bool,
-}
-
-impl HybridStats {
-    /// One line for the plan's notes and `--explain`.
-    pub fn describe(&self, pixels: f32) -> String {
-        format!(
-            "meshes: {} triangles of {} leaves and {} splats ({} leaves as splats, {} transition splats) drawn; \
-             leaves as triangles where splats exceed {pixels} px; selection {:.2} ms, update {:.1} ms{}",
-            self.triangles,
-            self.triangle_leaves,
-            self.splats,
-            self.splat_leaves,
-            self.transition_splats,
-            self.select_ms,
-            self.update_ms,
-            if self.changed { "" } else { " (unchanged)" },
-        )
-    }
-}
 
 /// The scene's triangles and the frames of the splats drawn beside them.
 pub(super) struct HybridFrames {
@@ -74,89 +38,31 @@ pub(super) struct HybridFrames {
     whole: WholeScene,
     /// Every splat is one-sided: triangles facing away can be culled by their winding.
     one_sided: bool,
-    last: HybridStats,
 }
 
 impl SceneFrames {
-    /// Why a GPU frame of `settings` draws the scene's meshes as their
-    /// vertex splats, if it does: a mode without triangles, scene lights
-    /// (translucent shadows are cast and received by splats, Gunjee §4), or a moving scene.
-    fn triangles_refused(&self, settings: &RenderSettings) -> Option<String> {
-        if !self.scene.has_surfaces() || !settings.mode.is_gpu() {
-            return None;
-        }
-        // A transparent mode given an opaque scene runs the two-pass plan, which draws triangles.
-        let runs_two_pass = settings.mode.runs_opaque(self.scene.has_transparency());
-        let why = if !settings.mode.info().triangles && !runs_two_pass {
-            let drawing: Vec<&str> =
-                RenderMode::ALL.into_iter().filter(|m| m.info().triangles).map(RenderMode::name).collect();
-            format!("{} cannot draw triangles ({} do)", settings.mode.name(), drawing.join(", "))
-        } else if settings.lit_by_lights() {
-            "the frame is lit by scene lights, whose shadows are cast and received by splats".to_string()
-        } else if self.is_moving() {
-            "the scene moves (triangles are drawn in still scenes)".to_string()
-        } else {
-            return None;
-        };
-        Some(format!("{why}: the scene's mesh and hybrid objects are drawn as their vertex splats"))
-    }
-
-    /// Whether a frame of `settings` draws the scene's triangles (else says once why not).
-    pub fn draws_triangles(&self, settings: &RenderSettings) -> bool {
-        match self.triangles_refused(settings) {
-            Some(why) => {
-                pointblend_core::progress::warn_once(why);
-                false
-            }
-            None => self.scene.has_surfaces() && settings.mode.is_gpu(),
-        }
-    }
-
-    /// The notes a frame of `settings` adds when it draws the scene's meshes as splats.
-    pub fn mesh_notes(&self, settings: &RenderSettings) -> Vec<String> {
-        self.triangles_refused(settings).into_iter().collect()
-    }
-
-    /// What the last frame with triangles drew and cost.
-    pub fn last_hybrid(&self) -> Option<&HybridStats> {
-        self.hybrid.as_ref().map(|h| &h.last)
-    }
-
-    /// The line on what the last frame with triangles drew, for the plan's
-    /// notes (with the point budget it did not apply, if `settings` has one).
-    pub fn hybrid_note(&self, settings: &RenderSettings) -> Option<String> {
-        let mut note = self.last_hybrid()?.describe(settings.hybrid_pixels);
-        if let Some(budget) = settings.point_budget {
-            note +=
-                &format!("; point budget {budget} not applied (a frame with triangles draws every splat it chooses)");
-        }
-        Some(note)
-    }
-
-    /// The GPU copy a frame with triangles from `camera` at `size` draws
-    /// (its leaves chosen here). Such a frame draws every splat it chooses:
-    /// a point budget in `settings` is not applied ([`Self::hybrid_note`]
-    /// says so); draw it with [`RenderSettings::without_budget`].
+    /// The GPU copy the frame `spec` (with triangles) draws from `camera`,
+    /// its leaves chosen here, with what they cost in `report`. Such a frame
+    /// draws every splat it chooses: no point budget applies (the spec's notes say so).
     pub(super) fn hybrid_scene(
         &mut self,
         gpu: &HeadlessRenderer,
         camera: &Camera,
-        settings: &RenderSettings,
-        size: (u32, u32),
+        spec: &FrameSpec,
+        report: &mut FrameReport,
     ) -> Result<&mut GpuScene, FrameError> {
+        let (settings, size) = (&spec.drawn, spec.size);
         if self.hybrid.is_none() {
             let flat = self.scene.flatten();
             let surfaces = self.scene.surfaces(&flat);
-            let reason = "in a hybrid frame the splats drawn change with the view";
             self.hybrid = Some(Box::new(HybridFrames {
                 surfaces,
                 buffer: None,
                 selected: None,
                 indices: None,
-                chosen: ChosenFrames::of(self, "hybrid", reason),
+                chosen: ChosenFrames::of(self, "hybrid"),
                 whole: WholeScene::of(&self.cloud),
                 one_sided: self.cloud.two_sided.iter().all(|&two| !two),
-                last: HybridStats::default(),
             }));
         }
         let whole = Arc::clone(&self.cloud);
@@ -203,7 +109,8 @@ impl SceneFrames {
             indices: Arc::clone(state.indices.as_ref().expect("uploaded above")),
             cull_back: settings.backface_culling && state.one_sided,
         };
-        state.last = HybridStats {
+        report.hybrid = Some(HybridStats {
+            pixels: settings.hybrid_pixels,
             triangles: selection.triangle_count(),
             splats: selection.splats.len(),
             triangle_leaves: selection.triangle_leaves,
@@ -212,8 +119,8 @@ impl SceneFrames {
             select_ms,
             update_ms: started.elapsed().as_secs_f64() * 1e3,
             changed,
-        };
-        let scene = frames.gpu_scene_mut(gpu, &settings.without_budget())?;
+        });
+        let scene = frames.gpu_scene_mut(gpu, spec, report)?;
         scene.set_triangles(Some(draw), &state.whole);
         state.selected = Some(selection);
         Ok(scene)

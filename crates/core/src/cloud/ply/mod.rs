@@ -21,9 +21,12 @@ use super::CloudError;
 pub use header::{ElementSpec, Encoding, PropertyKind, PropertySpec};
 pub use scalar::Scalar;
 
-/// The decoded content of a PLY file.
+/// A point file decoded into named vertex columns (and faces), whatever its
+/// format: the PLY reader fills it from the file's elements, and the LAS,
+/// LAZ, COPC and E57 readers from their records, with PLY's element
+/// vocabulary, so one builder ([`crate::cloud::load`]) makes every cloud.
 #[derive(Debug, Default)]
-pub struct PlyData {
+pub struct PointColumns {
     pub encoding: String,
     pub comments: Vec<String>,
     pub elements: Vec<ElementSpec>,
@@ -52,7 +55,7 @@ const FACE_LIST_NAMES: [&str; 2] = ["vertex_indices", "vertex_index"];
 
 /// Reads `bytes` (the whole file at `path`), keeping the vertex properties
 /// for which `wanted` returns true.
-pub fn parse(path: &Path, bytes: &[u8], wanted: &dyn Fn(&str) -> bool) -> Result<PlyData, CloudError> {
+pub fn parse(path: &Path, bytes: &[u8], wanted: &dyn Fn(&str) -> bool) -> Result<PointColumns, CloudError> {
     let header = header::parse(bytes).map_err(|e| CloudError::format(path, e))?;
     let body = &bytes[header.body_start.min(bytes.len())..];
     let elements = header.elements;
@@ -72,7 +75,7 @@ pub fn parse(path: &Path, bytes: &[u8], wanted: &dyn Fn(&str) -> bool) -> Result
         }
     }
 
-    let mut data = PlyData {
+    let mut data = PointColumns {
         encoding: header.encoding.name().to_string(),
         comments: header.comments,
         vertex_count: vertex.count,
