@@ -12,7 +12,7 @@ use glam::Vec3;
 use pointblend::cloud::PointCloud;
 use pointblend::frame::{Camera, RenderMode, RenderSettings};
 use pointblend::grouping::GroupingSpec;
-use pointblend::render::SceneFrames;
+use pointblend::render::PreparedScene;
 use pointblend::scene::animation::{Deform, DeformFrame, DeformKind};
 use pointblend::scene::{self, Scene};
 
@@ -117,10 +117,10 @@ fn render_both(
     let camera = lion_camera();
     let settings = RenderSettings { mode, grouping: grouping.parse::<GroupingSpec>().unwrap(), ..Default::default() };
     let mut gpu = common::renderer();
-    let mut still_frames = SceneFrames::of(Arc::new(still.clone()));
+    let mut still_frames = PreparedScene::of(Arc::new(still.clone()));
     let a = still_frames.render(Some(&mut gpu), &camera, &settings, (128, 128), false).unwrap().image;
     let at = moving.at_time(0.0).unwrap();
-    let mut moving_frames = SceneFrames::of(Arc::new(at.scene)).moving();
+    let mut moving_frames = PreparedScene::of(Arc::new(at.scene)).moving();
     let b = moving_frames.render(Some(&mut gpu), &camera, &settings, (128, 128), false).unwrap().image;
     (a, b)
 }
@@ -339,14 +339,14 @@ fn a_scene_moved_on_frame_by_frame_draws_what_a_fresh_upload_of_that_frame_draws
     for mode in [RenderMode::Deferred, RenderMode::Alg2, RenderMode::DepthPeel, RenderMode::Tiled] {
         let settings = RenderSettings { mode, ..Default::default() };
         let first = scene.at_time(0.0).unwrap().scene;
-        let mut moved = SceneFrames::of(Arc::new(first)).moving();
+        let mut moved = PreparedScene::of(Arc::new(first)).moving();
         moved.render(Some(&mut gpu), &camera, &settings, (128, 128), false).unwrap();
         for t in [0.3, 0.7, 1.9] {
             let at = Arc::new(scene.at_time(t).unwrap().scene);
             let update = moved.advance(Some(&gpu), Arc::clone(&at), at.flattened()).unwrap();
             let a = moved.render(Some(&mut gpu), &camera, &settings, (128, 128), false).unwrap().image;
             // The same groups (the moved copy's lattice is the first frame's), uploaded afresh.
-            let mut fresh = SceneFrames::of(Arc::clone(&at)).moving();
+            let mut fresh = PreparedScene::of(Arc::clone(&at)).moving();
             if let Some(drawn) = moved.resolve(&settings, pointblend::frame::View::still((128, 128))).grouping {
                 fresh.add_grouping(moved.grouping(drawn.spec).unwrap().clone());
             }
@@ -406,7 +406,7 @@ fn a_sequence_with_an_empty_frame_plays_through_it_in_every_grouped_mode() {
     let mut gpu = common::renderer();
     for mode in [RenderMode::Deferred, RenderMode::Alg2, RenderMode::Tiled] {
         let settings = RenderSettings { mode, ..Default::default() };
-        let mut frames = SceneFrames::of(Arc::new(scene.at_time(0.0).unwrap().scene)).moving();
+        let mut frames = PreparedScene::of(Arc::new(scene.at_time(0.0).unwrap().scene)).moving();
         for t in [0.0, 1.0, 2.0, 1.0] {
             let at = scene.at_time(t).unwrap();
             println!("{mode} at {t} s: frame {:?} of {} splats", at.frames[0], at.scene.len());
@@ -433,7 +433,7 @@ fn a_copy_sorted_back_to_front_and_then_moved_draws_the_moved_frame_in_a_mode_th
     let sorted = RenderSettings { mode: RenderMode::AlphaBlend, ..Default::default() };
     let unsorted = RenderSettings { mode: RenderMode::DepthPeel, ..Default::default() };
     let mut gpu = common::renderer();
-    let mut frames = SceneFrames::of(Arc::new(scene.at_time(0.0).unwrap().scene)).moving_on(lattice);
+    let mut frames = PreparedScene::of(Arc::new(scene.at_time(0.0).unwrap().scene)).moving_on(lattice);
     // Two moves, each after a sorted frame: the second one writes only what changed.
     for t in [0.25, 0.5] {
         frames.render(Some(&mut gpu), &camera, &sorted, (128, 128), false).unwrap();
@@ -442,7 +442,7 @@ fn a_copy_sorted_back_to_front_and_then_moved_draws_the_moved_frame_in_a_mode_th
     }
     let at = Arc::new(scene.at_time(0.5).unwrap().scene);
     let a = frames.render(Some(&mut gpu), &camera, &unsorted, (128, 128), false).unwrap().image;
-    let mut fresh = SceneFrames::of(Arc::clone(&at)).moving_on(lattice);
+    let mut fresh = PreparedScene::of(Arc::clone(&at)).moving_on(lattice);
     let b = fresh.render(Some(&mut gpu), &camera, &unsorted, (128, 128), false).unwrap().image;
     let differing = a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count();
     assert_eq!(differing, 0, "{differing} pixels differ: the moved copy kept records of the sorted view");

@@ -10,7 +10,7 @@ use common::tolerances::{BOUNDARY_RIM_PIXELS, MAX_BUDGET_HOLE_SHARE};
 use pointblend::cloud;
 use pointblend::frame::{Camera, Selection, View};
 use pointblend::reference::{self, ReferenceOptions};
-use pointblend::render::{Readback, RenderMode, RenderSettings, SceneFrames};
+use pointblend::render::{PreparedScene, Readback, RenderMode, RenderSettings};
 use pointblend::scene::Scene;
 
 const SIZE: u32 = 192;
@@ -22,7 +22,7 @@ fn lion() -> (Arc<Scene>, Camera) {
     (Arc::new(Scene::from(cloud)), camera)
 }
 
-fn frame(frames: &mut SceneFrames, camera: &Camera, settings: &RenderSettings) -> (image::RgbaImage, Vec<String>) {
+fn frame(frames: &mut PreparedScene, camera: &Camera, settings: &RenderSettings) -> (image::RgbaImage, Vec<String>) {
     let mut renderer = common::renderer();
     let frame = frames.render(Some(&mut *renderer), camera, settings, (SIZE, SIZE), false).expect("render");
     (frame.image, frame.plan.notes.into_iter().chain(frame.report.lines()).collect())
@@ -31,7 +31,7 @@ fn frame(frames: &mut SceneFrames, camera: &Camera, settings: &RenderSettings) -
 #[test]
 fn a_budget_of_the_whole_model_is_todays_image_and_a_budget_of_one_draws_the_root() {
     let (scene, camera) = lion();
-    let mut frames = SceneFrames::of(Arc::clone(&scene));
+    let mut frames = PreparedScene::of(Arc::clone(&scene));
     let all = RenderSettings::default();
     let (today, _) = frame(&mut frames, &camera, &all);
     let at_size = RenderSettings { point_budget: Some(scene.len() as u32), ..all };
@@ -76,8 +76,8 @@ fn every_gpu_mode_draws_a_budgeted_frame_closer_to_the_reference_than_a_subsampl
     let mut glass = Scene::clone(&opaque);
     glass.set_opacity(0.5);
     let glass = Arc::new(glass);
-    let mut opaque_frames = SceneFrames::of(Arc::clone(&opaque));
-    let mut glass_frames = SceneFrames::of(Arc::clone(&glass));
+    let mut opaque_frames = PreparedScene::of(Arc::clone(&opaque));
+    let mut glass_frames = PreparedScene::of(Arc::clone(&glass));
     // A quarter of the splats, as the goal (250K of 1M).
     let budget = opaque.len() as u32 / 4;
     for mode in RenderMode::ALL.into_iter().filter(|m| m.is_gpu()) {
@@ -95,7 +95,7 @@ fn every_gpu_mode_draws_a_budgeted_frame_closer_to_the_reference_than_a_subsampl
         let whole_eps = reference::compare(&whole, &exact).unwrap().eps;
         // The same number of splats picked uniformly, radii grown to keep the area (a plain subsample).
         // Drawn as budgeted frames are: groups by hashing, redone for each set of splats.
-        let mut sub_frames = SceneFrames::of(Arc::new(Scene::from(subsample(&scene.flattened(), drawn)))).moving();
+        let mut sub_frames = PreparedScene::of(Arc::new(Scene::from(subsample(&scene.flattened(), drawn)))).moving();
         let (sub, _) = frame(&mut sub_frames, &camera, &full);
         let sub_eps = reference::compare(&sub, &exact).unwrap().eps;
         // No holes: inside the reference's silhouette (eroded) the budgeted frame shows the surface.

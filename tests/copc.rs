@@ -15,7 +15,7 @@ use pointblend::cloud::{self, LoadOptions};
 use pointblend::copc::{CopcStream, StreamBudget, StreamOptions};
 use pointblend::frame::Camera;
 use pointblend::lod::{Choosing, SelectOptions};
-use pointblend::render::{RenderMode, RenderSettings, SceneFrames};
+use pointblend::render::{PreparedScene, RenderMode, RenderSettings};
 use pointblend::scene::Scene;
 
 const SIZE: u32 = 160;
@@ -55,7 +55,7 @@ fn every_node_of_the_samples_decodes_to_the_count_its_hierarchy_gives() {
 }
 
 fn render(scene: Scene, camera: &Camera, mode: RenderMode) -> image::RgbaImage {
-    let mut frames = SceneFrames::of(Arc::new(scene));
+    let mut frames = PreparedScene::of(Arc::new(scene));
     let settings = RenderSettings { mode, ..Default::default() };
     let mut renderer = common::renderer();
     frames.render(Some(&mut *renderer), camera, &settings, (SIZE, SIZE), false).expect("render").image

@@ -7,7 +7,7 @@ mod common;
 use std::path::PathBuf;
 
 use glam::Vec3;
-use pointblend::scene::environment::EnvironmentMap;
+use pointblend::scene::environment_map::EnvironmentMap;
 
 fn bundled() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/venice.exr")
@@ -120,7 +120,7 @@ fn slab(planes: &[Plane], env: [f32; 3]) -> pointblend::scene::Scene {
 #[test]
 fn a_transparent_slab_in_a_constant_environment_matches_the_closed_form() {
     use pointblend::frame::RenderSettings;
-    use pointblend::frame::environment::{EnvironmentSettings, LayerEffects};
+    use pointblend::frame::environment_effects::{EnvironmentSettings, LayerEffects};
     use pointblend::reference::{ReferenceOptions, render_with_layers};
     // The camera looks down -z from z = 5 (30° field): every ray meets the
     // planes, at cos θ_I = -d·z of its pixel. In a constant environment E
@@ -179,7 +179,7 @@ fn a_transparent_slab_in_a_constant_environment_matches_the_closed_form() {
 #[test]
 fn alg2_with_an_environment_matches_the_closed_form_and_stays_finite_in_stiff_cases() {
     use pointblend::frame::RenderSettings;
-    use pointblend::frame::environment::{EnvironmentSettings, LayerEffects};
+    use pointblend::frame::environment_effects::{EnvironmentSettings, LayerEffects};
     use pointblend::grouping::Grouping;
     let camera = common::looking_down_z();
     let size = 48u32;
@@ -472,9 +472,9 @@ fn worst_against_closed_form(
 
 fn glass_settings(
     mode: &str,
-    layers: pointblend::frame::environment::LayerEffects,
+    layers: pointblend::frame::environment_effects::LayerEffects,
 ) -> pointblend::frame::RenderSettings {
-    use pointblend::frame::environment::EnvironmentSettings;
+    use pointblend::frame::environment_effects::EnvironmentSettings;
     pointblend::frame::RenderSettings {
         mode: mode.parse().unwrap(),
         lighting: false,
@@ -491,7 +491,7 @@ fn glass_settings(
 
 #[test]
 fn the_reference_reflects_and_refracts_a_gradient_map_as_the_closed_form_says() {
-    use pointblend::frame::environment::LayerEffects;
+    use pointblend::frame::environment_effects::LayerEffects;
     let camera = common::looking_down_z();
     let size = 48u32;
     for (what, planes) in glass_cases() {
@@ -513,7 +513,7 @@ fn the_reference_reflects_and_refracts_a_gradient_map_as_the_closed_form_says() 
 
 #[test]
 fn alg2_reflects_and_refracts_a_gradient_map_as_the_closed_form_says() {
-    use pointblend::frame::environment::LayerEffects;
+    use pointblend::frame::environment_effects::LayerEffects;
     let camera = common::looking_down_z();
     let size = 48u32;
     let mut renderer = common::renderer();

@@ -12,7 +12,7 @@ use common::tolerances::{BOUNDARY_RIM_PIXELS, MAX_HYBRID_EPS_RATIO, MAX_MESH_EPS
 use pointblend::frame::Camera;
 use pointblend::reference::{self, ReferenceOptions};
 use pointblend::render::report::HybridStats;
-use pointblend::render::{RenderMode, RenderSettings, SceneFrames};
+use pointblend::render::{PreparedScene, RenderMode, RenderSettings};
 use pointblend::scene::{self, Scene};
 
 const SIZE: u32 = 192;
@@ -94,7 +94,7 @@ fn corner_camera(scene: &Scene) -> Camera {
 
 /// A frame's image, its plan's notes and the leaves it drew as triangles, if any.
 fn render(
-    frames: &mut SceneFrames,
+    frames: &mut PreparedScene,
     camera: &Camera,
     settings: &RenderSettings,
 ) -> (image::RgbaImage, Vec<String>, Option<HybridStats>) {
@@ -109,7 +109,7 @@ fn a_hybrid_cube_matches_the_reference_on_its_triangles_without_cracks_between_t
     let dir = tempfile::tempdir().unwrap();
     let scene = open(&cube_scene(dir.path(), "hybrid", ""));
     let camera = corner_camera(&scene);
-    let mut frames = SceneFrames::of(Arc::clone(&scene));
+    let mut frames = PreparedScene::of(Arc::clone(&scene));
     for mode in [RenderMode::TwoPass, RenderMode::Deferred, RenderMode::Tiled] {
         // Leaves whose splats would be wider than 9 px are triangles: the near faces here.
         let hybrid = RenderSettings { mode, hybrid_pixels: 9.0, ..Default::default() };
@@ -146,8 +146,8 @@ fn meshes_opaque_and_transparent_are_their_triangles_and_modes_without_triangles
         let mesh = open(&cube_scene(dir.path(), "mesh", opacity));
         let hybrid = open(&cube_scene(dir.path(), "hybrid", opacity));
         let camera = corner_camera(&mesh);
-        let mut mesh_frames = SceneFrames::of(Arc::clone(&mesh));
-        let mut splat_frames = SceneFrames::of(Arc::clone(&hybrid));
+        let mut mesh_frames = PreparedScene::of(Arc::clone(&mesh));
+        let mut splat_frames = PreparedScene::of(Arc::clone(&hybrid));
         for &mode in modes {
             let settings = RenderSettings { mode, ..Default::default() };
             let exact = reference::render(&mesh, &camera, &ReferenceOptions::matching(&settings, &mesh), SIZE, SIZE);
@@ -188,7 +188,7 @@ fn one_sided_triangles_seen_from_behind_are_culled_and_a_mesh_after_a_cloud_keep
         let scene = open(&path);
         let mut camera = Camera::default_for(&scene.flattened(), 1.0);
         camera.look_from_direction(glam::Vec3::X); // the face at x = -0.5 faces -x: seen from behind
-        let mut frames = SceneFrames::of(Arc::clone(&scene));
+        let mut frames = PreparedScene::of(Arc::clone(&scene));
         for mode in [RenderMode::TwoPass, RenderMode::Deferred, RenderMode::Tiled, RenderMode::Reference] {
             let settings = RenderSettings { mode, ..Default::default() };
             let (image, notes, _) = render(&mut frames, &camera, &settings);
@@ -215,7 +215,7 @@ fn one_sided_triangles_seen_from_behind_are_culled_and_a_mesh_after_a_cloud_keep
     assert!(warnings.iter().any(|w| w.contains("128 triangles were wound against")), "{warnings:?}");
     let mut camera = Camera::default_for(&scene.flattened(), 1.0);
     camera.look_from_direction(glam::Vec3::X);
-    let mut frames = SceneFrames::of(Arc::new(scene));
+    let mut frames = PreparedScene::of(Arc::new(scene));
     let (image, _, _) = render(&mut frames, &camera, &RenderSettings::default());
     assert!(common::foreground(&image, bg).iter().any(|&f| f), "the turned face is culled");
 
@@ -229,7 +229,7 @@ fn one_sided_triangles_seen_from_behind_are_culled_and_a_mesh_after_a_cloud_keep
     .unwrap();
     let scene = open(&path);
     let camera = corner_camera(&scene);
-    let mut frames = SceneFrames::of(Arc::clone(&scene));
+    let mut frames = PreparedScene::of(Arc::clone(&scene));
     for mode in [RenderMode::TwoPass, RenderMode::Tiled] {
         let settings = RenderSettings { mode, ..Default::default() };
         let exact = reference::render(&scene, &camera, &ReferenceOptions::matching(&settings, &scene), SIZE, SIZE);

@@ -9,20 +9,20 @@ mod common;
 
 use common::tolerances::{MAX_WINDOWED_CHANGED_PIXELS, MAX_WINDOWED_PIXEL_DIFF};
 use pointblend::frame::{Camera, EyeDome, Prefilter, RenderSettings};
-use pointblend::render::{HeadlessRenderer, RenderMode, SceneFrames};
+use pointblend::render::{GpuRenderer, PreparedScene, RenderMode};
 use pointblend::scene::Scene;
 use std::sync::Arc;
 
 /// Renders `scene` in `settings` at `size`, with a window budget of `budget` bytes.
 fn render(
-    renderer: &mut HeadlessRenderer,
+    renderer: &mut GpuRenderer,
     scene: &Arc<Scene>,
     settings: &RenderSettings,
     size: (u32, u32),
     budget: u64,
 ) -> (image::RgbaImage, pointblend::render::RenderPlan, Vec<String>) {
-    renderer.set_window_budget(budget);
-    let mut frames = SceneFrames::of(Arc::clone(scene));
+    renderer.set_subframe_budget(budget);
+    let mut frames = PreparedScene::of(Arc::clone(scene));
     let camera = Camera::default_for(frames.cloud(), size.0 as f32 / size.1 as f32);
     let frame = frames.render(Some(renderer), &camera, settings, size, false).expect("the frame renders");
     (frame.image, frame.plan, frame.report.lines())
@@ -85,7 +85,7 @@ fn an_8192_square_render_of_the_bundled_model_takes_bounded_memory() {
     let mut renderer = common::renderer();
     let small = render(&mut renderer, &scene, &settings, (512, 512), u64::MAX).0;
     let before = peak_resident_bytes();
-    let budget = pointblend::render::headless::DEFAULT_WINDOW_BUDGET;
+    let budget = pointblend::render::gpu_renderer::DEFAULT_SUBFRAME_BUDGET;
     let (image, plan, report) = render(&mut renderer, &scene, &settings, (SIDE, SIDE), budget);
     let grown = peak_resident_bytes().saturating_sub(before);
     let whole_targets = plan.target_bytes() / (plan.width as u64 * plan.height as u64) * (SIDE as u64 * SIDE as u64);

@@ -22,7 +22,7 @@ use pointblend::render::passes::Command;
 use pointblend::render::plan::{Layout, RenderPlan, TargetId};
 use pointblend::render::shaders;
 use pointblend::render::touches::Slot;
-use pointblend::render::{GpuScene, HeadlessRenderer};
+use pointblend::render::{GpuRenderer, GpuScene};
 
 /// The bundled lion scan, a quarter of its splats.
 fn model() -> PointCloud {
@@ -51,7 +51,7 @@ fn settings_of(mode: RenderMode) -> Vec<RenderSettings> {
 }
 
 /// Uploads `cloud` as `settings`' mode needs it.
-fn upload(renderer: &HeadlessRenderer, cloud: &PointCloud, settings: &RenderSettings) -> GpuScene {
+fn upload(renderer: &GpuRenderer, cloud: &PointCloud, settings: &RenderSettings) -> GpuScene {
     let grouping = settings.mode.needs_grouping().then(|| settings.grouping_for_mode().compute(cloud).unwrap());
     renderer.upload_cloud(cloud, grouping.as_ref())
 }
@@ -389,7 +389,7 @@ fn every_plan_pass_is_timed_even_with_many_groups() {
     let cloud = model();
     let camera = Camera::default_for(&cloud, 1.0);
     // Its own renderer, so turning timing on does not touch the shared one.
-    let mut renderer = HeadlessRenderer::new().unwrap();
+    let mut renderer = GpuRenderer::new().unwrap();
     if !renderer.renderer.enable_pass_timing(&renderer.ctx) {
         println!("this adapter has no timestamps: nothing to check");
         return;

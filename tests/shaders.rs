@@ -13,7 +13,7 @@ use std::collections::BTreeSet;
 use std::path::PathBuf;
 
 use pointblend::frame::{Camera, Quality, RenderMode, RenderSettings};
-use pointblend::render::HeadlessRenderer;
+use pointblend::render::GpuRenderer;
 use pointblend::render::shaders::{self, Variant};
 use pointblend::scene::Scene;
 
@@ -40,7 +40,7 @@ fn scenes() -> Vec<(&'static str, Scene)> {
 /// The (root, variant) pairs the renderer builds over every mode, scene and setting.
 fn built_modules() -> BTreeSet<(&'static str, String)> {
     // Its own renderer, so that its cache starts empty.
-    let mut renderer = HeadlessRenderer::new().expect("a Vulkan adapter (lavapipe)");
+    let mut renderer = GpuRenderer::new().expect("a Vulkan adapter (lavapipe)");
     for (what, scene) in scenes() {
         let flat = scene.flattened();
         let camera = Camera::default_for(&flat, 1.0);
@@ -69,7 +69,7 @@ fn built_modules() -> BTreeSet<(&'static str, String)> {
     // Scene lights: splats lit once each with their shadow coefficients (LIGHTS).
     for (what, scene) in scenes().into_iter().filter(|(what, _)| *what != "one colour") {
         let light = pointblend::frame::Light::point(glam::Vec3::new(0.0, 0.5, 0.3));
-        let mut frames = pointblend::render::SceneFrames::of(std::sync::Arc::new(scene));
+        let mut frames = pointblend::render::PreparedScene::of(std::sync::Arc::new(scene));
         let camera = Camera::default_for(frames.cloud(), 1.0);
         for mode in RenderMode::ALL.into_iter().filter(|m| m.is_gpu()) {
             let lights = pointblend::frame::Lights::new(&[light]).unwrap();
@@ -80,7 +80,7 @@ fn built_modules() -> BTreeSet<(&'static str, String)> {
         }
     }
     // Mesh triangles (TRIANGLES), opaque and transparent, of one colour and of many: drawn through
-    // SceneFrames, which hands a frame its triangles (every leaf as triangles: hybrid-px 0).
+    // PreparedScene, which hands a frame its triangles (every leaf as triangles: hybrid-px 0).
     let assets = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets");
     let environment = pointblend::scene::open(&assets.join("glass.toml"), &Default::default()).unwrap().0.environment;
     for name in ["knot-hybrid.toml", "glass-mesh.toml", "glass-mesh.toml with an environment map"] {
@@ -95,7 +95,7 @@ fn built_modules() -> BTreeSet<(&'static str, String)> {
                 cloud.colours.iter_mut().enumerate().for_each(|(i, c)| *c = [(i % 251) as u8, 120, 200]);
                 scene.objects[0].cloud = std::sync::Arc::new(cloud);
             }
-            let mut frames = pointblend::render::SceneFrames::of(std::sync::Arc::new(scene.clone()));
+            let mut frames = pointblend::render::PreparedScene::of(std::sync::Arc::new(scene.clone()));
             let camera = Camera::default_for(frames.cloud(), 1.0);
             for mode in RenderMode::ALL.into_iter().filter(|m| m.is_gpu()) {
                 for lighting in [true, false] {

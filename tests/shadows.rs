@@ -11,7 +11,7 @@ use common::tolerances::*;
 use glam::{Vec3, Vec4Swizzles};
 use pointblend::cloud::PointCloud;
 use pointblend::frame::{Camera, Light, Lights, RenderSettings, Shading, ShadowMethod};
-use pointblend::render::{RenderMode, SceneFrames};
+use pointblend::render::{PreparedScene, RenderMode};
 use pointblend::scene::{Scene, SceneObject, primitives};
 use pointblend::shadow::{self, ShadowInput};
 use std::sync::Arc;
@@ -152,7 +152,7 @@ fn the_reference_and_gpu_modes_show_the_closed_form_on_the_floor() {
     let size = 128;
     let albedo = Vec3::from_array(scene.flattened().colours[0].map(|c| c as f32 / 255.0));
     let points = [Vec3::new(-0.25, 0.0, 0.0), Vec3::new(-0.25, 0.15, 0.0), Vec3::new(0.8, 0.0, 0.0)];
-    let mut frames = SceneFrames::of(Arc::clone(&scene));
+    let mut frames = PreparedScene::of(Arc::clone(&scene));
     let mut renderer = common::renderer();
     // Transparent modes see the square as it is; opaque ones draw it opaque.
     for (mode, t_shadow) in [("reference", 1.0 - a), ("tiled", 1.0 - a), ("alg2", 1.0 - a), ("two-pass", 0.0)] {
@@ -233,7 +233,7 @@ fn stiff_cases_give_finite_coefficients_and_images() {
 
     // Lights on a splat and far away render without failing or a black frame, on the GPU and the reference.
     let scene = Arc::new(base.clone());
-    let mut frames = SceneFrames::of(Arc::clone(&scene));
+    let mut frames = PreparedScene::of(Arc::clone(&scene));
     let mut renderer = common::renderer();
     for light in [on_a_splat, far_above] {
         for mode in ["two-pass", "alg2", "reference"] {
@@ -249,7 +249,7 @@ fn stiff_cases_give_finite_coefficients_and_images() {
 #[test]
 fn no_lights_plan_allocate_and_upload_no_shadow_work() {
     let scene = Arc::new(scene(&[(1.0, 0.5)]));
-    let mut frames = SceneFrames::of(Arc::clone(&scene));
+    let mut frames = PreparedScene::of(Arc::clone(&scene));
     let mut renderer = common::renderer();
     let settings = RenderSettings { mode: RenderMode::DEFAULT, ..Default::default() };
     let frame = frames.render(Some(&mut renderer), &common::looking_down_z(), &settings, (64, 64), false).unwrap();

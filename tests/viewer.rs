@@ -101,7 +101,7 @@ fn bench_image(sidecar: &Path, cache: &Path) -> image::RgbaImage {
     let view = pointblend::frame::Sidecar::read(sidecar).unwrap();
     let settings = view.settings().unwrap();
     let (scene, _) = pointblend::scene::open(&common::bundled_model(), &Default::default()).unwrap();
-    let mut frames = pointblend::render::SceneFrames::of(Arc::new(scene)).with_cache(Cache::in_dir(cache));
+    let mut frames = pointblend::render::PreparedScene::of(Arc::new(scene)).with_cache(Cache::in_dir(cache));
     let config = pointblend::bench::config::BenchConfig {
         variants: Vec::new(),
         settings,
@@ -122,7 +122,7 @@ fn bench_image(sidecar: &Path, cache: &Path) -> image::RgbaImage {
         stream_budget: Default::default(),
         ruler: None,
     };
-    let mut renderer = pointblend::render::HeadlessRenderer::new().unwrap();
+    let mut renderer = pointblend::render::GpuRenderer::new().unwrap();
     let spec = frames.resolve(&settings, pointblend::frame::View::still((config.width, config.height)));
     let timed = pointblend::bench::timing::time_frames(&mut renderer, &mut frames, &view.camera(), &spec, &config);
     timed.unwrap().0.image
@@ -157,7 +157,7 @@ fn render_again(file: &Path, sidecar: &Path, dir: &Path) -> image::RgbaImage {
 }
 
 /// The viewer, `render` and bench draw the same image of one view: all
-/// three make it through `SceneFrames::render_frame`.
+/// three make it through `PreparedScene::render_frame`.
 #[test]
 fn a_screenshot_and_its_sidecar_reproduce_the_image_through_render_and_bench() {
     let dir = tempfile::tempdir().unwrap();
@@ -393,7 +393,7 @@ fn the_viewer_draws_a_hybrid_mesh_as_its_triangles() {
     let options = pointblend::reference::ReferenceOptions::matching(&key.settings, &scene);
     let exact = pointblend::reference::render(&scene, &key.camera, &options, key.size.0, key.size.1);
     let splats = RenderSettings { hybrid_pixels: f32::INFINITY, ..key.settings };
-    let mut frames = pointblend::render::SceneFrames::of(Arc::new(scene));
+    let mut frames = pointblend::render::PreparedScene::of(Arc::new(scene));
     let mut renderer = common::renderer();
     let vertex_splats = frames.render(Some(&mut *renderer), &key.camera, &splats, key.size, false).unwrap().image;
     let eps = pointblend::reference::compare(&image, &exact).unwrap().eps;

@@ -36,7 +36,7 @@ pub fn entry(
     settings: &RenderSettings,
     transparent: bool,
     size: (u32, u32),
-    environment: Option<&crate::scene::environment::EnvironmentMap>,
+    environment: Option<&crate::scene::environment_map::EnvironmentMap>,
 ) -> CacheEntry {
     let environment = match environment.filter(|_| transparent && settings.draws_environment()) {
         Some(map) => format!("{:016x}|{:?}", map.hash, settings.environment),

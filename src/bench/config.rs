@@ -47,7 +47,7 @@ pub struct BenchConfig {
     /// `--animate N`: N frames over one period of a moving scene's longest animation.
     pub animate: Option<usize>,
     /// The environment map every model is set in, if any (§5.2.3).
-    pub environment: Option<std::sync::Arc<crate::scene::environment::EnvironmentMap>>,
+    pub environment: Option<std::sync::Arc<crate::scene::environment_map::EnvironmentMap>>,
     /// How streamed models (COPC files and URLs) are read, and the points they draw.
     pub stream: crate::copc::StreamOptions,
     pub stream_budget: crate::copc::StreamBudget,

@@ -13,11 +13,11 @@ use super::report::{BenchRow, PassTime};
 use super::ruler::{ruler, ruler_name};
 use super::timing::time_frames;
 use crate::cloud::LoadOptions;
-use crate::frame::environment::EnvironmentSettings;
+use crate::frame::environment_effects::EnvironmentSettings;
 use crate::frame::spec::Selection;
 use crate::frame::{Camera, EyeDome, FrameSpec, ModeVariant, RenderMode, RenderSettings, View};
 use crate::reference;
-use crate::render::{Frame, HeadlessRenderer, SceneFrames};
+use crate::render::{Frame, GpuRenderer, PreparedScene};
 use crate::scene::Scene;
 
 use super::config::save_png;
@@ -42,7 +42,7 @@ pub(super) fn spread(values: &[f64]) -> Spread {
 }
 
 /// A GPU variant ready to run: its settings and its grouping's K and time
-/// (its upload is in the model's [`SceneFrames`]).
+/// (its upload is in the model's [`PreparedScene`]).
 pub(super) struct Prepared {
     pub(super) variant: ModeVariant,
     pub(super) settings: RenderSettings,
@@ -99,8 +99,8 @@ pub(super) fn set_up(mut scene: Scene, name: &str, config: &BenchConfig, load_s:
 pub(super) fn prepare_variants(
     config: &BenchConfig,
     opened: &Opened,
-    frames: &mut SceneFrames,
-    renderer: &HeadlessRenderer,
+    frames: &mut PreparedScene,
+    renderer: &GpuRenderer,
 ) -> Result<Vec<Prepared>, BenchError> {
     let mut prepared = Vec::new();
     // The reference's rows are the rulers: one number of rays for all of them.
@@ -279,8 +279,8 @@ pub(super) fn blank_row(
 /// (ε, and ε by the reference's layer count per pixel) and saves its image
 /// (and difference image) as `{stem}-{view}-{tag}.png`.
 pub(super) fn measure_variant(
-    renderer: &mut HeadlessRenderer,
-    frames: &mut SceneFrames,
+    renderer: &mut GpuRenderer,
+    frames: &mut PreparedScene,
     view: &super::views::NamedView,
     p: &Prepared,
     config: &BenchConfig,
@@ -343,8 +343,8 @@ pub(super) fn measure_variant(
 /// `--ruler`'s ruler of one view: the variant's image (its frame time, and
 /// the exact reference's layer count per pixel, for ε by layers), and its name.
 fn mode_ruler(
-    renderer: &mut HeadlessRenderer,
-    frames: &mut SceneFrames,
+    renderer: &mut GpuRenderer,
+    frames: &mut PreparedScene,
     view: &super::views::NamedView,
     p: &Prepared,
     config: &BenchConfig,
@@ -362,11 +362,11 @@ fn mode_ruler(
 pub(super) fn measure_views(
     (name, stem): (&str, &str),
     opened: &Opened,
-    frames: &mut SceneFrames,
+    frames: &mut PreparedScene,
     prepared: &[Prepared],
     views: &[super::views::NamedView],
     config: &BenchConfig,
-    renderer: &mut HeadlessRenderer,
+    renderer: &mut GpuRenderer,
 ) -> Result<Vec<BenchRow>, BenchError> {
     let bar =
         crate::progress::bar((views.len() * (prepared.len() + 1)) as u64, &format!("bench {stem}"), config.progress);

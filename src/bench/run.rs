@@ -12,7 +12,7 @@ use super::views::standard_views;
 use crate::frame::RenderMode;
 use crate::grouping::GroupingSpec;
 use crate::output::write_atomically;
-use crate::render::{HeadlessRenderer, SceneFrames};
+use crate::render::{GpuRenderer, PreparedScene};
 
 pub use super::config::{BenchConfig, BenchError};
 use super::config::{io_error, save_png};
@@ -32,11 +32,7 @@ pub struct BenchOutcome {
 /// and `error_vs_time.png` into `config.out`. A model that cannot be loaded
 /// or rendered is skipped with a warning naming it, and the others go on;
 /// the reports hold every row that was measured.
-pub fn run(
-    models: &[PathBuf],
-    config: &BenchConfig,
-    renderer: &mut HeadlessRenderer,
-) -> Result<BenchOutcome, BenchError> {
+pub fn run(models: &[PathBuf], config: &BenchConfig, renderer: &mut GpuRenderer) -> Result<BenchOutcome, BenchError> {
     if config.frames == 0 || config.views == 0 {
         return Err(BenchError::Invalid("frames and views must be at least 1".into()));
     }
@@ -94,7 +90,7 @@ pub fn run(
 fn bench_model(
     model: &Path,
     config: &BenchConfig,
-    renderer: &mut HeadlessRenderer,
+    renderer: &mut GpuRenderer,
 ) -> Result<(Vec<BenchRow>, Vec<OrderRow>), BenchError> {
     if crate::copc::is_streamed(model) {
         if config.animate.is_some() || config.orders {
@@ -116,7 +112,7 @@ fn bench_model(
         );
         opened.scene = Arc::new(opened.scene.at_time(time).map_err(BenchError::Invalid)?.scene);
     }
-    let frames = SceneFrames::of(Arc::clone(&opened.scene));
+    let frames = PreparedScene::of(Arc::clone(&opened.scene));
     let mut frames = match moving {
         Some(lattice) => frames.moving_on(lattice.map_err(BenchError::Invalid)?),
         None => frames,
@@ -140,11 +136,11 @@ fn bench_model(
 }
 /// `count` frames of a moving scene spread over one period of its longest
 /// animation, each measured from every view against its own reference; the
-/// splats are regrouped and rewritten between frames ([`SceneFrames::advance`]).
+/// splats are regrouped and rewritten between frames ([`PreparedScene::advance`]).
 fn bench_animation(
     model: &Path,
     config: &BenchConfig,
-    renderer: &mut HeadlessRenderer,
+    renderer: &mut GpuRenderer,
     count: usize,
 ) -> Result<Vec<BenchRow>, BenchError> {
     let opened = open_model(model, config)?;
@@ -161,7 +157,7 @@ fn bench_animation(
     };
     let (_, first) = at(0)?;
     let lattice = crate::render::rest_lattice(&opened.scene).map_err(BenchError::Invalid)?;
-    let mut frames = SceneFrames::of(Arc::clone(&first)).moving_on(lattice);
+    let mut frames = PreparedScene::of(Arc::clone(&first)).moving_on(lattice);
     let framed = Opened { scene: first, base: opened.base, load_s: opened.load_s };
     let prepared = prepare_variants(config, &framed, &mut frames, renderer)?;
     let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();

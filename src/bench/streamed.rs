@@ -14,14 +14,14 @@ use super::views::standard_views;
 use super::{BenchConfig, BenchError};
 use crate::cloud::LoadOptions;
 use crate::copc::CopcStream;
-use crate::render::{HeadlessRenderer, SceneFrames};
+use crate::render::{GpuRenderer, PreparedScene};
 use crate::scene::Scene;
 
 /// Every view and variant of a streamed model.
 pub(super) fn bench_streamed(
     model: &Path,
     config: &BenchConfig,
-    renderer: &mut HeadlessRenderer,
+    renderer: &mut GpuRenderer,
 ) -> Result<Vec<BenchRow>, BenchError> {
     let name = model.to_string_lossy().to_string();
     let opened_at = Instant::now();
@@ -61,7 +61,7 @@ pub(super) fn bench_streamed(
         let scene = Scene::single(short.clone(), frame.cloud, frame.hash).coloured_by_default();
         let opened = set_up(scene, &shown, config, open_s + stream_s)?;
         // The stream applied the budget: every frame draws the points it selected.
-        let mut frames = SceneFrames::of(Arc::clone(&opened.scene)).streamed();
+        let mut frames = PreparedScene::of(Arc::clone(&opened.scene)).streamed();
         let prepared = prepare_variants(config, &opened, &mut frames, renderer)?;
         let one = std::slice::from_ref(view);
         rows.extend(measure_views((&short, &stem), &opened, &mut frames, &prepared, one, config, renderer)?);

@@ -1,5 +1,5 @@
 //! Timing one variant from one view through the one frame path
-//! ([`SceneFrames::render_frame`], as `render` and the viewer draw it):
+//! ([`PreparedScene::render_frame`], as `render` and the viewer draw it):
 //! warm-up frames, then timed frames
 //! (wall time until the GPU is idle, and per-pass GPU timestamps where the
 //! adapter has them; where it has none for compute passes, each step waited
@@ -9,15 +9,15 @@ use std::time::Instant;
 
 use super::config::BenchConfig;
 use crate::frame::{Camera, FrameSpec};
-use crate::render::{Frame, FrameError, HeadlessRenderer, Readback, SceneFrames};
+use crate::render::{Frame, FrameError, GpuRenderer, PreparedScene, Readback};
 
 /// Warm-up and timed frames of one variant (its frame `variant`, decided
 /// once) from one view: the last frame read back (image, plan and report),
 /// wall times and GPU times per plan pass.
 #[allow(clippy::type_complexity)]
 pub fn time_frames(
-    renderer: &mut HeadlessRenderer,
-    frames: &mut SceneFrames,
+    renderer: &mut GpuRenderer,
+    frames: &mut PreparedScene,
     camera: &Camera,
     variant: &FrameSpec,
     config: &BenchConfig,

@@ -7,7 +7,7 @@ use anyhow::{Context, Result, bail};
 use pointblend::bench::{self, BenchConfig};
 use pointblend::cloud;
 use pointblend::frame::{ModeVariant, Parameter};
-use pointblend::render::{HeadlessRenderer, RenderMode};
+use pointblend::render::{GpuRenderer, RenderMode};
 
 use super::shared::ViewArgs;
 
@@ -113,11 +113,11 @@ pub fn run(args: &Args) -> Result<()> {
             args.loads
         );
     }
-    let mut renderer = HeadlessRenderer::new().context("opening the GPU")?;
+    let mut renderer = GpuRenderer::new().context("opening the GPU")?;
     println!("GPU: {}", renderer.ctx.describe());
     let environment = match &args.env {
         Some(path) => {
-            let map = pointblend::scene::environment::EnvironmentMap::load(path)?;
+            let map = pointblend::scene::environment_map::EnvironmentMap::load(path)?;
             if map.cleaned > 0 {
                 log::warn!("{}: {} negative or non-finite values set to 0", path.display(), map.cleaned);
             }

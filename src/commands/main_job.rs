@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use pointblend::bench::{self, BenchConfig, BenchRow};
 use pointblend::frame::{ModeVariant, Parameter, RenderSettings};
-use pointblend::render::{HeadlessRenderer, RenderMode};
+use pointblend::render::{GpuRenderer, RenderMode};
 
 use super::view_args::Args;
 
@@ -56,10 +56,10 @@ pub fn run(args: &Args) -> Result<()> {
             ]
         }
     };
-    let mut renderer = HeadlessRenderer::new().context("opening the GPU")?;
+    let mut renderer = GpuRenderer::new().context("opening the GPU")?;
     eprintln!("GPU: {}", renderer.ctx.describe());
     let environment = match &args.env {
-        Some(path) => Some(std::sync::Arc::new(pointblend::scene::environment::EnvironmentMap::load(path)?)),
+        Some(path) => Some(std::sync::Arc::new(pointblend::scene::environment_map::EnvironmentMap::load(path)?)),
         None => None,
     };
     let mut rows = Vec::new();

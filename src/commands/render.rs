@@ -8,9 +8,9 @@ use pointblend::copc::StreamBudget;
 use pointblend::frame::{Camera, Parameter, RenderMode, RenderSettings, Sidecar, View, ViewPath};
 use pointblend::lod::Choosing;
 use pointblend::reference::{self, ReferenceOptions};
-use pointblend::render::{Frame, HeadlessRenderer, Readback, SceneFrames};
+use pointblend::render::{Frame, GpuRenderer, PreparedScene, Readback};
 use pointblend::scene::Scene;
-use pointblend::scene::environment::EnvironmentMap;
+use pointblend::scene::environment_map::EnvironmentMap;
 
 use super::shared::{self, CameraArgs, ViewArgs};
 
@@ -99,18 +99,18 @@ impl Args {
 
 /// The scene's frames at `--time` (0 for a moving scene without it), and a
 /// note when a still scene is given a time.
-fn moving_frames(scene: Scene, time: Option<f64>) -> Result<SceneFrames> {
+fn moving_frames(scene: Scene, time: Option<f64>) -> Result<PreparedScene> {
     shared::check_time(time)?;
     if !scene.is_animated() {
         if time.is_some() {
             log::warn!("{}: nothing in the scene moves, so --time changes nothing", scene.name());
         }
-        return Ok(SceneFrames::of(std::sync::Arc::new(scene)));
+        return Ok(PreparedScene::of(std::sync::Arc::new(scene)));
     }
     let at = scene.at_time(time.unwrap_or(0.0)).map_err(anyhow::Error::msg)?;
     log::info!("the scene at {:.3} s of its {:.3} s period", at.time, scene.animation_period());
     let lattice = pointblend::render::rest_lattice(&scene).map_err(anyhow::Error::msg)?;
-    Ok(SceneFrames::of(std::sync::Arc::new(at.scene)).moving_on(lattice))
+    Ok(PreparedScene::of(std::sync::Arc::new(at.scene)).moving_on(lattice))
 }
 
 pub fn run(args: &Args) -> Result<()> {
@@ -128,7 +128,7 @@ pub fn run(args: &Args) -> Result<()> {
         None => frame_camera(args, sidecar.as_ref(), &scene)?,
     };
     let mut gpu = match settings.mode.is_gpu() {
-        true => Some(HeadlessRenderer::new().context("opening the GPU")?),
+        true => Some(GpuRenderer::new().context("opening the GPU")?),
         false => None,
     };
     if let Some(gpu) = &gpu {

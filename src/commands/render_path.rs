@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use pointblend::frame::{RenderSettings, ViewPath};
-use pointblend::render::{Frame, HeadlessRenderer, Readback, SceneFrames};
+use pointblend::render::{Frame, GpuRenderer, PreparedScene, Readback};
 
 /// Frames per second of the animated GIF.
 const GIF_FPS: u32 = 25;
@@ -32,8 +32,8 @@ pub struct Flight<'a> {
 pub fn run(
     args: &Flight<'_>,
     views: &ViewPath,
-    frames: &mut SceneFrames,
-    mut gpu: Option<&mut HeadlessRenderer>,
+    frames: &mut PreparedScene,
+    mut gpu: Option<&mut GpuRenderer>,
     settings: &RenderSettings,
     size: (u32, u32),
 ) -> Result<()> {

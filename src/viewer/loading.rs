@@ -10,7 +10,7 @@ use super::camera_input::SceneSphere;
 use super::jobs::Job;
 use super::model::Model;
 use crate::frame::Camera;
-use crate::scene::environment::EnvironmentMap;
+use crate::scene::environment_map::EnvironmentMap;
 
 impl ViewerApp {
     /// Starts loading `path` in the background; the current model stays until it succeeds.

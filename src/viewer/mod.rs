@@ -10,7 +10,7 @@
 //! measures the error in `export.rs`, and `view3d.rs` draws the 3D view and
 //! takes its input.
 //! The 3D view shows frames from a render thread that runs the same
-//! [`HeadlessRenderer`](crate::render::HeadlessRenderer) as `pointblend render`;
+//! [`GpuRenderer`](crate::render::GpuRenderer) as `pointblend render`;
 //! loading, grouping and the reference render run on worker threads with
 //! progress and Cancel, so the window never waits on them.
 

@@ -104,7 +104,7 @@ impl Model {
     /// This model in the environment map `map` (or in none).
     pub fn with_environment(
         &self,
-        map: Option<Arc<crate::scene::environment::EnvironmentMap>>,
+        map: Option<Arc<crate::scene::environment_map::EnvironmentMap>>,
         generation: u64,
     ) -> Model {
         let mut scene = (*self.scene).clone();
@@ -166,7 +166,7 @@ impl Model {
             return self;
         }
         crate::progress::stage("building the multi-resolution hierarchy");
-        let (hierarchy, note) = crate::render::scene_frames::load_hierarchy(cache, self.hash, &self.cloud);
+        let (hierarchy, note) = crate::render::prepared_scene::load_hierarchy(cache, self.hash, &self.cloud);
         if let Some(note) = note {
             log::warn!("{note}");
         }
@@ -180,7 +180,7 @@ impl Model {
     }
 
     /// What a frame of this model is decided over ([`crate::frame::resolve`]),
-    /// as the render thread's [`crate::render::SceneFrames::facts`] finds it.
+    /// as the render thread's [`crate::render::PreparedScene::facts`] finds it.
     pub fn facts(&self) -> crate::frame::SceneFacts {
         crate::frame::SceneFacts {
             splats: self.cloud.len(),

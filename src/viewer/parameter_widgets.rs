@@ -139,7 +139,7 @@ fn custom_widget(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, paramet
             }
         }
         Parameter::EnvironmentLayers => {
-            use crate::frame::environment::LayerEffects;
+            use crate::frame::environment_effects::LayerEffects;
             ui.horizontal(|ui| {
                 ui.checkbox(&mut s.environment.enabled, row.label).on_hover_text(row.help);
                 ui.checkbox(&mut s.environment.skybox, "skybox");

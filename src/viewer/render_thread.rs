@@ -1,5 +1,5 @@
 //! The 3D view's renderer: a thread with its own headless GPU device that runs
-//! the same [`HeadlessRenderer`] as `pointblend render`, reads each frame back
+//! the same [`GpuRenderer`] as `pointblend render`, reads each frame back
 //! and hands it to the window as an image.
 //!
 //! Why a separate device and not the window's: on a software rasteriser
@@ -20,7 +20,7 @@ use crate::frame::spec::Preview;
 use crate::frame::{Camera, RenderSettings, Sidecar, View};
 use crate::grouping::cache::Cache;
 use crate::progress::{self, Tracker};
-use crate::render::{Frame, HeadlessRenderer, RenderPlan, SceneFrames, SceneGrouping};
+use crate::render::{Frame, GpuRenderer, PreparedScene, RenderPlan, SceneGrouping};
 
 use super::model::{GroupedModel, Model};
 
@@ -141,13 +141,13 @@ impl RenderThread {
 /// The model ready to render, kept while the model stays the same.
 struct Scenes {
     cache: Cache,
-    full: Option<(u64, SceneFrames)>,
+    full: Option<(u64, PreparedScene)>,
     /// The time the full scene is at, when it moves.
     time: Option<f64>,
 }
 
 fn serve(inbox: Receiver<FrameRequest>, outbox: Sender<FrameResult>, repaint: egui::Context, cache: Cache) {
-    let mut renderer = HeadlessRenderer::new().map_err(|e| format!("opening the GPU: {e}"));
+    let mut renderer = GpuRenderer::new().map_err(|e| format!("opening the GPU: {e}"));
     if let Ok(r) = &mut renderer {
         log::info!("viewer GPU: {}", r.ctx.describe());
         r.renderer.enable_pass_timing(&r.ctx);
@@ -199,12 +199,12 @@ fn finish(mut result: FrameResult) -> FrameResult {
     result
 }
 
-fn draw(r: &mut HeadlessRenderer, scenes: &mut Scenes, request: &FrameRequest) -> FrameResult {
+fn draw(r: &mut GpuRenderer, scenes: &mut Scenes, request: &FrameRequest) -> FrameResult {
     let started = Instant::now();
     let mut stats = FrameStats { preview: request.preview, ..Default::default() };
     let frames = match request.time {
         Some(t) => moving_frames(r, scenes, request, t, &mut stats),
-        None => Ok(scene_frames(scenes, request)),
+        None => Ok(prepared_scene(scenes, request)),
     };
     let frame = frames.and_then(|frames| {
         let spec = frames.resolve(&request.settings, View { size: request.size, preview: request.preview });
@@ -226,13 +226,13 @@ fn draw(r: &mut HeadlessRenderer, scenes: &mut Scenes, request: &FrameRequest) -
 /// The model this request draws, with the request's grouping handed in; one
 /// grouped GPU copy is kept at a time. A preview draws the same model under a
 /// point budget (its hierarchy is built on first use and kept with it).
-fn scene_frames<'a>(scenes: &'a mut Scenes, request: &FrameRequest) -> &'a mut SceneFrames {
+fn prepared_scene<'a>(scenes: &'a mut Scenes, request: &FrameRequest) -> &'a mut PreparedScene {
     let model = &request.model;
     let generation = model.generation;
     let (slot, cloud) = (&mut scenes.full, &model.cloud);
     if slot.as_ref().is_none_or(|(g, _)| *g != generation) {
         *slot = None; // free the old copies first
-        let mut frames = SceneFrames::new(Arc::clone(&model.scene), Arc::clone(cloud))
+        let mut frames = PreparedScene::new(Arc::clone(&model.scene), Arc::clone(cloud))
             .handed_groupings(1)
             .with_cache(scenes.cache.clone());
         if model.streamed.is_some() {
@@ -257,14 +257,14 @@ fn scene_frames<'a>(scenes: &'a mut Scenes, request: &FrameRequest) -> &'a mut S
 }
 
 /// A moving scene at time `t`: made at that time for a new model, else moved
-/// on to it ([`SceneFrames::advance`]: regrouped and rewritten, with the costs in `stats`).
+/// on to it ([`PreparedScene::advance`]: regrouped and rewritten, with the costs in `stats`).
 fn moving_frames<'a>(
-    r: &HeadlessRenderer,
+    r: &GpuRenderer,
     scenes: &'a mut Scenes,
     request: &FrameRequest,
     t: f64,
     stats: &mut FrameStats,
-) -> Result<&'a mut SceneFrames, String> {
+) -> Result<&'a mut PreparedScene, String> {
     let model = &request.model;
     let fresh = scenes.full.as_ref().is_none_or(|(g, _)| *g != model.generation);
     if fresh || scenes.time != Some(t) {
@@ -274,7 +274,7 @@ fn moving_frames<'a>(
         if fresh {
             scenes.full = None; // free the old copies first
             let lattice = crate::render::rest_lattice(&model.scene)?;
-            let frames = SceneFrames::new(scene, cloud).moving_on(lattice).with_cache(scenes.cache.clone());
+            let frames = PreparedScene::new(scene, cloud).moving_on(lattice).with_cache(scenes.cache.clone());
             scenes.full = Some((model.generation, frames));
         } else if let Some((_, frames)) = scenes.full.as_mut() {
             let update = frames.advance(Some(r), scene, cloud).map_err(|e| e.to_string())?;
@@ -286,7 +286,7 @@ fn moving_frames<'a>(
     Ok(&mut scenes.full.as_mut().expect("filled above").1)
 }
 
-fn pass_times(r: &HeadlessRenderer, plan: &RenderPlan) -> Vec<(String, f64)> {
+fn pass_times(r: &GpuRenderer, plan: &RenderPlan) -> Vec<(String, f64)> {
     match r.renderer.pass_times(&r.ctx, plan) {
         Ok(Some(times)) => plan.steps.iter().zip(times).map(|(p, ms)| (p.name.to_string(), ms)).collect(),
         Ok(None) => Vec::new(),

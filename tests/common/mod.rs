@@ -22,7 +22,7 @@ use std::sync::{Mutex, MutexGuard, OnceLock};
 
 use glam::{DVec3, Mat4, Vec3};
 use pointblend::frame::Camera;
-use pointblend::render::HeadlessRenderer;
+use pointblend::render::GpuRenderer;
 
 /// Data the repository ships for its tests (`tests/data`, see its README):
 /// environment maps and a small volume, all from registry packages.
@@ -195,12 +195,10 @@ pub fn refused_in_one_line<S: AsRef<std::ffi::OsStr>>(args: &[S], out: &std::pat
 }
 
 /// One renderer for the whole test binary; tests that render take turns.
-pub fn renderer() -> MutexGuard<'static, HeadlessRenderer> {
-    static RENDERER: OnceLock<Mutex<HeadlessRenderer>> = OnceLock::new();
+pub fn renderer() -> MutexGuard<'static, GpuRenderer> {
+    static RENDERER: OnceLock<Mutex<GpuRenderer>> = OnceLock::new();
     RENDERER
-        .get_or_init(|| {
-            Mutex::new(HeadlessRenderer::new().expect("a Vulkan adapter (lavapipe) is needed for render tests"))
-        })
+        .get_or_init(|| Mutex::new(GpuRenderer::new().expect("a Vulkan adapter (lavapipe) is needed for render tests")))
         .lock()
         .unwrap_or_else(|poisoned| poisoned.into_inner())
 }

@@ -114,7 +114,7 @@ pub struct FrameUniforms {
     /// `EyeClip::counts`, unused.
     pub clip_counts: [u32; 4],
     /// The centre of the frame's window at view depth 1 (eye space; 0 for a
-    /// whole frame), unused ×2 (`crate::window`).
+    /// whole frame), unused ×2 (`crate::subframe`).
     pub window: [f32; 4],
 }
 const _: () =

@@ -46,7 +46,7 @@ pub struct GpuScene {
     /// for its view before the plan runs ([`Self::order_back_to_front`]).
     order: Option<InstanceOrder>,
     /// The scene's environment map, when it has one (see [`Self::set_environment`]).
-    pub environment: Option<super::environment::EnvTexture>,
+    pub environment: Option<super::environment_texture::EnvTexture>,
     /// How the device it lives on can keep sums of fragments.
     pub sums: super::targets::SumPrecision,
     /// The cloud index of each instance slot (as uploaded).
@@ -373,9 +373,9 @@ impl GpuScene {
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        map: Option<&crate::scene::environment::EnvironmentMap>,
+        map: Option<&crate::scene::environment_map::EnvironmentMap>,
     ) {
-        self.environment = map.map(|m| super::environment::EnvTexture::upload(device, queue, m));
+        self.environment = map.map(|m| super::environment_texture::EnvTexture::upload(device, queue, m));
     }
 
     /// Sorts each group's instances back to front for `view` (a transparent

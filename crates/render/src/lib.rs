@@ -2,59 +2,65 @@
 //! scene, the grouping, the frame vocabulary and the mode registry) and
 //! knows nothing of the window, the UI or the command line.
 //!
-//! How a frame flows, scene → plan → passes → image:
-//! 1. [`GpuScene`] uploads a scene's splats once (in group order for modes
-//!    that draw groups).
-//! 2. The frame's mode (the registry's entry, implemented in [`modes`], one
-//!    file per mode) turns the settings, the size and what the scene holds into
-//!    a [`RenderPlan`]: its passes and, for each, the typed targets it reads and
-//!    writes. `--explain` and the viewer print this plan.
-//! 3. The mode records the plan as [`passes::Command`]s: splat passes and
-//!    full-screen passes, each with its variant and its own uniforms.
-//! 4. The [`renderer::Renderer`] allocates exactly the plan's targets
+//! How a frame flows, settings → spec → selection → plan → passes → image → report:
+//! 1. A front end decides the frame once: `frame::resolve` (in the core)
+//!    turns the settings, what the scene is and the view into a `FrameSpec`
+//!    (the mode that runs, the splats selected, the grouping drawn, lights,
+//!    eye-dome lighting, environment, low-pass radius, ε's mean radius, notes).
+//! 2. [`PreparedScene::render_frame`] carries the spec out: it prepares what
+//!    the spec selects (the hybrid leaves, the nodes under a point budget, or
+//!    every splat) as a [`GpuScene`] (uploaded once, in group order for modes
+//!    that draw groups, with the frame's shadow coefficients beside it).
+//! 3. The frame's mode (implemented in [`modes`], one file per mode) turns
+//!    the spec, the size and what the upload holds into a [`RenderPlan`]:
+//!    its steps and, for each, the typed targets its passes read and write.
+//!    A plan is final when made; `--explain` and the viewer print it.
+//! 4. The [`Renderer`] allocates exactly the plan's targets
 //!    ([`targets::TargetPool`]), takes every pass's pipeline from
-//!    [`pipelines::PipelineCache`] (shader variants from [`shaders`]), encodes
-//!    the passes into the output view, timed per plan pass when asked.
-//! 5. Modes that blend in order get each group's splats back to front
-//!    ([`instance_order::InstanceOrder`]), re-sorted and rewritten only when
-//!    the view changed.
-//! 6. [`HeadlessRenderer`] renders into its own texture and reads the image
-//!    back ([`readback`]); the viewer does the same on its render thread.
+//!    [`pipelines::PipelineCache`] (shader variants from [`shaders`]), and
+//!    encodes the passes, timed per plan pass when asked. Modes that blend in
+//!    order get each group's splats back to front
+//!    ([`instance_order::InstanceOrder`]), re-sorted only when the view changed.
+//! 5. [`GpuRenderer`] draws into its own texture, a sub-frame at a time when
+//!    the frame would pass its memory budget ([`subframe`]), and reads the
+//!    image back ([`readback`]); the viewer's render thread uses it too.
+//! 6. What the frame measured while it ran (tile lists, overflows, the
+//!    selection and the shadows it took) comes back as its [`FrameReport`].
 
 // The core modules the renderer reads, reachable as `crate::cloud` and so on.
 use pointblend_core::{cloud, frame, grouping, lod, memory, scene, shadow, spatial};
 
 pub mod context;
 pub mod depth_steps;
-pub mod environment;
+pub mod environment_texture;
 pub mod gpu_data;
+pub mod gpu_renderer;
 pub mod gpu_scene;
-pub mod headless;
 pub mod instance_order;
 pub mod modes;
 pub mod passes;
 pub mod pipelines;
 pub mod plan;
+pub mod prepared_scene;
 pub mod readback;
 pub mod record;
 pub mod renderer;
 pub mod report;
-pub mod scene_frames;
 pub mod shaders;
+pub mod subframe;
 pub mod target_id;
 pub mod targets;
 pub mod tile_engine;
 pub mod timer;
 pub mod touches;
-pub mod window;
 
 pub use crate::frame::{Quality, RenderMode, RenderSettings};
 pub use context::{GpuContext, GpuError};
+pub use gpu_renderer::GpuRenderer;
 pub use gpu_scene::GpuScene;
-pub use headless::HeadlessRenderer;
 pub use plan::RenderPlan;
+pub use prepared_scene::{
+    Frame, FrameError, FrameUpdate, PreparedScene, Readback, SceneGrouping, per_frame_grouping, rest_lattice,
+};
 pub use renderer::Renderer;
 pub use report::FrameReport;
-pub use scene_frames::{
-    Frame, FrameError, FrameUpdate, Readback, SceneFrames, SceneGrouping, per_frame_grouping, rest_lattice,
-};

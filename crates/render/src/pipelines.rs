@@ -44,7 +44,7 @@ impl PipelineCache {
         let frame_layout = super::passes::group_layout(device, "Frame::layout", stages, uniforms.into_iter());
         Self {
             frame_layout,
-            environment_layout: super::environment::EnvTexture::layout(device),
+            environment_layout: super::environment_texture::EnvTexture::layout(device),
             modules: HashMap::new(),
             input_layouts: HashMap::new(),
             layouts: HashMap::new(),

@@ -1,5 +1,7 @@
-//! The render plan: the steps a frame runs and the targets they use, and
-//! nothing more.
+//! The render plan: the steps a frame runs, the targets they use, the
+//! buffers its compute passes plan for, and the notes on the choices made;
+//! final when made (what a frame measures while it runs goes in its
+//! `FrameReport`, `crate::report`).
 //!
 //! A mode's plan is one list of [`Step`]s: each is a name, the reason in one
 //! line, and the render passes it records ([`Command`]s). Everything else is

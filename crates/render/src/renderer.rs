@@ -6,8 +6,10 @@
 //! allocates exactly the plan's targets ([`TargetPool`]), writes the frame's
 //! uniforms and one uniform slot per pass, and lets each pass record itself
 //! (`record`: each kind in its own file, its pipeline from the cache,
-//! [`PipelineCache`]), timed per plan pass when timing is on. The window, the headless path, `bench` and the tests all call
-//! [`Renderer::render`]; only the output view differs.
+//! [`PipelineCache`]), timed per plan pass when timing is on. Every frame
+//! (`render`, `bench`, the viewer, the tests) reaches it through
+//! [`crate::GpuRenderer`], which calls [`Renderer::render_planned`] once per
+//! sub-frame; what the run counted comes back to go in the frame's report.
 
 use glam::Mat4;
 use wgpu::util::DeviceExt;
@@ -20,11 +22,11 @@ use super::passes::Command;
 use super::pipelines::PipelineCache;
 use super::plan::{RenderPlan, TargetDesc, TargetId};
 use super::record::{self, At, Recording, compute::TileRun};
+use super::subframe::SubFrame;
 use super::targets::TargetPool;
 use super::tile_engine::{self, TileEngine};
 use super::timer::PassTimer;
 use super::touches::Bound;
-use super::window::FrameWindow;
 use crate::frame::spec::EpsilonRadius;
 use crate::frame::{Camera, FrameSpec, RenderSettings};
 use crate::report::TileLists;
@@ -221,7 +223,7 @@ impl Renderer {
         scene: &mut GpuScene,
         (camera, spec): (&Camera, &FrameSpec),
         (output, format): (&wgpu::TextureView, wgpu::TextureFormat),
-        window: FrameWindow,
+        window: SubFrame,
         plan: &RenderPlan,
     ) -> Result<Option<TileLists>, GpuError> {
         let size = window.size;
@@ -371,9 +373,9 @@ fn frame_bind_group(
 }
 
 /// The uniforms of one frame.
-fn frame_uniforms(camera: &Camera, spec: &FrameSpec, window: &FrameWindow, environment_width: u32) -> FrameUniforms {
+fn frame_uniforms(camera: &Camera, spec: &FrameSpec, window: &SubFrame, environment_width: u32) -> FrameUniforms {
     let settings = &spec.drawn;
-    use crate::frame::environment::LayerEffects;
+    use crate::frame::environment_effects::LayerEffects;
     let env = &settings.environment;
     let (up, front) = camera.up.frame();
     let (width, height) = window.size;

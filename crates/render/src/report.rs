@@ -19,11 +19,11 @@ pub struct TileLists {
     pub buffers: Vec<BufferDesc>,
 }
 
-/// A frame drawn in several windows to bound its memory.
+/// A frame drawn in several sub-frames to bound its memory.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Windows {
+pub struct SubFrames {
     pub count: usize,
-    /// The largest window's size (with its margin), whose plan the frame reports.
+    /// The largest sub-frame's size (with its margin), whose plan the frame reports.
     pub largest: (u32, u32),
     pub margin: u32,
     /// The MiB one render may take.
@@ -33,13 +33,13 @@ pub struct Windows {
 /// What one frame measured.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct FrameReport {
-    /// `tiled`: its lists (the largest window's, when windowed).
+    /// `tiled`: its lists (the largest sub-frame's, when drawn in sub-frames).
     pub tile_lists: Option<TileLists>,
     /// `tiled`: pixels whose window of waiting hits overflowed (finished a
     /// layer at a time, exactly), once the frame was read back.
     pub window_overflows: Option<u32>,
-    /// Set when the frame was drawn in windows.
-    pub windows: Option<Windows>,
+    /// Set when the frame was drawn in sub-frames.
+    pub subframes: Option<SubFrames>,
     /// The nodes a point budget selected, and what that cost.
     pub budget: Option<BudgetStats>,
     /// The leaves and splats a frame with triangles drew, and what that cost.
@@ -57,9 +57,9 @@ impl FrameReport {
     /// The report in lines, for `--explain` and the viewer.
     pub fn lines(&self) -> Vec<String> {
         let mut lines = Vec::new();
-        if let Some(w) = &self.windows {
+        if let Some(w) = &self.subframes {
             lines.push(format!(
-                "drawn in {} windows (the plan is the largest's, {}x{} with a {} px margin): the whole frame's \
+                "drawn in {} sub-frames (the plan is the largest's, {}x{} with a {} px margin): the whole frame's \
                  targets would pass the GPU's limits or the {} MiB a render may take",
                 w.count, w.largest.0, w.largest.1, w.margin, w.budget_mib
             ));

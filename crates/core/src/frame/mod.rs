@@ -6,7 +6,7 @@
 pub mod camera;
 pub mod camera_request;
 pub mod clip;
-pub mod environment;
+pub mod environment_effects;
 pub mod eye_dome;
 pub mod kernel;
 pub mod lights;

@@ -1,6 +1,8 @@
 //! The mode registry: every render mode, what it is, which parameters it
-//! reads, where it runs, which mode previews it, and the variants `bench`
-//! runs by default.
+//! reads, where it runs, and what it can draw (transparency, groups,
+//! triangles, the environment). Which mode the viewer previews it with and
+//! the variants `bench` runs by default are listed here too, for those two
+//! front ends to read.
 //!
 //! This file and the mode files (`crates/render/src/modes/*.rs`, where the
 //! GPU modes plan their steps) are the only places that name a particular

@@ -44,7 +44,7 @@ pub struct RenderSettings {
     pub kernel: SplatKernel,
     pub shading: Shading,
     /// Reflection and refraction of the scene's environment map, when it has one.
-    pub environment: crate::frame::environment::EnvironmentSettings,
+    pub environment: crate::frame::environment_effects::EnvironmentSettings,
     /// How modes that blend in order sort the splats back to front.
     pub order: crate::spatial::order::OrderKind,
     /// Scene lights (world space); none: the headlight of `shading`.

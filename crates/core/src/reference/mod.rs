@@ -13,7 +13,7 @@
 //! bad-pixel share and the difference image. [`pick`] lists the layers one
 //! pixel's ray passes, for the inspection tools.
 
-mod environment;
+mod environment_pass;
 pub mod metrics;
 pub mod pick;
 mod raster;

@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use super::tiles::{self, EyeSplat, TILE};
 use super::triangles;
-use crate::frame::environment::{EnvironmentSettings, GlassPixel};
+use crate::frame::environment_effects::{EnvironmentSettings, GlassPixel};
 use crate::frame::{Camera, Lights, Shading, SplatKernel};
 use crate::scene::Scene;
 use crate::shadow::{ShadowInput, rays::ShadowRays};
@@ -354,8 +354,13 @@ fn render_samples(
                 })
                 .collect::<Vec<_>>();
             // The band starts on a tile row (even), so the lookup's 2×2 pixel quads stay whole.
-            let lookup =
-                super::environment::Lookup { map, camera, settings: &options.environment, width, height: band_height };
+            let lookup = super::environment_pass::Lookup {
+                map,
+                camera,
+                settings: &options.environment,
+                width,
+                height: band_height,
+            };
             lookup.apply(&rays, &band.glass, &band.layers, &mut band.colours);
         }
         emit(rows, &band);

@@ -232,7 +232,7 @@ pub fn read(path: &Path, options: &LoadOptions) -> Result<(Scene, Vec<String>), 
     }
     if let Some(env) = &file.environment {
         let map_path = reader.folder.join(env.get_ref());
-        let map = super::environment::EnvironmentMap::load(&map_path)
+        let map = super::environment_map::EnvironmentMap::load(&map_path)
             .map_err(|e| reader.at(Some(env.span()), cloud::one_line(&e.to_string())))?;
         if map.cleaned > 0 {
             warnings.push(format!("{}: {} negative or non-finite values set to 0", map_path.display(), map.cleaned));

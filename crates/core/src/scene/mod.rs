@@ -12,7 +12,7 @@
 //! flattens to its cloud as it is, without a copy.
 
 pub mod animation;
-pub mod environment;
+pub mod environment_map;
 pub mod file;
 mod material;
 pub mod primitives;
@@ -113,7 +113,7 @@ pub struct Scene {
     /// How the scene file asks to be seen (`[camera]`); what it leaves out, the defaults frame.
     pub camera: Option<crate::frame::CameraRequest>,
     /// The environment map transparent surfaces reflect and refract (§5.2.3).
-    pub environment: Option<Arc<environment::EnvironmentMap>>,
+    pub environment: Option<Arc<environment_map::EnvironmentMap>>,
     /// The scene file's `[[light]]`s, in file coordinates (see [`Scene::light_in_frame`]).
     pub lights: Vec<crate::frame::Light>,
     /// The scene file's `[clip]`, in file coordinates (see [`Scene::clip_in_frame`]).

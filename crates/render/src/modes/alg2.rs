@@ -21,7 +21,7 @@
 use super::covering::{describe, groups, variant};
 use super::opaque_part::{self, OPAQUE_DEPTH, OPAQUE_IMAGE, with_opaque};
 use super::{FrameDesc, GpuMode, depth_step_note, per_group};
-use crate::frame::environment::LayerEffects;
+use crate::frame::environment_effects::LayerEffects;
 use crate::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, SplatPass};
 use crate::plan::{Layout, RenderPlan, Step, TargetId};
 use crate::shaders::Variant;

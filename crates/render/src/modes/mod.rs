@@ -59,7 +59,7 @@ pub struct FrameDesc<'a> {
     /// Whether some splat is less than opaque (transparent modes draw an opaque scene opaquely).
     pub transparent: bool,
     /// The scene's environment map on the GPU, when it has one.
-    pub environment: Option<&'a super::environment::EnvTexture>,
+    pub environment: Option<&'a super::environment_texture::EnvTexture>,
     /// How targets that sum every fragment of a pixel store their sums.
     pub sums: super::targets::SumPrecision,
     /// Lit by scene lights: the splats are lit once each with their shadow

@@ -239,7 +239,7 @@ mod tests {
             depth_step: 2.0,
             grouping: crate::grouping::GroupingSpec::wgc(6),
             peel_layers: 5,
-            environment: super::super::environment::EnvironmentSettings { eta: 1.7, ..Default::default() },
+            environment: super::super::environment_effects::EnvironmentSettings { eta: 1.7, ..Default::default() },
             ..Default::default()
         };
         let model = SidecarModel { name: "m.ply".into(), path: "/x/m.ply".into(), hash: "00ff".into(), splats: 7 };

@@ -1,17 +1,17 @@
-//! A frame drawn a window at a time: the window of a `width`×`height`
+//! A frame drawn a sub-frame at a time: the sub-frame of a `width`×`height`
 //! frame that one render covers, and the camera terms that make that render
-//! the window's pixels of the whole frame exactly.
+//! the sub-frame's pixels of the whole frame exactly.
 //!
-//! The window's projection is the frame's, followed by the map of the
-//! window's part of the frame's NDC square onto the whole square (an
+//! The sub-frame's projection is the frame's, followed by the map of the
+//! sub-frame's part of the frame's NDC square onto the whole square (an
 //! off-axis frustum), and the pixel rays of `frame.wgsl` (`pixel_ray`) are
-//! the window's NDC times its half extent at view depth 1 (`lens.xy`) plus
+//! the sub-frame's NDC times its half extent at view depth 1 (`lens.xy`) plus
 //! its centre there (`window.xy`). Everything measured in pixels (the EWA
 //! low-pass radius, `--min-pixel-radius`, a splat's screen length) keeps the
-//! frame's pixel size, so a window is drawn as the frame would draw it.
+//! frame's pixel size, so a sub-frame is drawn as the frame would draw it.
 //!
 //! [`tiles`] cuts a frame whose targets would pass the GPU's limits or the
-//! memory a frame may take into windows, each with a margin wide enough for
+//! memory a frame may take into sub-frames, each with a margin wide enough for
 //! the passes that read neighbouring pixels (eye-dome lighting's radius, the
 //! prefilter's coverage level).
 
@@ -19,36 +19,36 @@ use glam::{Mat4, Vec2, Vec4};
 
 use crate::frame::Camera;
 
-/// Pixels each window reaches past the part it keeps, for the passes that
+/// Pixels each sub-frame reaches past the part it keeps, for the passes that
 /// read neighbours: eye-dome lighting (up to 16 px), the coverage level (2 px).
 pub const MARGIN: u32 = 32;
 
-/// The least side of a window worth drawing (margins included): it keeps
+/// The least side of a sub-frame worth drawing (margins included): it keeps
 /// half its pixels' width.
 pub const MIN_SIDE: u32 = 4 * MARGIN;
 
 /// The part of a frame one render covers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct FrameWindow {
+pub struct SubFrame {
     /// The whole frame's size.
     pub frame: (u32, u32),
-    /// The window's top-left pixel in the frame.
+    /// The sub-frame's top-left pixel in the frame.
     pub origin: (u32, u32),
-    /// The window's size.
+    /// The sub-frame's size.
     pub size: (u32, u32),
 }
 
-impl FrameWindow {
+impl SubFrame {
     /// The whole frame.
     pub fn whole(size: (u32, u32)) -> Self {
-        FrameWindow { frame: size, origin: (0, 0), size }
+        SubFrame { frame: size, origin: (0, 0), size }
     }
 
     pub fn is_whole(&self) -> bool {
         self.size == self.frame
     }
 
-    /// The window's share of the frame's NDC square: its centre and half extent there.
+    /// The sub-frame's share of the frame's NDC square: its centre and half extent there.
     fn ndc(&self) -> (Vec2, Vec2) {
         let frame = Vec2::new(self.frame.0 as f32, self.frame.1 as f32);
         let origin = Vec2::new(self.origin.0 as f32, self.origin.1 as f32);
@@ -58,7 +58,7 @@ impl FrameWindow {
         (Vec2::new(centre.x, -centre.y), size / frame)
     }
 
-    /// The window's projection: the frame's, then the window's part of NDC onto the whole.
+    /// The sub-frame's projection: the frame's, then the sub-frame's part of NDC onto the whole.
     pub fn projection(&self, camera: &Camera) -> Mat4 {
         let whole = camera.projection(self.frame.0 as f32 / self.frame.1 as f32);
         if self.is_whole() {
@@ -74,7 +74,7 @@ impl FrameWindow {
         onto * whole
     }
 
-    /// The window's half extent (x, y) and centre (x, y) at view depth 1, in eye space.
+    /// The sub-frame's half extent (x, y) and centre (x, y) at view depth 1, in eye space.
     pub fn lens(&self, camera: &Camera) -> (Vec2, Vec2) {
         let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
         let whole = Vec2::new(tan_y * self.frame.0 as f32 / self.frame.1 as f32, tan_y);
@@ -82,33 +82,33 @@ impl FrameWindow {
         (whole * scale, whole * centre)
     }
 
-    /// The window grown by `margin` on every side, within the frame.
+    /// The sub-frame grown by `margin` on every side, within the frame.
     pub fn grown(&self, margin: u32) -> Self {
         let x0 = self.origin.0.saturating_sub(margin);
         let y0 = self.origin.1.saturating_sub(margin);
         let x1 = (self.origin.0 + self.size.0 + margin).min(self.frame.0);
         let y1 = (self.origin.1 + self.size.1 + margin).min(self.frame.1);
-        FrameWindow { frame: self.frame, origin: (x0, y0), size: (x1 - x0, y1 - y0) }
+        SubFrame { frame: self.frame, origin: (x0, y0), size: (x1 - x0, y1 - y0) }
     }
 }
 
-/// The windows a `frame`-sized frame is drawn in when a window may have at
+/// The sub-frames a `frame`-sized frame is drawn in when a sub-frame may have at
 /// most `max_pixels` pixels and `max_side` a side (margins included): the
 /// whole frame when it fits, else a grid of kept parts, row by row, each to
 /// be drawn grown by [`MARGIN`].
-pub fn tiles(frame: (u32, u32), max_pixels: u64, max_side: u32) -> Vec<FrameWindow> {
+pub fn tiles(frame: (u32, u32), max_pixels: u64, max_side: u32) -> Vec<SubFrame> {
     let fits = frame.0 <= max_side && frame.1 <= max_side && frame.0 as u64 * frame.1 as u64 <= max_pixels;
     if fits {
-        return vec![FrameWindow::whole(frame)];
+        return vec![SubFrame::whole(frame)];
     }
-    // The kept part of a square window that fits, margins included.
+    // The kept part of a square sub-frame that fits, margins included.
     let side = ((max_pixels as f64).sqrt() as u32).min(max_side);
     let kept = side.saturating_sub(2 * MARGIN).max(MARGIN);
     let mut windows = Vec::new();
     for y in (0..frame.1).step_by(kept as usize) {
         for x in (0..frame.0).step_by(kept as usize) {
             let size = (kept.min(frame.0 - x), kept.min(frame.1 - y));
-            windows.push(FrameWindow { frame, origin: (x, y), size });
+            windows.push(SubFrame { frame, origin: (x, y), size });
         }
     }
     windows
@@ -131,8 +131,8 @@ mod tests {
         }
     }
 
-    /// The NDC the whole frame's projection gives a point, in the window's pixels.
-    fn pixel_in(window: &FrameWindow, p: Vec3) -> Vec2 {
+    /// The NDC the whole frame's projection gives a point, in the sub-frame's pixels.
+    fn pixel_in(window: &SubFrame, p: Vec3) -> Vec2 {
         let camera = camera();
         let clip = window.projection(&camera) * camera.view_matrix() * p.extend(1.0);
         let ndc = Vec2::new(clip.x, clip.y) / clip.w;
@@ -142,8 +142,8 @@ mod tests {
 
     #[test]
     fn a_point_lands_on_the_same_frame_pixel_in_the_whole_frame_and_in_a_window() {
-        let whole = FrameWindow::whole((640, 480));
-        let window = FrameWindow { frame: (640, 480), origin: (200, 100), size: (150, 90) };
+        let whole = SubFrame::whole((640, 480));
+        let window = SubFrame { frame: (640, 480), origin: (200, 100), size: (150, 90) };
         for p in [Vec3::new(0.1, 0.2, 0.0), Vec3::new(-0.3, 0.05, 0.2), Vec3::new(0.25, -0.1, -0.1)] {
             let in_frame = pixel_in(&whole, p);
             let in_window = pixel_in(&window, p) + Vec2::new(200.0, 100.0);
@@ -154,10 +154,10 @@ mod tests {
     #[test]
     fn a_windows_pixel_rays_are_the_frames() {
         let camera = camera();
-        let whole = FrameWindow::whole((640, 480));
-        let window = FrameWindow { frame: (640, 480), origin: (200, 100), size: (150, 90) };
+        let whole = SubFrame::whole((640, 480));
+        let window = SubFrame { frame: (640, 480), origin: (200, 100), size: (150, 90) };
         // pixel_ray (frame.wgsl): ndc · lens + centre, at a pixel's centre.
-        let ray = |w: &FrameWindow, (x, y): (f32, f32)| {
+        let ray = |w: &SubFrame, (x, y): (f32, f32)| {
             let (half, centre) = w.lens(&camera);
             let ndc = Vec2::new((x + 0.5) / w.size.0 as f32 * 2.0 - 1.0, 1.0 - (y + 0.5) / w.size.1 as f32 * 2.0);
             ndc * half + centre
@@ -171,7 +171,7 @@ mod tests {
 
     #[test]
     fn tiles_cover_the_frame_once_and_fit_with_their_margins() {
-        assert_eq!(tiles((800, 600), 1 << 20, 4096), vec![FrameWindow::whole((800, 600))]);
+        assert_eq!(tiles((800, 600), 1 << 20, 4096), vec![SubFrame::whole((800, 600))]);
         for (frame, max_pixels, max_side) in [((8192, 8192), 1u64 << 24, 16384), ((5000, 300), 1 << 16, 4096)] {
             let windows = tiles(frame, max_pixels, max_side);
             let mut covered = vec![0u8; (frame.0 * frame.1) as usize];

@@ -1,17 +1,17 @@
-//! The one way a frame is made: [`SceneFrames::render_frame`], which
+//! The one way a frame is made: [`PreparedScene::render_frame`], which
 //! `pointblend render`, `bench` and the viewer's render thread all call with
-//! a frame decided by [`crate::frame::resolve`] ([`SceneFrames::resolve`]
+//! a frame decided by [`crate::frame::resolve`] ([`PreparedScene::resolve`]
 //! gives it what the scene is). It prepares what the spec selects (the
 //! hybrid leaves, the nodes under a point budget, or the whole scene: its
 //! upload, grouping, shadows, back-to-front order), runs the mode's plan, and
 //! returns what the preparation measured in the frame's report. The exact
 //! reference is ray cast on the CPU instead.
 
-use super::{FrameError, SceneFrames};
+use super::{FrameError, PreparedScene};
 use crate::frame::spec::Selection;
 use crate::frame::{Camera, FrameSpec, RenderSettings, SceneFacts, View};
+use crate::gpu_renderer::GpuRenderer;
 use crate::gpu_scene::GpuScene;
-use crate::headless::HeadlessRenderer;
 use crate::plan::RenderPlan;
 use crate::report::FrameReport;
 use pointblend_core::reference::{self, ReferenceOptions};
@@ -34,7 +34,7 @@ pub struct Frame {
     pub report: FrameReport,
 }
 
-impl SceneFrames {
+impl PreparedScene {
     /// What a frame of this scene is decided over.
     pub fn facts(&self) -> SceneFacts {
         SceneFacts {
@@ -57,7 +57,7 @@ impl SceneFrames {
     /// an image (resolved, then [`Self::render_frame`]; a progress bar for the reference when `progress`).
     pub fn render(
         &mut self,
-        gpu: Option<&mut HeadlessRenderer>,
+        gpu: Option<&mut GpuRenderer>,
         camera: &Camera,
         settings: &RenderSettings,
         size: (u32, u32),
@@ -76,7 +76,7 @@ impl SceneFrames {
     /// is read back (bench's timed frames are not: their image is empty).
     pub fn render_frame(
         &mut self,
-        gpu: Option<&mut HeadlessRenderer>,
+        gpu: Option<&mut GpuRenderer>,
         camera: &Camera,
         spec: &FrameSpec,
         readback: Readback,
@@ -101,7 +101,7 @@ impl SceneFrames {
         report = FrameReport {
             tile_lists: drawn.tile_lists,
             window_overflows: drawn.window_overflows,
-            windows: drawn.windows,
+            subframes: drawn.subframes,
             ..report
         };
         Ok(Frame { image, plan, report })
@@ -112,7 +112,7 @@ impl SceneFrames {
     /// shadows in `report`.
     fn prepare(
         &mut self,
-        gpu: &HeadlessRenderer,
+        gpu: &GpuRenderer,
         camera: &Camera,
         spec: &FrameSpec,
         report: &mut FrameReport,

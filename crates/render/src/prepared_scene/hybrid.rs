@@ -4,7 +4,7 @@
 //! frame chooses which leaves are drawn as triangles and which splats are
 //! drawn ([`pointblend_core::hybrid::select`], Guennebaud's hybrid rules; part of
 //! the frame's time). When the splats chosen change, they are gathered into
-//! one cloud and handed to a [`SceneFrames`] of their own as a moving
+//! one cloud and handed to a [`PreparedScene`] of their own as a moving
 //! scene's next frame (as under a point budget: the grouped modes get the
 //! hash grouping of the splats drawn), and the mode's passes draw the
 //! triangles' ranges beside them.
@@ -16,13 +16,13 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::chosen::ChosenFrames;
-use super::{FrameError, SceneFrames};
+use super::subset::SubsetScene;
+use super::{FrameError, PreparedScene};
 use crate::context::GpuError;
 use crate::frame::{Camera, FrameSpec};
 use crate::gpu_data::TriangleVertex;
+use crate::gpu_renderer::GpuRenderer;
 use crate::gpu_scene::{GpuScene, TriangleDraw, WholeScene};
-use crate::headless::HeadlessRenderer;
 use crate::report::{FrameReport, HybridStats};
 use pointblend_core::hybrid::select::{HybridOptions, HybridSelection, SceneSurfaces};
 
@@ -33,20 +33,20 @@ pub(super) struct HybridFrames {
     selected: Option<HybridSelection>,
     /// The drawn triangles' indices on the GPU, for the last selection's triangles.
     indices: Option<Arc<wgpu::Buffer>>,
-    chosen: ChosenFrames,
+    chosen: SubsetScene,
     /// What a frame with triangles takes from the whole scene, as a frame of every splat would.
     whole: WholeScene,
     /// Every splat is one-sided: triangles facing away can be culled by their winding.
     one_sided: bool,
 }
 
-impl SceneFrames {
+impl PreparedScene {
     /// The GPU copy the frame `spec` (with triangles) draws from `camera`,
     /// its leaves chosen here, with what they cost in `report`. Such a frame
     /// draws every splat it chooses: no point budget applies (the spec's notes say so).
     pub(super) fn hybrid_scene(
         &mut self,
-        gpu: &HeadlessRenderer,
+        gpu: &GpuRenderer,
         camera: &Camera,
         spec: &FrameSpec,
         report: &mut FrameReport,
@@ -60,7 +60,7 @@ impl SceneFrames {
                 buffer: None,
                 selected: None,
                 indices: None,
-                chosen: ChosenFrames::of(self, "hybrid"),
+                chosen: SubsetScene::of(self, "hybrid"),
                 whole: WholeScene::of(&self.cloud),
                 one_sided: self.cloud.two_sided.iter().all(|&two| !two),
             }));

@@ -1,47 +1,47 @@
 //! The GPU renderer with its own output texture: every GPU frame is drawn
 //! here and read back (`render`, bench, the viewer's render thread, tests).
 //! A frame arrives decided ([`FrameSpec`]); a frame too large for the
-//! window budget is drawn a sub-frame at a time ([`crate::window`]).
+//! sub-frame budget is drawn a sub-frame at a time ([`crate::subframe`]).
 
 use super::context::{GpuContext, GpuError};
 use super::gpu_scene::GpuScene;
 use super::plan::RenderPlan;
 use super::readback;
 use super::renderer::Renderer;
-use super::report::{FrameReport, TileLists, Windows};
+use super::report::{FrameReport, SubFrames, TileLists};
 use crate::frame::settings::RenderSettings;
 use crate::frame::{Camera, FrameSpec, View, resolve};
 use crate::grouping::Grouping;
 use crate::scene::Scene;
-use crate::window::{self, FrameWindow};
+use crate::subframe::{self, SubFrame};
 
-/// Format of headless output images.
+/// Format of the output images.
 pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 /// Most bytes of render targets (with the output texture and its readback)
 /// one render of an image may take: a frame that needs more is drawn a
-/// window at a time ([`crate::window`]), so its memory does not grow with its size.
-pub const DEFAULT_WINDOW_BUDGET: u64 = 1 << 30;
+/// sub-frame at a time ([`crate::subframe`]), so its memory does not grow with its size.
+pub const DEFAULT_SUBFRAME_BUDGET: u64 = 1 << 30;
 
 /// A GPU context, a renderer and an output texture.
-pub struct HeadlessRenderer {
+pub struct GpuRenderer {
     pub ctx: GpuContext,
     pub renderer: Renderer,
     output: Option<wgpu::Texture>,
-    /// [`DEFAULT_WINDOW_BUDGET`], or what [`Self::set_window_budget`] set.
-    window_budget: u64,
+    /// [`DEFAULT_SUBFRAME_BUDGET`], or what [`Self::set_subframe_budget`] set.
+    subframe_budget: u64,
 }
 
-impl HeadlessRenderer {
+impl GpuRenderer {
     pub fn new() -> Result<Self, GpuError> {
         let ctx = GpuContext::headless()?;
         let renderer = Renderer::new(&ctx)?;
-        Ok(Self { ctx, renderer, output: None, window_budget: DEFAULT_WINDOW_BUDGET })
+        Ok(Self { ctx, renderer, output: None, subframe_budget: DEFAULT_SUBFRAME_BUDGET })
     }
 
-    /// Sets the most bytes one render of an image may take (see [`DEFAULT_WINDOW_BUDGET`]).
-    pub fn set_window_budget(&mut self, bytes: u64) {
-        self.window_budget = bytes;
+    /// Sets the most bytes one render of an image may take (see [`DEFAULT_SUBFRAME_BUDGET`]).
+    pub fn set_subframe_budget(&mut self, bytes: u64) {
+        self.subframe_budget = bytes;
     }
 
     /// Uploads `scene`, group by group when a grouping of it is given, with
@@ -54,7 +54,7 @@ impl HeadlessRenderer {
     pub fn upload_in(
         &self,
         cloud: &crate::cloud::PointCloud,
-        environment: Option<&crate::scene::environment::EnvironmentMap>,
+        environment: Option<&crate::scene::environment_map::EnvironmentMap>,
         grouping: Option<&Grouping>,
     ) -> GpuScene {
         let mut gpu = GpuScene::upload_cloud(&self.ctx.device, cloud, grouping);
@@ -96,10 +96,10 @@ impl HeadlessRenderer {
 
     /// The one way a GPU frame is drawn: the frame `spec` of `scene` from
     /// `camera`, read back when `read` (else the image is empty, 0×0: bench's
-    /// timed frames). A frame whose targets pass the window budget is drawn
-    /// a window at a time whether or not it is read back, so a timed frame
+    /// timed frames). A frame whose targets pass the sub-frame budget is drawn
+    /// a sub-frame at a time whether or not it is read back, so a timed frame
     /// runs the plan the saved image runs. Returns the image, the plan (the
-    /// largest window's when windowed) and what the frame measured.
+    /// largest sub-frame's when drawn in sub-frames) and what the frame measured.
     pub fn render_spec(
         &mut self,
         scene: &mut GpuScene,
@@ -110,11 +110,11 @@ impl HeadlessRenderer {
         let (width, height) = spec.size;
         // The whole frame's plan, made once: it says whether the frame fits, and runs when it does.
         let whole = Renderer::plan_spec(scene, camera, spec, (width, height))?;
-        let windows = self.windows(&whole, (width, height));
-        if windows.len() > 1 {
-            return self.render_windows(scene, camera, spec, &windows, read);
+        let subframes = self.subframes(&whole, (width, height));
+        if subframes.len() > 1 {
+            return self.render_subframes(scene, camera, spec, &subframes, read);
         }
-        let tile_lists = self.render_window(scene, (camera, spec), FrameWindow::whole((width, height)), &whole)?;
+        let tile_lists = self.render_subframe(scene, (camera, spec), SubFrame::whole((width, height)), &whole)?;
         let mut report = FrameReport { tile_lists, ..Default::default() };
         if !read {
             return Ok((image::RgbaImage::new(0, 0), whole, report));
@@ -126,20 +126,20 @@ impl HeadlessRenderer {
         Ok((image, whole, report))
     }
 
-    /// Renders `window` of a frame by `plan` (the window's) into an output
+    /// Renders `part` of a frame by `plan` (the sub-frame's) into an output
     /// texture of its size and submits it.
-    fn render_window(
+    fn render_subframe(
         &mut self,
         scene: &mut GpuScene,
         frame: (&Camera, &FrameSpec),
-        window: FrameWindow,
+        part: SubFrame,
         plan: &RenderPlan,
     ) -> Result<Option<TileLists>, GpuError> {
-        let (width, height) = window.size;
+        let (width, height) = part.size;
         self.ctx.check_size(width, height)?;
         if self.output.as_ref().is_none_or(|t| (t.width(), t.height()) != (width, height)) {
             self.output = Some(self.ctx.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("Headless::output"),
+                label: Some("GpuRenderer::output"),
                 size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
                 mip_level_count: 1,
                 sample_count: 1,
@@ -150,46 +150,46 @@ impl HeadlessRenderer {
             }));
         }
         let view = self.output_texture()?.create_view(&Default::default());
-        self.renderer.render_planned(&self.ctx, scene, frame, (&view, OUTPUT_FORMAT), window, plan)
+        self.renderer.render_planned(&self.ctx, scene, frame, (&view, OUTPUT_FORMAT), part, plan)
     }
 
-    /// The windows a `size` frame whose plan is `plan` is drawn in: the whole frame when its
-    /// targets, output texture and readback fit the window budget and the
-    /// GPU's limits, else windows that do ([`window::tiles`]). When not even
-    /// a window of [`window::MIN_SIDE`] fits, the whole frame, which the
+    /// The sub-frames a `size` frame whose plan is `plan` is drawn in: the whole frame when its
+    /// targets, output texture and readback fit the sub-frame budget and the
+    /// GPU's limits, else sub-frames that do ([`subframe::tiles`]). When not even
+    /// a sub-frame of [`subframe::MIN_SIDE`] fits, the whole frame, which the
     /// renderer then refuses with the memory it needs and what to change.
-    fn windows(&self, plan: &RenderPlan, size: (u32, u32)) -> Vec<FrameWindow> {
+    fn subframes(&self, plan: &RenderPlan, size: (u32, u32)) -> Vec<SubFrame> {
         let limits = self.ctx.device.limits();
         let pixels = (size.0 as u64 * size.1 as u64).max(1);
         // The output texture and its readback take 4 bytes a pixel each.
         let per_pixel = plan.target_bytes() as f64 / pixels as f64 + 8.0;
-        let budget = self.window_budget.min(self.ctx.target_budget());
+        let budget = self.subframe_budget.min(self.ctx.target_budget());
         let max_pixels = ((budget as f64 / per_pixel) as u64).min(limits.max_buffer_size / 4);
-        if max_pixels < (window::MIN_SIDE * window::MIN_SIDE) as u64 {
-            return vec![FrameWindow::whole(size)];
+        if max_pixels < (subframe::MIN_SIDE * subframe::MIN_SIDE) as u64 {
+            return vec![SubFrame::whole(size)];
         }
-        window::tiles(size, max_pixels, limits.max_texture_dimension_2d)
+        subframe::tiles(size, max_pixels, limits.max_texture_dimension_2d)
     }
 
-    /// A frame drawn window by window, each grown by [`window::MARGIN`] for
+    /// A frame drawn sub-frame by sub-frame, each grown by [`subframe::MARGIN`] for
     /// the passes that read neighbours and cropped to the part it keeps
     /// (read back only when `read`).
-    fn render_windows(
+    fn render_subframes(
         &mut self,
         scene: &mut GpuScene,
         camera: &Camera,
         spec: &FrameSpec,
-        windows: &[FrameWindow],
+        subframes: &[SubFrame],
         read: bool,
     ) -> Result<(image::RgbaImage, RenderPlan, FrameReport), GpuError> {
-        let (width, height) = windows[0].frame;
-        log::info!("{width}x{height} is drawn in {} windows, so that its memory stays bounded", windows.len());
+        let (width, height) = subframes[0].frame;
+        log::info!("{width}x{height} is drawn in {} sub-frames, so that its memory stays bounded", subframes.len());
         let mut image = image::RgbaImage::new(if read { width } else { 0 }, if read { height } else { 0 });
         let mut largest: Option<(RenderPlan, Option<TileLists>)> = None;
-        for kept in windows {
-            let drawn = kept.grown(window::MARGIN);
+        for kept in subframes {
+            let drawn = kept.grown(subframe::MARGIN);
             let plan = Renderer::plan_spec(scene, camera, spec, drawn.size)?;
-            let lists = self.render_window(scene, (camera, spec), drawn, &plan)?;
+            let lists = self.render_subframe(scene, (camera, spec), drawn, &plan)?;
             if read {
                 let part = readback::read_rgba8(&self.ctx, self.output_texture()?)?;
                 let (x, y) = (kept.origin.0 - drawn.origin.0, kept.origin.1 - drawn.origin.1);
@@ -200,14 +200,14 @@ impl HeadlessRenderer {
                 largest = Some((plan, lists));
             }
         }
-        let (plan, tile_lists) = largest.ok_or_else(|| GpuError::Device("a frame of no windows".into()))?;
-        let windows = Windows {
-            count: windows.len(),
+        let (plan, tile_lists) = largest.ok_or_else(|| GpuError::Device("a frame of no sub-frames".into()))?;
+        let subframes = SubFrames {
+            count: subframes.len(),
             largest: (plan.width, plan.height),
-            margin: window::MARGIN,
-            budget_mib: self.window_budget.min(self.ctx.target_budget()) >> 20,
+            margin: subframe::MARGIN,
+            budget_mib: self.subframe_budget.min(self.ctx.target_budget()) >> 20,
         };
-        Ok((image, plan, FrameReport { windows: Some(windows), tile_lists, ..Default::default() }))
+        Ok((image, plan, FrameReport { subframes: Some(subframes), tile_lists, ..Default::default() }))
     }
 
     /// [`Renderer::use_subgroups`] on this renderer's device.

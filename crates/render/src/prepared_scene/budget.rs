@@ -5,7 +5,7 @@
 //! The hierarchy is built on first use (through the cache beside the
 //! groupings) over the scene's splats in world space. Each frame selects
 //! its nodes (part of the frame's time); when the selection changed, its
-//! splats are gathered into one cloud and handed to a [`SceneFrames`] of
+//! splats are gathered into one cloud and handed to a [`PreparedScene`] of
 //! their own as a moving scene's next frame: modes that draw groups get
 //! Zhang & Pajarola's hash grouping of the selected splats, redone in
 //! milliseconds on the lattice of the whole scene (cells of the originals'
@@ -18,13 +18,13 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::chosen::ChosenFrames;
-use super::{FrameError, SceneFrames};
+use super::subset::SubsetScene;
+use super::{FrameError, PreparedScene};
 use crate::cloud::PointCloud;
 use crate::frame::{Camera, FrameSpec};
+use crate::gpu_renderer::GpuRenderer;
 use crate::gpu_scene::GpuScene;
 use crate::grouping::cache::Cache;
-use crate::headless::HeadlessRenderer;
 use crate::lod::{self, Hierarchy, Selection};
 use crate::report::{BudgetStats, FrameReport};
 
@@ -53,18 +53,18 @@ pub(super) struct BudgetFrames {
     key: u64,
     hierarchy: Arc<Hierarchy>,
     selected: Option<Selection>,
-    chosen: ChosenFrames,
+    chosen: SubsetScene,
 }
 
 impl BudgetFrames {
     /// Nothing selected yet from `hierarchy` (cache key `key`) of `parent`'s splats.
-    fn new(key: u64, hierarchy: Arc<Hierarchy>, parent: &SceneFrames) -> Box<Self> {
-        let chosen = ChosenFrames::of(parent, "budget");
+    fn new(key: u64, hierarchy: Arc<Hierarchy>, parent: &PreparedScene) -> Box<Self> {
+        let chosen = SubsetScene::of(parent, "budget");
         Box::new(Self { key, hierarchy, selected: None, chosen })
     }
 }
 
-impl SceneFrames {
+impl PreparedScene {
     /// The hierarchy of the scene's splats, built (or read from the cache) on first use.
     pub fn hierarchy(&mut self) -> Arc<Hierarchy> {
         self.budget_frames().hierarchy.clone()
@@ -103,11 +103,11 @@ impl SceneFrames {
     /// frames. Returns those frames, and what the selection drew and cost.
     pub(super) fn select_for(
         &mut self,
-        gpu: Option<&HeadlessRenderer>,
+        gpu: Option<&GpuRenderer>,
         camera: &Camera,
         spec: &FrameSpec,
         budget: u32,
-    ) -> Result<(&mut SceneFrames, BudgetStats), FrameError> {
+    ) -> Result<(&mut PreparedScene, BudgetStats), FrameError> {
         let state = self.budget_frames();
         let started = Instant::now();
         let options = lod::SelectOptions::for_frame(budget as usize, lod::Choosing::of(&spec.drawn), 0.0);
@@ -142,7 +142,7 @@ impl SceneFrames {
     /// with what the selection and its shadows cost in `report`.
     pub(super) fn budgeted_scene(
         &mut self,
-        gpu: &HeadlessRenderer,
+        gpu: &GpuRenderer,
         camera: &Camera,
         spec: &FrameSpec,
         budget: u32,

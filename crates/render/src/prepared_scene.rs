@@ -1,19 +1,19 @@
 //! The one way to render a scene in any mode: `pointblend render`, `bench`
-//! and the viewer's render thread all go through [`SceneFrames`].
+//! and the viewer's render thread all go through [`PreparedScene`].
 //!
-//! A [`SceneFrames`] holds a scene, its splats in world space, the groupings
+//! A [`PreparedScene`] holds a scene, its splats in world space, the groupings
 //! its modes draw and its GPU copies (one ungrouped, one per grouping). A
 //! frame asks it for `settings`, a camera and a size; the registry says where
 //! the mode runs: a GPU mode takes the grouping it draws (from the scene's
 //! groupings, computed through the grouping cache when the front end lets
-//! it), the matching upload, and its plan on the [`HeadlessRenderer`]; the
+//! it), the matching upload, and its plan on the [`GpuRenderer`]; the
 //! exact reference (a CPU mode) renders the scene itself. Either way the
 //! frame comes back as an image and the plan that made it.
 
 mod budget;
-mod chosen;
 mod hybrid;
 mod render_frame;
+mod subset;
 
 use std::sync::Arc;
 
@@ -22,8 +22,8 @@ pub use budget::load_hierarchy;
 pub use render_frame::{Frame, Readback};
 
 use super::context::GpuError;
+use super::gpu_renderer::GpuRenderer;
 use super::gpu_scene::GpuScene;
-use super::headless::HeadlessRenderer;
 use crate::cloud::PointCloud;
 use crate::frame::{FrameSpec, RenderSettings};
 use crate::grouping::hash::{Collisions, HashOptions};
@@ -65,7 +65,7 @@ pub struct SceneGrouping {
 const KEPT_SHADOWS: usize = 4;
 
 /// A scene ready to render in any mode.
-pub struct SceneFrames {
+pub struct PreparedScene {
     scene: Arc<Scene>,
     /// The splats in world space (the scene's, or a preview subsample of them).
     cloud: Arc<PointCloud>,
@@ -119,7 +119,7 @@ fn with_extension(mut grouping: Grouping, spec: GroupingSpec) -> Grouping {
     grouping
 }
 
-impl SceneFrames {
+impl PreparedScene {
     /// `scene` with its splats in world space, `cloud` (`scene.flatten()`'s).
     /// Missing groupings are computed through the grouping cache, and every
     /// upload is kept.
@@ -187,7 +187,7 @@ impl SceneFrames {
     /// that changed), the shadows recomputed on their next use.
     pub fn advance(
         &mut self,
-        gpu: Option<&HeadlessRenderer>,
+        gpu: Option<&GpuRenderer>,
         scene: Arc<Scene>,
         cloud: Arc<PointCloud>,
     ) -> Result<FrameUpdate, FrameError> {
@@ -396,14 +396,14 @@ impl SceneFrames {
 
     /// The GPU copy a frame of `spec` draws, uploaded (and its grouping
     /// computed) on first use, with the frame's shadow coefficients beside its splats.
-    pub fn gpu_scene(&mut self, gpu: &HeadlessRenderer, spec: &FrameSpec) -> Result<&GpuScene, FrameError> {
+    pub fn gpu_scene(&mut self, gpu: &GpuRenderer, spec: &FrameSpec) -> Result<&GpuScene, FrameError> {
         Ok(self.gpu_scene_mut(gpu, spec, &mut FrameReport::default())?)
     }
 
     /// [`Self::gpu_scene`], to change, with what its shadows took in `report`.
     fn gpu_scene_mut(
         &mut self,
-        gpu: &HeadlessRenderer,
+        gpu: &GpuRenderer,
         spec: &FrameSpec,
         report: &mut FrameReport,
     ) -> Result<&mut GpuScene, FrameError> {
@@ -418,7 +418,7 @@ impl SceneFrames {
     }
 
     /// The index of the upload drawing grouping `spec` (or none), made on first use.
-    fn upload(&mut self, gpu: &HeadlessRenderer, spec: Option<GroupingSpec>) -> Result<usize, FrameError> {
+    fn upload(&mut self, gpu: &GpuRenderer, spec: Option<GroupingSpec>) -> Result<usize, FrameError> {
         if let Some(at) = self.uploads.iter().position(|(s, _)| *s == spec) {
             return Ok(at);
         }

@@ -1,7 +1,7 @@
 //! The environment effects in the reference (Zhang & Pajarola §5.2.3-5.2.4):
 //! after compositing, each pixel whose nearest layer is transparent looks
 //! the map up along its reflected and refracted rays and is recomposed by
-//! the shared model (`frame::environment`), with the exact layer count of its
+//! the shared model (`frame::environment_effects`), with the exact layer count of its
 //! A-buffer and the nearest layer's exact normalised normal; pixels where
 //! nothing is drawn show the map itself when it is a skybox.
 //!
@@ -14,8 +14,8 @@
 use glam::Vec3;
 
 use crate::frame::Camera;
-use crate::frame::environment::{EnvironmentSettings, GlassPixel, glass_colour, glass_directions};
-use crate::scene::environment::EnvironmentMap;
+use crate::frame::environment_effects::{EnvironmentSettings, GlassPixel, glass_colour, glass_directions};
+use crate::scene::environment_map::EnvironmentMap;
 
 /// What a frame needs to look the map up.
 pub struct Lookup<'a> {

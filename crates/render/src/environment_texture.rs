@@ -1,5 +1,5 @@
 //! The environment map on the GPU (Zhang & Pajarola §5.2.3): its mip chain
-//! (`scene::environment`, pre-filtered on the CPU so that the GPU and the
+//! (`scene::environment_map`, pre-filtered on the CPU so that the GPU and the
 //! reference read the same averages) as one Rgba16Float texture, and a
 //! sampler that wraps the longitude (no seam at the ±180° meridian), clamps
 //! the latitude at the poles, and filters linearly within and between
@@ -10,7 +10,7 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::scene::environment::EnvironmentMap;
+use crate::scene::environment_map::EnvironmentMap;
 
 /// A scene's environment map, uploaded.
 #[derive(Debug)]

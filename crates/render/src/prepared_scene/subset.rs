@@ -8,17 +8,17 @@
 
 use std::sync::Arc;
 
-use super::{FrameError, SceneFrames};
+use super::{FrameError, PreparedScene};
 use crate::cloud::PointCloud;
+use crate::gpu_renderer::GpuRenderer;
 use crate::grouping::cache::Cache;
 use crate::grouping::regroup::Lattice;
-use crate::headless::HeadlessRenderer;
 use crate::scene::Scene;
-use crate::scene::environment::EnvironmentMap;
+use crate::scene::environment_map::EnvironmentMap;
 
 /// The frames of the last choice from one scene, and what they take from it.
-pub(super) struct ChosenFrames {
-    frames: Option<Box<SceneFrames>>,
+pub(super) struct SubsetScene {
+    frames: Option<Box<PreparedScene>>,
     /// The whole scene's lattice: groups are counted on it, whatever is chosen.
     lattice: Lattice,
     environment: Option<Arc<EnvironmentMap>>,
@@ -27,9 +27,9 @@ pub(super) struct ChosenFrames {
     name: &'static str,
 }
 
-impl ChosenFrames {
+impl SubsetScene {
     /// Nothing chosen yet from `parent`'s splats.
-    pub(super) fn of(parent: &SceneFrames, name: &'static str) -> Self {
+    pub(super) fn of(parent: &PreparedScene, name: &'static str) -> Self {
         Self {
             frames: None,
             lattice: Lattice::of(&parent.cloud),
@@ -43,10 +43,10 @@ impl ChosenFrames {
     /// `choose()`'s cloud, keyed for the caches by its key, as the next frame.
     pub(super) fn next(
         &mut self,
-        gpu: Option<&HeadlessRenderer>,
+        gpu: Option<&GpuRenderer>,
         changed: bool,
         choose: impl FnOnce() -> (PointCloud, u64),
-    ) -> Result<&mut SceneFrames, FrameError> {
+    ) -> Result<&mut PreparedScene, FrameError> {
         let shown = self.frames.take();
         if !changed && let Some(frames) = shown {
             return Ok(self.frames.insert(frames));
@@ -61,7 +61,7 @@ impl ChosenFrames {
                 frames.advance(gpu, scene, cloud)?;
                 frames
             }
-            None => Box::new(SceneFrames::new(scene, cloud).moving_on(self.lattice).with_cache(self.cache.clone())),
+            None => Box::new(PreparedScene::new(scene, cloud).moving_on(self.lattice).with_cache(self.cache.clone())),
         };
         Ok(self.frames.insert(frames))
     }
