@@ -131,7 +131,7 @@ mod tests {
     #[test]
     fn every_front_ends_rendering_parameters_are_exactly_the_descriptor_tables() {
         use pointblend::frame::parameters::TABLE;
-        use pointblend::frame::{ModeVariant, RenderSettings, Sidecar};
+        use pointblend::frame::{RenderSettings, Sidecar};
         let table: std::collections::BTreeSet<String> =
             TABLE.iter().flat_map(|row| [row.flag].into_iter().chain(row.off_switch)).map(str::to_string).collect();
         // View, camera, scene and output flags, and each command's own job: outside the table.
@@ -169,9 +169,9 @@ mod tests {
             let mode = row.parameter.used_by().next().expect("a mode reads it");
             let value = row.parameter.shown_text(&RenderSettings { mode, ..Default::default() });
             let variant = format!("{mode}:{}={value}", row.key);
-            assert!(ModeVariant::expand(&variant).is_ok(), "bench refuses {variant}");
+            assert!(pointblend::bench::variants::expand(&variant).is_ok(), "bench refuses {variant}");
         }
-        assert!(ModeVariant::expand("two-pass:no-such-key=1").is_err());
+        assert!(pointblend::bench::variants::expand("two-pass:no-such-key=1").is_err());
         // A sidecar records every row that holds a value, and reads it back.
         let settings = RenderSettings { peel_layers: 4, ..Default::default() };
         let model = pointblend::frame::sidecar::SidecarModel {

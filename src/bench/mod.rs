@@ -22,6 +22,7 @@ pub mod run;
 pub mod sheet;
 pub mod streamed;
 pub mod timing;
+pub mod variants;
 pub mod views;
 
 pub use report::{BenchRow, PassTime};

@@ -6,7 +6,7 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use pointblend::bench::{self, BenchConfig};
 use pointblend::cloud;
-use pointblend::frame::{ModeVariant, Parameter};
+use pointblend::frame::Parameter;
 use pointblend::render::{GpuRenderer, RenderMode};
 
 use super::shared::ViewArgs;
@@ -76,11 +76,13 @@ pub fn run(args: &Args) -> Result<()> {
     }
     let ruler = match args.ruler.as_deref() {
         None | Some("reference") => None,
-        Some(text) => match ModeVariant::expand(text).map_err(|e| anyhow::anyhow!("--ruler: {e}"))?.as_slice() {
-            [one] if one.mode.is_gpu() => Some(one.clone()),
-            [_] => bail!("--ruler {text}: the reference is the default ruler; give a GPU mode's variant"),
-            _ => bail!("--ruler {text}: one variant, e.g. {text}:KEY=VALUE"),
-        },
+        Some(text) => {
+            match pointblend::bench::variants::expand(text).map_err(|e| anyhow::anyhow!("--ruler: {e}"))?.as_slice() {
+                [one] if one.mode.is_gpu() => Some(one.clone()),
+                [_] => bail!("--ruler {text}: the reference is the default ruler; give a GPU mode's variant"),
+                _ => bail!("--ruler {text}: one variant, e.g. {text}:KEY=VALUE"),
+            }
+        }
     };
     if ruler.is_some() && args.animate.is_some() {
         bail!("--ruler measures still frames; --animate measures each frame against its own reference");
@@ -91,7 +93,7 @@ pub fn run(args: &Args) -> Result<()> {
         bail!("--modes none leaves nothing to run: add --orders, or name modes");
     }
     for text in args.modes.iter().filter(|m| *m != "none") {
-        variants.extend(ModeVariant::expand(text).map_err(|e| anyhow::anyhow!("--modes: {e}"))?);
+        variants.extend(pointblend::bench::variants::expand(text).map_err(|e| anyhow::anyhow!("--modes: {e}"))?);
     }
     for file in args.files.iter().filter(|f| !pointblend::copc::is_streamed(f)) {
         let mut rates = Vec::new();

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use pointblend::bench::{self, BenchConfig, BenchRow};
-use pointblend::frame::{ModeVariant, Parameter, RenderSettings};
+use pointblend::frame::{Parameter, RenderSettings};
 use pointblend::render::{GpuRenderer, RenderMode};
 
 use super::view_args::Args;
@@ -67,7 +67,7 @@ pub fn run(args: &Args) -> Result<()> {
     for part in &parts {
         let mut variants = Vec::new();
         for mode in &part.modes {
-            variants.extend(ModeVariant::expand(mode.name()).map_err(anyhow::Error::msg)?);
+            variants.extend(pointblend::bench::variants::expand(mode.name()).map_err(anyhow::Error::msg)?);
         }
         let mut settings = RenderSettings::default();
         args.view.parameters.apply(&mut settings).map_err(anyhow::Error::msg)?;

@@ -46,8 +46,8 @@ impl ViewerApp {
         // A streamed model is the selection under the budget already.
         let large = model.cloud.len() > budget as usize && !model.is_animated() && model.streamed.is_none();
         let moving = may_preview && large && self.last_camera_move.is_some_and(|t| t.elapsed() < SETTLE);
-        // The viewer's preview rule: the registry's faster mode, under the moving budget.
-        let preview = moving.then(|| Preview { mode: self.ui.settings.mode.info().preview, budget });
+        // The viewer's preview rule (`preview.rs`), under the moving budget.
+        let preview = moving.then(|| Preview { mode: super::preview::preview_mode(self.ui.settings.mode), budget });
         let mut settings = self.ui.settings;
         settings.clip = model.scene.clip_in_frame(&self.ui.inspect.region());
         let grouping = if preview.is_some() { None } else { drawn_grouping(model, &settings, self.view_size) };

@@ -30,6 +30,7 @@ mod loading;
 mod model;
 mod panels;
 mod parameter_widgets;
+mod preview;
 mod render_thread;
 mod state;
 mod stats;

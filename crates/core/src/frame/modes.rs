@@ -1,8 +1,8 @@
 //! The mode registry: every render mode, what it is, which parameters it
-//! reads, where it runs, and what it can draw (transparency, groups,
-//! triangles, the environment). Which mode the viewer previews it with and
-//! the variants `bench` runs by default are listed here too, for those two
-//! front ends to read.
+//! reads (and their defaults), where it runs, and what it can draw
+//! (transparency, groups, triangles, the environment). Front-end policy is
+//! not here: the viewer's preview rule is `src/viewer/preview.rs`, and what
+//! a plain mode name stands for in `bench` is `src/bench/variants.rs`.
 //!
 //! This file and the mode files (`crates/render/src/modes/*.rs`, where the
 //! GPU modes plan their steps) are the only places that name a particular
@@ -63,11 +63,6 @@ pub struct ModeInfo {
     pub device: Device,
     /// Whether it reads opacity (draws transparency); opaque modes draw every splat opaque.
     pub transparent: bool,
-    /// The mode drawn (on a subsample) while the camera moves.
-    pub preview: RenderMode,
-    /// What a plain `bench --modes NAME` runs: one row per entry, each a
-    /// list of `key=value` settings (see [`Parameter::key`]); "" is the defaults.
-    pub bench_variants: &'static [&'static str],
     /// Layers k it draws when the settings leave it open (modes that read `Parameter::PeelLayers`).
     pub default_peel_layers: u32,
     /// For modes whose groups must each cover the surface (§4.4.2): the
@@ -115,8 +110,6 @@ const REGISTRY: [ModeInfo; 9] = [
         ],
         device: Device::Gpu,
         transparent: false,
-        preview: RenderMode::TwoPass,
-        bench_variants: &["", "quality=unfiltered"],
         default_peel_layers: 1,
         covering_grouping: None,
         draws_opaque_scenes: false,
@@ -145,8 +138,6 @@ const REGISTRY: [ModeInfo; 9] = [
         ],
         device: Device::Gpu,
         transparent: false,
-        preview: RenderMode::TwoPass,
-        bench_variants: &[""],
         default_peel_layers: 1,
         covering_grouping: None,
         draws_opaque_scenes: false,
@@ -172,8 +163,6 @@ const REGISTRY: [ModeInfo; 9] = [
         ],
         device: Device::Gpu,
         transparent: true,
-        preview: RenderMode::ApproxPeel,
-        bench_variants: &["", "layers=4", "layers=2"],
         default_peel_layers: 8,
         covering_grouping: None,
         draws_opaque_scenes: false,
@@ -198,8 +187,6 @@ const REGISTRY: [ModeInfo; 9] = [
         ],
         device: Device::Gpu,
         transparent: true,
-        preview: RenderMode::ApproxPeel,
-        bench_variants: &["", "layers=2"],
         default_peel_layers: 3,
         covering_grouping: None,
         draws_opaque_scenes: false,
@@ -225,8 +212,6 @@ const REGISTRY: [ModeInfo; 9] = [
         ],
         device: Device::Gpu,
         transparent: true,
-        preview: RenderMode::ApproxPeel,
-        bench_variants: &[""],
         default_peel_layers: 1,
         covering_grouping: Some(ALG1_GROUPING),
         draws_opaque_scenes: false,
@@ -256,8 +241,6 @@ const REGISTRY: [ModeInfo; 9] = [
         ],
         device: Device::Gpu,
         transparent: true,
-        preview: RenderMode::ApproxPeel,
-        bench_variants: &[""],
         default_peel_layers: 1,
         covering_grouping: Some(ALG1_GROUPING),
         draws_opaque_scenes: false,
@@ -280,8 +263,6 @@ const REGISTRY: [ModeInfo; 9] = [
         ],
         device: Device::Gpu,
         transparent: true,
-        preview: RenderMode::AlphaBlend,
-        bench_variants: &[""],
         default_peel_layers: 1,
         covering_grouping: None,
         draws_opaque_scenes: false,
@@ -308,8 +289,6 @@ const REGISTRY: [ModeInfo; 9] = [
         ],
         device: Device::Gpu,
         transparent: true,
-        preview: RenderMode::Tiled,
-        bench_variants: &[""],
         default_peel_layers: 1,
         covering_grouping: None,
         draws_opaque_scenes: true,
@@ -335,10 +314,6 @@ const REGISTRY: [ModeInfo; 9] = [
         ],
         device: Device::Cpu,
         transparent: true,
-        // Approximate peeling keeps a transparent scene's look while the
-        // camera moves, and runs the two-pass plan for an opaque one.
-        preview: RenderMode::ApproxPeel,
-        bench_variants: &[""],
         default_peel_layers: 1,
         covering_grouping: None,
         draws_opaque_scenes: false,
@@ -446,8 +421,6 @@ mod tests {
         for (info, mode) in REGISTRY.iter().zip(RenderMode::ALL) {
             assert_eq!(info.mode, mode);
             assert!(!info.description.is_empty() && !info.parameters.is_empty(), "{mode}");
-            assert!(!info.bench_variants.is_empty(), "{mode}");
-            assert!(info.preview.is_gpu(), "{mode} previews with a GPU mode");
             assert_eq!(mode.name().parse::<RenderMode>(), Ok(mode));
         }
         assert!(RenderMode::RULER.info().device == Device::Cpu);

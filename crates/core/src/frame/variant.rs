@@ -2,8 +2,8 @@
 //! `MODE[:KEY=VALUE]...`, e.g. `deferred:group=wgc-k8:voronoi=off` or
 //! `two-pass:quality=unfiltered`. The keys are the parameters' own names
 //! ([`Parameter::key`]), the values those of the matching command-line
-//! options, and a key must be one the mode reads. A plain mode name stands
-//! for the variants its registry entry lists for `bench`.
+//! options, and a key must be one the mode reads. What a plain mode name
+//! stands for in `bench` is bench's rule (`src/bench/variants.rs`).
 
 use super::{Parameter, RenderMode, RenderSettings};
 
@@ -15,26 +15,6 @@ pub struct ModeVariant {
 }
 
 impl ModeVariant {
-    /// The variants `text` stands for: itself, or for a plain mode name the
-    /// registry's bench variants of that mode.
-    pub fn expand(text: &str) -> Result<Vec<ModeVariant>, String> {
-        if text.contains(':') {
-            return Ok(vec![text.parse()?]);
-        }
-        let mode: RenderMode = text.parse()?;
-        mode.info()
-            .bench_variants
-            .iter()
-            .map(|v| {
-                if v.is_empty() {
-                    Ok(ModeVariant { mode, overrides: Vec::new() })
-                } else {
-                    format!("{text}:{v}").parse()
-                }
-            })
-            .collect()
-    }
-
     /// `base` with this variant's mode and settings.
     pub fn apply(&self, base: &RenderSettings) -> Result<RenderSettings, String> {
         let mut settings = RenderSettings { mode: self.mode, ..*base };
@@ -112,17 +92,5 @@ mod tests {
         assert!("deferred:group=xyz".parse::<ModeVariant>().is_err());
         assert!("two-pass:colour=red".parse::<ModeVariant>().is_err());
         assert!("nonsense".parse::<ModeVariant>().is_err());
-    }
-
-    #[test]
-    fn a_plain_name_stands_for_the_registrys_bench_variants() {
-        for mode in RenderMode::ALL {
-            let variants = ModeVariant::expand(mode.name()).unwrap();
-            assert_eq!(variants.len(), mode.info().bench_variants.len(), "{mode}");
-            assert!(variants.iter().all(|v| v.mode == mode));
-        }
-        let two_pass = ModeVariant::expand("two-pass").unwrap();
-        assert_eq!(two_pass[0].label(), "two-pass");
-        assert_eq!(two_pass[1].label(), "two-pass:quality=unfiltered");
     }
 }
