@@ -17,8 +17,9 @@ pub struct Args {
     pub files: Vec<PathBuf>,
     #[command(flatten)]
     pub view: ViewArgs,
-    /// Mode variants to run, comma-separated: a mode name runs the variants its
-    /// registry entry lists (two-pass: filtered and unfiltered); MODE:KEY=VALUE...
+    /// Mode variants to run, comma-separated: a mode name runs it with its
+    /// defaults, then its cheaper settings (two-pass: unfiltered; depth-peel and
+    /// approx-peel: fewer layers, down to 2); MODE:KEY=VALUE...
     /// runs one, e.g. deferred:group=wgc-k8:voronoi=off, two-pass:quality=unfiltered.
     /// The reference is always rendered (it is the ruler).
     #[arg(long, value_delimiter = ',', default_value = "two-pass,deferred,reference")]
