@@ -12,8 +12,10 @@ use std::sync::Arc;
 use common::lidar::{self, tilted_grid};
 use common::nginx::Nginx;
 use pointblend::cloud::{self, LoadOptions};
+use pointblend::copc::subset::StreamSubset;
 use pointblend::copc::{CopcStream, StreamBudget, StreamOptions};
 use pointblend::frame::Camera;
+use pointblend::frame::subset::Subset;
 use pointblend::lod::{Choosing, SelectOptions};
 use pointblend::render::{PreparedScene, RenderMode, RenderSettings};
 use pointblend::scene::Scene;
@@ -307,7 +309,7 @@ fn a_scene_file_opens_a_url_as_the_command_line_does() {
 fn a_lit_streamed_frame_keeps_the_nodes_off_screen_that_cast_its_shadows() {
     let dir = tempfile::tempdir().unwrap();
     let copc = made_copc(dir.path(), 230);
-    let mut s = stream(&copc.display().to_string());
+    let s = stream(&copc.display().to_string());
     // Close up on a corner of the 57 m tile: under a budget the nodes out of
     // view are left out, unless the frame is lit by scene lights, whose
     // shadows those nodes still cast (as the in-memory budget keeps them).
@@ -318,9 +320,11 @@ fn a_lit_streamed_frame_keeps_the_nodes_off_screen_that_cast_its_shadows() {
     let unlit = RenderSettings::default();
     let light = pointblend::frame::Light::point(camera.target + glam::Vec3::new(0.0, 0.0, 50.0));
     let lit = RenderSettings { lights: pointblend::frame::Lights::new(&[light]).unwrap(), ..unlit };
+    // Through the subset every front end chooses a streamed frame with.
+    let mut subset = StreamSubset::new(s, StreamBudget::Points(1_000_000), LoadOptions::default());
     let mut drawn = |settings: &RenderSettings| {
-        let budget = (StreamBudget::Points(1_000_000), Choosing::of(settings));
-        s.frame_under(&camera, (64, 64), budget, &LoadOptions::default()).unwrap().cloud.len()
+        let choice = subset.choose(&camera, (64, 64), Choosing::of(settings)).unwrap();
+        choice.cloud.expect("a stream's choice holds its points").len()
     };
     let (unlit, lit) = (drawn(&unlit), drawn(&lit));
     println!("a close view of a corner drew {unlit} splats unlit and {lit} lit by a scene light");

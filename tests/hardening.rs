@@ -224,7 +224,7 @@ fn convert_and_render_both_create_a_missing_output_folder() {
 }
 
 #[test]
-fn coincident_copies_are_merged_and_a_frame_over_the_memory_budget_is_drawn_in_windows_or_refused_with_a_hint() {
+fn coincident_copies_are_merged_and_a_frame_over_the_memory_budget_is_drawn_in_sub_frames_or_refused_with_a_hint() {
     let dir = test_dir();
     // 3,000 copies of one point: merged into one splat (they used to need
     // one group each, K = 3001), with a warning that counts them.
@@ -257,10 +257,10 @@ fn coincident_copies_are_merged_and_a_frame_over_the_memory_budget_is_drawn_in_w
             .output()
             .unwrap()
     };
-    // Over the budget: drawn a window at a time...
-    let log = ok(&under_budget("16"), "over budget, in windows");
-    assert!(log.contains("is drawn in") && log.contains("windows"), "{log}");
-    // ...and where not even a small window fits, refused with the size in the message.
+    // Over the budget: drawn a sub-frame at a time...
+    let log = ok(&under_budget("16"), "over budget, in sub-frames");
+    assert!(log.contains("is drawn in") && log.contains("sub-frames"), "{log}");
+    // ...and where not even a small sub-frame fits, refused with the size in the message.
     let run = under_budget("1");
     let error = one_error(&run, "over budget");
     assert!(error.contains("GiB of render targets") && error.contains("--size"), "{error}");

@@ -1,15 +1,16 @@
-//! Frames larger than a render may take (crates/render/src/window.rs): a
-//! frame drawn a window at a time is the frame drawn whole, in every GPU
+//! Frames larger than a render may take (crates/render/src/subframe.rs): a
+//! frame drawn a sub-frame at a time is the frame drawn whole, in every GPU
 //! mode and with the passes that read neighbouring pixels (eye-dome
 //! lighting, the prefilter's coverage); and an 8192² render of the bundled
-//! model is drawn in windows whose memory is bounded by the window budget,
-//! not by the frame.
+//! model is drawn in sub-frames whose memory is bounded by their budget,
+//! not by the frame; a frame bench times without reading it back is drawn in
+//! the sub-frames its saved image is drawn in.
 
 mod common;
 
 use common::tolerances::{MAX_WINDOWED_CHANGED_PIXELS, MAX_WINDOWED_PIXEL_DIFF};
-use pointblend::frame::{Camera, EyeDome, Prefilter, RenderSettings};
-use pointblend::render::{GpuRenderer, PreparedScene, RenderMode};
+use pointblend::frame::{Camera, EyeDome, Prefilter, RenderSettings, View};
+use pointblend::render::{GpuRenderer, PreparedScene, Readback, RenderMode};
 use pointblend::scene::Scene;
 use std::sync::Arc;
 
@@ -59,7 +60,7 @@ fn a_frame_drawn_in_windows_is_the_frame_drawn_whole_in_every_gpu_mode() {
         for (x, y, a) in whole.enumerate_pixels() {
             let b = windowed.get_pixel(x, y);
             let most = (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap();
-            assert!(most <= MAX_WINDOWED_PIXEL_DIFF, "{what}: ({x}, {y}) is {:?} whole, {:?} in windows", a.0, b.0);
+            assert!(most <= MAX_WINDOWED_PIXEL_DIFF, "{what}: ({x}, {y}) is {:?} whole, {:?} in sub-frames", a.0, b.0);
             changed += (most > 0) as usize;
             largest = largest.max(most);
         }
@@ -90,7 +91,7 @@ fn an_8192_square_render_of_the_bundled_model_takes_bounded_memory() {
     let grown = peak_resident_bytes().saturating_sub(before);
     let whole_targets = plan.target_bytes() / (plan.width as u64 * plan.height as u64) * (SIDE as u64 * SIDE as u64);
     let image_bytes = SIDE as u64 * SIDE as u64 * 4;
-    let note = report.iter().find(|n| n.starts_with("drawn in")).expect("an 8192² frame is drawn in windows");
+    let note = report.iter().find(|n| n.starts_with("drawn in")).expect("an 8192² frame is drawn in sub-frames");
     println!(
         "{note}; peak memory grew by {} MiB: the image is {} MiB, the window budget {} MiB, the whole frame's targets {} MiB",
         grown >> 20,
@@ -110,4 +111,29 @@ fn an_8192_square_render_of_the_bundled_model_takes_bounded_memory() {
     let differing = down.pixels().zip(small.pixels()).filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 24)).count();
     let share = differing as f64 / (512.0 * 512.0);
     assert!(share < common::tolerances::MAX_LARGE_SHOT_CHANGED, "{share:.3} of the pixels differ from the 512² frame");
+}
+
+#[test]
+fn a_timed_frame_is_drawn_in_the_sub_frames_its_saved_image_is_drawn_in() {
+    // Bench times frames it does not read back: over the memory budget they
+    // are drawn a sub-frame at a time too, so the frame timed is the frame saved.
+    let scene = Arc::new(Scene::from(common::thinned_lion(3)));
+    let size = (320, 240);
+    let mut renderer = common::renderer();
+    let mut frames = PreparedScene::of(Arc::clone(&scene));
+    let camera = Camera::default_for(frames.cloud(), size.0 as f32 / size.1 as f32);
+    let spec = frames.resolve(&RenderSettings::default(), View::still(size));
+    renderer.set_subframe_budget(u64::MAX);
+    let whole = frames.render_frame(Some(&mut *renderer), &camera, &spec, Readback::Image).unwrap();
+    assert!(whole.report.subframes.is_none(), "the whole frame fits");
+    let per_pixel = whole.plan.target_bytes() / (size.0 * size.1) as u64 + 8;
+    renderer.set_subframe_budget(per_pixel * 160 * 160);
+    let timed = frames.render_frame(Some(&mut *renderer), &camera, &spec, Readback::Nothing).unwrap();
+    let saved = frames.render_frame(Some(&mut *renderer), &camera, &spec, Readback::Image).unwrap();
+    renderer.set_subframe_budget(pointblend::render::gpu_renderer::DEFAULT_SUBFRAME_BUDGET);
+    assert_eq!(timed.image.dimensions(), (0, 0), "a timed frame is not read back");
+    let drawn_in = timed.report.subframes.expect("the timed frame is drawn in sub-frames");
+    assert_eq!(Some(drawn_in), saved.report.subframes, "the timed and the saved frame run one plan");
+    assert_eq!((timed.plan.width, timed.plan.height), (saved.plan.width, saved.plan.height));
+    assert!(drawn_in.count > 1, "{drawn_in:?}");
 }

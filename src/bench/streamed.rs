@@ -14,6 +14,8 @@ use super::views::standard_views;
 use super::{BenchConfig, BenchError};
 use crate::cloud::LoadOptions;
 use crate::copc::CopcStream;
+use crate::copc::subset::StreamSubset;
+use crate::frame::subset::{Choosing, Subset};
 use crate::render::{GpuRenderer, PreparedScene};
 use crate::scene::Scene;
 
@@ -25,7 +27,7 @@ pub(super) fn bench_streamed(
 ) -> Result<Vec<BenchRow>, BenchError> {
     let name = model.to_string_lossy().to_string();
     let opened_at = Instant::now();
-    let mut stream = CopcStream::open(&name, config.stream.clone()).map_err(|e| BenchError::Invalid(e.to_string()))?;
+    let stream = CopcStream::open(&name, config.stream.clone()).map_err(|e| BenchError::Invalid(e.to_string()))?;
     let open_s = opened_at.elapsed().as_secs_f64();
     // What the report names: the URL's credentials masked.
     let shown = stream.name().to_string();
@@ -33,24 +35,24 @@ pub(super) fn bench_streamed(
     let views = standard_views(&stream.bounds_cloud(), w as f32 / h as f32, config.views, &config.camera);
     // Chosen as the variants' base settings say (their radius scale, and
     // every node when lit: off-screen nodes cast shadows).
-    let budget = (config.stream_budget, crate::lod::Choosing::of(&config.settings));
-    let short = stream.file_name().to_string();
+    let choosing = Choosing::of(&config.settings);
+    let load = LoadOptions { progress: config.progress, ..Default::default() };
+    let mut subset = StreamSubset::new(stream, config.stream_budget, load);
+    let short = subset.stream.file_name().to_string();
     let stem = crate::output::safe_stem(Path::new(&short));
     let mut rows = Vec::new();
     for view in &views {
-        let before = stream.stats();
+        let before = subset.stream.stats();
         let started = Instant::now();
-        let frame = stream
-            .frame_under(&view.camera, (w, h), budget, &LoadOptions { progress: config.progress, ..Default::default() })
-            .map_err(|e| BenchError::Invalid(e.to_string()))?;
+        let choice = subset.choose(&view.camera, (w, h), choosing).map_err(|e| BenchError::Invalid(e.to_string()))?;
         let stream_s = started.elapsed().as_secs_f64();
-        let after = stream.stats();
-        let (cache, _, bound) = stream.cache_usage();
+        let after = subset.stream.stats();
+        let (cache, _, bound) = subset.stream.cache_usage();
         println!(
             "{short} {} view: {} points of {} nodes, {:.1} MB read in {} requests, {:.2} s to select, load and build; cache {:.0} of {:.0} MB{}",
             view.name,
-            frame.cloud.len(),
-            frame.drawn.len(),
+            subset.last.points,
+            subset.last.drawn,
             (after.bytes_read - before.bytes_read) as f64 / 1e6,
             after.requests - before.requests,
             stream_s,
@@ -58,7 +60,7 @@ pub(super) fn bench_streamed(
             bound as f64 / 1e6,
             if after.failed > 0 { format!(", {} nodes failed", after.failed) } else { String::new() }
         );
-        let scene = Scene::single(short.clone(), frame.cloud, frame.hash).coloured_by_default();
+        let scene = Scene::single(short.clone(), choice.cloud.unwrap_or_default(), choice.key).coloured_by_default();
         let opened = set_up(scene, &shown, config, open_s + stream_s)?;
         // The stream applied the budget: every frame draws the points it selected.
         let mut frames = PreparedScene::of(Arc::clone(&opened.scene)).streamed();

@@ -56,10 +56,9 @@ impl Picking {
         if let Some(&(x, y)) = pixels.iter().find(|(x, y)| *x >= size.0 || *y >= size.1) {
             bail!("pixel {x},{y} is outside the {}x{} image (--size)", size.0, size.1);
         }
-        let mut stream = view.stream.open(file)?;
-        let (mut scene, camera) = match &mut stream {
+        let (mut scene, camera) = match view.stream.open(file)? {
             Some(stream) => {
-                let bounds = super::stream_args::bounds_scene(stream);
+                let bounds = super::stream_args::bounds_scene(&stream);
                 let camera = view.camera(flags, &bounds)?;
                 let choosing = pointblend::lod::Choosing::of(&view.base_settings(&bounds, RenderMode::RULER)?);
                 (super::stream_args::frame_scene(stream, &camera, size, (view.stream_budget()?, choosing))?, camera)

@@ -205,11 +205,10 @@ fn check_outputs(args: &Args, flying: bool) -> Result<()> {
 /// style; a COPC file or URL is streamed: the nodes its view selects under
 /// the point budget, and that view's camera.
 fn open_scene(args: &Args, sidecar: Option<&Sidecar>) -> Result<(Scene, Option<Camera>)> {
-    let mut stream = args.view.stream.open(&args.file)?;
     let mut stream_camera = None;
-    let mut scene = match &mut stream {
+    let mut scene = match args.view.stream.open(&args.file)? {
         Some(stream) => {
-            let bounds = super::stream_args::bounds_scene(stream);
+            let bounds = super::stream_args::bounds_scene(&stream);
             let camera = match sidecar {
                 Some(s) => s.camera(),
                 None => args.view.camera(&args.camera_flags, &bounds)?,

@@ -6,8 +6,10 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 use pointblend::cloud::LoadOptions;
 use pointblend::copc::is_streamed;
+use pointblend::copc::subset::StreamSubset;
 use pointblend::copc::{self, CopcStream, StreamBudget, StreamOptions};
 use pointblend::frame::Camera;
+use pointblend::frame::subset::Subset;
 use pointblend::lod::Choosing;
 use pointblend::scene::Scene;
 
@@ -59,15 +61,18 @@ pub fn bounds_scene(stream: &CopcStream) -> Scene {
 }
 
 /// The scene of the nodes `stream` selects from `camera` at `size` under
-/// `budget`, chosen as the frame's settings say (`choosing`), loaded as needed.
+/// `budget`, chosen as the frame's settings say (`choosing`), loaded as
+/// needed: the stream's frame as a [`Subset`], as bench and the viewer choose theirs.
 pub fn frame_scene(
-    stream: &mut CopcStream,
+    stream: CopcStream,
     camera: &Camera,
     size: (u32, u32),
-    budget: (StreamBudget, Choosing),
+    (budget, choosing): (StreamBudget, Choosing),
 ) -> Result<Scene> {
-    let frame = stream.frame_under(camera, size, budget, &LoadOptions { progress: true, ..Default::default() })?;
-    for warning in &frame.report.warnings {
+    let mut subset = StreamSubset::new(stream, budget, LoadOptions { progress: true, ..Default::default() });
+    let choice = subset.choose(camera, size, choosing)?;
+    let (stream, last) = (&subset.stream, &subset.last);
+    for warning in &last.warnings {
         log::warn!("{}: {warning}", stream.name());
     }
     let stats = stream.stats();
@@ -75,15 +80,15 @@ pub fn frame_scene(
     log::info!(
         "{}: {} points of {} nodes drawn ({} selected); {:.1} MB read in {} requests; cache {:.0} of {:.0} MB ({nodes} nodes){}",
         stream.name(),
-        frame.cloud.len(),
-        frame.drawn.len(),
-        frame.selection.nodes.len(),
+        last.points,
+        last.drawn,
+        last.selected,
         stats.bytes_read as f64 / 1e6,
         stats.requests,
         used as f64 / 1e6,
         bound as f64 / 1e6,
         if stats.failed > 0 { format!("; {} nodes failed and were skipped", stats.failed) } else { String::new() }
     );
-    // The scene's hash names the nodes drawn, so caches keyed by it are not mixed up.
-    Ok(Scene::single(stream.file_name(), frame.cloud, frame.hash).coloured_by_default())
+    // The scene's key names the nodes drawn, so caches keyed by it are not mixed up.
+    Ok(Scene::single(stream.file_name(), choice.cloud.unwrap_or_default(), choice.key).coloured_by_default())
 }

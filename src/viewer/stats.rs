@@ -51,6 +51,13 @@ pub fn stats_section(ui: &mut Ui, info: &PanelInfo<'_>) {
             },
         );
     }
+    if !stats.report.is_empty() {
+        ui.collapsing("measured while drawing", |ui| {
+            for line in &stats.report {
+                ui.label(RichText::new(line).monospace().size(10.0));
+            }
+        });
+    }
 }
 
 pub fn error_section(ui: &mut Ui, info: &PanelInfo<'_>, actions: &mut Vec<Action>) {

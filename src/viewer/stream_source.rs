@@ -16,7 +16,9 @@ use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use crate::cloud::LoadOptions;
+use crate::copc::subset::StreamSubset;
 use crate::copc::{CopcStream, StreamBudget, StreamOptions, StreamStats};
+use crate::frame::subset::Subset;
 use crate::frame::{Camera, CameraRequest};
 use crate::scene::Scene;
 
@@ -48,7 +50,8 @@ pub struct StreamStatus {
 
 /// A streamed file, shared by the models of its selections.
 pub struct StreamedSource {
-    stream: Mutex<CopcStream>,
+    /// The stream, whose frames are chosen as a [`Subset`] (as `render` and bench choose theirs).
+    subset: Mutex<StreamSubset>,
     status: Mutex<StreamStatus>,
 }
 
@@ -61,7 +64,8 @@ impl std::fmt::Debug for StreamedSource {
 impl StreamedSource {
     pub fn open(path: &Path, options: StreamOptions) -> Result<Arc<Self>, String> {
         let stream = CopcStream::open(&path.to_string_lossy(), options).map_err(|e| e.to_string())?;
-        Ok(Arc::new(Self { stream: Mutex::new(stream), status: Mutex::new(StreamStatus::default()) }))
+        let subset = StreamSubset::new(stream, StreamBudget::Default, LoadOptions::default());
+        Ok(Arc::new(Self { subset: Mutex::new(subset), status: Mutex::new(StreamStatus::default()) }))
     }
 
     pub fn status(&self) -> StreamStatus {
@@ -71,28 +75,28 @@ impl StreamedSource {
     /// The camera `asked` makes of the file's bounds (its header's) at `aspect`:
     /// with nothing asked, the default view framing them.
     pub fn home_camera(&self, asked: &CameraRequest, aspect: f32) -> Camera {
-        let stream = self.stream.lock().expect("no panics while held");
-        let bounds = stream.bounds_cloud();
+        let subset = self.subset.lock().expect("no panics while held");
+        let bounds = subset.stream.bounds_cloud();
         asked.camera(&bounds, aspect).unwrap_or_else(|_| Camera::default_for(&bounds, aspect))
     }
 
     /// The scene of the nodes `view` selects (named `name`), and its load warnings.
     pub fn scene(&self, name: String, view: ViewKey) -> Result<(Scene, Vec<String>), String> {
-        let mut stream = self.stream.lock().map_err(|_| "the stream was poisoned".to_string())?;
-        let before = stream.stats();
+        let mut subset = self.subset.lock().map_err(|_| "the stream was poisoned".to_string())?;
+        let before = subset.stream.stats();
         let started = Instant::now();
         crate::progress::stage("selecting and loading nodes");
-        let frame = stream
-            .frame_under(&view.camera, view.size, (view.budget, view.choosing), &LoadOptions::default())
-            .map_err(|e| e.to_string())?;
+        subset.budget = view.budget;
+        let choice = subset.choose(&view.camera, view.size, view.choosing).map_err(|e| e.to_string())?;
+        let (stream, last) = (&subset.stream, &subset.last);
         let after = stream.stats();
         let seconds = after.load_seconds - before.load_seconds;
         let read = after.bytes_read - before.bytes_read;
         {
             let mut status = self.status.lock().map_err(|_| "the stream was poisoned".to_string())?;
             *status = StreamStatus {
-                nodes_shown: frame.drawn.len(),
-                points_shown: frame.cloud.len(),
+                nodes_shown: last.drawn,
+                points_shown: last.points,
                 nodes_known: stream.tree.nodes.len(),
                 points_in_file: stream.points(),
                 stats: after,
@@ -104,10 +108,10 @@ impl StreamedSource {
         log::info!(
             "{}: {} points of {} nodes in {:.2} s",
             stream.name(),
-            frame.cloud.len(),
-            frame.drawn.len(),
+            last.points,
+            last.drawn,
             started.elapsed().as_secs_f64()
         );
-        Ok((Scene::single(name, frame.cloud, frame.hash), frame.report.warnings))
+        Ok((Scene::single(name, choice.cloud.unwrap_or_default(), choice.key), last.warnings.clone()))
     }
 }

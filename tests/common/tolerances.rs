@@ -280,8 +280,8 @@ pub const MAX_LARGE_SHOT_CHANGED: f64 = 0.03;
 /// changes. Bound: 4× the worst measured.
 pub const MAX_EYE_DOME_EPS: f64 = 0.12;
 
-/// A frame drawn in windows against the frame drawn whole (320×240, every
-/// GPU mode): the windows' off-axis projections and pixel rays are the
+/// A frame drawn in sub-frames against the frame drawn whole (320×240, every
+/// GPU mode): the sub-frames' off-axis projections and pixel rays are the
 /// frame's up to f32 rounding, which moves a splat's edge across a pixel
 /// centre now and then. Measured: at most 6 levels (alg1, one pixel; 1-4
 /// elsewhere), on at most 150 of 76800 pixels (0.2 %, deferred). Bounds:

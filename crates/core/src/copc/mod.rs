@@ -26,6 +26,7 @@ pub(crate) mod load;
 pub mod redact;
 pub mod source;
 pub mod stream;
+pub mod subset;
 pub mod write;
 
 pub use budget::StreamBudget;

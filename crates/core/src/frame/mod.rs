@@ -17,6 +17,7 @@ pub mod settings;
 pub mod shading;
 pub mod sidecar;
 pub mod spec;
+pub mod subset;
 pub mod variant;
 pub mod view_path;
 

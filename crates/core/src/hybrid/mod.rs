@@ -27,6 +27,7 @@
 //! with alpha-blending" transition.
 
 pub mod select;
+pub mod subset;
 
 use std::ops::Range;
 

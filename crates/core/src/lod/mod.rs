@@ -20,13 +20,15 @@
 
 pub mod cache;
 pub mod select;
+pub mod subset;
 
 use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::cloud::PointCloud;
 
-pub use select::{Choosing, LodTree, Refinement, SelectOptions, Selection, gather, select, select_in};
+pub use crate::frame::subset::Choosing;
+pub use select::{LodTree, Refinement, SelectOptions, Selection, gather, select, select_in};
 
 /// Most original splats a leaf holds. With [`CELLS`], chosen so that a
 /// surface node just above the leaves holds about a quarter of their

@@ -21,6 +21,7 @@ use glam::{Mat4, Vec3};
 use super::Hierarchy;
 use crate::cloud::PointCloud;
 use crate::frame::Camera;
+use crate::frame::subset::Choosing;
 
 /// What a frame draws.
 #[derive(Debug, Clone, PartialEq)]
@@ -96,29 +97,6 @@ pub struct SelectOptions {
     /// while the budget allows). A streamed file stops near one pixel, so a
     /// far view reads only the top levels.
     pub finest_px: f32,
-}
-
-/// What a frame's settings say about choosing its splats, in memory and
-/// streamed alike: the radius scale the splats are drawn at, and whether
-/// nodes outside the view are dropped (not when the frame is lit by scene
-/// lights: off-screen splats still cast its shadows).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Choosing {
-    pub radius_scale: f32,
-    pub cull: bool,
-}
-
-impl Choosing {
-    /// How a frame drawn with `drawn` chooses its splats.
-    pub fn of(drawn: &crate::frame::RenderSettings) -> Self {
-        Choosing { radius_scale: drawn.radius_scale, cull: !drawn.lit_by_lights() }
-    }
-}
-
-impl Default for Choosing {
-    fn default() -> Self {
-        Choosing::of(&Default::default())
-    }
 }
 
 impl SelectOptions {

@@ -11,6 +11,7 @@
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
+use super::environment_pass::Lookup;
 use super::tiles::{self, EyeSplat, TILE};
 use super::triangles;
 use crate::frame::environment_effects::{EnvironmentSettings, GlassPixel};
@@ -354,13 +355,7 @@ fn render_samples(
                 })
                 .collect::<Vec<_>>();
             // The band starts on a tile row (even), so the lookup's 2×2 pixel quads stay whole.
-            let lookup = super::environment_pass::Lookup {
-                map,
-                camera,
-                settings: &options.environment,
-                width,
-                height: band_height,
-            };
+            let lookup = Lookup { map, camera, settings: &options.environment, width, height: band_height };
             lookup.apply(&rays, &band.glass, &band.layers, &mut band.colours);
         }
         emit(rows, &band);

@@ -508,16 +508,17 @@ impl Reader<'_> {
         url: &Spanned<String>,
         warnings: &mut Vec<String>,
     ) -> Result<(String, cloud::PointCloud, u64), SceneError> {
-        use crate::copc::{CopcStream, StreamBudget, StreamOptions};
+        use crate::copc::{CopcStream, StreamBudget, StreamOptions, subset::StreamSubset};
+        use crate::frame::subset::{Choosing, Subset};
         let at = |e: crate::copc::CopcError| self.at(Some(url.span()), e.to_string());
         let options = StreamOptions { progress: self.options.progress, ..Default::default() };
-        let mut stream = CopcStream::open(url.get_ref(), options).map_err(at)?;
-        let bounds = stream.bounds_cloud();
-        let camera = crate::frame::Camera::default_for(&bounds, 1.0);
-        let frame =
-            stream.frame_under(&camera, (1, 1), (StreamBudget::All, Default::default()), self.options).map_err(at)?;
-        warnings.extend(frame.report.warnings.iter().map(|w| format!("{}: {w}", stream.name())));
-        Ok((stream.file_name().to_string(), frame.cloud, frame.hash))
+        let stream = CopcStream::open(url.get_ref(), options).map_err(at)?;
+        let camera = crate::frame::Camera::default_for(&stream.bounds_cloud(), 1.0);
+        let mut subset = StreamSubset::new(stream, StreamBudget::All, self.options.clone());
+        let choice = subset.choose(&camera, (1, 1), Choosing::default()).map_err(at)?;
+        let name = subset.stream.name();
+        warnings.extend(subset.last.warnings.iter().map(|w| format!("{name}: {w}")));
+        Ok((subset.stream.file_name().to_string(), choice.cloud.unwrap_or_default(), choice.key))
     }
 
     /// A `sphere` object: its name, generated cloud and a hash of its parameters.

@@ -41,15 +41,20 @@ impl StyleRecord {
             Some([lo, hi]) => Some(super::parse::range(&format!("{lo},{hi}"))?),
             None => None,
         };
-        if let Some(&(class, opacity)) = self.class_opacity.iter().find(|(_, a)| !(0.0..=1.0).contains(a)) {
-            return Err(format!("class {class}'s opacity {opacity} is not in 0..1"));
-        }
+        // Through the parser every other source of a style uses: one check of each value.
+        let class_opacity = match self.class_opacity.as_slice() {
+            [] => Vec::new(),
+            pairs => {
+                let text: Vec<String> = pairs.iter().map(|(class, opacity)| format!("{class}:{opacity}")).collect();
+                super::parse::class_opacity(&text.join(","))?
+            }
+        };
         Ok(Style {
             color_by: self.color_by.as_deref().map(str::parse).transpose()?,
             colormap: self.colormap.parse()?,
             range,
             classes: self.classes.clone(),
-            class_opacity: self.class_opacity.clone(),
+            class_opacity,
             opacity_by: self.opacity_by.clone(),
         })
     }
@@ -74,5 +79,8 @@ mod tests {
         assert_eq!(back.style().unwrap(), style, "{json}");
         let bad = StyleRecord { colormap: "rainbow".into(), ..Default::default() };
         assert!(bad.style().unwrap_err().contains("rainbow"));
+        // Checked by the parser every source of a style goes through, with its words.
+        let bad = StyleRecord { class_opacity: vec![(5, 1.5)], ..StyleRecord::from(&style) };
+        assert_eq!(bad.style().unwrap_err(), "'1.5' is not an opacity in 0..1");
     }
 }

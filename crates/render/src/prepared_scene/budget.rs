@@ -21,11 +21,13 @@ use std::time::Instant;
 use super::subset::SubsetScene;
 use super::{FrameError, PreparedScene};
 use crate::cloud::PointCloud;
+use crate::frame::subset::{Choosing, Subset};
 use crate::frame::{Camera, FrameSpec};
 use crate::gpu_renderer::GpuRenderer;
 use crate::gpu_scene::GpuScene;
 use crate::grouping::cache::Cache;
-use crate::lod::{self, Hierarchy, Selection};
+use crate::lod::subset::BudgetSubset;
+use crate::lod::{self, Hierarchy};
 use crate::report::{BudgetStats, FrameReport};
 
 /// The hierarchy of `cloud`, a scene's splats in world space whose scene
@@ -47,27 +49,23 @@ fn hierarchy_key(geometry: u64, cloud: &PointCloud) -> u64 {
     fnv1a(key, &sides)
 }
 
-/// The hierarchy of a scene and the frames of its last selection.
+/// The hierarchy's nodes under a budget, and the frames of their last choice.
 pub(super) struct BudgetFrames {
-    /// The hierarchy's cache key (what its splats are).
-    key: u64,
-    hierarchy: Arc<Hierarchy>,
-    selected: Option<Selection>,
+    subset: BudgetSubset,
     chosen: SubsetScene,
 }
 
 impl BudgetFrames {
     /// Nothing selected yet from `hierarchy` (cache key `key`) of `parent`'s splats.
     fn new(key: u64, hierarchy: Arc<Hierarchy>, parent: &PreparedScene) -> Box<Self> {
-        let chosen = SubsetScene::of(parent, "budget");
-        Box::new(Self { key, hierarchy, selected: None, chosen })
+        Box::new(Self { subset: BudgetSubset::new(hierarchy, key), chosen: SubsetScene::of(parent, "budget") })
     }
 }
 
 impl PreparedScene {
     /// The hierarchy of the scene's splats, built (or read from the cache) on first use.
     pub fn hierarchy(&mut self) -> Arc<Hierarchy> {
-        self.budget_frames().hierarchy.clone()
+        self.budget_frames().subset.hierarchy.clone()
     }
 
     /// Frames under a budget draw from `hierarchy`, made elsewhere (the
@@ -110,30 +108,22 @@ impl PreparedScene {
     ) -> Result<(&mut PreparedScene, BudgetStats), FrameError> {
         let state = self.budget_frames();
         let started = Instant::now();
-        let options = lod::SelectOptions::for_frame(budget as usize, lod::Choosing::of(&spec.drawn), 0.0);
-        let selection = lod::select(&state.hierarchy, camera, spec.size, options);
-        let select_ms = started.elapsed().as_secs_f64() * 1e3;
-        let changed = state.selected.as_ref() != Some(&selection);
-        let started = Instant::now();
-        let hierarchy = &state.hierarchy;
-        let frames = state.chosen.next(gpu, changed, || {
-            // Keyed by what it is (the hierarchy and the nodes chosen), not by hashing every splat.
-            let nodes: Vec<u8> = selection.nodes.iter().flat_map(|n| n.to_le_bytes()).collect();
-            (lod::gather(hierarchy, &selection), pointblend_core::hash::fnv1a(state.key, &nodes))
-        })?;
-        let h = &state.hierarchy;
+        state.subset.budget = budget;
+        let Ok(choice) = state.subset.choose(camera, spec.size, Choosing::of(&spec.drawn));
+        let chosen = state.subset.last;
+        let frames = state.chosen.next(gpu, choice)?;
+        let h = &state.subset.hierarchy;
         let stats = BudgetStats {
             budget,
-            nodes: selection.nodes.len(),
-            splats: selection.splats,
-            select_ms,
-            update_ms: started.elapsed().as_secs_f64() * 1e3,
-            changed,
+            nodes: chosen.nodes,
+            splats: chosen.splats,
+            select_ms: chosen.select_ms,
+            update_ms: (started.elapsed().as_secs_f64() * 1e3 - chosen.select_ms).max(0.0),
+            changed: chosen.changed,
             build_s: h.seconds,
             hierarchy_nodes: h.nodes.len(),
             hierarchy_bytes: h.bytes(),
         };
-        state.selected = Some(selection);
         Ok((frames, stats))
     }
 

@@ -1,7 +1,7 @@
-//! Frames of the splats a view chooses from a scene: the nodes under a
-//! point budget (`budget.rs`), or the splats drawn beside a frame's mesh
-//! triangles (`hybrid.rs`). Each new choice is gathered into one cloud and
-//! shown as a moving scene's next frame, so the modes that draw groups get
+//! Frames of the splats a [`Subset`](crate::frame::subset::Subset) chooses
+//! per view from a scene: the nodes under a point budget (`budget.rs`), or
+//! the splats drawn beside a frame's mesh triangles (`hybrid.rs`). Each new
+//! choice is shown as a moving scene's next frame, so the modes that draw groups get
 //! Zhang & Pajarola's hash grouping of the chosen splats, redone in
 //! milliseconds on the whole scene's lattice, and the GPU copies are
 //! rewritten (reallocated when the count changed).
@@ -9,7 +9,7 @@
 use std::sync::Arc;
 
 use super::{FrameError, PreparedScene};
-use crate::cloud::PointCloud;
+use crate::frame::subset::Choice;
 use crate::gpu_renderer::GpuRenderer;
 use crate::grouping::cache::Cache;
 use crate::grouping::regroup::Lattice;
@@ -39,19 +39,15 @@ impl SubsetScene {
         }
     }
 
-    /// The frames of the chosen splats: when `changed` (or on first use),
-    /// `choose()`'s cloud, keyed for the caches by its key, as the next frame.
-    pub(super) fn next(
-        &mut self,
-        gpu: Option<&GpuRenderer>,
-        changed: bool,
-        choose: impl FnOnce() -> (PointCloud, u64),
-    ) -> Result<&mut PreparedScene, FrameError> {
-        let shown = self.frames.take();
-        if !changed && let Some(frames) = shown {
-            return Ok(self.frames.insert(frames));
+    /// The frames of the splats `choice` names: the last ones when it holds
+    /// no new cloud, else its cloud as the next frame of a moving scene.
+    pub(super) fn next(&mut self, gpu: Option<&GpuRenderer>, choice: Choice) -> Result<&mut PreparedScene, FrameError> {
+        if choice.cloud.is_none() && self.frames.is_some() {
+            return Ok(self.frames.as_deref_mut().expect("checked above"));
         }
-        let (cloud, key) = choose();
+        // A subset's first choice always holds its splats.
+        let (cloud, key) = (choice.cloud.unwrap_or_default(), choice.key);
+        let shown = self.frames.take();
         let mut scene = Scene::single(self.name, cloud, key);
         scene.environment = self.environment.clone();
         let scene = Arc::new(scene);

@@ -1,0 +1,79 @@
+//! The nodes a frame draws under a point budget, as a [`Subset`]: chosen
+//! from the scene's multi-resolution hierarchy by screen-space error
+//! ([`super::select`]), gathered into one cloud only when the choice changed.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use super::{Choosing, Hierarchy, SelectOptions, Selection, gather, select};
+use crate::frame::Camera;
+use crate::frame::subset::{Choice, Subset};
+
+/// What the last choice drew and cost.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct BudgetChoice {
+    pub nodes: usize,
+    pub splats: usize,
+    /// Node selection, in milliseconds.
+    pub select_ms: f64,
+    pub changed: bool,
+}
+
+/// The nodes of `hierarchy` under a budget.
+pub struct BudgetSubset {
+    pub hierarchy: Arc<Hierarchy>,
+    /// What the hierarchy's splats are (its cache key): choices are keyed by it and their nodes.
+    key: u64,
+    /// Most splats a frame draws; set per frame (the frame's spec says it).
+    pub budget: u32,
+    selected: Option<Selection>,
+    pub last: BudgetChoice,
+}
+
+impl BudgetSubset {
+    /// Nothing chosen yet from `hierarchy`, whose splats `key` names.
+    pub fn new(hierarchy: Arc<Hierarchy>, key: u64) -> Self {
+        BudgetSubset { hierarchy, key, budget: u32::MAX, selected: None, last: BudgetChoice::default() }
+    }
+}
+
+impl Subset for BudgetSubset {
+    type Error = std::convert::Infallible;
+
+    fn choose(&mut self, camera: &Camera, size: (u32, u32), choosing: Choosing) -> Result<Choice, Self::Error> {
+        let started = Instant::now();
+        let options = SelectOptions::for_frame(self.budget as usize, choosing, 0.0);
+        let selection = select(&self.hierarchy, camera, size, options);
+        let select_ms = started.elapsed().as_secs_f64() * 1e3;
+        let changed = self.selected.as_ref() != Some(&selection);
+        // Keyed by what it is (the hierarchy and the nodes chosen), not by hashing every splat.
+        let nodes: Vec<u8> = selection.nodes.iter().flat_map(|n| n.to_le_bytes()).collect();
+        let key = crate::hash::fnv1a(self.key, &nodes);
+        let cloud = changed.then(|| gather(&self.hierarchy, &selection));
+        self.last = BudgetChoice { nodes: selection.nodes.len(), splats: selection.splats, select_ms, changed };
+        self.selected = Some(selection);
+        Ok(Choice { cloud, key })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    #[test]
+    fn the_same_view_keeps_its_splats_and_a_new_one_names_new_ones() {
+        let cloud = crate::scene::primitives::plane(40_000, 2.0, Vec3::ZERO, Vec3::new(0.3, 1.0, 0.2));
+        let mut subset = BudgetSubset::new(Arc::new(Hierarchy::build(&cloud)), 7);
+        subset.budget = 5_000;
+        let camera = Camera::default_for(&cloud, 1.0);
+        let first = subset.choose(&camera, (128, 128), Choosing::default()).unwrap();
+        let chosen = first.cloud.expect("the first choice holds its splats");
+        assert!(chosen.len() <= 5_000 && chosen.len() == subset.last.splats, "{}", chosen.len());
+        let again = subset.choose(&camera, (128, 128), Choosing::default()).unwrap();
+        assert!(again.cloud.is_none() && again.key == first.key, "the same view: the same splats, not gathered again");
+        let close = Camera { distance: camera.distance * 0.3, ..camera };
+        let moved = subset.choose(&close, (128, 128), Choosing::default()).unwrap();
+        assert!(moved.cloud.is_some() && moved.key != first.key, "a closer view chooses other nodes");
+    }
+}
