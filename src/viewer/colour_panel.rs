@@ -45,10 +45,9 @@ fn color_by_widget(ui: &mut Ui, style: &mut Style, summary: &Summary) {
         choices.push(ColorBy::Classification);
     }
     // The classification column is coloured by its class colours (above), not through a colormap.
-    choices.extend(summary.columns.iter().filter(|c| c.name != names::CLASSIFICATION).map(|c| match c.name.as_str() {
-        "elevation" => ColorBy::Elevation,
-        name => ColorBy::Attribute(name.to_string()),
-    }));
+    choices.extend(
+        summary.columns.iter().filter(|c| c.name != names::CLASSIFICATION).map(|c| ColorBy::of_column(&c.name)),
+    );
     let shown = style.color_by.clone().unwrap_or(ColorBy::Rgb);
     egui::ComboBox::new("colour by", "colour by").selected_text(shown.text()).show_ui(ui, |ui| {
         for choice in choices {
@@ -135,7 +134,7 @@ fn opacity_by_widget(ui: &mut Ui, style: &mut Style, summary: &Summary) {
         if ui.selectable_label(style.opacity_by.is_none(), "none").clicked() {
             style.opacity_by = None;
         }
-        for column in summary.columns.iter().filter(|c| c.name != "elevation") {
+        for column in summary.columns.iter().filter(|c| c.name != crate::style::ELEVATION) {
             if ui.selectable_label(shown == column.name, &column.name).clicked() {
                 style.opacity_by = Some(column.name.clone());
             }

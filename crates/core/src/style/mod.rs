@@ -23,6 +23,16 @@ pub use colormap::Colormap;
 use crate::cloud::attributes::names;
 use crate::cloud::{PointCloud, Values};
 
+/// The name of the pseudo-attribute every summary lists first: each
+/// point's height in the file's units (its z, as `--color-by elevation` colours it).
+pub const ELEVATION: &str = "elevation";
+
+/// Each point's height in the file's units: its z, off the cloud's origin and unit.
+pub fn elevations(cloud: &PointCloud) -> Vec<f64> {
+    let (z0, unit) = (cloud.origin[2], cloud.unit());
+    cloud.positions.iter().map(|p| p.z as f64 * unit + z0).collect()
+}
+
 /// What the colours show.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ColorBy {
@@ -120,10 +130,7 @@ impl Style {
             }
             Some(by) => {
                 let values: Vec<f64> = match by {
-                    ColorBy::Elevation => {
-                        let (z0, unit) = (out.origin[2], out.unit());
-                        out.positions.iter().map(|p| p.z as f64 * unit + z0).collect()
-                    }
+                    ColorBy::Elevation => elevations(&out),
                     ColorBy::Attribute(name) => {
                         let c = column(&out, name, "--color-by")?;
                         (0..out.len()).map(|i| c.get(i)).collect()
@@ -249,4 +256,19 @@ mod tests {
         assert!(out.is_consistent());
         assert_eq!(out.attributes.get("intensity"), Some(&Values::U16(vec![1, 3, 5, 7, 9])));
     }
+
+    #[test]
+    fn every_summary_column_is_the_scalar_column_of_colouring_by_it() {
+        let mut cloud = cloud(10);
+        cloud.positions.iter_mut().enumerate().for_each(|(i, p)| p.z = i as f32);
+        let summary = summary::Summary::of(&cloud);
+        assert_eq!(summary.columns[0].name, ELEVATION, "the height comes first");
+        for column in &summary.columns {
+            let style = Style { color_by: Some(ColorBy::of_column(&column.name)), ..Default::default() };
+            assert_eq!(summary.scalar_column(&style).map(|c| &c.name), Some(&column.name));
+            let (_, applied) = style.apply(&cloud).unwrap();
+            assert_eq!(applied.range, Some(column.percentiles), "{}: the colours span the summary's range", column.name);
+        }
+    }
+
 }

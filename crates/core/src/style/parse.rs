@@ -25,12 +25,18 @@ impl std::str::FromStr for ColorBy {
 }
 
 impl ColorBy {
+    /// What colouring by the summary's column `name` is: the height for
+    /// [`super::ELEVATION`], else that attribute.
+    pub fn of_column(name: &str) -> ColorBy {
+        if name == super::ELEVATION { ColorBy::Elevation } else { ColorBy::Attribute(name.to_string()) }
+    }
+
     /// The text form (what [`str::parse`] reads back).
     pub fn text(&self) -> String {
         match self {
             ColorBy::Rgb => "rgb".into(),
             ColorBy::Classification => "classification".into(),
-            ColorBy::Elevation => "elevation".into(),
+            ColorBy::Elevation => super::ELEVATION.into(),
             ColorBy::Attribute(name) if name == names::RETURN_NUMBER => "return".into(),
             ColorBy::Attribute(name) if name == names::GPS_TIME => "gps-time".into(),
             ColorBy::Attribute(name) => name.clone(),

@@ -35,7 +35,7 @@ impl Summary {
     /// attribute), if the colours show one.
     pub fn scalar_column(&self, style: &super::Style) -> Option<&ColumnSummary> {
         match style.color_by.as_ref()? {
-            super::ColorBy::Elevation => self.column("elevation"),
+            super::ColorBy::Elevation => self.column(super::ELEVATION),
             super::ColorBy::Attribute(name) => self.column(name),
             super::ColorBy::Rgb | super::ColorBy::Classification => None,
         }
@@ -46,9 +46,7 @@ impl Summary {
         if cloud.attributes.is_empty() {
             return Summary::default();
         }
-        let (z0, unit) = (cloud.origin[2], cloud.unit());
-        let elevation: Vec<f64> = cloud.positions.iter().map(|p| p.z as f64 * unit + z0).collect();
-        let mut columns = vec![column("elevation", &elevation)];
+        let mut columns = vec![column(super::ELEVATION, &super::elevations(cloud))];
         for channel in &cloud.attributes.channels {
             let values: Vec<f64> = (0..channel.values.len()).map(|i| channel.values.get(i)).collect();
             columns.push(column(&channel.name, &values));
