@@ -267,8 +267,12 @@ mod tests {
             let style = Style { color_by: Some(ColorBy::of_column(&column.name)), ..Default::default() };
             assert_eq!(summary.scalar_column(&style).map(|c| &c.name), Some(&column.name));
             let (_, applied) = style.apply(&cloud).unwrap();
-            assert_eq!(applied.range, Some(column.percentiles), "{}: the colours span the summary's range", column.name);
+            assert_eq!(
+                applied.range,
+                Some(column.percentiles),
+                "{}: the colours span the summary's range",
+                column.name
+            );
         }
     }
-
 }
