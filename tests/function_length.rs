@@ -4,22 +4,12 @@
 //! reads every source file: code is scanned with strings, characters and
 //! comments blanked out, and each `fn` with a body is measured by its braces.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use common::source::rust_files;
+use std::path::PathBuf;
 
 const MOST_LINES: usize = 120;
-
-fn rust_files(dir: &Path) -> Vec<PathBuf> {
-    let mut files = Vec::new();
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.is_dir() {
-            files.extend(rust_files(&path));
-        } else if path.extension().is_some_and(|e| e == "rs") {
-            files.push(path);
-        }
-    }
-    files
-}
 
 /// `text` with every string, character literal and comment replaced by
 /// spaces (line breaks kept), so that only code's braces remain.

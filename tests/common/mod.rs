@@ -14,6 +14,7 @@ pub mod fuzz;
 pub mod lidar;
 pub mod nginx;
 pub mod plywriter;
+pub mod source;
 pub mod tolerances;
 pub mod viewer;
 

@@ -221,8 +221,6 @@ pub struct FrameSpec {
     /// The splat passes' low-pass radius in pixels (0: none).
     pub low_pass_px: f32,
     pub epsilon_radius: EpsilonRadius,
-    /// Whether the scene's triangles are drawn.
-    pub triangles: bool,
     pub notes: Vec<FrameNote>,
 }
 
@@ -230,6 +228,11 @@ impl FrameSpec {
     /// The mode that runs (after the preview; its plan is two-pass under the opaque fallback).
     pub fn mode(&self) -> RenderMode {
         self.drawn.mode
+    }
+
+    /// Whether the scene's triangles are drawn (a hybrid selection).
+    pub fn draws_triangles(&self) -> bool {
+        matches!(self.selection, Selection::Hybrid(_))
     }
 
     /// The notes in words.
@@ -300,7 +303,6 @@ pub fn resolve(asked: &RenderSettings, facts: &SceneFacts, view: &View) -> Frame
         environment: drawn.draws_environment(),
         low_pass_px: drawn.low_pass_radius_px(),
         epsilon_radius,
-        triangles,
         notes,
     }
 }

@@ -86,13 +86,13 @@ fn no_budget_is_left_in_the_settings_a_gpu_frame_draws_with() {
 fn triangles_are_drawn_by_modes_that_can_in_still_unlit_frames() {
     let meshes = SceneFacts { surfaces: true, ..transparent() };
     let spec = resolve(&settings("two-pass"), &meshes, &still());
-    assert!(spec.triangles);
+    assert!(spec.draws_triangles());
     assert_eq!(spec.selection, Selection::Hybrid(settings("two-pass").hybrid_pixels));
     assert_eq!(spec.epsilon_radius, EpsilonRadius::Scene(0.5), "ε of the whole scene beside triangles");
 
     let refused = |s: &RenderSettings, facts: &SceneFacts| {
         let spec = resolve(s, facts, &still());
-        assert!(!spec.triangles);
+        assert!(!spec.draws_triangles());
         assert_eq!(spec.epsilon_radius, EpsilonRadius::Drawn);
         spec.notes.iter().find_map(|n| if let FrameNote::MeshesAsSplats(why) = n { Some(*why) } else { None })
     };
@@ -101,7 +101,7 @@ fn triangles_are_drawn_by_modes_that_can_in_still_unlit_frames() {
     assert_eq!(refused(&settings("two-pass"), &SceneFacts { moving: true, ..meshes }), Some(NoTriangles::Moving));
     // A transparent mode that falls back to two-pass on an opaque scene draws triangles as two-pass does.
     let opaque_meshes = SceneFacts { transparent: false, ..meshes };
-    assert!(resolve(&settings("alg2"), &opaque_meshes, &still()).triangles);
+    assert!(resolve(&settings("alg2"), &opaque_meshes, &still()).draws_triangles());
     assert_eq!(refused(&settings("two-pass"), &transparent()), None, "no meshes, no note");
 }
 

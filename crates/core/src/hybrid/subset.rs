@@ -21,6 +21,8 @@ pub struct HybridSubset {
     /// Names the scene's splats: choices are keyed by it and their splats.
     key: u64,
     selected: Option<HybridSelection>,
+    /// The key of the last choice.
+    chosen_key: u64,
     /// Leaves are drawn as triangles where their splats would pass this
     /// radius in pixels; set per frame (the frame's spec says it).
     pub pixels: f32,
@@ -31,7 +33,7 @@ pub struct HybridSubset {
 impl HybridSubset {
     /// Nothing chosen yet from `surfaces` of the splats `whole`, which `key` names.
     pub fn new(surfaces: SceneSurfaces, whole: Arc<PointCloud>, key: u64) -> Self {
-        HybridSubset { surfaces, whole, key, selected: None, pixels: 0.0, select_ms: 0.0 }
+        HybridSubset { surfaces, whole, key, selected: None, chosen_key: key, pixels: 0.0, select_ms: 0.0 }
     }
 
     /// The last selection: its triangles, splats and leaves.
@@ -49,10 +51,15 @@ impl Subset for HybridSubset {
         let selection = self.surfaces.select(camera, size, options);
         self.select_ms = started.elapsed().as_secs_f64() * 1e3;
         let changed = self.selected.as_ref().is_none_or(|s| s.splats != selection.splats);
-        let splats: Vec<u8> = selection.splats.iter().flat_map(|v| v.to_le_bytes()).collect();
-        let key = crate::hash::fnv1a(self.key, &splats);
-        let cloud = changed.then(|| selection.gather(&self.whole));
+        let cloud = if changed {
+            // Hashed only when the splats changed: a still view costs no pass over them.
+            let splats: Vec<u8> = selection.splats.iter().flat_map(|v| v.to_le_bytes()).collect();
+            self.chosen_key = crate::hash::fnv1a(self.key, &splats);
+            Some(selection.gather(&self.whole))
+        } else {
+            None
+        };
         self.selected = Some(selection);
-        Ok(Choice { cloud, key })
+        Ok(Choice { cloud, key: self.chosen_key })
     }
 }

@@ -27,13 +27,22 @@ pub struct BudgetSubset {
     /// Most splats a frame draws; set per frame (the frame's spec says it).
     pub budget: u32,
     selected: Option<Selection>,
+    /// The key of the last choice.
+    chosen_key: u64,
     pub last: BudgetChoice,
 }
 
 impl BudgetSubset {
     /// Nothing chosen yet from `hierarchy`, whose splats `key` names.
     pub fn new(hierarchy: Arc<Hierarchy>, key: u64) -> Self {
-        BudgetSubset { hierarchy, key, budget: u32::MAX, selected: None, last: BudgetChoice::default() }
+        BudgetSubset {
+            hierarchy,
+            key,
+            budget: u32::MAX,
+            selected: None,
+            chosen_key: key,
+            last: BudgetChoice::default(),
+        }
     }
 }
 
@@ -46,13 +55,17 @@ impl Subset for BudgetSubset {
         let selection = select(&self.hierarchy, camera, size, options);
         let select_ms = started.elapsed().as_secs_f64() * 1e3;
         let changed = self.selected.as_ref() != Some(&selection);
-        // Keyed by what it is (the hierarchy and the nodes chosen), not by hashing every splat.
-        let nodes: Vec<u8> = selection.nodes.iter().flat_map(|n| n.to_le_bytes()).collect();
-        let key = crate::hash::fnv1a(self.key, &nodes);
-        let cloud = changed.then(|| gather(&self.hierarchy, &selection));
+        let cloud = if changed {
+            // Keyed by what it is (the hierarchy and the nodes chosen), not by hashing every splat.
+            let nodes: Vec<u8> = selection.nodes.iter().flat_map(|n| n.to_le_bytes()).collect();
+            self.chosen_key = crate::hash::fnv1a(self.key, &nodes);
+            Some(gather(&self.hierarchy, &selection))
+        } else {
+            None
+        };
         self.last = BudgetChoice { nodes: selection.nodes.len(), splats: selection.splats, select_ms, changed };
         self.selected = Some(selection);
-        Ok(Choice { cloud, key })
+        Ok(Choice { cloud, key: self.chosen_key })
     }
 }
 

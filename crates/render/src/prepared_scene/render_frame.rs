@@ -11,7 +11,6 @@ use super::{FrameError, PreparedScene};
 use crate::frame::spec::Selection;
 use crate::frame::{Camera, FrameSpec, RenderSettings, SceneFacts, View};
 use crate::gpu_renderer::GpuRenderer;
-use crate::gpu_scene::GpuScene;
 use crate::plan::RenderPlan;
 use crate::report::FrameReport;
 use pointblend_core::reference::{self, ReferenceOptions};
@@ -96,7 +95,12 @@ impl PreparedScene {
         }
         let gpu = gpu.ok_or(FrameError::NoGpu(spec.mode().name()))?;
         let mut report = FrameReport::default();
-        let scene = self.prepare(gpu, camera, spec, &mut report)?;
+        // What the spec selects, prepared (the splats selected here are part of the frame).
+        let scene = match spec.selection {
+            Selection::Hybrid(_) => self.hybrid_scene(gpu, camera, spec, &mut report)?,
+            Selection::Budget(budget) => self.budgeted_scene(gpu, camera, spec, budget, &mut report)?,
+            Selection::Whole | Selection::Streamed => self.gpu_scene_mut(gpu, spec, &mut report)?,
+        };
         let (image, plan, drawn) = gpu.render_spec(scene, camera, spec, readback != Readback::Nothing)?;
         report = FrameReport {
             tile_lists: drawn.tile_lists,
@@ -105,22 +109,5 @@ impl PreparedScene {
             ..report
         };
         Ok(Frame { image, plan, report })
-    }
-
-    /// The GPU copy that draws what `spec` selects from `camera` (the splats
-    /// selected here are part of the frame), with what was selected and the
-    /// shadows in `report`.
-    fn prepare(
-        &mut self,
-        gpu: &GpuRenderer,
-        camera: &Camera,
-        spec: &FrameSpec,
-        report: &mut FrameReport,
-    ) -> Result<&mut GpuScene, FrameError> {
-        match spec.selection {
-            Selection::Hybrid(_) => self.hybrid_scene(gpu, camera, spec, report),
-            Selection::Budget(budget) => self.budgeted_scene(gpu, camera, spec, budget, report),
-            Selection::Whole | Selection::Streamed => self.gpu_scene_mut(gpu, spec, report),
-        }
     }
 }
