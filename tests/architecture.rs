@@ -43,7 +43,7 @@ fn the_core_crate_depends_on_no_gpu_window_or_ui_crate() {
 fn no_core_module_imports_one_above_it() {
     // From the ground up; a module may use those before it in this list.
     let layers: [&[&str]; 9] = [
-        &["formats", "hash", "input", "memory", "output", "progress"],
+        &["formats", "hash", "input", "memory", "named", "output", "progress"],
         &["spatial"],
         &["cloud"],
         &["style"],
@@ -109,6 +109,41 @@ fn the_viewer_imports_nothing_from_the_benchmark() {
     for file in rust_files(&root().join("src/viewer")) {
         for (n, code) in code_lines(&file) {
             assert!(!code.contains("crate::bench"), "{}:{n}: the viewer uses the benchmark: {code}", file.display());
+        }
+    }
+}
+
+/// What a scene's frames prepared is kept in one cache with no policy
+/// inside: `scene_cache.rs` reads no settings, spec or scene (it cannot
+/// decide anything from them), and no type of the renderer holds a prepared
+/// scene inside another (no nested cache).
+#[test]
+fn the_scene_cache_decides_nothing_and_no_prepared_scene_nests_another() {
+    let render_src = root().join("crates/render/src");
+    let cache = render_src.join("scene_cache.rs");
+    let mut read = 0;
+    for (n, code) in code_lines(&cache) {
+        for policy in
+            ["RenderSettings", "FrameSpec", "Selection", "SceneFacts", "scene::Scene", "GpuRenderer", "resolve"]
+        {
+            assert!(!code.contains(policy), "{}:{n}: the scene cache reads {policy}: {code}", cache.display());
+        }
+        read += 1;
+    }
+    assert!(read > 50, "{read} lines of the cache read");
+    for file in rust_files(&render_src) {
+        for (n, code) in code_lines(&file) {
+            // A field: `[pub(…)] name: Type`, whose type holds a prepared scene, not a reference to one.
+            let field = code.trim_start().split_once(':').map(|(before, ty)| (before.split_whitespace().collect(), ty));
+            let nests = field.is_some_and(|(words, ty): (Vec<&str>, &str)| {
+                let named = match words[..] {
+                    [name] | [_, name] if words.len() == 1 || words[0].starts_with("pub") => name,
+                    _ => return false,
+                };
+                let is_name = !named.is_empty() && named.chars().all(|c| c.is_alphanumeric() || c == '_');
+                is_name && ty.contains("PreparedScene") && !ty.contains('&')
+            });
+            assert!(!nests, "{}:{n}: a prepared scene held inside another: {code}", file.display());
         }
     }
 }

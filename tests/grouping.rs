@@ -255,15 +255,7 @@ fn extension_covers_more_of_the_surface() {
 }
 
 fn tiny(positions: Vec<Vec3>) -> PointCloud {
-    let n = positions.len();
-    PointCloud {
-        positions,
-        normals: vec![Vec3::Z; n],
-        radii: vec![0.5; n],
-        colours: vec![[1; 3]; n],
-        opacity: vec![1.0; n],
-        ..Default::default()
-    }
+    PointCloud::facing_z(positions, 0.5, [1; 3])
 }
 
 #[test]

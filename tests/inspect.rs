@@ -47,16 +47,8 @@ fn five_discs() -> Scene {
         Vec3::new(0.3, -0.8, -0.3),
         Vec3::new(-0.6, -0.6, 0.1),
     ];
-    let n = positions.len();
-    let mut cloud = PointCloud {
-        positions,
-        normals: vec![Vec3::Z; n],
-        radii: vec![0.15; n],
-        colours: vec![[200, 100, 50]; n],
-        opacity: vec![1.0; n],
-        ..Default::default()
-    };
-    cloud.attributes.push("intensity", Values::U16((0..n as u16).map(|k| 1000 + k).collect()));
+    let mut cloud = PointCloud::facing_z(positions, 0.15, [200, 100, 50]);
+    cloud.attributes.push("intensity", Values::U16((0..cloud.len() as u16).map(|k| 1000 + k).collect()));
     Scene::from(cloud)
 }
 

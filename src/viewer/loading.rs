@@ -45,17 +45,10 @@ impl ViewerApp {
     /// background: the same geometry as a new model (new upload; the grouping
     /// comes back from the cache, keyed by geometry), with the camera kept.
     pub fn set_opacity(&mut self, ctx: &egui::Context, opacity: f32) {
-        let Some(model) = self.model.clone() else { return };
-        if let Some(old) = self.load.take() {
-            old.cancel();
-        }
-        self.generations += 1;
-        let generation = self.generations;
-        let label = format!("opacity {opacity:.2}");
         let cache = self.cache();
-        self.load = Some(Job::spawn(label, ctx.clone(), move || {
+        self.remake(ctx, format!("opacity {opacity:.2}"), move |model, generation| {
             Ok(model.with_opacity(opacity, generation).with_hierarchy(&cache))
-        }));
+        });
     }
 
     /// Colours the model on screen and sets its opacity by its attributes
@@ -63,45 +56,51 @@ impl ViewerApp {
     /// new upload, with the camera kept; a style the file cannot take is shown
     /// as the load error and the model kept.
     pub fn set_style(&mut self, ctx: &egui::Context, style: Option<crate::style::Style>) {
-        let Some(model) = self.model.clone() else { return };
-        if let Some(old) = self.load.take() {
-            old.cancel();
-        }
-        self.generations += 1;
-        let generation = self.generations;
         let label = match &style {
             Some(s) => format!("colour by {}", s.color_by.as_ref().map_or("rgb".into(), |c| c.text())),
             None => "colours as loaded".into(),
         };
         let cache = self.cache();
-        self.load = Some(Job::spawn(label, ctx.clone(), move || {
+        self.remake(ctx, label, move |model, generation| {
             Ok(model.with_style(style.map(Arc::new), generation)?.with_hierarchy(&cache))
-        }));
+        });
     }
 
     /// Sets the model on screen in the environment map at `path` (loaded in
     /// the background; an unreadable map is shown as the load error and the
     /// model kept), or in none: a new upload of the same geometry.
     pub fn set_environment(&mut self, ctx: &egui::Context, path: Option<PathBuf>) {
+        let label = match &path {
+            Some(p) => format!("environment {}", p.file_name().map(|n| n.to_string_lossy()).unwrap_or_default()),
+            None => "no environment".into(),
+        };
+        self.remake(ctx, label, move |model, generation| {
+            let map = match path {
+                Some(p) => Some(Arc::new(EnvironmentMap::load(&p).map_err(|e| e.to_string())?)),
+                None => None,
+            };
+            // The same splats: the same hierarchy.
+            let hierarchy = model.hierarchy.clone();
+            Ok(Model { hierarchy, ..model.with_environment(map, generation) })
+        });
+    }
+
+    /// Remakes the model on screen in the background by `remake` (given it
+    /// and its new generation), in place of any load under way; the camera
+    /// is kept, and an error is shown as the load error with the model kept.
+    fn remake(
+        &mut self,
+        ctx: &egui::Context,
+        label: String,
+        remake: impl FnOnce(Arc<Model>, u64) -> Result<Model, String> + Send + 'static,
+    ) {
         let Some(model) = self.model.clone() else { return };
         if let Some(old) = self.load.take() {
             old.cancel();
         }
         self.generations += 1;
         let generation = self.generations;
-        let label = match &path {
-            Some(p) => format!("environment {}", p.file_name().map(|n| n.to_string_lossy()).unwrap_or_default()),
-            None => "no environment".into(),
-        };
-        let hierarchy = model.hierarchy.clone();
-        self.load = Some(Job::spawn(label, ctx.clone(), move || {
-            let map = match path {
-                Some(p) => Some(Arc::new(EnvironmentMap::load(&p).map_err(|e| e.to_string())?)),
-                None => None,
-            };
-            // The same splats: the same hierarchy.
-            Ok(Model { hierarchy, ..model.with_environment(map, generation) })
-        }));
+        self.load = Some(Job::spawn(label, ctx.clone(), move || remake(model, generation)));
     }
 
     /// Where groupings and hierarchies are cached.

@@ -26,6 +26,7 @@ pub mod input;
 pub mod inspect;
 pub mod lod;
 pub mod memory;
+pub mod named;
 pub mod output;
 pub mod progress;
 pub mod reference;

@@ -46,6 +46,7 @@ pub mod readback;
 pub mod record;
 pub mod renderer;
 pub mod report;
+pub mod scene_cache;
 pub mod shaders;
 pub mod subframe;
 pub mod target_id;

@@ -1,23 +1,28 @@
 //! The one way to render a scene in any mode: `pointblend render`, `bench`
 //! and the viewer's render thread all go through [`PreparedScene`].
 //!
-//! A [`PreparedScene`] holds a scene, its splats in world space, the groupings
-//! its modes draw and its GPU copies (one ungrouped, one per grouping). A
-//! frame asks it for `settings`, a camera and a size; the registry says where
-//! the mode runs: a GPU mode takes the grouping it draws (from the scene's
-//! groupings, computed through the grouping cache when the front end lets
-//! it), the matching upload, and its plan on the [`GpuRenderer`]; the
-//! exact reference (a CPU mode) renders the scene itself. Either way the
-//! frame comes back as an image and the plan that made it.
+//! A [`PreparedScene`] holds a scene, its splats in world space, the
+//! subsets a frame may choose from them (the nodes under a point budget,
+//! the splats beside a hybrid frame's triangles, [`crate::frame::subset`]),
+//! and a [`SceneCache`] of what its frames prepared: groupings, GPU copies,
+//! shadow coefficients, the hierarchy and the triangles, each keyed by the
+//! slot it serves ([`Slot`]), the grouping and the splats it was made from.
+//! The decisions are made here, from the frame's spec: a still scene's
+//! groupings are computed through the grouping cache (or only handed in,
+//! for the viewer), a moving scene's and a subset's are hash groupings
+//! redone per frame on a fixed lattice, and a new set of splats in a slot
+//! is written over that slot's GPU copies in place. The exact reference (a
+//! CPU mode) renders the scene itself.
 
 mod budget;
 mod hybrid;
 mod render_frame;
-mod subset;
+mod show;
 
 use std::sync::Arc;
 
 pub use crate::report::{BudgetStats, FrameUpdate, HybridStats};
+pub use crate::scene_cache::SceneGrouping;
 pub use budget::load_hierarchy;
 pub use render_frame::{Frame, Readback};
 
@@ -26,12 +31,13 @@ use super::gpu_renderer::GpuRenderer;
 use super::gpu_scene::GpuScene;
 use crate::cloud::PointCloud;
 use crate::frame::{FrameSpec, RenderSettings};
-use crate::grouping::hash::{Collisions, HashOptions};
-use crate::grouping::regroup::{HashRegrouper, Lattice};
-use crate::grouping::{Extension, Grouping, GroupingAlgo, GroupingError, GroupingSpec, cache::Cache};
+use crate::grouping::regroup::Lattice;
+use crate::grouping::{Extension, Grouping, GroupingError, GroupingSpec, cache::Cache};
 use crate::report::FrameReport;
 use crate::scene::Scene;
+use crate::scene_cache::{Keep, SceneCache, Slot};
 use crate::shadow::{self, ShadowCoefficients, ShadowInput};
+use show::Drawn;
 
 #[derive(Debug, thiserror::Error)]
 pub enum FrameError {
@@ -51,55 +57,41 @@ pub enum FrameError {
     Shadow(#[from] crate::shadow::ShadowError),
 }
 
-/// A grouping of the scene, with what it cost.
-#[derive(Debug, Clone)]
-pub struct SceneGrouping {
-    pub spec: GroupingSpec,
-    pub grouping: Arc<Grouping>,
-    /// Seconds it took to compute (0 when it came from the cache).
-    pub seconds: f64,
-    pub cached: bool,
-}
-
 /// Shadow coefficient sets kept per scene (each 4 bytes per splat and light).
 const KEPT_SHADOWS: usize = 4;
 
 /// A scene ready to render in any mode.
 pub struct PreparedScene {
     scene: Arc<Scene>,
-    /// The splats in world space (the scene's, or a preview subsample of them).
-    cloud: Arc<PointCloud>,
     /// The content hash that keys the grouping cache.
     hash: u64,
-    /// Groupings the front end handed in, or computed through the cache.
-    groupings: Vec<SceneGrouping>,
-    /// Whether a grouping missing here is computed (through the cache) rather than refused.
+    /// The splats each slot draws now: the whole scene's (in world space),
+    /// and each subset's last choice (`None` before its first).
+    drawn: [Option<Drawn>; 3],
+    /// What the frames prepared, by slot, grouping and splats.
+    prepared: SceneCache,
+    /// Whether a whole-scene grouping missing here is computed (through the cache) rather than refused.
     compute_groupings: bool,
-    /// GPU copies: ungrouped (`None`) and one per grouping drawn.
-    uploads: Vec<(Option<GroupingSpec>, GpuScene)>,
-    /// Most grouped copies kept; the oldest goes first (the viewer keeps one).
+    /// Most groupings handed in, and grouped copies kept per slot; the oldest goes first (the viewer keeps one).
     max_grouped: usize,
-    /// Whether some splat of `cloud` is less than opaque (asked every frame, so kept).
-    transparent: bool,
-    /// The last shadow coefficients computed, newest last, and what for (see [`Self::shadow_key`]).
-    shadows: Vec<(u64, Arc<ShadowCoefficients>)>,
-    /// For a moving scene: a hash regrouper per grouping algorithm drawn
-    /// (specs that differ only in their extension share one), redone every frame.
-    regroupers: Option<Vec<(GroupingAlgo, HashRegrouper)>>,
+    /// The whole scene moves: its groupings are hash groupings redone every frame.
+    moving: bool,
     /// The lattice a moving scene's hash groups are counted on (see [`rest_lattice`]);
     /// the first frame's when none is given.
     lattice: Option<Lattice>,
-    /// Counts the frames a moving scene has shown (keys the shadows).
+    /// The lattice a subset's hash groups are counted on: the whole scene's, whatever is chosen.
+    subset_lattice: Option<Lattice>,
+    /// Counts the frames a moving scene has shown (names its splats).
     generation: u64,
     /// The splats are a streamed file's selection, made under its budget already.
     streamed: bool,
-    /// The mean splat radius of `cloud` (what ε is a multiple of), found once.
+    /// The mean splat radius of the whole scene (what ε is a multiple of), found once.
     mean_radius: f32,
-    /// Frames under a point budget (see `budget.rs`), made on first use.
-    budget: Option<Box<budget::BudgetFrames>>,
-    /// Frames that draw the scene's mesh triangles (see `hybrid.rs`), made on first use.
-    hybrid: Option<Box<hybrid::HybridFrames>>,
-    /// Where groupings and hierarchies are cached.
+    /// The hierarchy's nodes under a budget (see `budget.rs`), made on first use.
+    budget: Option<crate::lod::subset::BudgetSubset>,
+    /// The leaves drawn as triangles and the splats beside them (see `hybrid.rs`), made on first use.
+    hybrid: Option<Box<hybrid::HybridSubsetState>>,
+    /// Where groupings and hierarchies are cached on disk.
     cache: Cache,
 }
 
@@ -125,20 +117,17 @@ impl PreparedScene {
     /// upload is kept.
     pub fn new(scene: Arc<Scene>, cloud: Arc<PointCloud>) -> Self {
         let hash = scene.geometry_hash();
-        let transparent = cloud.has_transparency();
         let mean_radius = cloud.mean_radius();
         Self {
             scene,
-            cloud,
             hash,
-            groupings: Vec::new(),
+            drawn: [Some(Drawn::new(hash, cloud)), None, None],
+            prepared: SceneCache::new(KEPT_SHADOWS),
             compute_groupings: true,
-            uploads: Vec::new(),
             max_grouped: usize::MAX,
-            shadows: Vec::new(),
-            transparent,
-            regroupers: None,
+            moving: false,
             lattice: None,
+            subset_lattice: None,
             generation: 0,
             streamed: false,
             mean_radius,
@@ -157,7 +146,7 @@ impl PreparedScene {
     /// The scene moves: its groupings are hash groupings redone every frame
     /// (see [`per_frame_grouping`]), never cached, and [`Self::advance`] moves it on.
     pub fn moving(mut self) -> Self {
-        self.regroupers = Some(Vec::new());
+        self.moving = true;
         self
     }
 
@@ -176,9 +165,37 @@ impl PreparedScene {
         self
     }
 
+    /// Groupings come only from [`Self::add_grouping`] (the viewer computes
+    /// them in a job of its own), and at most `max_grouped` grouped copies
+    /// of a slot's splats stay on the GPU.
+    pub fn handed_groupings(mut self, max_grouped: usize) -> Self {
+        self.compute_groupings = false;
+        self.max_grouped = max_grouped.max(1);
+        self
+    }
+
+    /// A scene with its own splats ([`Scene::flattened`]: shared, not copied, for a plain single object).
+    pub fn of(scene: Arc<Scene>) -> Self {
+        let cloud = scene.flattened();
+        Self::new(scene, cloud)
+    }
+
     /// Whether the scene moves.
     pub fn is_moving(&self) -> bool {
-        self.regroupers.is_some()
+        self.moving
+    }
+
+    pub fn scene(&self) -> &Arc<Scene> {
+        &self.scene
+    }
+
+    /// The whole scene's splats in world space.
+    pub fn cloud(&self) -> &Arc<PointCloud> {
+        &self.whole().cloud
+    }
+
+    fn whole(&self) -> &Drawn {
+        self.drawn(Slot::Whole)
     }
 
     /// Moves a moving scene on to another frame: `scene` at that time and
@@ -192,134 +209,61 @@ impl PreparedScene {
         cloud: Arc<PointCloud>,
     ) -> Result<FrameUpdate, FrameError> {
         self.hash = scene.geometry_hash();
-        self.transparent = cloud.has_transparency();
         self.mean_radius = cloud.mean_radius();
         self.scene = scene;
-        self.cloud = cloud;
         self.generation += 1;
-        self.shadows.clear();
-        if self.regroupers.is_none() {
-            self.regroupers = Some(Vec::new());
-        }
-        let mut update = FrameUpdate::default();
-        let specs: Vec<GroupingSpec> = self.groupings.iter().map(|g| g.spec).collect();
-        let mut fresh: Vec<SceneGrouping> = Vec::with_capacity(specs.len());
-        for spec in specs {
-            // A spec whose algorithm was regrouped this frame takes those groups.
-            let shared = fresh.iter().find(|g| g.spec.algo == spec.algo).map(|g| (Arc::clone(&g.grouping), g.seconds));
-            let grouping = match shared {
-                Some((grouping, seconds)) => SceneGrouping {
-                    spec,
-                    grouping: Arc::new(with_extension(grouping.as_ref().clone(), spec)),
-                    seconds,
-                    cached: false,
-                },
-                None => {
-                    let (grouping, labelled) = self.regroup(spec)?;
-                    update.regrouped += labelled;
-                    update.regroup_ms += grouping.seconds * 1e3;
-                    grouping
-                }
-            };
-            update.regroup_ms_of.push((spec, grouping.seconds * 1e3));
-            fresh.push(grouping);
-        }
-        self.groupings = fresh;
-        match gpu {
-            Some(gpu) => {
-                for (spec, upload) in &mut self.uploads {
-                    let started = std::time::Instant::now();
-                    let grouping = spec.and_then(|s| self.groupings.iter().find(|g| g.spec == s));
-                    let grouping = grouping.map(|g| g.grouping.as_ref());
-                    let bytes = upload.rewrite(&gpu.ctx.device, &gpu.ctx.queue, &self.cloud, grouping);
-                    let ms = started.elapsed().as_secs_f64() * 1e3;
-                    update.upload_of.push((*spec, ms, bytes));
-                    update.upload_ms += ms;
-                    update.uploaded_bytes += bytes;
-                }
-            }
-            None => self.uploads.clear(),
-        }
-        Ok(update)
+        self.moving = true;
+        let key = pointblend_core::hash::fnv1a(self.hash, &self.generation.to_le_bytes());
+        self.show(gpu, Slot::Whole, Drawn::new(key, cloud))
     }
 
-    /// Hash grouping `spec` of the current splats by its regrouper (made on
-    /// first use); returns it and the splats labelled.
-    fn regroup(&mut self, spec: GroupingSpec) -> Result<(SceneGrouping, usize), FrameError> {
-        let GroupingAlgo::Hash { k, resolve_collisions } = spec.algo else {
-            return Err(FrameError::NoGrouping(spec));
-        };
-        let collisions = if resolve_collisions { Collisions::All } else { Collisions::None };
-        let options = HashOptions { k, collisions };
-        let regroupers = self.regroupers.get_or_insert_with(Vec::new);
-        let at = match regroupers.iter().position(|(a, _)| *a == spec.algo) {
-            Some(at) => at,
-            None => {
-                let lattice = self.lattice.unwrap_or_else(|| Lattice::of(&self.cloud));
-                let regrouper =
-                    HashRegrouper::new(lattice, options).map_err(|source| FrameError::Grouping { spec, source })?;
-                regroupers.push((spec.algo, regrouper));
-                regroupers.len() - 1
-            }
-        };
-        let started = std::time::Instant::now();
-        let regrouper = &mut regroupers[at].1;
-        let grouping = with_extension(regrouper.regroup(&self.cloud), spec);
-        let seconds = started.elapsed().as_secs_f64();
-        let labelled = regrouper.stats().labelled;
-        Ok((SceneGrouping { spec, grouping: Arc::new(grouping), seconds, cached: false }, labelled))
-    }
-
-    /// A scene with its own splats ([`Scene::flattened`]: shared, not copied, for a plain single object).
-    pub fn of(scene: Arc<Scene>) -> Self {
-        let cloud = scene.flattened();
-        Self::new(scene, cloud)
-    }
-
-    /// Groupings come only from [`Self::add_grouping`] (the viewer computes
-    /// them in a job of its own), and at most `max_grouped` grouped copies stay on the GPU.
-    pub fn handed_groupings(mut self, max_grouped: usize) -> Self {
-        self.compute_groupings = false;
-        self.max_grouped = max_grouped.max(1);
-        self
-    }
-
-    pub fn scene(&self) -> &Arc<Scene> {
-        &self.scene
-    }
-
-    pub fn cloud(&self) -> &Arc<PointCloud> {
-        &self.cloud
-    }
-
-    /// Hands in a grouping computed elsewhere (nothing happens when it is here
-    /// already); past `max_grouped` of them, the oldest is dropped.
+    /// Hands in a grouping of the whole scene computed elsewhere (nothing
+    /// happens when it is here already); past `max_grouped` of them, the
+    /// oldest goes, with its GPU copy.
     pub fn add_grouping(&mut self, grouping: SceneGrouping) {
-        if !self.groupings.iter().any(|g| g.spec == grouping.spec) {
-            self.groupings.push(grouping);
-            if self.groupings.len() > self.max_grouped {
-                let dropped = self.groupings.remove(0).spec;
-                self.uploads.retain(|(s, _)| *s != Some(dropped));
-            }
+        let key = (Slot::Whole, grouping.spec);
+        if self.prepared.groupings.contains(&key) {
+            return;
+        }
+        let drawn = self.whole().key;
+        self.prepared.groupings.insert(key, Keep { drawn, value: grouping });
+        let handed: Vec<GroupingSpec> =
+            self.prepared.groupings.keys().filter(|(slot, _)| *slot == Slot::Whole).map(|(_, spec)| spec).collect();
+        if handed.len() > self.max_grouped {
+            self.prepared.groupings.remove(&(Slot::Whole, handed[0]));
+            self.prepared.uploads.remove(&(Slot::Whole, Some(handed[0])));
         }
     }
 
-    /// The grouping `spec`, computed through the cache when it is not here.
+    /// The grouping `spec` of the whole scene, computed through the cache when it is not here.
     pub fn grouping(&mut self, spec: GroupingSpec) -> Result<&SceneGrouping, FrameError> {
-        if let Some(at) = self.groupings.iter().position(|g| g.spec == spec) {
-            return Ok(&self.groupings[at]);
+        self.grouping_in(Slot::Whole, spec)
+    }
+
+    /// The grouping `spec` of the splats `slot` draws: kept, or made as the
+    /// slot's splats are (regrouped for a moving scene and a subset,
+    /// computed through the cache or refused for a still one).
+    fn grouping_in(&mut self, slot: Slot, spec: GroupingSpec) -> Result<&SceneGrouping, FrameError> {
+        let drawn = self.drawn(slot).key;
+        let key = (slot, spec);
+        if self.prepared.groupings.get(&key).is_none_or(|kept| kept.drawn != drawn) {
+            let grouping = if slot != Slot::Whole || self.moving {
+                self.regroup(slot, spec)?.0
+            } else if self.compute_groupings {
+                self.compute_grouping(spec)?
+            } else {
+                return Err(FrameError::NoGrouping(spec));
+            };
+            self.prepared.groupings.insert(key, Keep { drawn, value: grouping });
         }
-        if self.is_moving() {
-            let (grouping, _) = self.regroup(spec)?;
-            self.groupings.push(grouping);
-            return Ok(self.groupings.last().expect("just pushed"));
-        }
-        if !self.compute_groupings {
-            return Err(FrameError::NoGrouping(spec));
-        }
+        Ok(&self.prepared.groupings.get(&key).expect("kept above").value)
+    }
+
+    /// The grouping `spec` of the whole still scene, through the grouping cache.
+    fn compute_grouping(&self, spec: GroupingSpec) -> Result<SceneGrouping, FrameError> {
         let started = std::time::Instant::now();
         let (grouping, cached) = spec
-            .compute_cached_for_hash(&self.cache, self.hash, &self.cloud)
+            .compute_cached_for_hash(&self.cache, self.hash, self.cloud())
             .map_err(|source| FrameError::Grouping { spec, source })?;
         let seconds = if cached { 0.0 } else { started.elapsed().as_secs_f64() };
         log::info!(
@@ -327,52 +271,52 @@ impl PreparedScene {
             grouping.k(),
             if cached { " (from the cache)" } else { "" }
         );
-        self.groupings.push(SceneGrouping { spec, grouping: Arc::new(grouping), seconds, cached });
-        Ok(self.groupings.last().expect("just pushed"))
+        Ok(SceneGrouping { spec, grouping: Arc::new(grouping), seconds, cached })
     }
 
-    /// Whether a frame of `settings` reads opacity (what its shadows see too).
-    fn reads_opacity(&self, settings: &RenderSettings) -> bool {
-        settings.mode.info().transparent && self.transparent
+    /// Whether a frame of `settings` reads the opacity of the splats `slot`
+    /// draws (what its shadows see too).
+    fn reads_opacity(&self, slot: Slot, settings: &RenderSettings) -> bool {
+        settings.mode.info().transparent && self.drawn(slot).transparent
     }
 
-    /// What the shadow coefficients of a frame of `settings` depend on, as a
-    /// key; `None` for a frame not lit by scene lights.
-    pub fn shadow_key(&self, settings: &RenderSettings) -> Option<u64> {
+    /// What the shadow coefficients of a frame of `settings` drawing `slot`
+    /// depend on, as a key; `None` for a frame not lit by scene lights.
+    fn shadow_key(&self, slot: Slot, settings: &RenderSettings) -> Option<u64> {
         settings.lit_by_lights().then(|| {
             let what = format!(
                 "{}|{:?}|{:?}|{}|{}|{:?}|{}",
-                self.generation,
+                self.drawn(slot).key,
                 settings.lights,
                 settings.shadows,
                 settings.epsilon_scale,
                 settings.radius_scale,
                 settings.kernel,
-                self.reads_opacity(settings)
+                self.reads_opacity(slot, settings)
             );
             pointblend_core::hash::fnv1a(pointblend_core::hash::FNV_OFFSET, what.as_bytes())
         })
     }
 
-    /// The shadow coefficients of a frame of `settings` (none without scene
-    /// lights), computed when the lights, the shadow settings or what the
-    /// splats are drawn as changed since the last ones.
+    /// The shadow coefficients of a frame of `settings` over the whole
+    /// scene (none without scene lights), computed when the lights, the
+    /// shadow settings or what the splats are drawn as changed since the last ones.
     pub fn shadows(&mut self, settings: &RenderSettings) -> Result<Option<Arc<ShadowCoefficients>>, FrameError> {
-        Ok(self.keyed_shadows(settings)?.map(|(_, c)| c))
+        Ok(self.keyed_shadows(Slot::Whole, settings)?.map(|(_, c)| c))
     }
 
-    /// [`Self::shadows`] with their key.
+    /// The shadow coefficients of a frame of `settings` over the splats `slot` draws, with their key.
     fn keyed_shadows(
         &mut self,
+        slot: Slot,
         settings: &RenderSettings,
     ) -> Result<Option<(u64, Arc<ShadowCoefficients>)>, FrameError> {
-        let Some(key) = self.shadow_key(settings) else { return Ok(None) };
-        if let Some(at) = self.shadows.iter().position(|(k, _)| *k == key) {
-            let hit = self.shadows.remove(at);
-            self.shadows.push(hit);
-            return Ok(self.shadows.last().cloned());
+        let Some(key) = self.shadow_key(slot, settings) else { return Ok(None) };
+        if let Some(kept) = self.prepared.shadows.get(&key) {
+            return Ok(Some((key, Arc::clone(kept))));
         }
-        let input = ShadowInput::new(&self.cloud, settings, self.reads_opacity(settings));
+        let cloud = &self.drawn(slot).cloud;
+        let input = ShadowInput::new(cloud, settings, self.reads_opacity(slot, settings));
         let computed = Arc::new(shadow::coefficients(
             &input,
             settings.lights.as_slice(),
@@ -383,61 +327,69 @@ impl PreparedScene {
             "shadows ({}) of {} lights over {} splats in {:.1} ms",
             settings.shadows.method.name(),
             settings.lights.len(),
-            self.cloud.len(),
+            cloud.len(),
             computed.seconds * 1e3
         );
         // A few are kept: bench alternates variants, the viewer a preview and a full frame.
-        if self.shadows.len() == KEPT_SHADOWS {
-            self.shadows.remove(0);
-        }
-        self.shadows.push((key, Arc::clone(&computed)));
+        self.prepared.shadows.insert(key, Arc::clone(&computed));
         Ok(Some((key, computed)))
     }
 
-    /// The GPU copy a frame of `spec` draws, uploaded (and its grouping
-    /// computed) on first use, with the frame's shadow coefficients beside its splats.
+    /// The GPU copy of the whole scene a frame of `spec` draws, uploaded
+    /// (and its grouping computed) on first use, with the frame's shadow
+    /// coefficients beside its splats.
     pub fn gpu_scene(&mut self, gpu: &GpuRenderer, spec: &FrameSpec) -> Result<&GpuScene, FrameError> {
-        Ok(self.gpu_scene_mut(gpu, spec, &mut FrameReport::default())?)
+        Ok(self.gpu_scene_mut(gpu, Slot::Whole, spec, &mut FrameReport::default())?)
     }
 
-    /// [`Self::gpu_scene`], to change, with what its shadows took in `report`.
+    /// The GPU copy of the splats `slot` draws for a frame of `spec`, to
+    /// change, with what its shadows took in `report`.
     fn gpu_scene_mut(
         &mut self,
         gpu: &GpuRenderer,
+        slot: Slot,
         spec: &FrameSpec,
         report: &mut FrameReport,
     ) -> Result<&mut GpuScene, FrameError> {
-        let shadows = self.keyed_shadows(&spec.drawn)?;
+        let shadows = self.keyed_shadows(slot, &spec.drawn)?;
         if let Some((_, coefficients)) = &shadows {
-            self.report_shadows(&spec.drawn, coefficients, report);
+            self.report_shadows(slot, &spec.drawn, coefficients, report);
         }
-        let at = self.upload(gpu, spec.grouping.map(|g| g.spec))?;
-        let upload = &mut self.uploads[at].1;
+        let upload = self.upload(gpu, slot, spec.grouping.map(|g| g.spec))?;
         upload.set_shadows(&gpu.ctx.device, &gpu.ctx.queue, shadows.as_ref().map(|(key, c)| (c.as_ref(), *key)));
-        Ok(&mut self.uploads[at].1)
+        Ok(upload)
     }
 
-    /// The index of the upload drawing grouping `spec` (or none), made on first use.
-    fn upload(&mut self, gpu: &GpuRenderer, spec: Option<GroupingSpec>) -> Result<usize, FrameError> {
-        if let Some(at) = self.uploads.iter().position(|(s, _)| *s == spec) {
-            return Ok(at);
-        }
-        let grouping = spec.map(|spec| self.grouping(spec).map(|g| Arc::clone(&g.grouping))).transpose()?;
-        if spec.is_some() {
-            // Free the oldest grouped copy first when the limit is reached.
-            while self.uploads.iter().filter(|(s, _)| s.is_some()).count() >= self.max_grouped {
-                let oldest = self.uploads.iter().position(|(s, _)| s.is_some()).expect("counted above");
-                self.uploads.remove(oldest);
+    /// The GPU copy of the splats `slot` draws in grouping `spec` (or
+    /// none), made on first use; past `max_grouped` grouped copies of the
+    /// slot, the least recently used goes first.
+    fn upload(
+        &mut self,
+        gpu: &GpuRenderer,
+        slot: Slot,
+        spec: Option<GroupingSpec>,
+    ) -> Result<&mut GpuScene, FrameError> {
+        let key = (slot, spec);
+        let drawn = self.drawn(slot).key;
+        if self.prepared.uploads.get(&key).is_none_or(|kept| kept.drawn != drawn) {
+            self.prepared.uploads.remove(&key);
+            let grouping =
+                spec.map(|spec| self.grouping_in(slot, spec).map(|g| Arc::clone(&g.grouping))).transpose()?;
+            if spec.is_some() {
+                let grouped: Vec<_> = self.prepared.uploads.keys().filter(|(s, g)| *s == slot && g.is_some()).collect();
+                let over = (grouped.len() + 1).saturating_sub(self.max_grouped);
+                grouped.iter().take(over).for_each(|oldest| drop(self.prepared.uploads.remove(oldest)));
             }
+            let cloud = &self.drawn(slot).cloud;
+            let upload = gpu.upload_in(cloud, self.scene.environment.as_deref(), grouping.as_deref());
+            self.prepared.uploads.insert(key, Keep { drawn, value: upload });
         }
-        let upload = gpu.upload_in(&self.cloud, self.scene.environment.as_deref(), grouping.as_deref());
-        self.uploads.push((spec, upload));
-        Ok(self.uploads.len() - 1)
+        Ok(&mut self.prepared.uploads.get(&key).expect("kept above").value)
     }
 
-    /// What the frame's shadows `c` took, in `report`: in words, and the
-    /// milliseconds and MiB of their tables.
-    fn report_shadows(&self, settings: &RenderSettings, c: &ShadowCoefficients, report: &mut FrameReport) {
+    /// What the frame's shadows `c` over the splats `slot` draws took, in
+    /// `report`: in words, and the milliseconds and MiB of their tables.
+    fn report_shadows(&self, slot: Slot, settings: &RenderSettings, c: &ShadowCoefficients, report: &mut FrameReport) {
         let table_bytes: u64 = c.tables.iter().map(|t| t.bytes).sum();
         report.shadow_ms = Some(c.seconds * 1e3);
         report.shadow_table_mib = Some(table_bytes as f64 / (1u64 << 20) as f64);
@@ -446,7 +398,7 @@ impl PreparedScene {
             settings.lights.len(),
             settings.shadows.method.name(),
             c.seconds * 1e3,
-            (self.cloud.len() * 8) as f64 / (1 << 20) as f64
+            (self.drawn(slot).cloud.len() * 8) as f64 / (1 << 20) as f64
         )];
         for (k, t) in c.tables.iter().enumerate() {
             notes.push(format!(

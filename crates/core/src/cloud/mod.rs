@@ -97,6 +97,20 @@ impl Bounds {
 }
 
 impl PointCloud {
+    /// Opaque splats at `positions` facing +z, all of `radius` and `colour`:
+    /// the simplest cloud a synthetic scene or a test builds.
+    pub fn facing_z(positions: Vec<Vec3>, radius: f32, colour: [u8; 3]) -> Self {
+        let n = positions.len();
+        PointCloud {
+            positions,
+            normals: vec![Vec3::Z; n],
+            radii: vec![radius; n],
+            colours: vec![colour; n],
+            opacity: vec![1.0; n],
+            ..Default::default()
+        }
+    }
+
     pub fn len(&self) -> usize {
         self.positions.len()
     }

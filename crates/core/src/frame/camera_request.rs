@@ -113,15 +113,7 @@ mod tests {
 
     fn cloud() -> PointCloud {
         let positions = vec![Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 2.0, 0.5), Vec3::new(0.0, 1.0, -0.5)];
-        let n = positions.len();
-        PointCloud {
-            positions,
-            normals: vec![Vec3::Z; n],
-            radii: vec![0.1; n],
-            colours: vec![[200; 3]; n],
-            opacity: vec![1.0; n],
-            ..Default::default()
-        }
+        PointCloud::facing_z(positions, 0.1, [200; 3])
     }
 
     #[test]

@@ -34,25 +34,18 @@ pub enum LayerEffects {
     Multi,
 }
 
-impl std::str::FromStr for LayerEffects {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "single" => Ok(Self::Single),
-            "multi" => Ok(Self::Multi),
-            _ => Err(format!("'{s}' is not single or multi")),
+impl LayerEffects {
+    pub const ALL: [LayerEffects; 2] = [LayerEffects::Single, LayerEffects::Multi];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Single => "single",
+            Self::Multi => "multi",
         }
     }
 }
 
-impl std::fmt::Display for LayerEffects {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Self::Single => "single",
-            Self::Multi => "multi",
-        })
-    }
-}
+crate::by_name!(LayerEffects, "layer effect");
 
 /// The parameters of the environment effects.
 #[derive(Debug, Clone, Copy, PartialEq)]

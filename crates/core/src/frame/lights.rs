@@ -211,15 +211,7 @@ impl ShadowMethod {
     }
 }
 
-impl std::str::FromStr for ShadowMethod {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        Self::ALL
-            .into_iter()
-            .find(|m| m.name() == s)
-            .ok_or_else(|| format!("'{s}' is not a shadow method (tsm, exact, off)"))
-    }
-}
+crate::by_name!(ShadowMethod, "shadow method");
 
 /// The shadow settings of a frame with lights.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -395,21 +395,7 @@ impl RenderMode {
     }
 }
 
-impl std::fmt::Display for RenderMode {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for RenderMode {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        RenderMode::ALL.into_iter().find(|m| m.name() == s).ok_or_else(|| {
-            let names: Vec<_> = RenderMode::ALL.iter().map(|m| m.name()).collect();
-            format!("unknown mode '{s}'; available: {}", names.join(", "))
-        })
-    }
-}
+crate::by_name!(RenderMode, "mode");
 
 #[cfg(test)]
 mod tests {

@@ -75,21 +75,7 @@ impl Prefilter {
     }
 }
 
-impl std::str::FromStr for Prefilter {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Prefilter::ALL
-            .into_iter()
-            .find(|p| p.name() == s)
-            .ok_or_else(|| format!("unknown prefilter '{s}'; available: ewa, none"))
-    }
-}
-
-impl std::fmt::Display for Prefilter {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
+crate::by_name!(Prefilter, "prefilter");
 
 #[cfg(test)]
 mod tests {
@@ -100,7 +86,7 @@ mod tests {
         for p in Prefilter::ALL {
             assert_eq!(p.name().parse::<Prefilter>(), Ok(p));
         }
-        assert!("gauss".parse::<Prefilter>().unwrap_err().contains("ewa, none"));
+        assert!("gauss".parse::<Prefilter>().unwrap_err().contains("none, ewa"));
         assert_eq!(Prefilter::None.radius_px(), 0.0);
         assert!(Prefilter::Ewa.radius_px() > 0.0);
     }

@@ -445,15 +445,7 @@ mod tests {
     #[test]
     fn the_estimate_scales_each_hash_grouping_by_its_own_k() {
         let positions: Vec<Vec3> = (0..400).map(|i| Vec3::new((i % 20) as f32, (i / 20) as f32, 0.0)).collect();
-        let n = positions.len();
-        let cloud = PointCloud {
-            positions,
-            normals: vec![Vec3::Z; n],
-            radii: vec![1.0; n],
-            colours: vec![[128; 3]; n],
-            opacity: vec![1.0; n],
-            ..Default::default()
-        };
+        let cloud = PointCloud::facing_z(positions, 1.0, [128; 3]);
         assert_ne!(super::super::table::cover_scale(4), super::super::table::cover_scale(8));
         for k in [4, 8] {
             let spec: GroupingSpec = format!("hash-k{k}-est").parse().unwrap();

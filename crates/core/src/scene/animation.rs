@@ -65,17 +65,19 @@ pub enum DeformKind {
     Bend,
 }
 
-impl std::str::FromStr for DeformKind {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "wave" => Ok(Self::Wave),
-            "twist" => Ok(Self::Twist),
-            "bend" => Ok(Self::Bend),
-            other => Err(format!("deform kind must be \"wave\", \"twist\" or \"bend\", not \"{other}\"")),
+impl DeformKind {
+    pub const ALL: [DeformKind; 3] = [DeformKind::Wave, DeformKind::Twist, DeformKind::Bend];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Wave => "wave",
+            Self::Twist => "twist",
+            Self::Bend => "bend",
         }
     }
 }
+
+crate::by_name!(DeformKind, "deform kind");
 
 /// A deformation of an object's points over time.
 #[derive(Debug, Clone, Copy, PartialEq)]

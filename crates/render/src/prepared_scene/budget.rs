@@ -5,8 +5,8 @@
 //! The hierarchy is built on first use (through the cache beside the
 //! groupings) over the scene's splats in world space. Each frame selects
 //! its nodes (part of the frame's time); when the selection changed, its
-//! splats are gathered into one cloud and handed to a [`PreparedScene`] of
-//! their own as a moving scene's next frame: modes that draw groups get
+//! splats are gathered into one cloud and shown in the budget's slot of the
+//! scene's cache as a moving scene's next frame (`show.rs`): modes that draw groups get
 //! Zhang & Pajarola's hash grouping of the selected splats, redone in
 //! milliseconds on the lattice of the whole scene (cells of the originals'
 //! median radius: coarse nodes' larger splats overlap more within a group),
@@ -18,7 +18,6 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::subset::SubsetScene;
 use super::{FrameError, PreparedScene};
 use crate::cloud::PointCloud;
 use crate::frame::subset::{Choosing, Subset};
@@ -29,6 +28,7 @@ use crate::grouping::cache::Cache;
 use crate::lod::subset::BudgetSubset;
 use crate::lod::{self, Hierarchy};
 use crate::report::{BudgetStats, FrameReport};
+use crate::scene_cache::Slot;
 
 /// The hierarchy of `cloud`, a scene's splats in world space whose scene
 /// has geometry hash `geometry`: from `cache`, else built and stored; and a
@@ -49,87 +49,58 @@ fn hierarchy_key(geometry: u64, cloud: &PointCloud) -> u64 {
     fnv1a(key, &sides)
 }
 
-/// The hierarchy's nodes under a budget, and the frames of their last choice.
-pub(super) struct BudgetFrames {
-    subset: BudgetSubset,
-    chosen: SubsetScene,
-}
-
-impl BudgetFrames {
-    /// Nothing selected yet from `hierarchy` (cache key `key`) of `parent`'s splats.
-    fn new(key: u64, hierarchy: Arc<Hierarchy>, parent: &PreparedScene) -> Box<Self> {
-        Box::new(Self { subset: BudgetSubset::new(hierarchy, key), chosen: SubsetScene::of(parent, "budget") })
-    }
-}
-
 impl PreparedScene {
     /// The hierarchy of the scene's splats, built (or read from the cache) on first use.
     pub fn hierarchy(&mut self) -> Arc<Hierarchy> {
-        self.budget_frames().subset.hierarchy.clone()
+        Arc::clone(&self.budget_subset().hierarchy)
     }
 
     /// Frames under a budget draw from `hierarchy`, made elsewhere (the
     /// viewer builds it while loading) from these splats ([`load_hierarchy`]).
     pub fn with_hierarchy(mut self, hierarchy: Arc<Hierarchy>) -> Self {
-        if hierarchy.originals == self.cloud.len() {
-            self.budget = Some(BudgetFrames::new(hierarchy_key(self.hash, &self.cloud), hierarchy, &self));
+        if hierarchy.originals == self.cloud().len() {
+            let key = hierarchy_key(self.hash, self.cloud());
+            self.prepared.hierarchy = Some((key, Arc::clone(&hierarchy)));
+            self.budget = Some(BudgetSubset::new(hierarchy, key));
         }
         self
     }
 
-    fn budget_frames(&mut self) -> &mut BudgetFrames {
+    /// The hierarchy's nodes under a budget: the kept hierarchy, else one
+    /// read from the cache or built.
+    fn budget_subset(&mut self) -> &mut BudgetSubset {
         if self.budget.is_none() {
-            let key = hierarchy_key(self.hash, &self.cloud);
-            let (hierarchy, note) = lod::cache::cached(&self.cache, key, &self.cloud);
-            if let Some(note) = note {
-                log::warn!("{note}");
-            }
-            log::info!(
-                "hierarchy of {} splats: {} nodes, {:.1} MiB{}",
-                hierarchy.originals,
-                hierarchy.nodes.len(),
-                hierarchy.bytes() as f64 / (1 << 20) as f64,
-                if hierarchy.seconds > 0.0 { format!(", built in {:.2} s", hierarchy.seconds) } else { String::new() }
-            );
-            self.budget = Some(BudgetFrames::new(key, Arc::new(hierarchy), self));
+            let key = hierarchy_key(self.hash, self.cloud());
+            let hierarchy = match &self.prepared.hierarchy {
+                Some((kept, hierarchy)) if *kept == key => Arc::clone(hierarchy),
+                _ => Arc::new(self.load_hierarchy(key)),
+            };
+            self.prepared.hierarchy = Some((key, Arc::clone(&hierarchy)));
+            self.budget = Some(BudgetSubset::new(hierarchy, key));
         }
         self.budget.as_mut().expect("made above")
     }
 
-    /// Selects the nodes the frame `spec` from `camera` draws under
-    /// `budget` and, when they changed, hands their splats to the budget's
-    /// frames. Returns those frames, and what the selection drew and cost.
-    pub(super) fn select_for(
-        &mut self,
-        gpu: Option<&GpuRenderer>,
-        camera: &Camera,
-        spec: &FrameSpec,
-        budget: u32,
-    ) -> Result<(&mut PreparedScene, BudgetStats), FrameError> {
-        let state = self.budget_frames();
-        let started = Instant::now();
-        state.subset.budget = budget;
-        let Ok(choice) = state.subset.choose(camera, spec.size, Choosing::of(&spec.drawn));
-        let chosen = state.subset.last;
-        let frames = state.chosen.next(gpu, choice)?;
-        let h = &state.subset.hierarchy;
-        let stats = BudgetStats {
-            budget,
-            nodes: chosen.nodes,
-            splats: chosen.splats,
-            select_ms: chosen.select_ms,
-            update_ms: (started.elapsed().as_secs_f64() * 1e3 - chosen.select_ms).max(0.0),
-            changed: chosen.changed,
-            build_s: h.seconds,
-            hierarchy_nodes: h.nodes.len(),
-            hierarchy_bytes: h.bytes(),
-        };
-        Ok((frames, stats))
+    /// The hierarchy of the scene's splats under cache key `key`, read or built, and said.
+    fn load_hierarchy(&self, key: u64) -> Hierarchy {
+        let (hierarchy, note) = lod::cache::cached(&self.cache, key, self.cloud());
+        if let Some(note) = note {
+            log::warn!("{note}");
+        }
+        log::info!(
+            "hierarchy of {} splats: {} nodes, {:.1} MiB{}",
+            hierarchy.originals,
+            hierarchy.nodes.len(),
+            hierarchy.bytes() as f64 / (1 << 20) as f64,
+            if hierarchy.seconds > 0.0 { format!(", built in {:.2} s", hierarchy.seconds) } else { String::new() }
+        );
+        hierarchy
     }
 
     /// The GPU copy of the splats selected under `budget` from `camera` for
-    /// the frame `spec` (whose selection is this budget, [`crate::frame::resolve`]),
-    /// with what the selection and its shadows cost in `report`.
+    /// the frame `spec` (whose selection is this budget, [`crate::frame::resolve`]):
+    /// the nodes are selected and, when they changed, their splats shown in
+    /// the budget's slot. What the selection and its shadows cost goes in `report`.
     pub(super) fn budgeted_scene(
         &mut self,
         gpu: &GpuRenderer,
@@ -138,8 +109,23 @@ impl PreparedScene {
         budget: u32,
         report: &mut FrameReport,
     ) -> Result<&mut GpuScene, FrameError> {
-        let (frames, stats) = self.select_for(Some(gpu), camera, spec, budget)?;
-        report.budget = Some(stats);
-        frames.gpu_scene_mut(gpu, spec, report)
+        let started = Instant::now();
+        let subset = self.budget_subset();
+        subset.budget = budget;
+        let Ok(choice) = subset.choose(camera, spec.size, Choosing::of(&spec.drawn));
+        let (chosen, hierarchy) = (subset.last, Arc::clone(&subset.hierarchy));
+        self.show_choice(Some(gpu), Slot::Budget, choice)?;
+        report.budget = Some(BudgetStats {
+            budget,
+            nodes: chosen.nodes,
+            splats: chosen.splats,
+            select_ms: chosen.select_ms,
+            update_ms: (started.elapsed().as_secs_f64() * 1e3 - chosen.select_ms).max(0.0),
+            changed: chosen.changed,
+            build_s: hierarchy.seconds,
+            hierarchy_nodes: hierarchy.nodes.len(),
+            hierarchy_bytes: hierarchy.bytes(),
+        });
+        self.gpu_scene_mut(gpu, Slot::Budget, spec, report)
     }
 }

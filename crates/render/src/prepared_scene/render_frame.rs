@@ -13,6 +13,7 @@ use crate::frame::{Camera, FrameSpec, RenderSettings, SceneFacts, View};
 use crate::gpu_renderer::GpuRenderer;
 use crate::plan::RenderPlan;
 use crate::report::FrameReport;
+use crate::scene_cache::Slot;
 use pointblend_core::reference::{self, ReferenceOptions};
 
 /// Whether a frame's image is read back from the GPU.
@@ -37,8 +38,8 @@ impl PreparedScene {
     /// What a frame of this scene is decided over.
     pub fn facts(&self) -> SceneFacts {
         SceneFacts {
-            splats: self.cloud.len(),
-            transparent: self.transparent,
+            splats: self.cloud().len(),
+            transparent: self.whole().transparent,
             surfaces: self.scene.has_surfaces(),
             moving: self.is_moving(),
             streamed: self.streamed,
@@ -99,7 +100,7 @@ impl PreparedScene {
         let scene = match spec.selection {
             Selection::Hybrid(_) => self.hybrid_scene(gpu, camera, spec, &mut report)?,
             Selection::Budget(budget) => self.budgeted_scene(gpu, camera, spec, budget, &mut report)?,
-            Selection::Whole | Selection::Streamed => self.gpu_scene_mut(gpu, spec, &mut report)?,
+            Selection::Whole | Selection::Streamed => self.gpu_scene_mut(gpu, Slot::Whole, spec, &mut report)?,
         };
         let (image, plan, drawn) = gpu.render_spec(scene, camera, spec, readback != Readback::Nothing)?;
         report = FrameReport {

@@ -65,21 +65,7 @@ impl OrderKind {
     }
 }
 
-impl std::str::FromStr for OrderKind {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        OrderKind::ALL
-            .into_iter()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| format!("unknown order '{s}'; available: bucket, bsp, sort"))
-    }
-}
-
-impl std::fmt::Display for OrderKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
+crate::by_name!(OrderKind, "order");
 
 /// An order ready to be asked for views: the BSP tree is built here (once),
 /// the others keep their buffers between views.

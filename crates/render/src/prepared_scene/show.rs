@@ -1,0 +1,155 @@
+//! New splats shown in a slot ([`Slot`]): a moving scene's next frame, or a
+//! subset's new choice (the nodes under a point budget, the splats beside a
+//! hybrid frame's triangles; [`crate::frame::subset::Subset`]). What the
+//! slot's frames prepared is carried over, not made anew: every grouping
+//! kept is Zhang & Pajarola's hash grouping redone on a fixed lattice (in
+//! milliseconds, only near what moved), and every GPU copy is rewritten in
+//! place (reallocated when the count changed). Shadows are keyed by the
+//! splats they are for, so the next frame computes its own.
+
+use std::sync::Arc;
+
+use super::{FrameError, PreparedScene, with_extension};
+use crate::cloud::PointCloud;
+use crate::frame::subset::Choice;
+use crate::gpu_renderer::GpuRenderer;
+use crate::grouping::GroupingAlgo;
+use crate::grouping::hash::{Collisions, HashOptions};
+use crate::grouping::regroup::{HashRegrouper, Lattice};
+use crate::report::FrameUpdate;
+use crate::scene_cache::{Keep, SceneGrouping, Slot};
+
+/// The splats a slot draws, in world space, and the key that names them.
+pub(super) struct Drawn {
+    pub(super) key: u64,
+    pub(super) cloud: Arc<PointCloud>,
+    /// Whether some splat is less than opaque (asked every frame, so kept).
+    pub(super) transparent: bool,
+}
+
+impl Drawn {
+    pub(super) fn new(key: u64, cloud: Arc<PointCloud>) -> Self {
+        Self { key, transparent: cloud.has_transparency(), cloud }
+    }
+}
+
+impl PreparedScene {
+    /// The splats `slot` draws (a subset's, once it has chosen).
+    pub(super) fn drawn(&self, slot: Slot) -> &Drawn {
+        self.drawn[slot.index()].as_ref().expect("a subset's slot is drawn once it has chosen")
+    }
+
+    /// Shows a subset's `choice` in `slot`: nothing changes when it holds
+    /// no new splats (its last ones again), else they are shown as the slot's next frame.
+    pub(super) fn show_choice(
+        &mut self,
+        gpu: Option<&GpuRenderer>,
+        slot: Slot,
+        choice: Choice,
+    ) -> Result<(), FrameError> {
+        if choice.cloud.is_none() && self.drawn[slot.index()].is_some() {
+            return Ok(());
+        }
+        // A subset's first choice always holds its splats.
+        let cloud = Arc::new(choice.cloud.unwrap_or_default());
+        self.show(gpu, slot, Drawn::new(choice.key, cloud)).map(|_| ())
+    }
+
+    /// Shows `drawn` in `slot`: the slot's groupings are regrouped, its GPU
+    /// copies rewritten (on `gpu`; dropped without one). Returns what that took.
+    pub(super) fn show(
+        &mut self,
+        gpu: Option<&GpuRenderer>,
+        slot: Slot,
+        drawn: Drawn,
+    ) -> Result<FrameUpdate, FrameError> {
+        let key = drawn.key;
+        self.drawn[slot.index()] = Some(drawn);
+        let mut update = FrameUpdate::default();
+        let specs: Vec<_> = self.prepared.groupings.keys().filter(|(s, _)| *s == slot).map(|(_, g)| g).collect();
+        let mut fresh: Vec<SceneGrouping> = Vec::with_capacity(specs.len());
+        for spec in specs {
+            // A spec whose algorithm was regrouped this frame takes those groups.
+            let shared = fresh.iter().find(|g| g.spec.algo == spec.algo).map(|g| (Arc::clone(&g.grouping), g.seconds));
+            let grouping = match shared {
+                Some((grouping, seconds)) => SceneGrouping {
+                    spec,
+                    grouping: Arc::new(with_extension(grouping.as_ref().clone(), spec)),
+                    seconds,
+                    cached: false,
+                },
+                None => {
+                    let (grouping, labelled) = self.regroup(slot, spec)?;
+                    update.regrouped += labelled;
+                    update.regroup_ms += grouping.seconds * 1e3;
+                    grouping
+                }
+            };
+            update.regroup_ms_of.push((spec, grouping.seconds * 1e3));
+            fresh.push(grouping);
+        }
+        for grouping in fresh {
+            self.prepared.groupings.insert((slot, grouping.spec), Keep { drawn: key, value: grouping });
+        }
+        let Some(gpu) = gpu else {
+            self.prepared.uploads.retain(|(s, _)| *s != slot);
+            return Ok(update);
+        };
+        let cloud = Arc::clone(&self.drawn(slot).cloud);
+        let uploads: Vec<_> = self.prepared.uploads.keys().filter(|(s, _)| *s == slot).collect();
+        for upload_key in uploads {
+            let grouping = upload_key.1.and_then(|spec| self.prepared.groupings.get(&(slot, spec)));
+            let grouping = grouping.map(|kept| Arc::clone(&kept.value.grouping));
+            let upload = self.prepared.uploads.get(&upload_key).expect("listed above");
+            let started = std::time::Instant::now();
+            let bytes = upload.value.rewrite(&gpu.ctx.device, &gpu.ctx.queue, &cloud, grouping.as_deref());
+            upload.drawn = key;
+            let ms = started.elapsed().as_secs_f64() * 1e3;
+            update.upload_of.push((upload_key.1, ms, bytes));
+            update.upload_ms += ms;
+            update.uploaded_bytes += bytes;
+        }
+        Ok(update)
+    }
+
+    /// Hash grouping `spec` of the splats `slot` draws by the slot's
+    /// regrouper (made on first use); returns it and the splats labelled.
+    pub(super) fn regroup(
+        &mut self,
+        slot: Slot,
+        spec: crate::grouping::GroupingSpec,
+    ) -> Result<(SceneGrouping, usize), FrameError> {
+        let GroupingAlgo::Hash { k, resolve_collisions } = spec.algo else {
+            return Err(FrameError::NoGrouping(spec));
+        };
+        let collisions = if resolve_collisions { Collisions::All } else { Collisions::None };
+        let options = HashOptions { k, collisions };
+        let key = (slot, spec.algo);
+        if !self.prepared.regroupers.contains(&key) {
+            let lattice = self.lattice_of(slot);
+            let regrouper =
+                HashRegrouper::new(lattice, options).map_err(|source| FrameError::Grouping { spec, source })?;
+            self.prepared.regroupers.insert(key, regrouper);
+        }
+        let cloud = Arc::clone(&self.drawn(slot).cloud);
+        let regrouper = self.prepared.regroupers.get(&key).expect("made above");
+        let started = std::time::Instant::now();
+        let grouping = with_extension(regrouper.regroup(&cloud), spec);
+        let seconds = started.elapsed().as_secs_f64();
+        let labelled = regrouper.stats().labelled;
+        Ok((SceneGrouping { spec, grouping: Arc::new(grouping), seconds, cached: false }, labelled))
+    }
+
+    /// The lattice `slot`'s hash groups are counted on: a moving scene's
+    /// rest pose (else its first frame shown), and the whole scene's for a
+    /// subset, whatever it chose.
+    fn lattice_of(&mut self, slot: Slot) -> Lattice {
+        match slot {
+            Slot::Whole => self.lattice.unwrap_or_else(|| Lattice::of(self.cloud())),
+            Slot::Budget | Slot::Hybrid => {
+                let whole = Arc::clone(self.cloud());
+                *self.subset_lattice.get_or_insert_with(|| Lattice::of(&whole))
+            }
+        }
+    }
+}
