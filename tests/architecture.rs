@@ -148,6 +148,31 @@ fn the_scene_cache_decides_nothing_and_no_prepared_scene_nests_another() {
     }
 }
 
+/// One styling path: a style reaches splats only through
+/// `SceneObject::restyle` (which runs `Style::apply` and keeps what it
+/// used, for the legend), and only the scene module calls that: every front
+/// end hands its style to `Scene::apply_style` or a scene file's objects.
+#[test]
+fn a_style_is_applied_only_through_the_scene() {
+    let scene_dir = core_src().join("scene");
+    let files: Vec<PathBuf> = [root().join("src"), root().join("crates")].iter().flat_map(|d| rust_files(d)).collect();
+    let mut restyles = 0;
+    for file in &files {
+        let text = std::fs::read_to_string(file).unwrap();
+        let code = text.split("#[cfg(test)]").next().unwrap_or_default();
+        for (n, line) in code.lines().enumerate().filter(|(_, l)| !l.trim_start().starts_with("//")) {
+            let place = format!("{}:{}", file.display(), n + 1);
+            if line.contains(".restyle(") {
+                assert!(file.starts_with(&scene_dir), "{place}: a style applied outside the scene: {line}");
+                restyles += 1;
+            }
+            let applies = line.contains("style.apply(") || line.contains("Style::apply(");
+            assert!(!applies || file.ends_with("scene/mod.rs"), "{place}: a style applied outside restyle: {line}");
+        }
+    }
+    assert!(restyles >= 3, "{restyles} calls of restyle found");
+}
+
 /// Small files, one concept each: no source file of the project (src and
 /// crates, tests excluded) is over 600 lines.
 #[test]

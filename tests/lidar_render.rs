@@ -147,3 +147,61 @@ fn a_screenshots_sidecar_brings_its_colours_by_attribute_back() {
     let eps = metrics::compare(&unstyled, &wanted).unwrap().eps;
     assert!(eps > 5.0, "without the style the colours differ (ε {eps})");
 }
+
+/// One check of each style value, whatever its source: a bad range, class
+/// opacity and colormap are refused by the flags, a scene file and a
+/// screenshot's sidecar alike, each with the shared parser's own words.
+#[test]
+fn a_bad_style_value_is_refused_in_the_parsers_words_from_flags_scene_files_and_sidecars() {
+    use pointblend::frame::sidecar::SidecarModel;
+    use pointblend::frame::{Camera, RenderSettings, Sidecar};
+    use pointblend::style::{Colormap, parse, record::StyleRecord};
+    let dir = tempfile::tempdir().unwrap();
+    let file = lidar::write(&dir.path().join("t.laz"), &tilted_grid(20, 0.5, 0.0, [0.0; 3]), [0.0; 3], None);
+    let (scene, _) = pointblend::scene::open(&file, &Default::default()).unwrap();
+    let camera = Camera::default_for(&scene.flatten().cloud, 1.0);
+    let model = SidecarModel { name: "t.laz".into(), path: String::new(), hash: String::new(), splats: 400 };
+    let sidecar = Sidecar::new(model, &camera, &RenderSettings::default(), (128, 128));
+    let cases = [
+        (
+            "range",
+            ["--range", "5,1"],
+            "range = [5.0, 1.0]",
+            StyleRecord { range: Some([5.0, 1.0]), colormap: "viridis".into(), ..Default::default() },
+            parse::range("5,1").unwrap_err(),
+        ),
+        (
+            "class opacity",
+            ["--class-opacity", "5:1.5"],
+            "class_opacity = { 5 = 1.5 }",
+            StyleRecord { class_opacity: vec![(5, 1.5)], colormap: "viridis".into(), ..Default::default() },
+            parse::class_opacity("5:1.5").unwrap_err(),
+        ),
+        (
+            "colormap",
+            ["--colormap", "rainbow"],
+            "colormap = \"rainbow\"",
+            StyleRecord { colormap: "rainbow".into(), ..Default::default() },
+            "rainbow".parse::<Colormap>().unwrap_err(),
+        ),
+    ];
+    for (what, flags, key, record, words) in cases {
+        let out = dir.path().join("out.png");
+        let mut args = vec![file.display().to_string()];
+        args.extend(flags.iter().map(|f| f.to_string()));
+        let from_flags = common::refused_in_one_line(&args, &out, &format!("a bad {what} flag"));
+        let scene_file = dir.path().join("scene.toml");
+        std::fs::write(&scene_file, format!("[[object]]\ncloud = \"t.laz\"\ncolor_by = \"intensity\"\n{key}\n"))
+            .unwrap();
+        let from_scene = common::refused_in_one_line(&[&scene_file], &out, &format!("a bad {what} key"));
+        let json = dir.path().join("view.json");
+        Sidecar { style: Some(StyleRecord { color_by: Some("intensity".into()), ..record }), ..sidecar.clone() }
+            .write(&json)
+            .unwrap();
+        let args = [file.display().to_string(), "--camera".into(), json.display().to_string()];
+        let from_sidecar = common::refused_in_one_line(&args, &out, &format!("a bad {what} in a sidecar"));
+        for line in [from_flags, from_scene, from_sidecar] {
+            assert!(line.contains(&words), "{what}: '{line}' lacks the parser's words '{words}'");
+        }
+    }
+}

@@ -83,9 +83,7 @@ impl Model {
     pub fn with_style(&self, style: Option<Arc<Style>>, generation: u64) -> Result<Model, String> {
         let mut scene = (*self.unstyled).clone();
         if let Some(style) = &style {
-            for o in &mut scene.objects {
-                o.restyle(style)?;
-            }
+            scene.apply_style(style)?;
         }
         let model = Self::with_summary(&self.path, scene, self.warnings.clone(), generation, self.summary.clone());
         Ok(Model { unstyled: self.unstyled.clone(), style, ..model })
