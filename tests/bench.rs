@@ -89,19 +89,10 @@ fn a_ruler_mode_measures_every_row_against_its_image_instead_of_the_reference() 
     let out = dir.path().join("out");
     let demo = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/demo.toml");
     let run = |extra: &[&str]| {
-        let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
-            .arg("bench")
-            .arg(&demo)
-            .args(["--modes", "alg2,depth-peel:layers=8", "--size", "128x128", "--frames", "1", "--warm-up", "1"])
-            .args(["--views", "1", "--loads", "1", "--out"])
-            .arg(&out)
-            .args(extra)
-            .output()
-            .unwrap();
-        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-        let rows: Vec<serde_json::Value> =
-            serde_json::from_slice(&std::fs::read(out.join("bench.json")).unwrap()).unwrap();
-        rows
+        let mut args = vec![demo.to_str().unwrap(), "--modes", "alg2,depth-peel:layers=8", "--size", "128x128"];
+        args.extend(["--frames", "1", "--warm-up", "1", "--views", "1", "--loads", "1"]);
+        args.extend(extra);
+        common::bench_rows(&args, &out)
     };
     let exact = run(&[]);
     let peeled = run(&["--ruler", "depth-peel:layers=8"]);

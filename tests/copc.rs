@@ -330,3 +330,82 @@ fn a_lit_streamed_frame_keeps_the_nodes_off_screen_that_cast_its_shadows() {
     println!("a close view of a corner drew {unlit} splats unlit and {lit} lit by a scene light");
     assert!(lit > unlit, "the lit frame culled the off-screen casters: {lit} splats against {unlit} unlit");
 }
+
+/// `bench FILE --path views.json` times the views of a camera path in path
+/// order, in one process, each row with what its view cost (the same on every
+/// row of that view). The first view loads, prepares and uploads its nodes;
+/// the same view again reads nothing (the node cache serves it) but, as
+/// every selection today, is prepared and uploaded whole again; a close view
+/// of a corner reads finer nodes the far one did not.
+#[test]
+fn bench_along_a_path_reports_what_each_view_cost_in_path_order() {
+    use pointblend::frame::{UpAxis, ViewPath};
+    let dir = tempfile::tempdir().unwrap();
+    let copc = made_copc(dir.path(), 400);
+    let at = |target: glam::Vec3, distance: f32| Camera {
+        target,
+        distance,
+        azimuth_deg: 30.0,
+        elevation_deg: 60.0,
+        fov_y_deg: 40.0,
+        up: UpAxis::PosZ,
+        scene_radius: 30.0,
+    };
+    let far = at(glam::Vec3::ZERO, 200.0);
+    let corner = at(glam::Vec3::new(45.0, 45.0, 0.0), 6.0);
+    let views = dir.path().join("views.json");
+    ViewPath::new(&[far, far, corner]).write(&views).unwrap();
+    let of_view = path_costs(&copc, &views, 3, &["--point-budget", "100000"]);
+    let [_, nodes, bytes, points, seconds, uploaded] = of_view[0][..] else { unreachable!() };
+    assert!(nodes > 0.0 && bytes > 0.0 && points > 0.0 && seconds > 0.0 && uploaded > 0.0, "first: {:?}", of_view[0]);
+    assert_eq!(of_view[1][1..3], [0.0; 2], "the same view again reads nothing: {:?}", of_view[1]);
+    let (again, first) = ([of_view[1][3], of_view[1][5]], [of_view[0][3], of_view[0][5]]);
+    assert_eq!(again, first, "but its selection is prepared and uploaded whole again");
+    assert!(of_view[2][1] > 0.0 && of_view[2][2] > 0.0, "the close view reads finer nodes: {of_view:?}");
+    assert!(of_view[2][5] > 0.0, "and uploads them: {:?}", of_view[2]);
+}
+
+/// `bench FILE --path VIEWS` (`views` path views, two-pass, 64², one
+/// frame, `extra` flags): each view's costs (view_index, nodes_added,
+/// bytes_read, points_prepared, prepare_s, upload_bytes), checked to be the
+/// same on every row of the view and the rows to come in path order.
+fn path_costs(file: &Path, views: &Path, count: usize, extra: &[&str]) -> Vec<Vec<f64>> {
+    let mut args: Vec<&str> = vec![file.to_str().unwrap(), "--path", views.to_str().unwrap(), "--modes", "two-pass"];
+    args.extend(["--size", "64x64", "--frames", "1", "--warm-up", "0"]);
+    args.extend(extra);
+    let rows = common::bench_rows(&args, &views.with_file_name("bench"));
+    let cost = |row: &serde_json::Value, key: &str| row[key].as_f64().unwrap_or_else(|| panic!("no {key}: {row}"));
+    let keys = ["view_index", "nodes_added", "bytes_read", "points_prepared", "prepare_s", "upload_bytes"];
+    let order: Vec<f64> = rows.iter().map(|r| cost(r, "view_index")).collect();
+    assert!(order.windows(2).all(|w| w[0] <= w[1]), "rows in path order: {order:?}");
+    (0..count)
+        .map(|view| {
+            let rows: Vec<_> = rows.iter().filter(|r| cost(r, "view_index") == view as f64).collect();
+            assert!(rows.len() >= 2, "view {view}: the reference's row and two-pass's: {rows:?}");
+            let costs: Vec<f64> = keys.iter().map(|k| cost(rows[0], k)).collect();
+            for row in &rows {
+                assert_eq!(keys.iter().map(|k| cost(row, k)).collect::<Vec<_>>(), costs, "one view, one cost");
+            }
+            costs
+        })
+        .collect()
+}
+
+/// A file opened whole is one node, read, prepared and uploaded for the
+/// first view of a path; the other views cost nothing more (no point budget).
+#[test]
+fn a_file_opened_whole_is_prepared_once_for_the_first_view_of_a_path() {
+    use pointblend::frame::ViewPath;
+    let dir = tempfile::tempdir().unwrap();
+    let points = tilted_grid(60, 0.25, 0.1, [600_000.0, 4_000_000.0, 100.0]);
+    let laz = lidar::write(&dir.path().join("tile.laz"), &points, [600_000.0, 4_000_000.0, 0.0], None);
+    let (cloud, _) = cloud::load(&laz).unwrap();
+    let views = dir.path().join("views.json");
+    let far = Camera::default_for(&cloud, 1.0);
+    ViewPath::new(&[far, Camera { distance: far.distance * 0.3, ..far }]).write(&views).unwrap();
+    let of_view = path_costs(&laz, &views, 2, &[]);
+    let size = std::fs::metadata(&laz).unwrap().len() as f64;
+    assert_eq!(of_view[0][1..4], [1.0, size, points.len() as f64], "one node, the file, every point");
+    assert!(of_view[0][4] > 0.0 && of_view[0][5] > 0.0, "prepared and uploaded: {:?}", of_view[0]);
+    assert_eq!(of_view[1][1..], [0.0; 5], "the next view costs nothing more: {:?}", of_view[1]);
+}

@@ -119,6 +119,7 @@ fn bench_image(sidecar: &Path, cache: &Path) -> image::RgbaImage {
         stream: Default::default(),
         camera: Default::default(),
         time: None,
+        path: None,
         stream_budget: Default::default(),
         ruler: None,
     };

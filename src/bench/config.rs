@@ -54,6 +54,9 @@ pub struct BenchConfig {
     /// The camera asked for (the headless main job's `--azimuth` and the
     /// like): when it asks for anything, the first view is that camera.
     pub camera: crate::frame::CameraRequest,
+    /// `--path`: the views of a camera path, measured in path order in place
+    /// of the standard views, each row with what its view cost to prepare.
+    pub path: Option<crate::frame::ViewPath>,
     /// The time a moving scene is measured at, in seconds (0 when `None`).
     pub time: Option<f64>,
     /// Another mode to measure every row against instead of the exact

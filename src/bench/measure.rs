@@ -271,6 +271,7 @@ pub(super) fn blank_row(
         budget_select_ms: None,
         triangles: None,
         window_overflows: None,
+        path: None,
         upload_ms: None,
     }
 }
@@ -372,7 +373,7 @@ pub(super) fn measure_views(
         crate::progress::bar((views.len() * (prepared.len() + 1)) as u64, &format!("bench {stem}"), config.progress);
     let mut rows = Vec::new();
     for view in views {
-        let row = |variant: &str, mode| blank_row(name, opened, view.name, config, variant, mode);
+        let row = |variant: &str, mode| blank_row(name, opened, &view.name, config, variant, mode);
         let rulers = Rulers::of(config, opened, prepared, &view.camera)?;
         let ruler_name = RenderMode::RULER.name();
         let with_opacity = format!("{stem}-{}-{ruler_name}.png", view.name);

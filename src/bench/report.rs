@@ -13,6 +13,28 @@ pub struct PassTime {
     pub ms_max: f64,
 }
 
+/// What one view of a camera path (`--path`) cost to prepare, the same on
+/// every row of that view: the nodes and bytes it read, and the points it
+/// decoded, estimated, styled and grouped, with their seconds and the bytes
+/// uploaded to the GPU for it.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct ViewCosts {
+    /// 0-based, in path order.
+    pub view_index: usize,
+    /// Nodes loaded for this view: a streamed file's; a file opened whole is
+    /// one node, loaded for its first view.
+    pub nodes_added: usize,
+    /// Bytes read from the file or the server for this view.
+    pub bytes_read: u64,
+    /// Points decoded, estimated, styled and grouped for this view.
+    pub points_prepared: u64,
+    /// Seconds of that work: decoding, estimation, styling and grouping.
+    pub prepare_s: f64,
+    /// Bytes of splat records uploaded to the GPU for this view (every
+    /// variant's copy: a grouped variant draws its own).
+    pub upload_bytes: u64,
+}
+
 /// One mode variant, seen from one view of one model.
 #[derive(Debug, Clone, Serialize)]
 pub struct BenchRow {
@@ -96,6 +118,9 @@ pub struct BenchRow {
     /// waiting hits overflowed, finished exactly a layer at a time (slower pixels).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub window_overflows: Option<u32>,
+    /// With `--path`: what this row's view cost to prepare.
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub path: Option<ViewCosts>,
 }
 
 /// Writes `rows` as a JSON array, atomically.

@@ -7,8 +7,8 @@ use super::measure::{
     Opened, Prepared, Rulers, blank_row, measure_variant, measure_views, open_model, prepare_variants,
 };
 use super::orders::{OrderRow, time_orders};
-use super::report::BenchRow;
-use super::views::standard_views;
+use super::report::{BenchRow, ViewCosts};
+use super::views::views_of;
 use crate::frame::RenderMode;
 use crate::grouping::GroupingSpec;
 use crate::output::write_atomically;
@@ -101,7 +101,6 @@ fn bench_model(
     if let Some(count) = config.animate {
         return Ok((bench_animation(model, config, renderer, count)?, Vec::new()));
     }
-    let (w, h) = (config.width, config.height);
     let mut opened = open_model(model, config)?;
     let moving = opened.scene.is_animated().then(|| crate::render::rest_lattice(&opened.scene));
     if moving.is_some() {
@@ -121,7 +120,7 @@ fn bench_model(
     let prepared = prepare_variants(config, &opened, &mut frames, renderer)?;
     let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let stem = crate::output::safe_stem(model);
-    let views = standard_views(&cloud, w as f32 / h as f32, config.views, &config.camera);
+    let views = views_of(config, &cloud);
     let orders = if config.orders {
         log::info!("timing the back-to-front orders of {name}");
         time_orders(&name, &cloud, &views, config.frames, config.warm_up)
@@ -131,7 +130,31 @@ fn bench_model(
     if config.variants.is_empty() {
         return Ok((Vec::new(), orders));
     }
-    let rows = measure_views((&name, &stem), &opened, &mut frames, &prepared, &views, config, renderer)?;
+    if config.path.is_none() {
+        let rows = measure_views((&name, &stem), &opened, &mut frames, &prepared, &views, config, renderer)?;
+        return Ok((rows, orders));
+    }
+    // A file opened whole is one node, read, estimated, grouped and uploaded for the path's first view.
+    let mut rows = Vec::new();
+    let mut costs = ViewCosts {
+        nodes_added: 1,
+        bytes_read: std::fs::metadata(model).map_or(0, |m| m.len()),
+        points_prepared: cloud.len() as u64,
+        prepare_s: opened.load_s + prepared.iter().filter_map(|p| p.group_s).sum::<f64>(),
+        upload_bytes: frames.uploaded_bytes(),
+        view_index: 0,
+    };
+    for (view_index, view) in views.iter().enumerate() {
+        let uploaded = frames.uploaded_bytes();
+        let one = std::slice::from_ref(view);
+        let mut view_rows = measure_views((&name, &stem), &opened, &mut frames, &prepared, one, config, renderer)?;
+        // What the view's own frames uploaded: a point budget's new selections.
+        costs.upload_bytes += frames.uploaded_bytes() - uploaded;
+        costs.view_index = view_index;
+        view_rows.iter_mut().for_each(|row| row.path = Some(costs));
+        rows.extend(view_rows);
+        costs = ViewCosts::default();
+    }
     Ok((rows, orders))
 }
 /// `count` frames of a moving scene spread over one period of its longest
@@ -161,8 +184,7 @@ fn bench_animation(
     let framed = Opened { scene: first, base: opened.base, load_s: opened.load_s };
     let prepared = prepare_variants(config, &framed, &mut frames, renderer)?;
     let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let views =
-        standard_views(frames.cloud(), config.width as f32 / config.height as f32, config.views, &config.camera);
+    let views = views_of(config, frames.cloud());
     let bar = crate::progress::bar(
         (count * views.len() * (prepared.len() + 1)) as u64,
         &format!("bench {} frames", crate::output::safe_stem(model)),
@@ -183,7 +205,7 @@ fn bench_animation(
             let rulers = Rulers::of(config, &now, &prepared, &view.camera)?;
             let ruler_file = format!("{stem}-{}-{}.png", view.name, RenderMode::RULER.name());
             save_png(&rulers.with_opacity.image, &config.out.join(&ruler_file))?;
-            let mut ruler_row = blank_row(&name, &now, view.name, config, RenderMode::RULER.name(), RenderMode::RULER);
+            let mut ruler_row = blank_row(&name, &now, &view.name, config, RenderMode::RULER.name(), RenderMode::RULER);
             let ms = rulers.with_opacity.ms;
             (ruler_row.frame_ms, ruler_row.frame_ms_min, ruler_row.frame_ms_max, ruler_row.frames) = (ms, ms, ms, 1);
             (ruler_row.image, ruler_row.frame, ruler_row.time) = (ruler_file, Some(i), Some(t));
@@ -191,7 +213,7 @@ fn bench_animation(
             bar.inc(1);
             for p in &prepared {
                 let reference = rulers.of_variant(&now.scene, p);
-                let blank = blank_row(&name, &now, view.name, config, &p.variant.label(), p.variant.mode);
+                let blank = blank_row(&name, &now, &view.name, config, &p.variant.label(), p.variant.mode);
                 let spec = p.spec.grouping.map(|g| g.spec);
                 let mut row = measure_variant(renderer, &mut frames, view, p, config, reference, (&stem, blank))?;
                 (row.frame, row.time) = (Some(i), Some(t));

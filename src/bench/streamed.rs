@@ -2,19 +2,23 @@
 //! from the header's bounds, each view selects its nodes under the point
 //! budget (`--point-budget`, 1M by default) and loads what it lacks, and
 //! every mode and the reference draw those same points. The whole file is
-//! never decoded. Each view prints what it read.
+//! never decoded. Each view prints what it read. A camera path's views
+//! (`--path`) are measured in path order, each row with what its view cost
+//! ([`ViewCosts`]): today every new selection is re-centred, estimated,
+//! styled, grouped and uploaded whole, and a view that selects the same
+//! nodes as the last one prepares nothing.
 
 use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::measure::{measure_views, prepare_variants, set_up};
-use super::report::BenchRow;
-use super::views::standard_views;
+use super::measure::{Opened, measure_views, prepare_variants, set_up};
+use super::report::{BenchRow, ViewCosts};
+use super::views::views_of;
 use super::{BenchConfig, BenchError};
 use crate::cloud::LoadOptions;
-use crate::copc::CopcStream;
 use crate::copc::subset::StreamSubset;
+use crate::copc::{CopcStream, StreamStats};
 use crate::frame::subset::{Choosing, Subset};
 use crate::render::{GpuRenderer, PreparedScene};
 use crate::scene::Scene;
@@ -31,8 +35,7 @@ pub(super) fn bench_streamed(
     let open_s = opened_at.elapsed().as_secs_f64();
     // What the report names: the URL's credentials masked.
     let shown = stream.name().to_string();
-    let (w, h) = (config.width, config.height);
-    let views = standard_views(&stream.bounds_cloud(), w as f32 / h as f32, config.views, &config.camera);
+    let views = views_of(config, &stream.bounds_cloud());
     // Chosen as the variants' base settings say (their radius scale, and
     // every node when lit: off-screen nodes cast shadows).
     let choosing = Choosing::of(&config.settings);
@@ -41,32 +44,65 @@ pub(super) fn bench_streamed(
     let short = subset.stream.file_name().to_string();
     let stem = crate::output::safe_stem(Path::new(&short));
     let mut rows = Vec::new();
-    for view in &views {
+    // The last selection, set up and prepared: a view that selects the same nodes draws it again.
+    let mut shown_last: Option<(Opened, PreparedScene)> = None;
+    for (view_index, view) in views.iter().enumerate() {
         let before = subset.stream.stats();
         let started = Instant::now();
-        let choice = subset.choose(&view.camera, (w, h), choosing).map_err(|e| BenchError::Invalid(e.to_string()))?;
+        let choice = subset
+            .choose(&view.camera, (config.width, config.height), choosing)
+            .map_err(|e| BenchError::Invalid(e.to_string()))?;
         let stream_s = started.elapsed().as_secs_f64();
         let after = subset.stream.stats();
-        let (cache, _, bound) = subset.stream.cache_usage();
-        println!(
-            "{short} {} view: {} points of {} nodes, {:.1} MB read in {} requests, {:.2} s to select, load and build; cache {:.0} of {:.0} MB{}",
-            view.name,
-            subset.last.points,
-            subset.last.drawn,
-            (after.bytes_read - before.bytes_read) as f64 / 1e6,
-            after.requests - before.requests,
-            stream_s,
-            cache as f64 / 1e6,
-            bound as f64 / 1e6,
-            if after.failed > 0 { format!(", {} nodes failed", after.failed) } else { String::new() }
-        );
-        let scene = Scene::single(short.clone(), choice.cloud.unwrap_or_default(), choice.key).coloured_by_default();
-        let opened = set_up(scene, &shown, config, open_s + stream_s)?;
-        // The stream applied the budget: every frame draws the points it selected.
-        let mut frames = PreparedScene::of(Arc::clone(&opened.scene)).streamed();
-        let prepared = prepare_variants(config, &opened, &mut frames, renderer)?;
+        say_view(&short, &view.name, &subset, (&before, &after), stream_s);
+        let mut costs = ViewCosts {
+            view_index,
+            nodes_added: after.nodes_loaded - before.nodes_loaded,
+            bytes_read: after.bytes_read - before.bytes_read,
+            ..Default::default()
+        };
+        let fresh = choice.cloud.is_some() || shown_last.is_none();
+        if fresh {
+            // Every selected point is re-centred, estimated and styled again, then grouped and uploaded.
+            let cloud = choice.cloud.unwrap_or_default();
+            costs.points_prepared = cloud.len() as u64;
+            let styled_at = Instant::now();
+            let scene = Scene::single(short.clone(), cloud, choice.key).coloured_by_default();
+            let opened = set_up(scene, &shown, config, open_s + stream_s)?;
+            costs.prepare_s = stream_s + styled_at.elapsed().as_secs_f64();
+            // The stream applied the budget: every frame draws the points it selected.
+            let frames = PreparedScene::of(Arc::clone(&opened.scene)).streamed();
+            shown_last = Some((opened, frames));
+        }
+        let (opened, frames) = shown_last.as_mut().expect("set above");
+        let uploaded = frames.uploaded_bytes();
+        let prepared = prepare_variants(config, opened, frames, renderer)?;
+        if fresh {
+            costs.prepare_s += prepared.iter().filter_map(|p| p.group_s).sum::<f64>();
+        }
+        costs.upload_bytes = frames.uploaded_bytes() - uploaded;
         let one = std::slice::from_ref(view);
-        rows.extend(measure_views((&short, &stem), &opened, &mut frames, &prepared, one, config, renderer)?);
+        let mut view_rows = measure_views((&short, &stem), opened, frames, &prepared, one, config, renderer)?;
+        if config.path.is_some() {
+            view_rows.iter_mut().for_each(|row| row.path = Some(costs));
+        }
+        rows.extend(view_rows);
     }
     Ok(rows)
+}
+
+/// Prints what a view of `short` selected and read.
+fn say_view(short: &str, view: &str, subset: &StreamSubset, (before, after): (&StreamStats, &StreamStats), s: f64) {
+    let (cache, _, bound) = subset.stream.cache_usage();
+    println!(
+        "{short} {view} view: {} points of {} nodes ({} new), {:.1} MB read in {} requests, {s:.2} s to select, load and build; cache {:.0} of {:.0} MB{}",
+        subset.last.points,
+        subset.last.drawn,
+        after.nodes_loaded - before.nodes_loaded,
+        (after.bytes_read - before.bytes_read) as f64 / 1e6,
+        after.requests - before.requests,
+        cache as f64 / 1e6,
+        bound as f64 / 1e6,
+        if after.failed > 0 { format!(", {} nodes failed", after.failed) } else { String::new() }
+    );
 }

@@ -1,4 +1,5 @@
-//! The standard benchmark views around a model.
+//! The benchmark views around a model: the standard ones, or a camera
+//! path's (`--path`, the views file `render --path` flies through).
 //!
 //! All start from the model's default camera: its front, a side view from
 //! above, the back from higher up, a close-up (0.45x the framing distance:
@@ -8,12 +9,12 @@
 //! scanner's direction, the grazing one looking steeply down across it.
 
 use crate::cloud::PointCloud;
-use crate::frame::{Camera, CameraRequest};
+use crate::frame::{Camera, CameraRequest, ViewPath};
 
 /// A named camera.
 #[derive(Debug, Clone)]
 pub struct NamedView {
-    pub name: &'static str,
+    pub name: String,
     pub camera: Camera,
 }
 
@@ -42,7 +43,7 @@ pub fn standard_views(cloud: &PointCloud, aspect: f32, count: usize, asked: &Cam
     if !asked.is_empty() {
         // Checked by the command line before the run.
         let camera = asked.camera(cloud, aspect).unwrap_or_else(|_| Camera::default_for(cloud, aspect));
-        let mut views = vec![NamedView { name: "asked", camera }];
+        let mut views = vec![NamedView { name: "asked".into(), camera }];
         views.extend(turned_views(camera, cloud, aspect).into_iter().skip(1).take(count.saturating_sub(1)));
         return views;
     }
@@ -59,9 +60,24 @@ fn turned_views(base: Camera, cloud: &PointCloud, aspect: f32) -> Vec<NamedView>
             camera.azimuth_deg += az;
             camera.elevation_deg = (camera.elevation_deg + el).clamp(-89.0, 89.0);
             camera.distance = camera.fit_distance(&cloud.positions, aspect) * factor;
-            NamedView { name, camera }
+            NamedView { name: name.into(), camera }
         })
         .collect()
+}
+
+/// The views of a camera path (`--path`), in path order: `path-0`, `path-1`...
+pub fn path_views(path: &ViewPath) -> Vec<NamedView> {
+    let cameras = path.views.iter().map(crate::frame::sidecar::SidecarCamera::camera);
+    cameras.enumerate().map(|(k, camera)| NamedView { name: format!("path-{k}"), camera }).collect()
+}
+
+/// The views a model is measured from: the path's when one is given, else
+/// the standard views of `cloud` (see [`standard_views`]).
+pub fn views_of(config: &super::BenchConfig, cloud: &PointCloud) -> Vec<NamedView> {
+    match &config.path {
+        Some(path) => path_views(path),
+        None => standard_views(cloud, config.width as f32 / config.height as f32, config.views, &config.camera),
+    }
 }
 
 /// Most views [`standard_views`] can give.

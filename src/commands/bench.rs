@@ -38,6 +38,12 @@ pub struct Args {
     /// Views per model: front, side, back-top, close-up, grazing (in this order).
     #[arg(long, default_value_t = bench::views::MAX_VIEWS)]
     pub views: usize,
+    /// Times the views of a camera path instead (a views file: what `render --path` flies
+    /// through and the viewer's bookmarks save), in path order in one process. Each row of
+    /// a path view carries what that view cost: view_index, nodes_added, bytes_read,
+    /// points_prepared, prepare_s and upload_bytes.
+    #[arg(long, value_name = "VIEWS.json", conflicts_with_all = ["views", "animate"])]
+    pub path: Option<PathBuf>,
     /// Timed loads per file for the decode speed.
     #[arg(long, default_value_t = 3)]
     pub loads: usize,
@@ -145,6 +151,7 @@ pub fn run(args: &Args) -> Result<()> {
         animate: args.animate,
         camera: Default::default(),
         time: None,
+        path: args.path.as_deref().map(pointblend::frame::ViewPath::read).transpose()?,
         stream_budget: args.view.stream_budget()?,
         ruler,
     };

@@ -88,6 +88,7 @@ pub fn run(args: &Args) -> Result<()> {
             animate: None,
             camera: args.camera_flags.request(),
             time: args.time,
+            path: None,
             stream_budget: args.view.stream_budget()?,
             ruler: None,
         };

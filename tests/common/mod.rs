@@ -184,6 +184,20 @@ pub fn render_cli<S: AsRef<std::ffi::OsStr>>(args: &[S], out: &std::path::Path) 
     (result.status.success(), String::from_utf8_lossy(&result.stderr).into_owned())
 }
 
+/// Runs `pointblend bench ARGS --out OUT`, which must succeed: the rows of its `bench.json`.
+#[allow(dead_code)]
+pub fn bench_rows<S: AsRef<std::ffi::OsStr>>(args: &[S], out: &std::path::Path) -> Vec<serde_json::Value> {
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .arg("bench")
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .expect("pointblend runs");
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    serde_json::from_slice(&std::fs::read(out.join("bench.json")).expect("bench wrote bench.json")).unwrap()
+}
+
 /// [`render_cli`] that must fail with exactly one `error:` line and write
 /// nothing (`what` names the case in messages); returns that line.
 pub fn refused_in_one_line<S: AsRef<std::ffi::OsStr>>(args: &[S], out: &std::path::Path, what: &str) -> String {

@@ -218,6 +218,11 @@ impl GpuScene {
         self.triangles = triangles;
     }
 
+    /// Bytes of the splat records on the GPU (what uploading them wrote).
+    pub fn splat_bytes(&self) -> u64 {
+        self.chunks.iter().map(|(_, n)| *n as u64).sum::<u64>() * std::mem::size_of::<SplatInstance>() as u64
+    }
+
     /// Replaces the splats with another frame's (`cloud`, grouped by
     /// `grouping` when given) in the same buffers when the instance count
     /// and chunks stay (a deforming model: only the runs of records that

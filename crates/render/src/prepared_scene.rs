@@ -93,6 +93,8 @@ pub struct PreparedScene {
     hybrid: Option<Box<hybrid::HybridSubsetState>>,
     /// Where groupings and hierarchies are cached on disk.
     cache: Cache,
+    /// Bytes of splat records written to the GPU so far (uploads and rewrites).
+    uploaded_bytes: u64,
 }
 
 /// The lattice of a moving scene's hash groups: that of its splats at 0 s
@@ -134,6 +136,7 @@ impl PreparedScene {
             budget: None,
             hybrid: None,
             cache: Cache::from_env(),
+            uploaded_bytes: 0,
         }
     }
 
@@ -178,6 +181,12 @@ impl PreparedScene {
     pub fn of(scene: Arc<Scene>) -> Self {
         let cloud = scene.flattened();
         Self::new(scene, cloud)
+    }
+
+    /// Bytes of splat records this scene's frames have written to the GPU so
+    /// far: every upload and every rewrite of one.
+    pub fn uploaded_bytes(&self) -> u64 {
+        self.uploaded_bytes
     }
 
     /// Whether the scene moves.
@@ -382,6 +391,7 @@ impl PreparedScene {
             }
             let cloud = &self.drawn(slot).cloud;
             let upload = gpu.upload_in(cloud, self.scene.environment.as_deref(), grouping.as_deref());
+            self.uploaded_bytes += upload.splat_bytes();
             self.prepared.uploads.insert(key, Keep { drawn, value: upload });
         }
         Ok(&mut self.prepared.uploads.get(&key).expect("kept above").value)

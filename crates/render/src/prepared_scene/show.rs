@@ -109,6 +109,7 @@ impl PreparedScene {
             update.upload_ms += ms;
             update.uploaded_bytes += bytes;
         }
+        self.uploaded_bytes += update.uploaded_bytes;
         Ok(update)
     }
 
