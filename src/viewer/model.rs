@@ -18,8 +18,8 @@ use crate::style::summary::Summary;
 /// 1M-splat model near 100 ms a frame on lavapipe (docs/BENCHMARKS.md).
 pub const DEFAULT_MOVING_BUDGET: u32 = 100_000;
 
-/// A loaded model.
-#[derive(Debug)]
+/// A loaded model (cloning it shares its scene and splats).
+#[derive(Debug, Clone)]
 pub struct Model {
     pub path: PathBuf,
     pub name: String,

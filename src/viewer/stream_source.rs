@@ -80,8 +80,9 @@ impl StreamedSource {
         asked.camera(&bounds, aspect).unwrap_or_else(|_| Camera::default_for(&bounds, aspect))
     }
 
-    /// The scene of the nodes `view` selects (named `name`), and its load warnings.
-    pub fn scene(&self, name: String, view: ViewKey) -> Result<(Scene, Vec<String>), String> {
+    /// The scene of the nodes `view` selects (named `name`), and its load
+    /// warnings; `None` when they are the nodes the last scene drew.
+    pub fn scene(&self, name: String, view: ViewKey) -> Result<Option<(Scene, Vec<String>)>, String> {
         let mut subset = self.subset.lock().map_err(|_| "the stream was poisoned".to_string())?;
         let before = subset.stream.stats();
         let started = Instant::now();
@@ -112,6 +113,6 @@ impl StreamedSource {
             last.drawn,
             started.elapsed().as_secs_f64()
         );
-        Ok((Scene::single(name, choice.cloud.unwrap_or_default(), choice.key), last.warnings.clone()))
+        Ok(choice.cloud.map(|cloud| (Scene::single(name, cloud, choice.key), last.warnings.clone())))
     }
 }

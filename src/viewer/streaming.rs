@@ -12,16 +12,20 @@ use super::stream_source::{StreamedSource, ViewKey};
 use crate::copc::StreamBudget;
 use crate::scene::Materials;
 
-/// The model of the nodes `view` selects from `source`, with `materials` and `style`.
+/// The model of the nodes `view` selects from `source`, with `materials` and
+/// `style`; `shown` again (the same generation: its GPU copies and grouping
+/// stay) when they are the nodes it draws.
 fn streamed_model(
     source: &Arc<StreamedSource>,
-    path: &Path,
+    (path, shown): (&Path, Option<Arc<Model>>),
     view: ViewKey,
     generation: u64,
     (materials, style): (&Materials, Option<Arc<crate::style::Style>>),
 ) -> Result<Model, String> {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let (mut scene, warnings) = source.scene(name, view)?;
+    let Some((mut scene, warnings)) = source.scene(name, view)? else {
+        return shown.map(|model| (*model).clone()).ok_or_else(|| format!("{}: no node selected", path.display()));
+    };
     if style.is_none() && materials.style.is_none() {
         // The first selection: colours by default (a later one keeps the style shown, restyled once below).
         scene = scene.coloured_by_default();
@@ -48,7 +52,8 @@ impl ViewerApp {
             crate::progress::stage("reading the header and the hierarchy");
             let source = StreamedSource::open(&path, stream)?;
             let camera = source.home_camera(&asked, size.0 as f32 / size.1.max(1) as f32);
-            streamed_model(&source, &path, ViewKey { camera, size, budget, choosing }, generation, (&materials, None))
+            let view = ViewKey { camera, size, budget, choosing };
+            streamed_model(&source, (&path, None), view, generation, (&materials, None))
         }));
     }
 
@@ -79,7 +84,7 @@ impl ViewerApp {
         let style = model.style.clone();
         let path = model.path.clone();
         self.load = Some(Job::spawn("refining the view", ctx.clone(), move || {
-            streamed_model(&source, &path, view, generation, (&materials, style))
+            streamed_model(&source, (&path, Some(model)), view, generation, (&materials, style))
         }));
     }
 }

@@ -288,8 +288,7 @@ impl CopcStream {
 
     /// The selected nodes' points as one cloud (nodes in file order).
     pub fn gather(&mut self, selection: &Selection, options: &LoadOptions) -> Result<StreamedFrame, CopcError> {
-        let mut drawn: Vec<u32> = selection.nodes.iter().copied().filter(|&n| self.cache.contains(n)).collect();
-        drawn.sort_by_key(|&n| self.tree.nodes[n as usize].offset);
+        let drawn = self.drawn(selection);
         let mut columns = Columns::default();
         for &n in &drawn {
             columns.extend(&self.cache.get(n).expect("checked above"));
@@ -326,11 +325,24 @@ impl CopcStream {
         let options = LoadOptions { origin: Some(self.tree.origin.to_array()), ..options.clone() };
         let (cloud, report) = from_columns(Path::new(self.name()), data, attributes, info, 0.0, &options)
             .map_err(|e| CopcError::new(self.name(), e.to_string()))?;
+        let hash = self.key_of(&drawn);
+        Ok(StreamedFrame { cloud, report, selection: selection.clone(), drawn, hash })
+    }
+
+    /// The nodes of `selection` that are drawn (loaded), in file order.
+    pub fn drawn(&self, selection: &Selection) -> Vec<u32> {
+        let mut drawn: Vec<u32> = selection.nodes.iter().copied().filter(|&n| self.cache.contains(n)).collect();
+        drawn.sort_by_key(|&n| self.tree.nodes[n as usize].offset);
+        drawn
+    }
+
+    /// What identifies the points of the nodes `drawn` for caches: the source and the nodes.
+    pub fn key_of(&self, drawn: &[u32]) -> u64 {
         let mut hash = crate::hash::fnv1a(0, self.source.identity().as_bytes());
-        for &n in &drawn {
+        for &n in drawn {
             hash = crate::hash::fnv1a(hash, &n.to_le_bytes());
         }
-        Ok(StreamedFrame { cloud, report, selection: selection.clone(), drawn, hash })
+        hash
     }
 
     /// Why a selection gave no point: nothing in view, or the nodes in view failed (the first named).
@@ -367,9 +379,14 @@ impl CopcStream {
         (budget, choosing): (StreamBudget, crate::lod::Choosing),
         load: &LoadOptions,
     ) -> Result<StreamedFrame, CopcError> {
-        let record = u64::from(self.header.las.point_format().len());
-        budget.check_fits(self.name(), self.points(), record, self.options.cache_bytes)?;
+        self.check_fits(budget)?;
         self.frame(camera, size, budget.select_options(choosing), load)
+    }
+
+    /// Whether `budget`'s points fit the node cache (an error says what to change).
+    pub fn check_fits(&self, budget: StreamBudget) -> Result<(), CopcError> {
+        let record = u64::from(self.header.las.point_format().len());
+        budget.check_fits(self.name(), self.points(), record, self.options.cache_bytes)
     }
 
     /// Selects, loads and gathers one frame's points.

@@ -1,7 +1,9 @@
 //! A streamed file's nodes, as a [`Subset`]: each frame selects the nodes
 //! its view needs under the point budget, loads those the node cache lacks,
-//! and gathers their points. `render`, `pick`, `bench` and the viewer all
-//! choose a streamed frame's points through it.
+//! and gathers their points, only when the nodes drawn changed: a view that
+//! draws the same nodes as the last one re-centres and estimates nothing.
+//! `render`, `pick`, `bench` and the viewer all choose a streamed frame's
+//! points through it.
 
 use super::{CopcError, CopcStream, StreamBudget};
 use crate::cloud::LoadOptions;
@@ -26,26 +28,40 @@ pub struct StreamSubset {
     /// How nodes are loaded (a progress bar, or none).
     pub load: LoadOptions,
     pub last: StreamChoice,
+    /// The key of the nodes the last choice drew (none before the first).
+    shown: Option<u64>,
 }
 
 impl StreamSubset {
     pub fn new(stream: CopcStream, budget: StreamBudget, load: LoadOptions) -> Self {
-        StreamSubset { stream, budget, load, last: StreamChoice::default() }
+        StreamSubset { stream, budget, load, last: StreamChoice::default(), shown: None }
     }
 }
 
 impl Subset for StreamSubset {
     type Error = CopcError;
 
-    /// Every choice holds its points (a new view is a new scene), keyed by the source and the nodes drawn.
+    /// The view's nodes, selected and loaded; their points gathered only
+    /// when they are not the nodes the last choice drew. Keyed by the source
+    /// and the nodes drawn.
     fn choose(&mut self, camera: &Camera, size: (u32, u32), choosing: Choosing) -> Result<Choice, CopcError> {
-        let frame = self.stream.frame_under(camera, size, (self.budget, choosing), &self.load)?;
+        self.stream.check_fits(self.budget)?;
+        let selection = self.stream.select(camera, size, self.budget.select_options(choosing));
+        self.stream.load(&selection);
+        let drawn = self.stream.drawn(&selection);
+        let key = self.stream.key_of(&drawn);
+        if self.shown == Some(key) {
+            self.last.selected = selection.nodes.len();
+            return Ok(Choice { cloud: None, key });
+        }
+        let frame = self.stream.gather(&selection, &self.load)?;
         self.last = StreamChoice {
             selected: frame.selection.nodes.len(),
             drawn: frame.drawn.len(),
             points: frame.cloud.len(),
             warnings: frame.report.warnings.clone(),
         };
+        self.shown = Some(frame.hash);
         Ok(Choice { cloud: Some(frame.cloud), key: frame.hash })
     }
 }
