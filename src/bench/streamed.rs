@@ -61,10 +61,10 @@ pub(super) fn bench_streamed(
             bytes_read: after.bytes_read - before.bytes_read,
             ..Default::default()
         };
-        let fresh = choice.cloud.is_some() || shown_last.is_none();
-        if fresh {
-            // Every selected point is re-centred, estimated and styled again, then grouped and uploaded.
-            let cloud = choice.cloud.unwrap_or_default();
+        let fresh = choice.cloud.is_some();
+        if let Some(cloud) = choice.cloud {
+            // New nodes drawn: the stream gathered, re-centred and estimated the whole
+            // selection; it is styled here, then grouped and uploaded whole below.
             costs.points_prepared = cloud.len() as u64;
             let styled_at = Instant::now();
             let scene = Scene::single(short.clone(), cloud, choice.key).coloured_by_default();
@@ -74,7 +74,7 @@ pub(super) fn bench_streamed(
             let frames = PreparedScene::of(Arc::clone(&opened.scene)).streamed();
             shown_last = Some((opened, frames));
         }
-        let (opened, frames) = shown_last.as_mut().expect("set above");
+        let (opened, frames) = shown_last.as_mut().expect("a stream's first choice holds its points");
         let uploaded = frames.uploaded_bytes();
         let prepared = prepare_variants(config, opened, frames, renderer)?;
         if fresh {

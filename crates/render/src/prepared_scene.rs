@@ -5,7 +5,7 @@
 //! subsets a frame may choose from them (the nodes under a point budget,
 //! the splats beside a hybrid frame's triangles, [`crate::frame::subset`]),
 //! and a [`SceneCache`] of what its frames prepared: groupings, GPU copies,
-//! shadow coefficients, the hierarchy and the triangles, each keyed by the
+//! shadow coefficients and the triangles, each keyed by the
 //! slot it serves ([`Slot`]), the grouping and the splats it was made from.
 //! The decisions are made here, from the frame's spec: a still scene's
 //! groupings are computed through the grouping cache (or only handed in,

@@ -13,7 +13,6 @@ use std::sync::Arc;
 use crate::gpu_scene::GpuScene;
 use crate::grouping::regroup::HashRegrouper;
 use crate::grouping::{GroupingAlgo, GroupingSpec};
-use crate::lod::Hierarchy;
 use crate::shadow::ShadowCoefficients;
 
 /// Which splats a frame draws, as far as what was prepared for them goes:
@@ -117,8 +116,6 @@ pub struct SceneCache {
     pub shadows: Keyed<u64, Arc<ShadowCoefficients>>,
     /// Hash regroupers of a slot (they keep the last labels, to redo only what moved).
     pub regroupers: Keyed<(Slot, GroupingAlgo), HashRegrouper>,
-    /// The multi-resolution hierarchy of the whole scene's splats, and its cache key.
-    pub hierarchy: Option<(u64, Arc<Hierarchy>)>,
     /// The scene's mesh triangles on the GPU (three unshared vertices each).
     pub triangles: Option<Arc<wgpu::Buffer>>,
     /// The indices of the triangles drawn, and the ranges they hold.
@@ -133,7 +130,6 @@ impl SceneCache {
             uploads: Keyed::unbounded(),
             shadows: Keyed::with_capacity(shadows),
             regroupers: Keyed::unbounded(),
-            hierarchy: None,
             triangles: None,
             triangle_indices: None,
         }

@@ -60,22 +60,18 @@ impl PreparedScene {
     pub fn with_hierarchy(mut self, hierarchy: Arc<Hierarchy>) -> Self {
         if hierarchy.originals == self.cloud().len() {
             let key = hierarchy_key(self.hash, self.cloud());
-            self.prepared.hierarchy = Some((key, Arc::clone(&hierarchy)));
             self.budget = Some(BudgetSubset::new(hierarchy, key));
         }
         self
     }
 
-    /// The hierarchy's nodes under a budget: the kept hierarchy, else one
-    /// read from the cache or built.
+    /// The hierarchy's nodes under a budget, over the hierarchy read from
+    /// the cache or built on first use (made once per scene, it is the
+    /// subset's own: what it chooses from).
     fn budget_subset(&mut self) -> &mut BudgetSubset {
         if self.budget.is_none() {
             let key = hierarchy_key(self.hash, self.cloud());
-            let hierarchy = match &self.prepared.hierarchy {
-                Some((kept, hierarchy)) if *kept == key => Arc::clone(hierarchy),
-                _ => Arc::new(self.load_hierarchy(key)),
-            };
-            self.prepared.hierarchy = Some((key, Arc::clone(&hierarchy)));
+            let hierarchy = Arc::new(self.load_hierarchy(key));
             self.budget = Some(BudgetSubset::new(hierarchy, key));
         }
         self.budget.as_mut().expect("made above")

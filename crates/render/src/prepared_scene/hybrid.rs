@@ -59,7 +59,7 @@ impl PreparedScene {
         let ranges = selection.triangles.clone();
         let cull_back = settings.backface_culling && state.one_sided;
         let whole = state.whole;
-        report.hybrid = Some(HybridStats {
+        let mut stats = HybridStats {
             pixels: settings.hybrid_pixels,
             triangles: selection.triangle_count(),
             splats: selection.splats.len(),
@@ -69,7 +69,7 @@ impl PreparedScene {
             select_ms: state.subset.select_ms,
             update_ms: 0.0,
             changed,
-        });
+        };
         let indices = match &self.prepared.triangle_indices {
             Some((kept, indices)) if *kept == ranges => Arc::clone(indices),
             _ => {
@@ -79,9 +79,8 @@ impl PreparedScene {
             }
         };
         self.show_choice(Some(gpu), Slot::Hybrid, choice)?;
-        if let Some(stats) = report.hybrid.as_mut() {
-            stats.update_ms = (started.elapsed().as_secs_f64() * 1e3 - stats.select_ms).max(0.0);
-        }
+        stats.update_ms = (started.elapsed().as_secs_f64() * 1e3 - stats.select_ms).max(0.0);
+        report.hybrid = Some(stats);
         let draw = TriangleDraw { buffer: triangles, ranges, indices, cull_back };
         let scene = self.gpu_scene_mut(gpu, Slot::Hybrid, spec, report)?;
         scene.set_triangles(Some(draw), &whole);
