@@ -426,16 +426,22 @@ fn a_copc_file_streams_its_view_and_the_point_budget_reselects_it() {
     assert!(fewer <= 250_000 && all > 250_000, "{fewer} of {all}");
 }
 
+/// A COPC file of two `side`² grids 3 m apart (made by `convert`'s writer),
+/// served by nginx as `tile.copc.laz` (and `slow/tile.copc.laz`).
+fn served_copc(dir: &Path, side: usize) -> common::nginx::Nginx {
+    let mut points = common::lidar::tilted_grid(side, 0.2, 0.1, [500_000.0, 4_000_000.0, 10.0]);
+    points.extend(common::lidar::tilted_grid(side, 0.2, 0.1, [500_000.0, 4_000_000.0, 13.0]));
+    let laz = common::lidar::write(&dir.join("tile.laz"), &points, [500_000.0, 4_000_000.0, 0.0], None);
+    let served = dir.join("served");
+    std::fs::create_dir_all(&served).unwrap();
+    pointblend::copc::write::write_copc(&laz, &served.join("tile.copc.laz"), false).unwrap();
+    common::nginx::Nginx::serve(&served)
+}
+
 #[test]
 fn the_viewer_streams_a_url_from_a_real_server_with_the_command_lines_camera_and_cache() {
     let dir = tempfile::tempdir().unwrap();
-    let mut points = common::lidar::tilted_grid(200, 0.2, 0.1, [500_000.0, 4_000_000.0, 10.0]);
-    points.extend(common::lidar::tilted_grid(200, 0.2, 0.1, [500_000.0, 4_000_000.0, 13.0]));
-    let laz = common::lidar::write(&dir.path().join("tile.laz"), &points, [500_000.0, 4_000_000.0, 0.0], None);
-    let served = dir.path().join("served");
-    std::fs::create_dir_all(&served).unwrap();
-    pointblend::copc::write::write_copc(&laz, &served.join("tile.copc.laz"), false).unwrap();
-    let server = common::nginx::Nginx::serve(&served);
+    let server = served_copc(dir.path(), 200);
     let url = PathBuf::from(server.url("tile.copc.laz"));
     let asked = pointblend::frame::CameraRequest { azimuth: Some(70.0), elevation: Some(25.0), ..Default::default() };
     let stream = pointblend::copc::StreamOptions { cache_bytes: 64_000_000, ..Default::default() };
@@ -446,6 +452,35 @@ fn the_viewer_streams_a_url_from_a_real_server_with_the_command_lines_camera_and
     let camera = h.state().camera();
     assert_eq!((camera.azimuth_deg, camera.elevation_deg), (70.0, 25.0), "the command line's camera");
     assert!(h.query_by_label_contains(" of 64 MB (").is_some(), "the node cache's line shows the bound given");
+}
+
+/// The render thread does not wait on loading: over a slow server (64 KB/s
+/// a request), while the nodes a larger budget adds load, an orbit draws
+/// frames at the new camera with the old selection; the new nodes are drawn
+/// once loaded.
+#[test]
+fn frames_keep_coming_at_the_old_selection_while_a_slow_server_sends_the_new_nodes() {
+    let dir = tempfile::tempdir().unwrap();
+    let server = served_copc(dir.path(), 400);
+    let url = PathBuf::from(server.url("slow/tile.copc.laz"));
+    // A budget that holds the root alone (33,536 points).
+    let parameters = vec![(pointblend::frame::Parameter::PointBudget, "40000".to_string())];
+    let mut h = harness(ViewerOptions { file: Some(url), parameters, ..options(dir.path()) });
+    let streamed = |app: &ViewerApp| app.is_settled() && app.model().is_some_and(|m| m.streamed.is_some());
+    wait_for(&mut h, "the root's view", streamed);
+    let coarse = h.state().shown_splats().unwrap();
+    // The budget switched off: every node (1M by default), from the slow server.
+    h.get_by_label("point budget").click();
+    wait_for(&mut h, "the other nodes' loading", |app| app.is_loading());
+    let before = h.state().camera();
+    let centre = h.state().view_rect().center();
+    drag(&mut h, centre, centre + egui::vec2(120.0, 0.0), 4);
+    let turned = h.state().camera();
+    assert_ne!(turned.azimuth_deg, before.azimuth_deg, "the drag orbits");
+    wait_for(&mut h, "a frame at the new camera", |app| app.shown_frame().is_some_and(|(_, k)| k.camera == turned));
+    assert!(h.state().is_loading(), "the frame came before the nodes");
+    assert_eq!(h.state().shown_splats(), Some(coarse), "drawn with the old selection");
+    wait_for(&mut h, "the new nodes drawn", |app| streamed(app) && app.shown_splats().is_some_and(|n| n > coarse));
 }
 
 /// A lit view's sidecar records its lights, so `render --camera` lights it

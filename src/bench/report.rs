@@ -26,9 +26,13 @@ pub struct ViewCosts {
     pub nodes_added: usize,
     /// Bytes read from the file or the server for this view.
     pub bytes_read: u64,
-    /// Points decoded, estimated, styled and grouped for this view.
+    /// Points prepared for this view: a streamed file's are those of the
+    /// nodes it added, each decoded and estimated once, when it arrived; a
+    /// file opened whole prepares all of its points for its first view.
     pub points_prepared: u64,
-    /// Seconds of that work: decoding, estimation, styling and grouping.
+    /// Seconds of the view's preparation: decoding and estimating what it
+    /// added, then building the selection (re-centring, merging copies),
+    /// styling and grouping it.
     pub prepare_s: f64,
     /// Bytes of splat records uploaded to the GPU for this view (every
     /// variant's copy: a grouped variant draws its own).

@@ -4,9 +4,10 @@
 //! every mode and the reference draw those same points. The whole file is
 //! never decoded. Each view prints what it read. A camera path's views
 //! (`--path`) are measured in path order, each row with what its view cost
-//! ([`ViewCosts`]): today every new selection is re-centred, estimated,
-//! styled, grouped and uploaded whole, and a view that selects the same
-//! nodes as the last one prepares nothing.
+//! ([`ViewCosts`]): a node is decoded and estimated once, when it arrives;
+//! a new selection is then built (re-centred, copies merged), styled,
+//! grouped and uploaded whole, and a view that selects the same nodes as
+//! the last one prepares nothing.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -46,6 +47,7 @@ pub(super) fn bench_streamed(
     let mut rows = Vec::new();
     // The last selection, set up and prepared: a view that selects the same nodes draws it again.
     let mut shown_last: Option<(Opened, PreparedScene)> = None;
+    let mut pinned: Option<crate::style::Style> = None;
     for (view_index, view) in views.iter().enumerate() {
         let before = subset.stream.stats();
         let started = Instant::now();
@@ -62,12 +64,20 @@ pub(super) fn bench_streamed(
             ..Default::default()
         };
         let fresh = choice.cloud.is_some();
+        costs.points_prepared = after.points_loaded - before.points_loaded;
         if let Some(cloud) = choice.cloud {
-            // New nodes drawn: the stream gathered, re-centred and estimated the whole
+            // New nodes drawn: the stream estimated the nodes it added and built the
             // selection; it is styled here, then grouped and uploaded whole below.
-            costs.points_prepared = cloud.len() as u64;
             let styled_at = Instant::now();
-            let scene = Scene::single(short.clone(), cloud, choice.key).coloured_by_default();
+            let mut scene = Scene::single(short.clone(), cloud, choice.key);
+            // The first view's colours, their range fixed, style every later one.
+            match &pinned {
+                Some(style) => scene.apply_style(style).map_err(BenchError::Invalid)?,
+                None => {
+                    scene = scene.coloured_by_default();
+                    pinned = scene.pinned_style();
+                }
+            }
             let opened = set_up(scene, &shown, config, open_s + stream_s)?;
             costs.prepare_s = stream_s + styled_at.elapsed().as_secs_f64();
             // The stream applied the budget: every frame draws the points it selected.

@@ -81,7 +81,8 @@ impl ViewerApp {
         self.generations += 1;
         let generation = self.generations;
         let materials = self.options.materials.clone();
-        let style = model.style.clone();
+        // The colours shown stay: a range left to the percentiles is fixed at the first selection's.
+        let style = model.scene.pinned_style().map(Arc::new).or_else(|| model.style.clone());
         let path = model.path.clone();
         self.load = Some(Job::spawn("refining the view", ctx.clone(), move || {
             streamed_model(&source, (&path, Some(model)), view, generation, (&materials, style))

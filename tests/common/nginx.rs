@@ -1,8 +1,9 @@
 //! A real HTTP server for the streaming tests: Debian's nginx (installed by
 //! `scripts/setup`), started on a free loopback port over a folder and
 //! stopped when dropped. `/norange/` serves the same folder with range
-//! requests switched off (`max_ranges 0`), as some servers do, and
-//! `/unavailable/` answers 503 to everything. [`Nginx::serve_tls`] serves
+//! requests switched off (`max_ranges 0`), as some servers do,
+//! `/unavailable/` answers 503 to everything, and `/slow/` serves the folder
+//! at 64 KB/s a request (a slow link). [`Nginx::serve_tls`] serves
 //! the folder over HTTPS with a given certificate.
 
 use std::path::{Path, PathBuf};
@@ -51,6 +52,7 @@ http {{
     {server}
     location /norange/ {{ alias {root}/; max_ranges 0; }}
     location /unavailable/ {{ return 503; }}
+    location /slow/ {{ alias {root}/; limit_rate 64k; }}
   }}
 }}
 "

@@ -15,7 +15,10 @@
 //! A normal or radius the file lacks (to be estimated) counts as equal among
 //! copies: copies at one position get the same estimate.
 
-use rustc_hash::FxHashMap;
+use std::hash::{Hash, Hasher};
+
+use rayon::prelude::*;
+use rustc_hash::FxHasher;
 
 use super::PointCloud;
 
@@ -46,12 +49,7 @@ pub fn merge_indexed(cloud: &mut PointCloud, needs_normal: &mut Vec<bool>, needs
             (!needs_radius[i]).then(|| bits(cloud.radii[i])),
         )
     };
-    // The first splat of each key, and each splat's representative.
-    // FxHash: the keys are raw float bits, no adversary to guard against (SipHash took ~0.4 s at 2M).
-    let mut first: FxHashMap<Key, u32> = FxHashMap::with_capacity_and_hasher(n, Default::default());
-    let representative: Vec<u32> = (0..n).map(|i| *first.entry(key(i)).or_insert(i as u32)).collect();
-    let unique = first.len();
-    drop(first);
+    let (representative, unique) = representatives(n, &key);
     if unique == n {
         return (0..n as u32).collect();
     }
@@ -102,6 +100,40 @@ pub fn merge_indexed(cloud: &mut PointCloud, needs_normal: &mut Vec<bool>, needs
     needs_normal.truncate(write);
     needs_radius.truncate(write);
     representative.iter().map(|&r| moved_to[r as usize]).collect()
+}
+
+/// Each splat's representative (the first splat with its key), and how
+/// many keys there are.
+///
+/// The splats are sorted by a hash of their key, in parallel, and only
+/// runs of equal hashes are compared: a hash map of the keys took 0.2-0.35 s
+/// for a streamed selection of a million points on 2 cores, each time the
+/// selection changed. FxHash: the keys are raw float bits, with no
+/// adversary to guard against.
+fn representatives(n: usize, key: &(dyn Fn(usize) -> Key + Sync)) -> (Vec<u32>, usize) {
+    let hash = |i: usize| {
+        let mut h = FxHasher::default();
+        key(i).hash(&mut h);
+        h.finish()
+    };
+    let mut order: Vec<(u64, u32)> = (0..n).into_par_iter().map(|i| (hash(i), i as u32)).collect();
+    order.par_sort_unstable();
+    let mut representative: Vec<u32> = (0..n as u32).collect();
+    let mut unique = n;
+    for run in order.chunk_by(|a, b| a.0 == b.0).filter(|run| run.len() > 1) {
+        // Sorted by index within the run: the first of equal keys comes first.
+        for (j, &(_, i)) in run.iter().enumerate() {
+            let first = run[..j]
+                .iter()
+                .map(|&(_, f)| f)
+                .find(|&f| representative[f as usize] == f && key(f as usize) == key(i as usize));
+            if let Some(first) = first {
+                representative[i as usize] = first;
+                unique -= 1;
+            }
+        }
+    }
+    (representative, unique)
 }
 
 /// For each of `count` splats, the file vertex it came from: the first of those merged into it.

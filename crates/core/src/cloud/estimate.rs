@@ -72,6 +72,39 @@ pub fn complete(
     options: &EstimateOptions,
     progress: bool,
 ) -> Estimated {
+    complete_first(cloud, cloud.len(), (needs_normal, needs_radius), file_origin, options, progress)
+}
+
+/// The normals and radii of a node's `own` points, estimated with the
+/// points of the nodes around it (`halo`) as neighbours too, so that a
+/// point at the node's border sees the surface on both sides of it (no
+/// seam). Positions are relative to any point near the node (the node's
+/// centre keeps f32 exact); the halo's own normals and radii are not made.
+pub fn estimate_node(own: &[Vec3], halo: &[Vec3], options: &EstimateOptions) -> (Vec<Vec3>, Vec<f32>, Estimated) {
+    let (n, all) = (own.len(), own.len() + halo.len());
+    let mut cloud = PointCloud {
+        positions: [own, halo].concat(),
+        normals: vec![Vec3::ZERO; all],
+        radii: vec![0.0; all],
+        ..Default::default()
+    };
+    let needs: Vec<bool> = (0..all).map(|i| i < n).collect();
+    let estimated = complete_first(&mut cloud, n, (&needs, &needs), Vec3::ZERO, options, false);
+    cloud.normals.truncate(n);
+    cloud.radii.truncate(n);
+    (cloud.normals, cloud.radii, estimated)
+}
+
+/// [`complete`] for the first `queries` splats: those after them are only
+/// neighbours (their needs are false).
+fn complete_first(
+    cloud: &mut PointCloud,
+    queries: usize,
+    (needs_normal, needs_radius): (&[bool], &[bool]),
+    file_origin: Vec3,
+    options: &EstimateOptions,
+    progress: bool,
+) -> Estimated {
     let mut out = Estimated::default();
     let any_normal = needs_normal.iter().any(|&b| b);
     let any_radius = needs_radius.iter().any(|&b| b);
@@ -80,7 +113,7 @@ pub fn complete(
         let bar = crate::progress::bar(cloud.len() as u64, "finding neighbours", progress);
         let tick = |n: u64| bar.inc(n);
         let started = std::time::Instant::now();
-        let neighbours = knn::k_nearest(&cloud.positions, k, &tick);
+        let neighbours = knn::k_nearest_of_first(&cloud.positions, queries, k, &tick);
         bar.finish();
         log::debug!("{} nearest neighbours of {} points: {:.3} s", k, cloud.len(), started.elapsed().as_secs_f64());
         if any_normal {
@@ -260,13 +293,14 @@ pub fn jacobi_smallest_eigenvector(m: Mat3) -> Option<Vec3> {
 /// connected piece's sign. Normals read from the file are never flipped; they
 /// seed the propagation instead.
 fn orient_normals(cloud: &mut PointCloud, nb: &Neighbours, estimated: &[bool], file_origin: Vec3) {
-    let n = cloud.len();
+    // Only the points with rows (a node's halo has none) take part.
+    let n = nb.rows();
     let k = nb.k.min(8);
     // Symmetric neighbour graph in CSR form.
     let mut degree = vec![0u32; n + 1];
     for i in 0..n {
         for &j in &nb.of(i)[..k] {
-            if j as usize != i {
+            if j as usize != i && (j as usize) < n {
                 degree[i] += 1;
                 degree[j as usize] += 1;
             }
@@ -281,7 +315,7 @@ fn orient_normals(cloud: &mut PointCloud, nb: &Neighbours, estimated: &[bool], f
     for i in 0..n {
         for &j in &nb.of(i)[..k] {
             let j = j as usize;
-            if j != i {
+            if j != i && j < n {
                 adjacency[fill[i]] = j as u32;
                 fill[i] += 1;
                 adjacency[fill[j]] = i as u32;
@@ -292,7 +326,7 @@ fn orient_normals(cloud: &mut PointCloud, nb: &Neighbours, estimated: &[bool], f
 
     let normals = &mut cloud.normals;
     let positions = &cloud.positions;
-    let centre = positions.iter().sum::<Vec3>() / n.max(1) as f32;
+    let centre = positions[..n].iter().sum::<Vec3>() / n.max(1) as f32;
     let mut component = vec![u32::MAX; n];
     let mut heap = BinaryHeap::new();
     let mut pieces: Vec<Vec<u32>> = Vec::new();
@@ -326,7 +360,7 @@ fn orient_normals(cloud: &mut PointCloud, nb: &Neighbours, estimated: &[bool], f
     }
 
     // Global sign: towards the scanner for a single view, else each piece outwards.
-    let outside = !bounds_contain(positions, file_origin, 0.1);
+    let outside = !bounds_contain(&positions[..n], file_origin, 0.1);
     let facing: Vec<f32> = pieces
         .iter()
         .map(|m| m.iter().map(|&i| (normals[i as usize].dot(file_origin - positions[i as usize])).signum()).sum())
@@ -388,7 +422,7 @@ fn estimate_radii(
     options: &EstimateOptions,
 ) -> (usize, usize) {
     let k = options.radius_neighbours.min(nb.k).max(1);
-    let raw: Vec<f32> = (0..cloud.len())
+    let raw: Vec<f32> = (0..nb.rows())
         .into_par_iter()
         .map(|i| {
             let d = &nb.distances_of(i)[..k];

@@ -16,11 +16,13 @@ use glam::{DVec3, Vec3};
 
 use super::attributes::Attributes;
 use super::colour::to_u8;
-use super::estimate::{self, EstimateOptions};
+use super::estimate;
 use super::formats::{ALPHA_NAMES, COLOR_NAMES, FileInfo, NORMAL_NAMES, is_wanted, ply_attributes};
 use super::gaussians;
 pub use super::given_radii::FILE_RADIUS_OVER_MEDIAN;
 use super::given_radii::clamp_given_radii;
+use super::load_options::use_estimates;
+pub use super::load_options::{Estimates, LoadOptions};
 use super::mesh::face_vertex_normals;
 use super::placement::{Frame, place};
 use super::ply::{self, PointColumns, Scalar};
@@ -28,17 +30,6 @@ use super::{CloudError, LoadReport, PointCloud, Provenance};
 
 /// Colour used when a file has none (a light clay tone).
 pub const DEFAULT_COLOR: [u8; 3] = [200, 190, 170];
-
-/// Options for [`load_with`].
-#[derive(Debug, Clone, Default)]
-pub struct LoadOptions {
-    pub estimate: EstimateOptions,
-    /// Show progress bars for long steps.
-    pub progress: bool,
-    /// Re-centre on this point (file coordinates) instead of the bounding
-    /// box's centre: the parts of a streamed file share one origin.
-    pub origin: Option<[f64; 3]>,
-}
 
 /// Loads `path` with default options.
 pub fn load(path: &Path) -> Result<(PointCloud, LoadReport), CloudError> {
@@ -227,8 +218,15 @@ fn build(
     let before_merge = cloud.len();
     let merged_into = super::duplicates::merge_indexed(&mut cloud, &mut needs.normal, &mut needs.radius);
     let merged = before_merge - cloud.len();
-    cloud.attributes = attributes.gather(&super::duplicates::first_of_each(&merged_into, &kept, cloud.len()));
+    let records = super::duplicates::first_of_each(&merged_into, &kept, cloud.len());
+    cloud.attributes = attributes.gather(&records);
     drop(attributes);
+    // Estimates made before the build (a streamed file's nodes) fill what the file lacks;
+    // copies were merged as if they were still to be estimated, as copies get one estimate.
+    let given = options.estimated.as_deref().filter(|e| e.normals.len() == n && e.radii.len() == n);
+    if let Some(given) = given {
+        use_estimates(&mut cloud, (&mut needs.normal, &mut needs.radius), &records, given);
+    }
     if merged > 0 {
         warnings.push(format!(
             "{merged} splats that repeat another's position, normal and radius exactly were merged into it (colour and opacity averaged)"
@@ -253,7 +251,7 @@ fn build(
     };
     cloud.z_up = from_above || info.z_up;
     let estimate_seconds = estimate_missing(&mut cloud, &needs, &frame, options, &mut warnings);
-    if !needs.normal.iter().any(|&b| b) && normals_from == Provenance::Estimated {
+    if given.is_none() && !needs.normal.iter().any(|&b| b) && normals_from == Provenance::Estimated {
         normals_from = Provenance::FromFile;
     }
 

@@ -21,6 +21,7 @@ pub mod gaussians;
 mod given_radii;
 pub mod las_file;
 pub mod load;
+mod load_options;
 pub mod mesh;
 pub mod placement;
 pub mod ply;
@@ -32,7 +33,7 @@ pub use attributes::{Attribute, Attributes, Values};
 pub use error::CloudError;
 pub(crate) use error::one_line;
 pub use formats::FileInfo;
-pub use load::{LoadOptions, load, load_mesh, load_surface_samples, load_with};
+pub use load::{Estimates, LoadOptions, load, load_mesh, load_surface_samples, load_with};
 
 use glam::Vec3;
 

@@ -3,10 +3,15 @@
 //! current frame draws are never evicted for one another: the frame needs
 //! them all at once, so the cache may pass its bound by what one selection
 //! holds, and falls back under it as soon as the view moves on.
+//!
+//! Beside a node's points the cache keeps what was made of them once, when
+//! the node arrived: its normals and radii ([`super::node_estimates`]).
+//! They are counted in its bytes and leave with it.
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
+use crate::cloud::Estimates;
 use crate::cloud::las_file::Columns;
 
 pub struct NodeCache {
@@ -18,6 +23,7 @@ pub struct NodeCache {
 
 struct Entry {
     columns: Arc<Columns>,
+    estimates: Option<Arc<Estimates>>,
     bytes: usize,
     last_used: u64,
 }
@@ -35,6 +41,26 @@ impl NodeCache {
         Some(entry.columns.clone())
     }
 
+    /// The node's points, if kept, without marking it used (a neighbour's halo).
+    pub fn peek(&self, node: u32) -> Option<&Arc<Columns>> {
+        self.entries.get(&node).map(|e| &e.columns)
+    }
+
+    /// The node's normals and radii, if made.
+    pub fn estimates(&self, node: u32) -> Option<Arc<Estimates>> {
+        self.entries.get(&node)?.estimates.clone()
+    }
+
+    /// Keeps the node's normals and radii beside its points (counted in its bytes).
+    pub fn set_estimates(&mut self, node: u32, estimates: Arc<Estimates>) {
+        if let Some(entry) = self.entries.get_mut(&node) {
+            let bytes = estimates.normals.len() * 12 + estimates.radii.len() * 4;
+            let old = entry.estimates.replace(estimates).map_or(0, |e| e.normals.len() * 12 + e.radii.len() * 4);
+            entry.bytes = entry.bytes + bytes - old;
+            self.used = self.used + bytes - old;
+        }
+    }
+
     pub fn contains(&self, node: u32) -> bool {
         self.entries.contains_key(&node)
     }
@@ -44,7 +70,7 @@ impl NodeCache {
     pub fn insert(&mut self, node: u32, columns: Arc<Columns>, keep: &dyn Fn(u32) -> bool) {
         self.clock += 1;
         let bytes = columns.bytes();
-        if let Some(old) = self.entries.insert(node, Entry { columns, bytes, last_used: self.clock }) {
+        if let Some(old) = self.entries.insert(node, Entry { columns, estimates: None, bytes, last_used: self.clock }) {
             self.used -= old.bytes;
         }
         self.used += bytes;

@@ -8,7 +8,8 @@
 //! columns a LAS file fills, [`load`] fetches and decodes the chunks a
 //! selection lacks (at most four requests in flight), [`disk`] keeps the
 //! chunks fetched on disk (`--disk-cache`), [`cache`] keeps
-//! decoded nodes in an LRU bounded in bytes, and [`stream`] puts them
+//! decoded nodes in an LRU bounded in bytes (with each node's normals and
+//! radii, estimated once by [`node_estimates`]), and [`stream`] puts them
 //! together: select by projected spacing (additive refinement, the same
 //! selection as the in-memory hierarchy's, [`crate::lod::select_in`]),
 //! load, and build the selection into a [`crate::cloud::PointCloud`].
@@ -23,6 +24,7 @@ pub mod header;
 pub mod hierarchy;
 pub mod http;
 pub(crate) mod load;
+pub(crate) mod node_estimates;
 pub mod redact;
 pub mod source;
 pub mod stream;

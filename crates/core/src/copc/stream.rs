@@ -3,15 +3,14 @@
 //! reads the hierarchy pages the traversal reaches, loads the chunks the
 //! selection lacks through the pool ([`super::load`]) into the LRU cache,
 //! and builds the selected points into one [`PointCloud`] as a whole file
-//! is built (the same re-centring, repairs and estimation), on the header
-//! bounds' centre so that every selection shares one frame.
+//! is built (the same re-centring and repairs), on the header bounds'
+//! centre so that every selection shares one frame.
 //!
-//! Normals and radii a file lacks are estimated over the whole selection,
-//! not node by node: a point's neighbours come from its node, its
-//! ancestors and the neighbouring nodes drawn with it, so there is no seam
-//! at a node's border, and radii follow the density actually drawn (a
-//! coarse node's points grow as its children are left out). With every
-//! node selected this is exactly the whole-file load.
+//! Normals and radii a file lacks are estimated node by node, once, when a
+//! node is first drawn, with a halo from the loaded nodes around it and
+//! above it so that there is no seam at its border
+//! ([`super::node_estimates`]); they stay in the cache beside its points,
+//! so a selection that adds a few nodes estimates only those.
 //!
 //! A node that cannot be read (its page or chunk) is skipped: the first few
 //! are logged with why, the rest counted in one line per load, and a frame
@@ -33,10 +32,14 @@ use super::hierarchy::CopcTree;
 use super::http::HttpOptions;
 use super::load::Fetch;
 use super::source::{ByteSource, is_url};
+use rayon::prelude::*;
+
+use super::node_estimates;
 use crate::cloud::attributes::names;
+use crate::cloud::estimate::EstimateOptions;
 use crate::cloud::las_file::{self, Columns};
 use crate::cloud::load::from_columns;
-use crate::cloud::{FileInfo, LoadOptions, LoadReport, PointCloud, Values};
+use crate::cloud::{Estimates, FileInfo, LoadOptions, LoadReport, PointCloud, Values};
 use crate::frame::Camera;
 use crate::lod::{self, LodTree, SelectOptions, Selection};
 
@@ -77,6 +80,10 @@ pub struct StreamStats {
     pub failed: usize,
     /// Seconds spent fetching and decoding.
     pub load_seconds: f64,
+    /// Points whose normals and radii were estimated (each node once, when
+    /// it arrived), and the seconds that took.
+    pub points_estimated: u64,
+    pub estimate_seconds: f64,
 }
 
 pub struct CopcStream {
@@ -286,12 +293,34 @@ impl CopcStream {
         loaded
     }
 
-    /// The selected nodes' points as one cloud (nodes in file order).
+    /// The selected nodes' points as one cloud (nodes in file order), with
+    /// the normals and radii each node got when it arrived.
     pub fn gather(&mut self, selection: &Selection, options: &LoadOptions) -> Result<StreamedFrame, CopcError> {
         let drawn = self.drawn(selection);
+        self.estimate_new(&drawn, &options.estimate);
         let mut columns = Columns::default();
-        for &n in &drawn {
-            columns.extend(&self.cache.get(n).expect("checked above"));
+        let mut estimates = Estimates::default();
+        let nodes: Vec<(u32, Arc<Columns>, Option<Arc<Estimates>>)> =
+            drawn.iter().map(|&n| (n, self.cache.get(n).expect("checked above"), self.cache.estimates(n))).collect();
+        let drawn_set: std::collections::HashSet<u32> = drawn.iter().copied().collect();
+        let medians: std::collections::HashMap<u32, f32> = nodes
+            .par_iter()
+            .filter_map(|(n, _, e)| Some((*n, node_estimates::median_radius(&e.as_ref()?.radii))))
+            .collect();
+        let tree = &self.tree;
+        let radii: Vec<Option<Vec<f32>>> = nodes
+            .par_iter()
+            .map(|(n, own, e)| {
+                let e = e.as_ref()?;
+                Some(node_estimates::drawn_radii(tree, *n, own, &e.radii, (&drawn_set, &medians)))
+            })
+            .collect();
+        for ((_, own, e), radii) in nodes.iter().zip(radii) {
+            columns.extend(own);
+            if let (Some(e), Some(radii)) = (e, radii) {
+                estimates.normals.extend_from_slice(&e.normals);
+                estimates.radii.extend(radii);
+            }
         }
         if columns.len() == 0 {
             return Err(CopcError::new(self.name(), self.why_nothing_is_drawn(selection)));
@@ -322,11 +351,47 @@ impl CopcStream {
             from_above: true,
             z_up: true,
         };
-        let options = LoadOptions { origin: Some(self.tree.origin.to_array()), ..options.clone() };
+        let estimated = self.needs_estimates().then(|| Arc::new(estimates));
+        let options = LoadOptions { origin: Some(self.tree.origin.to_array()), estimated, ..options.clone() };
         let (cloud, report) = from_columns(Path::new(self.name()), data, attributes, info, 0.0, &options)
             .map_err(|e| CopcError::new(self.name(), e.to_string()))?;
         let hash = self.key_of(&drawn);
         Ok(StreamedFrame { cloud, report, selection: selection.clone(), drawn, hash })
+    }
+
+    /// Whether the file lacks normals or radii (then each node gets them once, when it arrives).
+    fn needs_estimates(&self) -> bool {
+        let has = |name: &str| self.header.fields.iter().any(|f| f.name == name);
+        !["nx", "ny", "nz", "radius"].into_iter().all(has)
+    }
+
+    /// Estimates the normals and radii of the `drawn` nodes that have none
+    /// yet, each once and in parallel, with its halo from the nodes loaded
+    /// now ([`node_estimates`]).
+    fn estimate_new(&mut self, drawn: &[u32], options: &EstimateOptions) {
+        if !self.needs_estimates() {
+            return;
+        }
+        let new: Vec<u32> = drawn.iter().copied().filter(|&n| self.cache.estimates(n).is_none()).collect();
+        if new.is_empty() {
+            return;
+        }
+        let started = Instant::now();
+        let (cache, tree) = (&self.cache, &self.tree);
+        let made: Vec<(u32, Estimates)> = new
+            .par_iter()
+            .filter_map(|&n| {
+                let own = cache.peek(n)?;
+                let around = node_estimates::halo_nodes(tree, n, &|m| cache.contains(m));
+                let halo: Vec<&Columns> = around.iter().filter_map(|&m| cache.peek(m).map(|c| c.as_ref())).collect();
+                Some((n, node_estimates::estimate(tree, n, own, &halo, options)))
+            })
+            .collect();
+        for (n, estimates) in made {
+            self.stats.points_estimated += estimates.radii.len() as u64;
+            self.cache.set_estimates(n, Arc::new(estimates));
+        }
+        self.stats.estimate_seconds += started.elapsed().as_secs_f64();
     }
 
     /// The nodes of `selection` that are drawn (loaded), in file order.

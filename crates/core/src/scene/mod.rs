@@ -374,6 +374,15 @@ impl Scene {
         self.objects.first()?.styled.as_ref()?.applied.range
     }
 
+    /// The first object's style with its colormap's range fixed where the
+    /// style left it to the percentiles: what a streamed file's later
+    /// selections are styled with, so that their colours do not shift as
+    /// the nodes drawn change. `None` when the scene is not styled.
+    pub fn pinned_style(&self) -> Option<crate::style::Style> {
+        let styled = self.objects.first()?.styled.as_ref()?;
+        Some(crate::style::Style { range: styled.style.range.or(styled.applied.range), ..(*styled.style).clone() })
+    }
+
     /// This scene as loaded: every object's cloud before its style.
     pub fn unstyled(&self) -> Scene {
         let mut scene = self.clone();

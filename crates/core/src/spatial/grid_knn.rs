@@ -105,10 +105,16 @@ impl Grid {
     }
 }
 
-/// The `k` nearest neighbours of every point (itself excluded), and the
-/// points whose rows are still to be found (far outliers); or `None` when
-/// the cloud is too small or too uneven for a grid (the caller then uses the tree).
-pub fn k_nearest(points: &[Vec3], k: usize, on_progress: &(dyn Fn(u64) + Sync)) -> Option<(Neighbours, Vec<u32>)> {
+/// The `k` nearest neighbours of each of the first `queries` points (itself
+/// excluded; the rest only serve as neighbours), and the points whose rows
+/// are still to be found (far outliers); or `None` when the cloud is too
+/// small or too uneven for a grid (the caller then uses the tree).
+pub fn k_nearest(
+    points: &[Vec3],
+    queries: usize,
+    k: usize,
+    on_progress: &(dyn Fn(u64) + Sync),
+) -> Option<(Neighbours, Vec<u32>)> {
     let n = points.len();
     if n < 4 * (k + 1) || n >= u32::MAX as usize {
         return None;
@@ -155,6 +161,9 @@ pub fn k_nearest(points: &[Vec3], k: usize, on_progress: &(dyn Fn(u64) + Sync)) 
         let mut candidates: Vec<u32> = Vec::with_capacity(27 * members.len());
         grid.block(centre, 1, &mut candidates);
         for (row, r) in members.clone().enumerate() {
+            if grid.sorted[r as usize] as usize >= queries {
+                continue;
+            }
             let q = grid.pos[r as usize];
             let mut row =
                 Row { idx: &mut idx[row * k..(row + 1) * k], dist: &mut dist[row * k..(row + 1) * k], scratch };
@@ -170,6 +179,8 @@ pub fn k_nearest(points: &[Vec3], k: usize, on_progress: &(dyn Fn(u64) + Sync)) 
     let widened = widened.load(std::sync::atomic::Ordering::Relaxed);
     log::debug!("grid k-nn: cell {h}, {per_cell:.1} points per cell, {widened} points searched beyond their block");
     rows_to_point_order(&mut sorted_indices, &mut sorted_distances, &grid.sorted, k);
+    sorted_indices.truncate(queries * k);
+    sorted_distances.truncate(queries * k);
     let neighbours = Neighbours { k, indices: sorted_indices, distances: sorted_distances };
     Some((neighbours, left.into_inner().unwrap_or_else(|e| e.into_inner())))
 }

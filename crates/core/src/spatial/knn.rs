@@ -20,8 +20,16 @@ pub use super::neighbours::Neighbours;
 /// When the cloud has `k` points or fewer, missing entries repeat the point
 /// itself with distance 0.
 pub fn k_nearest(points: &[Vec3], k: usize, on_progress: &(dyn Fn(u64) + Sync)) -> Neighbours {
+    k_nearest_of_first(points, points.len(), k, on_progress)
+}
+
+/// The `k` nearest neighbours, among all of `points`, of the first
+/// `queries` of them: one row each. The points after them only serve as
+/// neighbours (a node's halo from the nodes around it).
+pub fn k_nearest_of_first(points: &[Vec3], queries: usize, k: usize, on_progress: &(dyn Fn(u64) + Sync)) -> Neighbours {
     let k = k.max(1);
-    match super::grid_knn::k_nearest(points, k, on_progress) {
+    let queries = queries.min(points.len());
+    match super::grid_knn::k_nearest(points, queries, k, on_progress) {
         Some((mut found, left)) => {
             if !left.is_empty() {
                 let (tree, coords) = tree_of(points);
@@ -34,7 +42,12 @@ pub fn k_nearest(points: &[Vec3], k: usize, on_progress: &(dyn Fn(u64) + Sync)) 
             }
             found
         }
-        None => k_nearest_in_tree(points, k, on_progress),
+        None => {
+            let mut found = k_nearest_in_tree(points, k, on_progress);
+            found.indices.truncate(queries * k);
+            found.distances.truncate(queries * k);
+            found
+        }
     }
 }
 
@@ -109,7 +122,8 @@ mod tests {
             .collect();
         for (name, points) in [("terrain", terrain), ("sphere", sphere)] {
             let k = 16;
-            let (_, left) = super::super::grid_knn::k_nearest(&points, k, &|_| {}).expect("a grid suits these clouds");
+            let (_, left) = super::super::grid_knn::k_nearest(&points, points.len(), k, &|_| {})
+                .expect("a grid suits these clouds");
             assert!(
                 left.len() * 100 <= points.len(),
                 "{name}: {} of {} points left to the tree",
@@ -125,5 +139,20 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The rows of the first points, the rest serving only as neighbours,
+    /// are the rows those points have among all of them; the rest get none.
+    #[test]
+    fn the_first_points_rows_are_their_rows_among_all_the_points() {
+        let mut seed = 11;
+        let points: Vec<Vec3> =
+            (0..6000).map(|_| Vec3::new(lcg(&mut seed) * 40.0, lcg(&mut seed) * 40.0, lcg(&mut seed) * 0.2)).collect();
+        let (k, queries) = (16, 2500);
+        let all = k_nearest(&points, k, &|_| {});
+        let first = k_nearest_of_first(&points, queries, k, &|_| {});
+        assert_eq!(first.rows(), queries);
+        assert_eq!(first.indices[..], all.indices[..queries * k]);
+        assert!(first.indices.iter().any(|&j| j as usize >= queries), "later points are neighbours too");
     }
 }

@@ -12,6 +12,11 @@ pub struct Neighbours {
 }
 
 impl Neighbours {
+    /// Points with a row.
+    pub fn rows(&self) -> usize {
+        self.indices.len() / self.k.max(1)
+    }
+
     pub fn of(&self, i: usize) -> &[u32] {
         &self.indices[i * self.k..(i + 1) * self.k]
     }

@@ -1,0 +1,167 @@
+//! Each streamed node's normals and radii, estimated once, when it arrives,
+//! and kept beside its points in the node cache: a pan or a zoom estimates
+//! only the nodes it adds. (The splats of Botsch & Kobbelt and of Zhang &
+//! Pajarola need both; a COPC file rarely holds them.)
+//!
+//! A point's neighbours come from its own node and a halo: the points near
+//! the node's cube (within [`HALO_SPACINGS`] of the node's point spacing)
+//! of the loaded nodes at its level and at every coarser level: its parent,
+//! its ancestors and their neighbours. Those are the levels drawn wherever
+//! the node is drawn (a selection is additive: a node comes with all its
+//! ancestors), so a point at a border sees the same density on both sides
+//! of it, and the halo is what keeps the normals and radii of the two sides
+//! alike (no seam). Finer nodes are left out, so an estimate never changes
+//! when they come or go. A neighbour at the node's level that arrives later
+//! is not in its halo: the border points then see one side of the surface
+//! (their normals hold; their radii grow a little).
+//!
+//! A radius follows the density of the node's level and the coarser ones.
+//! Where finer nodes are drawn too, the density is theirs: a frame draws a
+//! point's radius scaled by the ratio of the median radii of the deepest
+//! node drawn at its position and of its own node ([`drawn_radii`], as
+//! Potree's adaptive point size follows the deepest visible node at a
+//! point). That is a walk down the drawn children per point, with no
+//! neighbour search: a selection estimated whole made the radii follow
+//! whatever was drawn with them by estimating again.
+
+use std::collections::{HashMap, HashSet};
+
+use glam::{DVec3, Vec3};
+use las::copc::VoxelKey;
+
+use super::hierarchy::CopcTree;
+use crate::cloud::Estimates;
+use crate::cloud::estimate::{EstimateOptions, estimate_node};
+use crate::cloud::las_file::Columns;
+
+/// How far past its cube a node's halo reaches, in the node's point
+/// spacing: a point's 16 neighbours on a surface lie within about 2.3.
+const HALO_SPACINGS: f64 = 4.0;
+
+/// The nodes whose points may fall in `node`'s halo: at its level and every
+/// coarser one, those whose cube meets the node's cube grown by the margin
+/// (the node itself left out), and that `loaded` holds.
+pub(super) fn halo_nodes(tree: &CopcTree, node: u32, loaded: &dyn Fn(u32) -> bool) -> Vec<u32> {
+    let key = tree.nodes[node as usize].key;
+    let (lo, hi) = grown_cube(tree, node);
+    let (root_min, root_side) = tree.cube(&VoxelKey { l: 0, x: 0, y: 0, z: 0 });
+    let mut found = Vec::new();
+    for level in 0..=key.l {
+        let cells = 1i64 << level;
+        let side = root_side / cells as f64;
+        let range = |axis: usize| {
+            let first = ((lo[axis] - root_min[axis]) / side).floor() as i64;
+            let last = ((hi[axis] - root_min[axis]) / side).floor() as i64;
+            first.clamp(0, cells - 1)..=last.clamp(0, cells - 1)
+        };
+        for x in range(0) {
+            for y in range(1) {
+                for z in range(2) {
+                    let cell = VoxelKey { l: level, x: x as i32, y: y as i32, z: z as i32 };
+                    if cell == key {
+                        continue;
+                    }
+                    if let Some(n) = tree.node(&cell).filter(|&n| tree.nodes[n as usize].points > 0 && loaded(n)) {
+                        found.push(n);
+                    }
+                }
+            }
+        }
+    }
+    found
+}
+
+/// The node's cube grown by its halo's margin, in file coordinates.
+fn grown_cube(tree: &CopcTree, node: u32) -> (DVec3, DVec3) {
+    let n = &tree.nodes[node as usize];
+    let (min, side) = tree.cube(&n.key);
+    // The spacing of the node's points over a face of its cube (a surface
+    // crossing it), read from the node itself: the header's spacing is
+    // not always written.
+    let spacing = side / f64::from(n.points.max(1)).sqrt();
+    let margin = (HALO_SPACINGS * spacing).min(side);
+    (min - DVec3::splat(margin), min + DVec3::splat(side + margin))
+}
+
+/// The normals and radii of `node`'s points (`own`, as decoded), estimated
+/// with the points of `halo` that lie within its grown cube.
+pub(super) fn estimate(
+    tree: &CopcTree,
+    node: u32,
+    own: &Columns,
+    halo: &[&Columns],
+    options: &EstimateOptions,
+) -> Estimates {
+    let (lo, hi) = grown_cube(tree, node);
+    let centre = (lo + hi) * 0.5;
+    // Relative to the node's centre, f32 keeps the points' own precision at any extent.
+    let local = |c: &Columns, i: usize| DVec3::new(c.x[i], c.y[i], c.z[i]);
+    let finite: Vec<usize> = (0..own.len()).filter(|&i| local(own, i).is_finite()).collect();
+    let own_points: Vec<Vec3> = finite.iter().map(|&i| (local(own, i) - centre).as_vec3()).collect();
+    let mut around = Vec::new();
+    for columns in halo {
+        for i in 0..columns.len() {
+            let p = local(columns, i);
+            if p.cmpge(lo).all() && p.cmple(hi).all() {
+                around.push((p - centre).as_vec3());
+            }
+        }
+    }
+    let options = EstimateOptions { orient_up: true, ..options.clone() };
+    let (normals, radii, _) = estimate_node(&own_points, &around, &options);
+    let mut out = Estimates { normals: vec![Vec3::Z; own.len()], radii: vec![0.0; own.len()] };
+    for (k, &i) in finite.iter().enumerate() {
+        out.normals[i] = normals[k];
+        out.radii[i] = radii[k];
+    }
+    out
+}
+
+/// The radii `node`'s points are drawn with among the `drawn` nodes: each
+/// point's estimated radius scaled from its node's density to that of the
+/// deepest node drawn at its position (by the ratio of their median radii,
+/// `medians`, each node's estimated with the levels down to its own).
+pub(super) fn drawn_radii(
+    tree: &CopcTree,
+    node: u32,
+    own: &Columns,
+    radii: &[f32],
+    (drawn, medians): (&HashSet<u32>, &HashMap<u32, f32>),
+) -> Vec<f32> {
+    let this = &tree.nodes[node as usize];
+    let median = |n: u32| medians.get(&n).copied().filter(|m| *m > 0.0);
+    let (true, Some(own_median)) = (this.children.iter().any(|c| drawn.contains(c)), median(node)) else {
+        return radii.to_vec();
+    };
+    (0..own.len())
+        .map(|i| {
+            let p = DVec3::new(own.x[i], own.y[i], own.z[i]);
+            let (mut key, mut deepest) = (this.key, node);
+            loop {
+                let (min, side) = tree.cube(&key);
+                let half = min + DVec3::splat(side * 0.5);
+                let child = VoxelKey {
+                    l: key.l + 1,
+                    x: 2 * key.x + i32::from(p.x >= half.x),
+                    y: 2 * key.y + i32::from(p.y >= half.y),
+                    z: 2 * key.z + i32::from(p.z >= half.z),
+                };
+                match tree.node(&child).filter(|c| drawn.contains(c)) {
+                    Some(c) => (key, deepest) = (child, c),
+                    None => break,
+                }
+            }
+            radii[i] * median(deepest).map_or(1.0, |m| (m / own_median).min(1.0))
+        })
+        .collect()
+}
+
+/// The median of a node's estimated radii (0 when it has none).
+pub(super) fn median_radius(radii: &[f32]) -> f32 {
+    let mut sorted: Vec<f32> = radii.iter().copied().filter(|r| *r > 0.0 && r.is_finite()).collect();
+    if sorted.is_empty() {
+        return 0.0;
+    }
+    let mid = sorted.len() / 2;
+    *sorted.select_nth_unstable_by(mid, f32::total_cmp).1
+}
