@@ -537,3 +537,40 @@ fn a_pan_estimates_only_the_nodes_it_adds() {
     }
     assert!(redrawn > 0 && added_in_pans > 0, "the pans draw nodes again ({redrawn}) and add some ({added_in_pans})");
 }
+
+/// A streamed file's colours do not shift as the nodes drawn change: a
+/// later selection styled with the first one's pinned style (its elevation
+/// range fixed) colours every point it shares with the first as the first
+/// did, where its own percentiles would not.
+#[test]
+fn a_later_selection_keeps_the_first_ones_colours() {
+    let path = require!(common::shared_data("lidar/1.2-with-color.copc.laz"));
+    let mut s = stream(&path.display().to_string());
+    let far = Camera::default_for(&s.bounds_cloud(), 1.0);
+    let close = Camera { target: glam::Vec3::new(-800.0, 0.0, 0.0), distance: 600.0, ..far };
+    let options = StreamBudget::Points(100_000).select_options(Choosing::default());
+    let style =
+        pointblend::style::Style { color_by: Some(pointblend::style::ColorBy::Elevation), ..Default::default() };
+    let mut scene_of = |camera: &Camera, style: &pointblend::style::Style| {
+        let selection = s.select(camera, (SIZE, SIZE), options);
+        s.load(&selection);
+        let mut scene = Scene::from(s.gather(&selection, &LoadOptions::default()).unwrap().cloud);
+        scene.apply_style(style).unwrap();
+        scene
+    };
+    let first = scene_of(&far, &style);
+    let pinned = first.pinned_style().expect("a styled scene");
+    assert!(pinned.range.is_some(), "the range is fixed");
+    let colours = |scene: &Scene| -> std::collections::HashMap<[u32; 3], [u8; 3]> {
+        let cloud = &scene.objects[0].cloud;
+        cloud.positions.iter().zip(&cloud.colours).map(|(p, c)| (p.to_array().map(f32::to_bits), *c)).collect()
+    };
+    let differing = |later: &Scene| {
+        let (a, b) = (colours(&first), colours(later));
+        let shared: Vec<_> = b.keys().filter(|k| a.contains_key(*k)).collect();
+        assert!(shared.len() >= 20, "the selections share points: {}", shared.len());
+        shared.iter().filter(|k| a[**k] != b[**k]).count()
+    };
+    assert_eq!(differing(&scene_of(&close, &pinned)), 0, "the pinned range colours shared points alike");
+    assert!(differing(&scene_of(&close, &style)) > 0, "the close view's own percentiles would not");
+}

@@ -72,13 +72,18 @@ pub(super) fn open_model(model: &Path, config: &BenchConfig) -> Result<Opened, B
     for warning in &warnings {
         log::warn!("{warning}");
     }
-    set_up(scene, &model.display().to_string(), config, started.elapsed().as_secs_f64())
+    set_up(scene, &model.display().to_string(), (config, &config.materials), started.elapsed().as_secs_f64())
 }
 
 /// Applies the run's materials, environment, background and lights to
 /// `scene` (of the file `name`, read in `load_s` seconds).
-pub(super) fn set_up(mut scene: Scene, name: &str, config: &BenchConfig, load_s: f64) -> Result<Opened, BenchError> {
-    config.materials.apply(&mut scene).map_err(BenchError::Invalid)?;
+pub(super) fn set_up(
+    mut scene: Scene,
+    name: &str,
+    (config, materials): (&BenchConfig, &crate::scene::Materials),
+    load_s: f64,
+) -> Result<Opened, BenchError> {
+    materials.apply(&mut scene).map_err(BenchError::Invalid)?;
     if config.environment.is_some() {
         scene.environment = config.environment.clone();
     }

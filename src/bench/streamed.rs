@@ -47,7 +47,7 @@ pub(super) fn bench_streamed(
     let mut rows = Vec::new();
     // The last selection, set up and prepared: a view that selects the same nodes draws it again.
     let mut shown_last: Option<(Opened, PreparedScene)> = None;
-    let mut pinned: Option<crate::style::Style> = None;
+    let mut pinned: Option<Arc<crate::style::Style>> = None;
     for (view_index, view) in views.iter().enumerate() {
         let before = subset.stream.stats();
         let started = Instant::now();
@@ -69,16 +69,21 @@ pub(super) fn bench_streamed(
             // New nodes drawn: the stream estimated the nodes it added and built the
             // selection; it is styled here, then grouped and uploaded whole below.
             let styled_at = Instant::now();
-            let mut scene = Scene::single(short.clone(), cloud, choice.key);
-            // The first view's colours, their range fixed, style every later one.
-            match &pinned {
-                Some(style) => scene.apply_style(style).map_err(BenchError::Invalid)?,
-                None => {
-                    scene = scene.coloured_by_default();
-                    pinned = scene.pinned_style();
+            let scene = Scene::single(short.clone(), cloud, choice.key);
+            // The first view's colours (the default's or the flags'), their range fixed, style every later one.
+            let opened = match &pinned {
+                Some(style) => {
+                    let materials =
+                        crate::scene::Materials { style: Some(Arc::clone(style)), ..config.materials.clone() };
+                    set_up(scene, &shown, (config, &materials), open_s + stream_s)?
                 }
-            }
-            let opened = set_up(scene, &shown, config, open_s + stream_s)?;
+                None => {
+                    let opened =
+                        set_up(scene.coloured_by_default(), &shown, (config, &config.materials), open_s + stream_s)?;
+                    pinned = opened.scene.pinned_style().map(Arc::new);
+                    opened
+                }
+            };
             costs.prepare_s = stream_s + styled_at.elapsed().as_secs_f64();
             // The stream applied the budget: every frame draws the points it selected.
             let frames = PreparedScene::of(Arc::clone(&opened.scene)).streamed();

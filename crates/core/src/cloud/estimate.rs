@@ -80,7 +80,7 @@ pub fn complete(
 /// point at the node's border sees the surface on both sides of it (no
 /// seam). Positions are relative to any point near the node (the node's
 /// centre keeps f32 exact); the halo's own normals and radii are not made.
-pub fn estimate_node(own: &[Vec3], halo: &[Vec3], options: &EstimateOptions) -> (Vec<Vec3>, Vec<f32>, Estimated) {
+pub fn estimate_node(own: &[Vec3], halo: &[Vec3], options: &EstimateOptions) -> (Vec<Vec3>, Vec<f32>) {
     let (n, all) = (own.len(), own.len() + halo.len());
     let mut cloud = PointCloud {
         positions: [own, halo].concat(),
@@ -89,10 +89,10 @@ pub fn estimate_node(own: &[Vec3], halo: &[Vec3], options: &EstimateOptions) -> 
         ..Default::default()
     };
     let needs: Vec<bool> = (0..all).map(|i| i < n).collect();
-    let estimated = complete_first(&mut cloud, n, (&needs, &needs), Vec3::ZERO, options, false);
+    complete_first(&mut cloud, n, (&needs, &needs), Vec3::ZERO, options, false);
     cloud.normals.truncate(n);
     cloud.radii.truncate(n);
-    (cloud.normals, cloud.radii, estimated)
+    (cloud.normals, cloud.radii)
 }
 
 /// [`complete`] for the first `queries` splats: those after them are only
@@ -414,6 +414,13 @@ fn bounds_contain(points: &[Vec3], p: Vec3, margin: f32) -> bool {
     p.cmpge(lo - grow).all() && p.cmple(hi + grow).all()
 }
 
+/// The median of the positive, finite `radii` (`None` when there is none).
+pub fn median_radius(radii: &[f32]) -> Option<f32> {
+    let mut sorted: Vec<f32> = radii.iter().copied().filter(|&r| r > 0.0 && r.is_finite()).collect();
+    let mid = sorted.len() / 2;
+    (!sorted.is_empty()).then(|| *sorted.select_nth_unstable_by(mid, f32::total_cmp).1)
+}
+
 /// Returns (isolated points, clamped radii).
 fn estimate_radii(
     cloud: &mut PointCloud,
@@ -434,13 +441,8 @@ fn estimate_radii(
             }
         })
         .collect();
-    let mut sorted: Vec<f32> = raw.iter().copied().filter(|&r| r > 0.0 && r.is_finite()).collect();
-    if sorted.is_empty() {
-        // Every point coincides: give them a radius that is visible.
-        sorted.push(1.0);
-    }
-    let mid = sorted.len() / 2;
-    let median = *sorted.select_nth_unstable_by(mid, f32::total_cmp).1;
+    // Every point coincides when none is positive: give them a radius that is visible.
+    let median = median_radius(&raw).unwrap_or(1.0);
     let (mut isolated, mut clamped) = (0, 0);
     for (i, r) in raw.into_iter().enumerate() {
         if !needed[i] {

@@ -11,7 +11,7 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use crate::cloud::Estimates;
+use super::node_estimates::NodeEstimates;
 use crate::cloud::las_file::Columns;
 
 pub struct NodeCache {
@@ -23,7 +23,7 @@ pub struct NodeCache {
 
 struct Entry {
     columns: Arc<Columns>,
-    estimates: Option<Arc<Estimates>>,
+    estimates: Option<Arc<NodeEstimates>>,
     bytes: usize,
     last_used: u64,
 }
@@ -47,15 +47,15 @@ impl NodeCache {
     }
 
     /// The node's normals and radii, if made.
-    pub fn estimates(&self, node: u32) -> Option<Arc<Estimates>> {
+    pub fn estimates(&self, node: u32) -> Option<Arc<NodeEstimates>> {
         self.entries.get(&node)?.estimates.clone()
     }
 
     /// Keeps the node's normals and radii beside its points (counted in its bytes).
-    pub fn set_estimates(&mut self, node: u32, estimates: Arc<Estimates>) {
+    pub fn set_estimates(&mut self, node: u32, estimates: Arc<NodeEstimates>) {
         if let Some(entry) = self.entries.get_mut(&node) {
-            let bytes = estimates.normals.len() * 12 + estimates.radii.len() * 4;
-            let old = entry.estimates.replace(estimates).map_or(0, |e| e.normals.len() * 12 + e.radii.len() * 4);
+            let bytes = estimates.bytes();
+            let old = entry.estimates.replace(estimates).map_or(0, |e| e.bytes());
             entry.bytes = entry.bytes + bytes - old;
             self.used = self.used + bytes - old;
         }

@@ -31,7 +31,7 @@ use las::copc::VoxelKey;
 
 use super::hierarchy::CopcTree;
 use crate::cloud::Estimates;
-use crate::cloud::estimate::{EstimateOptions, estimate_node};
+use crate::cloud::estimate::{EstimateOptions, estimate_node, median_radius};
 use crate::cloud::las_file::Columns;
 
 /// How far past its cube a node's halo reaches, in the node's point
@@ -83,6 +83,21 @@ fn grown_cube(tree: &CopcTree, node: u32) -> (DVec3, DVec3) {
     (min - DVec3::splat(margin), min + DVec3::splat(side + margin))
 }
 
+/// What a node's points were given once, when it arrived: their normals and
+/// radii, and the median radius that [`drawn_radii`] scales by.
+pub struct NodeEstimates {
+    pub estimates: Estimates,
+    /// 0 when no radius is positive.
+    pub median_radius: f32,
+}
+
+impl NodeEstimates {
+    /// Bytes held, for the node cache's accounting.
+    pub fn bytes(&self) -> usize {
+        self.estimates.normals.len() * 12 + self.estimates.radii.len() * 4
+    }
+}
+
 /// The normals and radii of `node`'s points (`own`, as decoded), estimated
 /// with the points of `halo` that lie within its grown cube.
 pub(super) fn estimate(
@@ -91,7 +106,7 @@ pub(super) fn estimate(
     own: &Columns,
     halo: &[&Columns],
     options: &EstimateOptions,
-) -> Estimates {
+) -> NodeEstimates {
     let (lo, hi) = grown_cube(tree, node);
     let centre = (lo + hi) * 0.5;
     // Relative to the node's centre, f32 keeps the points' own precision at any extent.
@@ -108,32 +123,33 @@ pub(super) fn estimate(
         }
     }
     let options = EstimateOptions { orient_up: true, ..options.clone() };
-    let (normals, radii, _) = estimate_node(&own_points, &around, &options);
+    let (normals, radii) = estimate_node(&own_points, &around, &options);
+    let median_radius = median_radius(&radii).unwrap_or(0.0);
     let mut out = Estimates { normals: vec![Vec3::Z; own.len()], radii: vec![0.0; own.len()] };
     for (k, &i) in finite.iter().enumerate() {
         out.normals[i] = normals[k];
         out.radii[i] = radii[k];
     }
-    out
+    NodeEstimates { estimates: out, median_radius }
 }
 
-/// The radii `node`'s points are drawn with among the `drawn` nodes: each
-/// point's estimated radius scaled from its node's density to that of the
-/// deepest node drawn at its position (by the ratio of their median radii,
-/// `medians`, each node's estimated with the levels down to its own).
+/// The radii `node`'s points are drawn with among the `drawn` nodes, when
+/// finer nodes are drawn at some of their positions (`None`: as
+/// estimated): each point's estimated radius scaled from its node's density
+/// to that of the deepest node drawn at its position, by the ratio of their
+/// median radii (`medians`, each node's estimated with the levels down to its own).
 pub(super) fn drawn_radii(
     tree: &CopcTree,
-    node: u32,
-    own: &Columns,
-    radii: &[f32],
+    (node, own, radii): (u32, &Columns, &[f32]),
     (drawn, medians): (&HashSet<u32>, &HashMap<u32, f32>),
-) -> Vec<f32> {
+) -> Option<Vec<f32>> {
     let this = &tree.nodes[node as usize];
     let median = |n: u32| medians.get(&n).copied().filter(|m| *m > 0.0);
-    let (true, Some(own_median)) = (this.children.iter().any(|c| drawn.contains(c)), median(node)) else {
-        return radii.to_vec();
-    };
-    (0..own.len())
+    if !this.children.iter().any(|c| drawn.contains(c)) {
+        return None;
+    }
+    let own_median = median(node)?;
+    let scaled = (0..own.len())
         .map(|i| {
             let p = DVec3::new(own.x[i], own.y[i], own.z[i]);
             let (mut key, mut deepest) = (this.key, node);
@@ -153,15 +169,6 @@ pub(super) fn drawn_radii(
             }
             radii[i] * median(deepest).map_or(1.0, |m| (m / own_median).min(1.0))
         })
-        .collect()
-}
-
-/// The median of a node's estimated radii (0 when it has none).
-pub(super) fn median_radius(radii: &[f32]) -> f32 {
-    let mut sorted: Vec<f32> = radii.iter().copied().filter(|r| *r > 0.0 && r.is_finite()).collect();
-    if sorted.is_empty() {
-        return 0.0;
-    }
-    let mid = sorted.len() / 2;
-    *sorted.select_nth_unstable_by(mid, f32::total_cmp).1
+        .collect();
+    Some(scaled)
 }

@@ -34,7 +34,7 @@ use super::load::Fetch;
 use super::source::{ByteSource, is_url};
 use rayon::prelude::*;
 
-use super::node_estimates;
+use super::node_estimates::{self, NodeEstimates};
 use crate::cloud::attributes::names;
 use crate::cloud::estimate::EstimateOptions;
 use crate::cloud::las_file::{self, Columns};
@@ -300,26 +300,28 @@ impl CopcStream {
         self.estimate_new(&drawn, &options.estimate);
         let mut columns = Columns::default();
         let mut estimates = Estimates::default();
-        let nodes: Vec<(u32, Arc<Columns>, Option<Arc<Estimates>>)> =
+        let nodes: Vec<(u32, Arc<Columns>, Option<Arc<NodeEstimates>>)> =
             drawn.iter().map(|&n| (n, self.cache.get(n).expect("checked above"), self.cache.estimates(n))).collect();
         let drawn_set: std::collections::HashSet<u32> = drawn.iter().copied().collect();
-        let medians: std::collections::HashMap<u32, f32> = nodes
-            .par_iter()
-            .filter_map(|(n, _, e)| Some((*n, node_estimates::median_radius(&e.as_ref()?.radii))))
-            .collect();
+        let medians: std::collections::HashMap<u32, f32> =
+            nodes.iter().filter_map(|(n, _, e)| Some((*n, e.as_ref()?.median_radius))).collect();
         let tree = &self.tree;
-        let radii: Vec<Option<Vec<f32>>> = nodes
+        // Radii scaled where finer nodes are drawn; the others are drawn as estimated.
+        let scaled: Vec<Option<Vec<f32>>> = nodes
             .par_iter()
             .map(|(n, own, e)| {
-                let e = e.as_ref()?;
-                Some(node_estimates::drawn_radii(tree, *n, own, &e.radii, (&drawn_set, &medians)))
+                let radii = &e.as_ref()?.estimates.radii;
+                node_estimates::drawn_radii(tree, (*n, own, radii), (&drawn_set, &medians))
             })
             .collect();
-        for ((_, own, e), radii) in nodes.iter().zip(radii) {
+        for ((_, own, e), scaled) in nodes.iter().zip(scaled) {
             columns.extend(own);
-            if let (Some(e), Some(radii)) = (e, radii) {
-                estimates.normals.extend_from_slice(&e.normals);
-                estimates.radii.extend(radii);
+            if let Some(e) = e {
+                estimates.normals.extend_from_slice(&e.estimates.normals);
+                match scaled {
+                    Some(radii) => estimates.radii.extend(radii),
+                    None => estimates.radii.extend_from_slice(&e.estimates.radii),
+                }
             }
         }
         if columns.len() == 0 {
@@ -378,7 +380,7 @@ impl CopcStream {
         }
         let started = Instant::now();
         let (cache, tree) = (&self.cache, &self.tree);
-        let made: Vec<(u32, Estimates)> = new
+        let made: Vec<(u32, NodeEstimates)> = new
             .par_iter()
             .filter_map(|&n| {
                 let own = cache.peek(n)?;
@@ -388,7 +390,7 @@ impl CopcStream {
             })
             .collect();
         for (n, estimates) in made {
-            self.stats.points_estimated += estimates.radii.len() as u64;
+            self.stats.points_estimated += estimates.estimates.radii.len() as u64;
             self.cache.set_estimates(n, Arc::new(estimates));
         }
         self.stats.estimate_seconds += started.elapsed().as_secs_f64();
