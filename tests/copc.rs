@@ -521,7 +521,7 @@ fn a_pan_estimates_only_the_nodes_it_adds() {
         let estimated_before = s.stats().points_estimated;
         let selection = s.select(&camera, (SIZE, SIZE), options);
         s.load(&selection);
-        let frame = s.gather(&selection, &LoadOptions::default()).unwrap();
+        let frame = s.gather(&selection, &LoadOptions::default(), None).unwrap();
         let added: Vec<u32> = frame.drawn.iter().copied().filter(|n| !drawn_before.contains(n)).collect();
         let added_points: u64 = added.iter().map(|&n| u64::from(s.tree.nodes[n as usize].points)).sum();
         assert_eq!(s.stats().points_estimated - estimated_before, added_points, "view {step}: only the nodes added");
@@ -554,7 +554,7 @@ fn a_later_selection_keeps_the_first_ones_colours() {
     let mut scene_of = |camera: &Camera, style: &pointblend::style::Style| {
         let selection = s.select(camera, (SIZE, SIZE), options);
         s.load(&selection);
-        let mut scene = Scene::from(s.gather(&selection, &LoadOptions::default()).unwrap().cloud);
+        let mut scene = Scene::from(s.gather(&selection, &LoadOptions::default(), None).unwrap().cloud);
         scene.apply_style(style).unwrap();
         scene
     };

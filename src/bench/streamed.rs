@@ -5,8 +5,8 @@
 //! never decoded. Each view prints what it read. A camera path's views
 //! (`--path`) are measured in path order, each row with what its view cost
 //! ([`ViewCosts`]): a node is decoded and estimated once, when it arrives;
-//! a new selection is then built (re-centred, copies merged), styled,
-//! grouped and uploaded whole, and a view that selects the same nodes as
+//! so are its groups for the first grouped variant. A new selection is
+//! then built (re-centred, copies merged), styled and uploaded whole, and a view that selects the same nodes as
 //! the last one prepares nothing.
 
 use std::path::Path;
@@ -39,7 +39,10 @@ pub(super) fn bench_streamed(
     let views = views_of(config, &stream.bounds_cloud());
     // Chosen as the variants' base settings say (their radius scale, and
     // every node when lit: off-screen nodes cast shadows).
-    let choosing = Choosing::of(&config.settings);
+    let mut choosing = Choosing::of(&config.settings);
+    // Nodes are labelled for the first grouped variant (another K regroups each selection whole).
+    let variants = config.variants.iter().filter_map(|v| v.apply(&config.settings).ok());
+    choosing.groups = variants.filter_map(|settings| Choosing::of(&settings).groups).next();
     let load = LoadOptions { progress: config.progress, ..Default::default() };
     let mut subset = StreamSubset::new(stream, config.stream_budget, load);
     let short = subset.stream.file_name().to_string();
@@ -69,7 +72,7 @@ pub(super) fn bench_streamed(
             // New nodes drawn: the stream estimated the nodes it added and built the
             // selection; it is styled here, then grouped and uploaded whole below.
             let styled_at = Instant::now();
-            let scene = Scene::single(short.clone(), cloud, choice.key);
+            let scene = Scene::single(short.clone(), cloud, choice.key).with_node_grouping(choice.grouping);
             // The first view's colours (the default's or the flags'), their range fixed, style every later one.
             let opened = match &pinned {
                 Some(style) => {

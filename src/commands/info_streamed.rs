@@ -72,7 +72,7 @@ pub fn run(file: &Path) -> Result<()> {
     let root = stream.tree.root().expect("checked on open");
     let only_root = pointblend::lod::Selection { nodes: vec![root], splats: stream.tree.count(root) };
     stream.load(&only_root);
-    match stream.gather(&only_root, &LoadOptions::default()) {
+    match stream.gather(&only_root, &LoadOptions::default(), None) {
         Ok(frame) => {
             println!("root node:   {} points decoded", frame.cloud.len());
             for line in &frame.report.format_details {

@@ -219,7 +219,7 @@ fn open_scene(args: &Args, sidecar: Option<&Sidecar>) -> Result<(Scene, Option<C
                 Some(s) => {
                     let settings = s.settings().map_err(anyhow::Error::msg)?;
                     let lit = settings.lighting && !s.lights().map_err(anyhow::Error::msg)?.is_empty();
-                    let choosing = Choosing { radius_scale: settings.radius_scale, cull: !lit };
+                    let choosing = Choosing { cull: !lit, ..Choosing::of(&settings) };
                     (StreamBudget::of_settings(settings.point_budget, false), choosing)
                 }
                 None => (args.view.stream_budget()?, Choosing::of(&args.view.base_settings(&bounds, args.mode)?)),

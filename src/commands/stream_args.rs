@@ -90,5 +90,6 @@ pub fn frame_scene(
         if stats.failed > 0 { format!("; {} nodes failed and were skipped", stats.failed) } else { String::new() }
     );
     // The scene's key names the nodes drawn, so caches keyed by it are not mixed up.
-    Ok(Scene::single(stream.file_name(), choice.cloud.unwrap_or_default(), choice.key).coloured_by_default())
+    let scene = Scene::single(stream.file_name(), choice.cloud.unwrap_or_default(), choice.key);
+    Ok(scene.with_node_grouping(choice.grouping).coloured_by_default())
 }

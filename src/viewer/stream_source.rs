@@ -113,6 +113,9 @@ impl StreamedSource {
             last.drawn,
             started.elapsed().as_secs_f64()
         );
-        Ok(choice.cloud.map(|cloud| (Scene::single(name, cloud, choice.key), last.warnings.clone())))
+        let grouping = choice.grouping;
+        Ok(choice
+            .cloud
+            .map(|cloud| (Scene::single(name, cloud, choice.key).with_node_grouping(grouping), last.warnings.clone())))
     }
 }

@@ -10,7 +10,9 @@
 //! The decisions are made here, from the frame's spec: a still scene's
 //! groupings are computed through the grouping cache (or only handed in,
 //! for the viewer), a moving scene's and a subset's are hash groupings
-//! redone per frame on a fixed lattice, and a new set of splats in a slot
+//! redone per frame on a fixed lattice, a streamed selection's are the
+//! groups its nodes were labelled with once (regrouped whole only where a
+//! file's nodes have none), and a new set of splats in a slot
 //! is written over that slot's GPU copies in place. The exact reference (a
 //! CPU mode) renders the scene itself.
 
@@ -31,8 +33,9 @@ use super::gpu_renderer::GpuRenderer;
 use super::gpu_scene::GpuScene;
 use crate::cloud::PointCloud;
 use crate::frame::{FrameSpec, RenderSettings};
+use crate::grouping::hash::{Collisions, HashOptions};
 use crate::grouping::regroup::Lattice;
-use crate::grouping::{Extension, Grouping, GroupingError, GroupingSpec, cache::Cache};
+use crate::grouping::{Extension, Grouping, GroupingAlgo, GroupingError, GroupingSpec, cache::Cache};
 use crate::report::FrameReport;
 use crate::scene::Scene;
 use crate::scene_cache::{Keep, SceneCache, Slot};
@@ -256,7 +259,10 @@ impl PreparedScene {
         let drawn = self.drawn(slot).key;
         let key = (slot, spec);
         if self.prepared.groupings.get(&key).is_none_or(|kept| kept.drawn != drawn) {
-            let grouping = if slot != Slot::Whole || self.moving {
+            let node_grouping = if slot == Slot::Whole && self.streamed { self.node_grouping(spec) } else { None };
+            let grouping = if let Some(grouping) = node_grouping {
+                grouping
+            } else if slot != Slot::Whole || self.moving || self.streamed {
                 self.regroup(slot, spec)?.0
             } else if self.compute_groupings {
                 self.compute_grouping(spec)?
@@ -266,6 +272,22 @@ impl PreparedScene {
             self.prepared.groupings.insert(key, Keep { drawn, value: grouping });
         }
         Ok(&self.prepared.groupings.get(&key).expect("kept above").value)
+    }
+
+    /// The groups a streamed selection came with ([`Scene::node_grouping`]:
+    /// each node labelled once, when it arrived), when they are hash
+    /// grouping `spec`'s; §4.4.2's extension is added here, as a regroup adds it.
+    fn node_grouping(&self, spec: GroupingSpec) -> Option<SceneGrouping> {
+        let GroupingAlgo::Hash { k, resolve_collisions } = spec.algo else { return None };
+        let given = self.scene.node_grouping.as_ref()?;
+        let collisions = if resolve_collisions { Collisions::All } else { Collisions::None };
+        let fits = given.grouping.order.len() == self.cloud().len();
+        (fits && given.options == (HashOptions { k, collisions })).then(|| SceneGrouping {
+            spec,
+            grouping: Arc::new(with_extension(given.grouping.as_ref().clone(), spec)),
+            seconds: 0.0,
+            cached: false,
+        })
     }
 
     /// The grouping `spec` of the whole still scene, through the grouping cache.

@@ -45,16 +45,15 @@ pub fn load_with(path: &Path, options: &LoadOptions) -> Result<(PointCloud, Load
 }
 
 /// The cloud of columns read elsewhere (a streamed file's nodes), named
-/// `name` in messages, built as a file's are.
+/// `name` in messages, built as a file's are, with the splat each record
+/// became (`u32::MAX` for those skipped).
 pub(crate) fn from_columns(
     name: &Path,
     data: PointColumns,
-    attributes: Attributes,
-    info: FileInfo,
-    decode_seconds: f64,
+    (attributes, info): (Attributes, FileInfo),
     options: &LoadOptions,
-) -> Result<(PointCloud, LoadReport), CloudError> {
-    build(name, data, attributes, info, decode_seconds, options).map(|(cloud, report, _)| (cloud, report))
+) -> Result<(PointCloud, LoadReport, Vec<u32>), CloudError> {
+    build(name, data, attributes, info, 0.0, options)
 }
 
 /// Loads the mesh at `path` and samples `count` splats uniformly over its

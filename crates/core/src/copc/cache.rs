@@ -5,14 +5,19 @@
 //! holds, and falls back under it as soon as the view moves on.
 //!
 //! Beside a node's points the cache keeps what was made of them once, when
-//! the node arrived: its normals and radii ([`super::node_estimates`]).
-//! They are counted in its bytes and leave with it.
+//! the node arrived: its normals and radii ([`super::node_estimates`]),
+//! and its groups for the grouped modes ([`super::node_groups`]). They are
+//! counted in its bytes and leave with it.
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
 use super::node_estimates::NodeEstimates;
 use crate::cloud::las_file::Columns;
+use crate::grouping::hash::HashOptions;
+
+/// A node's hash groups, one per point, and the options they were made with.
+pub type NodeLabels = (HashOptions, Arc<Vec<u8>>);
 
 pub struct NodeCache {
     capacity: usize,
@@ -24,6 +29,7 @@ pub struct NodeCache {
 struct Entry {
     columns: Arc<Columns>,
     estimates: Option<Arc<NodeEstimates>>,
+    labels: Option<NodeLabels>,
     bytes: usize,
     last_used: u64,
 }
@@ -61,6 +67,22 @@ impl NodeCache {
         }
     }
 
+    /// The node's groups, if made with `options`.
+    pub fn labels(&self, node: u32, options: HashOptions) -> Option<Arc<Vec<u8>>> {
+        let (made_with, labels) = self.entries.get(&node)?.labels.as_ref()?;
+        (*made_with == options).then(|| Arc::clone(labels))
+    }
+
+    /// Keeps the node's groups beside its points (counted in its bytes), in place of any made otherwise.
+    pub fn set_labels(&mut self, node: u32, labels: NodeLabels) {
+        if let Some(entry) = self.entries.get_mut(&node) {
+            let bytes = labels.1.len();
+            let old = entry.labels.replace(labels).map_or(0, |(_, l)| l.len());
+            entry.bytes = entry.bytes + bytes - old;
+            self.used = self.used + bytes - old;
+        }
+    }
+
     pub fn contains(&self, node: u32) -> bool {
         self.entries.contains_key(&node)
     }
@@ -70,7 +92,9 @@ impl NodeCache {
     pub fn insert(&mut self, node: u32, columns: Arc<Columns>, keep: &dyn Fn(u32) -> bool) {
         self.clock += 1;
         let bytes = columns.bytes();
-        if let Some(old) = self.entries.insert(node, Entry { columns, estimates: None, bytes, last_used: self.clock }) {
+        if let Some(old) =
+            self.entries.insert(node, Entry { columns, estimates: None, labels: None, bytes, last_used: self.clock })
+        {
             self.used -= old.bytes;
         }
         self.used += bytes;

@@ -9,7 +9,8 @@
 //! selection lacks (at most four requests in flight), [`disk`] keeps the
 //! chunks fetched on disk (`--disk-cache`), [`cache`] keeps
 //! decoded nodes in an LRU bounded in bytes (with each node's normals and
-//! radii, estimated once by [`node_estimates`]), and [`stream`] puts them
+//! radii, estimated once by [`node_estimates`], and its groups, labelled
+//! once by [`node_groups`]), and [`stream`] puts them
 //! together: select by projected spacing (additive refinement, the same
 //! selection as the in-memory hierarchy's, [`crate::lod::select_in`]),
 //! load, and build the selection into a [`crate::cloud::PointCloud`].
@@ -25,6 +26,7 @@ pub mod hierarchy;
 pub mod http;
 pub(crate) mod load;
 pub(crate) mod node_estimates;
+pub(crate) mod node_groups;
 pub mod redact;
 pub mod source;
 pub mod stream;

@@ -72,7 +72,7 @@ pub(super) fn halo_nodes(tree: &CopcTree, node: u32, loaded: &dyn Fn(u32) -> boo
 }
 
 /// The node's cube grown by its halo's margin, in file coordinates.
-fn grown_cube(tree: &CopcTree, node: u32) -> (DVec3, DVec3) {
+pub(super) fn grown_cube(tree: &CopcTree, node: u32) -> (DVec3, DVec3) {
     let n = &tree.nodes[node as usize];
     let (min, side) = tree.cube(&n.key);
     // The spacing of the node's points over a face of its cube (a surface

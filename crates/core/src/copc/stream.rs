@@ -10,7 +10,9 @@
 //! node is first drawn, with a halo from the loaded nodes around it and
 //! above it so that there is no seam at its border
 //! ([`super::node_estimates`]); they stay in the cache beside its points,
-//! so a selection that adds a few nodes estimates only those.
+//! so a selection that adds a few nodes estimates only those. So do the
+//! groups of the grouped modes, labelled on a lattice fixed per level
+//! ([`super::node_groups`]).
 //!
 //! A node that cannot be read (its page or chunk) is skipped: the first few
 //! are logged with why, the rest counted in one line per load, and a frame
@@ -35,12 +37,15 @@ use super::source::{ByteSource, is_url};
 use rayon::prelude::*;
 
 use super::node_estimates::{self, NodeEstimates};
+use super::node_groups;
 use crate::cloud::attributes::names;
 use crate::cloud::estimate::EstimateOptions;
 use crate::cloud::las_file::{self, Columns};
 use crate::cloud::load::from_columns;
 use crate::cloud::{Estimates, FileInfo, LoadOptions, LoadReport, PointCloud, Values};
 use crate::frame::Camera;
+use crate::frame::subset::NodeGrouping;
+use crate::grouping::hash::HashOptions;
 use crate::lod::{self, LodTree, SelectOptions, Selection};
 
 pub use super::budget::{DEFAULT_BUDGET, FINEST_PX, StreamBudget};
@@ -84,6 +89,9 @@ pub struct StreamStats {
     /// it arrived), and the seconds that took.
     pub points_estimated: u64,
     pub estimate_seconds: f64,
+    /// Points given their groups (each node once per grouping), and the seconds that took.
+    pub points_labelled: u64,
+    pub label_seconds: f64,
 }
 
 pub struct CopcStream {
@@ -99,6 +107,8 @@ pub struct CopcStream {
     disk: Option<DiskCache>,
     options: StreamOptions,
     stats: StreamStats,
+    /// The levels' lattices for the groups ([`node_groups::lattice_depth`]), fixed at the first labelling.
+    lattice_depth: Option<u32>,
 }
 
 /// Node failures logged one by one; later ones are counted in one line per load.
@@ -113,6 +123,8 @@ pub struct StreamedFrame {
     pub drawn: Vec<u32>,
     /// What identifies these points for caches: the source and the nodes drawn.
     pub hash: u64,
+    /// The points' groups, each node's labelled once, when asked for.
+    pub grouping: Option<NodeGrouping>,
 }
 
 impl CopcStream {
@@ -156,6 +168,7 @@ impl CopcStream {
             disk,
             options,
             stats: StreamStats::default(),
+            lattice_depth: None,
         })
     }
 
@@ -294,10 +307,17 @@ impl CopcStream {
     }
 
     /// The selected nodes' points as one cloud (nodes in file order), with
-    /// the normals and radii each node got when it arrived.
-    pub fn gather(&mut self, selection: &Selection, options: &LoadOptions) -> Result<StreamedFrame, CopcError> {
+    /// the normals and radii each node got when it arrived, and the groups
+    /// of hash grouping `groups` each got when first drawn so grouped.
+    pub fn gather(
+        &mut self,
+        selection: &Selection,
+        options: &LoadOptions,
+        groups: Option<HashOptions>,
+    ) -> Result<StreamedFrame, CopcError> {
         let drawn = self.drawn(selection);
         self.estimate_new(&drawn, &options.estimate);
+        let labels = groups.and_then(|g| self.labels_of(&drawn, g));
         let mut columns = Columns::default();
         let mut estimates = Estimates::default();
         let nodes: Vec<(u32, Arc<Columns>, Option<Arc<NodeEstimates>>)> =
@@ -355,10 +375,39 @@ impl CopcStream {
         };
         let estimated = self.needs_estimates().then(|| Arc::new(estimates));
         let options = LoadOptions { origin: Some(self.tree.origin.to_array()), estimated, ..options.clone() };
-        let (cloud, report) = from_columns(Path::new(self.name()), data, attributes, info, 0.0, &options)
+        let (cloud, report, splat_of) = from_columns(Path::new(self.name()), data, (attributes, info), &options)
             .map_err(|e| CopcError::new(self.name(), e.to_string()))?;
         let hash = self.key_of(&drawn);
-        Ok(StreamedFrame { cloud, report, selection: selection.clone(), drawn, hash })
+        let grouping = labels.filter(|(_, l)| l.len() == splat_of.len()).map(|(options, per_record)| NodeGrouping {
+            options,
+            grouping: Arc::new(node_groups::groups_of_splats(&per_record, &splat_of, cloud.len(), options.k)),
+        });
+        Ok(StreamedFrame { cloud, report, selection: selection.clone(), drawn, hash, grouping })
+    }
+
+    /// The groups of the `drawn` nodes' points in hash grouping `options`,
+    /// one per record in drawn order: each node labelled once (in
+    /// parallel), the first time it is drawn so grouped. `None` where a
+    /// node has no normals made here (a file that holds its own).
+    fn labels_of(&mut self, drawn: &[u32], options: HashOptions) -> Option<(HashOptions, Vec<u8>)> {
+        if !self.needs_estimates() {
+            return None;
+        }
+        let root = self.tree.node(&las::copc::VoxelKey { l: 0, x: 0, y: 0, z: 0 })?;
+        if self.lattice_depth.is_none() {
+            let median = self.cache.estimates(root)?.median_radius;
+            let (_, side) = self.tree.cube(&self.tree.nodes[root as usize].key);
+            self.lattice_depth = Some(node_groups::lattice_depth(side, median));
+        }
+        let depth = self.lattice_depth?;
+        let started = Instant::now();
+        self.stats.points_labelled += node_groups::label_new(&mut self.cache, &self.tree, drawn, (depth, options));
+        self.stats.label_seconds += started.elapsed().as_secs_f64();
+        let mut out = Vec::new();
+        for &n in drawn {
+            out.extend_from_slice(&self.cache.labels(n, options)?);
+        }
+        Some((options, out))
     }
 
     /// Whether the file lacks normals or radii (then each node gets them once, when it arrives).
@@ -466,7 +515,7 @@ impl CopcStream {
     ) -> Result<StreamedFrame, CopcError> {
         let selection = self.select(camera, size, select);
         self.load(&selection);
-        self.gather(&selection, load)
+        self.gather(&selection, load, None)
     }
 
     /// What streaming has cost so far.

@@ -9,6 +9,7 @@ use super::{CopcError, CopcStream, StreamBudget};
 use crate::cloud::LoadOptions;
 use crate::frame::Camera;
 use crate::frame::subset::{Choice, Choosing, Subset};
+use crate::grouping::hash::HashOptions;
 
 /// What the last frame of a stream drew, for the log and the statistics.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -28,8 +29,8 @@ pub struct StreamSubset {
     /// How nodes are loaded (a progress bar, or none).
     pub load: LoadOptions,
     pub last: StreamChoice,
-    /// The key of the nodes the last choice drew (none before the first).
-    shown: Option<u64>,
+    /// The key of the nodes the last choice drew (none before the first), and the groups it gave them.
+    shown: Option<(u64, Option<HashOptions>)>,
 }
 
 impl StreamSubset {
@@ -42,26 +43,27 @@ impl Subset for StreamSubset {
     type Error = CopcError;
 
     /// The view's nodes, selected and loaded; their points gathered only
-    /// when they are not the nodes the last choice drew. Keyed by the source
-    /// and the nodes drawn.
+    /// when they are not the nodes the last choice drew (or not in the
+    /// groups it gave them), with their groups when `choosing` asks for
+    /// them. Keyed by the source and the nodes drawn.
     fn choose(&mut self, camera: &Camera, size: (u32, u32), choosing: Choosing) -> Result<Choice, CopcError> {
         self.stream.check_fits(self.budget)?;
         let selection = self.stream.select(camera, size, self.budget.select_options(choosing));
         self.stream.load(&selection);
         let drawn = self.stream.drawn(&selection);
         let key = self.stream.key_of(&drawn);
-        if self.shown == Some(key) {
+        if self.shown == Some((key, choosing.groups)) {
             self.last.selected = selection.nodes.len();
-            return Ok(Choice { cloud: None, key });
+            return Ok(Choice { cloud: None, key, grouping: None });
         }
-        let frame = self.stream.gather(&selection, &self.load)?;
+        let frame = self.stream.gather(&selection, &self.load, choosing.groups)?;
         self.last = StreamChoice {
             selected: frame.selection.nodes.len(),
             drawn: frame.drawn.len(),
             points: frame.cloud.len(),
             warnings: frame.report.warnings.clone(),
         };
-        self.shown = Some(frame.hash);
-        Ok(Choice { cloud: Some(frame.cloud), key: frame.hash })
+        self.shown = Some((frame.hash, choosing.groups));
+        Ok(Choice { cloud: Some(frame.cloud), key: frame.hash, grouping: frame.grouping })
     }
 }

@@ -21,6 +21,7 @@
 //! - typed notes ([`FrameNote`]) that `--explain`, the viewer and bench print.
 
 use super::{EyeDome, RenderMode, RenderSettings};
+use crate::grouping::hash::{Collisions, HashOptions};
 use crate::grouping::{Extension, GroupingAlgo, GroupingSpec};
 
 /// What a frame's decisions read from the scene.
@@ -122,6 +123,8 @@ pub enum RegroupReason {
     Moving,
     Budget,
     Hybrid,
+    /// A streamed file: each node is labelled once, when it arrives.
+    Streamed,
 }
 
 /// What a frame's decisions say, for `--explain`, the viewer and bench rows.
@@ -186,12 +189,14 @@ impl std::fmt::Display for FrameNote {
                 write!(f, "point budget {budget} not applied (a frame with triangles draws every splat it chooses)")
             }
             FrameNote::PerFrameGrouping { asked, drawn, why } => {
+                let cannot = if *why == RegroupReason::Streamed { "made node by node" } else { "redone every frame" };
                 let why = match why {
                     RegroupReason::Moving => "the scene moves",
                     RegroupReason::Budget => "under a point budget the splats drawn change with the view",
                     RegroupReason::Hybrid => "in a hybrid frame the splats drawn change with the view",
+                    RegroupReason::Streamed => "a streamed file's nodes are grouped once each, when they arrive",
                 };
-                write!(f, "{why}: {asked} cannot be redone every frame, so {drawn} is drawn instead")
+                write!(f, "{why}: {asked} cannot be {cannot}, so {drawn} is drawn instead")
             }
         }
     }
@@ -255,6 +260,17 @@ pub fn per_frame_grouping(spec: GroupingSpec) -> GroupingSpec {
         _ => Extension::Estimate,
     };
     GroupingSpec { algo, relax: Default::default(), extension }
+}
+
+/// The hash grouping [`per_frame_grouping`] draws for `spec`, as the
+/// options a streamed file's nodes are labelled with when they arrive.
+pub fn per_node_hash(spec: GroupingSpec) -> HashOptions {
+    // per_frame_grouping's algorithm is always a hash grouping; the other arm is its K = 8 for graphs.
+    let (k, resolve) = match per_frame_grouping(spec).algo {
+        GroupingAlgo::Hash { k, resolve_collisions } => (k, resolve_collisions),
+        _ => (8, true),
+    };
+    HashOptions { k, collisions: if resolve { Collisions::All } else { Collisions::None } }
 }
 
 /// Decides a frame of `asked` over a scene with `facts` in `view`.
@@ -350,6 +366,7 @@ fn drawn_grouping(
         _ if facts.moving => RegroupReason::Moving,
         Selection::Budget(_) => RegroupReason::Budget,
         Selection::Hybrid(_) => RegroupReason::Hybrid,
+        Selection::Streamed => RegroupReason::Streamed,
         _ => return Some(DrawnGrouping { spec: asked, per_frame: false }),
     };
     let spec = per_frame_grouping(asked);

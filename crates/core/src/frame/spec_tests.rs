@@ -127,9 +127,11 @@ fn the_grouping_drawn_is_the_modes_or_its_per_frame_hash_grouping() {
     assert_eq!(group(&settings("reference"), &transparent()), None);
     // Moving, budgeted and hybrid frames regroup by hashing every frame.
     let budgeted = RenderSettings { point_budget: Some(10), ..settings("alg1") };
+    // A streamed file's selection draws its nodes' hash groups, made once each.
     for (asked, facts, why) in [
         (settings("alg1"), SceneFacts { moving: true, ..transparent() }, RegroupReason::Moving),
         (budgeted, transparent(), RegroupReason::Budget),
+        (settings("alg1"), SceneFacts { streamed: true, ..transparent() }, RegroupReason::Streamed),
     ] {
         let spec = resolve(&asked, &facts, &still());
         let drawn = spec.grouping.unwrap();

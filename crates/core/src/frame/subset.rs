@@ -8,23 +8,34 @@
 //! shadows) by key and never asks how they were chosen. A tree of nodes
 //! prepared once can stand behind this trait for all three.
 
+use super::spec::per_node_hash;
 use super::{Camera, RenderSettings};
 use crate::cloud::PointCloud;
+use crate::grouping::Grouping;
+use crate::grouping::hash::HashOptions;
 
 /// What a frame's settings say about choosing its splats, in memory and
-/// streamed alike: the radius scale the splats are drawn at, and whether
+/// streamed alike: the radius scale the splats are drawn at, whether
 /// nodes outside the view are dropped (not when the frame is lit by scene
-/// lights: off-screen splats still cast its shadows).
+/// lights: off-screen splats still cast its shadows), and the hash grouping
+/// a streamed file's nodes are labelled with when the mode draws groups.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Choosing {
     pub radius_scale: f32,
     pub cull: bool,
+    /// Set when the frame's mode draws groups: a streamed node's labels
+    /// ([`crate::frame::spec::per_node_hash`] of the mode's grouping).
+    pub groups: Option<HashOptions>,
 }
 
 impl Choosing {
     /// How a frame drawn with `drawn` chooses its splats.
     pub fn of(drawn: &RenderSettings) -> Self {
-        Choosing { radius_scale: drawn.radius_scale, cull: !drawn.lit_by_lights() }
+        Choosing {
+            radius_scale: drawn.radius_scale,
+            cull: !drawn.lit_by_lights(),
+            groups: drawn.mode.needs_grouping().then(|| per_node_hash(drawn.grouping_for_mode())),
+        }
     }
 }
 
@@ -42,6 +53,18 @@ pub struct Choice {
     pub cloud: Option<PointCloud>,
     /// Names the splats chosen: the same key, the same splats.
     pub key: u64,
+    /// The splats' groups, when the subset labels them as they are chosen
+    /// (a streamed file's nodes, each labelled once: [`NodeGrouping`]).
+    pub grouping: Option<NodeGrouping>,
+}
+
+/// Groups a subset gave its splats with the splats themselves (a streamed
+/// file's nodes, each labelled once, on a world lattice per level): the
+/// hash grouping of `options`, without §4.4.2's extension (the frame adds it).
+#[derive(Debug, Clone)]
+pub struct NodeGrouping {
+    pub options: HashOptions,
+    pub grouping: std::sync::Arc<Grouping>,
 }
 
 /// Splats chosen per view.

@@ -504,7 +504,7 @@ impl HashRegrouper {
 }
 
 /// The axis (0, 1, 2) of the largest component of `n` (z for a zero or non-finite sum).
-fn dominant_axis(n: Vec3) -> u8 {
+pub(crate) fn dominant_axis(n: Vec3) -> u8 {
     let n = n.abs();
     if !n.is_finite() || n == Vec3::ZERO {
         2
@@ -518,7 +518,7 @@ fn dominant_axis(n: Vec3) -> u8 {
 }
 
 /// Eq. 9's (x, y): the cell coordinates across axis `d`.
-fn across(c: IVec3, d: u8) -> (i32, i32) {
+pub(crate) fn across(c: IVec3, d: u8) -> (i32, i32) {
     let d = d as usize;
     (c[(d + 1) % 3], c[(d + 2) % 3])
 }

@@ -118,6 +118,10 @@ pub struct Scene {
     pub lights: Vec<crate::frame::Light>,
     /// The scene file's `[clip]`, in file coordinates (see [`Scene::clip_in_frame`]).
     pub clip: crate::frame::ClipRegion,
+    /// The groups its one object's splats came with: a streamed file's
+    /// nodes, each labelled once when it arrived (the frames draw them
+    /// instead of grouping the selection again).
+    pub node_grouping: Option<crate::frame::subset::NodeGrouping>,
 }
 
 /// A scene's splats in one frame, materials applied.
@@ -170,6 +174,12 @@ impl Scene {
         let hash = crate::hash::file_hash(path).map_err(|e| CloudError::io(path, e))?;
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());
         Ok((Scene::single(name, cloud, hash).coloured_by_default(), report))
+    }
+
+    /// The scene with the groups its splats came with (see [`Scene::node_grouping`]).
+    pub fn with_node_grouping(mut self, grouping: Option<crate::frame::subset::NodeGrouping>) -> Scene {
+        self.node_grouping = grouping;
+        self
     }
 
     /// This scene with every survey object that has no colours coloured
