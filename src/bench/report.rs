@@ -30,9 +30,10 @@ pub struct ViewCosts {
     /// nodes it added, each decoded and estimated once, when it arrived; a
     /// file opened whole prepares all of its points for its first view.
     pub points_prepared: u64,
-    /// Seconds of the view's preparation: decoding and estimating what it
-    /// added, then building the selection (re-centring, merging copies),
-    /// styling and grouping it.
+    /// Seconds of the view's preparation: decoding, estimating and (for a
+    /// grouped mode) grouping the nodes it added, then building the
+    /// selection (re-centring, merging copies) and styling it; a file opened
+    /// whole is grouped whole.
     pub prepare_s: f64,
     /// Bytes of splat records uploaded to the GPU for this view (every
     /// variant's copy: a grouped variant draws its own).

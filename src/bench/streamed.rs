@@ -4,10 +4,10 @@
 //! every mode and the reference draw those same points. The whole file is
 //! never decoded. Each view prints what it read. A camera path's views
 //! (`--path`) are measured in path order, each row with what its view cost
-//! ([`ViewCosts`]): a node is decoded and estimated once, when it arrives;
-//! so are its groups for the first grouped variant. A new selection is
-//! then built (re-centred, copies merged), styled and uploaded whole, and a view that selects the same nodes as
-//! the last one prepares nothing.
+//! ([`ViewCosts`]): a node is decoded and estimated once, when it arrives,
+//! and so are its groups for the first grouped variant. A new selection
+//! is then built (re-centred, copies merged), styled and uploaded whole,
+//! and a view that selects the same nodes as the last one prepares nothing.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -112,13 +112,22 @@ pub(super) fn bench_streamed(
 /// Prints what a view of `short` selected and read.
 fn say_view(short: &str, view: &str, subset: &StreamSubset, (before, after): (&StreamStats, &StreamStats), s: f64) {
     let (cache, _, bound) = subset.stream.cache_usage();
+    let made = |what: &str, points: u64, seconds: f64| {
+        if points > 0 { format!(", {points} points {what} in {seconds:.2} s") } else { String::new() }
+    };
     println!(
-        "{short} {view} view: {} points of {} nodes ({} new), {:.1} MB read in {} requests, {s:.2} s to select, load and build; cache {:.0} of {:.0} MB{}",
+        "{short} {view} view: {} points of {} nodes ({} new), {:.1} MB read in {} requests, {s:.2} s to select, load and build{}{}; cache {:.0} of {:.0} MB{}",
         subset.last.points,
         subset.last.drawn,
         after.nodes_loaded - before.nodes_loaded,
         (after.bytes_read - before.bytes_read) as f64 / 1e6,
         after.requests - before.requests,
+        made(
+            "estimated",
+            after.points_estimated - before.points_estimated,
+            after.estimate_seconds - before.estimate_seconds
+        ),
+        made("grouped", after.points_labelled - before.points_labelled, after.label_seconds - before.label_seconds),
         cache as f64 / 1e6,
         bound as f64 / 1e6,
         if after.failed > 0 { format!(", {} nodes failed", after.failed) } else { String::new() }

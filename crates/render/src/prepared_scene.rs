@@ -33,9 +33,8 @@ use super::gpu_renderer::GpuRenderer;
 use super::gpu_scene::GpuScene;
 use crate::cloud::PointCloud;
 use crate::frame::{FrameSpec, RenderSettings};
-use crate::grouping::hash::{Collisions, HashOptions};
 use crate::grouping::regroup::Lattice;
-use crate::grouping::{Extension, Grouping, GroupingAlgo, GroupingError, GroupingSpec, cache::Cache};
+use crate::grouping::{Extension, Grouping, GroupingError, GroupingSpec, cache::Cache};
 use crate::report::FrameReport;
 use crate::scene::Scene;
 use crate::scene_cache::{Keep, SceneCache, Slot};
@@ -278,11 +277,9 @@ impl PreparedScene {
     /// each node labelled once, when it arrived), when they are hash
     /// grouping `spec`'s; §4.4.2's extension is added here, as a regroup adds it.
     fn node_grouping(&self, spec: GroupingSpec) -> Option<SceneGrouping> {
-        let GroupingAlgo::Hash { k, resolve_collisions } = spec.algo else { return None };
         let given = self.scene.node_grouping.as_ref()?;
-        let collisions = if resolve_collisions { Collisions::All } else { Collisions::None };
         let fits = given.grouping.order.len() == self.cloud().len();
-        (fits && given.options == (HashOptions { k, collisions })).then(|| SceneGrouping {
+        (fits && spec.algo.hash_options() == Some(given.options)).then(|| SceneGrouping {
             spec,
             grouping: Arc::new(with_extension(given.grouping.as_ref().clone(), spec)),
             seconds: 0.0,

@@ -30,7 +30,10 @@
 //! labelled at once (and the labels do not depend on the threads). So a
 //! coarse splat and a finer one drawn at one place, or two splats on
 //! either side of a border, do not share a group where they overlap,
-//! unless every group is taken there.
+//! unless every group is taken there. (The whole-selection regrouper,
+//! `grouping/regroup.rs`, labels every splat it is given; here the halo's
+//! labels are fixed, so the labelling is a loop of its own, with the
+//! regrouper's table, axis and overlap weight.)
 
 use std::sync::Arc;
 
@@ -45,6 +48,7 @@ use crate::cloud::las_file::Columns;
 use crate::grouping::Grouping;
 use crate::grouping::MAX_GROUPS;
 use crate::grouping::hash::{Collisions, HashOptions};
+use crate::grouping::labels::{MAX_AROUND, overlap_weight};
 use crate::grouping::regroup::{across, dominant_axis};
 use crate::grouping::table::Table;
 
@@ -93,7 +97,9 @@ impl Placed {
         }
     }
 
-    /// Per group, the summed overlap factor of the splats placed that overlap (p, r).
+    /// Per group, the summed overlap factor of the splats placed that
+    /// overlap (p, r): the regrouping's own weight, over at most
+    /// [`MAX_AROUND`] splats (a crowd of coincident points costs O(n), not O(n²)).
     fn overlap(&self, p: Vec3, r: f32, k: usize) -> [f32; MAX_GROUPS] {
         let mut by_group = [0f32; MAX_GROUPS];
         if !p.is_finite() || r.is_nan() || r <= 0.0 {
@@ -101,15 +107,19 @@ impl Placed {
         }
         let reach = ((2.0 * r / self.cell).ceil() as i32).clamp(1, MAX_REACH);
         let centre = self.key(p);
+        let mut seen = 0;
         for dx in -reach..=reach {
             for dy in -reach..=reach {
                 for dz in -reach..=reach {
                     let Some(placed) = self.grid.get(&(centre + IVec3::new(dx, dy, dz))) else { continue };
-                    for &(q, rq, g) in placed {
-                        let (sum, d) = (r + rq, p.distance(q));
-                        if d < sum && usize::from(g) < k {
-                            by_group[usize::from(g)] += (sum - d) / (0.5 * sum);
+                    for &(q, rq, g) in placed.iter().take(MAX_AROUND - seen) {
+                        if usize::from(g) < k {
+                            by_group[usize::from(g)] += overlap_weight([p.x, p.y, p.z, r], [q.x, q.y, q.z, rq]);
                         }
+                    }
+                    seen = (seen + placed.len()).min(MAX_AROUND);
+                    if seen == MAX_AROUND {
+                        return by_group;
                     }
                 }
             }
@@ -251,15 +261,21 @@ pub(super) fn label_new(
 mod tests {
     use super::*;
 
+    /// The root's cells (its side over 2^depth) are its median radius
+    /// within a factor √2, wherever the bounds do not hold the depth; a
+    /// root with no radius gets a leaf's worth.
     #[test]
-    fn a_cell_is_the_roots_median_radius_to_a_power_of_two() {
-        assert_eq!(lattice_depth(1024.0, 1.0), 10);
-        assert_eq!(lattice_depth(1024.0, 1.3), 10);
-        assert_eq!(lattice_depth(1024.0, 1.6), 9);
-        assert_eq!(lattice_depth(1024.0, 200.0), 2);
-        assert_eq!(lattice_depth(1024.0, 5000.0), 0);
-        assert_eq!(lattice_depth(1024.0, 0.0), LEAF_DEPTH);
-        assert_eq!(lattice_depth(1024.0, f32::NAN), LEAF_DEPTH);
-        assert_eq!(lattice_depth(1e9, 1e-6), MAX_DEPTH);
+    fn a_cell_is_the_roots_median_radius_within_a_factor_of_root_two() {
+        use std::f64::consts::{FRAC_1_SQRT_2, SQRT_2};
+        for (side, median) in [(1024.0, 1.0f32), (1024.0, 1.3), (1024.0, 1.6), (4635.7, 600.0), (40.76, 0.05)] {
+            let depth = lattice_depth(side, median);
+            let ratio = side / f64::from(1u32 << depth) / f64::from(median);
+            assert!((FRAC_1_SQRT_2..=SQRT_2).contains(&ratio), "side {side}, median {median}: depth {depth}");
+        }
+        assert_eq!(lattice_depth(1024.0, 5000.0), 0, "a root smaller than its radius is one cell");
+        assert_eq!(lattice_depth(1e9, 1e-6), MAX_DEPTH, "bounded");
+        for none in [0.0, -1.0, f32::NAN] {
+            assert_eq!(lattice_depth(1024.0, none), LEAF_DEPTH);
+        }
     }
 }

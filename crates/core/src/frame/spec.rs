@@ -21,7 +21,7 @@
 //! - typed notes ([`FrameNote`]) that `--explain`, the viewer and bench print.
 
 use super::{EyeDome, RenderMode, RenderSettings};
-use crate::grouping::hash::{Collisions, HashOptions};
+use crate::grouping::hash::HashOptions;
 use crate::grouping::{Extension, GroupingAlgo, GroupingSpec};
 
 /// What a frame's decisions read from the scene.
@@ -264,13 +264,8 @@ pub fn per_frame_grouping(spec: GroupingSpec) -> GroupingSpec {
 
 /// The hash grouping [`per_frame_grouping`] draws for `spec`, as the
 /// options a streamed file's nodes are labelled with when they arrive.
-pub fn per_node_hash(spec: GroupingSpec) -> HashOptions {
-    // per_frame_grouping's algorithm is always a hash grouping; the other arm is its K = 8 for graphs.
-    let (k, resolve) = match per_frame_grouping(spec).algo {
-        GroupingAlgo::Hash { k, resolve_collisions } => (k, resolve_collisions),
-        _ => (8, true),
-    };
-    HashOptions { k, collisions: if resolve { Collisions::All } else { Collisions::None } }
+pub fn per_node_hash(spec: GroupingSpec) -> Option<HashOptions> {
+    per_frame_grouping(spec).algo.hash_options()
 }
 
 /// Decides a frame of `asked` over a scene with `facts` in `view`.

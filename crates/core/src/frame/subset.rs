@@ -34,7 +34,7 @@ impl Choosing {
         Choosing {
             radius_scale: drawn.radius_scale,
             cull: !drawn.lit_by_lights(),
-            groups: drawn.mode.needs_grouping().then(|| per_node_hash(drawn.grouping_for_mode())),
+            groups: drawn.mode.needs_grouping().then(|| per_node_hash(drawn.grouping_for_mode())).flatten(),
         }
     }
 }

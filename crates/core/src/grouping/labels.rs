@@ -17,7 +17,7 @@ pub(super) const LEAF_AREA: usize = (LEAF_CELLS * LEAF_CELLS) as usize;
 /// the median radius r overlap within 2r, two cells.
 pub(super) const REACH: i32 = 2;
 /// Most splats around a cell an overlap is summed over (see `labels.rs`).
-pub(super) const MAX_AROUND: usize = 256;
+pub(crate) const MAX_AROUND: usize = 256;
 
 /// No leaf beside this one.
 pub(super) const NO_LEAF: u32 = u32::MAX;
@@ -202,7 +202,7 @@ impl Around {
 /// The §6.1 overlap factor's weight of two discs, (r_i + r_j - |p_i - p_j|) / ((r_i + r_j) / 2) where positive.
 /// Branch-free: half the pairs overlap, and a mispredicted branch costs more than the sum.
 #[inline(always)]
-fn overlap_weight([px, py, pz, pr]: [f32; 4], [qx, qy, qz, qr]: [f32; 4]) -> f32 {
+pub(crate) fn overlap_weight([px, py, pz, pr]: [f32; 4], [qx, qy, qz, qr]: [f32; 4]) -> f32 {
     let (dx, dy, dz, reach) = (px - qx, py - qy, pz - qz, pr + qr);
     let gap = (reach - (dx * dx + dy * dy + dz * dz).sqrt()).max(0.0);
     2.0 * gap / reach.max(f32::MIN_POSITIVE)

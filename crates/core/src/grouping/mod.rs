@@ -17,7 +17,7 @@ pub mod cache;
 pub mod extend;
 pub mod hash;
 mod hash_options;
-mod labels;
+pub(crate) mod labels;
 pub mod metrics;
 pub mod mgc;
 pub mod regroup;

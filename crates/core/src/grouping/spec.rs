@@ -50,6 +50,16 @@ pub enum GroupingAlgo {
     },
 }
 
+impl GroupingAlgo {
+    /// A hash grouping's options, with every collision resolved or none
+    /// (`None` for MGC and WGC).
+    pub fn hash_options(self) -> Option<hash::HashOptions> {
+        let GroupingAlgo::Hash { k, resolve_collisions } = self else { return None };
+        let collisions = if resolve_collisions { hash::Collisions::All } else { hash::Collisions::None };
+        Some(hash::HashOptions { k, collisions })
+    }
+}
+
 /// Relaxations (1) and (2) of the overlap graph (§4.1); (3) is MGC's c.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Relaxations {

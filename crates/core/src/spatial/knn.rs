@@ -42,12 +42,7 @@ pub fn k_nearest_of_first(points: &[Vec3], queries: usize, k: usize, on_progress
             }
             found
         }
-        None => {
-            let mut found = k_nearest_in_tree(points, k, on_progress);
-            found.indices.truncate(queries * k);
-            found.distances.truncate(queries * k);
-            found
-        }
+        None => k_nearest_in_tree(points, queries, k, on_progress),
     }
 }
 
@@ -75,11 +70,12 @@ fn query(tree: &Tree, coords: &[[f32; 3]], i: usize, k: usize, idx_row: &mut [u3
     }
 }
 
-/// Every point's row from a `kiddo` k-d tree (clouds a grid does not suit).
-pub fn k_nearest_in_tree(points: &[Vec3], k: usize, on_progress: &(dyn Fn(u64) + Sync)) -> Neighbours {
+/// The rows of the first `queries` points from a `kiddo` k-d tree of all
+/// of them (clouds a grid does not suit).
+pub fn k_nearest_in_tree(points: &[Vec3], queries: usize, k: usize, on_progress: &(dyn Fn(u64) + Sync)) -> Neighbours {
     let (tree, coords) = tree_of(points);
-    let mut indices = vec![0u32; points.len() * k];
-    let mut distances = vec![0f32; points.len() * k];
+    let mut indices = vec![0u32; queries * k];
+    let mut distances = vec![0f32; queries * k];
     const CHUNK: usize = 4096;
     indices.par_chunks_mut(CHUNK * k).zip(distances.par_chunks_mut(CHUNK * k)).enumerate().for_each(
         |(chunk, (idx, dist))| {
@@ -132,7 +128,7 @@ mod tests {
             );
             // The rows the grid found, completed by the tree, against the tree alone.
             let grid = k_nearest(&points, k, &|_| {});
-            let tree = k_nearest_in_tree(&points, k, &|_| {});
+            let tree = k_nearest_in_tree(&points, points.len(), k, &|_| {});
             for i in 0..points.len() {
                 for (a, b) in grid.distances_of(i).iter().zip(tree.distances_of(i)) {
                     assert!((a - b).abs() <= 1e-6 * b.max(1.0), "{name}: point {i}: {a} vs {b}");
@@ -154,5 +150,9 @@ mod tests {
         assert_eq!(first.rows(), queries);
         assert_eq!(first.indices[..], all.indices[..queries * k]);
         assert!(first.indices.iter().any(|&j| j as usize >= queries), "later points are neighbours too");
+        let tree_first = k_nearest_in_tree(&points, queries, k, &|_| {});
+        let tree_all = k_nearest_in_tree(&points, points.len(), k, &|_| {});
+        assert_eq!(tree_first.rows(), queries, "the tree makes rows for the first points only");
+        assert_eq!(tree_first.indices[..], tree_all.indices[..queries * k]);
     }
 }

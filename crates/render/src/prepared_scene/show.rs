@@ -13,8 +13,6 @@ use super::{FrameError, PreparedScene, with_extension};
 use crate::cloud::PointCloud;
 use crate::frame::subset::Choice;
 use crate::gpu_renderer::GpuRenderer;
-use crate::grouping::GroupingAlgo;
-use crate::grouping::hash::{Collisions, HashOptions};
 use crate::grouping::regroup::{HashRegrouper, Lattice};
 use crate::report::FrameUpdate;
 use crate::scene_cache::{Keep, SceneGrouping, Slot};
@@ -120,11 +118,7 @@ impl PreparedScene {
         slot: Slot,
         spec: crate::grouping::GroupingSpec,
     ) -> Result<(SceneGrouping, usize), FrameError> {
-        let GroupingAlgo::Hash { k, resolve_collisions } = spec.algo else {
-            return Err(FrameError::NoGrouping(spec));
-        };
-        let collisions = if resolve_collisions { Collisions::All } else { Collisions::None };
-        let options = HashOptions { k, collisions };
+        let Some(options) = spec.algo.hash_options() else { return Err(FrameError::NoGrouping(spec)) };
         let key = (slot, spec.algo);
         if !self.prepared.regroupers.contains(&key) {
             let lattice = self.lattice_of(slot);
