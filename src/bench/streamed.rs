@@ -6,8 +6,10 @@
 //! (`--path`) are measured in path order, each row with what its view cost
 //! ([`ViewCosts`]): a node is decoded and estimated once, when it arrives,
 //! and so are its groups for the first grouped variant. A new selection
-//! is then built (re-centred, copies merged), styled and uploaded whole,
-//! and a view that selects the same nodes as the last one prepares nothing.
+//! is then built (re-centred, copies merged) and styled; its ungrouped GPU
+//! copy keeps each node still drawn in its slots and writes only the nodes
+//! added (a grouped copy is uploaded whole), and a view that selects the
+//! same nodes as the last one prepares nothing.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -72,7 +74,9 @@ pub(super) fn bench_streamed(
             // New nodes drawn: the stream estimated the nodes it added and built the
             // selection; it is styled here, then grouped and uploaded whole below.
             let styled_at = Instant::now();
-            let scene = Scene::single(short.clone(), cloud, choice.key).with_node_grouping(choice.grouping);
+            let scene = Scene::single(short.clone(), cloud, choice.key)
+                .with_node_grouping(choice.grouping)
+                .with_node_spans(choice.spans);
             // The first view's colours (the default's or the flags'), their range fixed, style every later one.
             let opened = match &pinned {
                 Some(style) => {
@@ -88,9 +92,21 @@ pub(super) fn bench_streamed(
                 }
             };
             costs.prepare_s = stream_s + styled_at.elapsed().as_secs_f64();
-            // The stream applied the budget: every frame draws the points it selected.
-            let frames = PreparedScene::of(Arc::clone(&opened.scene)).streamed();
-            shown_last = Some((opened, frames));
+            shown_last = Some(match shown_last.take() {
+                // The last selection's GPU copy is kept: a node still drawn stays where it is.
+                Some((_, mut frames)) => {
+                    let update = frames
+                        .show_selection(Some(renderer), Arc::clone(&opened.scene), opened.scene.flattened())
+                        .map_err(|e| BenchError::Invalid(e.to_string()))?;
+                    costs.upload_bytes += update.uploaded_bytes;
+                    (opened, frames)
+                }
+                // The stream applied the budget: every frame draws the points it selected.
+                None => {
+                    let frames = PreparedScene::of(Arc::clone(&opened.scene)).streamed();
+                    (opened, frames)
+                }
+            });
         }
         let (opened, frames) = shown_last.as_mut().expect("a stream's first choice holds its points");
         let uploaded = frames.uploaded_bytes();
@@ -98,7 +114,7 @@ pub(super) fn bench_streamed(
         if fresh {
             costs.prepare_s += prepared.iter().filter_map(|p| p.group_s).sum::<f64>();
         }
-        costs.upload_bytes = frames.uploaded_bytes() - uploaded;
+        costs.upload_bytes += frames.uploaded_bytes() - uploaded;
         let one = std::slice::from_ref(view);
         let mut view_rows = measure_views((&short, &stem), opened, frames, &prepared, one, config, renderer)?;
         if config.path.is_some() {

@@ -91,5 +91,5 @@ pub fn frame_scene(
     );
     // The scene's key names the nodes drawn, so caches keyed by it are not mixed up.
     let scene = Scene::single(stream.file_name(), choice.cloud.unwrap_or_default(), choice.key);
-    Ok(scene.with_node_grouping(choice.grouping).coloured_by_default())
+    Ok(scene.with_node_grouping(choice.grouping).with_node_spans(choice.spans).coloured_by_default())
 }

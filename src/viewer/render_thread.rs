@@ -141,7 +141,8 @@ impl RenderThread {
 /// The model ready to render, kept while the model stays the same.
 struct Scenes {
     cache: Cache,
-    full: Option<(u64, PreparedScene)>,
+    /// The model drawn (its generation), its prepared scene, and the streamed file it is a selection of.
+    full: Option<(u64, PreparedScene, Option<Arc<super::stream_source::StreamedSource>>)>,
     /// The time the full scene is at, when it moves.
     time: Option<f64>,
 }
@@ -204,7 +205,7 @@ fn draw(r: &mut GpuRenderer, scenes: &mut Scenes, request: &FrameRequest) -> Fra
     let mut stats = FrameStats { preview: request.preview, ..Default::default() };
     let frames = match request.time {
         Some(t) => moving_frames(r, scenes, request, t, &mut stats),
-        None => Ok(prepared_scene(scenes, request)),
+        None => Ok(prepared_scene(r, scenes, request)),
     };
     let frame = frames.and_then(|frames| {
         let spec = frames.resolve(&request.settings, View { size: request.size, preview: request.preview });
@@ -226,11 +227,24 @@ fn draw(r: &mut GpuRenderer, scenes: &mut Scenes, request: &FrameRequest) -> Fra
 /// The model this request draws, with the request's grouping handed in; one
 /// grouped GPU copy is kept at a time. A preview draws the same model under a
 /// point budget (its hierarchy is built on first use and kept with it).
-fn prepared_scene<'a>(scenes: &'a mut Scenes, request: &FrameRequest) -> &'a mut PreparedScene {
+/// A streamed file's next selection is shown in the last one's scene, whose
+/// GPU copy keeps the nodes still drawn where they are.
+fn prepared_scene<'a>(r: &GpuRenderer, scenes: &'a mut Scenes, request: &FrameRequest) -> &'a mut PreparedScene {
     let model = &request.model;
     let generation = model.generation;
     let (slot, cloud) = (&mut scenes.full, &model.cloud);
-    if slot.as_ref().is_none_or(|(g, _)| *g != generation) {
+    let next_selection = |(_, frames, source): &(u64, PreparedScene, Option<_>)| {
+        frames.is_streamed() && model.streamed.as_ref().zip(source.as_ref()).is_some_and(|(a, b)| Arc::ptr_eq(a, b))
+    };
+    if let Some(kept) = slot.as_mut().filter(|(g, ..)| *g != generation).filter(|kept| next_selection(kept)) {
+        let (g, frames, _) = kept;
+        match frames.show_selection(Some(r), Arc::clone(&model.scene), Arc::clone(cloud)) {
+            Ok(update) => log::debug!("next selection: {} bytes written to the GPU", update.uploaded_bytes),
+            Err(e) => log::warn!("showing the next selection: {e}"),
+        }
+        *g = generation;
+    }
+    if slot.as_ref().is_none_or(|(g, ..)| *g != generation) {
         *slot = None; // free the old copies first
         let mut frames = PreparedScene::new(Arc::clone(&model.scene), Arc::clone(cloud))
             .handed_groupings(1)
@@ -241,9 +255,9 @@ fn prepared_scene<'a>(scenes: &'a mut Scenes, request: &FrameRequest) -> &'a mut
         if let Some(hierarchy) = &model.hierarchy {
             frames = frames.with_hierarchy(Arc::clone(hierarchy));
         }
-        *slot = Some((generation, frames));
+        *slot = Some((generation, frames, model.streamed.clone()));
     }
-    let (_, frames) = slot.as_mut().expect("filled above");
+    let (_, frames, _) = slot.as_mut().expect("filled above");
     if let Some(grouped) = request.grouping.as_ref().filter(|g| g.generation == generation && request.preview.is_none())
     {
         frames.add_grouping(SceneGrouping {
@@ -266,7 +280,7 @@ fn moving_frames<'a>(
     stats: &mut FrameStats,
 ) -> Result<&'a mut PreparedScene, String> {
     let model = &request.model;
-    let fresh = scenes.full.as_ref().is_none_or(|(g, _)| *g != model.generation);
+    let fresh = scenes.full.as_ref().is_none_or(|(g, ..)| *g != model.generation);
     if fresh || scenes.time != Some(t) {
         let at = model.scene.at_time(t)?;
         let scene = Arc::new(at.scene);
@@ -275,8 +289,8 @@ fn moving_frames<'a>(
             scenes.full = None; // free the old copies first
             let lattice = crate::render::rest_lattice(&model.scene)?;
             let frames = PreparedScene::new(scene, cloud).moving_on(lattice).with_cache(scenes.cache.clone());
-            scenes.full = Some((model.generation, frames));
-        } else if let Some((_, frames)) = scenes.full.as_mut() {
+            scenes.full = Some((model.generation, frames, None));
+        } else if let Some((_, frames, _)) = scenes.full.as_mut() {
             let update = frames.advance(Some(r), scene, cloud).map_err(|e| e.to_string())?;
             (stats.regroup_ms, stats.upload_ms, stats.regrouped) =
                 (Some(update.regroup_ms), Some(update.upload_ms), Some(update.regrouped));

@@ -113,9 +113,10 @@ impl StreamedSource {
             last.drawn,
             started.elapsed().as_secs_f64()
         );
-        let grouping = choice.grouping;
-        Ok(choice
-            .cloud
-            .map(|cloud| (Scene::single(name, cloud, choice.key).with_node_grouping(grouping), last.warnings.clone())))
+        let (grouping, spans) = (choice.grouping, choice.spans);
+        Ok(choice.cloud.map(|cloud| {
+            let scene = Scene::single(name, cloud, choice.key).with_node_grouping(grouping).with_node_spans(spans);
+            (scene, last.warnings.clone())
+        }))
     }
 }

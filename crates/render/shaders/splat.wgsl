@@ -122,7 +122,9 @@ fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying 
     // Back-face culling: the normal points away from the eye (two-sided splats are kept).
     let back_facing = dot(normal, centre) > 0.0 && frame.splat.w > 0.5 && splat.radius > 0.0;
     let radius = drawn_radius(splat.radius, -centre.z);
-    if back_facing || !(radius > 0.0) || !(distance > 0.0) || -centre.z - radius >= frame.depth.y {
+    // A vacant slot of a node pool holds a negative opacity (node_pool.rs).
+    let vacant = splat.opacity < 0.0;
+    if vacant || back_facing || !(radius > 0.0) || !(distance > 0.0) || -centre.z - radius >= frame.depth.y {
         out.clip = CULLED;
         return out;
     }

@@ -61,7 +61,9 @@ fn cs_project(dispatch: Dispatch) {
     );
     // Back faces of one-sided splats (a two-sided one has a negative radius).
     let culled = frame.splat.w > 0.5 && signed_radius > 0.0 && dot(normal, centre) > 0.0;
-    let usable = depth - radius < frame.depth.y && depth + radius > frame.depth.x && radius > 0.0;
+    // A vacant slot of a node pool holds a negative opacity (node_pool.rs).
+    let vacant = splats[b + 8u] < 0.0;
+    let usable = depth - radius < frame.depth.y && depth + radius > frame.depth.x && radius > 0.0 && !vacant;
     if culled || !usable {
         rects[i] = NO_TILES;
         return;

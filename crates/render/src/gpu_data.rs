@@ -24,6 +24,11 @@ pub struct SplatInstance {
 const _: () = assert!(std::mem::size_of::<SplatInstance>() == 36);
 
 impl SplatInstance {
+    /// What an empty slot of a node pool holds: a negative opacity, which
+    /// the splat shaders cull (`splat.wgsl`, `tiled_project.wgsl`).
+    pub const VACANT: SplatInstance =
+        SplatInstance { position: [0.0; 3], radius: 0.0, normal: [0.0, 0.0, 1.0], colour: [0; 4], opacity: -1.0 };
+
     pub const ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
         0 => Float32x3,
         1 => Float32,

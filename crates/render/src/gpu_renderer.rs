@@ -62,6 +62,18 @@ impl GpuRenderer {
         gpu
     }
 
+    /// [`Self::upload_in`] with the splats arranged as `arrangement` says (a node pool's, or packed).
+    pub fn upload_arranged(
+        &self,
+        cloud: &crate::cloud::PointCloud,
+        environment: Option<&crate::scene::environment_map::EnvironmentMap>,
+        arrangement: crate::gpu_scene::Arrangement<'_>,
+    ) -> GpuScene {
+        let mut gpu = GpuScene::upload_arranged(&self.ctx.device, cloud, arrangement);
+        gpu.set_environment(&self.ctx.device, &self.ctx.queue, environment);
+        gpu
+    }
+
     /// Uploads a cloud already in world space (a scene's flattened splats).
     pub fn upload_cloud(&self, cloud: &crate::cloud::PointCloud, grouping: Option<&Grouping>) -> GpuScene {
         GpuScene::upload_cloud(&self.ctx.device, cloud, grouping)

@@ -11,8 +11,11 @@
 use wgpu::util::DeviceExt;
 
 use super::gpu_data::{SplatInstance, SplatLight, TriangleVertex};
+use super::instance_layout::InstanceLayout;
 use super::instance_order::InstanceOrder;
+use super::node_pool::{SlotPool, VACANT};
 use crate::cloud::PointCloud;
+use crate::frame::subset::NodeSpans;
 use crate::grouping::Grouping;
 
 /// Largest vertex buffer made for one chunk of splats.
@@ -21,6 +24,8 @@ pub const MAX_CHUNK_BYTES: usize = 32 << 20;
 /// The splats of one scene, uploaded.
 pub struct GpuScene {
     pub chunks: Vec<(wgpu::Buffer, u32)>,
+    /// The splats drawn: the instances the groups range over (the opaque
+    /// run of a mixed scene and a node pool's vacant slots not counted).
     pub len: usize,
     pub mean_radius: f32,
     /// Instance ranges of the groups (one range over everything when ungrouped).
@@ -59,6 +64,21 @@ pub struct GpuScene {
     records: Vec<SplatInstance>,
     /// The mesh triangles a frame draws beside the splats, if any.
     pub triangles: Option<TriangleDraw>,
+    /// Where a streamed selection's nodes sit, when its splats are pooled by node.
+    pool: Option<SlotPool>,
+    /// Where the instance ranges a pass draws lie in the slots, when not
+    /// where they say (a node pool's: see `InstanceLayout::draw_map`).
+    draw_map: Option<Vec<(u32, std::ops::Range<u32>)>>,
+}
+
+/// How a [`GpuScene`]'s slots hold a cloud's splats.
+#[derive(Debug, Clone, Copy)]
+pub enum Arrangement<'a> {
+    /// In the cloud's order, or group by group in a grouping's order.
+    Packed(Option<&'a Grouping>),
+    /// Node by node, each drawn node kept in its slots ([`crate::node_pool`]),
+    /// in group order within each node when a grouping (one group per splat) is given.
+    Pooled(&'a NodeSpans, Option<&'a Grouping>),
 }
 
 /// What a frame of part of a scene's splats takes from the whole scene (see
@@ -153,39 +173,48 @@ impl GpuScene {
     pub fn upload_cloud(device: &wgpu::Device, cloud: &PointCloud, grouping: Option<&Grouping>) -> Self {
         // Only a transparent scene is ever drawn in order (opaque ones run opaque plans).
         let transparent = cloud.has_transparency();
-        let layout = match grouping {
-            Some(g) => InstanceLayout::grouped(cloud, &g.order, &g.radius_scale, &g.ranges),
-            None => InstanceLayout::plain(cloud),
-        };
-        Self::upload_layout(device, cloud, layout, transparent)
+        Self::upload_layout(device, cloud, packed(cloud, grouping), (transparent, false))
     }
 
-    fn upload_layout(device: &wgpu::Device, cloud: &PointCloud, layout: InstanceLayout, keep_for_order: bool) -> Self {
-        let per_chunk = (MAX_CHUNK_BYTES / std::mem::size_of::<SplatInstance>())
-            .min(device.limits().max_buffer_size as usize / std::mem::size_of::<SplatInstance>())
-            .max(1);
+    /// Uploads a scene's splats in world space arranged as `arrangement` says.
+    pub fn upload_arranged(device: &wgpu::Device, cloud: &PointCloud, arrangement: Arrangement<'_>) -> Self {
+        match arrangement {
+            Arrangement::Packed(grouping) => Self::upload_cloud(device, cloud, grouping),
+            Arrangement::Pooled(spans, grouping) => {
+                let (pool, placement) = SlotPool::laid_out(spans);
+                let layout = InstanceLayout::pooled(&placement, spans, grouping);
+                let mut upload = Self::upload_layout(device, cloud, layout, (false, true));
+                upload.pool = Some(pool);
+                upload
+            }
+        }
+    }
+
+    /// Uploads `layout`'s records; keeps them on the CPU to sort them
+    /// (`keep_for_order`) or to write only what changed in the next
+    /// selection (`mirror`: a node pool's).
+    fn upload_layout(
+        device: &wgpu::Device,
+        cloud: &PointCloud,
+        layout: InstanceLayout,
+        (keep_for_order, mirror): (bool, bool),
+    ) -> Self {
+        let per_chunk = per_chunk(device);
         let mut chunks = Vec::new();
         let mut kept = Vec::new();
         let mut start = 0;
         while start < layout.order.len() {
             let end = (start + per_chunk).min(layout.order.len());
             let instances = layout.instances(cloud, start..end);
-            let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("GpuScene::splats"),
-                contents: bytemuck::cast_slice(&instances),
-                // STORAGE: the tile pipeline reads the instances in compute passes.
-                usage: wgpu::BufferUsages::VERTEX
-                    | wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_DST
-                    | wgpu::BufferUsages::COPY_SRC,
-            });
+            let buffer = splat_buffer(device, &instances);
             chunks.push((buffer, (end - start) as u32));
-            if keep_for_order {
+            if keep_for_order || mirror {
                 kept.extend_from_slice(&instances);
             }
             start = end;
         }
-        let InstanceLayout { order, groups, transparent_groups, opaque, .. } = layout;
+        let InstanceLayout { order, groups, transparent_groups, opaque, draw_map: layout_map, .. } = layout;
+        let records = if mirror { std::mem::take(&mut kept) } else { Vec::new() };
         let instance_order = keep_for_order.then(|| InstanceOrder::new(kept, transparent_groups.clone()));
         Self {
             chunks,
@@ -201,8 +230,10 @@ impl GpuScene {
             sums: super::targets::SumPrecision::of(device),
             slots: order,
             lights: None,
-            records: Vec::new(),
+            records,
             triangles: None,
+            pool: None,
+            draw_map: layout_map,
         }
     }
 
@@ -218,41 +249,73 @@ impl GpuScene {
         self.triangles = triangles;
     }
 
+    /// Instance slots in the buffers: [`Self::len`] and, in a node pool, the vacant ones.
+    pub fn slot_count(&self) -> usize {
+        self.chunks.iter().map(|(_, n)| *n as usize).sum()
+    }
+
     /// Bytes of the splat records on the GPU (what uploading them wrote).
     pub fn splat_bytes(&self) -> u64 {
         self.chunks.iter().map(|(_, n)| *n as u64).sum::<u64>() * std::mem::size_of::<SplatInstance>() as u64
     }
 
-    /// Replaces the splats with another frame's (`cloud`, grouped by
-    /// `grouping` when given) in the same buffers when the instance count
-    /// and chunks stay (a deforming model: only the runs of records that
-    /// changed are written), else in new ones. Returns the bytes written.
+    /// Replaces the splats with another frame's (`cloud`, arranged as
+    /// `arrangement` says) in the same buffers when the instance count
+    /// and chunks stay (a deforming model, or a node pool that kept its
+    /// capacity: only the runs of records that changed are written), else
+    /// in new ones. Returns the bytes written.
     /// Shadow coefficients are dropped: the next [`Self::set_shadows`] writes them.
     pub fn rewrite(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         cloud: &PointCloud,
-        grouping: Option<&Grouping>,
+        arrangement: Arrangement<'_>,
     ) -> u64 {
-        let layout = match grouping {
-            Some(g) => InstanceLayout::grouped(cloud, &g.order, &g.radius_scale, &g.ranges),
-            None => InstanceLayout::plain(cloud),
+        let layout = match arrangement {
+            Arrangement::Packed(grouping) => {
+                self.pool = None;
+                packed(cloud, grouping)
+            }
+            Arrangement::Pooled(spans, grouping) => {
+                let placement = match &mut self.pool {
+                    Some(pool) => pool.place(spans),
+                    None => {
+                        let (pool, placement) = SlotPool::laid_out(spans);
+                        self.pool = Some(pool);
+                        placement
+                    }
+                };
+                InstanceLayout::pooled(&placement, spans, grouping)
+            }
         };
-        let slots: usize = self.chunks.iter().map(|(_, n)| *n as usize).sum();
+        let mut slots = self.slot_count();
         let transparent = cloud.has_transparency();
         let record = std::mem::size_of::<SplatInstance>() as u64;
+        let mut written = 0u64;
+        // A node pool that grew keeps its slots and adds chunks for the new ones.
+        let grew = layout.order.len() > slots && slots > 0 && self.records.len() == slots;
+        if grew && self.pool.is_some() && transparent == self.transparent {
+            for chunk in (slots..layout.order.len()).step_by(per_chunk(device)) {
+                let end = (chunk + per_chunk(device)).min(layout.order.len());
+                let instances = layout.instances(cloud, chunk..end);
+                self.chunks.push((splat_buffer(device, &instances), (end - chunk) as u32));
+                self.records.extend_from_slice(&instances);
+                written += (end - chunk) as u64 * record;
+            }
+            slots = layout.order.len();
+        }
         if layout.order.len() != slots || transparent != self.transparent || slots == 0 {
-            let environment = self.environment.take();
-            *self = Self::upload_layout(device, cloud, layout, transparent);
-            self.environment = environment;
+            let (environment, pool) = (self.environment.take(), self.pool.take());
+            let mirror = pool.is_some();
+            *self = Self::upload_layout(device, cloud, layout, (transparent, mirror));
+            (self.environment, self.pool) = (environment, pool);
             return self.slots.len() as u64 * record;
         }
         let instances = layout.instances(cloud, 0..slots);
         // A transparent scene's buffers hold its records sorted for the last
         // view (`InstanceOrder`), not `records`: every record is written then.
         let first_rewrite = self.records.len() != slots || self.order.is_some();
-        let mut written = 0u64;
         let mut chunk_start = 0usize;
         for (buffer, count) in &self.chunks {
             let chunk_end = chunk_start + *count as usize;
@@ -289,7 +352,8 @@ impl GpuScene {
             let groups = layout.transparent_groups.clone();
             *order = InstanceOrder::new(instances.clone(), groups);
         }
-        let InstanceLayout { order, groups, transparent_groups, opaque, .. } = layout;
+        let InstanceLayout { order, groups, transparent_groups, opaque, draw_map, .. } = layout;
+        self.draw_map = draw_map;
         self.len = opaque.start as usize;
         self.mean_radius = cloud.mean_radius();
         self.groups = groups;
@@ -317,7 +381,11 @@ impl GpuScene {
         if self.shadow_key() == Some(key) {
             return;
         }
-        let per_slot: Vec<SplatLight> = self.slots.iter().map(|&i| coefficients.bytes(i as usize)).collect();
+        let per_slot: Vec<SplatLight> = self
+            .slots
+            .iter()
+            .map(|&i| if i == VACANT { SplatLight::default() } else { coefficients.bytes(i as usize) })
+            .collect();
         let buffers = match self.lights.take() {
             Some((buffers, _)) => buffers,
             None => self
@@ -407,9 +475,29 @@ impl GpuScene {
         0..self.len as u32
     }
 
-    /// Draws the instances `range` (global indices across chunks) as 4-vertex
-    /// strips; the pipeline must be set.
+    /// The slots a node pool holds, when the splats are pooled by node.
+    pub fn pool_capacity(&self) -> Option<u32> {
+        self.pool.as_ref().map(SlotPool::capacity)
+    }
+
+    /// Draws the instances `range` as 4-vertex strips; the pipeline must be
+    /// set. The range is one of the groups' (or within every splat's), and
+    /// is drawn where its splats lie: the same slots, or in a node pool
+    /// the runs of slots the draw map gives (vacant slots are never drawn).
     pub fn draw_range(&self, pass: &mut wgpu::RenderPass<'_>, range: std::ops::Range<u32>) {
+        let Some(map) = &self.draw_map else { return self.draw_slots(pass, range) };
+        // The first run that ends past the range's start, then those that begin before its end.
+        let first = map.partition_point(|(drawn, slots)| drawn + slots.len() as u32 <= range.start);
+        for (drawn, slots) in map[first..].iter().take_while(|(drawn, _)| *drawn < range.end) {
+            let from = range.start.max(*drawn) - drawn + slots.start;
+            let to = range.end.min(drawn + slots.len() as u32) - drawn + slots.start;
+            if from < to {
+                self.draw_slots(pass, from..to);
+            }
+        }
+    }
+
+    fn draw_slots(&self, pass: &mut wgpu::RenderPass<'_>, range: std::ops::Range<u32>) {
         let mut chunk_start = 0u32;
         for (k, (buffer, count)) in self.chunks.iter().enumerate() {
             let chunk_end = chunk_start + count;
@@ -426,84 +514,43 @@ impl GpuScene {
     }
 }
 
-/// Which splat goes in which instance slot, at what radius scale.
-struct InstanceLayout {
-    /// The cloud index of each slot.
-    order: Vec<u32>,
-    scale_of: Vec<f32>,
-    groups: Vec<std::ops::Range<u32>>,
-    transparent_groups: Vec<std::ops::Range<u32>>,
-    opaque: std::ops::Range<u32>,
+impl<'a> Arrangement<'a> {
+    /// Pooled by the nodes `spans` where there are some and `grouping`
+    /// (if any) puts each of their splats in one group, else packed.
+    pub fn of(spans: Option<&'a NodeSpans>, grouping: Option<&'a Grouping>) -> Self {
+        match spans {
+            Some(spans) if grouping.is_none_or(|g| g.order.len() == spans.splats() as usize) => {
+                Arrangement::Pooled(spans, grouping)
+            }
+            _ => Arrangement::Packed(grouping),
+        }
+    }
 }
 
-impl InstanceLayout {
-    /// The instance records of slots `range`.
-    fn instances(&self, cloud: &PointCloud, range: std::ops::Range<usize>) -> Vec<SplatInstance> {
-        range
-            .map(|slot| {
-                let i = self.order[slot] as usize;
-                let [r, g, b] = cloud.colours[i];
-                // A two-sided splat carries a negative radius (see `SplatInstance`).
-                let side = if cloud.is_two_sided(i) { -1.0 } else { 1.0 };
-                SplatInstance {
-                    position: cloud.positions[i].to_array(),
-                    radius: side * cloud.radii[i] * self.scale_of[slot],
-                    normal: cloud.normals[i].to_array(),
-                    colour: [r, g, b, 255],
-                    opacity: cloud.opacity[i].clamp(0.0, 1.0),
-                }
-            })
-            .collect()
-    }
+/// Splat records per chunk: [`MAX_CHUNK_BYTES`] of them, or what one buffer may hold.
+fn per_chunk(device: &wgpu::Device) -> usize {
+    (MAX_CHUNK_BYTES / std::mem::size_of::<SplatInstance>())
+        .min(device.limits().max_buffer_size as usize / std::mem::size_of::<SplatInstance>())
+        .max(1)
+}
 
-    /// The cloud in its own order, one group of everything.
-    fn plain(cloud: &PointCloud) -> Self {
-        let n = cloud.len() as u32;
-        Self {
-            order: (0..n).collect(),
-            scale_of: vec![1.0; n as usize],
-            groups: std::iter::once(0..n).collect(),
-            transparent_groups: std::iter::once(0..n).collect(),
-            opaque: n..n,
-        }
-    }
+/// One chunk of splat records on the GPU.
+fn splat_buffer(device: &wgpu::Device, instances: &[SplatInstance]) -> wgpu::Buffer {
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("GpuScene::splats"),
+        contents: bytemuck::cast_slice(instances),
+        // STORAGE: the tile pipeline reads the instances in compute passes.
+        usage: wgpu::BufferUsages::VERTEX
+            | wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
+    })
+}
 
-    /// Group by group (`order`'s runs `ranges`, radii times `scales[k]`). When
-    /// the cloud has both transparent and opaque splats, each group's
-    /// transparent splats come first, and every opaque splat follows the
-    /// groups once more at its own radius.
-    fn grouped(cloud: &PointCloud, order: &[u32], scales: &[f32], ranges: &[std::ops::Range<u32>]) -> Self {
-        let opaque_splat = |i: u32| cloud.opacity[i as usize] >= 1.0;
-        let mixed = cloud.has_transparency() && cloud.opacity.iter().any(|&a| a >= 1.0);
-        let mut out = Self {
-            order: Vec::with_capacity(order.len()),
-            scale_of: Vec::with_capacity(order.len()),
-            groups: Vec::with_capacity(ranges.len()),
-            transparent_groups: Vec::with_capacity(ranges.len()),
-            opaque: 0..0,
-        };
-        for (k, range) in ranges.iter().enumerate() {
-            let run = &order[range.start as usize..range.end as usize];
-            let scale = scales.get(k).copied().unwrap_or(1.0);
-            let start = out.order.len() as u32;
-            if mixed {
-                out.order.extend(run.iter().copied().filter(|&i| !opaque_splat(i)));
-                let transparent_end = out.order.len() as u32;
-                out.order.extend(run.iter().copied().filter(|&i| opaque_splat(i)));
-                out.transparent_groups.push(start..transparent_end);
-            } else {
-                out.order.extend_from_slice(run);
-                out.transparent_groups.push(start..start + run.len() as u32);
-            }
-            out.scale_of.resize(out.order.len(), scale);
-            out.groups.push(start..out.order.len() as u32);
-        }
-        let end = out.order.len() as u32;
-        if mixed {
-            out.order.extend((0..cloud.len() as u32).filter(|&i| opaque_splat(i)));
-            out.scale_of.resize(out.order.len(), 1.0);
-        }
-        out.opaque = end..out.order.len() as u32;
-        out
+/// The layout of `cloud` in its own order, or in `grouping`'s.
+fn packed(cloud: &PointCloud, grouping: Option<&Grouping>) -> InstanceLayout {
+    match grouping {
+        Some(g) => InstanceLayout::grouped(cloud, &g.order, &g.radius_scale, &g.ranges),
+        None => InstanceLayout::plain(cloud),
     }
 }

@@ -30,7 +30,7 @@ pub use render_frame::{Frame, Readback};
 
 use super::context::GpuError;
 use super::gpu_renderer::GpuRenderer;
-use super::gpu_scene::GpuScene;
+use super::gpu_scene::{Arrangement, GpuScene};
 use crate::cloud::PointCloud;
 use crate::frame::{FrameSpec, RenderSettings};
 use crate::grouping::regroup::Lattice;
@@ -191,6 +191,11 @@ impl PreparedScene {
         self.uploaded_bytes
     }
 
+    /// Whether the splats are a streamed file's selection.
+    pub fn is_streamed(&self) -> bool {
+        self.streamed
+    }
+
     /// Whether the scene moves.
     pub fn is_moving(&self) -> bool {
         self.moving
@@ -219,9 +224,7 @@ impl PreparedScene {
         scene: Arc<Scene>,
         cloud: Arc<PointCloud>,
     ) -> Result<FrameUpdate, FrameError> {
-        self.hash = scene.geometry_hash();
-        self.mean_radius = cloud.mean_radius();
-        self.scene = scene;
+        self.take_scene(scene, &cloud);
         self.generation += 1;
         self.moving = true;
         let key = pointblend_core::hash::fnv1a(self.hash, &self.generation.to_le_bytes());
@@ -276,7 +279,7 @@ impl PreparedScene {
     /// The groups a streamed selection came with ([`Scene::node_grouping`]:
     /// each node labelled once, when it arrived), when they are hash
     /// grouping `spec`'s; §4.4.2's extension is added here, as a regroup adds it.
-    fn node_grouping(&self, spec: GroupingSpec) -> Option<SceneGrouping> {
+    pub(super) fn node_grouping(&self, spec: GroupingSpec) -> Option<SceneGrouping> {
         let given = self.scene.node_grouping.as_ref()?;
         let fits = given.grouping.order.len() == self.cloud().len();
         (fits && spec.algo.hash_options() == Some(given.options)).then(|| SceneGrouping {
@@ -285,6 +288,57 @@ impl PreparedScene {
             seconds: 0.0,
             cached: false,
         })
+    }
+
+    /// The nodes of a streamed selection, when `slot`'s ungrouped GPU copy
+    /// keeps them in a node pool: the whole scene's slot of an opaque
+    /// streamed selection whose nodes add up to its splats. (A transparent
+    /// one is sorted back to front, record by record, so it stays packed.)
+    fn pooled_nodes(&self, slot: Slot) -> Option<Arc<crate::frame::subset::NodeSpans>> {
+        let spans = self.scene.node_spans.as_ref()?;
+        let drawn = self.drawn[slot.index()].as_ref()?;
+        let fits = spans.splats() as usize == drawn.cloud.len();
+        (slot == Slot::Whole && self.streamed && fits && !drawn.transparent).then(|| Arc::clone(spans))
+    }
+
+    /// Draws `scene` (its splats in world space `cloud`) from now on; its GPU
+    /// copies are made again when its environment map is another.
+    fn take_scene(&mut self, scene: Arc<Scene>, cloud: &PointCloud) {
+        let same_map = match (&self.scene.environment, &scene.environment) {
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            (a, b) => a.is_none() && b.is_none(),
+        };
+        if !same_map {
+            self.prepared.uploads.retain(|_| false); // made again with the new map beside them
+        }
+        self.hash = scene.geometry_hash();
+        self.mean_radius = cloud.mean_radius();
+        self.scene = scene;
+    }
+
+    /// Shows a streamed file's next selection, `scene` (one object, its
+    /// nodes' splats in world space, `cloud`): its groupings are its nodes'
+    /// labels (or a regroup), and the whole scene's GPU copies are kept and
+    /// rewritten, where its nodes are pooled only the nodes that changed
+    /// ([`crate::node_pool`]); the rest the frames prepared is dropped.
+    /// Returns what that took.
+    pub fn show_selection(
+        &mut self,
+        gpu: Option<&GpuRenderer>,
+        scene: Arc<Scene>,
+        cloud: Arc<PointCloud>,
+    ) -> Result<FrameUpdate, FrameError> {
+        self.take_scene(scene, &cloud);
+        // Subsets of the last selection (a preview's budget) are made again from this one.
+        (self.budget, self.hybrid, self.subset_lattice) = (None, None, None);
+        self.drawn[Slot::Budget.index()] = None;
+        self.drawn[Slot::Hybrid.index()] = None;
+        // The whole scene's groupings and copies are carried over: `show` takes this
+        // selection's node labels for them (or regroups it) and rewrites the copies.
+        self.prepared.groupings.retain(|(slot, _)| *slot == Slot::Whole);
+        self.prepared.regroupers.retain(|_| false);
+        self.prepared.uploads.retain(|(slot, _)| *slot == Slot::Whole);
+        self.show(gpu, Slot::Whole, show::Drawn::new(self.hash, cloud))
     }
 
     /// The grouping `spec` of the whole still scene, through the grouping cache.
@@ -408,8 +462,10 @@ impl PreparedScene {
                 let over = (grouped.len() + 1).saturating_sub(self.max_grouped);
                 grouped.iter().take(over).for_each(|oldest| drop(self.prepared.uploads.remove(oldest)));
             }
+            let spans = self.pooled_nodes(slot);
+            let arrangement = Arrangement::of(spans.as_deref(), grouping.as_deref());
             let cloud = &self.drawn(slot).cloud;
-            let upload = gpu.upload_in(cloud, self.scene.environment.as_deref(), grouping.as_deref());
+            let upload = gpu.upload_arranged(cloud, self.scene.environment.as_deref(), arrangement);
             self.uploaded_bytes += upload.splat_bytes();
             self.prepared.uploads.insert(key, Keep { drawn, value: upload });
         }

@@ -196,7 +196,8 @@ impl TileEngine {
     /// buffers fit one storage binding each.
     pub fn new(ctx: &GpuContext, scene: &GpuScene, size: (u32, u32)) -> Result<Self, GpuError> {
         let device = &ctx.device;
-        let n = scene.len as u64;
+        // Every slot is projected (a node pool's vacant ones are culled there).
+        let n = scene.slot_count() as u64;
         let m = scene.triangles.as_ref().map_or(0, |t| t.count() as u64);
         let limit = device.limits().max_storage_buffer_binding_size;
         if let Some(draw) = scene.triangles.as_ref().filter(|_| m > 0) {
@@ -252,7 +253,7 @@ impl TileEngine {
 
     /// Whether this engine was sized for `scene` at `size`.
     pub fn fits(&self, scene: &GpuScene, size: (u32, u32)) -> bool {
-        self.splats == scene.len as u64
+        self.splats == scene.slot_count() as u64
             && self.triangles == scene.triangles.as_ref().map_or(0, |t| t.count() as u64)
             && self.grid == grid(size.0, size.1)
             && self.uniforms.len() == scene.chunks.len()

@@ -44,7 +44,7 @@ use crate::cloud::las_file::{self, Columns};
 use crate::cloud::load::from_columns;
 use crate::cloud::{Estimates, FileInfo, LoadOptions, LoadReport, PointCloud, Values};
 use crate::frame::Camera;
-use crate::frame::subset::NodeGrouping;
+use crate::frame::subset::{NodeGrouping, NodeSpans};
 use crate::grouping::hash::HashOptions;
 use crate::lod::{self, LodTree, SelectOptions, Selection};
 
@@ -125,6 +125,8 @@ pub struct StreamedFrame {
     pub hash: u64,
     /// The points' groups, each node's labelled once, when asked for.
     pub grouping: Option<NodeGrouping>,
+    /// Which splats each drawn node holds.
+    pub spans: Option<Arc<NodeSpans>>,
 }
 
 impl CopcStream {
@@ -382,7 +384,9 @@ impl CopcStream {
             options,
             grouping: Arc::new(node_groups::groups_of_splats(&per_record, &splat_of, cloud.len(), options.k)),
         });
-        Ok(StreamedFrame { cloud, report, selection: selection.clone(), drawn, hash, grouping })
+        let records = drawn.iter().map(|&n| (n, self.tree.nodes[n as usize].points as usize));
+        let spans = NodeSpans::of_records(records, &splat_of).map(Arc::new);
+        Ok(StreamedFrame { cloud, report, selection: selection.clone(), drawn, hash, grouping, spans })
     }
 
     /// The groups of the `drawn` nodes' points in hash grouping `options`,

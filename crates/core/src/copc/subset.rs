@@ -54,7 +54,7 @@ impl Subset for StreamSubset {
         let key = self.stream.key_of(&drawn);
         if self.shown == Some((key, choosing.groups)) {
             self.last.selected = selection.nodes.len();
-            return Ok(Choice { cloud: None, key, grouping: None });
+            return Ok(Choice { cloud: None, key, grouping: None, spans: None });
         }
         let frame = self.stream.gather(&selection, &self.load, choosing.groups)?;
         self.last = StreamChoice {
@@ -64,6 +64,6 @@ impl Subset for StreamSubset {
             warnings: frame.report.warnings.clone(),
         };
         self.shown = Some((frame.hash, choosing.groups));
-        Ok(Choice { cloud: Some(frame.cloud), key: frame.hash, grouping: frame.grouping })
+        Ok(Choice { cloud: Some(frame.cloud), key: frame.hash, grouping: frame.grouping, spans: frame.spans })
     }
 }

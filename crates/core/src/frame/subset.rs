@@ -56,6 +56,9 @@ pub struct Choice {
     /// The splats' groups, when the subset labels them as they are chosen
     /// (a streamed file's nodes, each labelled once: [`NodeGrouping`]).
     pub grouping: Option<NodeGrouping>,
+    /// Which splats each node holds, when the subset is a tree of nodes
+    /// drawn whole (a streamed file's: [`NodeSpans`]).
+    pub spans: Option<std::sync::Arc<NodeSpans>>,
 }
 
 /// Groups a subset gave its splats with the splats themselves (a streamed
@@ -65,6 +68,41 @@ pub struct Choice {
 pub struct NodeGrouping {
     pub options: HashOptions,
     pub grouping: std::sync::Arc<Grouping>,
+}
+
+/// Which splats of a choice each of its nodes holds, in the splats' order:
+/// node `n` of `(n, splats)` holds `splats`. The renderer keeps a node's
+/// splats in the same GPU slots for as long as it stays drawn
+/// (`node_pool.rs` of the render crate), so a new choice writes only the
+/// nodes it adds.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct NodeSpans(pub Vec<(u32, std::ops::Range<u32>)>);
+
+impl NodeSpans {
+    /// The spans of nodes whose records (`(node, records)`, in record
+    /// order) became splats `splat_of` (one per record, `u32::MAX` for one
+    /// dropped; a copy merged into an earlier record's splat takes no new
+    /// one): a node holds the splats its records were the first of.
+    /// `None` when the records do not add up to `splat_of`.
+    pub fn of_records(nodes: impl Iterator<Item = (u32, usize)>, splat_of: &[u32]) -> Option<Self> {
+        let (mut spans, mut record, mut next) = (Vec::new(), 0usize, 0u32);
+        for (node, records) in nodes {
+            let start = next;
+            for &splat in splat_of.get(record..record + records)? {
+                if splat != u32::MAX && splat >= next {
+                    next = splat + 1;
+                }
+            }
+            record += records;
+            spans.push((node, start..next));
+        }
+        (record == splat_of.len()).then_some(NodeSpans(spans))
+    }
+
+    /// The splats of all the nodes.
+    pub fn splats(&self) -> u32 {
+        self.0.iter().map(|(_, s)| s.len() as u32).sum()
+    }
 }
 
 /// Splats chosen per view.

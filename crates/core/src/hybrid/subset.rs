@@ -60,6 +60,6 @@ impl Subset for HybridSubset {
             None
         };
         self.selected = Some(selection);
-        Ok(Choice { cloud, key: self.chosen_key, grouping: None })
+        Ok(Choice { cloud, key: self.chosen_key, grouping: None, spans: None })
     }
 }

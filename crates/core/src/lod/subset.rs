@@ -65,7 +65,7 @@ impl Subset for BudgetSubset {
         };
         self.last = BudgetChoice { nodes: selection.nodes.len(), splats: selection.splats, select_ms, changed };
         self.selected = Some(selection);
-        Ok(Choice { cloud, key: self.chosen_key, grouping: None })
+        Ok(Choice { cloud, key: self.chosen_key, grouping: None, spans: None })
     }
 }
 

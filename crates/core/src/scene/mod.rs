@@ -122,6 +122,9 @@ pub struct Scene {
     /// nodes, each labelled once when it arrived (the frames draw them
     /// instead of grouping the selection again).
     pub node_grouping: Option<crate::frame::subset::NodeGrouping>,
+    /// Which of its one object's splats each node holds: a streamed
+    /// file's nodes (the GPU keeps each node's splats where they are while it is drawn).
+    pub node_spans: Option<Arc<crate::frame::subset::NodeSpans>>,
 }
 
 /// A scene's splats in one frame, materials applied.
@@ -179,6 +182,12 @@ impl Scene {
     /// The scene with the groups its splats came with (see [`Scene::node_grouping`]).
     pub fn with_node_grouping(mut self, grouping: Option<crate::frame::subset::NodeGrouping>) -> Scene {
         self.node_grouping = grouping;
+        self
+    }
+
+    /// The scene with the nodes its splats came in (see [`Scene::node_spans`]).
+    pub fn with_node_spans(mut self, spans: Option<Arc<crate::frame::subset::NodeSpans>>) -> Scene {
+        self.node_spans = spans;
         self
     }
 

@@ -13,6 +13,7 @@ use super::{FrameError, PreparedScene, with_extension};
 use crate::cloud::PointCloud;
 use crate::frame::subset::Choice;
 use crate::gpu_renderer::GpuRenderer;
+use crate::gpu_scene::Arrangement;
 use crate::grouping::regroup::{HashRegrouper, Lattice};
 use crate::report::FrameUpdate;
 use crate::scene_cache::{Keep, SceneGrouping, Slot};
@@ -69,14 +70,18 @@ impl PreparedScene {
         for spec in specs {
             // A spec whose algorithm was regrouped this frame takes those groups.
             let shared = fresh.iter().find(|g| g.spec.algo == spec.algo).map(|g| (Arc::clone(&g.grouping), g.seconds));
-            let grouping = match shared {
-                Some((grouping, seconds)) => SceneGrouping {
+            let node_labels =
+                (shared.is_none() && slot == Slot::Whole && self.streamed).then(|| self.node_grouping(spec)).flatten();
+            let grouping = match (shared, node_labels) {
+                (Some((grouping, seconds)), _) => SceneGrouping {
                     spec,
                     grouping: Arc::new(with_extension(grouping.as_ref().clone(), spec)),
                     seconds,
                     cached: false,
                 },
-                None => {
+                // A streamed selection's groups are its nodes' labels, made when each arrived.
+                (None, Some(node_labels)) => node_labels,
+                (None, None) => {
                     let (grouping, labelled) = self.regroup(slot, spec)?;
                     update.regrouped += labelled;
                     update.regroup_ms += grouping.seconds * 1e3;
@@ -94,13 +99,15 @@ impl PreparedScene {
             return Ok(update);
         };
         let cloud = Arc::clone(&self.drawn(slot).cloud);
+        let spans = self.pooled_nodes(slot);
         let uploads: Vec<_> = self.prepared.uploads.keys().filter(|(s, _)| *s == slot).collect();
         for upload_key in uploads {
             let grouping = upload_key.1.and_then(|spec| self.prepared.groupings.get(&(slot, spec)));
             let grouping = grouping.map(|kept| Arc::clone(&kept.value.grouping));
             let upload = self.prepared.uploads.get(&upload_key).expect("listed above");
             let started = std::time::Instant::now();
-            let bytes = upload.value.rewrite(&gpu.ctx.device, &gpu.ctx.queue, &cloud, grouping.as_deref());
+            let arrangement = Arrangement::of(spans.as_deref(), grouping.as_deref());
+            let bytes = upload.value.rewrite(&gpu.ctx.device, &gpu.ctx.queue, &cloud, arrangement);
             upload.drawn = key;
             let ms = started.elapsed().as_secs_f64() * 1e3;
             update.upload_of.push((upload_key.1, ms, bytes));
