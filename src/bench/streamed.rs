@@ -94,7 +94,8 @@ pub(super) fn bench_streamed(
             costs.prepare_s = stream_s + styled_at.elapsed().as_secs_f64();
             shown_last = Some(match shown_last.take() {
                 // The last selection's GPU copy is kept: a node still drawn stays where it is.
-                Some((_, mut frames)) => {
+                Some((last, mut frames)) => {
+                    drop(last); // the last selection's points go before this one's are written
                     let update = frames
                         .show_selection(Some(renderer), Arc::clone(&opened.scene), opened.scene.flattened())
                         .map_err(|e| BenchError::Invalid(e.to_string()))?;

@@ -10,6 +10,7 @@
 
 use wgpu::util::DeviceExt;
 
+use super::changed_records::{PIECE, keys_of, write_changed};
 use super::gpu_data::{SplatInstance, SplatLight, TriangleVertex};
 use super::instance_layout::InstanceLayout;
 use super::instance_order::InstanceOrder;
@@ -59,9 +60,10 @@ pub struct GpuScene {
     /// In a frame lit by scene lights: each chunk's shadow coefficients
     /// (`SplatLight` per instance), and what they were computed for.
     lights: Option<(Vec<wgpu::Buffer>, u64)>,
-    /// The records as last written by [`Self::rewrite`] (empty until a scene
+    /// The keys of the records as last written by [`Self::rewrite`]
+    /// (`changed_records`; empty until a scene moves or a pool is uploaded),
     /// moves), so the next frame writes only what changed.
-    records: Vec<SplatInstance>,
+    records: Vec<u64>,
     /// The mesh triangles a frame draws beside the splats, if any.
     pub triangles: Option<TriangleDraw>,
     /// Where a streamed selection's nodes sit, when its splats are pooled by node.
@@ -157,9 +159,6 @@ impl TriangleDraw {
     }
 }
 
-/// Unchanged records a rewrite writes over rather than start a new write.
-const REWRITE_GAP: usize = 64;
-
 /// The colour of every splat, when they all have the same one.
 fn uniform_colour(cloud: &PointCloud) -> Option<[u8; 3]> {
     let first = cloud.colours.first().copied();
@@ -201,20 +200,22 @@ impl GpuScene {
     ) -> Self {
         let per_chunk = per_chunk(device);
         let mut chunks = Vec::new();
-        let mut kept = Vec::new();
+        let (mut kept, mut records) = (Vec::new(), Vec::new());
         let mut start = 0;
         while start < layout.order.len() {
             let end = (start + per_chunk).min(layout.order.len());
             let instances = layout.instances(cloud, start..end);
             let buffer = splat_buffer(device, &instances);
             chunks.push((buffer, (end - start) as u32));
-            if keep_for_order || mirror {
+            if keep_for_order {
                 kept.extend_from_slice(&instances);
+            }
+            if mirror {
+                records.extend(keys_of(&instances));
             }
             start = end;
         }
         let InstanceLayout { order, groups, transparent_groups, opaque, draw_map: layout_map, .. } = layout;
-        let records = if mirror { std::mem::take(&mut kept) } else { Vec::new() };
         let instance_order = keep_for_order.then(|| InstanceOrder::new(kept, transparent_groups.clone()));
         Self {
             chunks,
@@ -300,7 +301,7 @@ impl GpuScene {
                 let end = (chunk + per_chunk(device)).min(layout.order.len());
                 let instances = layout.instances(cloud, chunk..end);
                 self.chunks.push((splat_buffer(device, &instances), (end - chunk) as u32));
-                self.records.extend_from_slice(&instances);
+                self.records.extend(keys_of(&instances));
                 written += (end - chunk) as u64 * record;
             }
             slots = layout.order.len();
@@ -312,45 +313,29 @@ impl GpuScene {
             (self.environment, self.pool) = (environment, pool);
             return self.slots.len() as u64 * record;
         }
-        let instances = layout.instances(cloud, 0..slots);
         // A transparent scene's buffers hold its records sorted for the last
-        // view (`InstanceOrder`), not `records`: every record is written then.
-        let first_rewrite = self.records.len() != slots || self.order.is_some();
+        // view (`InstanceOrder`), not in slot order: every record is written then.
+        let all = self.records.len() != slots || self.order.is_some();
+        if all {
+            self.records = vec![0; slots];
+        }
+        let mut sorted = self.order.is_some().then(Vec::new);
         let mut chunk_start = 0usize;
         for (buffer, count) in &self.chunks {
             let chunk_end = chunk_start + *count as usize;
-            // Runs of changed records, joined across short unchanged gaps (one write each).
-            let mut at = chunk_start;
-            while at < chunk_end {
-                let changed = |i: usize| first_rewrite || instances[i] != self.records[i];
-                if !changed(at) {
-                    at += 1;
-                    continue;
+            for piece in (chunk_start..chunk_end).step_by(PIECE) {
+                let end = (piece + PIECE).min(chunk_end);
+                let instances = layout.instances(cloud, piece..end);
+                let kept = &mut self.records[piece..end];
+                written += write_changed(queue, (buffer, piece - chunk_start), &instances, kept, all);
+                if let Some(sorted) = &mut sorted {
+                    sorted.extend(instances);
                 }
-                let mut end = at + 1;
-                let mut unchanged = 0;
-                while end < chunk_end && unchanged < REWRITE_GAP {
-                    if changed(end) {
-                        unchanged = 0;
-                    } else {
-                        unchanged += 1;
-                    }
-                    end += 1;
-                }
-                let end = end - unchanged;
-                queue.write_buffer(
-                    buffer,
-                    ((at - chunk_start) as u64) * record,
-                    bytemuck::cast_slice(&instances[at..end]),
-                );
-                written += (end - at) as u64 * record;
-                at = end;
             }
             chunk_start = chunk_end;
         }
-        if let Some(order) = &mut self.order {
-            let groups = layout.transparent_groups.clone();
-            *order = InstanceOrder::new(instances.clone(), groups);
+        if let (Some(order), Some(records)) = (&mut self.order, sorted) {
+            *order = InstanceOrder::new(records, layout.transparent_groups.clone());
         }
         let InstanceLayout { order, groups, transparent_groups, opaque, draw_map, .. } = layout;
         self.draw_map = draw_map;
@@ -362,7 +347,6 @@ impl GpuScene {
         self.uniform_colour = uniform_colour(cloud);
         self.slots = order;
         self.lights = None;
-        self.records = instances;
         written
     }
 

@@ -10,7 +10,9 @@
 //! 2. [`PreparedScene::render_frame`] carries the spec out: it prepares what
 //!    the spec selects (the hybrid leaves, the nodes under a point budget, or
 //!    every splat) as a [`GpuScene`] (uploaded once, in group order for modes
-//!    that draw groups, with the frame's shadow coefficients beside it).
+//!    that draw groups, with the frame's shadow coefficients beside it; a
+//!    streamed selection's nodes keep their slots in a [`node_pool`], so the
+//!    next selection writes only what changed, [`changed_records`]).
 //! 3. The frame's mode (implemented in [`modes`], one file per mode) turns
 //!    the spec, the size and what the upload holds into a [`RenderPlan`]:
 //!    its steps and, for each, the typed targets its passes read and write.
@@ -30,6 +32,7 @@
 // The core modules the renderer reads, reachable as `crate::cloud` and so on.
 use pointblend_core::{cloud, frame, grouping, lod, memory, scene, shadow, spatial};
 
+pub mod changed_records;
 pub mod context;
 pub mod depth_steps;
 pub mod environment_texture;
