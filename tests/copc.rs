@@ -408,20 +408,10 @@ fn a_lit_streamed_frame_keeps_the_nodes_off_screen_that_cast_its_shadows() {
 /// did not.
 #[test]
 fn bench_along_a_path_reports_what_each_view_cost_in_path_order() {
-    use pointblend::frame::{UpAxis, ViewPath};
+    use pointblend::frame::ViewPath;
     let dir = tempfile::tempdir().unwrap();
     let copc = made_copc(dir.path(), 400);
-    let at = |target: glam::Vec3, distance: f32| Camera {
-        target,
-        distance,
-        azimuth_deg: 30.0,
-        elevation_deg: 60.0,
-        fov_y_deg: 40.0,
-        up: UpAxis::PosZ,
-        scene_radius: 30.0,
-    };
-    let far = at(glam::Vec3::ZERO, 200.0);
-    let corner = at(glam::Vec3::new(45.0, 45.0, 0.0), 6.0);
+    let (far, corner) = (looking_at(glam::Vec3::ZERO, 200.0), looking_at(glam::Vec3::new(45.0, 45.0, 0.0), 6.0));
     let views = dir.path().join("views.json");
     ViewPath::new(&[far, far, corner]).write(&views).unwrap();
     let of_view = path_costs(&copc, &views, 3, &["--point-budget", "100000"]);
@@ -430,6 +420,49 @@ fn bench_along_a_path_reports_what_each_view_cost_in_path_order() {
     assert_eq!(of_view[1][1..], [0.0; 5], "the same view again costs nothing: {:?}", of_view[1]);
     assert!(of_view[2][1] > 0.0 && of_view[2][2] > 0.0, "the close view reads finer nodes: {of_view:?}");
     assert!(of_view[2][5] > 0.0, "and uploads them: {:?}", of_view[2]);
+}
+
+/// A camera over the made file's plane, `distance` from `target` (relative to the centre of its bounds).
+fn looking_at(target: glam::Vec3, distance: f32) -> Camera {
+    Camera {
+        target,
+        distance,
+        azimuth_deg: 30.0,
+        elevation_deg: 60.0,
+        fov_y_deg: 40.0,
+        up: pointblend::frame::UpAxis::PosZ,
+        scene_radius: 30.0,
+    }
+}
+
+/// `render FILE.copc.laz --path`: each frame of a flight selects its own
+/// nodes (shown in one prepared scene, whose GPU pool keeps the nodes two
+/// frames share), so a flight from far to near ends on what a flight that
+/// stays near draws (coloured by octree level), within one step of a
+/// channel (the same splats, in other slots).
+#[test]
+fn a_flight_through_a_streamed_file_selects_the_nodes_of_each_frame() {
+    use pointblend::frame::ViewPath;
+    let dir = tempfile::tempdir().unwrap();
+    let copc = made_copc(dir.path(), 400);
+    // From far (the root alone, at 96²) to near (level-1 nodes too).
+    let (far, near) = (looking_at(glam::Vec3::ZERO, 200.0), looking_at(glam::Vec3::ZERO, 40.0));
+    let flight = |views: &[Camera], name: &str| -> Vec<image::RgbaImage> {
+        let path = dir.path().join(format!("{name}.json"));
+        ViewPath::new(views).write(&path).unwrap();
+        let out = dir.path().join(name).join("f.png");
+        let args = [copc.to_str().unwrap(), "--path", path.to_str().unwrap(), "--path-frames", "3"];
+        // Coloured by octree level: a frame drawn from another selection's nodes shows it.
+        let style = ["--color-by", "node_level", "--range", "0,4", "--size", "96x96", "--point-budget", "100000"];
+        let (ok, stderr) = common::render_cli(&[&args[..], &style[..]].concat(), &out);
+        assert!(ok, "{stderr}");
+        (0..3).map(|k| image::open(out.with_file_name(format!("f-{k:04}.png"))).unwrap().to_rgba8()).collect()
+    };
+    let flown = flight(&[far, near], "flown");
+    let stayed = flight(&[near, near], "stayed");
+    let largest = flown[2].as_raw().iter().zip(stayed[2].as_raw()).map(|(a, b)| a.abs_diff(*b)).max().unwrap();
+    assert!(largest <= 1, "the flight's last frame differs by {largest} from the near view's own selection");
+    assert_ne!(flown[0], flown[2], "the camera moved");
 }
 
 /// `bench FILE --path VIEWS` (`views` path views, two-pass, 64², one

@@ -61,7 +61,7 @@ impl Picking {
                 let bounds = super::stream_args::bounds_scene(&stream);
                 let camera = view.camera(flags, &bounds)?;
                 let choosing = pointblend::lod::Choosing::of(&view.base_settings(&bounds, RenderMode::RULER)?);
-                (super::stream_args::frame_scene(stream, &camera, size, (view.stream_budget()?, choosing))?, camera)
+                (super::stream_args::frame_scene(stream, &camera, size, (view.stream_budget()?, choosing))?.0, camera)
             }
             None => {
                 let scene = shared::load_scene(file)?;

@@ -13,6 +13,7 @@ use pointblend::scene::Scene;
 use pointblend::scene::environment_map::EnvironmentMap;
 
 use super::shared::{self, CameraArgs, ViewArgs};
+use super::stream_args::StreamedFlight;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -49,7 +50,8 @@ pub struct Args {
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub time: Option<f64>,
     /// Fly through the views of this file (bookmarked in the viewer):
-    /// --out frames/f.png writes frames/f-0000.png ... and the animated frames/f.gif.
+    /// --out frames/f.png writes frames/f-0000.png ... and the animated frames/f.gif
+    /// (a streamed file's frames each select their own nodes).
     #[arg(long, value_name = "VIEWS.json")]
     pub path: Option<PathBuf>,
     /// Frames of the --path flight, its first and last views included.
@@ -120,7 +122,8 @@ pub fn run(args: &Args) -> Result<()> {
     let views = args.path.as_deref().map(ViewPath::read).transpose()?;
     check_outputs(args, views.is_some())?;
     let started = Instant::now();
-    let (mut scene, stream_camera) = open_scene(args, sidecar.as_ref())?;
+    let (mut scene, streamed) = open_scene(args, sidecar.as_ref(), views.as_ref().map(|v| v.camera_at(0.0)))?;
+    let stream_camera = streamed.as_ref().map(|(camera, _)| *camera);
     let load_seconds = started.elapsed().as_secs_f64();
     let (settings, (width, height)) = frame_settings(args, sidecar.as_ref(), &mut scene)?;
     let camera = match stream_camera {
@@ -143,7 +146,15 @@ pub fn run(args: &Args) -> Result<()> {
     }
     if let Some(views) = &views {
         let flight = super::render_path::Flight { file: &args.file, out: &args.out, frames: args.path_frames };
-        return super::render_path::run(&flight, views, &mut frames, gpu.as_mut(), &settings, (width, height));
+        let restream = streamed.map(|(_, flight)| flight);
+        return super::render_path::run(
+            &flight,
+            views,
+            &mut frames,
+            (gpu.as_mut(), restream),
+            &settings,
+            (width, height),
+        );
     }
     let spec = frames.resolve(&settings, View::still((width, height)));
     let Frame { image, plan, report } =
@@ -185,12 +196,6 @@ fn check_outputs(args: &Args, flying: bool) -> Result<()> {
     if flying && (args.camera.is_some() || args.diff.is_some()) {
         bail!("--path flies its own views: it takes neither --camera nor --diff");
     }
-    if flying && pointblend::copc::is_streamed(&args.file) {
-        bail!(
-            "{}: --path does not stream a COPC file yet (its views would each select their nodes)",
-            shared::shown_path(&args.file)
-        );
-    }
     shared::refuse_same_file(&args.out, "the input", &args.file)?;
     shared::prepare_image_output(&args.out)?;
     if let Some(diff) = &args.diff {
@@ -204,14 +209,22 @@ fn check_outputs(args: &Args, flying: bool) -> Result<()> {
 /// The scene to draw, with the command line's materials and a screenshot's
 /// style; a COPC file or URL is streamed: the nodes its view selects under
 /// the point budget, and that view's camera.
-fn open_scene(args: &Args, sidecar: Option<&Sidecar>) -> Result<(Scene, Option<Camera>)> {
-    let mut stream_camera = None;
+/// The scene to draw; for a streamed file, the nodes the first camera
+/// selects (a flight's `first`, else the sidecar's or the flags'), that
+/// camera, and the stream to select each later camera's nodes from.
+fn open_scene(
+    args: &Args,
+    sidecar: Option<&Sidecar>,
+    first: Option<Camera>,
+) -> Result<(Scene, Option<(Camera, StreamedFlight)>)> {
+    let mut streamed = None;
     let mut scene = match args.view.stream.open(&args.file)? {
         Some(stream) => {
             let bounds = super::stream_args::bounds_scene(&stream);
-            let camera = match sidecar {
-                Some(s) => s.camera(),
-                None => args.view.camera(&args.camera_flags, &bounds)?,
+            let camera = match (first, sidecar) {
+                (Some(camera), _) => camera,
+                (None, Some(s)) => s.camera(),
+                (None, None) => args.view.camera(&args.camera_flags, &bounds)?,
             };
             let size = sidecar.map_or(args.view.size, |s| (s.size[0], s.size[1]));
             // Chosen as the frame's settings say: their radius scale, and every node when lit.
@@ -224,8 +237,10 @@ fn open_scene(args: &Args, sidecar: Option<&Sidecar>) -> Result<(Scene, Option<C
                 }
                 None => (args.view.stream_budget()?, Choosing::of(&args.view.base_settings(&bounds, args.mode)?)),
             };
-            stream_camera = Some(camera);
-            super::stream_args::frame_scene(stream, &camera, size, budget)?
+            let (scene, subset) = super::stream_args::frame_scene(stream, &camera, size, budget)?;
+            let materials = args.view.scene.materials(false);
+            streamed = Some((camera, StreamedFlight { subset, choosing: budget.1, size, materials }));
+            scene
         }
         None => shared::load_scene(&args.file)?,
     };
@@ -237,7 +252,7 @@ fn open_scene(args: &Args, sidecar: Option<&Sidecar>) -> Result<(Scene, Option<C
         let style = record.style().map_err(|e| anyhow::anyhow!("{}: style: {e}", path.display()))?;
         scene.apply_style(&style).map_err(anyhow::Error::msg)?;
     }
-    Ok((scene, stream_camera))
+    Ok((scene, streamed))
 }
 
 /// The frame's settings and size: the flags', or a screenshot's with its

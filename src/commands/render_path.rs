@@ -6,11 +6,14 @@
 //! frame of the same settings from the path's camera.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
 use pointblend::frame::{RenderSettings, ViewPath};
 use pointblend::render::{Frame, GpuRenderer, PreparedScene, Readback};
+
+use super::stream_args::StreamedFlight;
 
 /// Frames per second of the animated GIF.
 const GIF_FPS: u32 = 25;
@@ -29,19 +32,23 @@ pub struct Flight<'a> {
     pub frames: u32,
 }
 
+/// Flies `args` through `views`: each frame drawn from `frames` on `gpu`
+/// (none for the reference); a streamed file's frames each select their
+/// own nodes from `restream` (shown in the same prepared scene: the nodes
+/// two frames share stay on the GPU).
 pub fn run(
     args: &Flight<'_>,
     views: &ViewPath,
     frames: &mut PreparedScene,
-    mut gpu: Option<&mut GpuRenderer>,
+    (mut gpu, mut restream): (Option<&mut GpuRenderer>, Option<StreamedFlight>),
     settings: &RenderSettings,
     size: (u32, u32),
 ) -> Result<()> {
     let n = args.frames;
     let gif_path = args.out.with_extension("gif");
     let started = Instant::now();
-    // One frame decided once, drawn from every view of the path.
-    let spec = frames.resolve(settings, pointblend::frame::View::still(size));
+    // One frame decided once, drawn from every view of the path (again for each new selection).
+    let mut spec = frames.resolve(settings, pointblend::frame::View::still(size));
     let bar = pointblend::progress::bar(n as u64, "camera path", true);
     let mut gif_bytes = Vec::new();
     {
@@ -49,6 +56,14 @@ pub fn run(
         gif.set_repeat(image::codecs::gif::Repeat::Infinite).context("the animated GIF")?;
         for k in 0..n {
             let camera = views.camera_at(k as f32 / (n - 1) as f32);
+            if let Some(flight) = restream.as_mut() {
+                let shown = Arc::clone(frames.scene());
+                if let Some(next) = flight.next_scene(&camera, &shown)? {
+                    let next = Arc::new(next);
+                    frames.show_selection(gpu.as_deref(), Arc::clone(&next), next.flattened())?;
+                    spec = frames.resolve(settings, pointblend::frame::View::still(size));
+                }
+            }
             let Frame { image, .. } = frames.render_frame(gpu.as_deref_mut(), &camera, &spec, Readback::Image)?;
             super::shared::write_image(&image, &frame_path(args.out, k))?;
             let delay = image::Delay::from_numer_denom_ms(1000, GIF_FPS);

@@ -62,14 +62,27 @@ pub fn bounds_scene(stream: &CopcStream) -> Scene {
 
 /// The scene of the nodes `stream` selects from `camera` at `size` under
 /// `budget`, chosen as the frame's settings say (`choosing`), loaded as
-/// needed: the stream's frame as a [`Subset`], as bench and the viewer choose theirs.
+/// needed: the stream's frame as a [`Subset`], as bench and the viewer
+/// choose theirs. Returns the stream too, to choose the next frame's.
 pub fn frame_scene(
     stream: CopcStream,
     camera: &Camera,
     size: (u32, u32),
     (budget, choosing): (StreamBudget, Choosing),
-) -> Result<Scene> {
+) -> Result<(Scene, StreamSubset)> {
     let mut subset = StreamSubset::new(stream, budget, LoadOptions { progress: true, ..Default::default() });
+    let scene = chosen_scene(&mut subset, camera, size, choosing)?.unwrap_or_default();
+    Ok((scene.coloured_by_default(), subset))
+}
+
+/// The scene of the nodes `subset` chooses for `camera` (`None`: the same
+/// nodes as its last choice), with what it read in the log.
+fn chosen_scene(
+    subset: &mut StreamSubset,
+    camera: &Camera,
+    size: (u32, u32),
+    choosing: Choosing,
+) -> Result<Option<Scene>> {
     let choice = subset.choose(camera, size, choosing)?;
     let (stream, last) = (&subset.stream, &subset.last);
     for warning in &last.warnings {
@@ -89,7 +102,32 @@ pub fn frame_scene(
         bound as f64 / 1e6,
         if stats.failed > 0 { format!("; {} nodes failed and were skipped", stats.failed) } else { String::new() }
     );
+    let Some(cloud) = choice.cloud else { return Ok(None) };
     // The scene's key names the nodes drawn, so caches keyed by it are not mixed up.
-    let scene = Scene::single(stream.file_name(), choice.cloud.unwrap_or_default(), choice.key);
-    Ok(scene.with_node_grouping(choice.grouping).with_node_spans(choice.spans).coloured_by_default())
+    let scene = Scene::single(stream.file_name(), cloud, choice.key);
+    Ok(Some(scene.with_node_grouping(choice.grouping).with_node_spans(choice.spans)))
+}
+
+/// A flight through a streamed file (`render --path`): each camera selects
+/// its own nodes, styled as the first selection was (its colours by
+/// attribute, their range fixed), with the command's materials.
+pub struct StreamedFlight {
+    pub subset: StreamSubset,
+    pub choosing: Choosing,
+    pub size: (u32, u32),
+    pub materials: pointblend::scene::Materials,
+}
+
+impl StreamedFlight {
+    /// The scene of the nodes `camera` selects, when they are not the last
+    /// ones drawn; `first` is the first selection's scene (its style pinned).
+    pub fn next_scene(&mut self, camera: &Camera, first: &Scene) -> Result<Option<Scene>> {
+        let Some(mut scene) = chosen_scene(&mut self.subset, camera, self.size, self.choosing)? else {
+            return Ok(None);
+        };
+        let style = first.pinned_style().map(std::sync::Arc::new).or(self.materials.style.clone());
+        let materials = pointblend::scene::Materials { style, ..self.materials.clone() };
+        materials.apply(&mut scene).map_err(anyhow::Error::msg)?;
+        Ok(Some(scene))
+    }
 }
