@@ -20,10 +20,10 @@ use pointblend::lod::Choosing;
 use pointblend::render::{GpuRenderer, PreparedScene, RenderMode, RenderSettings};
 use pointblend::scene::Scene;
 
-/// Bytes of one splat record on the GPU (`SplatInstance`).
-const RECORD: u64 = 36;
-/// Unchanged records a rewrite may write to join two runs of changed ones (`REWRITE_GAP`).
-const JOIN: u64 = 64;
+/// Bytes of one splat record on the GPU.
+const RECORD: u64 = std::mem::size_of::<pointblend::render::gpu_data::SplatInstance>() as u64;
+/// Unchanged records a rewrite may write to join two runs of changed ones.
+const JOIN: u64 = pointblend::render::changed_records::REWRITE_GAP as u64;
 const SIZE: (u32, u32) = (128, 128);
 
 /// A COPC file of `side`² ground points on a tilted plane (0.25 m apart), in several nodes.

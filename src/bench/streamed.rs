@@ -6,10 +6,10 @@
 //! (`--path`) are measured in path order, each row with what its view cost
 //! ([`ViewCosts`]): a node is decoded and estimated once, when it arrives,
 //! and so are its groups for the first grouped variant. A new selection
-//! is then built (re-centred, copies merged) and styled; its ungrouped GPU
-//! copy keeps each node still drawn in its slots and writes only the nodes
-//! added (a grouped copy is uploaded whole), and a view that selects the
-//! same nodes as the last one prepares nothing.
+//! is then built (re-centred, copies merged) and styled; each GPU copy of
+//! an opaque selection keeps the nodes still drawn in their slots and writes
+//! only the nodes added, dropped or changed (a node pool), and a view that
+//! selects the same nodes as the last one prepares nothing.
 
 use std::path::Path;
 use std::sync::Arc;

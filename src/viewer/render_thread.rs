@@ -239,10 +239,13 @@ fn prepared_scene<'a>(r: &GpuRenderer, scenes: &'a mut Scenes, request: &FrameRe
     if let Some(kept) = slot.as_mut().filter(|(g, ..)| *g != generation).filter(|kept| next_selection(kept)) {
         let (g, frames, _) = kept;
         match frames.show_selection(Some(r), Arc::clone(&model.scene), Arc::clone(cloud)) {
-            Ok(update) => log::debug!("next selection: {} bytes written to the GPU", update.uploaded_bytes),
-            Err(e) => log::warn!("showing the next selection: {e}"),
+            Ok(update) => {
+                log::debug!("next selection: {} bytes written to the GPU", update.uploaded_bytes);
+                *g = generation;
+            }
+            // Prepared anew below.
+            Err(e) => log::warn!("showing the next selection: {e}; preparing it anew"),
         }
-        *g = generation;
     }
     if slot.as_ref().is_none_or(|(g, ..)| *g != generation) {
         *slot = None; // free the old copies first

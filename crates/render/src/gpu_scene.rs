@@ -60,9 +60,9 @@ pub struct GpuScene {
     /// In a frame lit by scene lights: each chunk's shadow coefficients
     /// (`SplatLight` per instance), and what they were computed for.
     lights: Option<(Vec<wgpu::Buffer>, u64)>,
-    /// The keys of the records as last written by [`Self::rewrite`]
-    /// (`changed_records`; empty until a scene moves or a pool is uploaded),
-    /// moves), so the next frame writes only what changed.
+    /// The keys of the records as last written (`changed_records`; empty
+    /// until a scene moves or a node pool is uploaded), so the next
+    /// [`Self::rewrite`] writes only what changed.
     records: Vec<u64>,
     /// The mesh triangles a frame draws beside the splats, if any.
     pub triangles: Option<TriangleDraw>,
@@ -457,11 +457,6 @@ impl GpuScene {
     /// All splats, as an instance range (without the opaque run).
     pub fn all(&self) -> std::ops::Range<u32> {
         0..self.len as u32
-    }
-
-    /// The slots a node pool holds, when the splats are pooled by node.
-    pub fn pool_capacity(&self) -> Option<u32> {
-        self.pool.as_ref().map(SlotPool::capacity)
     }
 
     /// Draws the instances `range` as 4-vertex strips; the pipeline must be
