@@ -59,11 +59,7 @@ impl ViewerApp {
         for action in actions {
             match action {
                 Action::Open(path) => self.open(ctx, &path),
-                Action::Cancel(JobKind::Load) => {
-                    if let Some(job) = self.load.take() {
-                        job.cancel();
-                    }
-                }
+                Action::Cancel(JobKind::Load) => self.cancel_load(),
                 Action::Cancel(JobKind::Grouping) => {
                     if let Some((_, job)) = self.grouping_job.take() {
                         job.cancel();

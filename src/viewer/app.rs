@@ -83,6 +83,10 @@ pub struct ViewerApp {
     pub(super) ui: UiState,
     pub(super) model: Option<Arc<Model>>,
     pub(super) load: Option<Job<Result<Model, String>>>,
+    /// The newest step of a streamed view the load job is refining.
+    pub(super) interim: super::refine_steps::Interim,
+    /// The last frame of the view's time, which paces a refining view's steps.
+    pub(super) frame_pace: super::refine_steps::FramePace,
     pub(super) load_error: Option<String>,
     pub(super) generations: u64,
     pub(super) home: Camera,
@@ -150,6 +154,8 @@ impl ViewerApp {
             ui,
             model: None,
             load: None,
+            interim: Default::default(),
+            frame_pace: Default::default(),
             load_error: None,
             generations: 0,
             home: camera,

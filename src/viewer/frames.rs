@@ -162,6 +162,7 @@ impl ViewerApp {
             match (result.purpose, result.image) {
                 (Purpose::Display, Ok(image)) => {
                     self.frame_error = None;
+                    super::refine_steps::record_frame(&self.frame_pace, result.stats.frame_ms);
                     log::debug!(
                         "view frame {}x{} in {:.0} ms ({} splats{})",
                         image.width(),

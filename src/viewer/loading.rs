@@ -15,9 +15,7 @@ use crate::scene::environment_map::EnvironmentMap;
 impl ViewerApp {
     /// Starts loading `path` in the background; the current model stays until it succeeds.
     pub fn open(&mut self, ctx: &egui::Context, path: &Path) {
-        if let Some(old) = self.load.take() {
-            old.cancel();
-        }
+        self.cancel_load();
         self.generations += 1;
         let generation = self.generations;
         let path = path.to_path_buf();
@@ -95,9 +93,7 @@ impl ViewerApp {
         remake: impl FnOnce(Arc<Model>, u64) -> Result<Model, String> + Send + 'static,
     ) {
         let Some(model) = self.model.clone() else { return };
-        if let Some(old) = self.load.take() {
-            old.cancel();
-        }
+        self.cancel_load();
         self.generations += 1;
         let generation = self.generations;
         self.load = Some(Job::spawn(label, ctx.clone(), move || remake(model, generation)));
@@ -108,13 +104,27 @@ impl ViewerApp {
         self.options.cache.clone().unwrap_or_else(crate::grouping::cache::Cache::from_env)
     }
 
-    /// Takes the model the load job returned, if it has finished.
+    /// Cancels the load job under way, if any, with the steps it had not shown.
+    pub(super) fn cancel_load(&mut self) {
+        if let Some(job) = self.load.take() {
+            job.cancel();
+        }
+        self.interim = Default::default();
+    }
+
+    /// Takes the model the load job returned, if it has finished, else the
+    /// newest step of a streamed view it is refining.
     pub(super) fn poll_load(&mut self) {
         if let Some(result) = self.load.as_ref().and_then(|j| j.poll()) {
             self.load = None;
+            self.interim = Default::default();
             match result.and_then(|r| r) {
                 Ok(model) => self.adopt(model),
                 Err(e) => self.load_error = Some(e),
+            }
+        } else if self.load.is_some() {
+            if let Some(model) = self.take_interim() {
+                self.adopt(model);
             }
         }
     }

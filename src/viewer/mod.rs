@@ -31,6 +31,7 @@ mod model;
 mod panels;
 mod parameter_widgets;
 mod preview;
+mod refine_steps;
 mod render_thread;
 mod state;
 mod stats;

@@ -35,7 +35,8 @@ pub fn stats_section(ui: &mut Ui, info: &PanelInfo<'_>) {
         egui::Grid::new("passes").striped(true).show(ui, |ui| {
             for (pass, ms) in &stats.pass_ms {
                 ui.label(pass);
-                ui.label(format!("{ms:.2} ms"));
+                // Of one width whatever the time, so that a slower frame does not widen the panel (and the view).
+                ui.label(RichText::new(format!("{ms:>9.2} ms")).monospace());
                 ui.end_row();
             }
         });

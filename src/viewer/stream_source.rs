@@ -1,24 +1,26 @@
 //! A streamed file (COPC, from disk or a URL) as the viewer holds it: the
 //! stream, and what the statistics show of it ([`super::streaming`] makes
-//! models of its selections). The model on
-//! screen is the selection of the last settled view. When the camera rests
-//! (or the window or the point budget changes), a background job selects
-//! the nodes of the new view under the budget (1M by default), loads what
-//! the cache lacks with at most four requests in flight, and builds them
-//! into the next model; until it arrives the current selection stays on
-//! screen, so nothing blinks: a region whose nodes are still loading is
-//! drawn by the nodes already there (its loaded ancestors). The job's
-//! progress bar is the "refining" bar, and the statistics show what is
-//! shown, what was read, how fast, and the cache.
+//! models of its selections). When the camera rests (or the window or the
+//! point budget changes), a background job selects the nodes of the new
+//! view under the budget (1M by default) and loads what the cache lacks,
+//! with at most four requests in flight, in steps, coarse first: each step
+//! loads at most as many points as are drawn (65,536 to 262,144), and the
+//! window shows the nodes loaded so far after the first step, then no more
+//! often than it draws a frame, a node still loading drawn by its loaded
+//! ancestors. Until the first step arrives the current selection stays on
+//! screen, so nothing blinks, and each step shown uploads only the nodes it
+//! adds (the GPU pool of `PreparedScene::show_selection`). The
+//! job's progress bar is the "refining" bar, and the statistics show what
+//! is shown, what was read, how fast, and the cache.
 
 use std::path::Path;
 use std::sync::{Arc, Mutex};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use crate::cloud::LoadOptions;
+use crate::copc::Left;
 use crate::copc::subset::StreamSubset;
 use crate::copc::{CopcStream, StreamBudget, StreamOptions, StreamStats};
-use crate::frame::subset::Subset;
 use crate::frame::{Camera, CameraRequest};
 use crate::scene::Scene;
 
@@ -31,6 +33,9 @@ pub struct ViewKey {
     pub budget: StreamBudget,
     pub choosing: crate::lod::Choosing,
 }
+
+/// What shows a step of a view still refining: its scene and load warnings.
+pub type ShowStep<'a> = dyn FnMut(Scene, Vec<String>) -> Result<(), String> + 'a;
 
 /// What the statistics show.
 #[derive(Debug, Clone, Default)]
@@ -53,6 +58,9 @@ pub struct StreamedSource {
     /// The stream, whose frames are chosen as a [`Subset`] (as `render` and bench choose theirs).
     subset: Mutex<StreamSubset>,
     status: Mutex<StreamStatus>,
+    /// The file's bounds ([`CopcStream::bounds_cloud`]), kept so that the
+    /// window frames the file without waiting for a loading step's lock.
+    bounds: crate::cloud::PointCloud,
 }
 
 impl std::fmt::Debug for StreamedSource {
@@ -64,8 +72,10 @@ impl std::fmt::Debug for StreamedSource {
 impl StreamedSource {
     pub fn open(path: &Path, options: StreamOptions) -> Result<Arc<Self>, String> {
         let stream = CopcStream::open(&path.to_string_lossy(), options).map_err(|e| e.to_string())?;
+        let bounds = stream.bounds_cloud();
         let subset = StreamSubset::new(stream, StreamBudget::Default, LoadOptions::default());
-        Ok(Arc::new(Self { subset: Mutex::new(subset), status: Mutex::new(StreamStatus::default()) }))
+        let status = Mutex::new(StreamStatus::default());
+        Ok(Arc::new(Self { subset: Mutex::new(subset), status, bounds }))
     }
 
     pub fn status(&self) -> StreamStatus {
@@ -75,48 +85,108 @@ impl StreamedSource {
     /// The camera `asked` makes of the file's bounds (its header's) at `aspect`:
     /// with nothing asked, the default view framing them.
     pub fn home_camera(&self, asked: &CameraRequest, aspect: f32) -> Camera {
-        let subset = self.subset.lock().expect("no panics while held");
-        let bounds = subset.stream.bounds_cloud();
-        asked.camera(&bounds, aspect).unwrap_or_else(|_| Camera::default_for(&bounds, aspect))
+        asked.camera(&self.bounds, aspect).unwrap_or_else(|_| Camera::default_for(&self.bounds, aspect))
     }
 
     /// The scene of the nodes `view` selects (named `name`), and its load
     /// warnings; `None` when they are the nodes the last scene drew.
-    pub fn scene(&self, name: String, view: ViewKey) -> Result<Option<(Scene, Vec<String>)>, String> {
-        let mut subset = self.subset.lock().map_err(|_| "the stream was poisoned".to_string())?;
-        let before = subset.stream.stats();
+    ///
+    /// The view is loaded in steps, coarse first, each loading at most as
+    /// many points as are drawn (from [`FIRST_STEP`] to [`LARGEST_STEP`]).
+    /// `interim` is given the scene of the nodes loaded so far after the
+    /// first step, then again each time `pace` has passed since it last was
+    /// (the window passes its frame time, so steps come no faster than it
+    /// draws them), while more nodes remain to load than the next step
+    /// loads; a node still loading is drawn by its loaded ancestors.
+    pub fn scene(
+        &self,
+        name: String,
+        view: ViewKey,
+        (interim, pace): (&mut ShowStep<'_>, &dyn Fn() -> Duration),
+    ) -> Result<Option<(Scene, Vec<String>)>, String> {
         let started = Instant::now();
         crate::progress::stage("selecting and loading nodes");
+        let mut shown: Option<Instant> = None;
+        loop {
+            let (left, step) = self.load_step(view)?;
+            // Not shown: a step before the pace has passed, or one the next step completes.
+            let early = shown.is_some_and(|at| at.elapsed() < pace());
+            if left.nodes > 0 && (early || left.points <= step) {
+                continue;
+            }
+            let scene = self.gather(&name, view, left.nodes)?;
+            if left.nodes == 0 {
+                log::info!("{name}: view complete in {:.2} s", started.elapsed().as_secs_f64());
+                return Ok(scene);
+            }
+            if let Some((scene, warnings)) = scene {
+                interim(scene, warnings)?;
+                shown = Some(Instant::now());
+            }
+        }
+    }
+
+    fn subset(&self) -> Result<std::sync::MutexGuard<'_, StreamSubset>, String> {
+        self.subset.lock().map_err(|_| "the stream was poisoned".to_string())
+    }
+
+    /// One loading step of [`Self::scene`]; returns what remains to load,
+    /// and the points the next step loads.
+    fn load_step(&self, view: ViewKey) -> Result<(Left, u64), String> {
+        let mut subset = self.subset()?;
+        let before = subset.stream.stats();
         subset.budget = view.budget;
-        let choice = subset.choose(&view.camera, view.size, view.choosing).map_err(|e| e.to_string())?;
+        let step = (subset.last.points as u64).clamp(FIRST_STEP, LARGEST_STEP);
+        let left = subset.load_step(&view.camera, view.size, view.choosing, step).map_err(|e| e.to_string())?;
+        self.record(&subset, view, before)?;
+        Ok((left, step))
+    }
+
+    /// The scene of the nodes of `view` loaded so far (`None`: the nodes the
+    /// last one drew), `left` nodes short of the view.
+    fn gather(&self, name: &str, view: ViewKey, left: usize) -> Result<Option<(Scene, Vec<String>)>, String> {
+        let mut subset = self.subset()?;
+        let before = subset.stream.stats();
+        let choice = subset.choose_loaded(&view.camera, view.size, view.choosing).map_err(|e| e.to_string())?;
+        self.record(&subset, view, before)?;
+        let last = &subset.last;
+        log::info!(
+            "{}: {} points of {} nodes, {left} nodes left to load",
+            subset.stream.name(),
+            last.points,
+            last.drawn
+        );
+        let (grouping, spans) = (choice.grouping, choice.spans);
+        Ok(choice.cloud.map(|cloud| {
+            let scene =
+                Scene::single(name.to_string(), cloud, choice.key).with_node_grouping(grouping).with_node_spans(spans);
+            (scene, last.warnings.clone())
+        }))
+    }
+
+    /// What the statistics show after a step that began at `before`.
+    fn record(&self, subset: &StreamSubset, view: ViewKey, before: StreamStats) -> Result<(), String> {
         let (stream, last) = (&subset.stream, &subset.last);
         let after = stream.stats();
         let seconds = after.load_seconds - before.load_seconds;
         let read = after.bytes_read - before.bytes_read;
-        {
-            let mut status = self.status.lock().map_err(|_| "the stream was poisoned".to_string())?;
-            *status = StreamStatus {
-                nodes_shown: last.drawn,
-                points_shown: last.points,
-                nodes_known: stream.tree.nodes.len(),
-                points_in_file: stream.points(),
-                stats: after,
-                cache: stream.cache_usage(),
-                mb_per_s: if read > 0 && seconds > 0.0 { Some(read as f64 / 1e6 / seconds) } else { status.mb_per_s },
-                view: Some(view),
-            };
-        }
-        log::info!(
-            "{}: {} points of {} nodes in {:.2} s",
-            stream.name(),
-            last.points,
-            last.drawn,
-            started.elapsed().as_secs_f64()
-        );
-        let (grouping, spans) = (choice.grouping, choice.spans);
-        Ok(choice.cloud.map(|cloud| {
-            let scene = Scene::single(name, cloud, choice.key).with_node_grouping(grouping).with_node_spans(spans);
-            (scene, last.warnings.clone())
-        }))
+        let mut status = self.status.lock().map_err(|_| "the stream was poisoned".to_string())?;
+        *status = StreamStatus {
+            nodes_shown: last.drawn,
+            points_shown: last.points,
+            nodes_known: stream.tree.nodes.len(),
+            points_in_file: stream.points(),
+            stats: after,
+            cache: stream.cache_usage(),
+            mb_per_s: if read > 0 && seconds > 0.0 { Some(read as f64 / 1e6 / seconds) } else { status.mb_per_s },
+            view: Some(view),
+        };
+        Ok(())
     }
 }
+
+/// The points a view's first loading step loads at most (more when more
+/// are drawn already), and the most any step loads: 262,144 points are
+/// 9.4 MB of GPU records.
+pub const FIRST_STEP: u64 = 65_536;
+pub const LARGEST_STEP: u64 = 262_144;

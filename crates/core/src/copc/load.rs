@@ -26,6 +26,13 @@ pub const IN_FLIGHT: usize = 4;
 /// Largest merged request.
 const MAX_MERGED: u64 = 16 << 20;
 
+/// What a loading step left to load: nodes, and the points they hold.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Left {
+    pub nodes: usize,
+    pub points: u64,
+}
+
 /// Chunks read in one request: their nodes, from `start` to `end`.
 struct Run {
     start: u64,

@@ -34,6 +34,7 @@ pub mod subset;
 pub mod write;
 
 pub use budget::StreamBudget;
+pub use load::Left;
 pub use redact::shown;
 pub use source::{is_streamed, is_url};
 pub use stream::{CopcStream, StreamOptions, StreamStats, StreamedFrame};

@@ -32,7 +32,7 @@ use super::disk::DiskCache;
 use super::header::CopcHeader;
 use super::hierarchy::CopcTree;
 use super::http::HttpOptions;
-use super::load::Fetch;
+use super::load::{Fetch, Left};
 use super::source::{ByteSource, is_url};
 use rayon::prelude::*;
 
@@ -268,14 +268,42 @@ impl CopcStream {
 
     /// Loads the selected nodes that are neither cached nor failed; returns how many loaded.
     pub fn load(&mut self, selection: &Selection) -> usize {
-        let wanted: Vec<u32> = selection
-            .nodes
+        let wanted = self.missing(selection);
+        self.load_nodes(&wanted, selection)
+    }
+
+    /// The selected nodes with points that are neither cached nor failed,
+    /// in the selection's order (coarse first: largest projected spacing).
+    pub fn missing(&self, selection: &Selection) -> Vec<u32> {
+        let loadable =
+            |n: u32| self.tree.nodes[n as usize].points > 0 && !self.cache.contains(n) && !self.failed.contains_key(&n);
+        selection.nodes.iter().copied().filter(|&n| loadable(n)).collect()
+    }
+
+    /// Loads the first of the selected nodes the cache lacks, coarse first,
+    /// while they hold at most `points` (but [`super::load::IN_FLIGHT`]
+    /// nodes at least, so that the loader's requests stay in flight);
+    /// returns what remains to load. A view refined in such steps shows
+    /// its coarse nodes first, each step bounded in what it adds.
+    pub fn load_up_to(&mut self, selection: &Selection, points: u64) -> Left {
+        let missing = self.missing(selection);
+        let held = |n: &u32| u64::from(self.tree.nodes[*n as usize].points);
+        let mut sum = 0u64;
+        let take = missing
             .iter()
-            .copied()
-            .filter(|&n| {
-                self.tree.nodes[n as usize].points > 0 && !self.cache.contains(n) && !self.failed.contains_key(&n)
+            .enumerate()
+            .take_while(|&(i, n)| {
+                sum += held(n);
+                i < super::load::IN_FLIGHT || sum <= points
             })
-            .collect();
+            .count();
+        let left = Left { nodes: missing.len() - take, points: missing[take..].iter().map(held).sum() };
+        self.load_nodes(&missing[..take], selection);
+        left
+    }
+
+    /// Loads `wanted` (nodes of `selection`, which the cache keeps while it loads them); returns how many loaded.
+    fn load_nodes(&mut self, wanted: &[u32], selection: &Selection) -> usize {
         if wanted.is_empty() {
             return 0;
         }
@@ -285,7 +313,7 @@ impl CopcStream {
         let done = AtomicU64::new(0);
         let fetch =
             Fetch { source: self.source.as_ref(), header: &self.header, tree: &self.tree, disk: self.disk.as_ref() };
-        let results = fetch.nodes(&wanted, &|points| {
+        let results = fetch.nodes(wanted, &|points| {
             done.fetch_add(points, Ordering::Relaxed);
             bar.inc(points);
         });
@@ -418,6 +446,14 @@ impl CopcStream {
     fn needs_estimates(&self) -> bool {
         let has = |name: &str| self.header.fields.iter().any(|f| f.name == name);
         !["nx", "ny", "nz", "radius"].into_iter().all(has)
+    }
+
+    /// Estimates the normals and radii of the loaded nodes of `selection`
+    /// that have none yet ([`Self::estimate_new`]), as a loading step does
+    /// so that the gather after it only assembles.
+    pub fn estimate_loaded(&mut self, selection: &Selection, options: &EstimateOptions) {
+        let drawn = self.drawn(selection);
+        self.estimate_new(&drawn, options);
     }
 
     /// Estimates the normals and radii of the `drawn` nodes that have none

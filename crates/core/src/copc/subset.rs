@@ -5,6 +5,7 @@
 //! `render`, `pick`, `bench` and the viewer all choose a streamed frame's
 //! points through it.
 
+use super::load::Left;
 use super::{CopcError, CopcStream, StreamBudget};
 use crate::cloud::LoadOptions;
 use crate::frame::Camera;
@@ -39,17 +40,44 @@ impl StreamSubset {
     }
 }
 
-impl Subset for StreamSubset {
-    type Error = CopcError;
-
-    /// The view's nodes, selected and loaded; their points gathered only
-    /// when they are not the nodes the last choice drew (or not in the
-    /// groups it gave them), with their groups when `choosing` asks for
-    /// them. Keyed by the source and the nodes drawn.
-    fn choose(&mut self, camera: &Camera, size: (u32, u32), choosing: Choosing) -> Result<Choice, CopcError> {
+impl StreamSubset {
+    /// One loading step of a view refined progressively: the view's nodes
+    /// selected, and the first of those the cache lacks loaded, coarse
+    /// first, until they hold `points` ([`CopcStream::load_up_to`]; on
+    /// until some node of the view holds a point), then given their
+    /// normals and radii where the file has none (each with a halo from the
+    /// nodes loaded by then). Returns what remains to load (no node: the
+    /// view is complete).
+    pub fn load_step(
+        &mut self,
+        camera: &Camera,
+        size: (u32, u32),
+        choosing: Choosing,
+        points: u64,
+    ) -> Result<Left, CopcError> {
         self.stream.check_fits(self.budget)?;
         let selection = self.stream.select(camera, size, self.budget.select_options(choosing));
-        self.stream.load(&selection);
+        let mut left = self.stream.load_up_to(&selection, points);
+        while left.nodes > 0 && self.stream.drawn(&selection).is_empty() {
+            left = self.stream.load_up_to(&selection, points);
+        }
+        self.stream.estimate_loaded(&selection, &self.load.estimate);
+        Ok(left)
+    }
+
+    /// The view's nodes that are loaded, gathered as [`Subset::choose`]
+    /// gathers them, loading nothing. A node not loaded yet is drawn by its
+    /// loaded ancestors, which additive refinement selects with it (their
+    /// radii stay as estimated where no finer node is drawn), so nothing is
+    /// left uncovered.
+    pub fn choose_loaded(
+        &mut self,
+        camera: &Camera,
+        size: (u32, u32),
+        choosing: Choosing,
+    ) -> Result<Choice, CopcError> {
+        self.stream.check_fits(self.budget)?;
+        let selection = self.stream.select(camera, size, self.budget.select_options(choosing));
         let drawn = self.stream.drawn(&selection);
         let key = self.stream.key_of(&drawn);
         if self.shown == Some((key, choosing.groups)) {
@@ -65,5 +93,18 @@ impl Subset for StreamSubset {
         };
         self.shown = Some((frame.hash, choosing.groups));
         Ok(Choice { cloud: Some(frame.cloud), key: frame.hash, grouping: frame.grouping, spans: frame.spans })
+    }
+}
+
+impl Subset for StreamSubset {
+    type Error = CopcError;
+
+    /// The view's nodes, selected and loaded; their points gathered only
+    /// when they are not the nodes the last choice drew (or not in the
+    /// groups it gave them), with their groups when `choosing` asks for
+    /// them. Keyed by the source and the nodes drawn.
+    fn choose(&mut self, camera: &Camera, size: (u32, u32), choosing: Choosing) -> Result<Choice, CopcError> {
+        self.load_step(camera, size, choosing, u64::MAX)?;
+        self.choose_loaded(camera, size, choosing)
     }
 }

@@ -1,0 +1,116 @@
+//! A streamed view loaded in steps, as the viewer refines one: each step
+//! loads the coarsest nodes it lacks, no more points than its bound, and
+//! gathers what is loaded, so the window can show each step; the last
+//! step's points are the points of the view chosen in one go.
+
+mod common;
+
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+use common::lidar::{self, tilted_grid};
+use las::copc::VoxelKey;
+use pointblend::cloud::LoadOptions;
+use pointblend::copc::subset::StreamSubset;
+use pointblend::copc::{CopcStream, StreamBudget, StreamOptions};
+use pointblend::frame::Camera;
+use pointblend::frame::subset::Subset;
+use pointblend::lod::Choosing;
+use pointblend::render::{PreparedScene, RenderMode, RenderSettings};
+use pointblend::scene::Scene;
+
+/// The points a step loads at most (beyond the loader's four requests).
+const STEP: u64 = 250_000;
+/// The view's size, as the selection sees it; its images are drawn at a quarter of it.
+const SIZE: (u32, u32) = (256, 256);
+const IMAGE: (u32, u32) = (128, 128);
+
+/// The share of pixels a cloud covers in two-pass (those unlike the background's corner).
+fn covered(cloud: pointblend::cloud::PointCloud, camera: &Camera, png: &Path) -> f64 {
+    let mut frames = PreparedScene::of(std::sync::Arc::new(Scene::single("step".to_string(), cloud, 0)));
+    let settings = RenderSettings { mode: RenderMode::TwoPass, ..Default::default() };
+    let mut renderer = common::renderer();
+    let image = frames.render(Some(&mut *renderer), camera, &settings, IMAGE, false).expect("render").image;
+    image.save(png).unwrap();
+    let background = *image.get_pixel(0, 0);
+    image.pixels().filter(|&&p| p != background).count() as f64 / f64::from(IMAGE.0 * IMAGE.1)
+}
+
+/// A COPC file of two `side`² grids 4 m apart, made by `convert`'s writer.
+fn two_layer_copc(dir: &Path, side: usize) -> PathBuf {
+    let mut points = tilted_grid(side, 0.25, 0.1, [600_000.0, 4_000_000.0, 100.0]);
+    points.extend(tilted_grid(side, 0.25, 0.1, [600_000.0, 4_000_000.0, 104.0]));
+    let laz = lidar::write(&dir.join("source.laz"), &points, [600_000.0, 4_000_000.0, 0.0], None);
+    let copc = dir.join("tile.copc.laz");
+    pointblend::copc::write::write_copc(&laz, &copc, false).unwrap();
+    copc
+}
+
+fn subset(copc: &Path) -> StreamSubset {
+    let options = StreamOptions { cache_bytes: 1 << 30, ..Default::default() };
+    let stream = CopcStream::open(copc.to_str().unwrap(), options).unwrap();
+    StreamSubset::new(stream, StreamBudget::Points(1_000_000), LoadOptions::default())
+}
+
+/// The node holding `key`'s parent, if `key` is not the root.
+fn parent(stream: &CopcStream, key: VoxelKey) -> Option<u32> {
+    (key.l > 0).then(|| {
+        let up = VoxelKey { l: key.l - 1, x: key.x / 2, y: key.y / 2, z: key.z / 2 };
+        stream.tree.node(&up).expect("a node's parent is in the tree")
+    })
+}
+
+#[test]
+fn a_view_loaded_in_steps_comes_coarse_first_each_step_bounded_and_ends_on_the_view_chosen_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let copc = two_layer_copc(dir.path(), 800);
+    let mut stepped = subset(&copc);
+    let camera = Camera::default_for(&stepped.stream.bounds_cloud(), 1.0);
+    let choosing = Choosing::default();
+    let mut loaded: HashSet<u32> = HashSet::new();
+    let mut shown = Vec::new();
+    loop {
+        let left = stepped.load_step(&camera, SIZE, choosing, STEP).unwrap();
+        let nodes = stepped.stream.tree.nodes.len() as u32;
+        let now: HashSet<u32> = (0..nodes).filter(|&n| stepped.stream.decoded_points(n).is_some()).collect();
+        let added: Vec<u32> = now.difference(&loaded).copied().collect();
+        let points: u64 = added.iter().map(|&n| u64::from(stepped.stream.tree.nodes[n as usize].points)).sum();
+        assert!(!added.is_empty(), "a step loads something");
+        assert!(points <= STEP || added.len() <= 4, "a step of {} nodes loaded {points} points", added.len());
+        for &n in &added {
+            let key = stepped.stream.tree.nodes[n as usize].key;
+            let up = parent(&stepped.stream, key);
+            assert!(up.is_none_or(|p| now.contains(&p)), "node {key:?} came before its parent");
+        }
+        loaded = now;
+        let choice = stepped.choose_loaded(&camera, SIZE, choosing).unwrap();
+        let cloud = choice.cloud.expect("each step draws what it added");
+        let drawn = cloud.len();
+        assert!(shown.last().is_none_or(|&(before, _)| drawn > before), "a step draws more than the last");
+        shown.push((drawn, covered(cloud, &camera, &dir.path().join(format!("step{}.png", shown.len())))));
+        if left.nodes == 0 {
+            break;
+        }
+        assert!(left.points > 0, "nodes left hold points");
+    }
+    let mut at_once = subset(&copc);
+    let whole = at_once.choose(&camera, SIZE, choosing).unwrap().cloud.expect("the view's points");
+    let points = whole.len();
+    let full = covered(whole, &camera, &dir.path().join("at_once.png"));
+    println!("steps of at most {STEP} points drew (points, coverage) {shown:?}; the view at once {points}, {full:.4}");
+    if let Ok(keep) = std::env::var("POINTBLEND_KEEP_IMAGES") {
+        for entry in
+            std::fs::read_dir(dir.path()).unwrap().flatten().filter(|e| e.path().extension() == Some("png".as_ref()))
+        {
+            std::fs::copy(entry.path(), Path::new(&keep).join(entry.file_name())).unwrap();
+        }
+    }
+    assert!(shown.len() >= 3, "the view came in several steps: {shown:?}");
+    // No holes: a node still loading is covered by its ancestors (the silhouette may move by a pixel row).
+    let row = 1.0 / f64::from(IMAGE.1);
+    assert!(shown.iter().all(|&(_, c)| c >= full - row), "a step left a hole: {shown:?} against {full}");
+    let last = stepped.choose_loaded(&camera, SIZE, choosing).unwrap();
+    assert!(last.cloud.is_none(), "the last step's nodes are the ones drawn");
+    assert_eq!(last.key, at_once.choose(&camera, SIZE, choosing).unwrap().key, "the same nodes as the view at once");
+    assert_eq!(shown.last().unwrap().0, points, "the same points as the view at once");
+}
