@@ -1,7 +1,8 @@
 //! A streamed view loaded in steps, as the viewer refines one: each step
 //! loads the coarsest nodes it lacks, no more points than its bound, and
 //! gathers what is loaded, so the window can show each step; the last
-//! step's points are the points of the view chosen in one go.
+//! step's points are the points of the view chosen in one go, and its image
+//! is theirs within the seam goal although early nodes had smaller halos.
 
 mod common;
 
@@ -113,4 +114,13 @@ fn a_view_loaded_in_steps_comes_coarse_first_each_step_bounded_and_ends_on_the_v
     assert!(last.cloud.is_none(), "the last step's nodes are the ones drawn");
     assert_eq!(last.key, at_once.choose(&camera, SIZE, choosing).unwrap().key, "the same nodes as the view at once");
     assert_eq!(shown.last().unwrap().0, points, "the same points as the view at once");
+    // Nodes estimated in earlier steps had a smaller halo (their parent and the nodes loaded by
+    // then): the image stays within the streamed-against-whole goal of the view at once.
+    let image = |name: String| image::open(dir.path().join(name)).unwrap().to_rgba8();
+    let eps =
+        pointblend::reference::compare(&image(format!("step{}.png", shown.len() - 1)), &image("at_once.png".into()))
+            .unwrap()
+            .eps;
+    println!("the last step against the view at once: ε {eps:.3}");
+    assert!(eps <= common::tolerances::MAX_STREAMED_EPS, "ε {eps} of the stepped view against the view at once");
 }

@@ -288,3 +288,8 @@ pub const MAX_EYE_DOME_EPS: f64 = 0.12;
 /// twice the worst measured, 2.5× the share.
 pub const MAX_WINDOWED_PIXEL_DIFF: u8 = 12;
 pub const MAX_WINDOWED_CHANGED_PIXELS: f64 = 0.005;
+
+/// ε of a streamed view, its nodes estimated node by node, against the same
+/// points estimated together (the file loaded whole, or the view chosen in one
+/// go): the node tree's goal for seams at node borders.
+pub const MAX_STREAMED_EPS: f64 = 0.5;
