@@ -108,6 +108,10 @@ impl StreamedSource {
         crate::progress::stage("selecting and loading nodes");
         let mut shown: Option<Instant> = None;
         loop {
+            // A cancelled job (another view or file asked for) stops between steps; its result is dropped.
+            if crate::progress::cancelled() {
+                return Err(format!("{name}: refining cancelled"));
+            }
             let (left, step) = self.load_step(view)?;
             // Not shown: a step before the pace has passed, or one the next step completes.
             let early = shown.is_some_and(|at| at.elapsed() < pace());
