@@ -22,7 +22,7 @@ use pointblend::scene::Scene;
 
 /// The points a step loads at most (beyond the loader's four requests).
 const STEP: u64 = 250_000;
-/// The view's size, as the selection sees it; its images are drawn at a quarter of it.
+/// The view's size, as the selection sees it; its images are drawn at a quarter of it (or less).
 const SIZE: (u32, u32) = (256, 256);
 const IMAGE: (u32, u32) = (128, 128);
 
@@ -65,58 +65,77 @@ fn parent(stream: &CopcStream, key: VoxelKey) -> Option<u32> {
 fn a_view_loaded_in_steps_comes_coarse_first_each_step_bounded_and_ends_on_the_view_chosen_at_once() {
     let dir = tempfile::tempdir().unwrap();
     let copc = two_layer_copc(dir.path(), 800);
-    let mut stepped = subset(&copc);
+    loaded_in_steps(&copc, (STEP, SIZE), 3, dir.path());
+}
+
+/// The same on a real lidar tile: an airborne COPC of 518,862 points in 15
+/// nodes over three levels, in steps of at most a level 0 node's points (so
+/// every step is four nodes, the loader's least), its view chosen for a
+/// larger window so that it reaches the finest level.
+#[test]
+fn a_real_tile_loaded_in_steps_ends_on_the_view_chosen_at_once() {
+    let copc = require!(common::shared_data("lidar/lone-star.copc.laz"));
+    let dir = tempfile::tempdir().unwrap();
+    loaded_in_steps(&copc, (60_000, (1024, 1024)), 3, dir.path());
+}
+
+/// Loads the default view of `copc` at `size` in steps of at most `step` points
+/// and checks them: each loads something, within the bound or four nodes,
+/// no node before its parent, each draws more and leaves no hole, at least
+/// `least_steps` of them, the last drawing the view chosen at once, within
+/// the streamed seam goal of its image.
+fn loaded_in_steps(copc: &Path, (step, size): (u64, (u32, u32)), least_steps: usize, dir: &Path) {
+    let mut stepped = subset(copc);
     let camera = Camera::default_for(&stepped.stream.bounds_cloud(), 1.0);
     let choosing = Choosing::default();
     let mut loaded: HashSet<u32> = HashSet::new();
     let mut shown = Vec::new();
     loop {
-        let left = stepped.load_step(&camera, SIZE, choosing, STEP).unwrap();
+        let left = stepped.load_step(&camera, size, choosing, step).unwrap();
         let nodes = stepped.stream.tree.nodes.len() as u32;
         let now: HashSet<u32> = (0..nodes).filter(|&n| stepped.stream.decoded_points(n).is_some()).collect();
         let added: Vec<u32> = now.difference(&loaded).copied().collect();
         let points: u64 = added.iter().map(|&n| u64::from(stepped.stream.tree.nodes[n as usize].points)).sum();
         assert!(!added.is_empty(), "a step loads something");
-        assert!(points <= STEP || added.len() <= 4, "a step of {} nodes loaded {points} points", added.len());
+        assert!(points <= step || added.len() <= 4, "a step of {} nodes loaded {points} points", added.len());
         for &n in &added {
             let key = stepped.stream.tree.nodes[n as usize].key;
             let up = parent(&stepped.stream, key);
             assert!(up.is_none_or(|p| now.contains(&p)), "node {key:?} came before its parent");
         }
         loaded = now;
-        let choice = stepped.choose_loaded(&camera, SIZE, choosing).unwrap();
+        let choice = stepped.choose_loaded(&camera, size, choosing).unwrap();
         let cloud = choice.cloud.expect("each step draws what it added");
         let drawn = cloud.len();
         assert!(shown.last().is_none_or(|&(before, _)| drawn > before), "a step draws more than the last");
-        shown.push((drawn, covered(cloud, &camera, &dir.path().join(format!("step{}.png", shown.len())))));
+        shown.push((drawn, covered(cloud, &camera, &dir.join(format!("step{}.png", shown.len())))));
         if left.nodes == 0 {
             break;
         }
         assert!(left.points > 0, "nodes left hold points");
     }
-    let mut at_once = subset(&copc);
-    let whole = at_once.choose(&camera, SIZE, choosing).unwrap().cloud.expect("the view's points");
+    let mut at_once = subset(copc);
+    let whole = at_once.choose(&camera, size, choosing).unwrap().cloud.expect("the view's points");
     let points = whole.len();
-    let full = covered(whole, &camera, &dir.path().join("at_once.png"));
-    println!("steps of at most {STEP} points drew (points, coverage) {shown:?}; the view at once {points}, {full:.4}");
+    let full = covered(whole, &camera, &dir.join("at_once.png"));
+    println!("steps of at most {step} points drew (points, coverage) {shown:?}; the view at once {points}, {full:.4}");
     if let Ok(keep) = std::env::var("POINTBLEND_KEEP_IMAGES") {
-        for entry in
-            std::fs::read_dir(dir.path()).unwrap().flatten().filter(|e| e.path().extension() == Some("png".as_ref()))
+        for entry in std::fs::read_dir(dir).unwrap().flatten().filter(|e| e.path().extension() == Some("png".as_ref()))
         {
             std::fs::copy(entry.path(), Path::new(&keep).join(entry.file_name())).unwrap();
         }
     }
-    assert!(shown.len() >= 3, "the view came in several steps: {shown:?}");
+    assert!(shown.len() >= least_steps, "the view came in several steps: {shown:?}");
     // No holes: a node still loading is covered by its ancestors (the silhouette may move by a pixel row).
     let row = 1.0 / f64::from(IMAGE.1);
     assert!(shown.iter().all(|&(_, c)| c >= full - row), "a step left a hole: {shown:?} against {full}");
-    let last = stepped.choose_loaded(&camera, SIZE, choosing).unwrap();
+    let last = stepped.choose_loaded(&camera, size, choosing).unwrap();
     assert!(last.cloud.is_none(), "the last step's nodes are the ones drawn");
-    assert_eq!(last.key, at_once.choose(&camera, SIZE, choosing).unwrap().key, "the same nodes as the view at once");
+    assert_eq!(last.key, at_once.choose(&camera, size, choosing).unwrap().key, "the same nodes as the view at once");
     assert_eq!(shown.last().unwrap().0, points, "the same points as the view at once");
     // Nodes estimated in earlier steps had a smaller halo (their parent and the nodes loaded by
     // then): the image stays within the streamed-against-whole goal of the view at once.
-    let image = |name: String| image::open(dir.path().join(name)).unwrap().to_rgba8();
+    let image = |name: String| image::open(dir.join(name)).unwrap().to_rgba8();
     let eps =
         pointblend::reference::compare(&image(format!("step{}.png", shown.len() - 1)), &image("at_once.png".into()))
             .unwrap()

@@ -194,3 +194,74 @@ impl StreamedSource {
 /// 9.4 MB of GPU records.
 pub const FIRST_STEP: u64 = 65_536;
 pub const LARGEST_STEP: u64 = 262_144;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frame::subset::Choosing;
+    use glam::Vec3;
+
+    /// A COPC file of two 360,000-splat planes 4 units apart, each point
+    /// moved off its plane and coloured at random as a scan's are (a
+    /// perfect grid of one colour compresses beyond what a chunk is taken
+    /// to hold), made by `convert`'s writer.
+    fn two_planes(dir: &Path) -> std::path::PathBuf {
+        let mut cloud = crate::scene::primitives::plane(360_000, 150.0, Vec3::ZERO, Vec3::Z);
+        let upper = crate::scene::primitives::plane(360_000, 150.0, Vec3::new(0.0, 0.0, 4.0), Vec3::Z);
+        cloud.positions.extend(upper.positions);
+        cloud.normals.extend(upper.normals);
+        cloud.radii.extend(upper.radii);
+        cloud.colours.extend(upper.colours);
+        cloud.opacity.extend(upper.opacity);
+        let mut seed = 5u64;
+        let mut random = move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 40) as u32
+        };
+        for (p, c) in cloud.positions.iter_mut().zip(&mut cloud.colours) {
+            p.z += (random() % 100) as f32 * 1e-3;
+            *c = [random() as u8, random() as u8, random() as u8];
+        }
+        let las = dir.join("planes.las");
+        crate::cloud::write_las::write_las(&cloud, &las).unwrap();
+        let copc = dir.join("planes.copc.laz");
+        crate::copc::write::write_copc(&las, &copc, false).unwrap();
+        copc
+    }
+
+    /// A refining job cancelled while it shows its first step loads no
+    /// further step: it ends with an error (which the window drops), having
+    /// loaded fewer nodes than the view needs, which the same view asked
+    /// again then loads.
+    #[test]
+    fn a_refining_job_cancelled_at_its_first_step_loads_no_more() {
+        let dir = tempfile::tempdir().unwrap();
+        let source = StreamedSource::open(&two_planes(dir.path()), StreamOptions::default()).unwrap();
+        let camera = source.home_camera(&CameraRequest::default(), 1.0);
+        let budget = StreamBudget::Points(1_000_000);
+        let view = ViewKey { camera, size: (1024, 1024), budget, choosing: Choosing::default() };
+        let tracker = crate::progress::Tracker::new();
+        let mut steps = 0;
+        let mut show = |_: Scene, _: Vec<String>| {
+            steps += 1;
+            tracker.cancel();
+            Ok(())
+        };
+        let cancelled = crate::progress::track(Arc::clone(&tracker), || {
+            source.scene("planes".into(), view, (&mut show, &|| Duration::ZERO))
+        });
+        assert!(cancelled.is_err_and(|e| e.contains("cancelled")), "the job ends as cancelled");
+        assert_eq!(steps, 1, "no step after the cancel is shown");
+        let at_cancel = source.status().stats.nodes_loaded;
+        let mut later = 0;
+        let mut show_later = |_: Scene, _: Vec<String>| {
+            later += 1;
+            Ok(())
+        };
+        let whole = source.scene("planes".into(), view, (&mut show_later, &|| Duration::ZERO)).unwrap();
+        assert!(whole.is_some(), "asked again, the view is drawn whole");
+        let needed = source.status().stats.nodes_loaded;
+        println!("cancelled at {at_cancel} nodes loaded; the view needs {needed} ({later} more steps shown)");
+        assert!(at_cancel < needed, "the cancelled job loaded {at_cancel} of the view's {needed} nodes");
+    }
+}

@@ -172,11 +172,11 @@ fn estimate_normals(cloud: &mut PointCloud, nb: &Neighbours, needed: &[bool], k:
     let positions = &cloud.positions;
     let k = k.min(nb.k);
     let residuals = &cloud.residuals;
-    cloud.normals.par_iter_mut().enumerate().for_each(|(i, n)| {
+    let normals = nb.map_rows(|i, around| {
         if !needed[i] {
-            return;
+            return None;
         }
-        let around = &nb.of(i)[..k];
+        let around = &around[..k];
         if !residuals.is_empty() {
             // Far from the origin f32 positions are millimetres coarse: the
             // neighbourhood is taken relative to splat i (a difference of
@@ -187,8 +187,7 @@ fn estimate_normals(cloud: &mut PointCloud, nb: &Neighbours, needed: &[bool], k:
             for d in std::iter::once(Vec3::ZERO).chain(around.iter().map(|&j| local(j as usize))).map(|p| p - centre) {
                 cov += Mat3::from_cols(d * d.x, d * d.y, d * d.z);
             }
-            *n = smallest_eigenvector(cov).unwrap_or(Vec3::Z);
-            return;
+            return Some(smallest_eigenvector(cov).unwrap_or(Vec3::Z));
         }
         let centre = (positions[i] + around.iter().map(|&j| positions[j as usize]).sum::<Vec3>()) / (k + 1) as f32;
         let mut cov = Mat3::ZERO;
@@ -196,8 +195,13 @@ fn estimate_normals(cloud: &mut PointCloud, nb: &Neighbours, needed: &[bool], k:
             let d = p - centre;
             cov += Mat3::from_cols(d * d.x, d * d.y, d * d.z);
         }
-        *n = smallest_eigenvector(cov).unwrap_or(Vec3::Z);
+        Some(smallest_eigenvector(cov).unwrap_or(Vec3::Z))
     });
+    for (n, estimated) in cloud.normals.iter_mut().zip(normals) {
+        if let Some(estimated) = estimated {
+            *n = estimated;
+        }
+    }
 }
 
 /// Unit eigenvector of the smallest eigenvalue of a symmetric 3x3 matrix.
@@ -429,18 +433,16 @@ fn estimate_radii(
     options: &EstimateOptions,
 ) -> (usize, usize) {
     let k = options.radius_neighbours.min(nb.k).max(1);
-    let raw: Vec<f32> = (0..nb.rows())
-        .into_par_iter()
-        .map(|i| {
-            let d = &nb.distances_of(i)[..k];
-            let positive: Vec<f32> = d.iter().copied().filter(|&x| x > 0.0 && x.is_finite()).collect();
-            if positive.is_empty() {
-                0.0
-            } else {
-                options.radius_scale * positive.iter().sum::<f32>() / positive.len() as f32
-            }
-        })
-        .collect();
+    let positions = &cloud.positions;
+    // The distances the search measured (f32 positions, as it reads them).
+    let raw: Vec<f32> = nb.map_rows(|i, around| {
+        let (sum, count) = around[..k]
+            .iter()
+            .map(|&j| positions[j as usize].distance_squared(positions[i]).max(0.0).sqrt())
+            .filter(|&x| x > 0.0 && x.is_finite())
+            .fold((0.0f32, 0u32), |(sum, count), x| (sum + x, count + 1));
+        if count == 0 { 0.0 } else { options.radius_scale * sum / count as f32 }
+    });
     // Every point coincides when none is positive: give them a radius that is visible.
     let median = median_radius(&raw).unwrap_or(1.0);
     let (mut isolated, mut clamped) = (0, 0);

@@ -10,6 +10,7 @@
 //! the f32 positions, picking and measuring the exact ones.
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use super::PointCloud;
 
@@ -32,9 +33,12 @@ pub(super) fn place(
     given: Option<[f64; 3]>,
     warnings: &mut Vec<String>,
 ) -> (PointCloud, Frame) {
+    // In parallel: a 2M-point file's re-centring took 0.06 s on one thread.
+    let first = positions[kept[0]];
     let (lo, hi) = kept
-        .iter()
-        .fold((positions[kept[0]], positions[kept[0]]), |(lo, hi), &i| (lo.min(positions[i]), hi.max(positions[i])));
+        .par_iter()
+        .fold(|| (first, first), |(lo, hi), &i| (lo.min(positions[i]), hi.max(positions[i])))
+        .reduce(|| (first, first), |a, b| (a.0.min(b.0), a.1.max(b.1)));
     let origin = given.map_or((lo + hi) * 0.5, DVec3::from_array);
     let extent = (hi - lo).max_element();
     let scale_exponent = unit_exponent(extent);
@@ -44,11 +48,15 @@ pub(super) fn place(
             "the model spans {extent:.3e} units, beyond what f32 rendering handles; coordinates and radii are in units of 1e{scale_exponent}"
         ));
     }
-    let exact: Vec<DVec3> = kept.iter().map(|&i| (positions[i] - origin) / unit).collect();
-    let stored: Vec<glam::Vec3> = exact.iter().map(|p| p.as_vec3()).collect();
-    let lost = exact.iter().zip(&stored).map(|(e, s)| (*e - s.as_dvec3()).abs().max_element()).fold(0.0, f64::max);
+    let exact = |i: usize| (positions[i] - origin) / unit;
+    let stored: Vec<glam::Vec3> = kept.par_iter().map(|&i| exact(i).as_vec3()).collect();
+    let lost = kept
+        .par_iter()
+        .zip(&stored)
+        .map(|(&i, s)| (exact(i) - s.as_dvec3()).abs().max_element())
+        .reduce(|| 0.0, f64::max);
     let residuals = if lost * unit > RESIDUAL_KEPT {
-        exact.iter().zip(&stored).map(|(e, s)| (*e - s.as_dvec3()).as_vec3()).collect()
+        kept.par_iter().zip(&stored).map(|(&i, s)| (exact(i) - s.as_dvec3()).as_vec3()).collect()
     } else {
         Vec::new()
     };

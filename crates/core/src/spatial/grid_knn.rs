@@ -141,33 +141,31 @@ pub fn k_nearest(
         return None;
     }
     let mut sorted_indices = vec![0u32; n * k];
-    let mut sorted_distances = vec![0f32; n * k];
     // Split the rows by cell, so every task owns the rows of its cells.
-    let mut rows: Vec<(&mut [u32], &mut [f32])> = Vec::with_capacity(grid.cells.len());
-    let (mut rest_i, mut rest_d) = (sorted_indices.as_mut_slice(), sorted_distances.as_mut_slice());
+    let mut rows: Vec<&mut [u32]> = Vec::with_capacity(grid.cells.len());
+    let mut rest = sorted_indices.as_mut_slice();
     for c in 0..grid.cells.len() {
         let len = (grid.starts[c + 1] - grid.starts[c]) as usize * k;
-        let (a, b) = std::mem::take(&mut rest_i).split_at_mut(len);
-        let (d, e) = std::mem::take(&mut rest_d).split_at_mut(len);
-        rows.push((a, d));
-        rest_i = b;
-        rest_d = e;
+        let (cell, after) = std::mem::take(&mut rest).split_at_mut(len);
+        rows.push(cell);
+        rest = after;
     }
     let left = std::sync::Mutex::new(Vec::new());
     let widened = std::sync::atomic::AtomicUsize::new(0);
-    rows.into_par_iter().enumerate().with_min_len(64).for_each_init(Vec::new, |scratch, (c, (idx, dist))| {
+    let scratches = || (Vec::new(), Vec::new());
+    rows.into_par_iter().enumerate().with_min_len(64).for_each_init(scratches, |(scratch, candidates), (c, idx)| {
         let members = grid.starts[c]..grid.starts[c + 1];
         let centre = grid.cell_of(grid.pos[members.start as usize]);
-        let mut candidates: Vec<u32> = Vec::with_capacity(27 * members.len());
-        grid.block(centre, 1, &mut candidates);
+        candidates.clear();
+        grid.block(centre, 1, candidates);
         for (row, r) in members.clone().enumerate() {
             if grid.sorted[r as usize] as usize >= queries {
                 continue;
             }
             let q = grid.pos[r as usize];
-            let mut row =
-                Row { idx: &mut idx[row * k..(row + 1) * k], dist: &mut dist[row * k..(row + 1) * k], scratch };
-            if (!nearest_among(&grid, r, &candidates, &mut row) || row.dist[k - 1] > inside_block(&grid, q, centre, 1))
+            let mut row = Row { idx: &mut idx[row * k..(row + 1) * k], scratch };
+            let kth = nearest_among(&grid, r, candidates, &mut row);
+            if kth.is_none_or(|kth| kth > inside_block(&grid, q, centre, 1))
                 && widened.fetch_add(1, std::sync::atomic::Ordering::Relaxed) < usize::MAX
                 && !widen(&grid, r, centre, &mut row)
             {
@@ -178,38 +176,8 @@ pub fn k_nearest(
     });
     let widened = widened.load(std::sync::atomic::Ordering::Relaxed);
     log::debug!("grid k-nn: cell {h}, {per_cell:.1} points per cell, {widened} points searched beyond their block");
-    rows_to_point_order(&mut sorted_indices, &mut sorted_distances, &grid.sorted, k);
-    sorted_indices.truncate(queries * k);
-    sorted_distances.truncate(queries * k);
-    let neighbours = Neighbours { k, indices: sorted_indices, distances: sorted_distances };
+    let neighbours = Neighbours::in_row_order(k, sorted_indices, grid.sorted, queries);
     Some((neighbours, left.into_inner().unwrap_or_else(|e| e.into_inner())))
-}
-
-/// Moves the row of sorted position `r` (`k` entries of each table) to row
-/// `sorted[r]`, in place: cycle by cycle, carrying one row at a time, so the
-/// tables are not copied (they are the largest allocation of a load, 128
-/// bytes a point at k = 16).
-fn rows_to_point_order(indices: &mut [u32], distances: &mut [f32], sorted: &[u32], k: usize) {
-    let n = sorted.len();
-    let mut placed = vec![false; n];
-    let (mut carry_i, mut carry_d) = (vec![0u32; k], vec![0f32; k]);
-    for start in 0..n {
-        if placed[start] {
-            continue;
-        }
-        carry_i.copy_from_slice(&indices[start * k..(start + 1) * k]);
-        carry_d.copy_from_slice(&distances[start * k..(start + 1) * k]);
-        let mut dest = sorted[start] as usize;
-        loop {
-            indices[dest * k..(dest + 1) * k].swap_with_slice(&mut carry_i);
-            distances[dest * k..(dest + 1) * k].swap_with_slice(&mut carry_d);
-            placed[dest] = true;
-            if dest == start {
-                break;
-            }
-            dest = sorted[dest] as usize;
-        }
-    }
 }
 
 /// How far `q` (in cell `centre`) is from the outside of the block of cells within `ring` of it.
@@ -226,14 +194,13 @@ fn inside_block(grid: &Grid, q: Vec3, centre: [i64; 3], ring: i64) -> f32 {
 /// distance, then index).
 struct Row<'a> {
     idx: &'a mut [u32],
-    dist: &'a mut [f32],
     scratch: &'a mut Vec<u64>,
 }
 
 /// The k nearest of `candidates` (places in sorted order) to the point at
-/// place `r` (itself excluded), nearest first, into `row` as point indices;
-/// false when there are fewer than k.
-fn nearest_among(grid: &Grid, r: u32, candidates: &[u32], row: &mut Row<'_>) -> bool {
+/// place `r` (itself excluded), nearest first, into `row` as point indices,
+/// and the k-th's distance; `None` when there are fewer than k.
+fn nearest_among(grid: &Grid, r: u32, candidates: &[u32], row: &mut Row<'_>) -> Option<f32> {
     let (q, k) = (grid.pos[r as usize], row.idx.len());
     let scratch = &mut *row.scratch;
     scratch.clear();
@@ -243,7 +210,7 @@ fn nearest_among(grid: &Grid, r: u32, candidates: &[u32], row: &mut Row<'_>) -> 
     };
     scratch.extend(candidates.iter().filter(|&&j| j != r).map(|&j| key(j)));
     if scratch.len() < k {
-        return false;
+        return None;
     }
     if scratch.len() > k {
         scratch.select_nth_unstable(k - 1);
@@ -251,9 +218,8 @@ fn nearest_among(grid: &Grid, r: u32, candidates: &[u32], row: &mut Row<'_>) -> 
     scratch[..k].sort_unstable();
     for (slot, &packed) in scratch[..k].iter().enumerate() {
         row.idx[slot] = packed as u32;
-        row.dist[slot] = f32::from_bits((packed >> 32) as u32).sqrt();
     }
-    true
+    Some(f32::from_bits((scratch[k - 1] >> 32) as u32).sqrt())
 }
 
 /// The neighbours of the point at place `r` from ever wider blocks, until the
@@ -264,9 +230,7 @@ fn widen(grid: &Grid, r: u32, centre: [i64; 3], row: &mut Row<'_>) -> bool {
     for ring in 2..=MAX_RING {
         candidates.clear();
         grid.block(centre, ring, &mut candidates);
-        if nearest_among(grid, r, &candidates, row)
-            && row.dist[row.dist.len() - 1] <= inside_block(grid, q, centre, ring)
-        {
+        if nearest_among(grid, r, &candidates, row).is_some_and(|kth| kth <= inside_block(grid, q, centre, ring)) {
             return true;
         }
     }

@@ -2,8 +2,8 @@
 //! the cloud suits one ([`super::grid_knn`], surface scans), else from a
 //! `kiddo` k-d tree.
 //!
-//! Queries run in parallel with rayon. The result is a flat table of `k`
-//! neighbour indices and distances per point (the point itself excluded);
+//! Queries run in parallel with rayon. The result is a table of `k`
+//! neighbour indices per point, nearest first (the point itself excluded);
 //! clouds with fewer than `k + 1` points get padded rows.
 
 use std::num::NonZero;
@@ -18,7 +18,7 @@ pub use super::neighbours::Neighbours;
 /// Finds the `k` nearest neighbours of every point (excluding itself).
 ///
 /// When the cloud has `k` points or fewer, missing entries repeat the point
-/// itself with distance 0.
+/// itself (at distance 0).
 pub fn k_nearest(points: &[Vec3], k: usize, on_progress: &(dyn Fn(u64) + Sync)) -> Neighbours {
     k_nearest_of_first(points, points.len(), k, on_progress)
 }
@@ -35,9 +35,7 @@ pub fn k_nearest_of_first(points: &[Vec3], queries: usize, k: usize, on_progress
                 let (tree, coords) = tree_of(points);
                 for i in left {
                     let i = i as usize;
-                    let (idx, dist) =
-                        (&mut found.indices[i * k..(i + 1) * k], &mut found.distances[i * k..(i + 1) * k]);
-                    query(&tree, &coords, i, k, idx, dist);
+                    query(&tree, &coords, i, k, found.row_mut(i));
                 }
             }
             found
@@ -55,19 +53,15 @@ fn tree_of(points: &[Vec3]) -> (Tree, Vec<[f32; 3]>) {
 }
 
 /// Point `i`'s row from the tree; rows of clouds with k points or fewer repeat the point itself.
-fn query(tree: &Tree, coords: &[[f32; 3]], i: usize, k: usize, idx_row: &mut [u32], dist_row: &mut [f32]) {
+fn query(tree: &Tree, coords: &[[f32; 3]], i: usize, k: usize, idx_row: &mut [u32]) {
     let want = NonZero::new(k + 1).expect("k + 1 > 0");
     let found = tree.nearest_n::<SquaredEuclidean>(&coords[i], want);
     let mut j = 0;
     for nb in found.iter().filter(|nb| nb.item as usize != i).take(k) {
         idx_row[j] = nb.item;
-        dist_row[j] = nb.distance.max(0.0).sqrt();
         j += 1;
     }
-    for slot in j..k {
-        idx_row[slot] = i as u32;
-        dist_row[slot] = 0.0;
-    }
+    idx_row[j..k].fill(i as u32);
 }
 
 /// The rows of the first `queries` points from a `kiddo` k-d tree of all
@@ -75,18 +69,15 @@ fn query(tree: &Tree, coords: &[[f32; 3]], i: usize, k: usize, idx_row: &mut [u3
 pub fn k_nearest_in_tree(points: &[Vec3], queries: usize, k: usize, on_progress: &(dyn Fn(u64) + Sync)) -> Neighbours {
     let (tree, coords) = tree_of(points);
     let mut indices = vec![0u32; queries * k];
-    let mut distances = vec![0f32; queries * k];
     const CHUNK: usize = 4096;
-    indices.par_chunks_mut(CHUNK * k).zip(distances.par_chunks_mut(CHUNK * k)).enumerate().for_each(
-        |(chunk, (idx, dist))| {
-            let first = chunk * CHUNK;
-            for (row, (idx_row, dist_row)) in idx.chunks_mut(k).zip(dist.chunks_mut(k)).enumerate() {
-                query(&tree, &coords, first + row, k, idx_row, dist_row);
-            }
-            on_progress((idx.len() / k) as u64);
-        },
-    );
-    Neighbours { k, indices, distances }
+    indices.par_chunks_mut(CHUNK * k).enumerate().for_each(|(chunk, idx)| {
+        let first = chunk * CHUNK;
+        for (row, idx_row) in idx.chunks_mut(k).enumerate() {
+            query(&tree, &coords, first + row, k, idx_row);
+        }
+        on_progress((idx.len() / k) as u64);
+    });
+    Neighbours::in_point_order(k, indices)
 }
 
 #[cfg(test)]
@@ -130,7 +121,10 @@ mod tests {
             let grid = k_nearest(&points, k, &|_| {});
             let tree = k_nearest_in_tree(&points, points.len(), k, &|_| {});
             for i in 0..points.len() {
-                for (a, b) in grid.distances_of(i).iter().zip(tree.distances_of(i)) {
+                let distances = |nb: &Neighbours| {
+                    nb.of(i).iter().map(|&j| points[j as usize].distance(points[i])).collect::<Vec<f32>>()
+                };
+                for (a, b) in distances(&grid).iter().zip(distances(&tree)) {
                     assert!((a - b).abs() <= 1e-6 * b.max(1.0), "{name}: point {i}: {a} vs {b}");
                 }
             }
@@ -148,11 +142,12 @@ mod tests {
         let all = k_nearest(&points, k, &|_| {});
         let first = k_nearest_of_first(&points, queries, k, &|_| {});
         assert_eq!(first.rows(), queries);
-        assert_eq!(first.indices[..], all.indices[..queries * k]);
-        assert!(first.indices.iter().any(|&j| j as usize >= queries), "later points are neighbours too");
+        let rows = |nb: &Neighbours| (0..queries).flat_map(|i| nb.of(i).to_vec()).collect::<Vec<u32>>();
+        assert_eq!(rows(&first), rows(&all));
+        assert!(rows(&first).iter().any(|&j| j as usize >= queries), "later points are neighbours too");
         let tree_first = k_nearest_in_tree(&points, queries, k, &|_| {});
         let tree_all = k_nearest_in_tree(&points, points.len(), k, &|_| {});
         assert_eq!(tree_first.rows(), queries, "the tree makes rows for the first points only");
-        assert_eq!(tree_first.indices[..], tree_all.indices[..queries * k]);
+        assert_eq!(rows(&tree_first), rows(&tree_all));
     }
 }
