@@ -91,7 +91,7 @@ fn model_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, actions
 
 fn jobs_section(ui: &mut Ui, info: &PanelInfo<'_>, actions: &mut Vec<Action>) {
     if let Some((stage, fraction)) = &info.view_progress {
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.spinner();
             ui.label(format!("drawing the view: {stage}"));
         });
