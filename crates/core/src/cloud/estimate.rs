@@ -16,9 +16,6 @@
 //! neighbouring splats overlap and cover the surface; outliers are clamped
 //! to a multiple of the median.
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
-
 use glam::{DVec3, Mat3, Vec3};
 use rayon::prelude::*;
 
@@ -331,8 +328,8 @@ fn orient_normals(cloud: &mut PointCloud, nb: &Neighbours, estimated: &[bool], f
     let normals = &mut cloud.normals;
     let positions = &cloud.positions;
     let centre = positions[..n].iter().sum::<Vec3>() / n.max(1) as f32;
+    let tree = spanning_forest(normals, (&start, &adjacency));
     let mut component = vec![u32::MAX; n];
-    let mut heap = BinaryHeap::new();
     let mut pieces: Vec<Vec<u32>> = Vec::new();
     // Seeds: first the points whose normals came from the file (they fix the sign).
     let seeds = (0..n).filter(|&i| !estimated[i]).chain((0..n).filter(|&i| estimated[i]));
@@ -341,22 +338,21 @@ fn orient_normals(cloud: &mut PointCloud, nb: &Neighbours, estimated: &[bool], f
             continue;
         }
         let id = pieces.len() as u32;
-        let mut members = Vec::new();
-        heap.push((Reverse(0u32), seed as u32, seed as u32));
-        while let Some((_, node, parent)) = heap.pop() {
+        component[seed] = id;
+        let mut members = vec![seed as u32];
+        let mut at = 0;
+        // Breadth first along the tree: each estimated normal takes its parent's side.
+        while let Some(&node) = members.get(at) {
+            at += 1;
             let node = node as usize;
-            if component[node] != u32::MAX {
-                continue;
-            }
-            component[node] = id;
-            members.push(node as u32);
-            if estimated[node] && node != parent as usize && normals[node].dot(normals[parent as usize]) < 0.0 {
-                normals[node] = -normals[node];
-            }
-            for &j in &adjacency[start[node]..start[node + 1]] {
-                if component[j as usize] == u32::MAX {
-                    let cost = 1.0 - normals[node].dot(normals[j as usize]).abs();
-                    heap.push((Reverse((cost.clamp(0.0, 1.0) * 1e6) as u32), j, node as u32));
+            for &j in &tree.1[tree.0[node]..tree.0[node + 1]] {
+                let j = j as usize;
+                if component[j] == u32::MAX {
+                    component[j] = id;
+                    if estimated[j] && normals[j].dot(normals[node]) < 0.0 {
+                        normals[j] = -normals[j];
+                    }
+                    members.push(j as u32);
                 }
             }
         }
@@ -394,6 +390,63 @@ fn orient_normals(cloud: &mut PointCloud, nb: &Neighbours, estimated: &[bool], f
             }
         }
     }
+}
+
+/// The minimum spanning forest of the neighbour graph (`start`, `adjacency`:
+/// CSR, each edge listed from both ends), with edge cost 1 - |n_i . n_j|
+/// quantised to 1e-6 (Hoppe et al.'s Riemannian graph), as a CSR of its own.
+///
+/// Kruskal's: the edges sorted in parallel, then joined cheapest first
+/// through a union-find. Prim's from each seed with a binary heap took
+/// 0.63 s of the merged bunny's (362K points) 0.99 s load, on one thread.
+/// Among edges of equal cost the lower point indices come first, so the
+/// forest is the same on every run.
+fn spanning_forest(normals: &[Vec3], (start, adjacency): (&[usize], &[u32])) -> (Vec<usize>, Vec<u32>) {
+    let n = start.len() - 1;
+    let cost = |i: usize, j: usize| ((1.0 - normals[i].dot(normals[j]).abs()).clamp(0.0, 1.0) * 1e6) as u32;
+    let mut edges: Vec<(u32, u32, u32)> = (0..n)
+        .into_par_iter()
+        .flat_map_iter(|i| {
+            adjacency[start[i]..start[i + 1]]
+                .iter()
+                .filter(move |&&j| j as usize > i)
+                .map(move |&j| (cost(i, j as usize), i as u32, j))
+        })
+        .collect();
+    edges.par_sort_unstable();
+    let mut root: Vec<u32> = (0..n as u32).collect();
+    let find = |root: &mut Vec<u32>, mut i: u32| {
+        while root[i as usize] != i {
+            let up = root[root[i as usize] as usize];
+            root[i as usize] = up;
+            i = up;
+        }
+        i
+    };
+    let mut degree = vec![0usize; n + 1];
+    edges.retain(|&(_, i, j)| {
+        let (a, b) = (find(&mut root, i), find(&mut root, j));
+        if a == b {
+            return false;
+        }
+        root[a.max(b) as usize] = a.min(b);
+        degree[i as usize] += 1;
+        degree[j as usize] += 1;
+        true
+    });
+    let mut tree_start = vec![0usize; n + 1];
+    for i in 0..n {
+        tree_start[i + 1] = tree_start[i] + degree[i];
+    }
+    let mut fill = tree_start.clone();
+    let mut tree = vec![0u32; tree_start[n]];
+    for &(_, i, j) in &edges {
+        tree[fill[i as usize]] = j;
+        fill[i as usize] += 1;
+        tree[fill[j as usize]] = i;
+        fill[j as usize] += 1;
+    }
+    (tree_start, tree)
 }
 
 /// The file origin, if the cloud looks like a single-view scan taken from it.
