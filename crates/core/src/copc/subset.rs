@@ -11,6 +11,7 @@ use crate::cloud::LoadOptions;
 use crate::frame::Camera;
 use crate::frame::subset::{Choice, Choosing, Subset};
 use crate::grouping::hash::HashOptions;
+use crate::lod::Selection;
 
 /// What the last frame of a stream drew, for the log and the statistics.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -38,9 +39,7 @@ impl StreamSubset {
     pub fn new(stream: CopcStream, budget: StreamBudget, load: LoadOptions) -> Self {
         StreamSubset { stream, budget, load, last: StreamChoice::default(), shown: None }
     }
-}
 
-impl StreamSubset {
     /// One loading step of a view refined progressively: the view's nodes
     /// selected, and the first of those the cache lacks loaded, coarse
     /// first, until they hold `points` ([`CopcStream::load_up_to`]; on
@@ -55,14 +54,8 @@ impl StreamSubset {
         choosing: Choosing,
         points: u64,
     ) -> Result<Left, CopcError> {
-        self.stream.check_fits(self.budget)?;
-        let selection = self.stream.select(camera, size, self.budget.select_options(choosing));
-        let mut left = self.stream.load_up_to(&selection, points);
-        while left.nodes > 0 && self.stream.drawn(&selection).is_empty() {
-            left = self.stream.load_up_to(&selection, points);
-        }
-        self.stream.estimate_loaded(&selection, &self.load.estimate);
-        Ok(left)
+        let selection = self.select(camera, size, choosing)?;
+        Ok(self.load_selected(&selection, points))
     }
 
     /// The view's nodes that are loaded, gathered as [`Subset::choose`]
@@ -76,15 +69,35 @@ impl StreamSubset {
         size: (u32, u32),
         choosing: Choosing,
     ) -> Result<Choice, CopcError> {
+        let selection = self.select(camera, size, choosing)?;
+        self.gather_selected(&selection, choosing)
+    }
+
+    /// The nodes the view selects under the budget.
+    fn select(&mut self, camera: &Camera, size: (u32, u32), choosing: Choosing) -> Result<Selection, CopcError> {
         self.stream.check_fits(self.budget)?;
-        let selection = self.stream.select(camera, size, self.budget.select_options(choosing));
-        let drawn = self.stream.drawn(&selection);
+        Ok(self.stream.select(camera, size, self.budget.select_options(choosing)))
+    }
+
+    /// [`Self::load_step`] of nodes already selected.
+    fn load_selected(&mut self, selection: &Selection, points: u64) -> Left {
+        let mut left = self.stream.load_up_to(selection, points);
+        while left.nodes > 0 && self.stream.drawn(selection).is_empty() {
+            left = self.stream.load_up_to(selection, points);
+        }
+        self.stream.estimate_loaded(selection, &self.load.estimate);
+        left
+    }
+
+    /// [`Self::choose_loaded`] of nodes already selected.
+    fn gather_selected(&mut self, selection: &Selection, choosing: Choosing) -> Result<Choice, CopcError> {
+        let drawn = self.stream.drawn(selection);
         let key = self.stream.key_of(&drawn);
         if self.shown == Some((key, choosing.groups)) {
             self.last.selected = selection.nodes.len();
             return Ok(Choice { cloud: None, key, grouping: None, spans: None });
         }
-        let frame = self.stream.gather(&selection, &self.load, choosing.groups)?;
+        let frame = self.stream.gather(selection, &self.load, choosing.groups)?;
         self.last = StreamChoice {
             selected: frame.selection.nodes.len(),
             drawn: frame.drawn.len(),
@@ -104,7 +117,8 @@ impl Subset for StreamSubset {
     /// groups it gave them), with their groups when `choosing` asks for
     /// them. Keyed by the source and the nodes drawn.
     fn choose(&mut self, camera: &Camera, size: (u32, u32), choosing: Choosing) -> Result<Choice, CopcError> {
-        self.load_step(camera, size, choosing, u64::MAX)?;
-        self.choose_loaded(camera, size, choosing)
+        let selection = self.select(camera, size, choosing)?;
+        self.load_selected(&selection, u64::MAX);
+        self.gather_selected(&selection, choosing)
     }
 }
