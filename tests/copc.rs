@@ -152,6 +152,43 @@ fn nodes_estimated_on_their_own_leave_no_seam_at_their_borders() {
 
 /// A COPC file of `side`² ground points and as many 4 m above (made by
 /// `convert`'s writer from a LAZ the las crate wrote).
+#[test]
+fn a_perfect_grid_of_one_colour_streams_every_point() {
+    // The most regular data there is (a gridded elevation model exported as
+    // points, every attribute the same): its chunks compress about 90 times.
+    let dir = tempfile::tempdir().unwrap();
+    let mut points = tilted_grid(700, 0.25, 0.0, [600_000.0, 4_000_000.0, 100.0]);
+    for p in &mut points {
+        (p.intensity, p.class, p.return_number, p.returns) = (0, 2, 1, 1);
+        (p.gps_time, p.rgb) = (0.0, [30_000; 3]);
+    }
+    let laz = lidar::write(&dir.path().join("grid.laz"), &points, [600_000.0, 4_000_000.0, 0.0], None);
+    let copc = dir.path().join("grid.copc.laz");
+    pointblend::copc::write::write_copc(&laz, &copc, false).unwrap();
+    let mut s = stream(&copc.display().to_string());
+    let selection = s.select(&Camera::default_for(&s.bounds_cloud(), 1.0), (SIZE, SIZE), everything());
+    s.load(&selection);
+    assert_eq!(s.stats().failed, 0, "every node decodes");
+    let record = las::Reader::from_path(&copc).unwrap().header().point_format().len() as f64;
+    let (mut total, mut most_compressed) = (0usize, 0.0f64);
+    for node in 0..s.tree.nodes.len() as u32 {
+        let n = &s.tree.nodes[node as usize];
+        if n.points == 0 {
+            continue;
+        }
+        let ratio = n.points as f64 * record / n.byte_size as f64;
+        most_compressed = most_compressed.max(ratio);
+        total += s.decoded_points(node).unwrap_or_else(|| panic!("node {node} did not load"));
+    }
+    eprintln!(
+        "{} points in {} nodes, the most compressed chunk {most_compressed:.0} times",
+        total,
+        selection.nodes.len()
+    );
+    assert_eq!(total, points.len(), "the nodes' points and the file's");
+    assert!(most_compressed > 64.0, "a chunk compressed {most_compressed:.0} times: no more regular than real scans");
+}
+
 fn made_copc(dir: &Path, side: usize) -> PathBuf {
     let mut points = tilted_grid(side, 0.25, 0.1, [600_000.0, 4_000_000.0, 100.0]);
     let canopy = tilted_grid(side, 0.25, 0.1, [600_000.0, 4_000_000.0, 104.0]);
