@@ -4,6 +4,8 @@
 //! coarser node's radii shrink where finer ones now cover it), and draws
 //! what a fresh upload of the same selection, packed, draws in two-pass,
 //! `tiled` and deferred (whose copy keeps each node's splats in group order).
+//! A node a view drops stays on the GPU, undrawn, and a view that brings it
+//! back writes nothing for it.
 
 mod common;
 
@@ -56,14 +58,7 @@ fn images(frames: &mut PreparedScene, renderer: &mut GpuRenderer, camera: &Camer
 fn touched(before: (&NodeSpans, &PointCloud), after: (&NodeSpans, &PointCloud)) -> (u64, u64) {
     let old: HashMap<u32, std::ops::Range<u32>> = before.0.0.iter().cloned().collect();
     let new: HashMap<u32, std::ops::Range<u32>> = after.0.0.iter().cloned().collect();
-    let same = |a: &PointCloud, i: u32, b: &PointCloud, j: u32| {
-        let (i, j) = (i as usize, j as usize);
-        a.positions[i] == b.positions[j]
-            && a.normals[i] == b.normals[j]
-            && a.radii[i] == b.radii[j]
-            && a.colours[i] == b.colours[j]
-            && a.opacity[i] == b.opacity[j]
-    };
+    let same = same_splat;
     let (mut splats, mut nodes) = (0u64, 0u64);
     for (node, range) in &new {
         let kept = old.get(node).filter(|o| o.len() == range.len());
@@ -78,6 +73,16 @@ fn touched(before: (&NodeSpans, &PointCloud), after: (&NodeSpans, &PointCloud)) 
         }
     }
     (splats, nodes)
+}
+
+/// Whether splat `i` of `a` and splat `j` of `b` make the same record.
+fn same_splat(a: &PointCloud, i: u32, b: &PointCloud, j: u32) -> bool {
+    let (i, j) = (i as usize, j as usize);
+    a.positions[i] == b.positions[j]
+        && a.normals[i] == b.normals[j]
+        && a.radii[i] == b.radii[j]
+        && a.colours[i] == b.colours[j]
+        && a.opacity[i] == b.opacity[j]
 }
 
 /// Slots of the two GPU copies a frame of each mode draws (the ungrouped
@@ -98,15 +103,21 @@ fn largest_difference(a: &image::RgbaImage, b: &image::RgbaImage) -> u8 {
     a.as_raw().iter().zip(b.as_raw()).map(|(x, y)| x.abs_diff(*y)).max().unwrap_or(0)
 }
 
+/// A stream of a 700² plane (490,000 points) under a 100K budget, the
+/// camera that frames it, and how its selections are chosen: for deferred,
+/// so each node gets its labels (two-pass and `tiled` ignore them).
+fn plane_stream(dir: &std::path::Path) -> (StreamSubset, Camera, Choosing) {
+    let name = made_copc(dir, 700);
+    let stream = CopcStream::open(&name, StreamOptions { cache_bytes: 1 << 30, ..Default::default() }).unwrap();
+    let far = Camera::default_for(&stream.bounds_cloud(), 1.0);
+    let subset = StreamSubset::new(stream, StreamBudget::Points(100_000), LoadOptions::default());
+    (subset, far, Choosing::of(&modes()[2]))
+}
+
 #[test]
 fn a_pan_writes_only_the_nodes_it_changes_and_draws_what_a_fresh_upload_draws() {
     let dir = tempfile::tempdir().unwrap();
-    let name = made_copc(dir.path(), 700);
-    let stream = CopcStream::open(&name, StreamOptions { cache_bytes: 1 << 30, ..Default::default() }).unwrap();
-    let far = Camera::default_for(&stream.bounds_cloud(), 1.0);
-    let mut subset = StreamSubset::new(stream, StreamBudget::Points(100_000), LoadOptions::default());
-    // Chosen for deferred: each node gets its labels, and two-pass and `tiled` ignore them.
-    let choosing = Choosing::of(&modes()[2]);
+    let (mut subset, far, choosing) = plane_stream(dir.path());
     let mut renderer = common::renderer();
     let mut shown: Option<(PreparedScene, Arc<NodeSpans>, PointCloud)> = None;
     let (mut pans, mut bounds, mut fresh_uploads) = (0, 0u64, 0u64);
@@ -159,4 +170,100 @@ fn a_pan_writes_only_the_nodes_it_changes_and_draws_what_a_fresh_upload_draws() 
         bounds < fresh_uploads,
         "the pans touch {bounds} bytes of the {fresh_uploads} their fresh uploads write: the path tests nothing"
     );
+}
+
+/// The splats of `after`'s nodes that must be written to show it, and how
+/// many such nodes, when the pool holds for each node the records it last
+/// drew: `drawn`'s for the nodes the last view drew, `earlier`'s for those
+/// an earlier view drew (kept on the GPU, undrawn). Nodes dropped are not written.
+fn to_write(
+    drawn: (&NodeSpans, &PointCloud),
+    earlier: (&NodeSpans, &PointCloud),
+    after: (&NodeSpans, &PointCloud),
+) -> (u64, u64) {
+    let last_records = |node: u32| {
+        let in_view = |(spans, cloud): (&NodeSpans, &PointCloud)| {
+            spans.0.iter().find(|(n, _)| *n == node).map(|(_, range)| (range.clone(), cloud.clone()))
+        };
+        in_view(drawn).or_else(|| in_view(earlier))
+    };
+    let (mut splats, mut nodes) = (0u64, 0u64);
+    for (node, range) in &after.0.0 {
+        let unchanged = last_records(*node).is_some_and(|(old, cloud)| {
+            old.len() == range.len() && old.zip(range.clone()).all(|(i, j)| same_splat(&cloud, i, after.1, j))
+        });
+        if !unchanged {
+            (splats, nodes) = (splats + range.len() as u64, nodes + 1);
+        }
+    }
+    (splats, nodes)
+}
+
+#[test]
+fn a_node_dropped_stays_on_the_gpu_undrawn_and_comes_back_without_a_write() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut subset, far, choosing) = plane_stream(dir.path());
+    let mut renderer = common::renderer();
+    // Close, far, close again: the close view's finer nodes leave the far
+    // one's selection (and stay resident, in its view), then come back.
+    let near = Camera { distance: 20.0, ..far };
+    let mut views = Vec::new();
+    for camera in [near, far, near] {
+        let choice = subset.choose(&camera, SIZE, choosing).unwrap();
+        let cloud = choice.cloud.clone().expect("a selection");
+        let spans = choice.spans.clone().expect("a streamed choice says which splats each node holds");
+        views.push((camera, choice, cloud, spans));
+    }
+    let (_, first, ..) = &views[0];
+    let mut frames = PreparedScene::of(scene_of(views[0].2.clone(), first, true)).streamed();
+    images(&mut frames, &mut renderer, &near);
+    for k in 1..views.len() {
+        let (camera, choice, cloud, spans) = &views[k];
+        let scene = scene_of(cloud.clone(), choice, true);
+        let slots_before = slots(&mut frames, &renderer);
+        let written_before = frames.uploaded_bytes();
+        frames.show_selection(Some(&renderer), Arc::clone(&scene), scene.flattened()).unwrap();
+        let drawn = images(&mut frames, &mut renderer, camera);
+        let written = frames.uploaded_bytes() - written_before;
+        let slots_after = slots(&mut frames, &renderer);
+        let mut fresh = PreparedScene::of(scene_of(cloud.clone(), choice, false)).streamed();
+        let expected = images(&mut fresh, &mut renderer, camera);
+        for ((settings, got), want) in modes().iter().zip(&drawn).zip(&expected) {
+            let largest = largest_difference(got, want);
+            assert!(largest <= 1, "view {k}, {}: a pixel differs by {largest} from a fresh upload", settings.mode);
+        }
+        // What the frame reports of its pool: the nodes kept on the GPU undrawn.
+        let frame = frames.render(Some(&mut renderer), camera, &modes()[0], SIZE, false).expect("render");
+        let pool = frame.report.pool.expect("a streamed frame reports its node pool");
+        assert_eq!(pool.drawn, spans.0.len(), "view {k}: the nodes drawn");
+        let resident = pool.kept;
+        let (last_camera, _, last_cloud, last_spans) = &views[k - 1];
+        let dropped = last_spans.0.iter().filter(|(node, _)| !spans.0.iter().any(|(n, _)| n == node)).count();
+        eprintln!(
+            "view {k} ({} m away): {} nodes, {dropped} dropped, {resident} resident; {written} bytes written, a fresh upload writes {}",
+            camera.distance,
+            spans.0.len(),
+            fresh.uploaded_bytes()
+        );
+        assert_ne!(last_camera.distance, camera.distance);
+        if k == 1 {
+            assert!(
+                dropped > 0 && resident >= dropped,
+                "the far view drops {dropped} nodes and keeps {resident} on the GPU"
+            );
+            continue;
+        }
+        // Back close: the nodes kept on the GPU are written only where their records changed.
+        let (splats, nodes) = to_write((last_spans, last_cloud), (&views[0].3, &views[0].2), (spans, cloud));
+        let grown = slots_after.saturating_sub(slots_before);
+        // Two copies, each with its live mask (a bit per slot) written at most whole.
+        let bound = RECORD * (2 * (splats + JOIN * nodes) + grown) + 2 * slots_after.div_ceil(8);
+        eprintln!("view {k}: {splats} splats in {nodes} nodes to write; {written} bytes written, at most {bound}");
+        assert!(written <= bound, "view {k}: {written} bytes written, more than {bound}");
+        assert!(
+            bound < fresh.uploaded_bytes() / 2,
+            "the nodes that come back are {bound} bytes of a fresh upload's {}: the path tests nothing",
+            fresh.uploaded_bytes()
+        );
+    }
 }

@@ -20,9 +20,12 @@
 @group(1) @binding(1) var<storage, read> splats: array<f32>;
 @group(1) @binding(2) var<storage, read_write> eye: array<EyeSplat>;
 // Bindings 3 and 4: the splats' pixel boxes and the tiles' counts (tiled_count.wgsl).
+// A bit per slot of the scene, set where the slot holds a splat drawn: a
+// node pool keeps the records of nodes no longer drawn (node_pool.rs).
+@group(1) @binding(5) var<storage, read> live: array<u32>;
 #ifdef LIGHTS
 // Per splat of the chunk: its shadow coefficients, lights 0-3 and 4-7 as unorm8.
-@group(1) @binding(5) var<storage, read> splat_lights: array<u32>;
+@group(1) @binding(6) var<storage, read> splat_lights: array<u32>;
 #endif
 
 @compute @workgroup_size(256)
@@ -61,8 +64,8 @@ fn cs_project(dispatch: Dispatch) {
     );
     // Back faces of one-sided splats (a two-sided one has a negative radius).
     let culled = frame.splat.w > 0.5 && signed_radius > 0.0 && dot(normal, centre) > 0.0;
-    // A vacant slot of a node pool holds a negative opacity (node_pool.rs).
-    let vacant = splats[b + 8u] < 0.0;
+    // A vacant slot of a node pool holds a negative opacity, a resident one is not live (node_pool.rs).
+    let vacant = splats[b + 8u] < 0.0 || ((live[i >> 5u] >> (i & 31u)) & 1u) == 0u;
     let usable = depth - radius < frame.depth.y && depth + radius > frame.depth.x && radius > 0.0 && !vacant;
     if culled || !usable {
         rects[i] = NO_TILES;

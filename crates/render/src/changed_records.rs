@@ -26,19 +26,37 @@ pub fn keys_of(records: &[SplatInstance]) -> Vec<u64> {
 /// Records made and compared at a time (a bounded buffer, whatever the splats).
 pub const PIECE: usize = 1 << 16;
 
-/// Writes `records` into `buffer` from record `first` on where their keys
-/// differ from `kept` (every record when `all`), and keeps their keys
-/// there. Returns the bytes written.
+/// How a rewrite treats a run of records.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rewrite<'a> {
+    /// Every record written.
+    All,
+    /// Those whose keys changed, except where `leave` is true: those
+    /// records (a node pool's residents) stay as they are, their keys too,
+    /// and no write spans them.
+    Changed { leave: &'a [bool] },
+}
+
+/// Writes `records` into `buffer` from record `first` on as `how` says,
+/// and keeps the keys of what it wrote in `kept`. Returns the bytes written.
 pub fn write_changed(
     queue: &wgpu::Queue,
     (buffer, first): (&wgpu::Buffer, usize),
     records: &[SplatInstance],
     kept: &mut [u64],
-    all: bool,
+    how: Rewrite<'_>,
 ) -> u64 {
     let size = std::mem::size_of::<SplatInstance>() as u64;
+    let (all, leave) = match how {
+        Rewrite::All => (true, &[][..]),
+        Rewrite::Changed { leave } => (false, leave),
+    };
+    let left = |i: usize| leave.get(i).copied().unwrap_or(false);
     let mut changed = vec![all; records.len()];
-    for ((record, key), changed) in records.iter().zip(kept.iter_mut()).zip(&mut changed) {
+    for (i, ((record, key), changed)) in records.iter().zip(kept.iter_mut()).zip(&mut changed).enumerate() {
+        if left(i) {
+            continue;
+        }
         let new = record_key(record);
         *changed |= new != *key;
         *key = new;
@@ -51,7 +69,7 @@ pub fn write_changed(
             continue;
         }
         let (mut end, mut unchanged) = (at + 1, 0);
-        while end < records.len() && unchanged < REWRITE_GAP {
+        while end < records.len() && unchanged < REWRITE_GAP && !left(end) {
             unchanged = if changed[end] { 0 } else { unchanged + 1 };
             end += 1;
         }

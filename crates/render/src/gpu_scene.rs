@@ -10,10 +10,11 @@
 
 use wgpu::util::DeviceExt;
 
-use super::changed_records::{PIECE, keys_of, write_changed};
+use super::changed_records::{PIECE, Rewrite, keys_of, record_key, write_changed};
 use super::gpu_data::{SplatInstance, SplatLight, TriangleVertex};
 use super::instance_layout::InstanceLayout;
 use super::instance_order::InstanceOrder;
+use super::live_mask::LiveMask;
 use super::node_pool::{SlotPool, VACANT};
 use crate::cloud::PointCloud;
 use crate::frame::subset::NodeSpans;
@@ -71,6 +72,8 @@ pub struct GpuScene {
     /// Where the instance ranges a pass draws lie in the slots, when not
     /// where they say (a node pool's: see `InstanceLayout::draw_map`).
     draw_map: Option<Vec<(u32, std::ops::Range<u32>)>>,
+    /// Which slots hold a splat drawn (not a node pool's vacant or resident ones).
+    live: LiveMask,
 }
 
 /// How a [`GpuScene`]'s slots hold a cloud's splats.
@@ -215,6 +218,7 @@ impl GpuScene {
             }
             start = end;
         }
+        let live = LiveMask::new(device, layout.live_bits());
         let InstanceLayout { order, groups, transparent_groups, opaque, draw_map: layout_map, .. } = layout;
         let instance_order = keep_for_order.then(|| InstanceOrder::new(kept, transparent_groups.clone()));
         Self {
@@ -235,6 +239,7 @@ impl GpuScene {
             triangles: None,
             pool: None,
             draw_map: layout_map,
+            live,
         }
     }
 
@@ -294,15 +299,17 @@ impl GpuScene {
         let transparent = cloud.has_transparency();
         let record = std::mem::size_of::<SplatInstance>() as u64;
         let mut written = 0u64;
-        // A node pool that grew keeps its slots and adds chunks for the new ones.
+        // A node pool that grew keeps its slots and adds chunks for the new
+        // ones, written below only where a node now lies: no pass reads a
+        // vacant slot of a pool (the raster passes draw the placed runs,
+        // `tiled` the live slots), so the new ones are kept as if vacant.
         let grew = layout.order.len() > slots && slots > 0 && self.records.len() == slots;
         if grew && self.pool.is_some() && transparent == self.transparent {
+            let vacant = record_key(&SplatInstance::VACANT);
             for chunk in (slots..layout.order.len()).step_by(per_chunk(device)) {
                 let end = (chunk + per_chunk(device)).min(layout.order.len());
-                let instances = layout.instances(cloud, chunk..end);
-                self.chunks.push((splat_buffer(device, &instances), (end - chunk) as u32));
-                self.records.extend(keys_of(&instances));
-                written += (end - chunk) as u64 * record;
+                self.chunks.push((empty_splat_buffer(device, end - chunk), (end - chunk) as u32));
+                self.records.resize(end, vacant);
             }
             slots = layout.order.len();
         }
@@ -327,7 +334,9 @@ impl GpuScene {
                 let end = (piece + PIECE).min(chunk_end);
                 let instances = layout.instances(cloud, piece..end);
                 let kept = &mut self.records[piece..end];
-                written += write_changed(queue, (buffer, piece - chunk_start), &instances, kept, all);
+                let leave = layout.kept_in(piece..end);
+                let how = if all { Rewrite::All } else { Rewrite::Changed { leave: &leave } };
+                written += write_changed(queue, (buffer, piece - chunk_start), &instances, kept, how);
                 if let Some(sorted) = &mut sorted {
                     sorted.extend(instances);
                 }
@@ -337,6 +346,7 @@ impl GpuScene {
         if let (Some(order), Some(records)) = (&mut self.order, sorted) {
             *order = InstanceOrder::new(records, layout.transparent_groups.clone());
         }
+        written += self.live.write(device, queue, layout.live_bits());
         let InstanceLayout { order, groups, transparent_groups, opaque, draw_map, .. } = layout;
         self.draw_map = draw_map;
         self.len = opaque.start as usize;
@@ -348,6 +358,18 @@ impl GpuScene {
         self.slots = order;
         self.lights = None;
         written
+    }
+
+    /// The live mask: a bit per slot, set where a slot holds a splat drawn.
+    pub fn live_mask(&self) -> &wgpu::Buffer {
+        self.live.buffer()
+    }
+
+    /// The node pool's figures, when the splats are pooled by node.
+    pub fn pool_stats(&self) -> Option<super::report::PoolStats> {
+        let pool = self.pool.as_ref()?;
+        let bytes = self.splat_bytes();
+        Some(super::report::PoolStats { slots: self.slot_count(), bytes, drawn: pool.drawn(), kept: pool.residents() })
     }
 
     /// Uploads each splat's shadow coefficients (`key` names what they were
@@ -523,6 +545,19 @@ fn splat_buffer(device: &wgpu::Device, instances: &[SplatInstance]) -> wgpu::Buf
             | wgpu::BufferUsages::STORAGE
             | wgpu::BufferUsages::COPY_DST
             | wgpu::BufferUsages::COPY_SRC,
+    })
+}
+
+/// A chunk of `count` splat records, zeroed (for a node pool's new slots).
+fn empty_splat_buffer(device: &wgpu::Device, count: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("GpuScene::splats"),
+        size: (count * std::mem::size_of::<SplatInstance>()) as u64,
+        usage: wgpu::BufferUsages::VERTEX
+            | wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
     })
 }
 

@@ -24,6 +24,9 @@ pub(crate) struct InstanceLayout {
     /// where they say: runs `(first instance drawn, slots)`, in draw
     /// order (a node pool's; see [`Self::pooled`]).
     pub draw_map: Option<Vec<(u32, Range<u32>)>>,
+    /// Slots whose records a rewrite leaves as they are: a node pool's
+    /// resident nodes, not drawn (sorted by start; see [`crate::node_pool`]).
+    pub keep: Vec<Range<u32>>,
 }
 
 impl InstanceLayout {
@@ -47,6 +50,29 @@ impl InstanceLayout {
                 }
             })
             .collect()
+    }
+
+    /// Whether each slot of `range` is one a rewrite leaves as it is ([`Self::keep`]).
+    pub fn kept_in(&self, range: Range<usize>) -> Vec<bool> {
+        let mut kept = vec![false; range.len()];
+        let first = self.keep.partition_point(|r| (r.end as usize) <= range.start);
+        for run in self.keep[first..].iter().take_while(|r| (r.start as usize) < range.end) {
+            let (from, to) = ((run.start as usize).max(range.start), (run.end as usize).min(range.end));
+            kept[from - range.start..to - range.start].fill(true);
+        }
+        kept
+    }
+
+    /// A bit per slot, 32 to a word: set where a slot holds a splat drawn
+    /// (not a node pool's vacant or resident slots). What `tiled` projects.
+    pub fn live_bits(&self) -> Vec<u32> {
+        let mut bits = vec![0u32; self.order.len().div_ceil(32).max(1)];
+        for (slot, &splat) in self.order.iter().enumerate() {
+            if splat != VACANT {
+                bits[slot / 32] |= 1 << (slot % 32);
+            }
+        }
+        bits
     }
 
     /// The splats of the nodes `spans` as a node pool placed them
@@ -80,6 +106,7 @@ impl InstanceLayout {
                 transparent_groups: std::iter::once(0..drawn).collect(),
                 opaque: drawn..drawn,
                 draw_map: Some(draw_map),
+                keep: placement.resident.clone(),
             };
         };
         let k = grouping.ranges.len().max(1);
@@ -127,6 +154,7 @@ impl InstanceLayout {
             groups,
             opaque: drawn..drawn,
             draw_map: Some(draw_map),
+            keep: placement.resident.clone(),
         }
     }
 
@@ -140,6 +168,7 @@ impl InstanceLayout {
             transparent_groups: std::iter::once(0..n).collect(),
             opaque: n..n,
             draw_map: None,
+            keep: Vec::new(),
         }
     }
 
@@ -157,6 +186,7 @@ impl InstanceLayout {
             transparent_groups: Vec::with_capacity(ranges.len()),
             opaque: 0..0,
             draw_map: None,
+            keep: Vec::new(),
         };
         for (k, range) in ranges.iter().enumerate() {
             let run = &order[range.start as usize..range.end as usize];

@@ -12,7 +12,9 @@
 //!    every splat) as a [`GpuScene`] (uploaded once, in group order for modes
 //!    that draw groups, with the frame's shadow coefficients beside it; a
 //!    streamed selection's nodes keep their slots in a [`node_pool`], so the
-//!    next selection writes only what changed, [`changed_records`]).
+//!    next selection writes only what changed, [`changed_records`], and the
+//!    nodes it drops stay there undrawn, left out by a [`live_mask`], until
+//!    the room is needed).
 //! 3. The frame's mode (implemented in [`modes`], one file per mode) turns
 //!    the spec, the size and what the upload holds into a [`RenderPlan`]:
 //!    its steps and, for each, the typed targets its passes read and write.
@@ -41,6 +43,7 @@ pub mod gpu_renderer;
 pub mod gpu_scene;
 pub mod instance_layout;
 pub mod instance_order;
+pub mod live_mask;
 pub mod modes;
 pub mod node_pool;
 pub mod passes;

@@ -51,6 +51,32 @@ pub struct FrameReport {
     pub shadow_table_mib: Option<f64>,
     /// A moving scene: what advancing it to this frame cost.
     pub update: Option<FrameUpdate>,
+    /// A streamed selection: the GPU pool its nodes sit in.
+    pub pool: Option<PoolStats>,
+}
+
+/// The node pool a streamed frame drew from ([`crate::node_pool`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct PoolStats {
+    /// Splat slots in the pool, and the bytes of their records.
+    pub slots: usize,
+    pub bytes: u64,
+    /// Nodes drawn, and nodes kept on the GPU undrawn (left by earlier views).
+    pub drawn: usize,
+    pub kept: usize,
+}
+
+impl PoolStats {
+    /// One line for `--explain` and the viewer.
+    pub fn describe(&self) -> String {
+        format!(
+            "node pool: {} nodes drawn, {} kept on the GPU from earlier views; {} slots, {:.1} MiB",
+            self.drawn,
+            self.kept,
+            self.slots,
+            self.bytes as f64 / (1 << 20) as f64
+        )
+    }
 }
 
 impl FrameReport {
@@ -78,6 +104,7 @@ impl FrameReport {
         }
         lines.extend(self.budget.as_ref().map(BudgetStats::describe));
         lines.extend(self.hybrid.as_ref().map(HybridStats::describe));
+        lines.extend(self.pool.as_ref().map(PoolStats::describe));
         lines.extend(self.shadows.iter().cloned());
         lines
     }

@@ -106,8 +106,8 @@ pub fn planned_buffers(splats: usize, (width, height): (u32, u32), entries: Opti
 pub fn bindings(work: TileWork, variant: Variant, output: wgpu::TextureFormat) -> Vec<Binding> {
     let (ro, rw) = (Binding::Storage { read_only: true }, Binding::Storage { read_only: false });
     match work {
-        TileWork::Project if variant.has(Variant::LIGHTS) => vec![Binding::Uniform, ro, rw, rw, rw, ro],
-        TileWork::Project => vec![Binding::Uniform, ro, rw, rw, rw],
+        TileWork::Project if variant.has(Variant::LIGHTS) => vec![Binding::Uniform, ro, rw, rw, rw, ro, ro],
+        TileWork::Project => vec![Binding::Uniform, ro, rw, rw, rw, ro],
         TileWork::ProjectTriangles => vec![Binding::Uniform, ro, ro, rw, rw],
         TileWork::Bin => vec![Binding::Uniform, ro, ro, rw, rw],
         TileWork::SortShort => vec![Binding::Uniform, ro, rw, rw],
@@ -196,7 +196,7 @@ impl TileEngine {
     /// buffers fit one storage binding each.
     pub fn new(ctx: &GpuContext, scene: &GpuScene, size: (u32, u32)) -> Result<Self, GpuError> {
         let device = &ctx.device;
-        // Every slot is projected (a node pool's vacant ones are culled there).
+        // Every slot is projected (those the scene's live mask leaves out are culled there).
         let n = scene.slot_count() as u64;
         let m = scene.triangles.as_ref().map_or(0, |t| t.count() as u64);
         let limit = device.limits().max_storage_buffer_binding_size;
@@ -345,6 +345,7 @@ impl TileEngine {
                         self.eye.as_entire_binding(),
                         self.rects.as_entire_binding(),
                         self.counts.as_entire_binding(),
+                        scene.live_mask().as_entire_binding(),
                     ];
                     if let Some(lights) = lights {
                         resources.push(lights[k].as_entire_binding());

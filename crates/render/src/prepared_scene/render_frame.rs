@@ -102,6 +102,7 @@ impl PreparedScene {
             Selection::Budget(budget) => self.budgeted_scene(gpu, camera, spec, budget, &mut report)?,
             Selection::Whole | Selection::Streamed => self.gpu_scene_mut(gpu, Slot::Whole, spec, &mut report)?,
         };
+        report.pool = scene.pool_stats();
         let (image, plan, drawn) = gpu.render_spec(scene, camera, spec, readback != Readback::Nothing)?;
         report = FrameReport {
             tile_lists: drawn.tile_lists,
