@@ -19,14 +19,17 @@
 //! selection. A node that arrives takes the first run of vacant slots it
 //! fits in (first fit, in slot order); a node whose splat count changed
 //! (copies merged across a border it shares) is placed anew. When no vacant
-//! run fits it, the pool grows at its end, by a quarter at least (new
-//! buffers, the old ones kept as they are), while it is smaller than
-//! `HEADROOM + RESIDENT_ROOM` times its largest selection; past that,
-//! residents are evicted until a run fits, and only when none is left does
-//! it grow again. When the selection and the residents hold less than [`SHRINK`] of
-//! the slots, the pool is laid out anew: every node packed in selection
-//! order, every record written again, no resident kept. Vacant
-//! slots hold a record the splat shaders cull (see `SplatInstance::VACANT`).
+//! run fits it, the pool grows at its end (new buffers, the old ones kept
+//! as they are) by a quarter, or what the node lacks, while it is smaller
+//! than `HEADROOM + RESIDENT_ROOM` times its largest selection (and not
+//! past that by the quarter); past that, residents are evicted until a run
+//! fits, and only when none is left does it grow again. When the selection
+//! and the residents hold less than [`SHRINK`] of the slots, the pool is
+//! laid out anew: every node packed in selection order, every record
+//! written again, no resident kept. Vacant slots are never drawn: those
+//! written hold a record the splat shaders cull (`SplatInstance::VACANT`),
+//! and those a growth added are left as the new buffer holds them until a
+//! node is placed there.
 
 use std::collections::HashMap;
 use std::ops::Range;
@@ -169,7 +172,10 @@ impl SlotPool {
             }
             if !vacant.iter().any(|r| r.len() as u32 >= need) {
                 let tail = vacant.last().filter(|r| r.end == self.capacity).map_or(0, |r| r.len() as u32);
-                let grown = self.capacity + (need - tail).max(self.capacity / 4);
+                // By a quarter, but not past the room for residents while growing for them.
+                let quarter = self.capacity / 4;
+                let step = if self.capacity < room { quarter.min(room - self.capacity) } else { quarter };
+                let grown = self.capacity + (need - tail).max(step);
                 match vacant.last_mut().filter(|r| r.end == self.capacity) {
                     Some(tail) => tail.end = grown,
                     None => vacant.push(self.capacity..grown),
@@ -324,6 +330,23 @@ mod tests {
         let grown = pool.place(&spans(&[(1, 40), (3, 30), (4, 20)]));
         assert_eq!(grown.resident, vec![40..70], "node 2 stays resident");
         assert!(grown.slots[2].start >= 100 && pool.capacity() > capacity, "node 4 goes after the others");
+    }
+
+    #[test]
+    fn the_pool_grows_for_residents_up_to_its_room_and_then_keeps_the_latest() {
+        // Ten nodes of 10 splats; each selection drops its first node and adds the next.
+        let window = |k: u32| spans(&(k..k + 10).map(|node| (node, 10)).collect::<Vec<_>>());
+        let (mut pool, _) = SlotPool::laid_out(&window(0));
+        let room = (100.0 * (HEADROOM + RESIDENT_ROOM)).ceil() as u32;
+        for k in 1..=30 {
+            let placed = pool.place(&window(k));
+            assert!(!placed.relaid);
+            assert!(pool.capacity() <= room, "selection {k}: {} slots, more than the room of {room}", pool.capacity());
+        }
+        assert_eq!(pool.capacity(), room, "grown to the room");
+        assert_eq!(pool.residents(), ((room - 100) / 10) as usize, "every slot outside the selection holds a resident");
+        let oldest_kept = 30 - pool.residents() as u32;
+        assert!(pool.resident.keys().all(|&node| (oldest_kept..30).contains(&node)), "the latest dropped are kept");
     }
 
     #[test]
