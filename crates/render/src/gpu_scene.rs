@@ -365,11 +365,9 @@ impl GpuScene {
         self.live.buffer()
     }
 
-    /// The node pool's figures, when the splats are pooled by node.
-    pub fn pool_stats(&self) -> Option<super::report::PoolStats> {
-        let pool = self.pool.as_ref()?;
-        let bytes = self.splat_bytes();
-        Some(super::report::PoolStats { slots: self.slot_count(), bytes, drawn: pool.drawn(), kept: pool.residents() })
+    /// When the splats are pooled by node: the nodes drawn, and those kept on the GPU undrawn.
+    pub fn pooled_nodes(&self) -> Option<(usize, usize)> {
+        self.pool.as_ref().map(|pool| (pool.drawn(), pool.residents()))
     }
 
     /// Uploads each splat's shadow coefficients (`key` names what they were

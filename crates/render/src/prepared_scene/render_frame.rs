@@ -12,7 +12,7 @@ use crate::frame::spec::Selection;
 use crate::frame::{Camera, FrameSpec, RenderSettings, SceneFacts, View};
 use crate::gpu_renderer::GpuRenderer;
 use crate::plan::RenderPlan;
-use crate::report::FrameReport;
+use crate::report::{FrameReport, PoolStats};
 use crate::scene_cache::Slot;
 use pointblend_core::reference::{self, ReferenceOptions};
 
@@ -102,7 +102,12 @@ impl PreparedScene {
             Selection::Budget(budget) => self.budgeted_scene(gpu, camera, spec, budget, &mut report)?,
             Selection::Whole | Selection::Streamed => self.gpu_scene_mut(gpu, Slot::Whole, spec, &mut report)?,
         };
-        report.pool = scene.pool_stats();
+        report.pool = scene.pooled_nodes().map(|(drawn, kept)| PoolStats {
+            slots: scene.slot_count(),
+            bytes: scene.splat_bytes(),
+            drawn,
+            kept,
+        });
         let (image, plan, drawn) = gpu.render_spec(scene, camera, spec, readback != Readback::Nothing)?;
         report = FrameReport {
             tile_lists: drawn.tile_lists,
