@@ -181,16 +181,16 @@ fn to_write(
     earlier: (&NodeSpans, &PointCloud),
     after: (&NodeSpans, &PointCloud),
 ) -> (u64, u64) {
+    // The splats a node was last drawn as, in the first view that drew it.
     let last_records = |node: u32| {
-        let in_view = |(spans, cloud): (&NodeSpans, &PointCloud)| {
-            spans.0.iter().find(|(n, _)| *n == node).map(|(_, range)| (range.clone(), cloud.clone()))
-        };
-        in_view(drawn).or_else(|| in_view(earlier))
+        [drawn, earlier].into_iter().find_map(|(spans, cloud)| {
+            spans.0.iter().find(|(n, _)| *n == node).map(|(_, range)| (range.clone(), cloud))
+        })
     };
     let (mut splats, mut nodes) = (0u64, 0u64);
     for (node, range) in &after.0.0 {
         let unchanged = last_records(*node).is_some_and(|(old, cloud)| {
-            old.len() == range.len() && old.zip(range.clone()).all(|(i, j)| same_splat(&cloud, i, after.1, j))
+            old.len() == range.len() && old.zip(range.clone()).all(|(i, j)| same_splat(cloud, i, after.1, j))
         });
         if !unchanged {
             (splats, nodes) = (splats + range.len() as u64, nodes + 1);

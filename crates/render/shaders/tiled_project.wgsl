@@ -64,9 +64,9 @@ fn cs_project(dispatch: Dispatch) {
     );
     // Back faces of one-sided splats (a two-sided one has a negative radius).
     let culled = frame.splat.w > 0.5 && signed_radius > 0.0 && dot(normal, centre) > 0.0;
-    // A vacant slot of a node pool holds a negative opacity, a resident one is not live (node_pool.rs).
-    let vacant = splats[b + 8u] < 0.0 || ((live[i >> 5u] >> (i & 31u)) & 1u) == 0u;
-    let usable = depth - radius < frame.depth.y && depth + radius > frame.depth.x && radius > 0.0 && !vacant;
+    // A node pool's vacant and resident slots are not live (node_pool.rs).
+    let live_slot = ((live[i >> 5u] >> (i & 31u)) & 1u) == 1u;
+    let usable = depth - radius < frame.depth.y && depth + radius > frame.depth.x && radius > 0.0 && live_slot;
     if culled || !usable {
         rects[i] = NO_TILES;
         return;

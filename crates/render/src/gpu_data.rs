@@ -25,7 +25,8 @@ const _: () = assert!(std::mem::size_of::<SplatInstance>() == 36);
 
 impl SplatInstance {
     /// What an empty slot of a node pool holds: a negative opacity, which
-    /// the splat shaders cull (`splat.wgsl`, `tiled_project.wgsl`).
+    /// the splat shader culls (`splat.wgsl`; `tiled` skips the slots its
+    /// live mask leaves out, `live_mask.rs`).
     pub const VACANT: SplatInstance =
         SplatInstance { position: [0.0; 3], radius: 0.0, normal: [0.0, 0.0, 1.0], colour: [0; 4], opacity: -1.0 };
 

@@ -67,6 +67,11 @@ impl InstanceLayout {
     /// (not a node pool's vacant or resident slots). What `tiled` projects.
     pub fn live_bits(&self) -> Vec<u32> {
         let mut bits = vec![0u32; self.order.len().div_ceil(32).max(1)];
+        if self.draw_map.is_none() {
+            // Packed (every slot a splat): no pass over the slots, as a moving model rewrites every frame.
+            bits.fill(u32::MAX);
+            return bits;
+        }
         for (slot, &splat) in self.order.iter().enumerate() {
             if splat != VACANT {
                 bits[slot / 32] |= 1 << (slot % 32);

@@ -62,12 +62,12 @@ pub fn decode(header: &CopcHeader, chunk: &[u8], points: u32, cube: (DVec3, f64)
 }
 
 /// Records decoded at a time.
-pub const BATCH_POINTS: usize = 65_536;
+const BATCH_POINTS: usize = 65_536;
 
 /// Most bytes of records a chunk may claim, as a multiple of its own size:
 /// far above the 232 times of the most regular data tested, since memory
 /// grows only with the points really decoded.
-pub const MOST_RATIO: usize = 4096;
+const MOST_RATIO: usize = 4096;
 
 /// A node's cube with a slack for rounding: where its points must lie.
 struct Inside {
