@@ -122,10 +122,11 @@ impl PreparedScene {
     pub fn new(scene: Arc<Scene>, cloud: Arc<PointCloud>) -> Self {
         let hash = scene.geometry_hash();
         let mean_radius = cloud.mean_radius();
+        let spans = scene.node_spans.clone();
         Self {
             scene,
             hash,
-            drawn: [Some(Drawn::new(hash, cloud)), None, None],
+            drawn: [Some(Drawn::new(hash, cloud).in_nodes(spans)), None, None],
             prepared: SceneCache::new(KEPT_SHADOWS),
             compute_groupings: true,
             max_grouped: usize::MAX,
@@ -290,15 +291,25 @@ impl PreparedScene {
         })
     }
 
-    /// The nodes of a streamed selection, when `slot`'s ungrouped GPU copy
-    /// keeps them in a node pool: the whole scene's slot of an opaque
-    /// streamed selection whose nodes add up to its splats. (A transparent
-    /// one is sorted back to front, record by record, so it stays packed.)
-    fn pooled_nodes(&self, slot: Slot) -> Option<Arc<crate::frame::subset::NodeSpans>> {
-        let spans = self.scene.node_spans.as_ref()?;
+    /// The nodes `slot`'s splats came in, when its GPU copy keeps them in a
+    /// node pool ([`crate::node_pool`]): an opaque selection of a tree of
+    /// nodes whose nodes add up to its splats. That is a streamed file's
+    /// selection in the whole scene's slot, grouped or not, and the nodes
+    /// under a point budget in the budget's slot when its copy is not
+    /// `grouped` (the hierarchy's nodes are small, a few hundred splats, so
+    /// a group's runs node by node would be thousands of draws; the modes
+    /// that preview a moving view draw no groups). A transparent selection
+    /// is sorted back to front, record by record, so it stays packed.
+    fn pooled_nodes(&self, slot: Slot, grouped: bool) -> Option<Arc<crate::frame::subset::NodeSpans>> {
         let drawn = self.drawn[slot.index()].as_ref()?;
+        let spans = drawn.spans.as_ref()?;
         let fits = spans.splats() as usize == drawn.cloud.len();
-        (slot == Slot::Whole && self.streamed && fits && !drawn.transparent).then(|| Arc::clone(spans))
+        let pooled = match slot {
+            Slot::Whole => self.streamed,
+            Slot::Budget => !grouped,
+            Slot::Hybrid => false,
+        };
+        (pooled && fits && !drawn.transparent).then(|| Arc::clone(spans))
     }
 
     /// Draws `scene` (its splats in world space `cloud`) from now on; its GPU
@@ -338,7 +349,8 @@ impl PreparedScene {
         self.prepared.groupings.retain(|(slot, _)| *slot == Slot::Whole);
         self.prepared.regroupers.retain(|_| false);
         self.prepared.uploads.retain(|(slot, _)| *slot == Slot::Whole);
-        self.show(gpu, Slot::Whole, show::Drawn::new(self.hash, cloud))
+        let spans = self.scene.node_spans.clone();
+        self.show(gpu, Slot::Whole, show::Drawn::new(self.hash, cloud).in_nodes(spans))
     }
 
     /// The grouping `spec` of the whole still scene, through the grouping cache.
@@ -462,7 +474,7 @@ impl PreparedScene {
                 let over = (grouped.len() + 1).saturating_sub(self.max_grouped);
                 grouped.iter().take(over).for_each(|oldest| drop(self.prepared.uploads.remove(oldest)));
             }
-            let spans = self.pooled_nodes(slot);
+            let spans = self.pooled_nodes(slot, grouping.is_some());
             let arrangement = Arrangement::of(spans.as_deref(), grouping.as_deref());
             let cloud = &self.drawn(slot).cloud;
             let upload = gpu.upload_arranged(cloud, self.scene.environment.as_deref(), arrangement);

@@ -1,13 +1,16 @@
 //! The nodes a frame draws under a point budget, as a [`Subset`]: chosen
 //! from the scene's multi-resolution hierarchy by screen-space error
-//! ([`super::select`]), gathered into one cloud only when the choice changed.
+//! ([`super::select`]), gathered into one cloud only when the choice
+//! changed, node after node, with the span each node holds in it
+//! ([`NodeSpans`]), as a streamed file's nodes come: the renderer keeps a
+//! node drawn in one view in its GPU slots for the next.
 
 use std::sync::Arc;
 use std::time::Instant;
 
 use super::{Choosing, Hierarchy, SelectOptions, Selection, gather, select};
 use crate::frame::Camera;
-use crate::frame::subset::{Choice, Subset};
+use crate::frame::subset::{Choice, NodeSpans, Subset};
 
 /// What the last choice drew and cost.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -55,18 +58,29 @@ impl Subset for BudgetSubset {
         let selection = select(&self.hierarchy, camera, size, options);
         let select_ms = started.elapsed().as_secs_f64() * 1e3;
         let changed = self.selected.as_ref() != Some(&selection);
-        let cloud = if changed {
+        let (cloud, spans) = if changed {
             // Keyed by what it is (the hierarchy and the nodes chosen), not by hashing every splat.
             let nodes: Vec<u8> = selection.nodes.iter().flat_map(|n| n.to_le_bytes()).collect();
             self.chosen_key = crate::hash::fnv1a(self.key, &nodes);
-            Some(gather(&self.hierarchy, &selection))
+            (Some(gather(&self.hierarchy, &selection)), Some(Arc::new(spans_of(&self.hierarchy, &selection))))
         } else {
-            None
+            (None, None)
         };
         self.last = BudgetChoice { nodes: selection.nodes.len(), splats: selection.splats, select_ms, changed };
         self.selected = Some(selection);
-        Ok(Choice { cloud, key: self.chosen_key, grouping: None, spans: None })
+        Ok(Choice { cloud, key: self.chosen_key, grouping: None, spans })
     }
+}
+
+/// Which splats of `selection` gathered ([`gather`]: node after node) each of its nodes holds.
+fn spans_of(hierarchy: &Hierarchy, selection: &Selection) -> NodeSpans {
+    let mut at = 0u32;
+    let spans = selection.nodes.iter().map(|&node| {
+        let count = hierarchy.nodes[node as usize].count;
+        at += count;
+        (node, at - count..at)
+    });
+    NodeSpans(spans.collect())
 }
 
 #[cfg(test)]
@@ -83,6 +97,17 @@ mod tests {
         let first = subset.choose(&camera, (128, 128), Choosing::default()).unwrap();
         let chosen = first.cloud.expect("the first choice holds its splats");
         assert!(chosen.len() <= 5_000 && chosen.len() == subset.last.splats, "{}", chosen.len());
+        let spans = first.spans.expect("a new choice names its nodes");
+        assert_eq!(spans.0.len(), subset.last.nodes);
+        for (node, splats) in &spans.0 {
+            let node = subset.hierarchy.nodes[*node as usize];
+            let held = &subset.hierarchy.splats.positions[node.first as usize..(node.first + node.count) as usize];
+            assert_eq!(
+                &chosen.positions[splats.start as usize..splats.end as usize],
+                held,
+                "a node's span holds its splats"
+            );
+        }
         let again = subset.choose(&camera, (128, 128), Choosing::default()).unwrap();
         assert!(again.cloud.is_none() && again.key == first.key, "the same view: the same splats, not gathered again");
         let close = Camera { distance: camera.distance * 0.3, ..camera };

@@ -10,7 +10,10 @@
 //! Zhang & Pajarola's hash grouping of the selected splats, redone in
 //! milliseconds on the lattice of the whole scene (cells of the originals'
 //! median radius: coarse nodes' larger splats overlap more within a group),
-//! and the GPU copies are rewritten (reallocated when the count changed).
+//! and the GPU copies are rewritten (reallocated when the count changed):
+//! the ungrouped copy keeps the selection's nodes in a node pool
+//! ([`crate::node_pool`]), so only the nodes a view adds are written, and
+//! the grouped copies are packed and written where their records changed.
 //! A frame lit by scene lights keeps the nodes outside the view, which still
 //! cast shadows. A budget at or above the scene's splats, a moving scene and
 //! the reference draw every splat.

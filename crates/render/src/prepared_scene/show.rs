@@ -11,7 +11,7 @@ use std::sync::Arc;
 
 use super::{FrameError, PreparedScene, with_extension};
 use crate::cloud::PointCloud;
-use crate::frame::subset::Choice;
+use crate::frame::subset::{Choice, NodeSpans};
 use crate::gpu_renderer::GpuRenderer;
 use crate::gpu_scene::Arrangement;
 use crate::grouping::regroup::{HashRegrouper, Lattice};
@@ -24,11 +24,19 @@ pub(super) struct Drawn {
     pub(super) cloud: Arc<PointCloud>,
     /// Whether some splat is less than opaque (asked every frame, so kept).
     pub(super) transparent: bool,
+    /// The nodes the splats came in, when a tree of nodes chose them (a
+    /// streamed selection's, or the nodes under a point budget).
+    pub(super) spans: Option<Arc<NodeSpans>>,
 }
 
 impl Drawn {
     pub(super) fn new(key: u64, cloud: Arc<PointCloud>) -> Self {
-        Self { key, transparent: cloud.has_transparency(), cloud }
+        Self { key, transparent: cloud.has_transparency(), cloud, spans: None }
+    }
+
+    /// The same splats, which came in the nodes `spans`.
+    pub(super) fn in_nodes(self, spans: Option<Arc<NodeSpans>>) -> Self {
+        Self { spans, ..self }
     }
 }
 
@@ -51,7 +59,7 @@ impl PreparedScene {
         }
         // A subset's first choice always holds its splats.
         let cloud = Arc::new(choice.cloud.unwrap_or_default());
-        self.show(gpu, slot, Drawn::new(choice.key, cloud)).map(|_| ())
+        self.show(gpu, slot, Drawn::new(choice.key, cloud).in_nodes(choice.spans)).map(|_| ())
     }
 
     /// Shows `drawn` in `slot`: the slot's groupings are regrouped, its GPU
@@ -99,11 +107,11 @@ impl PreparedScene {
             return Ok(update);
         };
         let cloud = Arc::clone(&self.drawn(slot).cloud);
-        let spans = self.pooled_nodes(slot);
         let uploads: Vec<_> = self.prepared.uploads.keys().filter(|(s, _)| *s == slot).collect();
         for upload_key in uploads {
             let grouping = upload_key.1.and_then(|spec| self.prepared.groupings.get(&(slot, spec)));
             let grouping = grouping.map(|kept| Arc::clone(&kept.value.grouping));
+            let spans = self.pooled_nodes(slot, grouping.is_some());
             let upload = self.prepared.uploads.get(&upload_key).expect("listed above");
             let started = std::time::Instant::now();
             let arrangement = Arrangement::of(spans.as_deref(), grouping.as_deref());
