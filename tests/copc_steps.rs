@@ -104,7 +104,7 @@ fn loaded_in_steps(copc: &Path, (step, size): (u64, (u32, u32)), least_steps: us
             assert!(up.is_none_or(|p| now.contains(&p)), "node {key:?} came before its parent");
         }
         loaded = now;
-        let choice = stepped.choose_loaded(&camera, size, choosing).unwrap();
+        let choice = stepped.choose_loaded(&camera, size, choosing, u64::MAX).unwrap();
         let cloud = choice.cloud.expect("each step draws what it added");
         let drawn = cloud.len();
         assert!(shown.last().is_none_or(|&(before, _)| drawn > before), "a step draws more than the last");
@@ -129,7 +129,7 @@ fn loaded_in_steps(copc: &Path, (step, size): (u64, (u32, u32)), least_steps: us
     // No holes: a node still loading is covered by its ancestors (the silhouette may move by a pixel row).
     let row = 1.0 / f64::from(IMAGE.1);
     assert!(shown.iter().all(|&(_, c)| c >= full - row), "a step left a hole: {shown:?} against {full}");
-    let last = stepped.choose_loaded(&camera, size, choosing).unwrap();
+    let last = stepped.choose_loaded(&camera, size, choosing, u64::MAX).unwrap();
     assert!(last.cloud.is_none(), "the last step's nodes are the ones drawn");
     assert_eq!(last.key, at_once.choose(&camera, size, choosing).unwrap().key, "the same nodes as the view at once");
     assert_eq!(shown.last().unwrap().0, points, "the same points as the view at once");
@@ -142,4 +142,48 @@ fn loaded_in_steps(copc: &Path, (step, size): (u64, (u32, u32)), least_steps: us
             .eps;
     println!("the last step against the view at once: ε {eps:.3}");
     assert!(eps <= common::tolerances::MAX_STREAMED_EPS, "ε {eps} of the stepped view against the view at once");
+}
+
+/// A view loaded whole, then shown as the viewer shows it while it
+/// refines: each choice adds at most `ADDING` points of nodes the last one
+/// did not draw (or one node), coarse first, so that no node is drawn
+/// without its parent, each draws more, and the last draws the view.
+#[test]
+fn choices_add_at_most_their_bound_coarse_first_and_end_on_the_view() {
+    const ADDING: u64 = 150_000;
+    let dir = tempfile::tempdir().unwrap();
+    let copc = two_layer_copc(dir.path(), 800);
+    let mut stepped = subset(&copc);
+    let camera = Camera::default_for(&stepped.stream.bounds_cloud(), 1.0);
+    let choosing = Choosing::default();
+    let left = stepped.load_step(&camera, SIZE, choosing, u64::MAX).unwrap();
+    assert_eq!(left.nodes, 0, "the view loaded in one step");
+    let mut drawn: HashSet<u32> = HashSet::new();
+    let mut added_per_choice = Vec::new();
+    loop {
+        let choice = stepped.choose_loaded(&camera, SIZE, choosing, ADDING).unwrap();
+        let spans = choice.spans.expect("each choice draws more than the last");
+        let now: HashSet<u32> = spans.0.iter().map(|(node, _)| *node).collect();
+        assert!(drawn.is_subset(&now), "a choice dropped a node of the same view");
+        let added: Vec<u32> = now.difference(&drawn).copied().collect();
+        let points: u64 = added.iter().map(|&n| u64::from(stepped.stream.tree.nodes[n as usize].points)).sum();
+        assert!(!added.is_empty(), "a choice adds a node");
+        assert!(points <= ADDING || added.len() == 1, "a choice added {} nodes of {points} points", added.len());
+        for &n in &now {
+            let key = stepped.stream.tree.nodes[n as usize].key;
+            let up = parent(&stepped.stream, key);
+            assert!(up.is_none_or(|p| now.contains(&p)), "node {key:?} drawn without its parent");
+        }
+        added_per_choice.push(points);
+        drawn = now;
+        if stepped.last.held_back == 0 {
+            break;
+        }
+    }
+    println!("choices of at most {ADDING} new points added {added_per_choice:?}");
+    assert!(added_per_choice.len() >= 3, "the view came in several choices: {added_per_choice:?}");
+    let last = stepped.choose_loaded(&camera, SIZE, choosing, u64::MAX).unwrap();
+    assert!(last.cloud.is_none(), "nothing was left to add");
+    let at_once = subset(&copc).choose(&camera, SIZE, choosing).unwrap();
+    assert_eq!(last.key, at_once.key, "the same nodes as the view at once");
 }

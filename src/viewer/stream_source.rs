@@ -9,7 +9,10 @@
 //! often than it draws a frame, a node still loading drawn by its loaded
 //! ancestors. Until the first step arrives the current selection stays on
 //! screen, so nothing blinks, and each step shown uploads only the nodes it
-//! adds (the GPU pool of `PreparedScene::show_selection`). The
+//! adds (the GPU pool of `PreparedScene::show_selection`), no more points
+//! than a step loads: nodes loaded while the window drew its last frame
+//! beyond those wait for the next ones, so one frame's upload is bounded
+//! (262,144 points are 9.4 MB of records per GPU copy). The
 //! job's progress bar is the "refining" bar, and the statistics show what
 //! is shown, what was read, how fast, and the cache.
 
@@ -36,6 +39,9 @@ pub struct ViewKey {
 
 /// What shows a step of a view still refining: its scene and load warnings.
 pub type ShowStep<'a> = dyn FnMut(Scene, Vec<String>) -> Result<(), String> + 'a;
+
+/// A scene to show, and its load warnings.
+type Shown = (Scene, Vec<String>);
 
 /// What the statistics show.
 #[derive(Debug, Clone, Default)]
@@ -92,7 +98,8 @@ impl StreamedSource {
     /// warnings; `None` when they are the nodes the last scene drew.
     ///
     /// The view is loaded in steps, coarse first, each loading at most as
-    /// many points as are drawn (from [`FIRST_STEP`] to [`LARGEST_STEP`]).
+    /// many points as are drawn (from [`FIRST_STEP`] to [`LARGEST_STEP`]),
+    /// and each scene shown adds at most as many to the last one.
     /// `interim` is given the scene of the nodes loaded so far after the
     /// first step, then again each time `pace` has passed since it last was
     /// (the window passes its frame time, so steps come no faster than it
@@ -103,7 +110,7 @@ impl StreamedSource {
         name: String,
         view: ViewKey,
         (interim, pace): (&mut ShowStep<'_>, &dyn Fn() -> Duration),
-    ) -> Result<Option<(Scene, Vec<String>)>, String> {
+    ) -> Result<Option<Shown>, String> {
         let started = Instant::now();
         crate::progress::stage("selecting and loading nodes");
         let mut shown: Option<Instant> = None;
@@ -114,12 +121,14 @@ impl StreamedSource {
             }
             let (left, step) = self.load_step(view)?;
             // Not shown: a step before the pace has passed, or one the next step completes.
-            let early = shown.is_some_and(|at| at.elapsed() < pace());
-            if left.nodes > 0 && (early || left.points <= step) {
+            let wait = shown.map_or(Duration::ZERO, |at| pace().saturating_sub(at.elapsed()));
+            if left.nodes > 0 && (!wait.is_zero() || left.points <= step) {
                 continue;
             }
-            let scene = self.gather(&name, view, left.nodes)?;
-            if left.nodes == 0 {
+            // Everything loaded, some of it held back: shown at the window's pace.
+            std::thread::sleep(wait);
+            let (scene, held_back) = self.gather(&name, view, left.nodes, step)?;
+            if left.nodes == 0 && held_back == 0 {
                 log::info!("{name}: view complete in {:.2} s", started.elapsed().as_secs_f64());
                 return Ok(scene);
             }
@@ -146,12 +155,14 @@ impl StreamedSource {
         Ok((left, step))
     }
 
-    /// The scene of the nodes of `view` loaded so far (`None`: the nodes the
-    /// last one drew), `left` nodes short of the view.
-    fn gather(&self, name: &str, view: ViewKey, left: usize) -> Result<Option<(Scene, Vec<String>)>, String> {
+    /// The scene of the nodes of `view` loaded so far, adding at most
+    /// `adding` points to what the last scene drew (`None`: the nodes the
+    /// last one drew), `left` nodes short of the view; and the nodes loaded
+    /// but held back by that bound.
+    fn gather(&self, name: &str, view: ViewKey, left: usize, adding: u64) -> Result<(Option<Shown>, usize), String> {
         let mut subset = self.subset()?;
         let before = subset.stream.stats();
-        let choice = subset.choose_loaded(&view.camera, view.size, view.choosing).map_err(|e| e.to_string())?;
+        let choice = subset.choose_loaded(&view.camera, view.size, view.choosing, adding).map_err(|e| e.to_string())?;
         self.record(&subset, view, before)?;
         let last = &subset.last;
         log::info!(
@@ -161,11 +172,12 @@ impl StreamedSource {
             last.drawn
         );
         let (grouping, spans) = (choice.grouping, choice.spans);
-        Ok(choice.cloud.map(|cloud| {
+        let scene = choice.cloud.map(|cloud| {
             let scene =
                 Scene::single(name.to_string(), cloud, choice.key).with_node_grouping(grouping).with_node_spans(spans);
             (scene, last.warnings.clone())
-        }))
+        });
+        Ok((scene, last.held_back))
     }
 
     /// What the statistics show after a step that began at `before`.

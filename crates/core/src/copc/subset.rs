@@ -5,6 +5,8 @@
 //! `render`, `pick`, `bench` and the viewer all choose a streamed frame's
 //! points through it.
 
+use std::collections::HashSet;
+
 use super::load::Left;
 use super::{CopcError, CopcStream, StreamBudget};
 use crate::cloud::LoadOptions;
@@ -20,6 +22,9 @@ pub struct StreamChoice {
     pub selected: usize,
     pub drawn: usize,
     pub points: usize,
+    /// Nodes of the view loaded but not drawn yet: held back by a bound on
+    /// the points one choice adds ([`StreamSubset::choose_loaded`]).
+    pub held_back: usize,
     /// Load warnings, each a line.
     pub warnings: Vec<String>,
 }
@@ -33,11 +38,14 @@ pub struct StreamSubset {
     pub last: StreamChoice,
     /// The key of the nodes the last choice drew (none before the first), and the groups it gave them.
     shown: Option<(u64, Option<HashOptions>)>,
+    /// The nodes the last choice drew.
+    shown_nodes: HashSet<u32>,
 }
 
 impl StreamSubset {
     pub fn new(stream: CopcStream, budget: StreamBudget, load: LoadOptions) -> Self {
-        StreamSubset { stream, budget, load, last: StreamChoice::default(), shown: None }
+        let last = StreamChoice::default();
+        StreamSubset { stream, budget, load, last, shown: None, shown_nodes: HashSet::new() }
     }
 
     /// One loading step of a view refined progressively: the view's nodes
@@ -59,18 +67,46 @@ impl StreamSubset {
     }
 
     /// The view's nodes that are loaded, gathered as [`Subset::choose`]
-    /// gathers them, loading nothing. A node not loaded yet is drawn by its
-    /// loaded ancestors, which additive refinement selects with it (their
-    /// radii stay as estimated where no finer node is drawn), so nothing is
-    /// left uncovered.
+    /// gathers them, loading nothing, and adding at most `adding` points of
+    /// nodes the last choice did not draw: coarse first, and at least one
+    /// node, so that what a window uploads for one frame is bounded
+    /// (`last.held_back` counts the nodes left for the next choices). A
+    /// node not drawn yet is drawn by its ancestors, which additive
+    /// refinement selects with it (their radii stay as estimated where no
+    /// finer node is drawn), so nothing is left uncovered.
     pub fn choose_loaded(
         &mut self,
         camera: &Camera,
         size: (u32, u32),
         choosing: Choosing,
+        adding: u64,
     ) -> Result<Choice, CopcError> {
         let selection = self.select(camera, size, choosing)?;
-        self.gather_selected(&selection, choosing)
+        self.gather_selected(&selection, choosing, adding)
+    }
+
+    /// The nodes of `selection` that are loaded, less the nodes new since
+    /// the last choice past the first `adding` points of them (coarse
+    /// first, at least one node), and how many nodes that leaves out.
+    fn within_adding(&self, selection: &Selection, adding: u64) -> (Selection, usize) {
+        let loaded = self.stream.drawn(selection);
+        let nodes = &self.stream.tree.nodes;
+        let mut new: Vec<u32> = loaded.iter().copied().filter(|n| !self.shown_nodes.contains(n)).collect();
+        // A node's parent is a level coarser: coarse first, no node comes before its parent.
+        new.sort_by_key(|&n| (nodes[n as usize].key.l, nodes[n as usize].offset));
+        let mut sum = 0u64;
+        let taken = new
+            .iter()
+            .enumerate()
+            .take_while(|&(i, &n)| {
+                sum += u64::from(nodes[n as usize].points);
+                i == 0 || sum <= adding
+            })
+            .count();
+        let left_out: HashSet<u32> = new[taken..].iter().copied().collect();
+        let kept: Vec<u32> = loaded.into_iter().filter(|n| !left_out.contains(n)).collect();
+        let splats = kept.iter().map(|&n| nodes[n as usize].points as usize).sum();
+        (Selection { nodes: kept, splats }, left_out.len())
     }
 
     /// The nodes the view selects under the budget.
@@ -90,21 +126,24 @@ impl StreamSubset {
     }
 
     /// [`Self::choose_loaded`] of nodes already selected.
-    fn gather_selected(&mut self, selection: &Selection, choosing: Choosing) -> Result<Choice, CopcError> {
-        let drawn = self.stream.drawn(selection);
+    fn gather_selected(&mut self, selection: &Selection, choosing: Choosing, adding: u64) -> Result<Choice, CopcError> {
+        let (within, held_back) = self.within_adding(selection, adding);
+        let drawn = self.stream.drawn(&within);
         let key = self.stream.key_of(&drawn);
         if self.shown == Some((key, choosing.groups)) {
-            self.last.selected = selection.nodes.len();
+            (self.last.selected, self.last.held_back) = (selection.nodes.len(), held_back);
             return Ok(Choice { cloud: None, key, grouping: None, spans: None });
         }
-        let frame = self.stream.gather(selection, &self.load, choosing.groups)?;
+        let frame = self.stream.gather(&within, &self.load, choosing.groups)?;
         self.last = StreamChoice {
-            selected: frame.selection.nodes.len(),
+            selected: selection.nodes.len(),
             drawn: frame.drawn.len(),
             points: frame.cloud.len(),
+            held_back,
             warnings: frame.report.warnings.clone(),
         };
         self.shown = Some((frame.hash, choosing.groups));
+        self.shown_nodes = frame.drawn.iter().copied().collect();
         Ok(Choice { cloud: Some(frame.cloud), key: frame.hash, grouping: frame.grouping, spans: frame.spans })
     }
 }
@@ -119,6 +158,6 @@ impl Subset for StreamSubset {
     fn choose(&mut self, camera: &Camera, size: (u32, u32), choosing: Choosing) -> Result<Choice, CopcError> {
         let selection = self.select(camera, size, choosing)?;
         self.load_selected(&selection, u64::MAX);
-        self.gather_selected(&selection, choosing)
+        self.gather_selected(&selection, choosing, u64::MAX)
     }
 }
