@@ -9,10 +9,10 @@
 //! often than it draws a frame, a node still loading drawn by its loaded
 //! ancestors. Until the first step arrives the current selection stays on
 //! screen, so nothing blinks, and each step shown uploads only the nodes it
-//! adds (the GPU pool of `PreparedScene::show_selection`), no more points
-//! than a step loads: nodes loaded while the window drew its last frame
-//! beyond those wait for the next ones, so one frame's upload is bounded
-//! (262,144 points are 9.4 MB of records per GPU copy). The
+//! adds (the GPU pool of `PreparedScene::show_selection`), at most
+//! [`SHOWN_AT_MOST`] points: nodes loaded while the window drew its last
+//! frame beyond those wait for the next ones, so one frame's upload is
+//! bounded (524,288 points are 18.9 MB of records per GPU copy). The
 //! job's progress bar is the "refining" bar, and the statistics show what
 //! is shown, what was read, how fast, and the cache.
 
@@ -99,7 +99,7 @@ impl StreamedSource {
     ///
     /// The view is loaded in steps, coarse first, each loading at most as
     /// many points as are drawn (from [`FIRST_STEP`] to [`LARGEST_STEP`]),
-    /// and each scene shown adds at most as many to the last one.
+    /// and each scene shown adds at most [`SHOWN_AT_MOST`] to the last one.
     /// `interim` is given the scene of the nodes loaded so far after the
     /// first step, then again each time `pace` has passed since it last was
     /// (the window passes its frame time, so steps come no faster than it
@@ -127,7 +127,7 @@ impl StreamedSource {
             }
             // Everything loaded, some of it held back: shown at the window's pace.
             std::thread::sleep(wait);
-            let (scene, held_back) = self.gather(&name, view, left.nodes, step)?;
+            let (scene, held_back) = self.gather(&name, view, left.nodes, SHOWN_AT_MOST)?;
             if left.nodes == 0 && held_back == 0 {
                 log::info!("{name}: view complete in {:.2} s", started.elapsed().as_secs_f64());
                 return Ok(scene);
@@ -206,6 +206,11 @@ impl StreamedSource {
 /// 9.4 MB of GPU records.
 pub const FIRST_STEP: u64 = 65_536;
 pub const LARGEST_STEP: u64 = 262_144;
+/// The most points a scene shown adds to the last one: two of the largest
+/// steps, 18.9 MB of records per GPU copy. One step held back 3-4 s of a
+/// 1M-point view on lavapipe, where every frame shown takes a second or
+/// more (docs/BENCHMARKS.md).
+pub const SHOWN_AT_MOST: u64 = 2 * LARGEST_STEP;
 
 #[cfg(test)]
 mod tests {
