@@ -85,9 +85,9 @@ impl StreamSubset {
         self.gather_selected(&selection, choosing, adding)
     }
 
-    /// The nodes of `selection` that are loaded, less the nodes new since
-    /// the last choice past the first `adding` points of them (coarse
-    /// first, at least one node), and how many nodes that leaves out.
+    /// `selection` less its loaded nodes new since the last choice past
+    /// the first `adding` points of them (coarse first, at least one node),
+    /// and how many nodes that leaves out.
     fn within_adding(&self, selection: &Selection, adding: u64) -> (Selection, usize) {
         let loaded = self.stream.drawn(selection);
         let nodes = &self.stream.tree.nodes;
@@ -104,7 +104,11 @@ impl StreamSubset {
             })
             .count();
         let left_out: HashSet<u32> = new[taken..].iter().copied().collect();
-        let kept: Vec<u32> = loaded.into_iter().filter(|n| !left_out.contains(n)).collect();
+        if left_out.is_empty() {
+            return (selection.clone(), 0);
+        }
+        // The selection less what is left out (its nodes not loaded stay, to say why nothing is drawn).
+        let kept: Vec<u32> = selection.nodes.iter().copied().filter(|n| !left_out.contains(n)).collect();
         let splats = kept.iter().map(|&n| nodes[n as usize].points as usize).sum();
         (Selection { nodes: kept, splats }, left_out.len())
     }
