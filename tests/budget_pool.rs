@@ -1,4 +1,4 @@
-//! A file opened whole, drawn under a point budget, keeps the nodes of its
+//! A file opened whole (the bundled lion), drawn under a point budget, keeps the nodes of its
 //! multi-resolution hierarchy in a pool of GPU slots as a streamed file's
 //! nodes are kept: along a path of pans, a node drawn in both views stays
 //! where it is, so a pan writes only the records of the nodes it adds, and
@@ -10,7 +10,6 @@ mod common;
 use std::collections::HashSet;
 use std::sync::Arc;
 
-use glam::Vec3;
 use pointblend::frame::Camera;
 use pointblend::frame::subset::{NodeSpans, Subset};
 use pointblend::lod::Choosing;
@@ -25,13 +24,9 @@ const JOIN: u64 = pointblend::render::changed_records::REWRITE_GAP as u64;
 const SIZE: (u32, u32) = (128, 128);
 const BUDGET: u32 = 20_000;
 
-/// A 300 × 300 plane of 90,000 splats, coloured in stripes so that a splat drawn out of place shows.
-fn striped_plane() -> Arc<Scene> {
-    let mut cloud = pointblend::scene::primitives::plane(90_000, 100.0, Vec3::ZERO, Vec3::Y);
-    for (colour, p) in cloud.colours.iter_mut().zip(&cloud.positions) {
-        let band = ((p.x / 3.0).floor() as i32).rem_euclid(3) as u8;
-        *colour = [60 + 80 * band, 200 - 60 * band, 90 + 50 * ((p.z / 5.0).floor() as i32).rem_euclid(2) as u8];
-    }
+/// The bundled lion (94K splats), as a file opened whole.
+fn lion() -> Arc<Scene> {
+    let (cloud, _) = pointblend::cloud::load(&common::bundled_model()).unwrap();
     Arc::new(Scene::from(cloud))
 }
 
@@ -56,7 +51,7 @@ fn added(before: &NodeSpans, now: &NodeSpans) -> (u64, u64) {
 
 #[test]
 fn a_pan_under_a_budget_writes_only_the_nodes_it_adds_and_draws_what_a_fresh_upload_draws() {
-    let scene = striped_plane();
+    let scene = lion();
     let mut renderer = common::renderer();
     let mut frames = PreparedScene::of(Arc::clone(&scene));
     // The frame's own choices, made again beside it to know which nodes each view draws.
@@ -64,9 +59,12 @@ fn a_pan_under_a_budget_writes_only_the_nodes_it_adds_and_draws_what_a_fresh_upl
     chooser.budget = BUDGET;
     let far = Camera::default_for(&scene.flattened(), 1.0);
     let (mut last, mut bounds, mut fresh_uploads, mut pans) = (None::<Arc<NodeSpans>>, 0u64, 0u64, 0);
-    // Pans of 4 units, 30 units above a plane 100 units wide.
+    // Close up, pans of 4 % of the lion's bounding radius across it.
+    let (up, _) = far.up.frame();
+    let step_across = up.cross(far.direction()).normalize() * far.scene_radius * 0.04;
     for step in 0..6 {
-        let camera = Camera { target: Vec3::new(-10.0 + 4.0 * step as f32, 0.0, 0.0), distance: 30.0, ..far };
+        let target = far.target + step_across * (step as f32 - 2.5);
+        let camera = Camera { target, distance: far.distance * 0.35, ..far };
         let choice = chooser.choose(&camera, SIZE, Choosing::of(&modes()[0])).unwrap();
         let spans = choice.spans.expect("each view chooses other nodes");
         let written_before = frames.uploaded_bytes();

@@ -114,6 +114,8 @@ impl StreamedSource {
         let started = Instant::now();
         crate::progress::stage("selecting and loading nodes");
         let mut shown: Option<Instant> = None;
+        // Nodes loaded that the last scene shown held back (the bound on one frame's upload).
+        let mut held_back = 0;
         loop {
             // A cancelled job (another view or file asked for) stops between steps; its result is dropped.
             if crate::progress::cancelled() {
@@ -126,8 +128,12 @@ impl StreamedSource {
                 continue;
             }
             // Everything loaded, some of it held back: shown at the window's pace.
-            std::thread::sleep(wait);
-            let (scene, held_back) = self.gather(&name, view, left.nodes, SHOWN_AT_MOST)?;
+            if held_back > 0 && !wait.is_zero() {
+                std::thread::sleep(wait);
+                continue;
+            }
+            let scene;
+            (scene, held_back) = self.gather(&name, view, left.nodes, SHOWN_AT_MOST)?;
             if left.nodes == 0 && held_back == 0 {
                 log::info!("{name}: view complete in {:.2} s", started.elapsed().as_secs_f64());
                 return Ok(scene);
