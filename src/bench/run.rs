@@ -92,7 +92,7 @@ fn bench_model(
     config: &BenchConfig,
     renderer: &mut GpuRenderer,
 ) -> Result<(Vec<BenchRow>, Vec<OrderRow>), BenchError> {
-    if crate::copc::is_streamed(model) {
+    if crate::copc::drawn_by_nodes(model, config.stream_budget) {
         if config.animate.is_some() || config.orders {
             return Err(BenchError::Invalid("--animate and --orders need a file loaded whole, not streamed".into()));
         }

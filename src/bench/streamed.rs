@@ -20,8 +20,8 @@ use super::report::{BenchRow, ViewCosts};
 use super::views::views_of;
 use super::{BenchConfig, BenchError};
 use crate::cloud::LoadOptions;
+use crate::copc::StreamStats;
 use crate::copc::subset::StreamSubset;
-use crate::copc::{CopcStream, StreamStats};
 use crate::frame::subset::{Choosing, Subset};
 use crate::render::{GpuRenderer, PreparedScene};
 use crate::scene::Scene;
@@ -32,9 +32,9 @@ pub(super) fn bench_streamed(
     config: &BenchConfig,
     renderer: &mut GpuRenderer,
 ) -> Result<Vec<BenchRow>, BenchError> {
-    let name = model.to_string_lossy().to_string();
     let opened_at = Instant::now();
-    let stream = CopcStream::open(&name, config.stream.clone()).map_err(|e| BenchError::Invalid(e.to_string()))?;
+    let stream =
+        crate::copc::open_nodes(model, config.stream.clone()).map_err(|e| BenchError::Invalid(e.to_string()))?;
     let open_s = opened_at.elapsed().as_secs_f64();
     // What the report names: the URL's credentials masked.
     let shown = stream.name().to_string();

@@ -218,7 +218,12 @@ fn open_scene(
     first: Option<Camera>,
 ) -> Result<(Scene, Option<(Camera, StreamedFlight)>)> {
     let mut streamed = None;
-    let mut scene = match args.view.stream.open(&args.file)? {
+    // A screenshot's view is drawn as the window drew it (under its budget).
+    let (budget, as_window) = match sidecar {
+        Some(s) => (StreamBudget::of_settings(s.settings().map_err(anyhow::Error::msg)?.point_budget, false), true),
+        None => (args.view.stream_budget()?, false),
+    };
+    let mut scene = match args.view.stream.open(&args.file, budget, as_window)? {
         Some(stream) => {
             let bounds = super::stream_args::bounds_scene(&stream);
             let camera = match (first, sidecar) {

@@ -15,8 +15,9 @@ use pointblend::scene::Scene;
 
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct StreamArgs {
-    /// COPC files (.copc.laz, or an http(s) URL): decoded nodes kept in
-    /// memory, in MB [default: a quarter of the free memory].
+    /// Files drawn node by node (.copc.laz, an http(s) URL, or LAS/LAZ
+    /// under --point-budget N): decoded nodes kept in memory, in MB
+    /// [default: a quarter of the free memory].
     #[arg(long, value_name = "MB")]
     pub cache_mb: Option<u64>,
     /// COPC files: keep the chunks fetched in this folder and read them from
@@ -35,17 +36,31 @@ impl StreamArgs {
         }
     }
 
-    /// Opens `file` for streaming when it is a COPC file or a URL.
-    pub fn open(&self, file: &Path) -> Result<Option<CopcStream>> {
-        if !is_streamed(file) {
+    /// Opens `file` node by node when it is drawn so under `budget` (a
+    /// COPC file or a URL; a LAS/LAZ file under a budget of N points,
+    /// [`copc::drawn_by_nodes`]); `as_window`: as the viewer draws it
+    /// ([`copc::window_draws_by_nodes`], for a screenshot's view).
+    pub fn open(&self, file: &Path, budget: StreamBudget, as_window: bool) -> Result<Option<CopcStream>> {
+        let by_nodes =
+            if as_window { copc::window_draws_by_nodes(file, budget) } else { copc::drawn_by_nodes(file, budget) };
+        if !by_nodes {
             if self.cache_mb.is_some() || self.disk_cache.is_some() {
-                log::warn!("--cache-mb and --disk-cache apply to streamed files (.copc.laz or a URL) only");
+                log::warn!(
+                    "--cache-mb and --disk-cache apply to files drawn node by node (.copc.laz, a URL, or LAS/LAZ under --point-budget N) only"
+                );
             }
             return Ok(None);
         }
-        let stream = CopcStream::open(&file.to_string_lossy(), self.options(true))?;
+        if self.disk_cache.is_some() && !is_streamed(file) {
+            log::warn!(
+                "--disk-cache applies to streamed files (.copc.laz or a URL); {} is held in memory",
+                file.display()
+            );
+        }
+        let stream = copc::open_nodes(file, self.options(true))?;
+        let how = if is_streamed(file) { "COPC" } else { "held in memory as an octree" };
         log::info!(
-            "{}: COPC, {} points in {} nodes known, streamed under the point budget",
+            "{}: {how}, {} points in {} nodes known, drawn node by node under the point budget",
             stream.name(),
             stream.points(),
             stream.tree.nodes.len()

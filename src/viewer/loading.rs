@@ -19,7 +19,7 @@ impl ViewerApp {
         self.generations += 1;
         let generation = self.generations;
         let path = path.to_path_buf();
-        if crate::copc::is_streamed(&path) {
+        if self.drawn_by_nodes(&path) {
             return self.open_streamed(ctx, path, generation);
         }
         let label = format!("loading {}", path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default());

@@ -23,7 +23,7 @@ use std::time::{Duration, Instant};
 use crate::cloud::LoadOptions;
 use crate::copc::Left;
 use crate::copc::subset::StreamSubset;
-use crate::copc::{CopcStream, StreamBudget, StreamOptions, StreamStats};
+use crate::copc::{StreamBudget, StreamOptions, StreamStats};
 use crate::frame::{Camera, CameraRequest};
 use crate::scene::Scene;
 
@@ -64,7 +64,7 @@ pub struct StreamedSource {
     /// The stream, whose frames are chosen as a [`Subset`] (as `render` and bench choose theirs).
     subset: Mutex<StreamSubset>,
     status: Mutex<StreamStatus>,
-    /// The file's bounds ([`CopcStream::bounds_cloud`]), kept so that the
+    /// The file's bounds ([`crate::copc::CopcStream::bounds_cloud`]), kept so that the
     /// window frames the file without waiting for a loading step's lock.
     bounds: crate::cloud::PointCloud,
 }
@@ -77,7 +77,7 @@ impl std::fmt::Debug for StreamedSource {
 
 impl StreamedSource {
     pub fn open(path: &Path, options: StreamOptions) -> Result<Arc<Self>, String> {
-        let stream = CopcStream::open(&path.to_string_lossy(), options).map_err(|e| e.to_string())?;
+        let stream = crate::copc::open_nodes(path, options).map_err(|e| e.to_string())?;
         let bounds = stream.bounds_cloud();
         let subset = StreamSubset::new(stream, StreamBudget::Default, LoadOptions::default());
         let status = Mutex::new(StreamStatus::default());

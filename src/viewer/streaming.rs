@@ -95,6 +95,11 @@ impl ViewerApp {
         }));
     }
 
+    /// Whether the window draws `path` node by node ([`crate::copc::window_draws_by_nodes`]).
+    pub(super) fn drawn_by_nodes(&self, path: &std::path::Path) -> bool {
+        crate::copc::window_draws_by_nodes(path, self.stream_budget())
+    }
+
     /// The budget a streamed view selects under: the panel's, else every
     /// point when the command line said `--point-budget all`, else 1M.
     fn stream_budget(&self) -> StreamBudget {

@@ -88,6 +88,37 @@ pub(crate) fn points_error(path: &Path, e: las::Error, compressed: bool) -> Clou
 /// Reads the LAS or LAZ file at `path` as vertex columns (x, y, z and, with
 /// colour, red, green, blue) and the other per-point attributes.
 pub fn read(path: &Path) -> Result<(PointColumns, Attributes, FileInfo), CloudError> {
+    let decoded = read_columns(path)?;
+    let header = &decoded.header;
+    let format = *header.point_format();
+    let mut info = FileInfo {
+        details: details(header),
+        crs: crs(header),
+        warnings: decoded.warnings.clone(),
+        from_above: true,
+        z_up: true,
+    };
+    let compression = if format.is_compressed { ", LAZ-compressed" } else { "" };
+    let encoding = format!("LAS {}, point format {}{}", header.version(), format.to_u8().unwrap_or(255), compression);
+    let (data, attributes) = decoded.columns.finish(&decoded.fields, encoding, &mut info.warnings);
+    Ok((data, attributes, info))
+}
+
+/// A LAS or LAZ file's records as columns, not yet finished into attributes.
+pub(crate) struct Decoded {
+    pub(crate) columns: Columns,
+    pub(crate) header: las::Header,
+    /// The extra-bytes fields each record carries.
+    pub(crate) fields: Vec<extra_bytes::Field>,
+    /// What reading its descriptors found wrong.
+    pub(crate) warnings: Vec<String>,
+    /// The file's length in bytes.
+    pub(crate) file_len: u64,
+}
+
+/// Decodes every record of the LAS or LAZ file at `path` into columns,
+/// through [`open`]'s checks, in batches.
+pub(crate) fn read_columns(path: &Path) -> Result<Decoded, CloudError> {
     let (mut reader, file_len) = open(path)?;
     let header = reader.header().clone();
     let format = *header.point_format();
@@ -133,17 +164,7 @@ pub fn read(path: &Path) -> Result<(PointColumns, Attributes, FileInfo), CloudEr
             format!("the header counts {declared} points but the file holds only {read_so_far} (truncated?)"),
         ));
     }
-    let mut info = FileInfo {
-        details: details(&header),
-        crs: crs(&header),
-        warnings: descriptors.warnings.clone(),
-        from_above: true,
-        z_up: true,
-    };
-    let compression = if format.is_compressed { ", LAZ-compressed" } else { "" };
-    let encoding = format!("LAS {}, point format {}{}", header.version(), format.to_u8().unwrap_or(255), compression);
-    let (data, attributes) = columns.finish(&descriptors.fields, encoding, &mut info.warnings);
-    Ok((data, attributes, info))
+    Ok(Decoded { columns, header, fields: descriptors.fields, warnings: descriptors.warnings, file_len })
 }
 
 /// The columns decoded so far.
@@ -282,6 +303,31 @@ impl Columns {
         }
         for (m, o) in self.extra.iter_mut().zip(&other.extra) {
             m.extend_from_slice(o);
+        }
+    }
+
+    /// The points at `indices`, in that order (a node of a file opened whole).
+    pub(crate) fn gather(&self, indices: &[u32]) -> Columns {
+        fn pick<T: Copy>(column: &[T], indices: &[u32]) -> Vec<T> {
+            indices.iter().map(|&i| column[i as usize]).collect()
+        }
+        let some = |column: &Option<Vec<_>>| column.as_ref().map(|c| pick(c, indices));
+        Columns {
+            x: pick(&self.x, indices),
+            y: pick(&self.y, indices),
+            z: pick(&self.z, indices),
+            rgb: self.rgb.as_ref().map(|c| c.each_ref().map(|c| pick(c, indices))),
+            intensity: pick(&self.intensity, indices),
+            classification: pick(&self.classification, indices),
+            flags: pick(&self.flags, indices),
+            return_number: pick(&self.return_number, indices),
+            number_of_returns: pick(&self.number_of_returns, indices),
+            gps_time: some(&self.gps_time),
+            point_source_id: pick(&self.point_source_id, indices),
+            user_data: pick(&self.user_data, indices),
+            scan_angle: pick(&self.scan_angle, indices),
+            nir: self.nir.as_ref().map(|c| pick(c, indices)),
+            extra: self.extra.iter().map(|c| pick(c, indices)).collect(),
         }
     }
 

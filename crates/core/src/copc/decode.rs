@@ -31,11 +31,12 @@ pub fn decode(header: &CopcHeader, chunk: &[u8], points: u32, cube: (DVec3, f64)
             chunk.len()
         ));
     }
+    let Some(laz) = header.laz.as_ref() else { return Err("the file has no LAZ chunks".into()) };
     // Before the crate zero-fills a buffer of each layer's stated size (4 GB for a flipped u32).
-    laz_check::check_chunk(&mut std::io::Cursor::new(chunk), 0, chunk.len() as u64, header.laz.items())
+    laz_check::check_chunk(&mut std::io::Cursor::new(chunk), 0, chunk.len() as u64, laz.items())
         .map_err(|reason| format!("its LAZ chunk: {reason}"))?;
     let mut decompressor = LayeredPointRecordDecompressor::new(std::io::Cursor::new(chunk));
-    decompressor.set_fields_from(header.laz.items()).map_err(|e| format!("its LAZ items: {e}"))?;
+    decompressor.set_fields_from(laz.items()).map_err(|e| format!("its LAZ items: {e}"))?;
     let inside = Inside::of(header, cube);
     let mut columns = Columns::default();
     let mut left = points as usize;

@@ -20,7 +20,8 @@ pub struct CopcHeader {
     pub info: CopcInfoVlr,
     /// Offset and size of the root hierarchy page.
     pub root_page: (u64, u64),
-    pub laz: LazVlr,
+    /// How its chunks are compressed (`None` for a file held whole in memory, which has none).
+    pub laz: Option<LazVlr>,
     /// The extra-bytes fields each record carries.
     pub fields: Vec<extra_bytes::Field>,
     pub warnings: Vec<String>,
@@ -98,5 +99,13 @@ pub fn read(source: &dyn ByteSource) -> Result<CopcHeader, CopcError> {
         )));
     }
     let descriptors = extra_bytes::descriptors(&las, format.extra_bytes).map_err(bad)?;
-    Ok(CopcHeader { las, info, root_page, laz, fields: descriptors.fields, warnings: descriptors.warnings, file_len })
+    Ok(CopcHeader {
+        las,
+        info,
+        root_page,
+        laz: Some(laz),
+        fields: descriptors.fields,
+        warnings: descriptors.warnings,
+        file_len,
+    })
 }

@@ -100,6 +100,22 @@ impl CopcTree {
         }
     }
 
+    /// The tree of a file held whole: every node known at once (no page to
+    /// read), each with its points and where its first point lies in the
+    /// file's node order (its `offset`, so that nodes are drawn in that order).
+    pub fn whole(header: &CopcHeader, origin: DVec3, nodes: impl IntoIterator<Item = (VoxelKey, u32)>) -> Self {
+        let mut tree = Self::new(header, origin);
+        let mut first = 0u64;
+        for (key, points) in nodes {
+            let at = tree.nodes.len() as u32;
+            tree.index.insert(key, at);
+            tree.nodes.push(CopcNode { key, offset: first, byte_size: 0, points, page: None, children: Vec::new() });
+            tree.link(at);
+            first += u64::from(points);
+        }
+        tree
+    }
+
     /// Claims the page at byte `at` for reading: an error when an entry led to it already.
     pub fn claim_page(&mut self, at: u64) -> Result<(), String> {
         if self.pages.insert(at) {

@@ -17,6 +17,7 @@ use rayon::prelude::*;
 
 use super::disk::{DiskCache, Miss};
 use super::header::CopcHeader;
+use super::held::MemoryNodes;
 use super::hierarchy::CopcTree;
 use super::source::ByteSource;
 use crate::cloud::las_file::Columns;
@@ -47,11 +48,23 @@ pub struct Fetch<'a> {
     pub tree: &'a CopcTree,
     /// `--disk-cache DIR`, in the folder of this source's content.
     pub disk: Option<&'a DiskCache>,
+    /// A file held whole: its nodes are gathered from memory, nothing read.
+    pub memory: Option<&'a MemoryNodes>,
 }
 
 impl Fetch<'_> {
     /// The nodes' points, or why each failed, as they finish (any order).
     pub fn nodes(&self, nodes: &[u32], on_done: &(dyn Fn(u64) + Sync)) -> Vec<(u32, Result<Columns, String>)> {
+        if let Some(memory) = self.memory {
+            return nodes
+                .par_iter()
+                .map(|&n| {
+                    let columns = memory.node(n);
+                    on_done(columns.len() as u64);
+                    (n, Ok(columns))
+                })
+                .collect();
+        }
         let mut from_disk = Vec::new();
         let mut wanted = Vec::new();
         let mut unusable = 0;

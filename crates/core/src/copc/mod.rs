@@ -14,7 +14,9 @@
 //! together: select by projected spacing (additive refinement, the same
 //! selection as the in-memory hierarchy's, [`crate::lod::select_in`]),
 //! load, and build the selection into a [`crate::cloud::PointCloud`].
-//! [`write`] makes COPC files. [`redact`] masks a URL's credentials in
+//! A LAS/LAZ file opened under a point budget is held whole in [`memory`],
+//! sorted into the octree a COPC file of it would hold ([`octree`]), and
+//! streamed from there node by node the same way. [`write`] makes COPC files. [`redact`] masks a URL's credentials in
 //! whatever is shown: every [`CopcError`] goes through it.
 
 pub mod budget;
@@ -22,19 +24,24 @@ pub(crate) mod cache;
 pub(crate) mod decode;
 pub(crate) mod disk;
 pub mod header;
+pub(crate) mod held;
 pub mod hierarchy;
 pub mod http;
 pub(crate) mod load;
+pub(crate) mod memory;
 pub(crate) mod node_estimates;
 pub(crate) mod node_groups;
+pub mod octree;
 pub mod redact;
 pub mod source;
 pub mod stream;
+mod stream_frame;
 pub mod subset;
 pub mod write;
 
 pub use budget::StreamBudget;
 pub use load::Left;
+pub use memory::{drawn_by_nodes, header_points, open_nodes, window_draws_by_nodes};
 pub use redact::shown;
 pub use source::{is_streamed, is_url};
 pub use stream::{CopcStream, StreamOptions, StreamStats, StreamedFrame};

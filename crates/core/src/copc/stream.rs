@@ -24,12 +24,13 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
-use glam::{DVec3, Vec3};
+use glam::DVec3;
 
 use super::CopcError;
 use super::cache::NodeCache;
 use super::disk::DiskCache;
 use super::header::CopcHeader;
+use super::held::MemoryNodes;
 use super::hierarchy::CopcTree;
 use super::http::HttpOptions;
 use super::load::{Fetch, Left};
@@ -105,6 +106,8 @@ pub struct CopcStream {
     unlogged: usize,
     /// `--disk-cache DIR`, in the folder of this source's content.
     disk: Option<DiskCache>,
+    /// The nodes of a file held whole ([`super::memory`]), gathered rather than read.
+    memory: Option<Arc<MemoryNodes>>,
     options: StreamOptions,
     stats: StreamStats,
     /// The levels' lattices for the groups ([`node_groups::lattice_depth`]), fixed at the first labelling.
@@ -159,8 +162,20 @@ impl CopcStream {
             .disk_cache
             .as_deref()
             .map(|dir| DiskCache::new(dir, super::disk::source_id(source.identity(), source.len(), &page)));
+        Ok(Self::assemble(source, (header, tree), disk, None, options))
+    }
+
+    /// A stream of `tree`'s nodes: read from `source` (through `disk`), or
+    /// gathered from `memory` for a file held whole.
+    pub(super) fn assemble(
+        source: Box<dyn ByteSource>,
+        (header, tree): (CopcHeader, CopcTree),
+        disk: Option<DiskCache>,
+        memory: Option<Arc<MemoryNodes>>,
+        options: StreamOptions,
+    ) -> Self {
         let cache = NodeCache::new(options.cache_bytes);
-        Ok(Self {
+        Self {
             source,
             header,
             tree,
@@ -168,50 +183,20 @@ impl CopcStream {
             failed: HashMap::new(),
             unlogged: 0,
             disk,
+            memory,
             options,
             stats: StreamStats::default(),
             lattice_depth: None,
-        })
+        }
     }
 
     pub fn name(&self) -> &str {
         self.source.name()
     }
 
-    /// The last part of the path or URL (a URL's query and fragment left out).
-    pub fn file_name(&self) -> &str {
-        let name = self.name();
-        let name = if is_url(name) { name.split(['?', '#']).next().unwrap_or(name) } else { name };
-        name.rsplit(['/', '\\']).next().unwrap_or(name)
-    }
-
     /// Points the header counts.
     pub fn points(&self) -> u64 {
         self.header.las.number_of_points()
-    }
-
-    /// The file's frame: its origin, and the corners of the header's bounds
-    /// relative to it, with z up (what a default view frames).
-    pub fn bounds_cloud(&self) -> PointCloud {
-        let b = self.header.las.bounds();
-        let o = self.tree.origin;
-        let corners: Vec<Vec3> = (0..8)
-            .map(|i| {
-                let pick = |bit: usize, lo: f64, hi: f64| if i & bit != 0 { hi } else { lo };
-                (DVec3::new(pick(1, b.min.x, b.max.x), pick(2, b.min.y, b.max.y), pick(4, b.min.z, b.max.z)) - o)
-                    .as_vec3()
-            })
-            .collect();
-        PointCloud {
-            normals: vec![Vec3::Z; 8],
-            radii: vec![0.0; 8],
-            colours: vec![[0; 3]; 8],
-            opacity: vec![1.0; 8],
-            positions: corners,
-            origin: o.to_array(),
-            z_up: true,
-            ..Default::default()
-        }
     }
 
     /// The nodes to draw, reading the hierarchy pages the traversal reaches.
@@ -311,8 +296,9 @@ impl CopcStream {
         let total: u64 = wanted.iter().map(|&n| u64::from(self.tree.nodes[n as usize].points)).sum();
         let bar = crate::progress::bar(total, "streaming nodes", self.options.progress);
         let done = AtomicU64::new(0);
-        let fetch =
-            Fetch { source: self.source.as_ref(), header: &self.header, tree: &self.tree, disk: self.disk.as_ref() };
+        let source = self.source.as_ref();
+        let (header, tree, disk, memory) = (&self.header, &self.tree, self.disk.as_ref(), self.memory.as_deref());
+        let fetch = Fetch { source, header, tree, disk, memory };
         let results = fetch.nodes(wanted, &|points| {
             done.fetch_add(points, Ordering::Relaxed);
             bar.inc(points);

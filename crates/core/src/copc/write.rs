@@ -3,10 +3,7 @@
 //! should index their own data with PDAL and Untwine; neither installs from a
 //! registry here (Debian 12 has no PDAL package), so this writer exists.
 //!
-//! The octree follows COPC 1.0 and Entwine: a cube around the bounds, and at
-//! each node one point per cell of a [`GRID`]³ grid over its cube stays there
-//! (the root's spacing is the cube's side / [`GRID`]); the rest go to the
-//! eight children, until a node holds at most [`LEAF_POINTS`]. Records are
+//! The octree follows COPC 1.0 and Entwine ([`super::octree`]). Records are
 //! converted to point format 6, 7 (with RGB) or 8 (with NIR), extra bytes and
 //! the other VLRs kept. Each node is one layered LAZ chunk (variable-size
 //! chunks), compressed in parallel; coarse levels come first in the file. The
@@ -21,17 +18,12 @@ use glam::DVec3;
 use las::copc::VoxelKey;
 use laz::record::{LayeredPointRecordCompressor, RecordCompressor};
 use rayon::prelude::*;
-use rustc_hash::FxHashSet;
 
 use super::CopcError;
+use super::octree::{Cube, Node, octree};
 use crate::cloud::CloudError;
 use crate::cloud::las_file;
 
-/// Cells per side of a node's sampling grid.
-pub const GRID: u32 = 128;
-/// A node with at most this many points is a leaf.
-pub const LEAF_POINTS: usize = 100_000;
-const MAX_LEVEL: i32 = 20;
 /// Nodes from this level down are listed in pages of their own, one per subtree.
 pub const PAGE_LEVEL: i32 = 3;
 
@@ -44,16 +36,12 @@ pub struct Written {
     pub bytes: u64,
 }
 
-struct Node {
-    key: VoxelKey,
-    points: Vec<u32>,
-}
-
 /// Writes `input` (LAS or LAZ) as a COPC file at `output`.
 pub fn write_copc(input: &Path, output: &Path, progress: bool) -> Result<Written, CopcError> {
     let read = read_records(input, progress)?;
-    let cube = Cube::around(&read.positions, read.transforms.x.scale);
-    let (nodes, depth) = octree(&read.positions, &cube);
+    let position = |i: usize| read.positions[i];
+    let cube = Cube::around(&position, read.positions.len(), read.transforms.x.scale);
+    let (nodes, depth) = octree(&position, read.positions.len(), &cube);
     let fail = |e: String| CopcError::new(&input.display().to_string(), e);
     let laz_vlr = laz::LazVlrBuilder::default()
         .with_point_format(read.format.to_u8().expect("6-8"), read.format.extra_bytes)
@@ -128,53 +116,18 @@ fn read_records(input: &Path, progress: bool) -> Result<Records, CopcError> {
     Ok(Records { header, format, transforms, records, positions })
 }
 
-/// The octree's cube around the points, and their bounds.
-struct Cube {
-    lo: DVec3,
-    hi: DVec3,
-    centre: DVec3,
-    halfsize: f64,
-    /// The root's point spacing: the cube's side / [`GRID`].
-    spacing: f64,
-}
-
-impl Cube {
-    /// The cube around `positions` (not empty), widened by the file's `scale` so every point is inside.
-    fn around(positions: &[DVec3], scale: f64) -> Cube {
-        let (lo, hi) = positions.iter().fold((positions[0], positions[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
-        let halfsize = ((hi - lo).max_element() * 0.5).max(1e-3) * (1.0 + 1e-9) + scale.abs();
-        Cube { lo, hi, centre: (lo + hi) * 0.5, halfsize, spacing: 2.0 * halfsize / f64::from(GRID) }
+/// The COPC info VLR's data, with the root hierarchy page at `root` (offset, bytes).
+pub(crate) fn info_data(cube: &Cube, root: (u64, u64)) -> Vec<u8> {
+    let mut data = Vec::with_capacity(160);
+    for v in [cube.centre.x, cube.centre.y, cube.centre.z, cube.halfsize, cube.spacing] {
+        data.extend_from_slice(&v.to_le_bytes());
     }
-
-    /// The COPC info VLR's data, with the root hierarchy page at `root` (offset, bytes).
-    fn info(&self, root: (u64, u64)) -> Vec<u8> {
-        let mut data = Vec::with_capacity(160);
-        for v in [self.centre.x, self.centre.y, self.centre.z, self.halfsize, self.spacing] {
-            data.extend_from_slice(&v.to_le_bytes());
-        }
-        data.extend_from_slice(&root.0.to_le_bytes());
-        data.extend_from_slice(&root.1.to_le_bytes());
-        data.extend_from_slice(&0f64.to_le_bytes());
-        data.extend_from_slice(&0f64.to_le_bytes());
-        data.resize(160, 0);
-        data
-    }
-}
-
-/// The octree's nodes, level by level (so the file holds the coarse ones
-/// first), empty ones left out; and the deepest level.
-fn octree(positions: &[DVec3], cube: &Cube) -> (Vec<Node>, i32) {
-    let mut nodes = Vec::new();
-    let mut level = vec![Node { key: VoxelKey::ROOT, points: (0..positions.len() as u32).collect() }];
-    let mut depth = 0;
-    while !level.is_empty() {
-        let next: Vec<Vec<Node>> =
-            level.par_iter_mut().map(|node| split(node, positions, cube.centre, cube.halfsize)).collect();
-        depth = level[0].key.l;
-        nodes.extend(level.into_iter().filter(|n| !n.points.is_empty()));
-        level = next.into_iter().flatten().collect();
-    }
-    (nodes, depth)
+    data.extend_from_slice(&root.0.to_le_bytes());
+    data.extend_from_slice(&root.1.to_le_bytes());
+    data.extend_from_slice(&0f64.to_le_bytes());
+    data.extend_from_slice(&0f64.to_le_bytes());
+    data.resize(160, 0);
+    data
 }
 
 /// Each node's points as one layered LAZ chunk, compressed in parallel.
@@ -219,7 +172,7 @@ fn write_file(
     let mut laz_data = Vec::new();
     laz_vlr.write_to(&mut laz_data).map_err(wfail)?;
     // Its data is rewritten with the root page's place once that is known (the same 160 bytes).
-    let info = cube.info((0, 0));
+    let info = info_data(cube, (0, 0));
     let copc_info =
         las::Vlr { user_id: las::copc::USER_ID.into(), record_id: 1, description: "copc info".into(), data: info };
     let mut vlrs = vec![
@@ -250,7 +203,7 @@ fn write_file(
         file.seek(SeekFrom::Start(0)).map_err(wfail)?;
         raw.write_to(&mut *file).map_err(|e| fail(e.to_string()))?;
         for (i, vlr) in vlrs.iter().enumerate() {
-            let vlr = if i == 0 { las::Vlr { data: cube.info(root), ..vlr.clone() } } else { vlr.clone() };
+            let vlr = if i == 0 { las::Vlr { data: info_data(cube, root), ..vlr.clone() } } else { vlr.clone() };
             vlr.into_raw(false).and_then(|r| r.write_to(&mut *file)).map_err(|e| fail(e.to_string()))?;
         }
         Ok(())
@@ -325,43 +278,4 @@ fn hierarchy_pages(entries: &[Entry], at: u64) -> (Vec<u8>, u64) {
         data.extend_from_slice(&count.to_le_bytes());
     }
     (data, root_len)
-}
-
-/// Keeps one point per grid cell in `node` (all of them in a leaf) and
-/// returns its children with the rest.
-fn split(node: &mut Node, positions: &[DVec3], centre: DVec3, halfsize: f64) -> Vec<Node> {
-    if node.points.len() <= LEAF_POINTS || node.key.l >= MAX_LEVEL {
-        return Vec::new();
-    }
-    let side = 2.0 * halfsize / f64::from(1u32 << node.key.l);
-    let min =
-        centre - DVec3::splat(halfsize) + DVec3::new(node.key.x as f64, node.key.y as f64, node.key.z as f64) * side;
-    let cell = side / f64::from(GRID);
-    let mut taken = FxHashSet::default();
-    let mut children: [Vec<u32>; 8] = Default::default();
-    let mut kept = Vec::new();
-    for &i in &node.points {
-        let local = (positions[i as usize] - min) / cell;
-        let c = local.floor().clamp(DVec3::ZERO, DVec3::splat(f64::from(GRID - 1)));
-        let (cx, cy, cz) = (c.x as u32, c.y as u32, c.z as u32);
-        if taken.insert((cx * GRID + cy) * GRID + cz) {
-            kept.push(i);
-        } else {
-            let half = GRID / 2;
-            let octant = (cx >= half) as usize | ((cy >= half) as usize) << 1 | ((cz >= half) as usize) << 2;
-            children[octant].push(i);
-        }
-    }
-    node.points = kept;
-    children
-        .into_iter()
-        .enumerate()
-        .filter(|(_, points)| !points.is_empty())
-        .map(|(octant, points)| {
-            let k = node.key;
-            let bit = |b: usize| ((octant >> b) & 1) as i32;
-            let key = VoxelKey { l: k.l + 1, x: 2 * k.x + bit(0), y: 2 * k.y + bit(1), z: 2 * k.z + bit(2) };
-            Node { key, points }
-        })
-        .collect()
 }

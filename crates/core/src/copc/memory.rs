@@ -1,0 +1,142 @@
+//! A LAS or LAZ file opened whole as a tree of nodes (Schütz's
+//! PotreeConverter and Entwine prepare a file the same way before it is
+//! drawn): its records are decoded into columns at once, then sorted into
+//! the octree a COPC file of it would hold ([`super::octree`]). The stream
+//! then draws it as it draws a COPC file: nodes selected by projected
+//! spacing under the point budget, each node's normals, radii and groups
+//! made once, when it is first drawn, with its halo, and its GPU copy kept
+//! in the node pool. "Loading" a node gathers its points from the columns;
+//! no byte is read, so a view's `bytes_read` is 0.
+
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::DVec3;
+
+use super::budget::StreamBudget;
+use super::header::CopcHeader;
+use super::held::MemoryNodes;
+use super::hierarchy::CopcTree;
+use super::octree::{Cube, octree};
+use super::source::{ByteSource, Counters, is_streamed};
+use super::stream::{CopcStream, StreamOptions};
+use super::{CopcError, write};
+use crate::cloud::las_file;
+
+/// What stands for a file held whole where a stream names its source:
+/// its path and length. Nothing is read through it.
+struct Held {
+    name: String,
+    len: u64,
+    counters: Counters,
+}
+
+impl ByteSource for Held {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn len(&self) -> u64 {
+        self.len
+    }
+    fn read(&self, _offset: u64, _len: u64) -> Result<Vec<u8>, CopcError> {
+        Err(CopcError::new(&self.name, "the file is held in memory; nothing is read from it by range"))
+    }
+    fn counters(&self) -> &Counters {
+        &self.counters
+    }
+}
+
+impl CopcStream {
+    /// Opens the LAS or LAZ file at `path` whole, as a tree of nodes.
+    pub fn open_whole(path: &Path, options: StreamOptions) -> Result<Self, CopcError> {
+        let name = path.display().to_string();
+        let fail =
+            |e: crate::cloud::CloudError| CopcError::new(&name, e.to_string().trim_start_matches(&format!("{name}: ")));
+        let started = Instant::now();
+        let decoded = las_file::read_columns(path).map_err(fail)?;
+        let decode_s = started.elapsed().as_secs_f64();
+        let columns = decoded.columns;
+        let count = columns.len();
+        if count == 0 {
+            return Err(CopcError::new(&name, "the file has no points"));
+        }
+        let sorting = Instant::now();
+        let position = |i: usize| DVec3::new(columns.x[i], columns.y[i], columns.z[i]);
+        let cube = Cube::around(&position, count, decoded.header.transforms().x.scale);
+        let (nodes, depth) = octree(&position, count, &cube);
+        let sort_s = sorting.elapsed().as_secs_f64();
+        log::info!(
+            "{name}: {count} points decoded in {decode_s:.2} s, sorted into {} nodes ({} levels) in {sort_s:.2} s ({:.1} M points/s)",
+            nodes.len(),
+            depth + 1,
+            count as f64 / sort_s.max(1e-9) / 1e6
+        );
+        let info = las::Vlr { data: write::info_data(&cube, (0, 0)), ..Default::default() };
+        let info = las::copc::CopcInfoVlr::try_from(&info).map_err(|e| CopcError::new(&name, e.to_string()))?;
+        let header = CopcHeader {
+            las: with_bounds(&decoded.header, &cube),
+            info,
+            root_page: (0, 0),
+            laz: None,
+            fields: decoded.fields,
+            warnings: decoded.warnings,
+            file_len: decoded.file_len,
+        };
+        let tree = CopcTree::whole(&header, cube.centre, nodes.iter().map(|n| (n.key, n.points.len() as u32)));
+        let memory = MemoryNodes::new(columns, nodes.into_iter().map(|n| n.points).collect());
+        let source = Box::new(Held { name, len: header.file_len, counters: Counters::default() });
+        Ok(Self::assemble(source, (header, tree), None, Some(Arc::new(memory)), options))
+    }
+}
+
+/// The file's header with the bounds of its points (a header's own may be
+/// stale): what the stream frames and centres on. The file's header when
+/// it cannot be rebuilt.
+fn with_bounds(header: &las::Header, cube: &Cube) -> las::Header {
+    let rebuilt = || -> las::Result<las::Header> {
+        let mut raw = header.clone().into_raw()?;
+        (raw.min_x, raw.min_y, raw.min_z) = (cube.lo.x, cube.lo.y, cube.lo.z);
+        (raw.max_x, raw.max_y, raw.max_z) = (cube.hi.x, cube.hi.y, cube.hi.z);
+        let mut builder = las::Builder::new(raw)?;
+        builder.vlrs = header.vlrs().clone();
+        builder.evlrs = header.evlrs().clone();
+        builder.into_header()
+    };
+    rebuilt().unwrap_or_else(|_| header.clone())
+}
+
+/// Whether `file` is drawn node by node under `budget`: a COPC file or a
+/// URL always; a LAS or LAZ file when the budget is a number of points
+/// (under `all`, or none, it is drawn whole).
+pub fn drawn_by_nodes(file: &Path, budget: StreamBudget) -> bool {
+    is_streamed(file) || (las_file::is_las(file) && matches!(budget, StreamBudget::Points(_)))
+}
+
+/// Whether the viewer draws `file` node by node under `budget` (and
+/// `render` with a screenshot's sidecar, to draw what it showed): as
+/// [`drawn_by_nodes`], and also a LAS/LAZ file whose header counts more
+/// points than the default budget, unless the budget is `all`.
+pub fn window_draws_by_nodes(file: &Path, budget: StreamBudget) -> bool {
+    let large = || header_points(file).is_some_and(|n| n > super::budget::DEFAULT_BUDGET as u64);
+    drawn_by_nodes(file, budget) || (budget != StreamBudget::All && large())
+}
+
+/// Opens a file [`drawn_by_nodes`]: streamed from its bytes (COPC, a URL),
+/// or held whole.
+pub fn open_nodes(file: &Path, options: StreamOptions) -> Result<CopcStream, CopcError> {
+    if is_streamed(file) {
+        CopcStream::open(&file.to_string_lossy(), options)
+    } else {
+        CopcStream::open_whole(file, options)
+    }
+}
+
+/// The points a LAS or LAZ file's header counts; `None` for other files
+/// and files whose header does not read.
+pub fn header_points(file: &Path) -> Option<u64> {
+    if !las_file::is_las(file) || is_streamed(file) {
+        return None;
+    }
+    las_file::open(file).ok().map(|(reader, _)| reader.header().number_of_points())
+}
