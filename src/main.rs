@@ -179,6 +179,7 @@ mod tests {
             path: String::new(),
             hash: String::new(),
             splats: 1,
+            nodes: false,
         };
         let camera = pointblend::frame::Camera::framing(glam::Vec3::ZERO, 1.0, 1.0);
         let sidecar = Sidecar::new(model, &camera, &settings, (8, 8));

@@ -149,3 +149,25 @@ fn a_pan_over_a_file_held_whole_estimates_only_the_nodes_it_adds() {
     }
     assert!(redrawn > 0 && added_in_pans > 0, "the pans draw nodes again ({redrawn}) and add some ({added_in_pans})");
 }
+
+/// `render --camera SHOT.json` draws a LAS file as the window did: node by
+/// node when the sidecar says the window drew nodes, whole otherwise, under
+/// the same budget.
+#[test]
+fn a_screenshot_of_nodes_renders_nodes_and_one_of_the_whole_file_renders_it_whole() {
+    use pointblend::frame::sidecar::{Sidecar, SidecarModel};
+    let dir = tempfile::tempdir().unwrap();
+    let laz = made_laz(dir.path(), 300);
+    for nodes in [true, false] {
+        let path = laz.display().to_string();
+        let model = SidecarModel { name: "tile.laz".into(), path, hash: "0".into(), splats: 1, nodes };
+        let settings = pointblend::render::RenderSettings { point_budget: Some(40_000), ..Default::default() };
+        let camera = Camera::framing(glam::Vec3::ZERO, 80.0, 1.0);
+        let shot = dir.path().join(format!("shot-{nodes}.json"));
+        Sidecar::new(model, &camera, &settings, (64, 64)).write(&shot).unwrap();
+        let args = [laz.to_str().unwrap(), "--camera", shot.to_str().unwrap()];
+        let (ok, log) = common::render_cli(&args, &dir.path().join(format!("shot-{nodes}.png")));
+        assert!(ok, "{log}");
+        assert_eq!(log.contains("held in memory as an octree"), nodes, "nodes recorded: {nodes}; {log}");
+    }
+}

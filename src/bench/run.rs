@@ -94,7 +94,10 @@ fn bench_model(
 ) -> Result<(Vec<BenchRow>, Vec<OrderRow>), BenchError> {
     if crate::copc::drawn_by_nodes(model, config.stream_budget) {
         if config.animate.is_some() || config.orders {
-            return Err(BenchError::Invalid("--animate and --orders need a file loaded whole, not streamed".into()));
+            return Err(BenchError::Invalid(format!(
+                "{}: --animate and --orders need a file loaded whole, not drawn node by node (a COPC file, a URL, or a LAS/LAZ file under --point-budget N below its points)",
+                model.display()
+            )));
         }
         return Ok((super::streamed::bench_streamed(model, config, renderer)?, Vec::new()));
     }

@@ -102,7 +102,8 @@ pub fn run(args: &Args) -> Result<()> {
     for text in args.modes.iter().filter(|m| *m != "none") {
         variants.extend(pointblend::bench::variants::expand(text).map_err(|e| anyhow::anyhow!("--modes: {e}"))?);
     }
-    for file in args.files.iter().filter(|f| !pointblend::copc::is_streamed(f)) {
+    let budget = args.view.stream_budget()?;
+    for file in args.files.iter().filter(|f| !pointblend::copc::drawn_by_nodes(f, budget)) {
         let mut rates = Vec::new();
         for _ in 0..args.loads {
             let started = Instant::now();

@@ -56,7 +56,10 @@ impl Picking {
         if let Some(&(x, y)) = pixels.iter().find(|(x, y)| *x >= size.0 || *y >= size.1) {
             bail!("pixel {x},{y} is outside the {}x{} image (--size)", size.0, size.1);
         }
-        let (mut scene, camera) = match view.stream.open(file, view.stream_budget()?, false)? {
+        let (mut scene, camera) = match view
+            .stream
+            .open(file, pointblend::copc::drawn_by_nodes(file, view.stream_budget()?))?
+        {
             Some(stream) => {
                 let bounds = super::stream_args::bounds_scene(&stream);
                 let camera = view.camera(flags, &bounds)?;

@@ -218,12 +218,12 @@ fn open_scene(
     first: Option<Camera>,
 ) -> Result<(Scene, Option<(Camera, StreamedFlight)>)> {
     let mut streamed = None;
-    // A screenshot's view is drawn as the window drew it (under its budget).
-    let (budget, as_window) = match sidecar {
-        Some(s) => (StreamBudget::of_settings(s.settings().map_err(anyhow::Error::msg)?.point_budget, false), true),
-        None => (args.view.stream_budget()?, false),
+    // A screenshot's file is drawn as the window drew it: node by node or whole.
+    let by_nodes = match sidecar {
+        Some(s) => s.model.nodes || pointblend::copc::is_streamed(&args.file),
+        None => pointblend::copc::drawn_by_nodes(&args.file, args.view.stream_budget()?),
     };
-    let mut scene = match args.view.stream.open(&args.file, budget, as_window)? {
+    let mut scene = match args.view.stream.open(&args.file, by_nodes)? {
         Some(stream) => {
             let bounds = super::stream_args::bounds_scene(&stream);
             let camera = match (first, sidecar) {

@@ -36,13 +36,9 @@ impl StreamArgs {
         }
     }
 
-    /// Opens `file` node by node when it is drawn so under `budget` (a
-    /// COPC file or a URL; a LAS/LAZ file under a budget of N points,
-    /// [`copc::drawn_by_nodes`]); `as_window`: as the viewer draws it
-    /// ([`copc::window_draws_by_nodes`], for a screenshot's view).
-    pub fn open(&self, file: &Path, budget: StreamBudget, as_window: bool) -> Result<Option<CopcStream>> {
-        let by_nodes =
-            if as_window { copc::window_draws_by_nodes(file, budget) } else { copc::drawn_by_nodes(file, budget) };
+    /// Opens `file` node by node when `by_nodes` says it is drawn so
+    /// ([`copc::drawn_by_nodes`], or a screenshot's record of the window).
+    pub fn open(&self, file: &Path, by_nodes: bool) -> Result<Option<CopcStream>> {
         if !by_nodes {
             if self.cache_mb.is_some() || self.disk_cache.is_some() {
                 log::warn!(

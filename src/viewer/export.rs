@@ -57,6 +57,7 @@ impl ViewerApp {
             path: crate::copc::shown(&model.path.to_string_lossy()),
             hash: model.hash_hex(),
             splats: model.cloud.len(),
+            nodes: model.streamed.is_some(),
         };
         let style = model.style.as_deref().map(crate::style::record::StyleRecord::from);
         let region = self.ui.inspect.region();

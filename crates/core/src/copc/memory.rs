@@ -28,6 +28,9 @@ use crate::cloud::las_file;
 /// its path and length. Nothing is read through it.
 struct Held {
     name: String,
+    /// The canonical path, length and modification time: a file rewritten
+    /// in place is another file for the caches keyed by it.
+    identity: String,
     len: u64,
     counters: Counters,
 }
@@ -35,6 +38,9 @@ struct Held {
 impl ByteSource for Held {
     fn name(&self) -> &str {
         &self.name
+    }
+    fn identity(&self) -> &str {
+        &self.identity
     }
     fn len(&self) -> u64 {
         self.len
@@ -53,6 +59,12 @@ impl CopcStream {
         let name = path.display().to_string();
         let fail =
             |e: crate::cloud::CloudError| CopcError::new(&name, e.to_string().trim_start_matches(&format!("{name}: ")));
+        if header_points(path).is_some_and(|n| n > u64::from(u32::MAX)) {
+            return Err(CopcError::new(
+                &name,
+                "more than 4,294,967,295 points cannot be held whole; convert it to COPC (`pointblend convert`, PDAL or Untwine) to stream it",
+            ));
+        }
         let started = Instant::now();
         let decoded = las_file::read_columns(path).map_err(fail)?;
         let decode_s = started.elapsed().as_secs_f64();
@@ -85,9 +97,19 @@ impl CopcStream {
         };
         let tree = CopcTree::whole(&header, cube.centre, nodes.iter().map(|n| (n.key, n.points.len() as u32)));
         let memory = MemoryNodes::new(columns, nodes.into_iter().map(|n| n.points).collect());
-        let source = Box::new(Held { name, len: header.file_len, counters: Counters::default() });
+        let identity = identity_of(path, header.file_len);
+        let source = Box::new(Held { name, identity, len: header.file_len, counters: Counters::default() });
         Ok(Self::assemble(source, (header, tree), None, Some(Arc::new(memory)), options))
     }
+}
+
+/// What identifies the file at `path` of `len` bytes for caches: its
+/// canonical path, length and modification time.
+fn identity_of(path: &Path, len: u64) -> String {
+    let canonical = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+    let modified = std::fs::metadata(path).and_then(|m| m.modified()).ok();
+    let nanos = modified.and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok()).map_or(0, |d| d.as_nanos());
+    format!("held:{}:{len}:{nanos}", canonical.display())
 }
 
 /// The file's header with the bounds of its points (a header's own may be
@@ -108,18 +130,25 @@ fn with_bounds(header: &las::Header, cube: &Cube) -> las::Header {
 
 /// Whether `file` is drawn node by node under `budget`: a COPC file or a
 /// URL always; a LAS or LAZ file when the budget is a number of points
-/// (under `all`, or none, it is drawn whole).
+/// below the points its header counts (under `all`, none, or a budget
+/// that holds every point, it is drawn whole, as before).
 pub fn drawn_by_nodes(file: &Path, budget: StreamBudget) -> bool {
-    is_streamed(file) || (las_file::is_las(file) && matches!(budget, StreamBudget::Points(_)))
+    match budget {
+        _ if is_streamed(file) => true,
+        StreamBudget::Points(n) => header_points(file).is_some_and(|points| (n as u64) < points),
+        _ => false,
+    }
 }
 
-/// Whether the viewer draws `file` node by node under `budget` (and
-/// `render` with a screenshot's sidecar, to draw what it showed): as
-/// [`drawn_by_nodes`], and also a LAS/LAZ file whose header counts more
-/// points than the default budget, unless the budget is `all`.
+/// Whether the viewer draws `file` node by node under `budget`: as
+/// [`drawn_by_nodes`], the default budget counting as its 1,000,000
+/// points (a LAS/LAZ file of more is held as a tree of nodes).
 pub fn window_draws_by_nodes(file: &Path, budget: StreamBudget) -> bool {
-    let large = || header_points(file).is_some_and(|n| n > super::budget::DEFAULT_BUDGET as u64);
-    drawn_by_nodes(file, budget) || (budget != StreamBudget::All && large())
+    let budget = match budget {
+        StreamBudget::Default => StreamBudget::Points(super::budget::DEFAULT_BUDGET),
+        other => other,
+    };
+    drawn_by_nodes(file, budget)
 }
 
 /// Opens a file [`drawn_by_nodes`]: streamed from its bytes (COPC, a URL),

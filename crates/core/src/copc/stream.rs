@@ -365,8 +365,9 @@ impl CopcStream {
         }
         let format = self.header.las.point_format();
         let mut warnings = self.header.warnings.clone();
+        let (kind, drawn_as) = if self.memory.is_some() { ("held in memory", "drawn") } else { ("COPC", "streamed") };
         let encoding = format!(
-            "COPC, LAS {}, point format {}, {} of {} nodes streamed",
+            "{kind}, LAS {}, point format {}, {} of {} nodes {drawn_as}",
             self.header.las.version(),
             format.to_u8().unwrap_or(255),
             drawn.len(),

@@ -34,6 +34,10 @@ pub struct SidecarModel {
     /// FNV-1a 64 of the file's bytes, as 16 hex digits.
     pub hash: String,
     pub splats: usize,
+    /// The window drew the file node by node (a COPC file or a URL, or a
+    /// LAS/LAZ file held in memory as a tree of nodes); absent: whole.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub nodes: bool,
 }
 
 /// The camera, as the orbit parameters [`Camera`] uses.
@@ -242,7 +246,13 @@ mod tests {
             environment: super::super::environment_effects::EnvironmentSettings { eta: 1.7, ..Default::default() },
             ..Default::default()
         };
-        let model = SidecarModel { name: "m.ply".into(), path: "/x/m.ply".into(), hash: "00ff".into(), splats: 7 };
+        let model = SidecarModel {
+            name: "m.ply".into(),
+            path: "/x/m.ply".into(),
+            hash: "00ff".into(),
+            splats: 7,
+            nodes: false,
+        };
         let sidecar = Sidecar::new(model, &camera, &settings, (300, 200));
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("view.json");
