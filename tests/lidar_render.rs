@@ -129,7 +129,13 @@ fn a_screenshots_sidecar_brings_its_colours_by_attribute_back() {
     let (scene, _) = pointblend::scene::open(&file, &Default::default()).unwrap();
     let camera = Camera::default_for(&scene.flatten().cloud, 1.0);
     let settings = RenderSettings { mode: "tiled".parse::<RenderMode>().unwrap(), ..Default::default() };
-    let model = SidecarModel { name: "layers.laz".into(), path: String::new(), hash: String::new(), splats: count };
+    let model = SidecarModel {
+        name: "layers.laz".into(),
+        path: String::new(),
+        hash: String::new(),
+        splats: count,
+        nodes: false,
+    };
     let style = pointblend::style::Style {
         color_by: Some(pointblend::style::ColorBy::Classification),
         class_opacity: vec![(5, 0.3)],
@@ -160,7 +166,8 @@ fn a_bad_style_value_is_refused_in_the_parsers_words_from_flags_scene_files_and_
     let file = lidar::write(&dir.path().join("t.laz"), &tilted_grid(20, 0.5, 0.0, [0.0; 3]), [0.0; 3], None);
     let (scene, _) = pointblend::scene::open(&file, &Default::default()).unwrap();
     let camera = Camera::default_for(&scene.flatten().cloud, 1.0);
-    let model = SidecarModel { name: "t.laz".into(), path: String::new(), hash: String::new(), splats: 400 };
+    let model =
+        SidecarModel { name: "t.laz".into(), path: String::new(), hash: String::new(), splats: 400, nodes: false };
     let sidecar = Sidecar::new(model, &camera, &RenderSettings::default(), (128, 128));
     let cases = [
         (
