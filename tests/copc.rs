@@ -84,31 +84,6 @@ fn every_node_prepared_on_its_own_holds_the_points_of_the_file_loaded_whole() {
     }
 }
 
-/// The points of a streamed frame that no finer node covers (no child node
-/// holds their position): the points whose neighbourhood is the same
-/// whether the file is streamed or loaded whole; each with its index in
-/// `whole` (found by position).
-fn uncovered_points(s: &CopcStream, streamed: &cloud::PointCloud, whole: &cloud::PointCloud) -> (Vec<u32>, Vec<u32>) {
-    let bits = |p: glam::Vec3| p.to_array().map(f32::to_bits);
-    let in_whole: std::collections::HashMap<[u32; 3], u32> =
-        whole.positions.iter().enumerate().map(|(i, p)| (bits(*p), i as u32)).collect();
-    let levels = streamed.attributes.get("node_level").expect("a streamed frame's levels");
-    let (root_min, root_side) = s.tree.cube(&las::copc::VoxelKey { l: 0, x: 0, y: 0, z: 0 });
-    let mut pairs = (Vec::new(), Vec::new());
-    for i in 0..streamed.len() {
-        let l = levels.get(i) as i32 + 1;
-        let p = streamed.frame_position(i) + glam::DVec3::from_array(streamed.origin);
-        let c = ((p - root_min) / (root_side / f64::from(1u32 << l))).floor();
-        let child = las::copc::VoxelKey { l, x: c.x as i32, y: c.y as i32, z: c.z as i32 };
-        if s.tree.node(&child).is_some_and(|n| s.tree.nodes[n as usize].points > 0) {
-            continue;
-        }
-        pairs.0.push(i as u32);
-        pairs.1.push(in_whole[&bits(streamed.positions[i])]);
-    }
-    pairs
-}
-
 /// Seams: the points no finer node covers, each node's estimated on its
 /// own with a halo of the loaded nodes around and above it, draw the image
 /// of the same points of the file loaded whole (estimated at once) within
@@ -127,7 +102,7 @@ fn nodes_estimated_on_their_own_leave_no_seam_at_their_borders() {
         let mut s = stream(&path.display().to_string());
         let camera = Camera::default_for(&whole, 1.0);
         let frame = s.frame(&camera, (SIZE, SIZE), everything(), &LoadOptions::default()).unwrap();
-        let (streamed_points, whole_points) = uncovered_points(&s, &frame.cloud, &whole);
+        let (streamed_points, whole_points) = common::nodes::uncovered_points(&s, &frame.cloud, &whole);
         assert!(streamed_points.len() * 2 > whole.len(), "{}: most points are uncovered", path.display());
         let (min, side) = s.tree.cube(&las::copc::VoxelKey { l: 0, x: 0, y: 0, z: 0 });
         let border = (min + glam::DVec3::splat(side * 0.5) - s.tree.origin).as_vec3();

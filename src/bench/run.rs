@@ -95,7 +95,7 @@ fn bench_model(
     if crate::copc::drawn_by_nodes(model, config.stream_budget) {
         if config.animate.is_some() || config.orders {
             return Err(BenchError::Invalid(format!(
-                "{}: --animate and --orders need a file loaded whole, not drawn node by node (a COPC file, a URL, or a LAS/LAZ file under --point-budget N below its points)",
+                "{}: --animate and --orders need a file loaded whole, not drawn node by node (a COPC file, a URL, or a point file under --point-budget N below its points)",
                 model.display()
             )));
         }

@@ -15,7 +15,7 @@ use pointblend::scene::Scene;
 
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct StreamArgs {
-    /// Files drawn node by node (.copc.laz, an http(s) URL, or LAS/LAZ
+    /// Files drawn node by node (.copc.laz, an http(s) URL, or a point file
     /// under --point-budget N): decoded nodes kept in memory, in MB
     /// [default: a quarter of the free memory].
     #[arg(long, value_name = "MB")]
@@ -42,7 +42,7 @@ impl StreamArgs {
         if !by_nodes {
             if self.cache_mb.is_some() || self.disk_cache.is_some() {
                 log::warn!(
-                    "--cache-mb and --disk-cache apply to files drawn node by node (.copc.laz, a URL, or LAS/LAZ under --point-budget N) only"
+                    "--cache-mb and --disk-cache apply to files drawn node by node (.copc.laz, a URL, or a point file under --point-budget N below its points) only"
                 );
             }
             return Ok(None);

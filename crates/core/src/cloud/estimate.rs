@@ -47,6 +47,22 @@ impl Default for EstimateOptions {
     }
 }
 
+/// How the signs of estimated normals are chosen.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Facing {
+    /// Each faces up (+z), on its own: airborne scans, seen from above.
+    Up,
+    /// Towards the scanner at this point when the cloud is a single view of
+    /// it, else each connected piece outwards, away from the cloud's centre
+    /// (a file loaded whole: the file's origin after re-centring).
+    Auto(Vec3),
+    /// Each towards this point, on its own: a single-view scan's scanner.
+    Towards(Vec3),
+    /// Each connected piece away from this point: an object scanned all
+    /// round, seen whole from outside.
+    AwayFrom(Vec3),
+}
+
 /// What [`complete`] did beyond filling the gaps.
 #[derive(Debug, Default)]
 pub struct Estimated {
@@ -69,7 +85,8 @@ pub fn complete(
     options: &EstimateOptions,
     progress: bool,
 ) -> Estimated {
-    complete_first(cloud, cloud.len(), (needs_normal, needs_radius), file_origin, options, progress)
+    let facing = if options.orient_up { Facing::Up } else { Facing::Auto(file_origin) };
+    complete_first(cloud, cloud.len(), (needs_normal, needs_radius), facing, options, progress)
 }
 
 /// The normals and radii of a node's `own` points, estimated with the
@@ -77,7 +94,9 @@ pub fn complete(
 /// point at the node's border sees the surface on both sides of it (no
 /// seam). Positions are relative to any point near the node (the node's
 /// centre keeps f32 exact); the halo's own normals and radii are not made.
-pub fn estimate_node(own: &[Vec3], halo: &[Vec3], options: &EstimateOptions) -> (Vec<Vec3>, Vec<f32>) {
+/// `facing` is decided once for the whole file (in the same frame as the
+/// positions), so that the nodes' signs agree across their borders.
+pub fn estimate_node(own: &[Vec3], halo: &[Vec3], options: &EstimateOptions, facing: Facing) -> (Vec<Vec3>, Vec<f32>) {
     let (n, all) = (own.len(), own.len() + halo.len());
     let mut cloud = PointCloud {
         positions: [own, halo].concat(),
@@ -86,7 +105,7 @@ pub fn estimate_node(own: &[Vec3], halo: &[Vec3], options: &EstimateOptions) -> 
         ..Default::default()
     };
     let needs: Vec<bool> = (0..all).map(|i| i < n).collect();
-    complete_first(&mut cloud, n, (&needs, &needs), Vec3::ZERO, options, false);
+    complete_first(&mut cloud, n, (&needs, &needs), facing, options, false);
     cloud.normals.truncate(n);
     cloud.radii.truncate(n);
     (cloud.normals, cloud.radii)
@@ -98,7 +117,7 @@ fn complete_first(
     cloud: &mut PointCloud,
     queries: usize,
     (needs_normal, needs_radius): (&[bool], &[bool]),
-    file_origin: Vec3,
+    facing: Facing,
     options: &EstimateOptions,
     progress: bool,
 ) -> Estimated {
@@ -128,10 +147,9 @@ fn complete_first(
                     estimate_normals(cloud, &neighbours, needs_normal, options.normal_neighbours);
                     log::debug!("normals: {:.3} s", started.elapsed().as_secs_f64());
                     let started = std::time::Instant::now();
-                    if options.orient_up {
-                        face_up(cloud, needs_normal);
-                    } else {
-                        orient_normals(cloud, &neighbours, needs_normal, file_origin);
+                    match facing {
+                        Facing::Up => face_up(cloud, needs_normal),
+                        facing => orient_normals(cloud, &neighbours, needs_normal, facing),
                     }
                     log::debug!("orientation: {:.3} s", started.elapsed().as_secs_f64());
                 }
@@ -143,7 +161,7 @@ fn complete_first(
             out.clamped_radii = clamped;
         }
     }
-    if !options.orient_up {
+    if let Facing::Auto(file_origin) = facing {
         out.scanner_position = scanner_position(cloud, file_origin);
     }
     out
@@ -291,14 +309,17 @@ pub fn jacobi_smallest_eigenvector(m: Mat3) -> Option<Vec3> {
 }
 
 /// Makes estimated normal signs consistent (MST propagation), then picks each
-/// connected piece's sign. Normals read from the file are never flipped; they
-/// seed the propagation instead.
-fn orient_normals(cloud: &mut PointCloud, nb: &Neighbours, estimated: &[bool], file_origin: Vec3) {
+/// connected piece's sign as `facing` says. Normals read from the file are
+/// never flipped; they seed the propagation instead.
+fn orient_normals(cloud: &mut PointCloud, nb: &Neighbours, estimated: &[bool], facing: Facing) {
     // Only the points with rows (a node's halo has none) take part.
     let n = nb.rows();
     let normals = &mut cloud.normals;
     let positions = &cloud.positions;
-    let centre = positions[..n].iter().sum::<Vec3>() / n.max(1) as f32;
+    let centre = match facing {
+        Facing::AwayFrom(centre) => centre,
+        _ => positions[..n].iter().sum::<Vec3>() / n.max(1) as f32,
+    };
     let tree = spanning_forest(normals, nb, nb.k.min(8));
     let mut component = vec![u32::MAX; n];
     let mut pieces: Vec<Vec<u32>> = Vec::new();
@@ -331,14 +352,22 @@ fn orient_normals(cloud: &mut PointCloud, nb: &Neighbours, estimated: &[bool], f
     }
 
     // Global sign: towards the scanner for a single view, else each piece outwards.
-    let outside = !bounds_contain(&positions[..n], file_origin, 0.1);
-    let facing: Vec<f32> = pieces
-        .iter()
-        .map(|m| m.iter().map(|&i| (normals[i as usize].dot(file_origin - positions[i as usize])).signum()).sum())
-        .collect();
-    let total_facing: f32 = facing.iter().map(|f| f.abs()).sum();
-    let single_view = outside && total_facing >= SCANNER_FACING_SHARE * n as f32;
-    if single_view {
+    let scanner = match facing {
+        Facing::Auto(file_origin) => {
+            let outside = !bounds_contain(&positions[..n], file_origin, 0.1);
+            let facing: Vec<f32> = pieces
+                .iter()
+                .map(|m| {
+                    m.iter().map(|&i| (normals[i as usize].dot(file_origin - positions[i as usize])).signum()).sum()
+                })
+                .collect();
+            let total_facing: f32 = facing.iter().map(|f| f.abs()).sum();
+            (outside && total_facing >= SCANNER_FACING_SHARE * n as f32).then_some(file_origin)
+        }
+        Facing::Towards(scanner) => Some(scanner),
+        Facing::Up | Facing::AwayFrom(_) => None,
+    };
+    if let Some(file_origin) = scanner {
         // Every point of a single view was seen from the scanner, so each
         // normal faces it; per point is more robust than per piece on noisy
         // (e.g. stereo) surfaces, where propagation can leave flipped patches.

@@ -34,6 +34,7 @@ use super::file_info::FileInfo;
 use super::ply::{ElementSpec, PointColumns, PropertyKind, PropertySpec, Scalar};
 
 pub(crate) mod extra_bytes;
+mod held_columns;
 pub(crate) mod laz_check;
 mod precheck;
 
@@ -265,8 +266,17 @@ impl Columns {
     /// Bytes held, for the cache's accounting.
     pub(crate) fn bytes(&self) -> usize {
         let n = self.len();
-        let per_point = 3 * 8 + 2 + 1 + 1 + 1 + 1 + 2 + 1 + 4;
-        n * per_point
+        // The LAS columns a PLY or E57 file held whole lacks are empty.
+        let standard = 2 * self.intensity.len()
+            + self.classification.len()
+            + self.flags.len()
+            + self.return_number.len()
+            + self.number_of_returns.len()
+            + 2 * self.point_source_id.len()
+            + self.user_data.len()
+            + 4 * self.scan_angle.len();
+        n * 3 * 8
+            + standard
             + self.rgb.as_ref().map_or(0, |_| 6 * n)
             + self.gps_time.as_ref().map_or(0, |_| 8 * n)
             + self.nir.as_ref().map_or(0, |_| 2 * n)
@@ -309,6 +319,10 @@ impl Columns {
     /// The points at `indices`, in that order (a node of a file opened whole).
     pub(crate) fn gather(&self, indices: &[u32]) -> Columns {
         fn pick<T: Copy>(column: &[T], indices: &[u32]) -> Vec<T> {
+            // Empty: a LAS column that a PLY or E57 file held whole lacks.
+            if column.is_empty() {
+                return Vec::new();
+            }
             indices.iter().map(|&i| column[i as usize]).collect()
         }
         let some = |column: &Option<Vec<_>>| column.as_ref().map(|c| pick(c, indices));
@@ -382,7 +396,12 @@ impl Columns {
             keep(names::NIR, Values::U16(nir));
         }
         for (values, field) in self.extra.into_iter().zip(fields) {
-            if super::write_las::SPLAT_FIELDS.contains(&field.name.as_str()) {
+            if let Some(kind) = field.vertex {
+                // A vertex column of a PLY or E57 file held whole, in its own type.
+                vertex_types.insert(field.name.clone(), kind);
+                properties.push(field.name.as_str());
+                vertex_columns.insert(field.name.clone(), values);
+            } else if super::write_las::SPLAT_FIELDS.contains(&field.name.as_str()) {
                 // A splat's own normal, radius or opacity (as `convert` writes them).
                 vertex_types.insert(field.name.clone(), Scalar::F32);
                 properties.push(field.name.as_str());

@@ -14,7 +14,7 @@
 //! together: select by projected spacing (additive refinement, the same
 //! selection as the in-memory hierarchy's, [`crate::lod::select_in`]),
 //! load, and build the selection into a [`crate::cloud::PointCloud`].
-//! A LAS/LAZ file opened under a point budget is held whole in [`memory`],
+//! A point file opened under a point budget is held whole in [`memory`],
 //! sorted into the octree a COPC file of it would hold ([`octree`]), and
 //! streamed from there node by node the same way. [`write`] makes COPC files. [`redact`] masks a URL's credentials in
 //! whatever is shown: every [`CopcError`] goes through it.
@@ -23,6 +23,7 @@ pub mod budget;
 pub(crate) mod cache;
 pub(crate) mod decode;
 pub(crate) mod disk;
+mod facing;
 pub mod header;
 pub(crate) mod held;
 pub mod hierarchy;

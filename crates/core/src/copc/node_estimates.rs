@@ -31,7 +31,7 @@ use las::copc::VoxelKey;
 
 use super::hierarchy::CopcTree;
 use crate::cloud::Estimates;
-use crate::cloud::estimate::{EstimateOptions, estimate_node, median_radius};
+use crate::cloud::estimate::{EstimateOptions, Facing, estimate_node, median_radius};
 use crate::cloud::las_file::Columns;
 
 /// How far past its cube a node's halo reaches, in the node's point
@@ -83,6 +83,32 @@ pub(super) fn grown_cube(tree: &CopcTree, node: u32) -> (DVec3, DVec3) {
     (min - DVec3::splat(margin), min + DVec3::splat(side + margin))
 }
 
+/// How the signs of a file's estimated normals are chosen, in the file's
+/// coordinates: decided once per file, so that every node's agree across
+/// its borders ([`Facing`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum FileFacing {
+    /// Up (+z): airborne lidar (every COPC, LAS and LAZ file) and
+    /// geo-referenced terrain.
+    #[default]
+    Up,
+    /// Towards the scanner of a single-view scan.
+    Towards(DVec3),
+    /// Away from the centre of an object scanned all round.
+    AwayFrom(DVec3),
+}
+
+impl FileFacing {
+    /// The rule for points placed relative to `centre`.
+    fn relative_to(self, centre: DVec3) -> Facing {
+        match self {
+            Self::Up => Facing::Up,
+            Self::Towards(p) => Facing::Towards((p - centre).as_vec3()),
+            Self::AwayFrom(p) => Facing::AwayFrom((p - centre).as_vec3()),
+        }
+    }
+}
+
 /// What a node's points were given once, when it arrived: their normals and
 /// radii, and the median radius that [`drawn_radii`] scales by.
 pub struct NodeEstimates {
@@ -99,13 +125,14 @@ impl NodeEstimates {
 }
 
 /// The normals and radii of `node`'s points (`own`, as decoded), estimated
-/// with the points of `halo` that lie within its grown cube.
+/// with the points of `halo` that lie within its grown cube, their signs
+/// chosen by the file's `facing`.
 pub(super) fn estimate(
     tree: &CopcTree,
     node: u32,
-    own: &Columns,
-    halo: &[&Columns],
+    (own, halo): (&Columns, &[&Columns]),
     options: &EstimateOptions,
+    facing: FileFacing,
 ) -> NodeEstimates {
     let (lo, hi) = grown_cube(tree, node);
     let centre = (lo + hi) * 0.5;
@@ -122,8 +149,7 @@ pub(super) fn estimate(
             }
         }
     }
-    let options = EstimateOptions { orient_up: true, ..options.clone() };
-    let (normals, radii) = estimate_node(&own_points, &around, &options);
+    let (normals, radii) = estimate_node(&own_points, &around, options, facing.relative_to(centre));
     let median_radius = median_radius(&radii).unwrap_or(0.0);
     let mut out = Estimates { normals: vec![Vec3::Z; own.len()], radii: vec![0.0; own.len()] };
     for (k, &i) in finite.iter().enumerate() {

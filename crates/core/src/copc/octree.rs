@@ -1,5 +1,5 @@
 //! The octree a COPC file is made of, built over points held in memory:
-//! for `convert` ([`super::write`]) and for a LAS/LAZ file opened whole as a
+//! for `convert` ([`super::write`]) and for a point file opened whole as a
 //! tree of nodes ([`super::memory`]).
 //!
 //! It follows COPC 1.0 and Entwine: a cube around the bounds, and at each

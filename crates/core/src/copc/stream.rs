@@ -41,9 +41,9 @@ use super::node_estimates::{self, NodeEstimates};
 use super::node_groups;
 use crate::cloud::attributes::names;
 use crate::cloud::estimate::EstimateOptions;
-use crate::cloud::las_file::{self, Columns};
+use crate::cloud::las_file::Columns;
 use crate::cloud::load::from_columns;
-use crate::cloud::{Estimates, FileInfo, LoadOptions, LoadReport, PointCloud, Values};
+use crate::cloud::{Estimates, LoadOptions, LoadReport, PointCloud, Values};
 use crate::frame::Camera;
 use crate::frame::subset::{NodeGrouping, NodeSpans};
 use crate::grouping::hash::HashOptions;
@@ -107,7 +107,7 @@ pub struct CopcStream {
     /// `--disk-cache DIR`, in the folder of this source's content.
     disk: Option<DiskCache>,
     /// The nodes of a file held whole ([`super::memory`]), gathered rather than read.
-    memory: Option<Arc<MemoryNodes>>,
+    pub(super) memory: Option<Arc<MemoryNodes>>,
     options: StreamOptions,
     stats: StreamStats,
     /// The levels' lattices for the groups ([`node_groups::lattice_depth`]), fixed at the first labelling.
@@ -363,17 +363,8 @@ impl CopcStream {
         if columns.len() == 0 {
             return Err(CopcError::new(self.name(), self.why_nothing_is_drawn(selection)));
         }
-        let format = self.header.las.point_format();
-        let mut warnings = self.header.warnings.clone();
-        let (kind, drawn_as) = if self.memory.is_some() { ("held in memory", "drawn") } else { ("COPC", "streamed") };
-        let encoding = format!(
-            "{kind}, LAS {}, point format {}, {} of {} nodes {drawn_as}",
-            self.header.las.version(),
-            format.to_u8().unwrap_or(255),
-            drawn.len(),
-            self.tree.nodes.len()
-        );
-        let (data, mut attributes) = columns.finish(&self.header.fields, encoding, &mut warnings);
+        let (encoding, mut info) = self.described(drawn.len());
+        let (data, mut attributes) = columns.finish(&self.header.fields, encoding, &mut info.warnings);
         // Each point's octree level: `--color-by node_level` shows the selection.
         let mut levels = Vec::with_capacity(data.vertex_count);
         for &n in &drawn {
@@ -383,17 +374,16 @@ impl CopcStream {
         if levels.len() == data.vertex_count {
             attributes.push(names::NODE_LEVEL, Values::U8(levels));
         }
-        let info = FileInfo {
-            details: las_file::details(&self.header.las),
-            crs: las_file::crs(&self.header.las),
-            warnings,
-            from_above: true,
-            z_up: true,
-        };
-        let estimated = self.needs_estimates().then(|| Arc::new(estimates));
+        let estimated = Arc::new(estimates);
+        let grow = self.gives_radii().then(|| estimated.clone());
+        let estimated = Some(estimated);
         let options = LoadOptions { origin: Some(self.tree.origin.to_array()), estimated, ..options.clone() };
         let (cloud, report, splat_of) = from_columns(Path::new(self.name()), data, (attributes, info), &options)
             .map_err(|e| CopcError::new(self.name(), e.to_string()))?;
+        let mut cloud = cloud;
+        if let Some(estimated) = grow {
+            grow_given_radii(&mut cloud, &splat_of, &estimated.radii);
+        }
         let hash = self.key_of(&drawn);
         let grouping = labels.filter(|(_, l)| l.len() == splat_of.len()).map(|(options, per_record)| NodeGrouping {
             options,
@@ -406,12 +396,8 @@ impl CopcStream {
 
     /// The groups of the `drawn` nodes' points in hash grouping `options`,
     /// one per record in drawn order: each node labelled once (in
-    /// parallel), the first time it is drawn so grouped. `None` where a
-    /// node has no normals made here (a file that holds its own).
+    /// parallel), the first time it is drawn so grouped.
     fn labels_of(&mut self, drawn: &[u32], options: HashOptions) -> Option<(HashOptions, Vec<u8>)> {
-        if !self.needs_estimates() {
-            return None;
-        }
         let root = self.tree.node(&las::copc::VoxelKey { l: 0, x: 0, y: 0, z: 0 })?;
         if self.lattice_depth.is_none() {
             let median = self.cache.estimates(root)?.median_radius;
@@ -429,10 +415,12 @@ impl CopcStream {
         Some((options, out))
     }
 
-    /// Whether the file lacks normals or radii (then each node gets them once, when it arrives).
-    fn needs_estimates(&self) -> bool {
-        let has = |name: &str| self.header.fields.iter().any(|f| f.name == name);
-        !["nx", "ny", "nz", "radius"].into_iter().all(has)
+    /// Whether the file gives each point its radius (a splat's, as
+    /// `convert` writes it): a point of a coarse node then stands for the
+    /// finer points not drawn around it, and is drawn at least as large as
+    /// its node's density asks ([`grow_given_radii`]).
+    fn gives_radii(&self) -> bool {
+        self.header.fields.iter().any(|f| f.name == "radius")
     }
 
     /// Estimates the normals and radii of the loaded nodes of `selection`
@@ -447,22 +435,20 @@ impl CopcStream {
     /// yet, each once and in parallel, with its halo from the nodes loaded
     /// now ([`node_estimates`]).
     fn estimate_new(&mut self, drawn: &[u32], options: &EstimateOptions) {
-        if !self.needs_estimates() {
-            return;
-        }
         let new: Vec<u32> = drawn.iter().copied().filter(|&n| self.cache.estimates(n).is_none()).collect();
         if new.is_empty() {
             return;
         }
         let started = Instant::now();
         let (cache, tree) = (&self.cache, &self.tree);
+        let facing = self.memory.as_ref().map_or_else(Default::default, |m| m.facing);
         let made: Vec<(u32, NodeEstimates)> = new
             .par_iter()
             .filter_map(|&n| {
                 let own = cache.peek(n)?;
                 let around = node_estimates::halo_nodes(tree, n, &|m| cache.contains(m));
                 let halo: Vec<&Columns> = around.iter().filter_map(|&m| cache.peek(m).map(|c| c.as_ref())).collect();
-                Some((n, node_estimates::estimate(tree, n, own, &halo, options)))
+                Some((n, node_estimates::estimate(tree, n, (own, &halo), options, facing)))
             })
             .collect();
         for (n, estimates) in made {
@@ -578,5 +564,17 @@ fn open_source(name: &str, options: &HttpOptions) -> Result<Box<dyn ByteSource>,
         Ok(Box::new(super::http::HttpSource::open(name, options)?))
     } else {
         Ok(Box::new(super::source::FileSource::open(Path::new(name))?))
+    }
+}
+
+/// Each splat's radius given by the file, grown to at least its record's
+/// estimated radius as drawn (`drawn_radii`): the same where the finest
+/// level is drawn, larger where a coarse node stands for finer points that
+/// are not, so a coarse view has no holes. `splat_of[i]`: record i's splat.
+fn grow_given_radii(cloud: &mut PointCloud, splat_of: &[u32], estimated: &[f32]) {
+    for (&splat, &radius) in splat_of.iter().zip(estimated) {
+        if let Some(r) = cloud.radii.get_mut(splat as usize) {
+            *r = r.max(radius);
+        }
     }
 }

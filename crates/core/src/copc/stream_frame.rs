@@ -1,12 +1,13 @@
 //! A streamed file's frame: its name as users see it, its origin (the
 //! centre of its header's bounds, shared by every selection) and the
-//! corners a default view frames.
+//! corners a default view frames; what the file says of itself.
 
 use glam::{DVec3, Vec3};
 
 use super::CopcStream;
 use super::source::is_url;
-use crate::cloud::PointCloud;
+use crate::cloud::las_file;
+use crate::cloud::{FileInfo, PointCloud};
 
 impl CopcStream {
     /// The last part of the path or URL (a URL's query and fragment left out).
@@ -35,8 +36,39 @@ impl CopcStream {
             opacity: vec![1.0; 8],
             positions: corners,
             origin: o.to_array(),
-            z_up: true,
+            z_up: self.z_up(),
             ..Default::default()
         }
+    }
+
+    /// The frame's encoding line with `drawn` nodes drawn, and what the
+    /// file says of itself: from its LAS header, or what the reader of a
+    /// PLY or E57 file held whole found.
+    pub(super) fn described(&self, drawn: usize) -> (String, FileInfo) {
+        let nodes = self.tree.nodes.len();
+        if let Some(d) = self.memory.as_ref().and_then(|m| m.described.as_ref()) {
+            let encoding = format!("held in memory, {}, {drawn} of {nodes} nodes drawn", d.encoding);
+            return (encoding, d.info.clone());
+        }
+        let format = self.header.las.point_format();
+        let (kind, drawn_as) = if self.memory.is_some() { ("held in memory", "drawn") } else { ("COPC", "streamed") };
+        let encoding = format!(
+            "{kind}, LAS {}, point format {}, {drawn} of {nodes} nodes {drawn_as}",
+            self.header.las.version(),
+            format.to_u8().unwrap_or(255),
+        );
+        let info = FileInfo {
+            details: las_file::details(&self.header.las),
+            crs: las_file::crs(&self.header.las),
+            warnings: self.header.warnings.clone(),
+            from_above: true,
+            z_up: true,
+        };
+        (encoding, info)
+    }
+
+    /// Whether the file's z axis points up (every LAS and LAZ file).
+    pub fn z_up(&self) -> bool {
+        self.memory.as_ref().and_then(|m| m.described.as_ref()).is_none_or(|d| d.info.z_up || d.info.from_above)
     }
 }

@@ -24,6 +24,10 @@ pub struct Field {
     kind: u8,
     scale: f64,
     add: f64,
+    /// A vertex column of another format's file held as columns
+    /// ([`super::Columns::of_read`]), of this type: kept a vertex column
+    /// when the columns are finished, not an attribute.
+    pub(crate) vertex: Option<crate::cloud::ply::Scalar>,
 }
 
 /// The fields the descriptors name, and what was skipped.
@@ -95,7 +99,7 @@ pub fn descriptors(header: &las::Header, extra_bytes: u16) -> Result<Descriptors
                 out.warnings.push(format!("extra-bytes field '{name}' has an offset of {add}; 0 is used"));
                 add = 0.0;
             }
-            out.fields.push(Field { name, offset, kind, scale, add });
+            out.fields.push(Field { name, offset, kind, scale, add, vertex: None });
         }
         offset += size;
     }
@@ -118,6 +122,13 @@ fn unique(name: String, out: &mut Descriptors) -> String {
 }
 
 impl Field {
+    /// A column of another format's file, named `name`, of LAS extra-bytes
+    /// type `kind` (1 u8, 3 u16, 9 f32, 10 f64): nothing is read from
+    /// records through it; it names the column and the type it is finished in.
+    pub(crate) fn column(name: String, kind: u8, vertex: Option<crate::cloud::ply::Scalar>) -> Self {
+        Field { name, offset: 0, kind, scale: 1.0, add: 0.0, vertex }
+    }
+
     /// The field's value in `record`, scale and offset applied.
     pub fn value(&self, record: &[u8]) -> f64 {
         let b = &record[self.offset..];
