@@ -187,8 +187,9 @@ fn given_radii_grow_where_a_coarse_node_is_drawn_alone() {
 }
 
 /// Under a point budget below its count, a point file is drawn as nodes
-/// (`render` says so); a mesh, whose faces the nodes would drop, is drawn
-/// whole, and so is a file the budget holds.
+/// (`render` says so); a mesh, whose faces the nodes would drop, and 3D
+/// Gaussians, whose scales size their splats, are drawn whole, and so is a
+/// file the budget holds.
 #[test]
 fn render_under_a_budget_draws_point_files_as_nodes_and_meshes_whole() {
     let dir = tempfile::tempdir().unwrap();
@@ -197,6 +198,9 @@ fn render_under_a_budget_draws_point_files_as_nodes_and_meshes_whole() {
     assert!(drawn_by_nodes(&sphere, budget), "a PLY of points above the budget");
     assert!(!drawn_by_nodes(&sphere, StreamBudget::Points(120_000)), "a PLY the budget holds");
     assert!(!drawn_by_nodes(&common::bundled_mesh(), StreamBudget::Points(10)), "a mesh");
+    if let Some(gaussians) = common::shared_data("more/gaussians_3dgs_sh3_9080.ply") {
+        assert!(!drawn_by_nodes(&gaussians, StreamBudget::Points(10)), "3D Gaussians, sized by their scales");
+    }
     let out = dir.path().join("sphere.png");
     let args = [sphere.to_str().unwrap(), "--point-budget", "50000", "--size", "128x128", "--mode", "two-pass"];
     let (ok, stderr) = common::render_cli(&args, &out);

@@ -297,6 +297,13 @@ fn read_positions(
     }
     let keep: Vec<bool> = positions.iter().zip(&malformed).map(|(p, m)| p.is_finite() && !m).collect();
     let non_finite = positions.iter().zip(&malformed).filter(|(p, m)| !p.is_finite() && !**m).count();
+    skipped_records(data, non_finite, warnings);
+    Ok((positions, keep))
+}
+
+/// Warns of the records skipped: `non_finite` vertices whose coordinates
+/// are NaN or infinite, and what the parser of `data` could not read.
+pub(crate) fn skipped_records(data: &PointColumns, non_finite: usize, warnings: &mut Vec<String>) {
     if non_finite > 0 {
         warnings.push(format!("{non_finite} vertices with NaN or infinite coordinates were skipped"));
     }
@@ -315,7 +322,6 @@ fn read_positions(
             data.faces_out_of_range
         ));
     }
-    Ok((positions, keep))
 }
 
 /// Mesh faces: area-weighted vertex normals (per file vertex), and the

@@ -27,6 +27,7 @@ use super::source::{ByteSource, Counters, is_streamed};
 use super::stream::{CopcStream, StreamOptions};
 use super::{CopcError, facing, write};
 use crate::cloud::las_file::{self, Columns, extra_bytes::Field};
+use crate::cloud::ply::{self, PointColumns};
 
 /// What stands for a file held whole where a stream names its source:
 /// its path and length. Nothing is read through it.
@@ -61,13 +62,14 @@ impl CopcStream {
     /// Opens the point file at `path` (LAS, LAZ, PLY or E57) whole, as a tree of nodes.
     pub fn open_whole(path: &Path, options: StreamOptions) -> Result<Self, CopcError> {
         let name = path.display().to_string();
-        if header_points(path).is_some_and(|n| n > u64::from(u32::MAX)) {
+        let points = header_points(path);
+        if points.is_some_and(|n| n > u64::from(u32::MAX)) {
             return Err(CopcError::new(
                 &name,
                 "more than 4,294,967,295 points cannot be held whole; convert it to COPC (`pointblend convert`, PDAL or Untwine) to stream it",
             ));
         }
-        if let Some(refusal) = header_points(path).and_then(too_large_to_hold) {
+        if let Some(refusal) = points.and_then(|n| too_large_to_hold(path, n)) {
             return Err(CopcError::new(&name, refusal));
         }
         let started = Instant::now();
@@ -123,10 +125,14 @@ impl CopcStream {
 /// its index in its node, and the octree's passes.
 const HELD_BYTES_PER_POINT: u64 = 80;
 
-/// Why `points` cannot be held whole in the memory that is free (more
-/// than half of it), or `None`.
-fn too_large_to_hold(points: u64) -> Option<String> {
-    let need = points.saturating_mul(HELD_BYTES_PER_POINT);
+/// Why the `points` of `file` cannot be held whole in the memory that is
+/// free (more than half of it), or `None`. A PLY file's reader holds the
+/// file's bytes while it makes a column of f64 per property.
+fn too_large_to_hold(file: &Path, points: u64) -> Option<String> {
+    let ply = ply_header(file).filter(|_| !las_file::is_las(file));
+    let per_point = HELD_BYTES_PER_POINT + ply.as_ref().map_or(0, |h| 8 * vertex_properties(h));
+    let bytes = ply.map_or(0, |_| std::fs::metadata(file).map_or(0, |m| m.len()));
+    let need = points.saturating_mul(per_point).saturating_add(bytes);
     let free = crate::memory::available_bytes().filter(|&free| need > free / 2)?;
     Some(format!(
         "its {points} points take about {} held whole, and {} is free; convert it to COPC (`pointblend convert`, PDAL or Untwine) to stream it",
@@ -168,10 +174,17 @@ fn read_other(path: &Path) -> Result<Read, CopcError> {
         return Err(CopcError::new(&path.display().to_string(), "a mesh is drawn whole, not as a tree of nodes"));
     }
     let encoding = data.encoding.clone();
+    // What the parser skipped (its counts), before the columns take the data.
+    let unread = PointColumns {
+        malformed_vertices: data.malformed_vertices.clone(),
+        malformed_records: data.malformed_records,
+        faces_out_of_range: data.faces_out_of_range,
+        ..Default::default()
+    };
     let (columns, fields, skipped) = Columns::of_read(data, attributes);
-    if skipped > 0 {
-        info.warnings.push(format!("{skipped} points whose position is NaN or infinite were skipped"));
-    }
+    // A vertex line that could not be read holds NaN: counted as unread, not as NaN.
+    let non_finite = skipped.saturating_sub(unread.malformed_vertices.len());
+    crate::cloud::load::skipped_records(&unread, non_finite, &mut info.warnings);
     let header = counting_header(columns.len() as u64).map_err(|e| CopcError::new(&path.display().to_string(), e))?;
     let file_len = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
     let described = Some(Described { encoding, info });
@@ -257,9 +270,10 @@ pub fn open_nodes(file: &Path, options: StreamOptions) -> Result<CopcStream, Cop
 }
 
 /// The points a point file says it holds: a LAS or LAZ file's header, a
-/// PLY file's vertex element (`None` for a mesh: it is drawn whole), an
-/// E57 file's scans. `None` for other files and for files whose header
-/// does not read.
+/// PLY file's vertex element, an E57 file's scans. `None` for other files,
+/// for files whose header does not read, and for PLY files drawn whole
+/// whatever the budget: a mesh (its faces), and 3D Gaussians (their
+/// scales, not a radius, size a coarse node's splats).
 pub fn header_points(file: &Path) -> Option<u64> {
     use crate::formats::{Reader, format_of};
     if is_streamed(file) {
@@ -267,7 +281,7 @@ pub fn header_points(file: &Path) -> Option<u64> {
     }
     match format_of(file)?.reader {
         Reader::Las => las_file::open(file).ok().map(|(reader, _)| reader.header().number_of_points()),
-        Reader::Ply => ply_vertices(file),
+        Reader::Ply => ply_header(file).as_ref().and_then(point_vertices),
         Reader::E57 => {
             let reader = e57::E57Reader::from_file(file).ok()?;
             Some(reader.pointclouds().iter().map(|s| s.records).sum())
@@ -276,13 +290,25 @@ pub fn header_points(file: &Path) -> Option<u64> {
     }
 }
 
-/// The vertices a PLY file's header counts, when it has no faces.
-fn ply_vertices(file: &Path) -> Option<u64> {
+/// The header of the PLY file at `file`, when it reads.
+fn ply_header(file: &Path) -> Option<ply::header::Header> {
     use std::io::Read;
     // A header is text; a megabyte holds any real one with its comments.
     let mut head = Vec::new();
     std::fs::File::open(file).ok()?.take(1 << 20).read_to_end(&mut head).ok()?;
-    let header = crate::cloud::ply::header::parse(&head).ok()?;
+    ply::header::parse(&head).ok()
+}
+
+/// The vertices a PLY header counts, when they are points: no faces, and
+/// not 3D Gaussians.
+fn point_vertices(header: &ply::header::Header) -> Option<u64> {
     let count = |name: &str| header.elements.iter().filter(|e| e.name == name).map(|e| e.count as u64).sum::<u64>();
-    (count("face") == 0 && count("tristrips") == 0).then(|| count("vertex"))
+    let vertex = header.elements.iter().find(|e| e.name == "vertex")?;
+    let gaussian = crate::cloud::gaussians::PROPERTIES.iter().all(|p| vertex.property(p).is_some());
+    (count("face") == 0 && count("tristrips") == 0 && !gaussian).then(|| count("vertex"))
+}
+
+/// The properties of a PLY header's vertex element.
+fn vertex_properties(header: &ply::header::Header) -> u64 {
+    header.elements.iter().filter(|e| e.name == "vertex").map(|e| e.properties.len() as u64).sum()
 }

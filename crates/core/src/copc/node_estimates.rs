@@ -30,9 +30,9 @@ use glam::{DVec3, Vec3};
 use las::copc::VoxelKey;
 
 use super::hierarchy::CopcTree;
-use crate::cloud::Estimates;
 use crate::cloud::estimate::{EstimateOptions, Facing, estimate_node, median_radius};
 use crate::cloud::las_file::Columns;
+use crate::cloud::{Estimates, PointCloud};
 
 /// How far past its cube a node's halo reaches, in the node's point
 /// spacing: a point's 16 neighbours on a surface lie within about 2.3.
@@ -197,4 +197,26 @@ pub(super) fn drawn_radii(
         })
         .collect();
     Some(scaled)
+}
+
+/// Whether `node` stands for finer points that are not drawn: a child of
+/// it that holds points is not among the `drawn` nodes.
+pub(super) fn stands_for_more(tree: &CopcTree, node: u32, drawn: &HashSet<u32>) -> bool {
+    tree.nodes[node as usize].children.iter().any(|&c| tree.nodes[c as usize].points > 0 && !drawn.contains(&c))
+}
+
+/// Each splat's radius given by the file, grown to at least its record's
+/// estimated radius as drawn (`drawn_radii`) where its record's node is
+/// `coarse` (it stands for finer points not drawn), so a coarse view has no
+/// holes; elsewhere the file's radius stands. `splat_of[i]`: record i's
+/// splat; nothing is grown when the estimates do not match the records.
+pub(super) fn grow_given_radii(cloud: &mut PointCloud, splat_of: &[u32], (estimated, coarse): (&[f32], &[bool])) {
+    if estimated.len() != splat_of.len() || coarse.len() != splat_of.len() {
+        return;
+    }
+    for ((&splat, &radius), _) in splat_of.iter().zip(estimated).zip(coarse).filter(|(_, c)| **c) {
+        if let Some(r) = cloud.radii.get_mut(splat as usize) {
+            *r = r.max(radius);
+        }
+    }
 }

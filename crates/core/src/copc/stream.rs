@@ -350,8 +350,11 @@ impl CopcStream {
                 node_estimates::drawn_radii(tree, (*n, own, radii), (&drawn_set, &medians))
             })
             .collect();
-        for ((_, own, e), scaled) in nodes.iter().zip(scaled) {
+        // Records of nodes that stand for finer points not drawn: a radius the file gives grows there.
+        let mut coarse = Vec::new();
+        for ((n, own, e), scaled) in nodes.iter().zip(scaled) {
             columns.extend(own);
+            coarse.extend(std::iter::repeat_n(node_estimates::stands_for_more(tree, *n, &drawn_set), own.len()));
             if let Some(e) = e {
                 estimates.normals.extend_from_slice(&e.estimates.normals);
                 match scaled {
@@ -382,7 +385,7 @@ impl CopcStream {
             .map_err(|e| CopcError::new(self.name(), e.to_string()))?;
         let mut cloud = cloud;
         if let Some(estimated) = grow {
-            grow_given_radii(&mut cloud, &splat_of, &estimated.radii);
+            node_estimates::grow_given_radii(&mut cloud, &splat_of, (&estimated.radii, &coarse));
         }
         let hash = self.key_of(&drawn);
         let grouping = labels.filter(|(_, l)| l.len() == splat_of.len()).map(|(options, per_record)| NodeGrouping {
@@ -396,8 +399,14 @@ impl CopcStream {
 
     /// The groups of the `drawn` nodes' points in hash grouping `options`,
     /// one per record in drawn order: each node labelled once (in
-    /// parallel), the first time it is drawn so grouped.
+    /// parallel), the first time it is drawn so grouped. `None` for a file
+    /// that gives its splats' normals and radii: the labels would come from
+    /// the estimates, not from the splats drawn.
     fn labels_of(&mut self, drawn: &[u32], options: HashOptions) -> Option<(HashOptions, Vec<u8>)> {
+        let gives = |name: &str| self.header.fields.iter().any(|f| f.name == name);
+        if ["nx", "ny", "nz", "radius"].into_iter().all(gives) {
+            return None;
+        }
         let root = self.tree.node(&las::copc::VoxelKey { l: 0, x: 0, y: 0, z: 0 })?;
         if self.lattice_depth.is_none() {
             let median = self.cache.estimates(root)?.median_radius;
@@ -416,9 +425,9 @@ impl CopcStream {
     }
 
     /// Whether the file gives each point its radius (a splat's, as
-    /// `convert` writes it): a point of a coarse node then stands for the
-    /// finer points not drawn around it, and is drawn at least as large as
-    /// its node's density asks ([`grow_given_radii`]).
+    /// `convert` writes it): a point of a node that stands for finer points
+    /// not drawn is then drawn at least as large as its node's density asks
+    /// ([`node_estimates::grow_given_radii`]).
     fn gives_radii(&self) -> bool {
         self.header.fields.iter().any(|f| f.name == "radius")
     }
@@ -564,17 +573,5 @@ fn open_source(name: &str, options: &HttpOptions) -> Result<Box<dyn ByteSource>,
         Ok(Box::new(super::http::HttpSource::open(name, options)?))
     } else {
         Ok(Box::new(super::source::FileSource::open(Path::new(name))?))
-    }
-}
-
-/// Each splat's radius given by the file, grown to at least its record's
-/// estimated radius as drawn (`drawn_radii`): the same where the finest
-/// level is drawn, larger where a coarse node stands for finer points that
-/// are not, so a coarse view has no holes. `splat_of[i]`: record i's splat.
-fn grow_given_radii(cloud: &mut PointCloud, splat_of: &[u32], estimated: &[f32]) {
-    for (&splat, &radius) in splat_of.iter().zip(estimated) {
-        if let Some(r) = cloud.radii.get_mut(splat as usize) {
-            *r = r.max(radius);
-        }
     }
 }

@@ -445,7 +445,7 @@ pub const TABLE: [ParameterInfo; 21] = [
         flag: "point-budget",
         off_switch: None,
         label: "point budget",
-        help: "most splats a GPU frame draws: nodes of a multi-resolution octree (built once per model and cached) chosen by screen-space error; the octree's root, up to 1,728 splats, is always drawn, and the reference draws every splat; a LAS/LAZ file under N below its points is held in memory as the octree of nodes a COPC file of it holds and drawn node by node as one is (the reference drawing the nodes selected)",
+        help: "most splats a GPU frame draws: nodes of a multi-resolution octree (built once per model and cached) chosen by screen-space error; the octree's root (up to 1,728 splats) is always drawn, and the reference draws every splat; a point file (LAS, LAZ, PLY without faces, E57) under N below its points is held in memory as the octree of nodes a COPC file of it would hold and drawn node by node as one is (its root always drawn, the reference drawing the nodes selected)",
         values: "a number of splats, 1 or more, or all",
         control: Control::Custom,
         set: |s, v| {

@@ -35,7 +35,7 @@ pub struct SidecarModel {
     pub hash: String,
     pub splats: usize,
     /// The window drew the file node by node (a COPC file or a URL, or a
-    /// LAS/LAZ file held in memory as a tree of nodes); absent: whole.
+    /// point file held in memory as a tree of nodes); absent: whole.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub nodes: bool,
 }
