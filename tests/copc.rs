@@ -165,13 +165,10 @@ fn a_perfect_grid_of_one_colour_streams_every_point() {
 }
 
 fn made_copc(dir: &Path, side: usize) -> PathBuf {
-    let mut points = tilted_grid(side, 0.25, 0.1, [600_000.0, 4_000_000.0, 100.0]);
-    let canopy = tilted_grid(side, 0.25, 0.1, [600_000.0, 4_000_000.0, 104.0]);
-    points.extend(canopy);
-    let laz = lidar::write(&dir.join("source.laz"), &points, [600_000.0, 4_000_000.0, 0.0], None);
+    let laz = lidar::two_planes(&dir.join("source.laz"), side, 0.25, [600_000.0, 4_000_000.0, 100.0], 4.0);
     let copc = dir.join("tile.copc.laz");
     let written = pointblend::copc::write::write_copc(&laz, &copc, false).unwrap();
-    assert_eq!(written.points as usize, points.len());
+    assert_eq!(written.points as usize, 2 * side * side);
     copc
 }
 

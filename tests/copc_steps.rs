@@ -9,7 +9,7 @@ mod common;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
-use common::lidar::{self, tilted_grid};
+use common::lidar;
 use las::copc::VoxelKey;
 use pointblend::cloud::LoadOptions;
 use pointblend::copc::subset::StreamSubset;
@@ -39,9 +39,7 @@ fn covered(cloud: pointblend::cloud::PointCloud, camera: &Camera, png: &Path) ->
 
 /// A COPC file of two `side`² grids 4 m apart, made by `convert`'s writer.
 fn two_layer_copc(dir: &Path, side: usize) -> PathBuf {
-    let mut points = tilted_grid(side, 0.25, 0.1, [600_000.0, 4_000_000.0, 100.0]);
-    points.extend(tilted_grid(side, 0.25, 0.1, [600_000.0, 4_000_000.0, 104.0]));
-    let laz = lidar::write(&dir.join("source.laz"), &points, [600_000.0, 4_000_000.0, 0.0], None);
+    let laz = lidar::two_planes(&dir.join("source.laz"), side, 0.25, [600_000.0, 4_000_000.0, 100.0], 4.0);
     let copc = dir.join("tile.copc.laz");
     pointblend::copc::write::write_copc(&laz, &copc, false).unwrap();
     copc

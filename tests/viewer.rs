@@ -415,9 +415,7 @@ fn the_viewer_draws_a_hybrid_mesh_as_its_triangles() {
 fn a_copc_file_streams_its_view_and_the_point_budget_reselects_it() {
     let dir = tempfile::tempdir().unwrap();
     // 2 x 400² points: a root and its children (the writer's leaves hold at most 100,000).
-    let mut points = common::lidar::tilted_grid(400, 0.2, 0.1, [500_000.0, 4_000_000.0, 10.0]);
-    points.extend(common::lidar::tilted_grid(400, 0.2, 0.1, [500_000.0, 4_000_000.0, 13.0]));
-    let laz = common::lidar::write(&dir.path().join("tile.laz"), &points, [500_000.0, 4_000_000.0, 0.0], None);
+    let laz = common::lidar::two_planes(&dir.path().join("tile.laz"), 400, 0.2, [500_000.0, 4_000_000.0, 10.0], 3.0);
     let copc = dir.path().join("tile.copc.laz");
     pointblend::copc::write::write_copc(&laz, &copc, false).unwrap();
     let mut h = harness(ViewerOptions { file: Some(copc), ..options(dir.path()) });
@@ -437,9 +435,7 @@ fn a_copc_file_streams_its_view_and_the_point_budget_reselects_it() {
 /// A COPC file of two `side`² grids 3 m apart (made by `convert`'s writer),
 /// served by nginx as `tile.copc.laz` (and `slow/tile.copc.laz`).
 fn served_copc(dir: &Path, side: usize) -> common::nginx::Nginx {
-    let mut points = common::lidar::tilted_grid(side, 0.2, 0.1, [500_000.0, 4_000_000.0, 10.0]);
-    points.extend(common::lidar::tilted_grid(side, 0.2, 0.1, [500_000.0, 4_000_000.0, 13.0]));
-    let laz = common::lidar::write(&dir.join("tile.laz"), &points, [500_000.0, 4_000_000.0, 0.0], None);
+    let laz = common::lidar::two_planes(&dir.join("tile.laz"), side, 0.2, [500_000.0, 4_000_000.0, 10.0], 3.0);
     let served = dir.join("served");
     std::fs::create_dir_all(&served).unwrap();
     pointblend::copc::write::write_copc(&laz, &served.join("tile.copc.laz"), false).unwrap();

@@ -10,7 +10,7 @@ mod common;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
-use common::lidar::{self, tilted_grid};
+use common::lidar;
 use pointblend::cloud::{LoadOptions, PointCloud};
 use pointblend::copc::{CopcStream, StreamBudget, StreamOptions};
 use pointblend::frame::Camera;
@@ -28,9 +28,7 @@ fn options() -> StreamOptions {
 /// Two tilted planes 4 m apart, `side`² points each (more than one node's
 /// worth from side 250 on), as LAZ.
 fn made_laz(dir: &Path, side: usize) -> PathBuf {
-    let mut points = tilted_grid(side, 0.25, 0.1, [600_000.0, 4_000_000.0, 100.0]);
-    points.extend(tilted_grid(side, 0.25, 0.1, [600_000.0, 4_000_000.0, 104.0]));
-    lidar::write(&dir.join("tile.laz"), &points, [600_000.0, 4_000_000.0, 0.0], None)
+    lidar::two_planes(&dir.join("tile.laz"), side, 0.25, [600_000.0, 4_000_000.0, 100.0], 4.0)
 }
 
 /// Every node's key and points, sorted.

@@ -15,6 +15,15 @@ pub struct LidarPoint {
     pub rgb: [u16; 3],
 }
 
+/// Two [`tilted_grid`]s of `side`² points `spacing` apart (slope 0.1), the
+/// second `gap` above the first, from `origin`, written as LAS/LAZ (by
+/// `path`'s extension) with the offset (x, y, 0): ground and a canopy.
+pub fn two_planes(path: &Path, side: usize, spacing: f64, origin: [f64; 3], gap: f64) -> PathBuf {
+    let mut points = tilted_grid(side, spacing, 0.1, origin);
+    points.extend(tilted_grid(side, spacing, 0.1, [origin[0], origin[1], origin[2] + gap]));
+    write(path, &points, [origin[0], origin[1], 0.0], None)
+}
+
 /// A `side` x `side` grid of points `spacing` apart on the plane
 /// z = slope · x, offset by `origin`, with attributes that vary by index.
 pub fn tilted_grid(side: usize, spacing: f64, slope: f64, origin: [f64; 3]) -> Vec<LidarPoint> {
