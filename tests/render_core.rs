@@ -132,7 +132,7 @@ fn check_compute_against_shader(plan: &RenderPlan, pass: &pointblend::render::pa
     let index = module.entry_points.iter().position(|e| e.name == pass.entry).unwrap_or_else(|| panic!("{at}"));
     let uses = info.get_entry_point(index);
     let format = pass.outputs.first().map_or(wgpu::TextureFormat::Rgba32Float, |&id| plan.target(id).unwrap().format);
-    let bound = pointblend::render::tile_engine::bindings(pass.work, pass.variant, format);
+    let bound = pointblend::render::tile_layout::bindings(pass.work, pass.variant, format);
     let mut textures = Vec::new();
     for (handle, var) in module.global_variables.iter() {
         let Some(binding) = var.binding.as_ref().filter(|b| b.group == 1) else { continue };

@@ -11,6 +11,9 @@
 const TILE: u32 = 8u;
 // Invocations of the per-splat and per-tile passes.
 const GROUP: u32 = 256u;
+// Lists up to this long are sorted by one invocation, longer ones by a
+// workgroup (tiled_sort.wgsl). Mirrors SHORT_LIST in tile_engine.rs.
+const SHORT: u32 = 4096u;
 
 // A splat in eye space, as the per-pixel pass intersects it (48 bytes).
 struct EyeSplat {

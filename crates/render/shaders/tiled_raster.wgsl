@@ -41,7 +41,8 @@
 @group(1) @binding(6) var<storage, read> rects: array<vec4<u32>>;
 // rgb composited over the background, layers met
 @group(1) @binding(4) var colour_out: texture_storage_2d<rgba32float, write>;
-// [0]: pixels whose window overflowed, finished a layer at a time (see above).
+// [0]: pixels whose window overflowed, finished a layer at a time (see
+// above); [1]: the entries the tiles' lists kept, over every tile.
 @group(1) @binding(5) var<storage, read_write> stats: array<atomic<u32>>;
 #ifdef ENVIRONMENT
 // The nearest transparent layer: shaded colour and opacity; unit normal (zero: none) and layers behind;
@@ -710,7 +711,8 @@ fn cs_raster(
     var end = 0u;
     if inside_grid {
         start = offsets[tile];
-        end = offsets[tile + 1u];
+        // The entries the binning kept, within the room counted for them.
+        end = start + min(offsets[columns * tiles.grid.y + 1u + tile], offsets[tile + 1u] - start);
     }
 #ifdef SUBGROUPS
     lane = subgroup_lane;
@@ -718,6 +720,9 @@ fn cs_raster(
     group_low = subgroupMin(select(vec2<u32>(0xffffu), pixel, !done));
     group_high = subgroupMax(select(vec2<u32>(0u), pixel, !done));
 #endif
+    if local == 0u {
+        atomicAdd(&stats[1], end - start);
+    }
     let overflowed = stream(pixel, start, end);
     if !inside {
         return;

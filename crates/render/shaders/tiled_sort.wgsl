@@ -4,7 +4,7 @@
 // depth on each disc), then splat index. A list of up to SHORT entries (all
 // of them but in extreme scenes) is sorted by one invocation, by a
 // bottom-up merge sort through `scratch`, with no barrier (cs_sort_short).
-// A longer one, which the CPU lists when it places the entries, is sorted
+// A longer one, which the scan lists (tiled_scan.wgsl), is sorted
 // in place by a workgroup (cs_sort) with a bitonic network in the form
 // whose every comparator puts the smaller entry first (each merge starts by
 // comparing i with its mirror i ^ (k - 1)). Slots past the list's end count
@@ -17,11 +17,14 @@
 @group(1) @binding(2) var<storage, read_write> entries: array<vec2<u32>>;
 // Room for a copy of every list (cs_sort_short).
 @group(1) @binding(3) var<storage, read_write> scratch: array<vec2<u32>>;
-// The tiles whose lists are longer than SHORT (cs_sort).
+// How many tiles have lists longer than SHORT, then those tiles (cs_sort).
 @group(1) @binding(4) var<storage, read> long_tiles: array<u32>;
 
-// Mirrors SHORT_LIST in tile_engine.rs.
-const SHORT: u32 = 4096u;
+// The entries the binning kept in tile `tile`'s list, which begins at `start`.
+fn list_length(tile: u32, start: u32) -> u32 {
+    let tile_count = tiles.grid.x * tiles.grid.y;
+    return min(offsets[tile_count + 1u + tile], offsets[tile + 1u] - start);
+}
 
 fn before(a: vec2<u32>, b: vec2<u32>) -> bool {
     return a.x < b.x || (a.x == b.x && a.y < b.y);
@@ -37,10 +40,11 @@ fn cs_sort_short(dispatch: Dispatch) {
     let tile = invocation(dispatch);
     if tile >= tiles.grid.x * tiles.grid.y { return; }
     let start = offsets[tile];
-    let count = offsets[tile + 1u] - start;
-    if count > SHORT {
+    // The scan chose the long lists by the room counted for them.
+    if offsets[tile + 1u] - start > SHORT {
         return;
     }
+    let count = list_length(tile, start);
     // Bottom-up merge sort, between the list and its slots in `scratch`.
     var in_scratch = false;
     for (var width = 1u; width < count; width *= 2u) {
@@ -82,9 +86,13 @@ fn read_run(at: u32, in_scratch: bool) -> vec2<u32> {
 
 @compute @workgroup_size(256)
 fn cs_sort(dispatch: Dispatch) {
-    let tile = long_tiles[workgroup_index(dispatch)];
+    let index = workgroup_index(dispatch);
+    if index >= long_tiles[0] {
+        return;
+    }
+    let tile = long_tiles[1u + index];
     let start = offsets[tile];
-    let count = offsets[tile + 1u] - start;
+    let count = list_length(tile, start);
     var size = 2u;
     while size < count {
         size *= 2u;

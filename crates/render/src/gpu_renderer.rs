@@ -127,14 +127,12 @@ impl GpuRenderer {
             return self.render_subframes(scene, camera, spec, &subframes, read);
         }
         let tile_lists = self.render_subframe(scene, (camera, spec), SubFrame::whole((width, height)), &whole)?;
-        let mut report = FrameReport { tile_lists, ..Default::default() };
+        let window_overflows = tile_lists.as_ref().map(|t| t.window_overflows);
+        let report = FrameReport { tile_lists, window_overflows, ..Default::default() };
         if !read {
             return Ok((image::RgbaImage::new(0, 0), whole, report));
         }
         let image = readback::read_rgba8(&self.ctx, self.output_texture()?)?;
-        if let Some(tiles) = self.renderer.tile_engine().filter(|_| whole.compute_passes() > 0) {
-            report.window_overflows = Some(tiles.window_overflows(&self.ctx)?);
-        }
         Ok((image, whole, report))
     }
 
@@ -198,10 +196,14 @@ impl GpuRenderer {
         log::info!("{width}x{height} is drawn in {} sub-frames, so that its memory stays bounded", subframes.len());
         let mut image = image::RgbaImage::new(if read { width } else { 0 }, if read { height } else { 0 });
         let mut largest: Option<(RenderPlan, Option<TileLists>)> = None;
+        let mut window_overflows = None;
         for kept in subframes {
             let drawn = kept.grown(subframe::MARGIN);
             let plan = Renderer::plan_spec(scene, camera, spec, drawn.size)?;
             let lists = self.render_subframe(scene, (camera, spec), drawn, &plan)?;
+            if let Some(lists) = &lists {
+                *window_overflows.get_or_insert(0) += lists.window_overflows;
+            }
             if read {
                 let part = readback::read_rgba8(&self.ctx, self.output_texture()?)?;
                 let (x, y) = (kept.origin.0 - drawn.origin.0, kept.origin.1 - drawn.origin.1);
@@ -219,7 +221,8 @@ impl GpuRenderer {
             margin: subframe::MARGIN,
             budget_mib: self.subframe_budget.min(self.ctx.target_budget()) >> 20,
         };
-        Ok((image, plan, FrameReport { subframes: Some(subframes), tile_lists, ..Default::default() }))
+        let report = FrameReport { subframes: Some(subframes), tile_lists, window_overflows, ..Default::default() };
+        Ok((image, plan, report))
     }
 
     /// [`Renderer::use_subgroups`] on this renderer's device.

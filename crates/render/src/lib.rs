@@ -60,6 +60,7 @@ pub mod subframe;
 pub mod target_id;
 pub mod targets;
 pub mod tile_engine;
+pub mod tile_layout;
 pub mod timer;
 pub mod touches;
 

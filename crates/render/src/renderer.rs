@@ -24,7 +24,8 @@ use super::plan::{RenderPlan, TargetDesc, TargetId};
 use super::record::{self, At, Recording, compute::TileRun};
 use super::subframe::SubFrame;
 use super::targets::TargetPool;
-use super::tile_engine::{self, TileEngine};
+use super::tile_engine::TileEngine;
+use super::tile_layout;
 use super::timer::PassTimer;
 use super::touches::Bound;
 use crate::frame::spec::EpsilonRadius;
@@ -258,13 +259,39 @@ impl Renderer {
             slots[at..at + std::mem::size_of::<PassUniforms>()].copy_from_slice(bytemuck::bytes_of(uniforms));
         }
         ctx.queue.write_buffer(&self.pass_buffer, 0, &slots);
-        ctx.checked("rendering", || self.encode(ctx, scene, plan, &commands, output, format))??;
-        // The entries' count is known now: the report says what the frame used.
-        Ok(self.tiles.as_ref().filter(|_| plan.compute_passes() > 0).map(|tiles| TileLists {
+        let tiled = plan.compute_passes() > 0;
+        let budget = ctx.target_budget().saturating_sub(plan.target_bytes() + plan.buffer_bytes());
+        let mut retried = false;
+        loop {
+            if let Some(tiles) = self.tiles.as_mut().filter(|_| tiled) {
+                tiles.begin_frame(ctx, budget)?;
+            }
+            ctx.checked("rendering", || self.encode(ctx, scene, plan, &commands, output, format))??;
+            let Some(tiles) = self.tiles.as_mut().filter(|_| tiled) else { return Ok(None) };
+            // What the lists met comes back with the frame's result; a frame
+            // whose lists passed their room drew them empty and is drawn again.
+            let met = tiles.finish_frame(ctx)?;
+            if !met.overflow || retried {
+                break;
+            }
+            tiles.make_room(ctx, met.entries, budget)?;
+            retried = true;
+        }
+        let tiles = self.tiles.as_ref().expect("a tiled frame has its engine");
+        if tiles.last.overflow {
+            return Err(GpuError::Device(format!(
+                "tiled: the tile lists passed their room ({} entries) twice in one frame",
+                tiles.entry_capacity()
+            )));
+        }
+        Ok(Some(TileLists {
             entries: tiles.last.entries,
+            kept: tiles.last.kept,
             capacity: tiles.entry_capacity(),
             longest: tiles.last.longest_list,
-            buffers: tile_engine::planned_buffers(scene.len, size, Some((tiles.last.entries, tiles.entry_capacity()))),
+            retried,
+            window_overflows: tiles.last.window_overflows,
+            buffers: tile_layout::planned_buffers(scene.len, size, Some((tiles.last.entries, tiles.entry_capacity()))),
         }))
     }
 
@@ -289,7 +316,6 @@ impl Renderer {
     ) -> Result<(), GpuError> {
         let device = &ctx.device;
         let mut encoder = record::new_encoder(device);
-        let budget = ctx.target_budget().saturating_sub(plan.target_bytes() + plan.buffer_bytes());
         let timer = self.timer.as_ref().filter(|_| self.timing);
         self.bound.clear();
         let mut step_ms = self.profile_steps.then(|| vec![0.0; plan.steps.len()]);
@@ -318,9 +344,9 @@ impl Renderer {
                     record::fullscreen::encode(&mut rec, &mut encoder, pass, at, (output, output_format), stamps)?
                 }
                 Command::Compute(pass) => {
-                    let tiles = self.tiles.as_mut().ok_or_else(|| record::missing("tile pipeline"))?;
-                    let mut run = TileRun { ctx, tiles, subgroups: self.subgroups, budget };
-                    record::compute::encode(&mut rec, &mut encoder, &mut run, pass, at, stamps)?
+                    let tiles = self.tiles.as_ref().ok_or_else(|| record::missing("tile pipeline"))?;
+                    let run = TileRun { tiles, subgroups: self.subgroups };
+                    record::compute::encode(&mut rec, &mut encoder, &run, pass, at, stamps)?
                 }
             }
             if let Some(times) = step_ms.as_mut() {

@@ -10,11 +10,20 @@ use crate::grouping::GroupingSpec;
 /// The tile pipeline's lists in a frame of `tiled`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TileLists {
-    /// (tile, splat) pairs binned, and the room the entry buffer had.
+    /// (tile, splat) pairs counted over the discs' pixel boxes, and the
+    /// room the entry buffer had for them.
     pub entries: u64,
     pub capacity: u64,
+    /// Of the pairs counted, those kept: the discs that meet their tile.
+    pub kept: u64,
     /// The longest tile list, in splats.
     pub longest: u32,
+    /// Whether the lists passed the room the frame was first drawn with, so
+    /// that it was drawn again with more (kept for later frames).
+    pub retried: bool,
+    /// Pixels whose window of waiting hits overflowed (finished a layer at
+    /// a time, exactly).
+    pub window_overflows: u32,
     /// The tile pipeline's buffers at the size this frame used.
     pub buffers: Vec<BufferDesc>,
 }
@@ -36,7 +45,7 @@ pub struct FrameReport {
     /// `tiled`: its lists (the largest sub-frame's, when drawn in sub-frames).
     pub tile_lists: Option<TileLists>,
     /// `tiled`: pixels whose window of waiting hits overflowed (finished a
-    /// layer at a time, exactly), once the frame was read back.
+    /// layer at a time, exactly), over every sub-frame.
     pub window_overflows: Option<u32>,
     /// Set when the frame was drawn in sub-frames.
     pub subframes: Option<SubFrames>,
@@ -92,8 +101,16 @@ impl FrameReport {
         }
         if let Some(t) = &self.tile_lists {
             lines.push(format!(
-                "tile lists: {} entries (room for {}), the longest {} splats",
-                t.entries, t.capacity, t.longest
+                "tile lists: {} entries kept of {} counted over the discs' boxes (room for {}), the longest {} splats{}",
+                t.kept,
+                t.entries,
+                t.capacity,
+                t.longest,
+                if t.retried {
+                    "; they passed the room the frame was first drawn with, so it was drawn again with more"
+                } else {
+                    ""
+                }
             ));
         }
         if let Some(n) = self.window_overflows {

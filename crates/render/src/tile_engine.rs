@@ -5,15 +5,22 @@
 //! 1. **Project** (per splat, one dispatch per chunk of the scene's
 //!    instance buffers, bound as storage): eye space, footprint plane,
 //!    the tiles the disc may cover, counted per tile with atomics.
-//! 2. The counts come back to the CPU, which takes their prefix sum over
-//!    the tiles (a few thousand numbers) into offsets and sizes the entry
-//!    buffer to the exact total, so no tile list is ever cut short. A
-//!    total beyond what one storage binding holds is a clear error naming
-//!    the figure, never a dropped splat. This costs one wait for the GPU
-//!    per frame; a GPU scan with a fixed capacity and a retry would avoid
-//!    it on a real GPU.
+//! 2. **Scan** (one workgroup): the counts' prefix sum into the tiles'
+//!    offsets, on the GPU (shaders/tiled_scan.wgsl). The entry buffer has
+//!    a given room, as a bump allocator in vello has: when the total passes
+//!    it, the scan raises an overflow flag and leaves every list empty. The
+//!    flag comes back with the frame's result ([`TileEngine::finish_frame`]),
+//!    and the renderer draws the frame again with room for the total, which
+//!    later frames keep. Nothing is read back inside a frame, and no tile
+//!    list is ever cut short in a frame that is kept. A total beyond what
+//!    one storage binding or the frame's memory holds is a clear error
+//!    naming the figure, never a dropped splat.
 //! 3. **Bin** (per splat): an entry (nearest depth on the disc, splat) in
-//!    each covered tile's list.
+//!    the list of each tile the disc meets. The projection counted every
+//!    tile of the disc's pixel box (that bounds the memory); the binning
+//!    tests the disc against each of them (the quadrilateral where the
+//!    tile's corner rays meet the disc's plane), counts what it keeps, and
+//!    the sort and raster read only those.
 //! 4. **Sort** (per tile): the list in order of nearest depth: a short list
 //!    by one invocation, a long one by a workgroup, in workgroup memory or,
 //!    longer still, in place.
@@ -29,9 +36,7 @@ use wgpu::util::DeviceExt;
 
 use super::context::{GpuContext, GpuError};
 use super::gpu_scene::GpuScene;
-use super::passes::compute::Binding;
 use super::passes::{ComputePass, TileWork};
-use super::plan::BufferDesc;
 use super::shaders::Variant;
 
 /// Side of a square tile in pixels. Mirrors `TILE` in shaders/tiled_common.wgsl.
@@ -50,7 +55,7 @@ pub const RECT_BYTES: u64 = 16;
 /// Bytes of one (key, splat) entry of a tile list.
 pub const ENTRY_BYTES: u64 = 8;
 /// Lists up to this long are sorted by one invocation, by insertion; longer
-/// ones by a workgroup (`SHORT` in shaders/tiled_sort.wgsl). A workgroup's
+/// ones by a workgroup (`SHORT` in shaders/tiled_common.wgsl). A workgroup's
 /// barriers cost more than a short list's insertion sort on lavapipe: with
 /// a workgroup for every list the sort took 40 of 350 ms on the bunny.
 pub const SHORT_LIST: u32 = 4096;
@@ -59,80 +64,45 @@ const GROUP: u32 = 256;
 /// Workgroups per dispatch dimension that every device allows.
 const MAX_WORKGROUPS: u32 = 65535;
 
+/// One dispatch of a pass: its group-1 resources, and its size in
+/// workgroups (`None`: the size the scan wrote, an indirect dispatch).
+type Dispatched<'a> = (Vec<wgpu::BindingResource<'a>>, Option<(u32, u32)>);
+
 /// Tile columns and rows of a `width` x `height` frame.
 pub fn grid(width: u32, height: u32) -> (u32, u32) {
     (width.div_ceil(TILE), height.div_ceil(TILE))
 }
 
-/// The buffers a frame of `splats` splats at `width` x `height` uses, as the
-/// plan states them; the entries' size is known only once the splats are
-/// projected, and the renderer fills it in after the frame.
-/// `entries` is (this frame's entries, the room allocated for them).
-pub fn planned_buffers(splats: usize, (width, height): (u32, u32), entries: Option<(u64, u64)>) -> Vec<BufferDesc> {
-    let (columns, rows) = grid(width, height);
-    let tiles = (columns * rows) as u64;
-    let n = splats as u64;
-    vec![
-        BufferDesc {
-            name: "eye splats",
-            bytes: n * EYE_SPLAT_BYTES,
-            why: "48 B per splat: eye space, plane, colour".into(),
-        },
-        BufferDesc { name: "splat tiles", bytes: n * RECT_BYTES, why: "16 B per splat: pixel bounds, sort key".into() },
-        BufferDesc {
-            name: "tile tables",
-            bytes: (5 * tiles + 1) * 4,
-            why: format!(
-                "{columns}x{rows} tiles of {TILE} px: counts, their readback, offsets, cursors, the long lists"
-            ),
-        },
-        BufferDesc {
-            name: "tile entries",
-            bytes: entries.map_or(0, |(_, room)| room * ENTRY_BYTES),
-            why: match entries {
-                Some((used, room)) => format!("8 B per (tile, splat) pair: {used} this frame, room for {room}"),
-                None => "8 B per (tile, splat) pair, counted when the splats are projected".into(),
-            },
-        },
-        BufferDesc {
-            name: "sort scratch",
-            bytes: entries.map_or(0, |(_, room)| room * ENTRY_BYTES),
-            why: "as large as the entries: the merge sort's other half".into(),
-        },
-    ]
-}
-
-/// The group-1 bindings of a pass, in binding order.
-pub fn bindings(work: TileWork, variant: Variant, output: wgpu::TextureFormat) -> Vec<Binding> {
-    let (ro, rw) = (Binding::Storage { read_only: true }, Binding::Storage { read_only: false });
-    match work {
-        TileWork::Project if variant.has(Variant::LIGHTS) => vec![Binding::Uniform, ro, rw, rw, rw, ro, ro],
-        TileWork::Project => vec![Binding::Uniform, ro, rw, rw, rw, ro],
-        TileWork::ProjectTriangles => vec![Binding::Uniform, ro, ro, rw, rw],
-        TileWork::Bin => vec![Binding::Uniform, ro, ro, rw, rw],
-        TileWork::SortShort => vec![Binding::Uniform, ro, rw, rw],
-        TileWork::SortLong => vec![Binding::Uniform, ro, rw, rw, ro],
-        TileWork::Raster => {
-            let mut b = vec![Binding::Uniform, ro, ro, ro, Binding::StorageTexture(output), rw, ro];
-            if variant.has(Variant::ENVIRONMENT) {
-                b.extend([Binding::StorageTexture(output); 3]);
-            }
-            if variant.has(Variant::TRIANGLES) {
-                b.extend([ro, ro]);
-            }
-            b
-        }
-    }
-}
-
-/// What the last frame's tile pipeline met.
+/// What the last frame's tile pipeline met, read with its result.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct TileStats {
-    /// (tile, splat) entries binned.
+    /// (tile, splat) entries counted over the discs' pixel boxes, which
+    /// the entry buffer makes room for (`u32::MAX` when they passed it).
     pub entries: u64,
+    /// Of those, the entries kept: the discs that meet their tile.
+    pub kept: u64,
     /// Longest tile list.
     pub longest_list: u32,
+    /// Whether the entries passed the room the frame was drawn with (its
+    /// lists were left empty; the renderer draws it again).
+    pub overflow: bool,
+    /// Pixels whose sorting window overflowed and which were finished a
+    /// layer at a time (see shaders/tiled_raster.wgsl).
+    pub window_overflows: u32,
 }
+
+/// Bytes of the lists' state the scan writes (`lists` in shaders/tiled_scan.wgsl):
+/// the room, the total, the overflow flag, the longest list, cs_sort's dispatch.
+pub(crate) const LIST_STATE_BYTES: u64 = 32;
+/// Bytes of the raster's counters (`stats` in shaders/tiled_raster.wgsl).
+const RASTER_STATS_BYTES: u64 = 16;
+/// Bytes read back after a frame: the lists' state, then the raster's counters.
+pub(crate) const READBACK_BYTES: u64 = LIST_STATE_BYTES + RASTER_STATS_BYTES;
+/// Byte offset of cs_sort's indirect dispatch in the lists' state.
+const LONG_DISPATCH_OFFSET: u64 = 16;
+/// Entries the first frame of an engine has room for, per splat or
+/// triangle: a guess, which an overflow corrects once.
+const FIRST_ROOM_PER_ITEM: u64 = 4;
 
 /// The buffers of the tile pipeline, sized for the last frame.
 pub struct TileEngine {
@@ -143,18 +113,21 @@ pub struct TileEngine {
     eye: wgpu::Buffer,
     rects: wgpu::Buffer,
     counts: wgpu::Buffer,
-    counts_readback: wgpu::Buffer,
+    /// Each tile's first entry (and the total), then the entries its
+    /// binning kept (the discs that meet the tile, of those counted).
     offsets: wgpu::Buffer,
-    cursors: wgpu::Buffer,
     entries: wgpu::Buffer,
     /// As large as `entries`: the merge sort's other half.
     scratch: wgpu::Buffer,
     entry_capacity: u64,
+    /// The lists' state ([`LIST_STATE_BYTES`]), also cs_sort's indirect dispatch.
+    lists: wgpu::Buffer,
+    /// The raster's counters.
     stats: wgpu::Buffer,
-    stats_readback: wgpu::Buffer,
-    /// The tiles whose lists are longer than [`SHORT_LIST`], and how many.
+    /// The lists' state and the raster's counters, read after the frame.
+    readback: wgpu::Buffer,
+    /// How many tiles have lists longer than [`SHORT_LIST`], then those tiles.
     long_tiles: wgpu::Buffer,
-    long_count: u32,
     /// Per chunk of the scene: the project pass's grid uniforms; then one
     /// over every item (z: the first triangle's item), and the triangles'.
     uniforms: Vec<(wgpu::Buffer, u32)>,
@@ -175,6 +148,7 @@ fn buffer(device: &wgpu::Device, label: &'static str, bytes: u64, usage: wgpu::B
 const STORAGE: wgpu::BufferUsages =
     wgpu::BufferUsages::STORAGE.union(wgpu::BufferUsages::COPY_DST).union(wgpu::BufferUsages::COPY_SRC);
 const READBACK: wgpu::BufferUsages = wgpu::BufferUsages::MAP_READ.union(wgpu::BufferUsages::COPY_DST);
+const INDIRECT: wgpu::BufferUsages = STORAGE.union(wgpu::BufferUsages::INDIRECT);
 
 fn grid_uniform(device: &wgpu::Device, (columns, rows): (u32, u32), first: u32, count: u32) -> wgpu::Buffer {
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -233,16 +207,14 @@ impl TileEngine {
                 eye: buffer(device, "Tiles::eye", n.max(1) * EYE_SPLAT_BYTES, STORAGE),
                 rects: buffer(device, "Tiles::rects", (n + m) * RECT_BYTES, STORAGE),
                 counts: buffer(device, "Tiles::counts", tiles * 4, STORAGE),
-                counts_readback: buffer(device, "Tiles::counts_readback", tiles * 4, READBACK),
-                offsets: buffer(device, "Tiles::offsets", (tiles + 1) * 4, STORAGE),
-                cursors: buffer(device, "Tiles::cursors", tiles * 4, STORAGE),
+                offsets: buffer(device, "Tiles::offsets", (2 * tiles + 1) * 4, STORAGE),
                 entries: buffer(device, "Tiles::entries", 0, STORAGE),
                 scratch: buffer(device, "Tiles::scratch", 0, STORAGE),
                 entry_capacity: 0,
-                stats: buffer(device, "Tiles::stats", 16, STORAGE),
-                stats_readback: buffer(device, "Tiles::stats_readback", 16, READBACK),
-                long_tiles: buffer(device, "Tiles::long_tiles", tiles * 4, STORAGE),
-                long_count: 0,
+                lists: buffer(device, "Tiles::lists", LIST_STATE_BYTES, INDIRECT),
+                stats: buffer(device, "Tiles::stats", RASTER_STATS_BYTES, STORAGE),
+                readback: buffer(device, "Tiles::readback", READBACK_BYTES, READBACK),
+                long_tiles: buffer(device, "Tiles::long_tiles", (tiles + 1) * 4, STORAGE),
                 all: grid_uniform(device, grid, n as u32, (n + m) as u32),
                 triangle_uniform: grid_uniform(device, grid, n as u32, m as u32),
                 uniforms,
@@ -289,8 +261,7 @@ impl TileEngine {
                 .collect();
             device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(pass.label), layout, entries: &entries })
         };
-        let tiles = (self.grid.0 * self.grid.1) as u64;
-        let groups: Vec<(wgpu::BindGroup, (u32, u32))> = self
+        let groups: Vec<(wgpu::BindGroup, Option<(u32, u32)>)> = self
             .dispatches(encoder, pass, scene, outputs)
             .into_iter()
             .map(|(resources, size)| (group(resources), size))
@@ -302,36 +273,32 @@ impl TileEngine {
             });
             compute.set_pipeline(pipeline);
             compute.set_bind_group(0, frame, &[offset]);
-            for (bind, (x, y)) in &groups {
+            for (bind, size) in &groups {
                 compute.set_bind_group(1, bind, &[]);
-                compute.dispatch_workgroups(*x, *y, 1);
+                match size {
+                    Some((x, y)) => compute.dispatch_workgroups(*x, *y, 1),
+                    None => compute.dispatch_workgroups_indirect(&self.lists, LONG_DISPATCH_OFFSET),
+                }
             }
         }
-        // The counts go back after the last projection (the triangles' when there are any).
-        let last_projection = match pass.work {
-            TileWork::Project => self.triangles == 0,
-            TileWork::ProjectTriangles => true,
-            _ => false,
-        };
-        if last_projection {
-            encoder.copy_buffer_to_buffer(&self.counts, 0, &self.counts_readback, 0, tiles * 4);
-        }
         if pass.work == TileWork::Raster {
-            encoder.copy_buffer_to_buffer(&self.stats, 0, &self.stats_readback, 0, 16);
+            // What the frame met goes back with its result, in one copy to map.
+            encoder.copy_buffer_to_buffer(&self.lists, 0, &self.readback, 0, LIST_STATE_BYTES);
+            encoder.copy_buffer_to_buffer(&self.stats, 0, &self.readback, LIST_STATE_BYTES, RASTER_STATS_BYTES);
         }
         given.into_inner()
     }
 
     /// The group-1 resources of each dispatch of `pass` and its size in
-    /// workgroups (a projection dispatches once per chunk of splats), after
-    /// clearing the buffers the pass counts into.
+    /// workgroups (a projection dispatches once per chunk of splats; `None`:
+    /// the size the scan wrote), after clearing the buffers the pass counts into.
     fn dispatches<'a>(
         &'a self,
         encoder: &mut wgpu::CommandEncoder,
         pass: &ComputePass,
         scene: &'a GpuScene,
         outputs: &[&'a wgpu::TextureView],
-    ) -> Vec<(Vec<wgpu::BindingResource<'a>>, (u32, u32))> {
+    ) -> Vec<Dispatched<'a>> {
         let tiles = (self.grid.0 * self.grid.1) as u64;
         let mut groups = Vec::new();
         match pass.work {
@@ -350,7 +317,7 @@ impl TileEngine {
                     if let Some(lights) = lights {
                         resources.push(lights[k].as_entire_binding());
                     }
-                    groups.push((resources, dispatch(*count as u64, GROUP)));
+                    groups.push((resources, Some(dispatch(*count as u64, GROUP))));
                 }
             }
             TileWork::ProjectTriangles => {
@@ -362,19 +329,28 @@ impl TileEngine {
                         self.rects.as_entire_binding(),
                         self.counts.as_entire_binding(),
                     ];
-                    groups.push((resources, dispatch(self.triangles, GROUP)));
+                    groups.push((resources, Some(dispatch(self.triangles, GROUP))));
                 }
             }
+            TileWork::Scan => {
+                let resources = vec![
+                    self.all.as_entire_binding(),
+                    self.counts.as_entire_binding(),
+                    self.offsets.as_entire_binding(),
+                    self.long_tiles.as_entire_binding(),
+                    self.lists.as_entire_binding(),
+                ];
+                groups.push((resources, Some((1, 1))));
+            }
             TileWork::Bin => {
-                encoder.clear_buffer(&self.cursors, 0, None);
                 let resources = vec![
                     self.all.as_entire_binding(),
                     self.rects.as_entire_binding(),
                     self.offsets.as_entire_binding(),
-                    self.cursors.as_entire_binding(),
                     self.entries.as_entire_binding(),
+                    self.eye.as_entire_binding(),
                 ];
-                groups.push((resources, dispatch(self.splats + self.triangles, GROUP)));
+                groups.push((resources, Some(dispatch(self.splats + self.triangles, GROUP))));
             }
             TileWork::SortShort => {
                 let resources = vec![
@@ -383,7 +359,7 @@ impl TileEngine {
                     self.entries.as_entire_binding(),
                     self.scratch.as_entire_binding(),
                 ];
-                groups.push((resources, dispatch(tiles, GROUP)));
+                groups.push((resources, Some(dispatch(tiles, GROUP))));
             }
             TileWork::SortLong => {
                 let resources = vec![
@@ -393,9 +369,7 @@ impl TileEngine {
                     self.scratch.as_entire_binding(),
                     self.long_tiles.as_entire_binding(),
                 ];
-                if self.long_count > 0 {
-                    groups.push((resources, dispatch(self.long_count as u64, 1)));
-                }
+                groups.push((resources, None));
             }
             TileWork::Raster => {
                 encoder.clear_buffer(&self.stats, 0, None);
@@ -413,31 +387,38 @@ impl TileEngine {
                 if let Some(draw) = scene.triangles.as_ref().filter(|_| pass.variant.has(Variant::TRIANGLES)) {
                     resources.extend([draw.buffer.as_entire_binding(), draw.indices.as_entire_binding()]);
                 }
-                groups.push((resources, dispatch(tiles, 1)));
+                groups.push((resources, Some(dispatch(tiles, 1))));
             }
         }
         groups
     }
 
-    /// After the projection has run: reads the tile counts back, writes their
-    /// prefix sum as the tile offsets and makes the entry buffer hold them all.
+    /// Before a frame is recorded: gives the entry buffer room (a first
+    /// guess for a new engine) and tells the scan how much it has.
     /// `budget` is the memory left to the frame beside its targets.
-    pub fn bin_offsets(&mut self, ctx: &GpuContext, budget: u64) -> Result<TileStats, GpuError> {
-        let mut counts: Vec<u32> = read(ctx, &self.counts_readback)?;
-        counts.truncate((self.grid.0 * self.grid.1) as usize);
-        let mut offsets = Vec::with_capacity(counts.len() + 1);
-        let mut total = 0u64;
-        for &c in &counts {
-            offsets.push(total as u32);
-            total += c as u64;
-            if total > u32::MAX as u64 {
-                break;
-            }
+    pub fn begin_frame(&mut self, ctx: &GpuContext, budget: u64) -> Result<(), GpuError> {
+        if self.entry_capacity == 0 {
+            let guess = ((self.splats + self.triangles) * FIRST_ROOM_PER_ITEM).max(1);
+            self.make_room(ctx, guess.min(Self::room_limit(ctx, budget)).max(1), budget)?;
         }
-        offsets.push(total.min(u32::MAX as u64) as u32);
-        let binding = ctx.device.limits().max_storage_buffer_binding_size;
-        // The entries and the sort's scratch: one binding each, both within the budget.
-        if total * ENTRY_BYTES > binding || 2 * total * ENTRY_BYTES > budget {
+        let room = self.entry_capacity.min(u32::MAX as u64) as u32;
+        ctx.queue.write_buffer(&self.lists, 0, bytemuck::bytes_of(&room));
+        Ok(())
+    }
+
+    /// The most entries the frame may hold: the entries and the sort's
+    /// scratch take one binding each, both within `budget`.
+    fn room_limit(ctx: &GpuContext, budget: u64) -> u64 {
+        ctx.device.limits().max_storage_buffer_binding_size.min(budget / 2) / ENTRY_BYTES
+    }
+
+    /// Makes the entry buffer hold `total` entries, a quarter more so that
+    /// a slowly moving camera does not reallocate every frame; an error
+    /// naming the figures when they cannot fit.
+    pub fn make_room(&mut self, ctx: &GpuContext, total: u64, budget: u64) -> Result<(), GpuError> {
+        let limit = Self::room_limit(ctx, budget);
+        if total > limit {
+            let binding = ctx.device.limits().max_storage_buffer_binding_size;
             return Err(GpuError::TooLarge(format!(
                 "tiled would bin {total} (tile, splat) entries ({:.1} MiB, twice over with the sort's scratch), more than \
                  one storage binding ({:.1} MiB) or the memory left to the frame ({:.1} MiB) holds; the splats cover too \
@@ -447,26 +428,35 @@ impl TileEngine {
                 mib(budget)
             )));
         }
-        let limit = binding.min(budget / 2);
         if total > self.entry_capacity {
-            // A quarter more than needed, so that a slowly moving camera does not reallocate every frame.
-            let capacity = total + total / 4;
-            let bytes = (capacity * ENTRY_BYTES).min(limit);
+            let capacity = (total + total / 4).min(limit);
+            let bytes = capacity * ENTRY_BYTES;
             (self.entries, self.scratch) = ctx.allocating("allocating the tile entries", || {
                 (
                     buffer(&ctx.device, "Tiles::entries", bytes, STORAGE),
                     buffer(&ctx.device, "Tiles::scratch", bytes, STORAGE),
                 )
             })?;
-            self.entry_capacity = (capacity * ENTRY_BYTES).min(limit) / ENTRY_BYTES;
+            self.entry_capacity = capacity;
         }
-        ctx.queue.write_buffer(&self.offsets, 0, bytemuck::cast_slice(&offsets));
-        let long: Vec<u32> = (0..counts.len() as u32).filter(|&t| counts[t as usize] > SHORT_LIST).collect();
-        if !long.is_empty() {
-            ctx.queue.write_buffer(&self.long_tiles, 0, bytemuck::cast_slice(&long));
-        }
-        self.long_count = long.len() as u32;
-        self.last = TileStats { entries: total, longest_list: counts.iter().copied().max().unwrap_or(0) };
+        Ok(())
+    }
+
+    /// After a frame was submitted: reads what its lists met (waits for the
+    /// GPU, as reading the frame's image does), keeps it as [`Self::last`]
+    /// and returns it. When `overflow` is set the frame's lists were empty
+    /// and it must be drawn again after [`Self::make_room`] for `entries`.
+    pub fn finish_frame(&mut self, ctx: &GpuContext) -> Result<TileStats, GpuError> {
+        let words: Vec<u32> = read(ctx, &self.readback)?;
+        let word = |i: usize| words.get(i).copied().unwrap_or(0);
+        let stats_at = (LIST_STATE_BYTES / 4) as usize;
+        self.last = TileStats {
+            entries: word(1) as u64,
+            longest_list: word(3),
+            overflow: word(2) != 0,
+            window_overflows: word(stats_at),
+            kept: word(stats_at + 1) as u64,
+        };
         Ok(self.last)
     }
 
@@ -481,22 +471,16 @@ impl TileEngine {
             &self.eye,
             &self.rects,
             &self.counts,
-            &self.counts_readback,
             &self.offsets,
-            &self.cursors,
             &self.entries,
             &self.scratch,
             &self.long_tiles,
+            &self.lists,
+            &self.readback,
         ]
         .iter()
         .map(|b| b.size())
         .sum()
-    }
-
-    /// Pixels of the last frame whose sorting window overflowed and which
-    /// were finished a layer at a time (see shaders/tiled_raster.wgsl); waits for the frame.
-    pub fn window_overflows(&self, ctx: &GpuContext) -> Result<u32, GpuError> {
-        Ok(read::<u32>(ctx, &self.stats_readback)?.first().copied().unwrap_or(0))
     }
 }
 
@@ -529,9 +513,13 @@ mod tests {
         let common = crate::shaders::compose("tiled_common.wgsl", Variant::NONE).unwrap();
         assert!(common.contains(&format!("const TILE: u32 = {TILE}u;")), "TILE differs from the shader's");
         let sort = crate::shaders::compose("tiled_sort.wgsl", Variant::NONE).unwrap();
+        assert!(sort.contains("fn cs_sort("), "the sort composes");
         assert!(sort.contains(&format!("const SHORT: u32 = {SHORT_LIST}u;")), "SHORT_LIST differs from the shader's");
         let raster = crate::shaders::compose("tiled_raster.wgsl", Variant::NONE).unwrap();
         assert!(raster.contains(&format!("const WINDOW: u32 = {WINDOW}u;")), "WINDOW differs from the shader's");
+        let scan = crate::shaders::compose("tiled_scan.wgsl", Variant::NONE).unwrap();
+        let dispatch_at = LONG_DISPATCH_OFFSET / 4;
+        assert!(scan.contains(&format!("const LONG_DISPATCH: u32 = {dispatch_at}u;")), "the dispatch's offset differs");
     }
 
     #[test]

@@ -7,7 +7,8 @@
 //! Four compute steps and one full-screen step (`crate::tile_engine` holds
 //! the buffers and describes each): project the splats and count the tiles
 //! each may cover; bin them into per-tile lists at offsets from the counts'
-//! prefix sum; sort each list by the nearest depth on each disc; per pixel,
+//! prefix sum, taken on the GPU (a frame whose lists pass their buffer's
+//! room is drawn again with more, and nothing is read back mid-frame); sort each list by the nearest depth on each disc; per pixel,
 //! cast the ray on the tile's discs in that order, keep hits in exact depth
 //! order through a small window, group them into ε-layers, normalise, shade
 //! and composite (`shaders/tiled_raster.wgsl`); then the image becomes the
@@ -24,7 +25,7 @@ use super::{FrameDesc, GpuMode};
 use crate::passes::{Command, ComputePass, FullscreenPass, TileWork};
 use crate::plan::{RenderPlan, Step, TargetId};
 use crate::shaders::Variant;
-use crate::tile_engine;
+use crate::{tile_engine, tile_layout};
 
 pub struct Tiled;
 
@@ -104,8 +105,13 @@ impl GpuMode for Tiled {
             ),
             Step::new(
                 "bin",
-                "compute, per splat: an entry in each covered tile's list (offsets: prefix sum of the counts)",
-                compute("Tiled::bin", "tiled_bin.wgsl", "cs_bin", TileWork::Bin, Vec::new()),
+                "compute: the counts' prefix sum into offsets, on the GPU within the lists' room; per splat: an entry \
+                 in each covered tile's list",
+                [
+                    compute("Tiled::scan", "tiled_scan.wgsl", "cs_scan", TileWork::Scan, Vec::new()),
+                    compute("Tiled::bin", "tiled_bin.wgsl", "cs_bin", TileWork::Bin, Vec::new()),
+                ]
+                .concat(),
             ),
             Step::new(
                 "sort",
@@ -141,7 +147,7 @@ impl GpuMode for Tiled {
         );
         let mut plan = frame.plan(what, 1, steps, targets);
         plan.buffers =
-            tile_engine::planned_buffers(frame.splats + frame.triangles as usize, (frame.width, frame.height), None);
+            tile_layout::planned_buffers(frame.splats + frame.triangles as usize, (frame.width, frame.height), None);
         plan
     }
 }

@@ -220,6 +220,9 @@ pub enum TileWork {
     Project,
     /// Per drawn mesh triangle, after the splats: covered tiles counted.
     ProjectTriangles,
+    /// One workgroup: the counts' prefix sum into offsets, on the GPU,
+    /// within the entry buffer's room (an overflow flag when past it).
+    Scan,
     /// Per splat (and triangle): an entry in every covered tile's list.
     Bin,
     /// Per tile of a short list: sorted by nearest depth, one invocation each.
