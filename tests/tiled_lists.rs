@@ -17,7 +17,7 @@ use pointblend::scene::{Scene, primitives};
 
 /// Two translucent planes of splats five times as wide as their spacing:
 /// each splat covers many tiles, so the lists hold many more entries than
-/// the four per splat a new engine makes room for.
+/// a new engine makes room for per splat.
 fn dense_planes() -> Scene {
     let mut cloud = PointCloud::default();
     for (z, colour) in [(0.0, [230, 60, 40]), (-0.3, [40, 90, 230])] {
@@ -51,7 +51,8 @@ fn lists_past_their_room_are_drawn_again_exactly_and_later_frames_keep_the_room(
         "first frame: {} entries counted, {} kept, room for {}, retried {}",
         lists.entries, lists.kept, lists.capacity, lists.retried
     );
-    assert!(lists.entries > 4 * scene.len() as u64, "the scene passes the first room: {} entries", lists.entries);
+    let first_room = pointblend::render::tile_engine::FIRST_ROOM_PER_ITEM * scene.len() as u64;
+    assert!(lists.entries > first_room, "the scene passes the first room: {} entries", lists.entries);
     assert!(lists.retried, "a frame past its room is drawn again: {report}");
     assert!(lists.capacity >= lists.entries, "room for every entry after the retry");
     assert!(report.to_string().contains("drawn again"), "the report says so: {report}");

@@ -30,9 +30,9 @@
 // plane at a convex quadrilateral that holds every hit point of the tile's
 // rays on that plane; the disc meets it when its centre lies inside or an
 // edge passes within the radius. A corner ray that misses the plane
-// (parallel, or meeting it behind the eye) keeps the tile, as does a test
-// within a thousandth of the radius: the test may keep a tile no ray of
-// which hits the disc, never drop one that has a hit.
+// (parallel, or meeting it behind the eye) keeps the tile, as does an edge
+// within 1.001 times the squared radius: the test may keep a tile no ray
+// of which hits the disc, never drop one that has a hit.
 fn disc_meets_tile(centre: vec3<f32>, plane: vec3<f32>, r2: f32, tile: vec2<u32>) -> bool {
     let low = vec2<f32>(tile * TILE);
     let high = low + vec2<f32>(f32(TILE));

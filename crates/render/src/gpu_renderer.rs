@@ -127,7 +127,7 @@ impl GpuRenderer {
             return self.render_subframes(scene, camera, spec, &subframes, read);
         }
         let tile_lists = self.render_subframe(scene, (camera, spec), SubFrame::whole((width, height)), &whole)?;
-        let window_overflows = tile_lists.as_ref().map(|t| t.window_overflows);
+        let window_overflows = self.window_overflows(tile_lists.is_some());
         let report = FrameReport { tile_lists, window_overflows, ..Default::default() };
         if !read {
             return Ok((image::RgbaImage::new(0, 0), whole, report));
@@ -201,8 +201,8 @@ impl GpuRenderer {
             let drawn = kept.grown(subframe::MARGIN);
             let plan = Renderer::plan_spec(scene, camera, spec, drawn.size)?;
             let lists = self.render_subframe(scene, (camera, spec), drawn, &plan)?;
-            if let Some(lists) = &lists {
-                *window_overflows.get_or_insert(0) += lists.window_overflows;
+            if let Some(n) = self.window_overflows(lists.is_some()) {
+                *window_overflows.get_or_insert(0) += n;
             }
             if read {
                 let part = readback::read_rgba8(&self.ctx, self.output_texture()?)?;
@@ -223,6 +223,12 @@ impl GpuRenderer {
         };
         let report = FrameReport { subframes: Some(subframes), tile_lists, window_overflows, ..Default::default() };
         Ok((image, plan, report))
+    }
+
+    /// The pixels of the frame just drawn whose tile window overflowed,
+    /// when it was `tiled` (read with its result, [`crate::tile_engine::TileEngine::finish_frame`]).
+    fn window_overflows(&self, tiled: bool) -> Option<u32> {
+        self.renderer.tile_engine().filter(|_| tiled).map(|t| t.last.window_overflows)
     }
 
     /// [`Renderer::use_subgroups`] on this renderer's device.

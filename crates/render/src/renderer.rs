@@ -290,7 +290,6 @@ impl Renderer {
             capacity: tiles.entry_capacity(),
             longest: tiles.last.longest_list,
             retried,
-            window_overflows: tiles.last.window_overflows,
             buffers: tile_layout::planned_buffers(scene.len, size, Some((tiles.last.entries, tiles.entry_capacity()))),
         }))
     }

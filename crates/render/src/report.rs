@@ -21,9 +21,6 @@ pub struct TileLists {
     /// Whether the lists passed the room the frame was first drawn with, so
     /// that it was drawn again with more (kept for later frames).
     pub retried: bool,
-    /// Pixels whose window of waiting hits overflowed (finished a layer at
-    /// a time, exactly).
-    pub window_overflows: u32,
     /// The tile pipeline's buffers at the size this frame used.
     pub buffers: Vec<BufferDesc>,
 }
@@ -45,7 +42,8 @@ pub struct FrameReport {
     /// `tiled`: its lists (the largest sub-frame's, when drawn in sub-frames).
     pub tile_lists: Option<TileLists>,
     /// `tiled`: pixels whose window of waiting hits overflowed (finished a
-    /// layer at a time, exactly), over every sub-frame.
+    /// layer at a time, exactly), summed over the sub-frames drawn (their
+    /// margins included).
     pub window_overflows: Option<u32>,
     /// Set when the frame was drawn in sub-frames.
     pub subframes: Option<SubFrames>,

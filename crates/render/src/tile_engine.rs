@@ -102,7 +102,7 @@ pub(crate) const READBACK_BYTES: u64 = LIST_STATE_BYTES + RASTER_STATS_BYTES;
 const LONG_DISPATCH_OFFSET: u64 = 16;
 /// Entries the first frame of an engine has room for, per splat or
 /// triangle: a guess, which an overflow corrects once.
-const FIRST_ROOM_PER_ITEM: u64 = 4;
+pub const FIRST_ROOM_PER_ITEM: u64 = 4;
 
 /// The buffers of the tile pipeline, sized for the last frame.
 pub struct TileEngine {
