@@ -113,3 +113,37 @@ fn a_ruler_mode_measures_every_row_against_its_image_instead_of_the_reference() 
     assert!((got - want).abs() < 1e-9, "{got} against {want}");
     assert_ne!(alg2["eps"], alg2_peeled["eps"], "another ruler, another ε");
 }
+
+#[test]
+fn no_reference_times_the_gpu_modes_alone_in_splats_per_second() {
+    // The scale case's bench on the GPU machine (scripts/gpu-check): no CPU
+    // reference, so no reference row, image, cache entry, error or plot.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let run = Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .arg("bench")
+        .arg(common::bundled_model())
+        .args(["--modes", "tiled,reference", "--no-reference", "--size", "96x96", "--frames", "1", "--warm-up", "1"])
+        .args(["--views", "1", "--loads", "1", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let rows: Vec<serde_json::Value> = serde_json::from_slice(&std::fs::read(out.join("bench.json")).unwrap()).unwrap();
+    let variants: Vec<&str> = rows.iter().map(|r| r["variant"].as_str().unwrap()).collect();
+    assert_eq!(variants, ["tiled"], "one row, of the GPU mode");
+    assert!(rows[0]["eps"].is_null() && rows[0]["psnr"].is_null(), "no error without a reference: {}", rows[0]);
+    assert!(rows[0]["frame_ms"].as_f64().unwrap() > 0.0 && rows[0]["tile_list_bytes"].as_u64().unwrap() > 0);
+    let markdown = std::fs::read_to_string(out.join("bench.md")).unwrap();
+    assert!(markdown.contains("M splats/s (frame)") && !markdown.contains("ε"), "{markdown}");
+    assert!(out.join("lion-front-tiled.png").exists(), "the mode's image is kept");
+    let left: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .chain(std::fs::read_dir(out.join("cache")).into_iter().flatten())
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(
+        !left.iter().any(|f| f.contains("reference") || f.contains("diff") || f == "error_vs_time.png"),
+        "{left:?}"
+    );
+}

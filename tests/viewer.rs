@@ -130,6 +130,7 @@ fn bench_image(sidecar: &Path, cache: &Path) -> image::RgbaImage {
         path: None,
         stream_budget: Default::default(),
         ruler: None,
+        no_reference: false,
     };
     let mut renderer = pointblend::render::GpuRenderer::new().unwrap();
     let spec = frames.resolve(&settings, pointblend::frame::View::still((config.width, config.height)));

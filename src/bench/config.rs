@@ -63,6 +63,10 @@ pub struct BenchConfig {
     /// reference (`--ruler`: Zhang & Pajarola measure against 8-layer depth
     /// peeling); `None`: the reference.
     pub ruler: Option<ModeVariant>,
+    /// `--no-reference`: time the GPU variants without rendering the exact
+    /// reference (a scene whose CPU reference would take too long): rows
+    /// have no error (ε is `null` in bench.json) and the reference no row.
+    pub no_reference: bool,
 }
 
 pub(super) fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> BenchError + '_ {

@@ -276,6 +276,9 @@ pub(super) fn blank_row(
         budget_select_ms: None,
         triangles: None,
         window_overflows: None,
+        tile_list_bytes: None,
+        tile_retried: None,
+        parts: None,
         path: None,
         upload_ms: None,
     }
@@ -290,7 +293,7 @@ pub(super) fn measure_variant(
     view: &super::views::NamedView,
     p: &Prepared,
     config: &BenchConfig,
-    reference: &Ruler,
+    reference: Option<&Ruler>,
     (stem, mut row): (&str, BenchRow),
 ) -> Result<BenchRow, BenchError> {
     let (Frame { image, plan, report }, wall, per_pass, profiled) =
@@ -298,6 +301,11 @@ pub(super) fn measure_variant(
             .map_err(|e| BenchError::Invalid(format!("{} ({} view): {e}", p.variant, view.name)))?;
     row.fallback = p.spec.opaque_fallback.then(|| OPAQUE_FALLBACK.to_string());
     row.window_overflows = report.window_overflows;
+    if let Some(lists) = &report.tile_lists {
+        row.tile_list_bytes = Some(lists.buffers.iter().map(|b| b.bytes).sum());
+        row.tile_retried = Some(lists.retried);
+    }
+    row.parts = report.subframes.as_ref().map(|s| s.count);
     if p.settings.eye_dome_drawn().is_some() {
         row.reference += ", eye-dome lit"; // its ruler is (`Rulers::of_variant`)
     }
@@ -309,16 +317,28 @@ pub(super) fn measure_variant(
         row.points = hybrid.splats;
         row.triangles = Some(hybrid.triangles);
     }
-    let sizes_differ = || BenchError::Invalid("image and reference sizes differ".into());
-    let error = reference::compare(&image, &reference.image).ok_or_else(sizes_differ)?;
-    row.eps_by_layers =
-        reference::error_by_layers(&image, &reference.image, &reference.layers).ok_or_else(sizes_differ)?;
     let tag = p.variant.file_tag();
     let file = format!("{stem}-{}-{tag}.png", view.name);
     save_png(&image, &config.out.join(&file))?;
     row.image = file;
-    if let Some(diff) = reference::difference_image(&image, &reference.image, 8.0) {
-        save_png(&diff, &config.out.join(format!("{stem}-{}-{tag}-diff.png", view.name)))?;
+    match reference {
+        Some(ruler) => {
+            let sizes_differ = || BenchError::Invalid("image and reference sizes differ".into());
+            let error = reference::compare(&image, &ruler.image).ok_or_else(sizes_differ)?;
+            row.eps_by_layers =
+                reference::error_by_layers(&image, &ruler.image, &ruler.layers).ok_or_else(sizes_differ)?;
+            if let Some(diff) = reference::difference_image(&image, &ruler.image, 8.0) {
+                save_png(&diff, &config.out.join(format!("{stem}-{}-{tag}-diff.png", view.name)))?;
+            }
+            row.eps = error.eps;
+            row.psnr = error.psnr.is_finite().then_some(error.psnr);
+            row.bad_pixel_share = error.bad_pixel_share;
+        }
+        None => {
+            // `--no-reference`: nothing to measure against (null in bench.json).
+            (row.eps, row.psnr, row.bad_pixel_share) = (f64::NAN, None, f64::NAN);
+            row.reference = super::report::NO_REFERENCE.into();
+        }
     }
     let frame = spread(&wall);
     let passes: Vec<PassTime> = plan
@@ -339,9 +359,6 @@ pub(super) fn measure_variant(
     row.frame_ms_max = frame.max;
     row.gpu_ms = (!passes.is_empty() && !profiled).then(|| passes.iter().map(|p| p.ms).sum());
     row.passes = passes;
-    row.eps = error.eps;
-    row.psnr = error.psnr.is_finite().then_some(error.psnr);
-    row.bad_pixel_share = error.bad_pixel_share;
     row.geometry_passes = plan.geometry_passes();
     Ok(row)
 }
@@ -378,6 +395,14 @@ pub(super) fn measure_views(
         crate::progress::bar((views.len() * (prepared.len() + 1)) as u64, &format!("bench {stem}"), config.progress);
     let mut rows = Vec::new();
     for view in views {
+        if config.no_reference {
+            for p in prepared.iter().filter(|p| !p.ruler_only) {
+                let blank = blank_row(name, opened, &view.name, config, &p.variant.label(), p.variant.mode);
+                rows.push(measure_variant(renderer, frames, view, p, config, None, (stem, blank))?);
+                bar.inc(1);
+            }
+            continue;
+        }
         let row = |variant: &str, mode| blank_row(name, opened, &view.name, config, variant, mode);
         let rulers = Rulers::of(config, opened, prepared, &view.camera)?;
         let ruler_name = RenderMode::RULER.name();
@@ -411,7 +436,7 @@ pub(super) fn measure_views(
                 }
                 _ => rulers.of_variant(&opened.scene, p),
             };
-            rows.push(measure_variant(renderer, frames, view, p, config, reference, (stem, blank))?);
+            rows.push(measure_variant(renderer, frames, view, p, config, Some(reference), (stem, blank))?);
             bar.inc(1);
         }
     }

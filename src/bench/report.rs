@@ -123,6 +123,20 @@ pub struct BenchRow {
     /// waiting hits overflowed, finished exactly a layer at a time (slower pixels).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub window_overflows: Option<u32>,
+    /// `tiled`: bytes of its tile pipeline's buffers in the last timed frame
+    /// (the largest part's, when drawn in parts): per-splat records, tile
+    /// tables, the entries and the sort's scratch at their room.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tile_list_bytes: Option<u64>,
+    /// `tiled`: whether the last timed frame's lists passed their room and
+    /// it was drawn again with more.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tile_retried: Option<bool>,
+    /// The parts of the screen the last timed frame was drawn in, when more
+    /// than one (its targets, or `tiled`'s splats and lists, would pass the
+    /// memory a render may take).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub parts: Option<usize>,
     /// With `--path`: what this row's view cost to prepare.
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
     pub path: Option<ViewCosts>,
@@ -134,8 +148,14 @@ pub fn write_json(rows: &[BenchRow], path: &Path) -> std::io::Result<()> {
     crate::output::write_atomically(path, text.as_bytes())
 }
 
-/// The rows as a Markdown table.
+/// What a row of `--no-reference` is measured against.
+pub const NO_REFERENCE: &str = "nothing (--no-reference)";
+
+/// The rows as a Markdown table (of throughput, when nothing measured their error).
 pub fn markdown(rows: &[BenchRow]) -> String {
+    if !rows.is_empty() && rows.iter().all(|r| r.reference == NO_REFERENCE) {
+        return throughput_markdown(rows);
+    }
     let mut out = String::from(
         "| model | view | variant | K | points | size | geometry passes | frame ms median (min-max) | GPU ms | ε | PSNR dB | bad pixels | measured against |\n|---|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---|\n",
     );
@@ -229,6 +249,34 @@ pub fn animation_markdown(rows: &[BenchRow]) -> String {
             ms(regroup),
             ms(upload),
             mean(&|r| r.eps)
+        ));
+    }
+    out
+}
+
+/// `--no-reference` rows: frame and GPU time, and millions of splats drawn
+/// per second of each.
+fn throughput_markdown(rows: &[BenchRow]) -> String {
+    let mut out = String::from(
+        "| model | view | variant | points | size | frame ms median (min-max) | GPU ms | M splats/s (frame) | M splats/s (GPU) | parts |\n|---|---|---|---:|---|---:|---:|---:|---:|---:|\n",
+    );
+    let rate = |ms: f64, points: usize| points as f64 / (ms * 1e-3) / 1e6;
+    for r in rows {
+        out.push_str(&format!(
+            "| {} | {} | {} | {} | {}x{} | {:.1} ({:.1}-{:.1}) | {} | {:.1} | {} | {} |\n",
+            r.model,
+            r.view,
+            r.variant,
+            r.points,
+            r.width,
+            r.height,
+            r.frame_ms,
+            r.frame_ms_min,
+            r.frame_ms_max,
+            r.gpu_ms.map_or("-".into(), |g| format!("{g:.1}")),
+            rate(r.frame_ms, r.points),
+            r.gpu_ms.map_or("-".into(), |g| format!("{:.1}", rate(g, r.points))),
+            r.parts.map_or("1".into(), |n| n.to_string()),
         ));
     }
     out

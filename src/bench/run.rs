@@ -74,7 +74,7 @@ pub fn run(models: &[PathBuf], config: &BenchConfig, renderer: &mut GpuRenderer)
     }
     let md = config.out.join("bench.md");
     write_atomically(&md, markdown.as_bytes()).map_err(io_error(&md))?;
-    if !outcome.rows.is_empty() {
+    if !outcome.rows.is_empty() && !config.no_reference {
         let title = format!("error against frame time, {}x{}", config.width, config.height);
         super::plot::write(&outcome.rows, &title, &config.out.join("error_vs_time.png"))
             .map_err(BenchError::Invalid)?;
@@ -218,7 +218,7 @@ fn bench_animation(
                 let reference = rulers.of_variant(&now.scene, p);
                 let blank = blank_row(&name, &now, &view.name, config, &p.variant.label(), p.variant.mode);
                 let spec = p.spec.grouping.map(|g| g.spec);
-                let mut row = measure_variant(renderer, &mut frames, view, p, config, reference, (&stem, blank))?;
+                let mut row = measure_variant(renderer, &mut frames, view, p, config, Some(reference), (&stem, blank))?;
                 (row.frame, row.time) = (Some(i), Some(t));
                 row.regroup_ms = match &update {
                     Some(u) => spec.map(|s| u.regroup_ms_for(Some(s))),

@@ -91,6 +91,7 @@ pub fn run(args: &Args) -> Result<()> {
             path: None,
             stream_budget: args.view.stream_budget()?,
             ruler: None,
+            no_reference: false,
         };
         let outcome = bench::run(std::slice::from_ref(&part.model), &config, &mut renderer)?;
         sheet.push(sheet_row(part, &outcome.rows));

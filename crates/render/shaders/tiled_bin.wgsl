@@ -22,6 +22,9 @@
 @group(1) @binding(2) var<storage, read_write> offsets: array<atomic<u32>>;
 @group(1) @binding(3) var<storage, read_write> entries: array<vec2<u32>>;
 @group(1) @binding(4) var<storage, read> eye: array<EyeSplat>;
+// The lists' state (tiled_common.wgsl): how many splats were packed into
+// the slots this frame, when they were (the slots past them hold old boxes).
+@group(1) @binding(5) var<storage, read> lists: array<u32>;
 
 // Whether a ray through tile `tile` (the pixel square from tile * TILE, a
 // half pixel beyond every pixel centre it holds) may hit the disc with
@@ -90,6 +93,7 @@ fn edge_distance2(a: vec3<f32>, b: vec3<f32>) -> f32 {
 fn cs_bin(dispatch: Dispatch) {
     let i = invocation(dispatch);
     if i >= tiles.grid.w { return; }
+    if tiles.room.y != 0u && i < tiles.grid.z && i >= lists[PACKED] { return; }
     let rect = rects[i];
     let first_pixel = vec2<u32>(rect.x & 0xffffu, rect.y & 0xffffu);
     let last_pixel = vec2<u32>(rect.x >> 16u, rect.y >> 16u);

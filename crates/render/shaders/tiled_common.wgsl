@@ -32,7 +32,24 @@ struct EyeSplat {
 struct Tiles {
     // tile columns, tile rows, the first splat this dispatch handles, how many
     grid: vec4<u32>,
+    // The slots of the per-splat buffers (eye splats, pixel boxes), whether
+    // the splats that reach the screen are packed into them (1, when the
+    // scene has more splats than slots: a frame drawn in parts), the scene's
+    // splat count (triangles are ordered after it), unused.
+    room: vec4<u32>,
 }
+
+// Where things sit in the lists' state (`lists`, written by tiled_scan.wgsl;
+// mirrors tile_engine.rs): the entries' room, their total, the overflow
+// flag, the longest list, cs_sort's indirect dispatch, and the splats
+// packed into the per-splat slots this frame.
+const ROOM: u32 = 0u;
+const TOTAL: u32 = 1u;
+const OVERFLOW: u32 = 2u;
+const LONGEST: u32 = 3u;
+// x, y, z workgroups of cs_sort: bytes 16..28, an indirect dispatch.
+const LONG_DISPATCH: u32 = 4u;
+const PACKED: u32 = 7u;
 
 // Where a compute invocation stands in a dispatch of workgroups laid out in
 // two dimensions (a dimension holds at most 65535 workgroups): the input of

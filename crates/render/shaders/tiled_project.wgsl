@@ -10,10 +10,19 @@
 // cover: the exact eye-space box of the disc (c ± r·sqrt(1 - n_i²) per axis)
 // projected at its 8 corners, or the whole screen when the box reaches the
 // near plane (crates/core/src/reference/tiles.rs bins the same box). Each
-// covered tile's count goes up by one; the CPU turns the counts into offsets
-// (a prefix sum over the tiles) before pass 2 writes the entries. The sort
-// key is the smallest view depth on the disc, -(c.z + half.z): no ray meets
-// the disc nearer than it, which the per-pixel pass relies on.
+// covered tile's count goes up by one; the scan turns the counts into
+// offsets (tiled_scan.wgsl) before pass 2 writes the entries. The sort key
+// is the smallest view depth on the disc, -(c.z + half.z): no ray meets the
+// disc nearer than it, which the per-pixel pass relies on.
+//
+// A splat's eye record and pixel box go to its own slot when the scene has
+// a slot for every splat. When it has more splats than slots (a frame whose
+// per-splat buffers would pass one storage binding or the memory given to
+// the frame, drawn in parts of the screen), the splats whose box reaches
+// this part are packed into the slots in arrival order (`lists[PACKED]`
+// counts them, past the slots too), and the box keeps the splat's place in
+// the scene, which the sort orders equal keys by, so a packed frame sorts as
+// a whole one does. More splats than slots overflow (tiled_scan.wgsl).
 
 @group(1) @binding(0) var<uniform> tiles: Tiles;
 // The scene's splat instances (36 bytes each, see gpu_data.rs), read as words.
@@ -23,9 +32,11 @@
 // A bit per slot of the scene, set where the slot holds a splat drawn: a
 // node pool keeps the records of nodes no longer drawn (node_pool.rs).
 @group(1) @binding(5) var<storage, read> live: array<u32>;
+// The lists' state (tiled_common.wgsl): PACKED counts the packed splats.
+@group(1) @binding(6) var<storage, read_write> lists: array<atomic<u32>>;
 #ifdef LIGHTS
 // Per splat of the chunk: its shadow coefficients, lights 0-3 and 4-7 as unorm8.
-@group(1) @binding(6) var<storage, read> splat_lights: array<u32>;
+@group(1) @binding(7) var<storage, read> splat_lights: array<u32>;
 #endif
 
 @compute @workgroup_size(256)
@@ -54,7 +65,45 @@ fn cs_project(dispatch: Dispatch) {
     let shadow_b = unpack4x8unorm(splat_lights[2u * at + 1u]);
     colour = pack4x8unorm(vec4<f32>(light_splat(albedo, normal, centre, shadow_a, shadow_b), 1.0));
 #endif
-    eye[i] = EyeSplat(
+    // Back faces of one-sided splats (a two-sided one has a negative radius).
+    let culled = frame.splat.w > 0.5 && signed_radius > 0.0 && dot(normal, centre) > 0.0;
+    // A node pool's vacant and resident slots are not live (node_pool.rs).
+    let live_slot = ((live[i >> 5u] >> (i & 31u)) & 1u) == 1u;
+    let usable = depth - radius < frame.depth.y && depth + radius > frame.depth.x && radius > 0.0 && live_slot;
+    let packing = tiles.room.y != 0u;
+    var rect = NO_TILES;
+    if !culled && usable {
+        let half = sqrt(max(vec3<f32>(1.0) - plane * plane, vec3<f32>(0.0))) * radius;
+        let lo = centre - half;
+        let hi = centre + half;
+        var low = vec2<f32>(0.0);
+        var high = frame.viewport.xy;
+        if hi.z < -frame.depth.x {
+            low = vec2<f32>(3.4e38);
+            high = vec2<f32>(-3.4e38);
+            for (var corner = 0u; corner < 8u; corner++) {
+                let p = select(lo, hi, vec3<bool>((corner & 1u) != 0u, (corner & 2u) != 0u, (corner & 4u) != 0u));
+                let box = pixel_box_of(p, low, high);
+                low = box[0];
+                high = box[1];
+            }
+        }
+        rect = screen_rect(low, high, depth_key(-hi.z), i);
+    }
+    if covers_nothing(rect) {
+        if !packing {
+            rects[i] = NO_TILES;
+        }
+        return;
+    }
+    var slot = i;
+    if packing {
+        slot = atomicAdd(&lists[PACKED], 1u);
+        if slot >= tiles.room.x {
+            return;
+        }
+    }
+    eye[slot] = EyeSplat(
         centre,
         1.0 / max(radius * radius, 1e-30),
         plane,
@@ -62,30 +111,6 @@ fn cs_project(dispatch: Dispatch) {
         normal,
         colour,
     );
-    // Back faces of one-sided splats (a two-sided one has a negative radius).
-    let culled = frame.splat.w > 0.5 && signed_radius > 0.0 && dot(normal, centre) > 0.0;
-    // A node pool's vacant and resident slots are not live (node_pool.rs).
-    let live_slot = ((live[i >> 5u] >> (i & 31u)) & 1u) == 1u;
-    let usable = depth - radius < frame.depth.y && depth + radius > frame.depth.x && radius > 0.0 && live_slot;
-    if culled || !usable {
-        rects[i] = NO_TILES;
-        return;
-    }
-    let half = sqrt(max(vec3<f32>(1.0) - plane * plane, vec3<f32>(0.0))) * radius;
-    let lo = centre - half;
-    let hi = centre + half;
-    let size = frame.viewport.xy;
-    var low = vec2<f32>(0.0);
-    var high = size;
-    if hi.z < -frame.depth.x {
-        low = vec2<f32>(3.4e38);
-        high = vec2<f32>(-3.4e38);
-        for (var corner = 0u; corner < 8u; corner++) {
-            let p = select(lo, hi, vec3<bool>((corner & 1u) != 0u, (corner & 2u) != 0u, (corner & 4u) != 0u));
-            let box = pixel_box_of(p, low, high);
-            low = box[0];
-            high = box[1];
-        }
-    }
-    store_rect(i, low, high, depth_key(-hi.z));
+    rects[slot] = rect;
+    count_tiles(rect);
 }

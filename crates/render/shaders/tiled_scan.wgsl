@@ -8,7 +8,8 @@
 // `lists[OVERFLOW]` and leaves every list empty, so the passes after this
 // one write and read nothing; the CPU reads `lists` with the frame's result
 // and draws the frame again with room for `lists[TOTAL]`, which later frames
-// keep. It also lists the tiles whose lists are longer than SHORT (their
+// keep. A frame whose visible splats passed the per-splat slots (`lists[PACKED]`
+// beyond `tiles.room.x`) overflows too, and is drawn in smaller parts. It also lists the tiles whose lists are longer than SHORT (their
 // count first) and writes the indirect dispatch that sorts them, one
 // workgroup each (tiled_sort.wgsl, cs_sort).
 //
@@ -21,13 +22,6 @@
 @group(1) @binding(3) var<storage, read_write> long_tiles: array<u32>;
 @group(1) @binding(4) var<storage, read_write> lists: array<u32>;
 
-// Where things sit in `lists` (mirrors `ListState` in tile_engine.rs).
-const ROOM: u32 = 0u;
-const TOTAL: u32 = 1u;
-const OVERFLOW: u32 = 2u;
-const LONGEST: u32 = 3u;
-// x, y, z workgroups of cs_sort: bytes 16..28, an indirect dispatch.
-const LONG_DISPATCH: u32 = 4u;
 
 var<workgroup> sums: array<u32, GROUP>;
 var<workgroup> long_count: atomic<u32>;
@@ -71,7 +65,10 @@ fn cs_scan(@builtin(local_invocation_index) local: u32) {
     }
     let total = sums[GROUP - 1u];
     let too_many = atomicLoad(&wrapped) != 0u;
-    let overflow = too_many || total > lists[ROOM];
+    // Splats packed past their slots (a part of the frame with more splats
+    // than the slots hold) overflow too: the renderer draws smaller parts.
+    let packed_over = tiles.room.y != 0u && lists[PACKED] > tiles.room.x;
+    let overflow = too_many || total > lists[ROOM] || packed_over;
     var base = sums[local] - sum;
     for (var t = first; t < last; t++) {
         offsets[t] = select(base, 0u, overflow);

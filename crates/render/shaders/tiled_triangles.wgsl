@@ -53,5 +53,10 @@ fn cs_project_triangles(dispatch: Dispatch) {
             high = box[1];
         }
     }
-    store_rect(i, low, high, depth_key(near));
+    // Ordered after every splat of the scene among equal keys.
+    let rect = screen_rect(low, high, depth_key(near), tiles.room.z + at);
+    rects[i] = rect;
+    if !covers_nothing(rect) {
+        count_tiles(rect);
+    }
 }

@@ -25,6 +25,11 @@ pub enum GpuError {
     Size { width: u32, height: u32, max: u32 },
     #[error("{0}")]
     TooLarge(String),
+    /// A `tiled` frame (or part of one) whose splats or tile lists would
+    /// pass the memory given to it, `over` times over: drawn in smaller
+    /// parts (gpu_renderer.rs), an error only when a part cannot shrink.
+    #[error("{message}")]
+    TilesDoNotFit { message: String, over: f64 },
     #[error("the GPU ran out of memory {stage}: {message}")]
     OutOfMemory { stage: String, message: String },
 }

@@ -30,13 +30,24 @@ pub struct GpuRenderer {
     output: Option<wgpu::Texture>,
     /// [`DEFAULT_SUBFRAME_BUDGET`], or what [`Self::set_subframe_budget`] set.
     subframe_budget: u64,
+    /// The parts the last `tiled` frame too large for its memory was drawn
+    /// in, with its size and the scene's splat slots: the next such frame
+    /// starts from them rather than finding them again.
+    tile_parts: Option<TileParts>,
+}
+
+/// Parts of a `tiled` frame of `size` over a scene of `slots` splat slots.
+struct TileParts {
+    size: (u32, u32),
+    slots: usize,
+    parts: Vec<SubFrame>,
 }
 
 impl GpuRenderer {
     pub fn new() -> Result<Self, GpuError> {
         let ctx = GpuContext::headless()?;
         let renderer = Renderer::new(&ctx)?;
-        Ok(Self { ctx, renderer, output: None, subframe_budget: DEFAULT_SUBFRAME_BUDGET })
+        Ok(Self { ctx, renderer, output: None, subframe_budget: DEFAULT_SUBFRAME_BUDGET, tile_parts: None })
     }
 
     /// Sets the most bytes one render of an image may take (see [`DEFAULT_SUBFRAME_BUDGET`]).
@@ -123,11 +134,29 @@ impl GpuRenderer {
         // The whole frame's plan, made once: it says whether the frame fits, and runs when it does.
         let whole = Renderer::plan_spec(scene, camera, spec, (width, height))?;
         let subframes = self.subframes(&whole, (width, height));
+        let margin = subframe::margin(&whole);
         if subframes.len() > 1 {
-            return self.render_subframes(scene, camera, spec, &subframes, read);
+            return self.render_subframes(scene, camera, spec, (&subframes, margin, false), read);
         }
-        let tile_lists = self.render_subframe(scene, (camera, spec), SubFrame::whole((width, height)), &whole)?;
+        let known = self.tile_parts.as_ref().filter(|t| t.size == (width, height) && t.slots == scene.slot_count());
+        if let Some(parts) = known.filter(|_| whole.compute_passes() > 0).map(|t| t.parts.clone()) {
+            return self.render_subframes(scene, camera, spec, (&parts, margin, true), read);
+        }
+        let tile_lists = match self.render_subframe(scene, (camera, spec), SubFrame::whole((width, height)), &whole) {
+            // A `tiled` frame whose splats or lists would pass its memory is drawn in parts.
+            Err(GpuError::TilesDoNotFit { message, over }) => {
+                let parts = subframe::split(SubFrame::whole((width, height)), over)
+                    .ok_or(GpuError::TilesDoNotFit { message, over })?;
+                return self.render_subframes(scene, camera, spec, (&parts, margin, true), read);
+            }
+            drawn => drawn?,
+        };
         let window_overflows = self.window_overflows(tile_lists.is_some());
+        let mut whole = whole;
+        if let Some(lists) = &tile_lists {
+            // The plan states the tile buffers the frame held, now that they are known.
+            whole.buffers = lists.buffers.clone();
+        }
         let report = FrameReport { tile_lists, window_overflows, ..Default::default() };
         if !read {
             return Ok((image::RgbaImage::new(0, 0), whole, report));
@@ -181,15 +210,21 @@ impl GpuRenderer {
         subframe::tiles(size, max_pixels, limits.max_texture_dimension_2d)
     }
 
-    /// A frame drawn sub-frame by sub-frame, each grown by [`subframe::MARGIN`] for
+    /// A frame drawn sub-frame by sub-frame, each grown by `margin` ([`subframe::margin`]) for
     /// the passes that read neighbours and cropped to the part it keeps
-    /// (read back only when `read`).
+    /// (read back only when `read`). A sub-frame whose `tiled` splats or
+    /// lists would pass the memory given to it is cut into smaller ones
+    /// ([`subframe::split`]) and those are drawn instead; only a part too
+    /// small to cut is an error. `tile_parts`: the sub-frames are such parts
+    /// already; the parts drawn are then kept for the next frame of this
+    /// size, unless the splats reaching them would fill under half the slots
+    /// (the next frame tries the whole frame again).
     fn render_subframes(
         &mut self,
         scene: &mut GpuScene,
         camera: &Camera,
         spec: &FrameSpec,
-        subframes: &[SubFrame],
+        (subframes, margin, tile_parts): (&[SubFrame], u32, bool),
         read: bool,
     ) -> Result<(image::RgbaImage, RenderPlan, FrameReport), GpuError> {
         let (width, height) = subframes[0].frame;
@@ -197,10 +232,32 @@ impl GpuRenderer {
         let mut image = image::RgbaImage::new(if read { width } else { 0 }, if read { height } else { 0 });
         let mut largest: Option<(RenderPlan, Option<TileLists>)> = None;
         let mut window_overflows = None;
-        for kept in subframes {
-            let drawn = kept.grown(subframe::MARGIN);
+        let mut pending: Vec<SubFrame> = subframes.iter().rev().copied().collect();
+        let (mut count, mut for_tiles) = (0, tile_parts);
+        let (mut parts_drawn, mut packed) = (Vec::new(), Some(0));
+        while let Some(kept) = pending.pop() {
+            let drawn = kept.grown(margin);
             let plan = Renderer::plan_spec(scene, camera, spec, drawn.size)?;
-            let lists = self.render_subframe(scene, (camera, spec), drawn, &plan)?;
+            let lists = match self.render_subframe(scene, (camera, spec), drawn, &plan) {
+                Err(GpuError::TilesDoNotFit { message, over }) => {
+                    let parts = subframe::split(kept, over).ok_or_else(|| GpuError::TilesDoNotFit {
+                        message: format!(
+                            "{message}, even in a part of {}x{} pixels: use a smaller --size or another mode, or give \
+                             the frame more memory (POINTBLEND_GPU_MEMORY_MB)",
+                            drawn.size.0, drawn.size.1
+                        ),
+                        over,
+                    })?;
+                    pending.extend(parts.into_iter().rev());
+                    for_tiles = true;
+                    continue;
+                }
+                drawn => drawn?,
+            };
+            count += 1;
+            parts_drawn.push(kept);
+            // The splats that reached the parts, summed (none when they were not packed).
+            packed = packed.zip(lists.as_ref().and_then(|l| l.packed)).map(|(sum, p)| sum + p);
             if let Some(n) = self.window_overflows(lists.is_some()) {
                 *window_overflows.get_or_insert(0) += n;
             }
@@ -210,15 +267,28 @@ impl GpuRenderer {
                 let kept_part = image::imageops::crop_imm(&part, x, y, kept.size.0, kept.size.1).to_image();
                 image::imageops::replace(&mut image, &kept_part, kept.origin.0 as i64, kept.origin.1 as i64);
             }
-            if largest.as_ref().is_none_or(|(p, _)| p.target_bytes() < plan.target_bytes()) {
+            // The report's plan and lists: the largest part's, by its targets then its lists.
+            let size_of = |p: &RenderPlan, l: &Option<TileLists>| (p.target_bytes(), l.as_ref().map_or(0, |l| l.kept));
+            if largest.as_ref().is_none_or(|(p, l)| size_of(p, l) < size_of(&plan, &lists)) {
                 largest = Some((plan, lists));
             }
         }
-        let (plan, tile_lists) = largest.ok_or_else(|| GpuError::Device("a frame of no sub-frames".into()))?;
+        let (mut plan, tile_lists) = largest.ok_or_else(|| GpuError::Device("a frame of no sub-frames".into()))?;
+        if let Some(lists) = &tile_lists {
+            plan.buffers = lists.buffers.clone();
+        }
+        log::info!("{width}x{height} was drawn in {count} parts");
+        let slots = tile_lists.as_ref().map_or(0, |l| l.slots);
+        self.tile_parts = packed.filter(|&p| for_tiles && 2 * p > slots).map(|_| TileParts {
+            size: (width, height),
+            slots: scene.slot_count(),
+            parts: parts_drawn,
+        });
         let subframes = SubFrames {
-            count: subframes.len(),
+            count,
+            for_tiles,
             largest: (plan.width, plan.height),
-            margin: subframe::MARGIN,
+            margin,
             budget_mib: self.subframe_budget.min(self.ctx.target_budget()) >> 20,
         };
         let report = FrameReport { subframes: Some(subframes), tile_lists, window_overflows, ..Default::default() };

@@ -59,6 +59,7 @@ pub mod shaders;
 pub mod subframe;
 pub mod target_id;
 pub mod targets;
+pub mod tile_buffers;
 pub mod tile_engine;
 pub mod tile_layout;
 pub mod timer;

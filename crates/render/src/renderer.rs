@@ -234,9 +234,18 @@ impl Renderer {
             scene.order_back_to_front(&ctx.queue, camera.view_ray(), spec.drawn.order);
         }
         let scene = &*scene;
-        if plan.compute_passes() > 0 && !self.tiles.as_ref().is_some_and(|t| t.fits(scene, size)) {
-            self.tiles = None; // free the old buffers first
-            self.tiles = Some(TileEngine::new(ctx, scene, size)?);
+        let tiled = plan.compute_passes() > 0;
+        // What the tile pipeline's per-splat buffers and lists may take: the
+        // frame's memory beside its targets and per-tile tables.
+        let budget = ctx.target_budget().saturating_sub(plan.target_bytes() + tile_layout::table_bytes(size));
+        if tiled {
+            match self.tiles.as_mut() {
+                Some(tiles) if tiles.fits(ctx, scene, budget) => tiles.set_grid(ctx, scene, size)?,
+                _ => {
+                    self.tiles = None; // free the old buffers first
+                    self.tiles = Some(TileEngine::new(ctx, scene, size, budget)?);
+                }
+            }
         }
         let commands: Vec<(usize, &Command)> = plan.commands().collect();
         let allocated =
@@ -259,8 +268,6 @@ impl Renderer {
             slots[at..at + std::mem::size_of::<PassUniforms>()].copy_from_slice(bytemuck::bytes_of(uniforms));
         }
         ctx.queue.write_buffer(&self.pass_buffer, 0, &slots);
-        let tiled = plan.compute_passes() > 0;
-        let budget = ctx.target_budget().saturating_sub(plan.target_bytes() + plan.buffer_bytes());
         let mut retried = false;
         loop {
             if let Some(tiles) = self.tiles.as_mut().filter(|_| tiled) {
@@ -273,6 +280,18 @@ impl Renderer {
             let met = tiles.finish_frame(ctx)?;
             if !met.overflow || retried {
                 break;
+            }
+            if let Some(packed) = met.packed.filter(|&p| p > tiles.slots()) {
+                // More splats reach this part than the slots hold: smaller parts.
+                return Err(GpuError::TilesDoNotFit {
+                    message: format!(
+                        "tiled: {packed} splats reach a {}x{} part of the frame, more than the {} its memory holds",
+                        size.0,
+                        size.1,
+                        tiles.slots()
+                    ),
+                    over: packed as f64 / tiles.slots() as f64,
+                });
             }
             tiles.make_room(ctx, met.entries, budget)?;
             retried = true;
@@ -290,7 +309,13 @@ impl Renderer {
             capacity: tiles.entry_capacity(),
             longest: tiles.last.longest_list,
             retried,
-            buffers: tile_layout::planned_buffers(scene.len, size, Some((tiles.last.entries, tiles.entry_capacity()))),
+            slots: tiles.slots(),
+            packed: tiles.last.packed,
+            buffers: tile_layout::planned_buffers(
+                tiles.slots() as usize + scene.triangles.as_ref().map_or(0, |t| t.count() as usize),
+                size,
+                Some((tiles.last.entries, tiles.entry_capacity())),
+            ),
         }))
     }
 

@@ -21,6 +21,11 @@ pub struct TileLists {
     /// Whether the lists passed the room the frame was first drawn with, so
     /// that it was drawn again with more (kept for later frames).
     pub retried: bool,
+    /// Slots of the per-splat buffers (the scene's splats, or fewer).
+    pub slots: u64,
+    /// When the splats reaching the frame were packed into fewer slots
+    /// than the scene has splats: how many reached it.
+    pub packed: Option<u64>,
     /// The tile pipeline's buffers at the size this frame used.
     pub buffers: Vec<BufferDesc>,
 }
@@ -29,6 +34,9 @@ pub struct TileLists {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SubFrames {
     pub count: usize,
+    /// Whether the frame (or a sub-frame) was cut because `tiled`'s splats
+    /// or lists would pass the memory given to it.
+    pub for_tiles: bool,
     /// The largest sub-frame's size (with its margin), whose plan the frame reports.
     pub largest: (u32, u32),
     pub margin: u32,
@@ -91,19 +99,24 @@ impl FrameReport {
     pub fn lines(&self) -> Vec<String> {
         let mut lines = Vec::new();
         if let Some(w) = &self.subframes {
+            let why = if w.for_tiles { "the splats or tile lists of `tiled`" } else { "the whole frame's targets" };
             lines.push(format!(
-                "drawn in {} sub-frames (the plan is the largest's, {}x{} with a {} px margin): the whole frame's \
-                 targets would pass the GPU's limits or the {} MiB a render may take",
+                "drawn in {} sub-frames (the plan is the largest's, {}x{} with a {} px margin): {why} would pass the \
+                 GPU's limits or the {} MiB a render may take",
                 w.count, w.largest.0, w.largest.1, w.margin, w.budget_mib
             ));
         }
         if let Some(t) = &self.tile_lists {
             lines.push(format!(
-                "tile lists: {} entries kept of {} counted over the discs' boxes (room for {}), the longest {} splats{}",
+                "tile lists: {} entries kept of {} counted over the discs' boxes (room for {}), the longest {} splats{}{}",
                 t.kept,
                 t.entries,
                 t.capacity,
                 t.longest,
+                t.packed.map_or(String::new(), |p| format!(
+                    "; {p} splats reached the part, packed into {} slots (the scene has more splats)",
+                    t.slots
+                )),
                 if t.retried {
                     "; they passed the room the frame was first drawn with, so it was drawn again with more"
                 } else {

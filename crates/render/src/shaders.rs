@@ -64,9 +64,13 @@ impl Variant {
     /// Eye-dome lighting reads the nearest surface's depth from K group
     /// images (deferred) rather than a depth buffer (two-pass).
     pub const GROUP_DEPTH: Variant = Variant(512);
+    /// `tiled`'s splats were packed into fewer slots than the scene has
+    /// (a frame drawn in parts): the sort orders equal keys by the places
+    /// the pixel boxes keep, not by slot (shaders/tiled_sort.wgsl).
+    pub const PACKED: Variant = Variant(1024);
 
     /// Every name, by bit.
-    const NAMES: [&'static str; 10] = [
+    const NAMES: [&'static str; 11] = [
         "LIT",
         "WEIGHT_ONLY",
         "OPAQUE_APART",
@@ -77,6 +81,7 @@ impl Variant {
         "COVERAGE",
         "CLIP",
         "GROUP_DEPTH",
+        "PACKED",
     ];
 
     pub const NONE: Variant = Variant(0);

@@ -23,6 +23,13 @@ use crate::frame::Camera;
 /// read neighbours: eye-dome lighting (up to 16 px), the coverage level (2 px).
 pub const MARGIN: u32 = 32;
 
+/// The margin the sub-frames of a frame whose plan is `plan` are drawn
+/// with: [`MARGIN`], or none for `tiled` (a plan of compute passes), whose
+/// every pixel is computed from its own ray and reads no neighbour.
+pub fn margin(plan: &crate::plan::RenderPlan) -> u32 {
+    if plan.compute_passes() > 0 { 0 } else { MARGIN }
+}
+
 /// The least side of a sub-frame worth drawing (margins included): it keeps
 /// half its pixels' width.
 pub const MIN_SIDE: u32 = 4 * MARGIN;
@@ -114,6 +121,36 @@ pub fn tiles(frame: (u32, u32), max_pixels: u64, max_side: u32) -> Vec<SubFrame>
     windows
 }
 
+/// Least side of a part [`split`] makes, in pixels: one tile of `tiled`.
+pub const MIN_PART_SIDE: u32 = 8;
+
+/// `kept` cut into a grid of at least `over` × 1.25 parts (two at least),
+/// as square as the part's shape allows, for a `tiled` frame whose splats
+/// or lists passed the memory given to it `over` times over (the quarter
+/// more: splats do not spread evenly over a frame). `None` when the part
+/// is too small to cut ([`MIN_PART_SIDE`]).
+pub fn split(kept: SubFrame, over: f64) -> Option<Vec<SubFrame>> {
+    let (width, height) = kept.size;
+    let most = ((width / MIN_PART_SIDE).max(1), (height / MIN_PART_SIDE).max(1));
+    if most.0 * most.1 < 2 {
+        return None;
+    }
+    let wanted = (over * 1.25).ceil().clamp(2.0, (most.0 * most.1) as f64) as u32;
+    let columns = ((wanted as f64 * width as f64 / height as f64).sqrt().round() as u32).clamp(1, most.0);
+    let rows = wanted.div_ceil(columns).clamp(1, most.1);
+    let columns = wanted.div_ceil(rows).clamp(1, most.0);
+    let mut parts = Vec::new();
+    for row in 0..rows {
+        let (y0, y1) = (height * row / rows, height * (row + 1) / rows);
+        for column in 0..columns {
+            let (x0, x1) = (width * column / columns, width * (column + 1) / columns);
+            let origin = (kept.origin.0 + x0, kept.origin.1 + y0);
+            parts.push(SubFrame { frame: kept.frame, origin, size: (x1 - x0, y1 - y0) });
+        }
+    }
+    Some(parts)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -187,5 +224,30 @@ mod tests {
             }
             assert!(covered.iter().all(|c| *c == 1), "{frame:?}: a pixel is kept twice or never");
         }
+    }
+
+    #[test]
+    fn a_split_part_is_covered_once_by_parts_no_smaller_than_a_tile() {
+        let kept = SubFrame { frame: (500, 300), origin: (40, 20), size: (300, 170) };
+        for over in [1.0, 1.7, 3.0, 10.0, 1e6] {
+            let parts = split(kept, over).unwrap();
+            assert!(parts.len() as f64 >= (over * 1.25).clamp(2.0, 37.0 * 21.0), "{over}: {}", parts.len());
+            let mut covered = vec![0u8; 500 * 300];
+            for p in &parts {
+                assert!(p.size.0 >= MIN_PART_SIDE && p.size.1 >= MIN_PART_SIDE, "{p:?}");
+                for y in p.origin.1..p.origin.1 + p.size.1 {
+                    for x in p.origin.0..p.origin.0 + p.size.0 {
+                        covered[(y * 500 + x) as usize] += 1;
+                    }
+                }
+            }
+            for y in 0..300 {
+                for x in 0..500 {
+                    let inside = (40..340).contains(&x) && (20..190).contains(&y);
+                    assert_eq!(covered[(y * 500 + x) as usize], inside as u8, "{over}: ({x}, {y})");
+                }
+            }
+        }
+        assert!(split(SubFrame { frame: (20, 20), origin: (0, 0), size: (12, 15) }, 4.0).is_none());
     }
 }

@@ -13,8 +13,19 @@
 //!    and the renderer draws the frame again with room for the total, which
 //!    later frames keep. Nothing is read back inside a frame, and no tile
 //!    list is ever cut short in a frame that is kept. A total beyond what
-//!    one storage binding or the frame's memory holds is a clear error
-//!    naming the figure, never a dropped splat.
+//!    one storage binding or the frame's memory holds is
+//!    [`GpuError::TilesDoNotFit`]: the frame is drawn in smaller parts of
+//!    the screen (gpu_renderer.rs), never with a dropped splat.
+//!
+//! The per-splat buffers (eye records, pixel boxes) have a slot per splat
+//! when those fit one storage binding and half the frame's memory. A scene
+//! with more splats gets as many slots as fit, and each part of the frame
+//! packs the splats whose box reaches it into them (the projection counts
+//! them; more than the slots overflow, and the part is cut smaller; the
+//! sort then orders equal keys by each box's place in the scene, in a
+//! variant of its own, `PACKED`). So the
+//! memory of a frame is bounded by `POINTBLEND_GPU_MEMORY_MB` (or the
+//! device's) at any splat count and size, beside the scene's own buffers.
 //! 3. **Bin** (per splat): an entry (nearest depth on the disc, splat) in
 //!    the list of each tile the disc meets. The projection counted every
 //!    tile of the disc's pixel box (that bounds the memory); the binning
@@ -32,12 +43,11 @@
 //! lampshade is slower than a CPU sort), and a tile's list is short enough
 //! for a bitonic network in one workgroup.
 
-use wgpu::util::DeviceExt;
-
 use super::context::{GpuContext, GpuError};
 use super::gpu_scene::GpuScene;
 use super::passes::{ComputePass, TileWork};
 use super::shaders::Variant;
+use super::tile_buffers::{GROUP, INDIRECT, READBACK, STORAGE, buffer, dispatch, grid_uniform, mib, read};
 
 /// Side of a square tile in pixels. Mirrors `TILE` in shaders/tiled_common.wgsl.
 /// Every pixel of a tile tests every disc binned to it, so smaller tiles
@@ -59,10 +69,6 @@ pub const ENTRY_BYTES: u64 = 8;
 /// barriers cost more than a short list's insertion sort on lavapipe: with
 /// a workgroup for every list the sort took 40 of 350 ms on the bunny.
 pub const SHORT_LIST: u32 = 4096;
-/// Invocations per workgroup of the per-splat and per-tile passes (`GROUP`).
-const GROUP: u32 = 256;
-/// Workgroups per dispatch dimension that every device allows.
-const MAX_WORKGROUPS: u32 = 65535;
 
 /// One dispatch of a pass: its group-1 resources, and its size in
 /// workgroups (`None`: the size the scan wrote, an indirect dispatch).
@@ -76,6 +82,9 @@ pub fn grid(width: u32, height: u32) -> (u32, u32) {
 /// What the last frame's tile pipeline met, read with its result.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct TileStats {
+    /// Splats whose pixel box reached the frame, when they were packed into
+    /// fewer slots than the scene has splats (past the slots too).
+    pub packed: Option<u64>,
     /// (tile, splat) entries counted over the discs' pixel boxes, which
     /// the entry buffer makes room for (`u32::MAX` when they passed it).
     pub entries: u64,
@@ -91,9 +100,12 @@ pub struct TileStats {
     pub window_overflows: u32,
 }
 
-/// Bytes of the lists' state the scan writes (`lists` in shaders/tiled_scan.wgsl):
-/// the room, the total, the overflow flag, the longest list, cs_sort's dispatch.
+/// Bytes of the lists' state (`lists` in shaders/tiled_common.wgsl): the
+/// room, the total, the overflow flag, the longest list, cs_sort's dispatch,
+/// the splats packed into the per-splat slots.
 pub(crate) const LIST_STATE_BYTES: u64 = 32;
+/// Word of the lists' state that counts the packed splats (`PACKED`).
+const PACKED_WORD: usize = 7;
 /// Bytes of the raster's counters (`stats` in shaders/tiled_raster.wgsl).
 const RASTER_STATS_BYTES: u64 = 16;
 /// Bytes read back after a frame: the lists' state, then the raster's counters.
@@ -106,7 +118,12 @@ pub const FIRST_ROOM_PER_ITEM: u64 = 4;
 
 /// The buffers of the tile pipeline, sized for the last frame.
 pub struct TileEngine {
+    /// The scene's splat slots.
     splats: u64,
+    /// Slots of the per-splat buffers: `splats`, or fewer when those would
+    /// pass one storage binding or half the frame's memory, and then the
+    /// splats that reach the frame are packed into them (shaders/tiled_project.wgsl).
+    slots: u64,
     /// Mesh triangles binned after the splats (items `splats..splats + triangles`).
     triangles: u64,
     grid: (u32, u32),
@@ -136,46 +153,20 @@ pub struct TileEngine {
     pub last: TileStats,
 }
 
-fn buffer(device: &wgpu::Device, label: &'static str, bytes: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: bytes.max(16),
-        usage,
-        mapped_at_creation: false,
-    })
-}
-
-const STORAGE: wgpu::BufferUsages =
-    wgpu::BufferUsages::STORAGE.union(wgpu::BufferUsages::COPY_DST).union(wgpu::BufferUsages::COPY_SRC);
-const READBACK: wgpu::BufferUsages = wgpu::BufferUsages::MAP_READ.union(wgpu::BufferUsages::COPY_DST);
-const INDIRECT: wgpu::BufferUsages = STORAGE.union(wgpu::BufferUsages::INDIRECT);
-
-fn grid_uniform(device: &wgpu::Device, (columns, rows): (u32, u32), first: u32, count: u32) -> wgpu::Buffer {
-    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("Tiles::grid"),
-        contents: bytemuck::cast_slice(&[columns, rows, first, count]),
-        usage: wgpu::BufferUsages::UNIFORM,
-    })
-}
-
-/// Workgroups for `items` items of one invocation each, as a 2D dispatch.
-fn dispatch(items: u64, per_group: u32) -> (u32, u32) {
-    let groups = items.div_ceil(per_group as u64).max(1);
-    let x = groups.min(MAX_WORKGROUPS as u64) as u32;
-    (x, groups.div_ceil(x as u64) as u32)
-}
-
 impl TileEngine {
-    /// An engine sized for `scene` at `size`: checks first that its per-splat
-    /// buffers fit one storage binding each.
-    pub fn new(ctx: &GpuContext, scene: &GpuScene, size: (u32, u32)) -> Result<Self, GpuError> {
+    /// An engine for `scene` at `size`, whose per-splat buffers and lists
+    /// take at most `budget` bytes (the frame's memory beside its targets):
+    /// a slot per splat when they fit one storage binding and half the
+    /// budget, else as many slots as do, into which each part of the frame
+    /// packs the splats that reach it.
+    pub fn new(ctx: &GpuContext, scene: &GpuScene, size: (u32, u32), budget: u64) -> Result<Self, GpuError> {
         let device = &ctx.device;
         // Every slot is projected (those the scene's live mask leaves out are culled there).
         let n = scene.slot_count() as u64;
         let m = scene.triangles.as_ref().map_or(0, |t| t.count() as u64);
         let limit = device.limits().max_storage_buffer_binding_size;
         if let Some(draw) = scene.triangles.as_ref().filter(|_| m > 0) {
-            if draw.buffer.size() > limit {
+            if draw.buffer.size() > limit || (m + 1) * RECT_BYTES > limit {
                 return Err(GpuError::TooLarge(format!(
                     "tiled reads the mesh triangles from one storage buffer: {:.1} MiB, more than the {:.1} MiB this GPU binds; use another mode",
                     mib(draw.buffer.size()),
@@ -183,53 +174,100 @@ impl TileEngine {
                 )));
             }
         }
-        if n * EYE_SPLAT_BYTES > limit {
-            return Err(GpuError::TooLarge(format!(
-                "tiled keeps {EYE_SPLAT_BYTES} bytes per splat in one storage buffer: {n} splats need {:.1} MiB, more than the {:.1} MiB this GPU binds; use another mode",
-                mib(n * EYE_SPLAT_BYTES),
-                mib(limit)
-            )));
-        }
-        let grid = grid(size.0, size.1);
-        let tiles = (grid.0 * grid.1) as u64;
-        ctx.allocating("allocating the tile pipeline", || {
-            let mut uniforms = Vec::new();
-            let mut first = 0u32;
-            for (_, count) in &scene.chunks {
-                uniforms.push((grid_uniform(device, grid, first, *count), *count));
-                first += count;
-            }
-            Self {
-                splats: n,
-                triangles: m,
-                grid,
-                // One record at least: the raster binds a whole one even for a frame of triangles only.
-                eye: buffer(device, "Tiles::eye", n.max(1) * EYE_SPLAT_BYTES, STORAGE),
-                rects: buffer(device, "Tiles::rects", (n + m) * RECT_BYTES, STORAGE),
-                counts: buffer(device, "Tiles::counts", tiles * 4, STORAGE),
-                offsets: buffer(device, "Tiles::offsets", (2 * tiles + 1) * 4, STORAGE),
-                entries: buffer(device, "Tiles::entries", 0, STORAGE),
-                scratch: buffer(device, "Tiles::scratch", 0, STORAGE),
-                entry_capacity: 0,
-                lists: buffer(device, "Tiles::lists", LIST_STATE_BYTES, INDIRECT),
-                stats: buffer(device, "Tiles::stats", RASTER_STATS_BYTES, STORAGE),
-                readback: buffer(device, "Tiles::readback", READBACK_BYTES, READBACK),
-                long_tiles: buffer(device, "Tiles::long_tiles", (tiles + 1) * 4, STORAGE),
-                all: grid_uniform(device, grid, n as u32, (n + m) as u32),
-                triangle_uniform: grid_uniform(device, grid, n as u32, m as u32),
-                uniforms,
-                last: TileStats::default(),
-            }
+        let slots = Self::slots_for(ctx, n, m, budget);
+        ctx.allocating("allocating the tile pipeline", || Self {
+            splats: n,
+            slots,
+            triangles: m,
+            grid: (0, 0),
+            // One record at least: the raster binds a whole one even for a frame of triangles only.
+            eye: buffer(device, "Tiles::eye", slots.max(1) * EYE_SPLAT_BYTES, STORAGE),
+            rects: buffer(device, "Tiles::rects", (slots + m) * RECT_BYTES, STORAGE),
+            counts: buffer(device, "Tiles::counts", 0, STORAGE),
+            offsets: buffer(device, "Tiles::offsets", 0, STORAGE),
+            entries: buffer(device, "Tiles::entries", 0, STORAGE),
+            scratch: buffer(device, "Tiles::scratch", 0, STORAGE),
+            entry_capacity: 0,
+            lists: buffer(device, "Tiles::lists", LIST_STATE_BYTES, INDIRECT),
+            stats: buffer(device, "Tiles::stats", RASTER_STATS_BYTES, STORAGE),
+            readback: buffer(device, "Tiles::readback", READBACK_BYTES, READBACK),
+            long_tiles: buffer(device, "Tiles::long_tiles", 0, STORAGE),
+            all: buffer(device, "Tiles::grid", 0, wgpu::BufferUsages::UNIFORM),
+            triangle_uniform: buffer(device, "Tiles::grid", 0, wgpu::BufferUsages::UNIFORM),
+            uniforms: Vec::new(),
+            last: TileStats::default(),
+        })
+        .and_then(|mut engine| {
+            engine.set_grid(ctx, scene, size)?;
+            Ok(engine)
         })
     }
 
-    /// Whether this engine was sized for `scene` at `size`.
-    pub fn fits(&self, scene: &GpuScene, size: (u32, u32)) -> bool {
-        self.splats == scene.slot_count() as u64
-            && self.triangles == scene.triangles.as_ref().map_or(0, |t| t.count() as u64)
-            && self.grid == grid(size.0, size.1)
+    /// Slots of the per-splat buffers for `n` splats and `m` triangles
+    /// within `budget`: every splat when the eye records fit one storage
+    /// binding and the records and boxes half the budget (the lists take
+    /// the other half), else as many as do (at least one).
+    fn slots_for(ctx: &GpuContext, n: u64, m: u64, budget: u64) -> u64 {
+        let limit = ctx.device.limits().max_storage_buffer_binding_size;
+        let by_binding = (limit / EYE_SPLAT_BYTES).min((limit / RECT_BYTES).saturating_sub(m));
+        let by_budget = (budget / 2 / (EYE_SPLAT_BYTES + RECT_BYTES)).saturating_sub(m);
+        n.min(by_binding).min(by_budget).max(1)
+    }
+
+    /// Whether this engine's per-splat buffers serve `scene` within `budget`
+    /// (any frame size: [`Self::set_grid`] sizes the per-tile ones).
+    pub fn fits(&self, ctx: &GpuContext, scene: &GpuScene, budget: u64) -> bool {
+        let n = scene.slot_count() as u64;
+        let m = scene.triangles.as_ref().map_or(0, |t| t.count() as u64);
+        // Slots within the budget, and not far fewer than it allows (the
+        // parts of a frame have budgets a few tile tables apart).
+        let wanted = Self::slots_for(ctx, n, m, budget);
+        self.splats == n
+            && self.triangles == m
+            && self.slots <= wanted
+            && (self.slots == n || self.slots * 8 >= wanted * 7)
             && self.uniforms.len() == scene.chunks.len()
             && self.uniforms.iter().zip(&scene.chunks).all(|((_, a), (_, b))| a == b)
+    }
+
+    /// Whether the splats that reach a frame are packed into fewer slots than the scene has.
+    pub fn packing(&self) -> bool {
+        self.slots < self.splats
+    }
+
+    /// Slots of the per-splat buffers.
+    pub fn slots(&self) -> u64 {
+        self.slots
+    }
+
+    /// Sizes the per-tile buffers and the passes' uniforms for a frame (or
+    /// a part of one) of `size`; nothing is allocated when the grid is the last one's.
+    pub fn set_grid(&mut self, ctx: &GpuContext, scene: &GpuScene, size: (u32, u32)) -> Result<(), GpuError> {
+        let grid = grid(size.0, size.1);
+        if grid == self.grid && self.uniforms.len() == scene.chunks.len() {
+            return Ok(());
+        }
+        let device = &ctx.device;
+        let tiles = (grid.0 * grid.1) as u64;
+        let (n, m, slots) = (self.splats as u32, self.triangles as u32, self.slots as u32);
+        let room = [slots, self.packing() as u32, n, 0];
+        ctx.allocating("allocating the tile grid", || {
+            let mut uniforms = Vec::new();
+            let mut first = 0u32;
+            for (_, count) in &scene.chunks {
+                uniforms.push((grid_uniform(device, grid, (first, *count), room), *count));
+                first += count;
+            }
+            self.uniforms = uniforms;
+            self.counts = buffer(device, "Tiles::counts", tiles * 4, STORAGE);
+            self.offsets = buffer(device, "Tiles::offsets", (2 * tiles + 1) * 4, STORAGE);
+            self.long_tiles = buffer(device, "Tiles::long_tiles", (tiles + 1) * 4, STORAGE);
+            // Splat items take the slots, the triangles' follow them.
+            self.all = grid_uniform(device, grid, (slots, slots + m), room);
+            self.triangle_uniform = grid_uniform(device, grid, (slots, m), room);
+        })?;
+        self.grid = grid;
+        Ok(())
     }
 
     /// Records one pass of the pipeline. `outputs` are the storage views a
@@ -313,6 +351,7 @@ impl TileEngine {
                         self.rects.as_entire_binding(),
                         self.counts.as_entire_binding(),
                         scene.live_mask().as_entire_binding(),
+                        self.lists.as_entire_binding(),
                     ];
                     if let Some(lights) = lights {
                         resources.push(lights[k].as_entire_binding());
@@ -349,8 +388,9 @@ impl TileEngine {
                     self.offsets.as_entire_binding(),
                     self.entries.as_entire_binding(),
                     self.eye.as_entire_binding(),
+                    self.lists.as_entire_binding(),
                 ];
-                groups.push((resources, Some(dispatch(self.splats + self.triangles, GROUP))));
+                groups.push((resources, Some(dispatch(self.slots + self.triangles, GROUP))));
             }
             TileWork::SortShort => {
                 let resources = vec![
@@ -358,6 +398,7 @@ impl TileEngine {
                     self.offsets.as_entire_binding(),
                     self.entries.as_entire_binding(),
                     self.scratch.as_entire_binding(),
+                    self.rects.as_entire_binding(),
                 ];
                 groups.push((resources, Some(dispatch(tiles, GROUP))));
             }
@@ -367,6 +408,7 @@ impl TileEngine {
                     self.offsets.as_entire_binding(),
                     self.entries.as_entire_binding(),
                     self.scratch.as_entire_binding(),
+                    self.rects.as_entire_binding(),
                     self.long_tiles.as_entire_binding(),
                 ];
                 groups.push((resources, None));
@@ -398,35 +440,46 @@ impl TileEngine {
     /// `budget` is the memory left to the frame beside its targets.
     pub fn begin_frame(&mut self, ctx: &GpuContext, budget: u64) -> Result<(), GpuError> {
         if self.entry_capacity == 0 {
-            let guess = ((self.splats + self.triangles) * FIRST_ROOM_PER_ITEM).max(1);
-            self.make_room(ctx, guess.min(Self::room_limit(ctx, budget)).max(1), budget)?;
+            let guess = ((self.slots + self.triangles) * FIRST_ROOM_PER_ITEM).max(1);
+            self.make_room(ctx, guess.min(self.room_limit(ctx, budget)).max(1), budget)?;
         }
         let room = self.entry_capacity.min(u32::MAX as u64) as u32;
         ctx.queue.write_buffer(&self.lists, 0, bytemuck::bytes_of(&room));
+        ctx.queue.write_buffer(&self.lists, PACKED_WORD as u64 * 4, bytemuck::bytes_of(&0u32));
         Ok(())
     }
 
-    /// The most entries the frame may hold: the entries and the sort's
-    /// scratch take one binding each, both within `budget`.
-    fn room_limit(ctx: &GpuContext, budget: u64) -> u64 {
-        ctx.device.limits().max_storage_buffer_binding_size.min(budget / 2) / ENTRY_BYTES
+    /// Bytes of the per-splat buffers (eye records, pixel boxes).
+    fn slot_bytes(&self) -> u64 {
+        self.slots * EYE_SPLAT_BYTES + (self.slots + self.triangles) * RECT_BYTES
+    }
+
+    /// The most entries a frame may hold: the entries and the sort's
+    /// scratch take one binding each, both within what `budget` leaves
+    /// beside the per-splat buffers.
+    fn room_limit(&self, ctx: &GpuContext, budget: u64) -> u64 {
+        let left = budget.saturating_sub(self.slot_bytes());
+        ctx.device.limits().max_storage_buffer_binding_size.min(left / 2) / ENTRY_BYTES
     }
 
     /// Makes the entry buffer hold `total` entries, a quarter more so that
-    /// a slowly moving camera does not reallocate every frame; an error
-    /// naming the figures when they cannot fit.
+    /// a slowly moving camera does not reallocate every frame; when they
+    /// cannot fit, [`GpuError::TilesDoNotFit`], which a frame answers by
+    /// being drawn in smaller parts.
     pub fn make_room(&mut self, ctx: &GpuContext, total: u64, budget: u64) -> Result<(), GpuError> {
-        let limit = Self::room_limit(ctx, budget);
+        let limit = self.room_limit(ctx, budget);
         if total > limit {
             let binding = ctx.device.limits().max_storage_buffer_binding_size;
-            return Err(GpuError::TooLarge(format!(
-                "tiled would bin {total} (tile, splat) entries ({:.1} MiB, twice over with the sort's scratch), more than \
-                 one storage binding ({:.1} MiB) or the memory left to the frame ({:.1} MiB) holds; the splats cover too \
-                 many tiles: use a smaller --size, or another mode",
-                mib(total * ENTRY_BYTES),
-                mib(binding),
-                mib(budget)
-            )));
+            return Err(GpuError::TilesDoNotFit {
+                message: format!(
+                    "tiled would bin {total} (tile, splat) entries ({:.1} MiB, twice over with the sort's scratch), more than \
+                     one storage binding ({:.1} MiB) or the memory left to the frame ({:.1} MiB) holds",
+                    mib(total * ENTRY_BYTES),
+                    mib(binding),
+                    mib(budget.saturating_sub(self.slot_bytes()))
+                ),
+                over: total as f64 / limit.max(1) as f64,
+            });
         }
         if total > self.entry_capacity {
             let capacity = (total + total / 4).min(limit);
@@ -451,6 +504,7 @@ impl TileEngine {
         let word = |i: usize| words.get(i).copied().unwrap_or(0);
         let stats_at = (LIST_STATE_BYTES / 4) as usize;
         self.last = TileStats {
+            packed: self.packing().then(|| word(PACKED_WORD) as u64),
             entries: word(1) as u64,
             longest_list: word(3),
             overflow: word(2) != 0,
@@ -484,26 +538,6 @@ impl TileEngine {
     }
 }
 
-fn mib(bytes: u64) -> f64 {
-    bytes as f64 / (1u64 << 20) as f64
-}
-
-/// Maps `buffer` and reads it as `T`s (waits for the GPU).
-fn read<T: bytemuck::Pod>(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<T>, GpuError> {
-    let (sender, receiver) = std::sync::mpsc::channel();
-    buffer.map_async(wgpu::MapMode::Read, .., move |r| {
-        let _ = sender.send(r);
-    });
-    ctx.wait_idle()?;
-    receiver.recv().map_err(|e| GpuError::Readback(e.to_string()))?.map_err(|e| GpuError::Readback(e.to_string()))?;
-    let values = {
-        let mapped = buffer.get_mapped_range(..).map_err(|e| GpuError::Readback(e.to_string()))?;
-        bytemuck::pod_collect_to_vec::<u8, T>(&mapped)
-    };
-    buffer.unmap();
-    Ok(values)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -520,14 +554,5 @@ mod tests {
         let scan = crate::shaders::compose("tiled_scan.wgsl", Variant::NONE).unwrap();
         let dispatch_at = LONG_DISPATCH_OFFSET / 4;
         assert!(scan.contains(&format!("const LONG_DISPATCH: u32 = {dispatch_at}u;")), "the dispatch's offset differs");
-    }
-
-    #[test]
-    fn dispatches_cover_every_item_within_the_per_dimension_limit() {
-        for items in [1u64, 255, 256, 257, 65535 * 256, 65535 * 256 + 1, 40_000_000] {
-            let (x, y) = dispatch(items, GROUP);
-            assert!(x <= MAX_WORKGROUPS && y <= MAX_WORKGROUPS, "{items}: {x}x{y}");
-            assert!(x as u64 * y as u64 * GROUP as u64 >= items, "{items}: {x}x{y} too few");
-        }
     }
 }

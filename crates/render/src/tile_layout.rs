@@ -11,13 +11,14 @@ use super::plan::BufferDesc;
 use super::shaders::Variant;
 use super::tile_engine::{ENTRY_BYTES, EYE_SPLAT_BYTES, LIST_STATE_BYTES, READBACK_BYTES, RECT_BYTES, TILE, grid};
 
-/// The buffers a frame of `splats` splats at `width` x `height` uses, as the
-/// plan states them; the entries' size is known only once the splats are
-/// projected, and the renderer fills it in after the frame.
+/// The buffers a frame of `splats` splats (the per-splat buffers' slots:
+/// the scene's splats, or fewer into which a part of the frame packs those
+/// that reach it) at `width` x `height` uses, as the plan states them; the
+/// entries' size is known only once the splats are projected, and the
+/// renderer fills it in after the frame.
 /// `entries` is (this frame's entries, the room allocated for them).
 pub fn planned_buffers(splats: usize, (width, height): (u32, u32), entries: Option<(u64, u64)>) -> Vec<BufferDesc> {
     let (columns, rows) = grid(width, height);
-    let tiles = (columns * rows) as u64;
     let n = splats as u64;
     vec![
         BufferDesc {
@@ -28,7 +29,7 @@ pub fn planned_buffers(splats: usize, (width, height): (u32, u32), entries: Opti
         BufferDesc { name: "splat tiles", bytes: n * RECT_BYTES, why: "16 B per splat: pixel bounds, sort key".into() },
         BufferDesc {
             name: "tile tables",
-            bytes: (4 * tiles + 2) * 4 + LIST_STATE_BYTES + READBACK_BYTES,
+            bytes: table_bytes((width, height)),
             why: format!(
                 "{columns}x{rows} tiles of {TILE} px: counts, offsets, entries kept, the long lists; the lists' state and its readback"
             ),
@@ -49,17 +50,24 @@ pub fn planned_buffers(splats: usize, (width, height): (u32, u32), entries: Opti
     ]
 }
 
+/// Bytes of the per-tile tables of a `width` x `height` frame (counts,
+/// offsets, entries kept, the long lists) and of the lists' state.
+pub fn table_bytes((width, height): (u32, u32)) -> u64 {
+    let (columns, rows) = grid(width, height);
+    (4 * (columns * rows) as u64 + 2) * 4 + LIST_STATE_BYTES + READBACK_BYTES
+}
+
 /// The group-1 bindings of a pass, in binding order.
 pub fn bindings(work: TileWork, variant: Variant, output: wgpu::TextureFormat) -> Vec<Binding> {
     let (ro, rw) = (Binding::Storage { read_only: true }, Binding::Storage { read_only: false });
     match work {
-        TileWork::Project if variant.has(Variant::LIGHTS) => vec![Binding::Uniform, ro, rw, rw, rw, ro, ro],
-        TileWork::Project => vec![Binding::Uniform, ro, rw, rw, rw, ro],
+        TileWork::Project if variant.has(Variant::LIGHTS) => vec![Binding::Uniform, ro, rw, rw, rw, ro, rw, ro],
+        TileWork::Project => vec![Binding::Uniform, ro, rw, rw, rw, ro, rw],
         TileWork::ProjectTriangles => vec![Binding::Uniform, ro, ro, rw, rw],
         TileWork::Scan => vec![Binding::Uniform, ro, rw, rw, rw],
-        TileWork::Bin => vec![Binding::Uniform, ro, rw, rw, ro],
-        TileWork::SortShort => vec![Binding::Uniform, ro, rw, rw],
-        TileWork::SortLong => vec![Binding::Uniform, ro, rw, rw, ro],
+        TileWork::Bin => vec![Binding::Uniform, ro, rw, rw, ro, ro],
+        TileWork::SortShort => vec![Binding::Uniform, ro, rw, rw, ro],
+        TileWork::SortLong => vec![Binding::Uniform, ro, rw, rw, ro, ro],
         TileWork::Raster => {
             let mut b = vec![Binding::Uniform, ro, ro, ro, Binding::StorageTexture(output), rw, ro];
             if variant.has(Variant::ENVIRONMENT) {

@@ -35,6 +35,8 @@ pub fn encode(
     };
     let bindings = tile_layout::bindings(pass.work, pass.variant, format);
     let variant = pass.variant.with(Variant::SUBGROUPS, run.subgroups && pass.work == TileWork::Raster);
+    let sorts = matches!(pass.work, TileWork::SortShort | TileWork::SortLong);
+    let variant = variant.with(Variant::PACKED, run.tiles.packing() && sorts);
     let (pipeline, layout) = rec.cache.compute(rec.device, (pass.shader, pass.entry, variant), &bindings)?;
     let stamps = stamps.map(|s| wgpu::ComputePassTimestampWrites {
         query_set: s.query_set,
