@@ -154,7 +154,22 @@ mod tests {
         ];
         let own: [(&str, &[&str]); 3] = [
             ("render", &["out", "explain", "diff", "flat-background", "time", "path", "path-frames"]),
-            ("bench", &["modes", "ruler", "frames", "warm-up", "views", "loads", "orders", "out", "animate", "path"]),
+            (
+                "bench",
+                &[
+                    "modes",
+                    "ruler",
+                    "no-reference",
+                    "frames",
+                    "warm-up",
+                    "views",
+                    "loads",
+                    "orders",
+                    "out",
+                    "animate",
+                    "path",
+                ],
+            ),
             ("view", &["screenshot", "exit-after-frames", "screenshot-dir", "out", "time"]),
         ];
         for (name, own) in own {
