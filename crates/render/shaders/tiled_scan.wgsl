@@ -8,9 +8,10 @@
 // `lists[OVERFLOW]` and leaves every list empty, so the passes after this
 // one write and read nothing; the CPU reads `lists` with the frame's result
 // and draws the frame again with room for `lists[TOTAL]`, which later frames
-// keep. A frame whose visible splats passed the per-splat slots (`lists[PACKED]`
-// beyond `tiles.room.x`) overflows too, and is drawn in smaller parts. It also lists the tiles whose lists are longer than SHORT (their
-// count first) and writes the indirect dispatch that sorts them, one
+// keep. A frame whose visible splats passed the per-splat slots
+// (`lists[PACKED]` beyond `tiles.room.x`) overflows too, and is drawn in
+// smaller parts. It also lists the tiles whose lists are longer than SHORT
+// (their count first) and writes the indirect dispatch that sorts them, one
 // workgroup each (tiled_sort.wgsl, cs_sort).
 //
 // Each invocation sums a run of consecutive tiles; a Hillis-Steele scan of
@@ -21,7 +22,6 @@
 @group(1) @binding(2) var<storage, read_write> offsets: array<u32>;
 @group(1) @binding(3) var<storage, read_write> long_tiles: array<u32>;
 @group(1) @binding(4) var<storage, read_write> lists: array<u32>;
-
 
 var<workgroup> sums: array<u32, GROUP>;
 var<workgroup> long_count: atomic<u32>;

@@ -1,8 +1,8 @@
 #include "tiled_common.wgsl"
 
 // `tiled`, pass 3, per tile: sorts the tile's entries by key (the nearest
-// depth on each disc), then the item's place in the scene. A list of up to SHORT entries (all
-// of them but in extreme scenes) is sorted by one invocation, by a
+// depth on each disc), then the item's place in the scene. A list of up to
+// SHORT entries (all of them but in extreme scenes) is sorted by one invocation, by a
 // bottom-up merge sort through `scratch`, with no barrier (cs_sort_short).
 // A longer one, which the scan lists (tiled_scan.wgsl), is sorted
 // in place by a workgroup (cs_sort) with a bitonic network in the form

@@ -168,8 +168,9 @@ impl TileEngine {
         if let Some(draw) = scene.triangles.as_ref().filter(|_| m > 0) {
             if draw.buffer.size() > limit || (m + 1) * RECT_BYTES > limit {
                 return Err(GpuError::TooLarge(format!(
-                    "tiled reads the mesh triangles from one storage buffer: {:.1} MiB, more than the {:.1} MiB this GPU binds; use another mode",
+                    "tiled reads the mesh triangles ({:.1} MiB) and their pixel boxes ({:.1} MiB) from one storage buffer each, more than the {:.1} MiB this GPU binds; use another mode",
                     mib(draw.buffer.size()),
+                    mib((m + 1) * RECT_BYTES),
                     mib(limit)
                 )));
             }
