@@ -27,7 +27,8 @@
 // per facing; a hit beyond a layer's reach closes it, older layers first.
 // A closed layer is normalised (Eq. 1: weighted colour, normal, opacity),
 // shaded facing the viewer and composited front to back; the pixel stops
-// at an opaque layer or when less than 1/1024 of the light gets through.
+// at an opaque layer or when less than 1/1024 of the light gets through
+// (EVERY_LAYER, for tests only, composites every layer instead).
 // There is no cap on the number of layers. With an environment map
 // (ENVIRONMENT) the pixel also keeps its nearest transparent layer and what
 // lies behind it, counting layers to the end when the multi-layer effects
@@ -121,7 +122,7 @@ fn close_layer(layer: Layer) {
     layers += 1u;
     let alpha = clamp(layer.alpha / layer.w, 0.0, 1.0);
 #ifdef ENVIRONMENT
-    if glass {
+    if glass && !glass_closed {
         if alpha < 1.0 {
             glass_layers_behind += 1.0;
         } else {
@@ -162,7 +163,9 @@ fn close_layer(layer: Layer) {
             glass_closed = true;
         }
 #endif
+#ifndef EVERY_LAYER
         done = true;
+#endif
         return;
     }
     var counting = false;
@@ -170,9 +173,11 @@ fn close_layer(layer: Layer) {
     // The multi-layer effects need every layer behind the glass counted.
     counting = glass && frame.environment.z > 0.5;
 #endif
+#ifndef EVERY_LAYER
     if through < LAST_LIGHT && !counting {
         done = true;
     }
+#endif
 }
 
 // Closes the oldest open layer.

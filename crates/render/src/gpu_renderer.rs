@@ -306,6 +306,11 @@ impl GpuRenderer {
         self.renderer.use_subgroups(&self.ctx, on)
     }
 
+    /// [`Renderer::stop_early`] on this renderer.
+    pub fn stop_early(&mut self, on: bool) {
+        self.renderer.stop_early(on);
+    }
+
     fn output_texture(&self) -> Result<&wgpu::Texture, GpuError> {
         self.output.as_ref().ok_or_else(|| GpuError::Device("no output texture".into()))
     }

@@ -52,6 +52,9 @@ pub struct Renderer {
     /// subgroup operations: on lavapipe the raster takes half the time, on
     /// an H200 5-10 % more (docs/BENCHMARKS.md), so hardware GPUs read by pixel.
     subgroups: bool,
+    /// Whether a pixel of `tiled`'s raster stops once less light than can
+    /// change an 8-bit channel gets through (on by default).
+    early_stop: bool,
     /// Whether each step is waited for on its own and timed on the CPU
     /// (see [`Renderer::profile_steps`]), and the last frame's times.
     profile_steps: bool,
@@ -84,6 +87,7 @@ impl Renderer {
                 tiles: None,
                 subgroups: device.features().contains(wgpu::Features::SUBGROUP)
                     && ctx.adapter.get_info().device_type == wgpu::DeviceType::Cpu,
+                early_stop: true,
                 profile_steps: false,
                 step_ms: None,
             }
@@ -109,6 +113,13 @@ impl Renderer {
     pub fn use_subgroups(&mut self, ctx: &GpuContext, on: bool) -> bool {
         self.subgroups = on && ctx.device.features().contains(wgpu::Features::SUBGROUP);
         self.subgroups
+    }
+
+    /// Makes `tiled`'s raster stop a pixel once less light than can change
+    /// an 8-bit channel gets through, behind an opaque layer at once (the
+    /// default), or composite every layer its ray meets (`false`).
+    pub fn stop_early(&mut self, on: bool) {
+        self.early_stop = on;
     }
 
     /// Turns per-pass GPU timestamps on; returns false when the adapter has none.
@@ -369,7 +380,7 @@ impl Renderer {
                 }
                 Command::Compute(pass) => {
                     let tiles = self.tiles.as_ref().ok_or_else(|| record::missing("tile pipeline"))?;
-                    let run = TileRun { tiles, subgroups: self.subgroups };
+                    let run = TileRun { tiles, subgroups: self.subgroups, early_stop: self.early_stop };
                     record::compute::encode(&mut rec, &mut encoder, &run, pass, at, stamps)?
                 }
             }

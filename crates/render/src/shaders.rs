@@ -68,9 +68,13 @@ impl Variant {
     /// (a frame drawn in parts): the sort orders equal keys by the places
     /// the pixel boxes keep, not by slot (shaders/tiled_sort.wgsl).
     pub const PACKED: Variant = Variant(1024);
+    /// `tiled`'s raster composites every layer a ray meets: no pixel stops
+    /// once its light is spent (shaders/tiled_raster.wgsl, `LAST_LIGHT`).
+    /// Only for comparing images with and without the stop.
+    pub const EVERY_LAYER: Variant = Variant(2048);
 
     /// Every name, by bit.
-    const NAMES: [&'static str; 11] = [
+    const NAMES: [&'static str; 12] = [
         "LIT",
         "WEIGHT_ONLY",
         "OPAQUE_APART",
@@ -82,6 +86,7 @@ impl Variant {
         "CLIP",
         "GROUP_DEPTH",
         "PACKED",
+        "EVERY_LAYER",
     ];
 
     pub const NONE: Variant = Variant(0);

@@ -17,6 +17,8 @@ pub struct TileRun<'a> {
     pub tiles: &'a TileEngine,
     /// Whether the raster reads its lists a subgroup at a time.
     pub subgroups: bool,
+    /// Whether a pixel of the raster stops once its light is spent.
+    pub early_stop: bool,
 }
 
 /// Records `pass` into `encoder`.
@@ -34,7 +36,9 @@ pub fn encode(
         None => wgpu::TextureFormat::Rgba32Float,
     };
     let bindings = tile_layout::bindings(pass.work, pass.variant, format);
-    let variant = pass.variant.with(Variant::SUBGROUPS, run.subgroups && pass.work == TileWork::Raster);
+    let raster = pass.work == TileWork::Raster;
+    let variant = pass.variant.with(Variant::SUBGROUPS, run.subgroups && raster);
+    let variant = variant.with(Variant::EVERY_LAYER, !run.early_stop && raster);
     let sorts = matches!(pass.work, TileWork::SortShort | TileWork::SortLong);
     let variant = variant.with(Variant::PACKED, run.tiles.packing() && sorts);
     let (pipeline, layout) = rec.cache.compute(rec.device, (pass.shader, pass.entry, variant), &bindings)?;
