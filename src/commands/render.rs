@@ -19,9 +19,10 @@ use super::stream_args::StreamedFlight;
 pub struct Args {
     #[arg(help = super::formats_help::drawn_file())]
     pub file: PathBuf,
-    /// Rendering mode. The default, two-pass, is the fastest on every
-    /// machine measured; tiled is exact and fastest on an H200, but on
-    /// lavapipe takes 1.2-2.2 times two-pass's frame (README, "Render modes").
+    /// Rendering mode. tiled (exact) becomes the default only once it is at
+    /// least as fast as two-pass wherever measured: on an H200 it is the
+    /// fastest mode, on lavapipe its frame takes 1.16-2.19 times two-pass's
+    /// (README, "Render modes").
     #[arg(long, default_value_t = RenderMode::DEFAULT, value_parser = shared::mode_parser())]
     pub mode: RenderMode,
     #[command(flatten)]

@@ -22,9 +22,9 @@ pub struct Args {
     /// Start with the mode, parameters and camera of a screenshot's JSON sidecar.
     #[arg(long, value_name = "SIDECAR.json")]
     pub camera: Option<PathBuf>,
-    /// Mode to start in [default: two-pass; alg2 on the demo scene]: two-pass
-    /// is the fastest on every machine measured; tiled, exact, is the fastest
-    /// on an H200 only (README, "Render modes").
+    /// Mode to start in [default: two-pass; alg2 with no file, on the demo
+    /// scene]: tiled (exact) is the fastest mode on an H200 but takes
+    /// 1.16-2.19 times two-pass's frame on lavapipe (README, "Render modes").
     #[arg(long, value_parser = super::shared::mode_parser())]
     pub mode: Option<RenderMode>,
     /// Folder for screenshots saved with Ctrl+S and Ctrl+Shift+S.
