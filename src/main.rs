@@ -135,8 +135,20 @@ mod tests {
         let table: std::collections::BTreeSet<String> =
             TABLE.iter().flat_map(|row| [row.flag].into_iter().chain(row.off_switch)).map(str::to_string).collect();
         // View, camera, scene and output flags, and each command's own job: outside the table.
-        let view_and_camera =
-            ["mode", "size", "azimuth", "elevation", "distance", "fov", "up", "camera", "cache-mb", "disk-cache"];
+        let view_and_camera = [
+            "mode",
+            "size",
+            "azimuth",
+            "elevation",
+            "distance",
+            "fov",
+            "up",
+            "projection",
+            "view",
+            "camera",
+            "cache-mb",
+            "disk-cache",
+        ];
         let scene = [
             "opacity",
             "color",

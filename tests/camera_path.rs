@@ -17,6 +17,7 @@ fn view(azimuth: f32, distance: f32) -> Camera {
         fov_y_deg: 35.0,
         up: UpAxis::PosY,
         scene_radius: 4.0,
+        projection: Default::default(),
     }
 }
 

@@ -442,6 +442,7 @@ fn looking_at(target: glam::Vec3, distance: f32) -> Camera {
         fov_y_deg: 40.0,
         up: pointblend::frame::UpAxis::PosZ,
         scene_radius: 30.0,
+        projection: Default::default(),
     }
 }
 

@@ -46,6 +46,7 @@ fn camera() -> Camera {
         fov_y_deg: 30.0,
         up: UpAxis::PosY,
         scene_radius: 4.0,
+        projection: Default::default(),
     }
 }
 

@@ -182,6 +182,7 @@ fn thousands_of_layers_over_one_tile_are_all_composited() {
         fov_y_deg: 30.0,
         up: pointblend::frame::UpAxis::PosY,
         scene_radius: 130.0,
+        projection: Default::default(),
     };
     // ε is in units of the mean radius (400): 0.0001 makes it 0.04, less
     // than the 0.05 between two layers.

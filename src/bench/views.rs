@@ -40,14 +40,20 @@ const SINGLE_VIEW_SCAN_VIEWS: [(&str, f32, f32, f32); 5] = [
 /// `aspect`; when `asked` asks for anything, the first is the camera it
 /// makes (named "asked") and the others turn around that one.
 pub fn standard_views(cloud: &PointCloud, aspect: f32, count: usize, asked: &CameraRequest) -> Vec<NamedView> {
-    if !asked.is_empty() {
+    let mut base = Camera::default_for(cloud, aspect);
+    // A projection alone projects every standard view.
+    let projection_only = CameraRequest { projection: asked.projection, ..Default::default() };
+    if let Some(projection) = asked.projection {
+        base.projection = projection;
+    }
+    if !asked.is_empty() && *asked != projection_only {
         // Checked by the command line before the run.
-        let camera = asked.camera(cloud, aspect).unwrap_or_else(|_| Camera::default_for(cloud, aspect));
+        let camera = asked.camera(cloud, aspect).unwrap_or(base);
         let mut views = vec![NamedView { name: "asked".into(), camera }];
         views.extend(turned_views(camera, cloud, aspect).into_iter().skip(1).take(count.saturating_sub(1)));
         return views;
     }
-    turned_views(Camera::default_for(cloud, aspect), cloud, aspect).into_iter().take(count).collect()
+    turned_views(base, cloud, aspect).into_iter().take(count).collect()
 }
 
 /// Every standard view, turned from `base`.

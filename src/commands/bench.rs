@@ -43,6 +43,13 @@ pub struct Args {
     /// Views per model: front, side, back-top, close-up, grazing (in this order).
     #[arg(long, default_value_t = bench::views::MAX_VIEWS)]
     pub views: usize,
+    /// perspective or ortho: the projection of every view [default: perspective].
+    #[arg(long)]
+    pub projection: Option<pointblend::frame::Projection>,
+    /// A named view (top, bottom, front, back, left, right, iso) as the first view; the
+    /// others turn around it.
+    #[arg(long = "view", value_name = "VIEW", conflicts_with = "path")]
+    pub named_view: Option<pointblend::frame::NamedView>,
     /// Times the views of a camera path instead (a views file: what `render --path` flies
     /// through and the viewer's bookmarks save), in path order in one process. Each row of
     /// a path view carries what that view cost: view_index, nodes_added, bytes_read,
@@ -155,7 +162,11 @@ pub fn run(args: &Args) -> Result<()> {
         progress: true,
         orders: args.orders,
         animate: args.animate,
-        camera: Default::default(),
+        camera: pointblend::frame::CameraRequest {
+            projection: args.projection,
+            view: args.named_view,
+            ..Default::default()
+        },
         time: None,
         path: args.path.as_deref().map(pointblend::frame::ViewPath::read).transpose()?,
         stream_budget: args.view.stream_budget()?,

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 use pointblend::cloud::{self, LoadOptions, LoadReport, PointCloud};
-use pointblend::frame::{Camera, CameraRequest, UpAxis};
+use pointblend::frame::{Camera, CameraRequest, NamedView, Projection, UpAxis};
 use pointblend::output::ImageFormat;
 use pointblend::render::{RenderMode, RenderSettings};
 use pointblend::scene::Scene;
@@ -75,6 +75,15 @@ pub struct CameraArgs {
     /// COPC and E57 files; -y for single-view scans, seen from their scanner).
     #[arg(long, allow_hyphen_values = true)]
     pub up: Option<UpAxis>,
+    /// perspective or ortho (parallel rays: plan and elevation views; the
+    /// window is as high as the field of view is at the distance) [default: perspective].
+    #[arg(long)]
+    pub projection: Option<Projection>,
+    /// A named view about the up axis: top, bottom, front, back, left, right
+    /// or iso (for z-up data front looks north, right looks west); --azimuth
+    /// and --elevation given too win.
+    #[arg(long)]
+    pub view: Option<NamedView>,
 }
 
 impl CameraArgs {
@@ -86,6 +95,8 @@ impl CameraArgs {
             distance: self.distance,
             fov: self.fov,
             up: self.up,
+            projection: self.projection,
+            view: self.view,
         }
     }
 }

@@ -54,12 +54,13 @@ pub fn zoom(camera: &mut Camera, scroll: f32) {
 /// The nearest splat surface point under normalised image position `uv`
 /// (0..1, y down) in a view of `aspect`, if any.
 pub fn pick(cloud: &PointCloud, camera: &Camera, uv: Vec2, aspect: f32) -> Option<Vec3> {
-    let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
     let ndc = Vec2::new(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
-    let eye_ray = Vec3::new(ndc.x * tan_y * aspect, ndc.y * tan_y, -1.0);
+    // From the eye, or in orthographic from the cursor's place on the eye's plane.
+    let lens = crate::frame::eye_ray::Lens { half: camera.lens(aspect), ortho: camera.is_ortho() };
+    let eye_ray = lens.ray_at(ndc);
     let to_world = camera.view_matrix().inverse();
-    let origin = camera.eye();
-    let dir = to_world.transform_vector3(eye_ray).normalize();
+    let origin = to_world.transform_point3(eye_ray.origin);
+    let dir = to_world.transform_vector3(eye_ray.dir).normalize();
     (0..cloud.len())
         .into_par_iter()
         .filter_map(|i| {

@@ -170,6 +170,7 @@ pub fn looking_down_z() -> Camera {
         fov_y_deg: 30.0,
         up: pointblend::frame::UpAxis::PosY,
         scene_radius: 3.0,
+        projection: Default::default(),
     }
 }
 
@@ -347,6 +348,7 @@ pub fn floor_crossing_the_near_plane() -> (pointblend::cloud::PointCloud, Camera
         fov_y_deg: 60.0,
         up: pointblend::frame::UpAxis::PosY,
         scene_radius: 1.5,
+        projection: Default::default(),
     };
     (cloud, camera)
 }

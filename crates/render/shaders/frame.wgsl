@@ -6,7 +6,7 @@ struct Frame {
     proj: mat4x4<f32>,
     // width, height, 1/width, 1/height
     viewport: vec4<f32>,
-    // near, far, unused, 1/(far - near)
+    // near, far, orthographic (0/1), 1/(far - near)
     depth: vec4<f32>,
     // EWA low-pass radius in pixels (0: no prefilter), Gaussian sharpness k, min |cos| of a footprint (foreshortening bound), back-face culling (0/1)
     splat: vec4<f32>,
@@ -15,7 +15,9 @@ struct Frame {
     // ambient, diffuse, specular, unused
     material: vec4<f32>,
     background: vec4<f32>,
-    // The window's half extent at view depth 1 (tan(fov_x/2), tan(fov_y/2) for a whole frame), splat radius scale, least radius per unit of view depth (--min-pixel-radius)
+    // The window's half extent at view depth 1 (tan(fov_x/2), tan(fov_y/2) for a whole frame; in
+    // eye units when orthographic), splat radius scale, least radius per unit of view depth
+    // (--min-pixel-radius; in eye units when orthographic)
     lens: vec4<f32>,
     // Environment effects: η, dispersion δ, multi-layer (0/1), skybox (0/1)
     environment: vec4<f32>,
@@ -33,8 +35,8 @@ struct Frame {
     clip: array<vec4<f32>, 12>,
     // The user's planes, the box's (0 or 6), the box hides its inside (0/1), unused.
     clip_counts: vec4<u32>,
-    // The centre of the frame's window at view depth 1 (eye space; 0 for a
-    // whole frame), unused ×2 (crates/render/src/window.rs).
+    // The centre of the frame's window at view depth 1 (eye space, in eye
+    // units when orthographic; 0 for a whole frame), unused ×2 (crates/render/src/subframe.rs).
     window: vec4<f32>,
 }
 
@@ -59,10 +61,34 @@ fn depth_to_buffer(view_depth: f32) -> f32 {
     return (view_depth - frame.depth.x) * frame.depth.w;
 }
 
-// The eye-space direction of the view ray through pixel `position`, scaled to view depth 1.
-fn pixel_ray(position: vec2<f32>) -> vec3<f32> {
+// Whether the frame is orthographic: every pixel's ray runs along -z from
+// the pixel's place on the eye's plane (crates/core/src/frame/projection.rs).
+fn is_ortho() -> bool {
+    return frame.depth.z > 0.5;
+}
+
+// The pixel's place in the window: ndc · half extent + the window's centre.
+fn pixel_window(position: vec2<f32>) -> vec2<f32> {
     let ndc = vec2<f32>(position.x * frame.viewport.z * 2.0 - 1.0, 1.0 - position.y * frame.viewport.w * 2.0);
-    return vec3<f32>(ndc * frame.lens.xy + frame.window.xy, -1.0);
+    return ndc * frame.lens.xy + frame.window.xy;
+}
+
+// The eye-space direction of the view ray through pixel `position`, scaled
+// to view depth 1 (z = -1): a point at view depth t on it is origin + ray·t.
+fn pixel_ray(position: vec2<f32>) -> vec3<f32> {
+    return select(vec3<f32>(pixel_window(position), -1.0), vec3<f32>(0.0, 0.0, -1.0), is_ortho());
+}
+
+// Where that ray starts: the eye (the origin), or in orthographic the
+// pixel's place on the eye's plane.
+fn pixel_origin(position: vec2<f32>) -> vec3<f32> {
+    return select(vec3<f32>(0.0), vec3<f32>(pixel_window(position), 0.0), is_ortho());
+}
+
+// From the eye towards the eye-space point `p`, not of unit length: what
+// back faces and footprints are judged by (the view axis in orthographic).
+fn towards(p: vec3<f32>) -> vec3<f32> {
+    return select(p, vec3<f32>(0.0, 0.0, -1.0), is_ortho());
 }
 
 // Whether `normal` (eye space; a splat's, or a layer's Σw·n) points away
@@ -71,16 +97,16 @@ fn faces_away(normal: vec3<f32>, position: vec2<f32>) -> bool {
     return dot(normal, pixel_ray(position)) > 0.0;
 }
 
-// Whether the point at view depth `t` along the pixel's ray `ray` (z = -1:
-// where the ray meets a splat) is kept by the clip planes and box: per
+// Whether the point at view depth `t` along the pixel's ray (origin + ray·t,
+// z = -t: where the ray meets a splat) is kept by the clip planes and box: per
 // pixel, so a cut splat shows exactly its kept part. Each plane is tested
-// as (n·ray)·t + d, so the point ray·t is never formed beside the callers'
+// as (n·ray)·t + (n·origin + d), so the point is never formed beside the callers'
 // own (their arithmetic, and so their images, stay as they were unclipped).
 // The same test as EyeClip::keeps_along on the CPU.
-fn clip_keeps(ray: vec3<f32>, t: f32) -> bool {
+fn clip_keeps(origin: vec3<f32>, ray: vec3<f32>, t: f32) -> bool {
     let user = frame.clip_counts.x;
     for (var i = 0u; i < user; i++) {
-        if dot(frame.clip[i].xyz, ray) * t + frame.clip[i].w < 0.0 {
+        if dot(frame.clip[i].xyz, ray) * t + (dot(frame.clip[i].xyz, origin) + frame.clip[i].w) < 0.0 {
             return false;
         }
     }
@@ -90,13 +116,14 @@ fn clip_keeps(ray: vec3<f32>, t: f32) -> bool {
     }
     var inside = true;
     for (var i = user; i < user + boxed; i++) {
-        inside = inside && dot(frame.clip[i].xyz, ray) * t + frame.clip[i].w >= 0.0;
+        inside = inside && dot(frame.clip[i].xyz, ray) * t + (dot(frame.clip[i].xyz, origin) + frame.clip[i].w) >= 0.0;
     }
     return inside != (frame.clip_counts.z == 1u);
 }
 
 // A splat's drawn radius: its own times the radius scale, and at least
-// --min-pixel-radius pixels at its view depth (RenderSettings::pixel_radius_floor).
+// --min-pixel-radius pixels at its view depth (RenderSettings::pixel_radius_floor;
+// at any depth in orthographic).
 fn drawn_radius(radius: f32, view_depth: f32) -> f32 {
-    return max(abs(radius) * frame.lens.z, frame.lens.w * max(view_depth, 0.0));
+    return max(abs(radius) * frame.lens.z, frame.lens.w * select(max(view_depth, 0.0), 1.0, is_ortho()));
 }

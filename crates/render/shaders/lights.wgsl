@@ -13,8 +13,9 @@
 // frame's lights, light k scaled by its shadow coefficient (shadow_a for
 // lights 0-3, shadow_b for 4-7).
 fn light_splat(albedo: vec3<f32>, normal_in: vec3<f32>, centre: vec3<f32>, shadow_a: vec4<f32>, shadow_b: vec4<f32>) -> vec3<f32> {
-    let distance = length(centre);
-    let to_eye = select(vec3<f32>(0.0, 0.0, 1.0), -centre / distance, distance > 0.0);
+    let sight = towards(centre);
+    let distance = length(sight);
+    let to_eye = select(vec3<f32>(0.0, 0.0, 1.0), -sight / distance, distance > 0.0);
     let n = select(normal_in, -normal_in, dot(normal_in, to_eye) < 0.0);
     var diffuse = vec3<f32>(0.0);
     var specular = vec3<f32>(0.0);

@@ -90,10 +90,11 @@ struct SplatVarying {
 }
 
 // The length in pixels of the eye-space vector `d` at the point `c` (z < 0)
-// on screen, to first order (the perspective projection's Jacobian at c).
+// on screen, to first order (the perspective projection's Jacobian at c;
+// in orthographic, d's part across the view axis).
 fn screen_length(c: vec3<f32>, d: vec3<f32>) -> f32 {
     let z = -c.z;
-    let along = d.xy / z + c.xy * (d.z / (z * z));
+    let along = select(d.xy / z + c.xy * (d.z / (z * z)), d.xy, is_ortho());
     let pixels_per_unit = frame.viewport.xy / (2.0 * frame.lens.xy);
     return length(along * pixels_per_unit);
 }
@@ -118,9 +119,11 @@ fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying 
     // Lit once per splat: what the passes blend is the lit colour.
     out.colour = vec4<f32>(light_splat(splat.colour.rgb, normal, centre, splat.shadow_a, splat.shadow_b), splat.opacity);
 #endif
-    let distance = length(centre);
+    // From the eye to the centre (along the view axis in orthographic).
+    let sight = towards(centre);
+    let distance = length(sight);
     // Back-face culling: the normal points away from the eye (two-sided splats are kept).
-    let back_facing = dot(normal, centre) > 0.0 && frame.splat.w > 0.5 && splat.radius > 0.0;
+    let back_facing = dot(normal, sight) > 0.0 && frame.splat.w > 0.5 && splat.radius > 0.0;
     let radius = drawn_radius(splat.radius, -centre.z);
     // A vacant slot of a node pool holds a negative opacity (node_pool.rs).
     let vacant = splat.opacity < 0.0;
@@ -128,7 +131,7 @@ fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying 
         out.clip = CULLED;
         return out;
     }
-    let plane = footprint_normal(normal, centre / distance, frame.splat.z);
+    let plane = footprint_normal(normal, sight / distance, frame.splat.z);
     // Two unit tangents of the footprint plane.
     let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(plane.x) > 0.9);
     var s = normalize(cross(plane, helper));
@@ -138,7 +141,7 @@ fn vs_splat(@builtin(vertex_index) vertex: u32, splat: SplatIn) -> SplatVarying 
     if low_pass > 0.0 && -centre.z > frame.depth.x {
         // The slides' heuristic for discs: s = p × n is parallel to the
         // screen, t = n × s the most foreshortened direction.
-        let across = cross(centre, plane);
+        let across = cross(sight, plane);
         let across_length = length(across);
         if across_length > 1e-6 * distance {
             s = across / across_length;
@@ -222,15 +225,18 @@ struct SplatSample {
 // Casts the pixel's ray on the splat; discards pixels outside the disc or the depth range.
 fn splat_sample(v: SplatVarying) -> SplatSample {
     let ray = pixel_ray(v.clip.xy);
+    let origin = pixel_origin(v.clip.xy);
     let n = v.plane.xyz;
 #ifdef TRIANGLES
-    if v.axis_t.w > 0.5 && dot(n, v.centre) > 0.0 {
+    if v.axis_t.w > 0.5 && dot(n, towards(v.centre)) > 0.0 {
         discard;
     }
 #endif
+    // The centre seen from the ray's origin (the centre itself in perspective).
+    let centre = v.centre - origin;
     let facing = dot(ray, n);
-    let t = dot(v.centre, n) / facing;
-    let offset = ray * t - v.centre;
+    let t = dot(centre, n) / facing;
+    let offset = ray * t - centre;
     var rho2 = dot(offset, offset) * v.plane.w;
     var scale = 1.0;
     var front = t;
@@ -245,7 +251,7 @@ fn splat_sample(v: SplatVarying) -> SplatSample {
         discard;
     }
 #ifdef CLIP
-    if !clip_keeps(ray, t) {
+    if !clip_keeps(origin, ray, t) {
         discard;
     }
 #endif

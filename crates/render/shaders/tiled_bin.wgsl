@@ -67,13 +67,14 @@ fn disc_meets_tile(centre: vec3<f32>, plane: vec3<f32>, r2: f32, tile: vec2<u32>
 
 // Where the ray through `pixel` meets the plane (unit normal `plane`,
 // `reach` = plane · centre), relative to `centre`; w = 0 when it does not
-// meet it in front of the eye.
+// meet it in front of the eye (of the eye's plane, in orthographic).
 fn corner_offset(pixel: vec2<f32>, centre: vec3<f32>, plane: vec3<f32>, reach: f32) -> vec4<f32> {
     let ray = pixel_ray(pixel);
+    let origin = pixel_origin(pixel);
     let denom = dot(plane, ray);
-    let t = reach / denom;
+    let t = (reach - dot(plane, origin)) / denom;
     let meets = abs(denom) >= 1e-12 && t > 0.0 && t < 3.0e38;
-    return select(vec4<f32>(0.0), vec4<f32>(ray * t - centre, 1.0), meets);
+    return select(vec4<f32>(0.0), vec4<f32>(origin + ray * t - centre, 1.0), meets);
 }
 
 // Which side of the edge from `a` to `b` the centre (the origin) lies on, about `plane`.

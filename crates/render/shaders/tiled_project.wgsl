@@ -54,9 +54,9 @@ fn cs_project(dispatch: Dispatch) {
     let normal = select(vec3<f32>(0.0, 0.0, 1.0), normal_eye / normal_length, normal_length > 1e-20);
     let depth = -centre.z;
     let radius = drawn_radius(signed_radius, depth);
-    let distance = length(centre);
-    let towards = select(vec3<f32>(0.0), centre / distance, distance > 0.0);
-    let plane = footprint_normal(normal, towards, frame.splat.z);
+    let sight = towards(centre);
+    let distance = length(sight);
+    let plane = footprint_normal(normal, select(vec3<f32>(0.0), sight / distance, distance > 0.0), frame.splat.z);
     var colour = bitcast<u32>(splats[b + 7u]);
 #ifdef LIGHTS
     // Scene lights: the splat is lit once, here, and the raster blends the lit colour.
@@ -66,7 +66,7 @@ fn cs_project(dispatch: Dispatch) {
     colour = pack4x8unorm(vec4<f32>(light_splat(albedo, normal, centre, shadow_a, shadow_b), 1.0));
 #endif
     // Back faces of one-sided splats (a two-sided one has a negative radius).
-    let culled = frame.splat.w > 0.5 && signed_radius > 0.0 && dot(normal, centre) > 0.0;
+    let culled = frame.splat.w > 0.5 && signed_radius > 0.0 && dot(normal, sight) > 0.0;
     // A node pool's vacant and resident slots are not live (node_pool.rs).
     let live_slot = ((live[i >> 5u] >> (i & 31u)) & 1u) == 1u;
     let usable = depth - radius < frame.depth.y && depth + radius > frame.depth.x && radius > 0.0 && live_slot;

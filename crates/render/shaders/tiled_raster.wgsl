@@ -82,6 +82,8 @@ struct Layer {
 // unroll), so the shader compiler keeps it in registers: a window indexed by
 // a per-pixel count was twice as slow on lavapipe.
 var<private> ray: vec3<f32>;
+// Where the ray starts: the eye, or the pixel's place on its plane (orthographic).
+var<private> ray_origin: vec3<f32>;
 // Unit, from the surface to the eye: what layers are shaded facing.
 var<private> to_eye: vec3<f32>;
 var<private> split_facing: bool;
@@ -232,7 +234,7 @@ fn intersect_triangle(triangle: u32) -> TriangleHit {
         return miss;
     }
     let inv = 1.0 / det;
-    let s = -a;
+    let s = ray_origin - a;
     let u = dot(s, p) * inv;
     let q = cross(s, e1);
     let v = dot(ray, q) * inv;
@@ -363,7 +365,7 @@ fn hit_on(item: u32) -> vec2<f32> {
     if item >= tiles.grid.z {
         let hit = intersect_triangle(drawn_triangles[item - tiles.grid.z]);
 #ifdef CLIP
-        if !clip_keeps(ray, hit.depth) {
+        if !clip_keeps(ray_origin, ray, hit.depth) {
             return miss;
         }
 #endif
@@ -382,14 +384,16 @@ fn disc_hit(disc: vec4<f32>, plane: vec3<f32>) -> vec2<f32> {
     if abs(denom) < 1e-12 {
         return miss;
     }
-    let t = dot(plane, disc.xyz) / denom;
+    // The centre seen from the ray's origin (the centre itself in perspective).
+    let centre = disc.xyz - ray_origin;
+    let t = dot(plane, centre) / denom;
     if !(t > frame.depth.x && t < frame.depth.y) {
         return miss;
     }
-    let offset = ray * t - disc.xyz;
+    let offset = ray * t - centre;
     let rho2 = dot(offset, offset) * disc.w;
 #ifdef CLIP
-    if !clip_keeps(ray, t) {
+    if !clip_keeps(ray_origin, ray, t) {
         return miss;
     }
 #endif
@@ -708,6 +712,7 @@ fn cs_raster(
     let size = vec2<u32>(frame.viewport.xy);
     let inside = inside_grid && pixel.x < size.x && pixel.y < size.y;
     ray = pixel_ray(vec2<f32>(pixel) + vec2<f32>(0.5));
+    ray_origin = pixel_origin(vec2<f32>(pixel) + vec2<f32>(0.5));
     to_eye = -normalize(ray);
     split_facing = this_pass.layers.z != 0u;
     start_pixel(inside);

@@ -449,7 +449,7 @@ fn frame_uniforms(camera: &Camera, spec: &FrameSpec, window: &SubFrame, environm
         view: to_cols(camera.view_matrix()),
         proj: to_cols(window.projection(camera)),
         viewport: [width as f32, height as f32, 1.0 / width as f32, 1.0 / height as f32],
-        depth: [near, far, 0.0, 1.0 / (far - near).max(f32::MIN_POSITIVE)],
+        depth: [near, far, if camera.is_ortho() { 1.0 } else { 0.0 }, 1.0 / (far - near).max(f32::MIN_POSITIVE)],
         splat: [
             // Only modes whose passes weight their fragments filter (the registry lists them).
             spec.low_pass_px,
@@ -461,7 +461,12 @@ fn frame_uniforms(camera: &Camera, spec: &FrameSpec, window: &SubFrame, environm
         material: [shading.ambient, shading.diffuse, shading.specular, 0.0],
         background: shading.background.extend(1.0).to_array(),
         // The floor is in the frame's pixels, whatever part of it the window is.
-        lens: [lens.x, lens.y, settings.radius_scale, settings.pixel_radius_floor(camera.fov_y_deg, window.frame.1)],
+        lens: [
+            lens.x,
+            lens.y,
+            settings.radius_scale,
+            settings.pixel_radius_floor(camera.half_extent_y(), window.frame.1),
+        ],
         environment: [
             env.eta,
             env.dispersion,

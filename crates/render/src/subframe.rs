@@ -81,10 +81,10 @@ impl SubFrame {
         onto * whole
     }
 
-    /// The sub-frame's half extent (x, y) and centre (x, y) at view depth 1, in eye space.
+    /// The sub-frame's half extent (x, y) and centre (x, y) at view depth 1, in eye space
+    /// (in eye units when orthographic: `Camera::lens`).
     pub fn lens(&self, camera: &Camera) -> (Vec2, Vec2) {
-        let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
-        let whole = Vec2::new(tan_y * self.frame.0 as f32 / self.frame.1 as f32, tan_y);
+        let whole = camera.lens(self.frame.0 as f32 / self.frame.1 as f32);
         let (centre, scale) = self.ndc();
         (whole * scale, whole * centre)
     }
@@ -165,6 +165,7 @@ mod tests {
             fov_y_deg: 40.0,
             up: crate::frame::UpAxis::PosY,
             scene_radius: 1.0,
+            projection: Default::default(),
         }
     }
 

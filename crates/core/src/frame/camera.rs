@@ -6,9 +6,12 @@
 //! scan (see `PointCloud::scanner_position`) it looks from the scanner's side
 //! with the vision convention (y down); z-up data (lidar, E57: `PointCloud::z_up`)
 //! from 40° above the horizon with z up; otherwise from +z of the up frame.
+//! An orthographic camera ([`Projection::Ortho`]) frames the same way, with
+//! its window in place of the field of view (see [`super::projection`]).
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 
+use super::projection::{NamedView, Projection};
 use crate::cloud::PointCloud;
 
 /// Which world axis points up on screen.
@@ -52,7 +55,7 @@ impl std::str::FromStr for UpAxis {
     }
 }
 
-/// A perspective orbit camera.
+/// An orbit camera, perspective or orthographic.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
     pub target: Vec3,
@@ -64,6 +67,7 @@ pub struct Camera {
     pub up: UpAxis,
     /// Radius of the scene's bounding sphere around `target` (sets near/far).
     pub scene_radius: f32,
+    pub projection: Projection,
 }
 
 /// Default vertical field of view.
@@ -92,6 +96,7 @@ impl Camera {
             fov_y_deg: DEFAULT_FOV_DEG,
             up: UpAxis::PosY,
             scene_radius: radius.max(f32::MIN_POSITIVE),
+            projection: Projection::Perspective,
         };
         cam.distance = cam.framing_distance(aspect);
         cam
@@ -135,7 +140,8 @@ impl Camera {
             .step_by(step)
             .map(|p| {
                 let d = (*p - self.target) * MARGIN;
-                let toward_eye = d.dot(dir);
+                // An orthographic window does not widen with depth.
+                let toward_eye = if self.is_ortho() { 0.0 } else { d.dot(dir) };
                 toward_eye + (d.dot(right).abs() / tan_x).max(d.dot(up).abs() / tan_y)
             })
             .fold(0.0f32, f32::max);
@@ -143,11 +149,51 @@ impl Camera {
         if needed.is_finite() && needed > 0.0 { needed.min(sphere) } else { sphere }
     }
 
-    /// Distance at which the bounding sphere fits the narrower field of view.
+    /// Distance at which the bounding sphere fits the narrower field of view
+    /// (in orthographic, the narrower side of the window).
     pub fn framing_distance(&self, aspect: f32) -> f32 {
         let half_y = self.fov_y_deg.to_radians() * 0.5;
         let half_x = (half_y.tan() * aspect.max(1e-3)).atan();
-        self.scene_radius / half_y.min(half_x).sin()
+        match self.projection {
+            Projection::Perspective => self.scene_radius / half_y.min(half_x).sin(),
+            Projection::Ortho => self.scene_radius / half_y.min(half_x).tan(),
+        }
+    }
+
+    pub fn is_ortho(&self) -> bool {
+        self.projection == Projection::Ortho
+    }
+
+    /// Looks from the named view's direction (about the camera's up axis).
+    pub fn look_from(&mut self, view: NamedView) {
+        (self.azimuth_deg, self.elevation_deg) = view.angles();
+    }
+
+    /// The window's half height: per unit of view depth in perspective
+    /// (tan(fov_y / 2)), in eye units in orthographic (the same at the target).
+    pub fn half_extent_y(&self) -> f32 {
+        let tan_y = (self.fov_y_deg.to_radians() * 0.5).tan();
+        match self.projection {
+            Projection::Perspective => tan_y,
+            Projection::Ortho => tan_y * self.distance,
+        }
+    }
+
+    /// The window's half extent (x, y) for an image of `aspect` = w/h: what
+    /// a pixel's ray is cast from (frame.wgsl's `pixel_ray`, the reference's).
+    pub fn lens(&self, aspect: f32) -> Vec2 {
+        let half_y = self.half_extent_y();
+        Vec2::new(half_y * aspect, half_y)
+    }
+
+    /// How far the eye stands from the target: the distance in perspective;
+    /// in orthographic, which the distance does not change the image of,
+    /// outside the scene's sphere (twice its radius), so the near plane cuts nothing.
+    pub fn eye_distance(&self) -> f32 {
+        match self.projection {
+            Projection::Perspective => self.distance,
+            Projection::Ortho => 2.0 * self.scene_radius * 1.02,
+        }
     }
 
     /// Sets azimuth and elevation so that the camera lies along `dir` from the target.
@@ -168,15 +214,26 @@ impl Camera {
     }
 
     pub fn eye(&self) -> Vec3 {
-        self.target + self.direction() * self.distance
+        self.target + self.direction() * self.eye_distance()
+    }
+
+    /// Screen up when the camera looks straight along the up axis (plan
+    /// views): the horizontal direction away from the camera's azimuth, so
+    /// a top view of z-up data at azimuth 0 has north up.
+    fn plan_up(&self) -> glam::DVec3 {
+        let (up, front) = self.up.frame();
+        let (up, front) = (up.as_dvec3(), front.as_dvec3());
+        let right = up.cross(front);
+        let az = (self.azimuth_deg as f64).to_radians();
+        -(right * az.sin() + front * az.cos())
     }
 
     /// World to eye space (right-handed, looking down -z, y up on screen).
     pub fn view_matrix(&self) -> Mat4 {
         let (up, _) = self.up.frame();
         let dir = self.direction();
-        // Straight above or below: any horizontal vector serves as up.
-        let up = if dir.cross(up).length_squared() < 1e-8 { up.any_orthonormal_vector() } else { up };
+        // Straight above or below: up on screen is away from the azimuth.
+        let up = if dir.cross(up).length_squared() < 1e-8 { self.plan_up().as_vec3() } else { up };
         glam::camera::rh::view::look_at_mat4(self.eye(), self.target, up)
     }
 
@@ -190,28 +247,37 @@ impl Camera {
         let (az, el) = ((self.azimuth_deg as f64).to_radians(), (self.elevation_deg as f64).to_radians());
         let direction = (right * az.sin() * el.cos() + front * az.cos() * el.cos() + up * el.sin()).normalize();
         let target = self.target.as_dvec3();
-        let eye = target + direction * self.distance as f64;
-        let up = if direction.cross(up).length_squared() < 1e-8 { up.any_orthonormal_vector() } else { up };
+        let eye = target + direction * self.eye_distance() as f64;
+        let up = if direction.cross(up).length_squared() < 1e-8 { self.plan_up() } else { up };
         glam::dcamera::rh::view::look_at_mat4(eye, target, up)
     }
 
     /// Near and far clipping distances, enclosing the scene sphere.
     pub fn near_far(&self) -> (f32, f32) {
         let r = self.scene_radius * 1.02;
+        let distance = self.eye_distance();
         // A model tiny against its distance (1e-6 of it and less) would leave
         // far − near a few f32 steps wide, or none: far would round to the
         // distance itself and 1/(far − near) to infinity. The range reaches at
         // least MIN_DEPTH_RANGE of the distance to either side, which only
         // widens it around the model.
-        let far = (self.distance + r).max(self.distance * (1.0 + MIN_DEPTH_RANGE));
-        let near = (self.distance - r).max(far * 1e-5).min(self.distance * (1.0 - MIN_DEPTH_RANGE));
+        let far = (distance + r).max(distance * (1.0 + MIN_DEPTH_RANGE));
+        let near = (distance - r).max(far * 1e-5).min(distance * (1.0 - MIN_DEPTH_RANGE));
         (near, far)
     }
 
-    /// Perspective projection to wgpu clip space (z in 0..1).
+    /// The projection to wgpu clip space (z in 0..1).
     pub fn projection(&self, aspect: f32) -> Mat4 {
         let (near, far) = self.near_far();
-        glam::camera::rh::proj::directx::perspective(self.fov_y_deg.to_radians(), aspect, near, far)
+        match self.projection {
+            Projection::Perspective => {
+                glam::camera::rh::proj::directx::perspective(self.fov_y_deg.to_radians(), aspect, near, far)
+            }
+            Projection::Ortho => {
+                let half = self.lens(aspect);
+                glam::camera::rh::proj::directx::orthographic(-half.x, half.x, -half.y, half.y, near, far)
+            }
+        }
     }
 
     /// Focal length in pixels for an image `height` pixels tall: h / (2 tan(fov/2)),

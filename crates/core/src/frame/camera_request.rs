@@ -1,5 +1,5 @@
 //! A camera as a user asks for it: any of azimuth, elevation, distance,
-//! field of view and up axis, each optional. The command line's flags, a
+//! field of view, up axis, projection and named view, each optional. The command line's flags, a
 //! scene file's `[camera]` and the viewer's start all give one; what it leaves
 //! out, the default view of the model fills ([`Camera::default_for`]).
 //!
@@ -7,10 +7,12 @@
 //! the field of view in 0.5..=170°, the distance positive. [`CameraRequest::over`]
 //! lays one request over another (the flags over a scene file's), and
 //! [`CameraRequest::camera`] makes the camera: the model's default view, the
-//! up axis turned with the view direction kept, the angles set, then the
+//! up axis turned with the view direction kept, the projection, the named
+//! view's angles, the angles asked for (over the named view's), then the
 //! distance that fits every point (or the one asked for).
 
 use super::camera::{Camera, UpAxis};
+use super::projection::{NamedView, Projection};
 use crate::cloud::PointCloud;
 
 /// The field of view a request may ask for, in degrees.
@@ -28,6 +30,9 @@ pub struct CameraRequest {
     /// Vertical field of view in degrees.
     pub fov: Option<f32>,
     pub up: Option<UpAxis>,
+    pub projection: Option<Projection>,
+    /// Sets azimuth and elevation; an azimuth or elevation asked for too wins.
+    pub view: Option<NamedView>,
 }
 
 /// Which value of a request is out of range, and why (the caller names the source).
@@ -46,14 +51,19 @@ impl CameraRequest {
         *self == Self::default()
     }
 
-    /// This request's values, and `base`'s where this one has none.
+    /// This request's values, and `base`'s where this one has none; a named
+    /// view here replaces `base`'s angles too (the flags' `--view top` over a
+    /// scene file's azimuth and elevation).
     pub fn over(self, base: CameraRequest) -> CameraRequest {
+        let base_angles = self.view.is_none();
         CameraRequest {
-            azimuth: self.azimuth.or(base.azimuth),
-            elevation: self.elevation.or(base.elevation),
+            azimuth: self.azimuth.or(base.azimuth.filter(|_| base_angles)),
+            elevation: self.elevation.or(base.elevation.filter(|_| base_angles)),
             distance: self.distance.or(base.distance),
             fov: self.fov.or(base.fov),
             up: self.up.or(base.up),
+            projection: self.projection.or(base.projection),
+            view: self.view.or(base.view),
         }
     }
 
@@ -88,13 +98,24 @@ impl CameraRequest {
         if let Some(fov) = self.fov {
             camera.fov_y_deg = fov;
         }
+        if let Some(projection) = self.projection {
+            camera.projection = projection;
+        }
+        if let Some(view) = self.view {
+            camera.look_from(view);
+        }
         if let Some(azimuth) = self.azimuth {
             camera.azimuth_deg = azimuth;
         }
         if let Some(elevation) = self.elevation {
             camera.elevation_deg = elevation.clamp(-90.0, 90.0);
         }
-        let turned = self.up.is_some() || self.fov.is_some() || self.azimuth.is_some() || self.elevation.is_some();
+        let turned = self.up.is_some()
+            || self.fov.is_some()
+            || self.azimuth.is_some()
+            || self.elevation.is_some()
+            || self.projection.is_some()
+            || self.view.is_some();
         camera.distance = match self.distance {
             Some(distance) => distance,
             // The default view is fitted already; a turned one fits again.
@@ -140,6 +161,39 @@ mod tests {
         let flags = CameraRequest { azimuth: Some(45.0), up: Some(UpAxis::PosZ), ..Default::default() };
         let both = flags.over(file);
         assert_eq!((both.azimuth, both.fov, both.up), (Some(45.0), Some(20.0), Some(UpAxis::PosZ)));
+    }
+
+    #[test]
+    fn a_named_view_of_the_flags_replaces_a_scene_files_angles_and_an_angle_given_beside_it_wins() {
+        let file = CameraRequest { azimuth: Some(30.0), elevation: Some(50.0), fov: Some(20.0), ..Default::default() };
+        let top = CameraRequest { view: Some(NamedView::Top), ..Default::default() };
+        let camera = top.over(file).camera(&cloud(), 1.0).unwrap();
+        assert_eq!((camera.azimuth_deg, camera.elevation_deg, camera.fov_y_deg), (0.0, 90.0, 20.0));
+        let turned = CameraRequest { azimuth: Some(15.0), ..top };
+        let camera = turned.over(file).camera(&cloud(), 1.0).unwrap();
+        assert_eq!((camera.azimuth_deg, camera.elevation_deg), (15.0, 90.0));
+    }
+
+    #[test]
+    fn an_ortho_request_frames_every_point_and_a_top_view_of_z_up_data_has_north_up() {
+        let mut cloud = cloud();
+        cloud.z_up = true;
+        let asked =
+            CameraRequest { projection: Some(Projection::Ortho), view: Some(NamedView::Top), ..Default::default() };
+        let camera = asked.camera(&cloud, 1.0).unwrap();
+        assert!(camera.is_ortho());
+        let clip = |p: Vec3| {
+            let c = camera.projection(1.0) * camera.view_matrix() * p.extend(1.0);
+            c.truncate() / c.w
+        };
+        for p in &cloud.positions {
+            let ndc = clip(*p);
+            assert!(ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 && (0.0..=1.0).contains(&ndc.z), "{p} at {ndc}");
+        }
+        // North (+y) is up on screen, east (+x) to the right.
+        let (centre, north, east) = (clip(camera.target), clip(camera.target + Vec3::Y), clip(camera.target + Vec3::X));
+        assert!(north.y > centre.y && (north.x - centre.x).abs() < 1e-4, "{north} from {centre}");
+        assert!(east.x > centre.x && (east.y - centre.y).abs() < 1e-4, "{east} from {centre}");
     }
 
     #[test]

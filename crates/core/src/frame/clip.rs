@@ -206,10 +206,11 @@ impl Clip {
 }
 
 impl EyeClip {
-    /// Whether the point at view depth `t` along `ray` (z = -1) is kept,
-    /// each plane tested as (n·ray)·t + d: what `clip_keeps` in `frame.wgsl` computes.
-    pub fn keeps_along(&self, ray: Vec3, t: f32) -> bool {
-        let distance = |q: &Vec4| q.truncate().dot(ray) * t + q.w;
+    /// Whether the point at view depth `t` along `ray` (its direction has
+    /// z = -1) is kept, each plane tested as (n·dir)·t + (n·origin + d): what
+    /// `clip_keeps` in `frame.wgsl` computes.
+    pub fn keeps_along(&self, ray: &crate::frame::eye_ray::EyeRay, t: f32) -> bool {
+        let distance = |q: &Vec4| q.truncate().dot(ray.dir) * t + (q.truncate().dot(ray.origin) + q.w);
         let [user, boxed, hide_inside] = self.counts;
         if !self.planes[..user as usize].iter().all(|q| distance(q) >= 0.0) {
             return false;
@@ -225,6 +226,11 @@ impl EyeClip {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The perspective ray from the eye through `dir`.
+    fn from_eye(dir: Vec3) -> crate::frame::eye_ray::EyeRay {
+        crate::frame::eye_ray::EyeRay { origin: Vec3::ZERO, dir }
+    }
 
     #[test]
     fn a_region_in_file_coordinates_clips_the_same_points_in_frame_and_eye_space() {
@@ -248,7 +254,7 @@ mod tests {
         ] {
             assert_eq!(clip.keeps(p), kept, "{p}");
             let q = view.transform_point3(p);
-            assert_eq!(eye.keeps_along(q / -q.z, -q.z), kept, "{p} in eye space");
+            assert_eq!(eye.keeps_along(&from_eye(q / -q.z), -q.z), kept, "{p} in eye space");
         }
         let inverted =
             ClipRegion { clip_box: region.clip_box.map(|b| ClipBox { hide: Hidden::Inside, ..b }), planes: vec![] };
@@ -256,7 +262,7 @@ mod tests {
         assert!(!clip.keeps(file(500_002.0, 4_000_001.0, 100.5)));
         assert!(clip.keeps(file(500_004.0, 4_000_001.0, 100.5)));
         let q = view.transform_point3(file(500_004.0, 4_000_001.0, 100.5));
-        assert!(clip.in_eye(&view).keeps_along(q / -q.z, -q.z));
+        assert!(clip.in_eye(&view).keeps_along(&from_eye(q / -q.z), -q.z));
     }
 
     #[test]

@@ -92,14 +92,16 @@ pub fn check_image_size(width: u32, height: u32) -> Result<(), String> {
 }
 
 /// The smallest radius a splat is drawn with, per unit of view depth, in an
-/// image `height` pixels high under a vertical field of view `fov_y_deg`:
+/// image `height` pixels high whose window's half height is `half_y`
+/// (`Camera::half_extent_y`: tan(fov_y / 2) in perspective):
 /// `min_pixel_radius` pixels at that depth (`--min-pixel-radius`; 0 when
 /// unset). Every renderer applies it to the splat's disc in its own plane,
 /// max(r · scale, this · depth), before the EWA prefilter stretches what is
 /// still smaller than the low-pass radius: with a floor at or above the
-/// prefilter's radius the filter has nothing left to stretch.
-pub fn pixel_radius_floor(min_pixel_radius: f32, fov_y_deg: f32, height: u32) -> f32 {
-    min_pixel_radius * 2.0 * (fov_y_deg.to_radians() * 0.5).tan() / height.max(1) as f32
+/// prefilter's radius the filter has nothing left to stretch. In
+/// orthographic `half_y` is in eye units, and so is the floor, at any depth.
+pub fn pixel_radius_floor(min_pixel_radius: f32, half_y: f32, height: u32) -> f32 {
+    min_pixel_radius * 2.0 * half_y / height.max(1) as f32
 }
 
 /// The default Eq. 10 step, in multiples of ε. A layer whose fragments
@@ -195,8 +197,8 @@ impl RenderSettings {
     }
 
     /// [`pixel_radius_floor`] of these settings' `min_pixel_radius`.
-    pub fn pixel_radius_floor(&self, fov_y_deg: f32, height: u32) -> f32 {
-        pixel_radius_floor(self.min_pixel_radius, fov_y_deg, height)
+    pub fn pixel_radius_floor(&self, half_y: f32, height: u32) -> f32 {
+        pixel_radius_floor(self.min_pixel_radius, half_y, height)
     }
 
     /// ε in view-depth units for a cloud whose mean splat radius is `mean_radius`.

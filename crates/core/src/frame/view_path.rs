@@ -7,7 +7,7 @@
 //! path, the views equally spaced; between two views the target, elevation
 //! and field of view move linearly, the azimuth the short way round, and the
 //! distance geometrically (a zoom at a steady rate). Every view keeps the
-//! first one's up axis.
+//! first one's up axis and projection.
 
 use std::path::Path;
 
@@ -73,6 +73,7 @@ impl ViewPath {
             fov_y_deg: lerp(a.fov_y_deg, b.fov_y_deg),
             up: cameras[0].up,
             scene_radius: lerp(a.scene_radius, b.scene_radius),
+            projection: cameras[0].projection,
         }
     }
 }

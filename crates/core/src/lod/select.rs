@@ -32,37 +32,49 @@ pub struct Selection {
     pub splats: usize,
 }
 
-/// The view frustum in eye space, as what a sphere must pass.
+/// The view frustum in eye space, as what a sphere must pass (a box in
+/// orthographic).
 pub(crate) struct Frustum {
     view: Mat4,
-    planes: [Vec3; 4],
+    /// The side planes' inward unit normals and offsets (n·p + d ≥ 0 inside).
+    planes: [(Vec3, f32); 4],
     near: f32,
     far: f32,
-    /// Pixels per unit of eye space at view depth 1, vertically.
+    /// Pixels per unit of eye space at view depth 1, vertically (at any depth in orthographic).
     pixels_per_unit: f32,
+    ortho: bool,
 }
 
 impl Frustum {
     pub(crate) fn new(camera: &Camera, (width, height): (u32, u32)) -> Self {
         let aspect = width.max(1) as f32 / height.max(1) as f32;
-        let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
-        let tan_x = tan_y * aspect;
+        let half = camera.lens(aspect);
         let (near, far) = camera.near_far();
-        // Inward normals of the four side planes (all through the eye).
-        let planes = [
-            Vec3::new(-1.0, 0.0, -tan_x).normalize(),
-            Vec3::new(1.0, 0.0, -tan_x).normalize(),
-            Vec3::new(0.0, -1.0, -tan_y).normalize(),
-            Vec3::new(0.0, 1.0, -tan_y).normalize(),
-        ];
-        Self { view: camera.view_matrix(), planes, near, far, pixels_per_unit: height.max(1) as f32 * 0.5 / tan_y }
+        let ortho = camera.is_ortho();
+        let planes = if ortho {
+            // Parallel to the view axis, the window's half extent from it.
+            [(Vec3::X, half.x), (Vec3::NEG_X, half.x), (Vec3::Y, half.y), (Vec3::NEG_Y, half.y)]
+        } else {
+            // Through the eye.
+            [
+                (Vec3::new(-1.0, 0.0, -half.x).normalize(), 0.0),
+                (Vec3::new(1.0, 0.0, -half.x).normalize(), 0.0),
+                (Vec3::new(0.0, -1.0, -half.y).normalize(), 0.0),
+                (Vec3::new(0.0, 1.0, -half.y).normalize(), 0.0),
+            ]
+        };
+        let pixels_per_unit = height.max(1) as f32 * 0.5 / half.y;
+        Self { view: camera.view_matrix(), planes, near, far, pixels_per_unit, ortho }
     }
 
     /// The node's error in pixels, or `None` when its sphere is outside the frustum.
     pub(crate) fn error(&self, centre: Vec3, reach: f32, radius: f32) -> Option<f32> {
         let c = self.view.transform_point3(centre);
         let depth = -c.z;
-        if depth + reach < self.near || depth - reach > self.far || self.planes.iter().any(|n| n.dot(c) < -reach) {
+        if depth + reach < self.near
+            || depth - reach > self.far
+            || self.planes.iter().any(|(n, d)| n.dot(c) + d < -reach)
+        {
             return None;
         }
         Some(self.error_anywhere(centre, reach, radius))
@@ -70,6 +82,9 @@ impl Frustum {
 
     /// The node's error in pixels wherever it is.
     pub(crate) fn error_anywhere(&self, centre: Vec3, reach: f32, radius: f32) -> f32 {
+        if self.ortho {
+            return radius * self.pixels_per_unit;
+        }
         let nearest = self.view.transform_point3(centre).length() - reach;
         if nearest <= self.near { f32::INFINITY } else { radius * self.pixels_per_unit / nearest }
     }
@@ -79,6 +94,9 @@ impl Frustum {
     /// node's sphere holds its whole cube, which a far camera's near plane
     /// (set by the points' bounds) may cut.
     fn error_at_least_near(&self, centre: Vec3, reach: f32, radius: f32) -> f32 {
+        if self.ortho {
+            return radius * self.pixels_per_unit;
+        }
         let nearest = self.view.transform_point3(centre).length() - reach;
         radius * self.pixels_per_unit / nearest.max(self.near).max(f32::MIN_POSITIVE)
     }

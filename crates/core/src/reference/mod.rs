@@ -2,7 +2,8 @@
 //!
 //! [`render`] is an A-buffer splat renderer: every pixel's view ray is
 //! intersected with every splat disc of the scene that covers it
-//! (perspective-correct, no parallel-projection approximation), the hits are
+//! (perspective-correct, no parallel-projection approximation; parallel
+//! rays in an orthographic view, [`crate::frame::eye_ray`]), the hits are
 //! sorted by depth and grouped into ε-layers (split by facing when opacity is
 //! read), each layer is normalised (Σw·c/Σw) and shaded, and the layers are
 //! α-composited front to back with no cap on their number. It uses the camera, kernel and

@@ -17,11 +17,12 @@
 //! splat, exact to the file's own precision. Triangles of mesh and hybrid
 //! objects are not picked: their hits name no splat.
 
-use glam::{DVec3, Vec2, Vec3};
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-use super::raster::{Hit, ReferenceOptions, eye_splat, intersect, pixel_ray, take_layer};
+use super::raster::{Hit, ReferenceOptions, eye_splat, intersect, take_layer};
 use crate::frame::Camera;
+use crate::frame::eye_ray::Lens;
 use crate::scene::Scene;
 
 /// One ε-layer along a picked ray.
@@ -78,21 +79,20 @@ pub fn pick_in(
 ) -> Vec<PickedLayer> {
     let cloud = flat.cloud.as_ref();
     let (width, height) = (width.max(1), height.max(1));
-    let aspect = width as f32 / height as f32;
     let view = camera.view_matrix();
     let (near, far) = camera.near_far();
-    let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
-    let ray = pixel_ray(Vec2::new(tan_y * aspect, tan_y), (width, height), (x, y));
+    let lens = Lens::of(camera, (width, height));
+    let ray = lens.ray((width, height), (x, y));
     let clip = options.clip.in_eye(&view);
-    let floor = options.pixel_radius_floor(camera.fov_y_deg, height);
+    let floor = options.pixel_radius_floor(camera.half_extent_y(), height);
     let surfaces = scene.surfaces(flat);
     let drawn = surfaces.loose_splats();
     let mut hits: Vec<(Hit, super::tiles::EyeSplat)> = (0..cloud.len())
         .into_par_iter()
         .filter(|&i| drawn[i])
         .filter_map(|i| {
-            let s = eye_splat(cloud, i, &view, (near, far), floor, options)?;
-            let hit = intersect(&s, ray, &options.kernel, near, far).filter(|h| clip.keeps_along(ray, h.depth))?;
+            let s = eye_splat(cloud, i, &view, (near, far), floor, lens, options)?;
+            let hit = intersect(&s, &ray, &options.kernel, near, far).filter(|h| clip.keeps_along(&ray, h.depth))?;
             Some((Hit { splat: i as u32, ..hit }, s))
         })
         .collect();
@@ -103,13 +103,17 @@ pub fn pick_in(
     let (origin, unit) = scene.frame_placement();
     let eye_to_world = view.inverse();
     // The ray in the scene frame, in f64 from the camera's values (an f32
-    // direction is 10 mm off at 150 km): eye + direction · depth.
+    // direction is 10 mm off at 150 km): eye + direction · depth (the eye
+    // being the pixel's place on the eye's plane in orthographic).
     let to_frame = camera.view_matrix_f64().inverse();
     let tan_y = ((camera.fov_y_deg as f64).to_radians() * 0.5).tan();
+    let half_y = if camera.is_ortho() { tan_y * camera.distance as f64 } else { tan_y };
     let ndc =
         glam::DVec2::new((x as f64 + 0.5) / width as f64 * 2.0 - 1.0, 1.0 - (y as f64 + 0.5) / height as f64 * 2.0);
-    let eye_ray = (ndc * glam::DVec2::new(tan_y * width as f64 / height as f64, tan_y)).extend(-1.0);
-    let (eye, direction) = (to_frame.transform_point3(DVec3::ZERO), to_frame.transform_vector3(eye_ray));
+    let place = ndc * glam::DVec2::new(half_y * width as f64 / height as f64, half_y);
+    let (origin_eye, eye_ray) =
+        if camera.is_ortho() { (place.extend(0.0), DVec3::NEG_Z) } else { (DVec3::ZERO, place.extend(-1.0)) };
+    let (eye, direction) = (to_frame.transform_point3(origin_eye), to_frame.transform_vector3(eye_ray));
     let mut used = vec![false; sorted.len()];
     let mut layers = Vec::new();
     let mut start = 0;

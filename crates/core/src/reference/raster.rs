@@ -8,8 +8,10 @@
 //! weighted colour, normal and opacity), shaded facing the viewer, and
 //! composited front to back; an opaque layer ends the ray.
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use rayon::prelude::*;
+
+use crate::frame::eye_ray::{EyeRay, Lens};
 
 use super::environment_pass::Lookup;
 use super::tiles::{self, EyeSplat, TILE};
@@ -58,8 +60,8 @@ pub struct ReferenceOptions {
 
 impl ReferenceOptions {
     /// [`crate::frame::settings::pixel_radius_floor`] of these options.
-    pub fn pixel_radius_floor(&self, fov_y_deg: f32, height: u32) -> f32 {
-        crate::frame::settings::pixel_radius_floor(self.min_pixel_radius, fov_y_deg, height)
+    pub fn pixel_radius_floor(&self, half_y: f32, height: u32) -> f32 {
+        crate::frame::settings::pixel_radius_floor(self.min_pixel_radius, half_y, height)
     }
 
     /// The options that match a GPU frame of `scene` rendered with `settings`.
@@ -159,30 +161,35 @@ fn eye_splats(
     view: &glam::Mat4,
     (near, far): (f32, f32),
     floor: f32,
+    lens: Lens,
     options: &ReferenceOptions,
 ) -> Vec<EyeSplat> {
     (0..cloud.len())
         .into_par_iter()
         .filter(|&i| drawn[i])
-        .filter_map(|i| eye_splat(cloud, i, view, (near, far), floor, options))
+        .filter_map(|i| eye_splat(cloud, i, view, (near, far), floor, lens, options))
         .collect()
 }
 
 /// Splat `i` in eye space, or `None` where the GPU passes cull it; `floor`:
-/// the least radius per unit of view depth (`--min-pixel-radius`).
+/// the least radius per unit of view depth (`--min-pixel-radius`; at any
+/// depth when `lens` is orthographic).
 pub(super) fn eye_splat(
     cloud: &crate::cloud::PointCloud,
     i: usize,
     view: &glam::Mat4,
     (near, far): (f32, f32),
     floor: f32,
+    lens: Lens,
     options: &ReferenceOptions,
 ) -> Option<EyeSplat> {
     let centre = view.transform_point3(cloud.positions[i]);
     let normal = view.transform_vector3(cloud.normals[i]).try_normalize().unwrap_or(Vec3::Z);
     let depth = -centre.z;
-    let radius = (cloud.radii[i] * options.radius_scale).max(floor * depth.max(0.0));
-    let culled = options.backface_culling && !cloud.is_two_sided(i) && normal.dot(centre) > 0.0;
+    let floor = if lens.ortho { floor } else { floor * depth.max(0.0) };
+    let radius = (cloud.radii[i] * options.radius_scale).max(floor);
+    let sight = lens.towards(centre);
+    let culled = options.backface_culling && !cloud.is_two_sided(i) && normal.dot(sight) > 0.0;
     // Discs that cross the near or far plane keep the part between them (the per-hit test).
     let usable = depth - radius < far && depth + radius > near && radius > 0.0;
     if culled || !usable {
@@ -192,7 +199,7 @@ pub(super) fn eye_splat(
     Some(EyeSplat {
         centre,
         normal,
-        plane: options.kernel.footprint_normal(normal, centre.normalize_or_zero()),
+        plane: options.kernel.footprint_normal(normal, sight.normalize_or_zero()),
         radius,
         colour: Vec3::new(r as f32, g as f32, b as f32) / 255.0,
         opacity: if options.transparent { cloud.opacity[i].clamp(0.0, 1.0) } else { 1.0 },
@@ -266,16 +273,15 @@ fn render_samples(
     let surfaces = scene.surfaces(&flat);
     let drawn = surfaces.loose_splats();
     // The floor is in output pixels: `row_multiple` rays per pixel side.
-    let floor = options.pixel_radius_floor(camera.fov_y_deg, height / row_multiple.max(1));
-    let splats = eye_splats(cloud, drawn, &view, (near, far), floor, options);
+    let floor = options.pixel_radius_floor(camera.half_extent_y(), height / row_multiple.max(1));
+    let lens = Lens::of(camera, (width, height));
+    let splats = eye_splats(cloud, drawn, &view, (near, far), floor, lens, options);
     let mut bins = tiles::bin(&splats, &proj, width, height, near);
     let eye_triangles =
         triangles::eye_triangles(cloud, surfaces.triangles(), &view, options.backface_culling, options.transparent);
     triangles::bin(&eye_triangles, &proj, (width, height), near, &mut bins);
     let centre_weight = options.kernel.weight(0.0);
     let clip = options.clip.in_eye(&view);
-    let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
-    let lens = Vec2::new(tan_y * aspect, tan_y);
     let environment = scene.environment.as_deref().filter(|_| options.transparent && options.environment.enabled);
     let glassy = environment.is_some();
     let lit = (options.lighting && !options.lights.is_empty()).then(|| LitLayers {
@@ -314,28 +320,28 @@ fn render_samples(
                 let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
                 for y in ty * TILE..((ty + 1) * TILE).min(height) {
                     for x in tx * TILE..((tx + 1) * TILE).min(width) {
-                        let ray = pixel_ray(lens, (width, height), (x, y));
+                        let ray = lens.ray((width, height), (x, y));
                         hits.clear();
                         triangle_hits.clear();
                         for &s in &bins.bins[tile as usize] {
                             if s >= bins.first_triangle {
                                 let t = &eye_triangles[(s - bins.first_triangle) as usize];
-                                let hit = triangles::intersect(t, ray, near, far);
-                                if let Some((depth, record)) = hit.filter(|(d, _)| clip.keeps_along(ray, *d)) {
+                                let hit = triangles::intersect(t, &ray, near, far);
+                                if let Some((depth, record)) = hit.filter(|(d, _)| clip.keeps_along(&ray, *d)) {
                                     let splat = bins.first_triangle + triangle_hits.len() as u32;
-                                    let facing = t.face.dot(ray) < 0.0;
+                                    let facing = t.face.dot(ray.dir) < 0.0;
                                     hits.push(Hit { depth, weight: centre_weight, splat, facing });
                                     triangle_hits.push(record);
                                 }
-                            } else if let Some(hit) = intersect(&splats[s as usize], ray, &options.kernel, near, far)
-                                .filter(|h| clip.keeps_along(ray, h.depth))
+                            } else if let Some(hit) = intersect(&splats[s as usize], &ray, &options.kernel, near, far)
+                                .filter(|h| clip.keeps_along(&ray, h.depth))
                             {
                                 hits.push(Hit { splat: s, ..hit });
                             }
                         }
                         let records = Records { splats: &splats, triangle_hits: &triangle_hits };
                         let (colour, layers, glass) =
-                            composite(&mut hits, &mut used, &records, ray, options, glassy, lit.as_ref());
+                            composite(&mut hits, &mut used, &records, &ray, options, glassy, lit.as_ref());
                         // `composite` sorted the hits by depth.
                         let front = hits.first().map_or(f32::INFINITY, |h| h.depth);
                         pixels.push(TilePixel { colour, layers, glass, front });
@@ -351,7 +357,7 @@ fn render_samples(
             let rays = (0..width * band_height)
                 .map(|i| {
                     let (x, y) = (i % width, rows.start + i / width);
-                    pixel_ray(lens, (width, height), (x, y)).normalize()
+                    lens.ray((width, height), (x, y)).dir.normalize()
                 })
                 .collect::<Vec<_>>();
             // The band starts on a tile row (even), so the lookup's 2×2 pixel quads stay whole.
@@ -361,14 +367,6 @@ fn render_samples(
         emit(rows, &band);
     }
     bar.finish();
-}
-
-/// The eye-space ray through the centre of pixel (`x`, `y`) of a
-/// `width`×`height` image, at view depth 1 (z = -1); `lens`: tan of the half
-/// fields of view (x, y). The GPU's `pixel_ray` (frame.wgsl) is the same.
-pub(super) fn pixel_ray(lens: Vec2, (width, height): (u32, u32), (x, y): (u32, u32)) -> Vec3 {
-    let ndc = Vec2::new((x as f32 + 0.5) / width as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / height as f32 * 2.0);
-    (ndc * lens).extend(-1.0)
 }
 
 fn gcd(a: u32, b: u32) -> u32 {
@@ -400,20 +398,22 @@ struct TilePixel {
     front: f32,
 }
 
-/// Exact ray-disc intersection: the ray from the eye through `ray` (z = -1)
+/// Exact ray-disc intersection: the pixel's ray (z = -1 per unit of depth)
 /// meets the splat's footprint plane (see `SplatKernel::footprint_normal`) at
 /// view depth t; inside the disc it gets the Gaussian weight.
-pub(super) fn intersect(s: &EyeSplat, ray: Vec3, kernel: &SplatKernel, near: f32, far: f32) -> Option<Hit> {
-    let denom = s.plane.dot(ray);
+pub(super) fn intersect(s: &EyeSplat, ray: &EyeRay, kernel: &SplatKernel, near: f32, far: f32) -> Option<Hit> {
+    let denom = s.plane.dot(ray.dir);
     if denom.abs() < 1e-12 {
         return None;
     }
-    let t = s.plane.dot(s.centre) / denom;
+    // The centre seen from the ray's origin (the centre itself in perspective).
+    let centre = s.centre - ray.origin;
+    let t = s.plane.dot(centre) / denom;
     if !(t > near && t < far) {
         return None;
     }
-    let rho2 = (ray * t - s.centre).length_squared() / (s.radius * s.radius);
-    (rho2 < 1.0).then(|| Hit { depth: t, weight: kernel.weight(rho2), splat: 0, facing: s.normal.dot(ray) < 0.0 })
+    let rho2 = (ray.dir * t - centre).length_squared() / (s.radius * s.radius);
+    (rho2 < 1.0).then(|| Hit { depth: t, weight: kernel.weight(rho2), splat: 0, facing: s.normal.dot(ray.dir) < 0.0 })
 }
 
 /// Sorts the hits, groups them into ε-layers (by facing too when opacity is
@@ -425,7 +425,7 @@ fn composite(
     hits: &mut [Hit],
     used: &mut Vec<bool>,
     splats: &Records<'_>,
-    ray: Vec3,
+    ray: &EyeRay,
     options: &ReferenceOptions,
     glassy: bool,
     lit: Option<&LitLayers>,
@@ -437,7 +437,7 @@ fn composite(
     hits.sort_unstable_by(|a, b| a.depth.total_cmp(&b.depth));
     used.clear();
     used.resize(hits.len(), false);
-    let to_eye = -ray.normalize();
+    let to_eye = -ray.dir.normalize();
     let mut colour = Vec3::ZERO;
     let mut transmittance = 1.0f32;
     let mut layers = 0;
@@ -468,7 +468,7 @@ fn composite(
         let normal = sum_n.try_normalize().unwrap_or(to_eye);
         let albedo = sum_c / sum_w;
         let shaded = if let Some(lit) = lit {
-            lit.shade(&options.shading, albedo, normal, to_eye, ray * (sum_d / sum_w))
+            lit.shade(&options.shading, albedo, normal, to_eye, ray.at(sum_d / sum_w))
         } else if options.lighting {
             options.shading.shade(albedo, normal, to_eye)
         } else {

@@ -13,6 +13,7 @@ use glam::{Mat4, Vec3};
 
 use super::tiles::{EyeSplat, TILE, TileBins};
 use crate::cloud::PointCloud;
+use crate::frame::eye_ray::EyeRay;
 
 /// A triangle in eye space.
 #[derive(Debug, Clone, Copy)]
@@ -78,25 +79,25 @@ pub fn bin(triangles: &[EyeTriangle], proj: &Mat4, (width, height): (u32, u32), 
     }
 }
 
-/// Where the ray from the eye along `ray` (z = -1, so the parameter is the
-/// view depth) meets `t` between `near` and `far`: the depth and the hit as
+/// Where `ray` (its direction has z = -1, so the parameter is the view
+/// depth) meets `t` between `near` and `far`: the depth and the hit as
 /// a splat record (the point, the interpolated normal, colour and opacity).
-pub fn intersect(t: &EyeTriangle, ray: Vec3, near: f32, far: f32) -> Option<(f32, EyeSplat)> {
+pub fn intersect(t: &EyeTriangle, ray: &EyeRay, near: f32, far: f32) -> Option<(f32, EyeSplat)> {
     let [a, b, c] = t.corners;
     let (e1, e2) = (b - a, c - a);
-    let p = ray.cross(e2);
+    let p = ray.dir.cross(e2);
     let det = e1.dot(p);
     if det.abs() < 1e-20 {
         return None;
     }
     let inv = 1.0 / det;
-    let s = -a;
+    let s = ray.origin - a;
     let u = s.dot(p) * inv;
     if !(0.0..=1.0).contains(&u) {
         return None;
     }
     let q = s.cross(e1);
-    let v = ray.dot(q) * inv;
+    let v = ray.dir.dot(q) * inv;
     if v < 0.0 || u + v > 1.0 {
         return None;
     }
@@ -108,7 +109,7 @@ pub fn intersect(t: &EyeTriangle, ray: Vec3, near: f32, far: f32) -> Option<(f32
     let mix = |values: [Vec3; 3]| values[0] * w[0] + values[1] * w[1] + values[2] * w[2];
     let normal = mix(t.normals).try_normalize().unwrap_or(t.face);
     let record = EyeSplat {
-        centre: ray * depth,
+        centre: ray.at(depth),
         normal,
         plane: t.face,
         radius: 0.0,
@@ -131,10 +132,15 @@ mod tests {
             opacity: [1.0; 3],
             face: Vec3::Z,
         };
-        let (depth, hit) = intersect(&t, Vec3::new(0.0, -0.5, -1.0), 0.1, 10.0).expect("a hit");
+        let along = |dir: Vec3| EyeRay { origin: Vec3::ZERO, dir };
+        let (depth, hit) = intersect(&t, &along(Vec3::new(0.0, -0.5, -1.0)), 0.1, 10.0).expect("a hit");
         assert!((depth - 2.0).abs() < 1e-5, "{depth}");
         assert!((hit.colour - Vec3::new(0.5, 0.5, 0.0)).length() < 1e-5, "{:?}", hit.colour);
-        assert!(intersect(&t, Vec3::new(1.0, 1.0, -1.0), 0.1, 10.0).is_none(), "beside it");
-        assert!(intersect(&t, Vec3::new(0.0, -0.5, -1.0), 2.5, 10.0).is_none(), "before the near plane");
+        assert!(intersect(&t, &along(Vec3::new(1.0, 1.0, -1.0)), 0.1, 10.0).is_none(), "beside it");
+        assert!(intersect(&t, &along(Vec3::new(0.0, -0.5, -1.0)), 2.5, 10.0).is_none(), "before the near plane");
+        // A parallel ray from beside the eye meets the same point.
+        let parallel = EyeRay { origin: Vec3::new(0.0, -1.0, 0.0), dir: Vec3::NEG_Z };
+        let (depth, _) = intersect(&t, &parallel, 0.1, 10.0).expect("a parallel hit");
+        assert!((depth - 2.0).abs() < 1e-5, "{depth}");
     }
 }

@@ -114,6 +114,8 @@ mod tests {
     #[test]
     fn a_sidecar_from_before_the_table_reads_with_the_values_it_was_rendered_with() {
         let old: Sidecar = serde_json::from_str(OLD).unwrap();
+        // Written before orthographic views: perspective.
+        assert_eq!(old.camera().projection, crate::frame::Projection::Perspective);
         let s = old.settings().unwrap();
         assert_eq!(s.mode.name(), "deferred");
         assert_eq!(s.depth_step, 1.0, "what such a sidecar's frame was rendered with");

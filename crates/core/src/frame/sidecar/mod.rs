@@ -10,7 +10,7 @@ use std::path::Path;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::{Camera, CameraRequest, Parameter, RenderMode, RenderSettings, UpAxis};
+use super::{Camera, CameraRequest, Parameter, Projection, RenderMode, RenderSettings, UpAxis};
 
 mod legacy;
 pub mod lights;
@@ -50,6 +50,9 @@ pub struct SidecarCamera {
     pub fov_y_deg: f32,
     pub up: [f32; 3],
     pub scene_radius: f32,
+    /// Always written; absent in files from before orthographic views: perspective.
+    #[serde(default)]
+    pub projection: Projection,
 }
 
 /// A reproducible view.
@@ -105,6 +108,7 @@ impl SidecarCamera {
             fov_y_deg: camera.fov_y_deg,
             up,
             scene_radius: camera.scene_radius,
+            projection: camera.projection,
         }
     }
 
@@ -125,7 +129,7 @@ impl SidecarCamera {
             elevation: Some(self.elevation_deg),
             distance: Some(self.distance),
             fov: Some(self.fov_y_deg),
-            up: None,
+            ..Default::default()
         };
         request.check().map_err(|e| format!("the camera's {e}"))?;
         if !self.target.iter().all(|v| v.is_finite()) {
@@ -146,6 +150,7 @@ impl SidecarCamera {
             fov_y_deg: self.fov_y_deg,
             up: self.up_axis().unwrap_or(UpAxis::PosY),
             scene_radius: self.scene_radius,
+            projection: self.projection,
         }
     }
 }
@@ -237,6 +242,7 @@ mod tests {
         let mut camera = Camera::framing(Vec3::new(1.0, 2.0, 3.0), 4.0, 1.5);
         camera.up = UpAxis::NegZ;
         camera.azimuth_deg = 33.0;
+        camera.projection = Projection::Ortho;
         let settings = RenderSettings {
             mode: RenderMode::ALL[1],
             radius_scale: 1.3,
@@ -260,6 +266,8 @@ mod tests {
         let back = Sidecar::read(&path).unwrap();
         assert_eq!(back, sidecar);
         assert_eq!(back.camera(), camera);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains(r#""projection": "ortho""#), "{text}");
         assert_eq!(back.settings(), Ok(settings));
     }
 

@@ -5,7 +5,7 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::{Reader, SceneError};
-use crate::frame::{CameraRequest, ClipRegion, UpAxis};
+use crate::frame::{CameraRequest, ClipRegion, NamedView, Projection, UpAxis};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -15,6 +15,10 @@ pub(super) struct CameraEntry {
     distance: Option<Spanned<f32>>,
     fov: Option<Spanned<f32>>,
     up: Option<Spanned<String>>,
+    /// `perspective` or `ortho`.
+    projection: Option<Spanned<String>>,
+    /// `top`, `bottom`, `front`, `back`, `left`, `right` or `iso`.
+    view: Option<Spanned<String>>,
 }
 
 impl Reader<'_> {
@@ -25,6 +29,14 @@ impl Reader<'_> {
             Some(u) => Some(u.get_ref().parse::<UpAxis>().map_err(|e| self.at(Some(u.span()), e))?),
             None => None,
         };
+        let projection = match &c.projection {
+            Some(p) => Some(p.get_ref().parse::<Projection>().map_err(|e| self.at(Some(p.span()), e))?),
+            None => None,
+        };
+        let view = match &c.view {
+            Some(v) => Some(v.get_ref().parse::<NamedView>().map_err(|e| self.at(Some(v.span()), e))?),
+            None => None,
+        };
         let value = |v: &Option<Spanned<f32>>| v.as_ref().map(|v| *v.get_ref());
         let request = CameraRequest {
             azimuth: value(&c.azimuth),
@@ -32,6 +44,8 @@ impl Reader<'_> {
             distance: value(&c.distance),
             fov: value(&c.fov),
             up,
+            projection,
+            view,
         };
         request.check().map_err(|e| {
             let entry = match e.key {

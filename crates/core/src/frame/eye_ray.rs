@@ -1,0 +1,60 @@
+//! A pixel's view ray in eye space, as every renderer casts it (the GPU's
+//! `pixel_ray` and `pixel_origin` in frame.wgsl are the same): from the eye
+//! through the pixel in perspective, and in orthographic from the pixel's
+//! place on the eye's plane along -z ([`super::projection`]).
+//! Its direction has z = -1, so a point at view depth t is origin + dir·t.
+
+use glam::{Vec2, Vec3};
+
+use super::Camera;
+
+/// A ray: origin + dir · t, t the view depth.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EyeRay {
+    pub origin: Vec3,
+    pub dir: Vec3,
+}
+
+/// What casts a frame's rays: the window's half extent and the projection.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lens {
+    /// tan of the half fields of view (x, y), or in orthographic the window's half extent.
+    pub half: Vec2,
+    pub ortho: bool,
+}
+
+impl Lens {
+    /// The lens of `camera` for an image of `width`×`height`.
+    pub fn of(camera: &Camera, (width, height): (u32, u32)) -> Self {
+        Lens { half: camera.lens(width.max(1) as f32 / height.max(1) as f32), ortho: camera.is_ortho() }
+    }
+
+    /// The ray through the centre of pixel (`x`, `y`) of a `width`×`height` image.
+    pub fn ray(&self, (width, height): (u32, u32), (x, y): (u32, u32)) -> EyeRay {
+        let ndc = Vec2::new((x as f32 + 0.5) / width as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / height as f32 * 2.0);
+        self.ray_at(ndc)
+    }
+
+    /// The ray through the point `ndc` of the window (-1..1, y up).
+    pub fn ray_at(&self, ndc: Vec2) -> EyeRay {
+        let place = ndc * self.half;
+        if self.ortho {
+            EyeRay { origin: place.extend(0.0), dir: Vec3::NEG_Z }
+        } else {
+            EyeRay { origin: Vec3::ZERO, dir: place.extend(-1.0) }
+        }
+    }
+
+    /// From the eye towards the eye-space point `p`, not of unit length:
+    /// what back faces and footprints are judged by (frame.wgsl's `towards`).
+    pub fn towards(&self, p: Vec3) -> Vec3 {
+        if self.ortho { Vec3::NEG_Z } else { p }
+    }
+}
+
+impl EyeRay {
+    /// The point at view depth `t`.
+    pub fn at(&self, t: f32) -> Vec3 {
+        self.origin + self.dir * t
+    }
+}
