@@ -27,6 +27,7 @@ pub fn run(args: &Args) -> Result<()> {
         None if !report.format_details.is_empty() => println!("crs:         none declared"),
         None => {}
     }
+    super::shared::print_units(&cloud.units, report.crs.is_some());
     for comment in &report.comments {
         println!("comment:     {comment}");
     }

@@ -82,6 +82,7 @@ pub fn run(file: &Path) -> Result<()> {
                 Some(crs) => println!("crs:         {}", crs.split_whitespace().collect::<Vec<_>>().join(" ")),
                 None => println!("crs:         none declared"),
             }
+            super::shared::print_units(&frame.cloud.units, frame.report.crs.is_some());
             super::shared::print_attributes(&frame.cloud.attributes);
         }
         Err(e) => println!("root node:   not decoded: {}", stream.failure(root).unwrap_or(&e.reason)),

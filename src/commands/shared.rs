@@ -208,6 +208,22 @@ pub fn write_image(image: &image::RgbaImage, path: &Path) -> Result<()> {
 }
 
 /// One line per attribute: its range, its distinct values (classes by name), and its bytes per point.
+/// `info`'s units line: the CRS's horizontal and vertical units and its
+/// EPSG code, or that positions are in the units of the file.
+pub fn print_units(units: &pointblend::cloud::crs_units::CrsUnits, declared: bool) {
+    let Some(horizontal) = &units.horizontal else {
+        let why = if declared { "the CRS names no unit known here" } else { "no CRS declared" };
+        println!("units:       {} ({why})", pointblend::cloud::crs_units::UNITS_OF_THE_FILE);
+        return;
+    };
+    let vertical = match &units.vertical {
+        Some(v) => v.to_string(),
+        None => units.vertical_name().to_string(),
+    };
+    let code = units.epsg.map(|c| format!(", EPSG:{c}")).unwrap_or_default();
+    println!("units:       horizontal {horizontal}, vertical {vertical}{code}");
+}
+
 pub fn print_attributes(attributes: &pointblend::cloud::Attributes) {
     use pointblend::cloud::attributes::{names, summary};
     for channel in &attributes.channels {

@@ -92,6 +92,37 @@ pub fn write_fields(path: &Path, points: &[LidarPoint], offset: [f64; 3], fields
     write_points(path, builder, points, |k| (0..count).flat_map(|j| ((k * (j + 1)) as f32).to_le_bytes()).collect())
 }
 
+/// A CRS record to write: a WKT text, or GeoTIFF keys as (key id, value).
+pub enum CrsRecord<'a> {
+    Wkt(&'a str),
+    GeoTiffKeys(&'a [(u16, u16)]),
+}
+
+/// [`write_colourless`] with a CRS record (the WKT's with the header's WKT bit set).
+pub fn write_with_crs(path: &Path, points: &[LidarPoint], offset: [f64; 3], crs: CrsRecord) -> PathBuf {
+    let mut builder = las::Builder::from((1, 4));
+    builder.point_format = las::point::Format::new(6).unwrap();
+    for (t, o) in
+        [&mut builder.transforms.x, &mut builder.transforms.y, &mut builder.transforms.z].into_iter().zip(offset)
+    {
+        *t = las::Transform { scale: 0.001, offset: o };
+    }
+    let (record_id, data) = match crs {
+        CrsRecord::Wkt(text) => (2112, text.as_bytes().to_vec()),
+        CrsRecord::GeoTiffKeys(keys) => {
+            // The key directory: version 1.1.0 and the key count, then per key (id, in place, count 1, value).
+            let mut words = vec![1u16, 1, 0, keys.len() as u16];
+            for &(id, value) in keys {
+                words.extend([id, 0, 1, value]);
+            }
+            (34735, words.iter().flat_map(|w| w.to_le_bytes()).collect())
+        }
+    };
+    builder.vlrs.push(las::Vlr { user_id: "LASF_Projection".into(), record_id, description: "crs".into(), data });
+    builder.has_wkt_crs = record_id == 2112;
+    write_points(path, builder, points, |_| Vec::new())
+}
+
 /// Writes `points` as LAS 1.4 point format 6 (no colours, as most airborne
 /// lidar comes) with scale 0.001 and the given offset.
 pub fn write_colourless(path: &Path, points: &[LidarPoint], offset: [f64; 3]) -> PathBuf {

@@ -100,6 +100,8 @@ pub fn read(path: &Path) -> Result<(PointColumns, Attributes, FileInfo), CloudEr
         warnings: Vec::new(),
         from_above: false,
         z_up: true,
+        // E57's coordinateMetadata is a WKT text when it names a CRS.
+        units: reader.coordinate_metadata().map(super::crs_units::CrsUnits::from_wkt).unwrap_or_default(),
     };
     if invalid > 0 {
         info.warnings

@@ -1,5 +1,5 @@
 //! What a file says beyond its points, which each reader fills
-//! ([`super::formats`]): lines about its format, its CRS, the reader's
+//! ([`super::formats`]): lines about its format, its CRS and its units, the reader's
 //! warnings, and how the scan was taken (from above, z up).
 
 /// What a file says beyond its points, for `info`: format lines, its CRS, and warnings of its reader.
@@ -12,4 +12,6 @@ pub struct FileInfo {
     pub from_above: bool,
     /// The file's z axis points up (LAS, E57).
     pub z_up: bool,
+    /// The units the CRS gives its coordinates, and its EPSG code.
+    pub units: super::crs_units::CrsUnits,
 }

@@ -98,6 +98,7 @@ pub fn read(path: &Path) -> Result<(PointColumns, Attributes, FileInfo), CloudEr
         warnings: decoded.warnings.clone(),
         from_above: true,
         z_up: true,
+        units: crs_units(header),
     };
     let compression = if format.is_compressed { ", LAZ-compressed" } else { "" };
     let encoding = format!("LAS {}, point format {}{}", header.version(), format.to_u8().unwrap_or(255), compression);
@@ -461,6 +462,26 @@ pub(crate) fn details(header: &las::Header) -> Vec<String> {
         lines.push(format!("made by {software}"));
     }
     lines
+}
+
+/// The units and EPSG code of the CRS the header's VLRs declare: from the
+/// WKT text, else from the GeoTIFF keys.
+pub(crate) fn crs_units(header: &las::Header) -> super::crs_units::CrsUnits {
+    use super::crs_units::CrsUnits;
+    if let Some(wkt) = header.get_wkt_crs_bytes() {
+        let text = String::from_utf8_lossy(wkt);
+        let text = text.trim_matches(char::from(0)).trim();
+        if !text.is_empty() {
+            return CrsUnits::from_wkt(text);
+        }
+    }
+    let Some(geotiff) = header.get_geotiff_crs().ok().flatten() else { return CrsUnits::default() };
+    let keys: Vec<(u16, u16)> = geotiff
+        .entries
+        .iter()
+        .filter_map(|e| if let las::crs::GeoTiffData::U16(v) = e.data { Some((e.id, v)) } else { None })
+        .collect();
+    CrsUnits::from_geotiff_keys(&keys)
 }
 
 /// The CRS the header's VLRs declare: the WKT text, else the GeoTIFF keys' EPSG codes.

@@ -249,6 +249,7 @@ fn build(
         ..options.clone()
     };
     cloud.z_up = from_above || info.z_up;
+    cloud.units = info.units.clone();
     let estimate_seconds = estimate_missing(&mut cloud, &needs, &frame, options, &mut warnings);
     if given.is_none() && !needs.normal.iter().any(|&b| b) && normals_from == Provenance::Estimated {
         normals_from = Provenance::FromFile;

@@ -10,6 +10,7 @@
 
 pub mod attributes;
 mod colour;
+pub mod crs_units;
 pub mod duplicates;
 pub mod e57_file;
 mod e57_sections;
@@ -77,6 +78,8 @@ pub struct PointCloud {
     /// [`placement::RESIDUAL_KEPT`] (small extents); kept by [`PointCloud::select`],
     /// so picks and measures report the file's own coordinates at any extent.
     pub residuals: Vec<Vec3>,
+    /// The units of the file's CRS and its EPSG code (none known: the units of the file).
+    pub units: crs_units::CrsUnits,
 }
 
 /// Axis-aligned bounds and the bounding sphere of a cloud.
@@ -189,6 +192,7 @@ impl PointCloud {
             scale_exponent: self.scale_exponent,
             z_up: self.z_up,
             colourless: self.colourless,
+            units: self.units.clone(),
             ..PointCloud::default()
         }
     }

@@ -63,6 +63,7 @@ impl CopcStream {
             warnings: self.header.warnings.clone(),
             from_above: true,
             z_up: true,
+            units: las_file::crs_units(&self.header.las),
         };
         (encoding, info)
     }

@@ -15,6 +15,8 @@ pub struct PickReport {
     pub layers: Vec<PickedLayer>,
     /// Per layer: each attribute of its heaviest splat, by name.
     pub attributes: Vec<Vec<(String, f64)>>,
+    /// The units of the file's CRS, which positions are in, and its EPSG code.
+    pub units: crate::cloud::crs_units::CrsUnits,
 }
 
 impl PickReport {
@@ -47,13 +49,14 @@ impl PickReport {
                     .collect()
             })
             .collect();
-        PickReport { pixel, layers, attributes }
+        PickReport { pixel, layers, attributes, units: cloud.units.clone() }
     }
 
-    /// `{"pixel": [x, y], "layers": [...]}`: per layer its depth, position
-    /// (where the ray meets it, f64 file coordinates), stored position (its
-    /// heaviest splat's, as the file holds it), splats, normal, radius,
-    /// colour, opacity and attributes.
+    /// `{"pixel": [x, y], "epsg": code or null, "units": ..., "vertical_units":
+    /// ..., "layers": [...]}`: the CRS's code and units ("units of the file"
+    /// without one), then per layer its depth, position (where the ray meets
+    /// it, f64 file coordinates), stored position (its heaviest splat's, as
+    /// the file holds it), splats, normal, radius, colour, opacity and attributes.
     pub fn json(&self) -> Value {
         let layers: Vec<Value> = self
             .layers
@@ -75,7 +78,13 @@ impl PickReport {
                 })
             })
             .collect();
-        json!({ "pixel": self.pixel, "layers": layers })
+        json!({
+            "pixel": self.pixel,
+            "epsg": self.units.epsg,
+            "units": self.units.horizontal_name(),
+            "vertical_units": self.units.vertical_name(),
+            "layers": layers,
+        })
     }
 
     /// The same for people: a line per layer, then its attributes.

@@ -271,6 +271,7 @@ pub fn gather(hierarchy: &Hierarchy, selection: &Selection) -> PointCloud {
         attributes: Default::default(),
         z_up: all.z_up,
         colourless: all.colourless,
+        units: all.units.clone(),
         // A frame under a budget draws; picks read the whole cloud's exact positions.
         residuals: Vec::new(),
     };

@@ -323,6 +323,7 @@ impl Scene {
             out.origin = first.cloud.origin;
             out.scale_exponent = first.cloud.scale_exponent;
             out.z_up = first.cloud.z_up;
+            out.units = first.cloud.units.clone();
             // Only a scene of one object keeps the scanner's view.
             if self.objects.len() == 1 && first.transform == Affine3A::IDENTITY {
                 out.scanner_position = first.cloud.scanner_position;
