@@ -158,6 +158,8 @@ mod tests {
             "colormap",
             "range",
             "classes",
+            "filter",
+            "returns",
             "class-opacity",
             "opacity-by",
             "clip-box",

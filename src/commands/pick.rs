@@ -56,23 +56,25 @@ impl Picking {
         if let Some(&(x, y)) = pixels.iter().find(|(x, y)| *x >= size.0 || *y >= size.1) {
             bail!("pixel {x},{y} is outside the {}x{} image (--size)", size.0, size.1);
         }
-        let (mut scene, camera) = match view
-            .stream
-            .open(file, pointblend::copc::drawn_by_nodes(file, view.stream_budget()?))?
-        {
-            Some(stream) => {
-                let bounds = super::stream_args::bounds_scene(&stream);
-                let camera = view.camera(flags, &bounds)?;
-                let choosing = pointblend::lod::Choosing::of(&view.base_settings(&bounds, RenderMode::RULER)?);
-                (super::stream_args::frame_scene(stream, &camera, size, (view.stream_budget()?, choosing))?.0, camera)
-            }
-            None => {
-                let scene = shared::load_scene(file)?;
-                let camera = view.camera(flags, &scene)?;
-                (scene, camera)
-            }
-        };
-        view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
+        let (scene, camera) =
+            match view.stream.open(file, pointblend::copc::drawn_by_nodes(file, view.stream_budget()?))? {
+                Some(stream) => {
+                    let bounds = super::stream_args::bounds_scene(&stream);
+                    let camera = view.camera(flags, &bounds)?;
+                    let choosing = pointblend::lod::Choosing::of(&view.base_settings(&bounds, RenderMode::RULER)?);
+                    let mut scene =
+                        super::stream_args::frame_scene(stream, &camera, size, (view.stream_budget()?, choosing))?.0;
+                    view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
+                    (scene, camera)
+                }
+                None => {
+                    // Styled before the default camera, which frames the points the filters keep.
+                    let mut scene = shared::load_scene(file)?;
+                    view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
+                    let camera = view.camera(flags, &scene)?;
+                    (scene, camera)
+                }
+            };
         let settings = view.base_settings(&scene, RenderMode::RULER)?;
         let facts = scene.facts(&scene.flattened());
         let spec = pointblend::frame::resolve(&settings, &facts, &pointblend::frame::View::still(size));

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use pointblend::frame::clip::{self, ClipBox, ClipRegion, Hidden};
 use pointblend::scene::{Materials, Scene};
-use pointblend::style::{ColorBy, Colormap, Style, parse};
+use pointblend::style::{ColorBy, Colormap, Filter, Returns, Style, parse};
 
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct SceneArgs {
@@ -40,6 +40,13 @@ pub struct SceneArgs {
     /// An attribute whose value (over its 2nd-98th percentile range) is each splat's opacity.
     #[arg(long = "opacity-by")]
     pub opacity_by: Option<String>,
+    /// Show only the points whose attribute NAME (as `pointblend info` lists it) lies in
+    /// MIN..MAX or is one of V1,V2,...: NAME=MIN..MAX or NAME=V1,V2 (repeatable; all must hold).
+    #[arg(long = "filter", value_parser = |t: &str| t.parse::<Filter>(), allow_hyphen_values = true)]
+    pub filters: Vec<Filter>,
+    /// Show only these returns: first, last, only (single returns) or a return number N.
+    #[arg(long, value_parser = |t: &str| t.parse::<Returns>())]
+    pub returns: Option<Returns>,
     /// Clip to a box MINX,MINY,MINZ,MAXX,MAXY,MAXZ in file coordinates (per pixel: a cut splat shows its kept part).
     #[arg(long = "clip-box", value_parser = |t: &str| ClipBox::parse(t).map_err(|e| e.to_string()), allow_hyphen_values = true)]
     pub clip_box: Option<ClipBox>,
@@ -83,6 +90,8 @@ impl SceneArgs {
             classes: (!self.classes.is_empty()).then(|| self.classes.clone()),
             class_opacity: self.class_opacity.clone(),
             opacity_by: self.opacity_by.clone(),
+            filters: self.filters.clone(),
+            returns: self.returns,
         };
         // `--color-by rgb` alone asks for the file's own colours, over a default colouring.
         (self.color_by.is_some() || !style.is_plain()).then_some(style)

@@ -164,6 +164,10 @@ struct ObjectEntry {
     classes: Option<Spanned<Vec<u8>>>,
     class_opacity: Option<Spanned<std::collections::BTreeMap<String, f32>>>,
     opacity_by: Option<Spanned<String>>,
+    /// Attribute filters, `["intensity=0..200", "classification=2,6"]` (all must hold).
+    filter: Option<Spanned<Vec<String>>>,
+    /// `first`, `last`, `only` or a return number.
+    returns: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]

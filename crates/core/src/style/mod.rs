@@ -14,11 +14,13 @@
 
 pub mod classes;
 pub mod colormap;
+pub mod filter;
 pub mod parse;
 pub mod record;
 pub mod summary;
 
 pub use colormap::Colormap;
+pub use filter::{Filter, Returns};
 
 use crate::cloud::attributes::names;
 use crate::cloud::{PointCloud, Values};
@@ -59,6 +61,10 @@ pub struct Style {
     pub class_opacity: Vec<(u8, f32)>,
     /// An attribute whose value over its 2-98 percentile range is the opacity.
     pub opacity_by: Option<String>,
+    /// Only the points every filter keeps are shown ([`filter`]).
+    pub filters: Vec<Filter>,
+    /// Only these returns are shown.
+    pub returns: Option<Returns>,
 }
 
 /// What applying a style did, for the legend and the log.
@@ -66,7 +72,7 @@ pub struct Style {
 pub struct Applied {
     /// The range the colormap spans, when a scalar is shown.
     pub range: Option<(f64, f64)>,
-    /// Splats hidden with their class.
+    /// Splats hidden with their class, or by a filter.
     pub hidden: usize,
     /// Whether some splat is now translucent.
     pub translucent: bool,
@@ -98,6 +104,8 @@ impl Style {
             && self.classes.is_none()
             && self.class_opacity.is_empty()
             && self.opacity_by.is_none()
+            && self.filters.is_empty()
+            && self.returns.is_none()
     }
 
     /// A text that identifies the style (for cache keys).
@@ -108,19 +116,20 @@ impl Style {
     /// `cloud` as this style shows it; an error names what the cloud lacks.
     pub fn apply(&self, cloud: &PointCloud) -> Result<(PointCloud, Applied), String> {
         let mut applied = Applied::default();
-        let mut out = match &self.classes {
-            Some(shown) => {
+        let mut out = if self.classes.is_some() || !self.filters.is_empty() || self.returns.is_some() {
+            let mut keep = filter::kept(cloud, &self.filters, self.returns)?;
+            if let Some(shown) = &self.classes {
                 let class = column(cloud, names::CLASSIFICATION, "--classes")?;
-                let keep: Vec<u32> =
-                    (0..cloud.len() as u32).filter(|&i| shown.contains(&(class.get(i as usize) as u8))).collect();
-                applied.hidden = cloud.len() - keep.len();
-                PointCloud {
-                    attributes: cloud.attributes.gather(&keep),
-                    scanner_position: cloud.scanner_position,
-                    ..cloud.select(&keep)
-                }
+                keep.retain(|&i| shown.contains(&(class.get(i as usize) as u8)));
             }
-            None => cloud.clone(),
+            applied.hidden = cloud.len() - keep.len();
+            PointCloud {
+                attributes: cloud.attributes.gather(&keep),
+                scanner_position: cloud.scanner_position,
+                ..cloud.select(&keep)
+            }
+        } else {
+            cloud.clone()
         };
         match &self.color_by {
             None | Some(ColorBy::Rgb) => {}

@@ -19,6 +19,12 @@ pub struct StyleRecord {
     pub class_opacity: Vec<(u8, f32)>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub opacity_by: Option<String>,
+    /// Each filter's text form, `NAME=MIN..MAX` or `NAME=V1,V2,...`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub filters: Vec<String>,
+    /// `first`, `last`, `only` or a return number.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub returns: Option<String>,
 }
 
 impl From<&Style> for StyleRecord {
@@ -30,6 +36,8 @@ impl From<&Style> for StyleRecord {
             classes: style.classes.clone(),
             class_opacity: style.class_opacity.clone(),
             opacity_by: style.opacity_by.clone(),
+            filters: style.filters.iter().map(super::Filter::text).collect(),
+            returns: style.returns.map(super::Returns::text),
         }
     }
 }
@@ -56,6 +64,8 @@ impl StyleRecord {
             classes: self.classes.clone(),
             class_opacity,
             opacity_by: self.opacity_by.clone(),
+            filters: self.filters.iter().map(|f| f.parse()).collect::<Result<_, _>>()?,
+            returns: self.returns.as_deref().map(str::parse).transpose()?,
         })
     }
 }
@@ -73,6 +83,8 @@ mod tests {
             classes: Some(vec![2, 6]),
             class_opacity: vec![(5, 0.25)],
             opacity_by: Some("intensity".into()),
+            filters: vec!["gps_time=10.5..20".parse().unwrap(), "classification=2,6".parse().unwrap()],
+            returns: Some(super::super::Returns::Last),
         };
         let json = serde_json::to_string(&StyleRecord::from(&style)).unwrap();
         let back: StyleRecord = serde_json::from_str(&json).unwrap();
@@ -82,5 +94,7 @@ mod tests {
         // Checked by the parser every source of a style goes through, with its words.
         let bad = StyleRecord { class_opacity: vec![(5, 1.5)], ..StyleRecord::from(&style) };
         assert_eq!(bad.style().unwrap_err(), "'1.5' is not an opacity in 0..1");
+        let bad = StyleRecord { filters: vec!["intensity=9..1".into()], ..StyleRecord::from(&style) };
+        assert!(bad.style().unwrap_err().contains("MIN is above MAX"));
     }
 }

@@ -1,6 +1,6 @@
-//! An object's colour and opacity by attribute in a scene file: the keys
-//! `color_by`, `colormap`, `range`, `classes`, `class_opacity` and
-//! `opacity_by`, read into a [`Style`] (see [`crate::style`]).
+//! An object's colour, opacity and filters by attribute in a scene file: the
+//! keys `color_by`, `colormap`, `range`, `classes`, `class_opacity`,
+//! `opacity_by`, `filter` and `returns`, read into a [`Style`] (see [`crate::style`]).
 
 use super::{ObjectEntry, Reader, SceneError};
 use crate::style::{Style, parse};
@@ -25,6 +25,13 @@ impl Reader<'_> {
             style.class_opacity = parse::class_opacity(&pairs.join(",")).map_err(|e| self.at(Some(table.span()), e))?;
         }
         style.opacity_by = entry.opacity_by.as_ref().map(|o| o.get_ref().clone());
+        if let Some(filters) = &entry.filter {
+            let parsed: Result<Vec<_>, String> = filters.get_ref().iter().map(|f| f.parse()).collect();
+            style.filters = parsed.map_err(|e| self.at(Some(filters.span()), e))?;
+        }
+        if let Some(returns) = &entry.returns {
+            style.returns = Some(returns.get_ref().parse().map_err(|e| self.at(Some(returns.span()), e))?);
+        }
         Ok(style)
     }
 }
