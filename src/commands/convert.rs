@@ -3,6 +3,8 @@
 //! every attribute; or a scalar volume (NIfTI-1, `.nii` / `.nii.gz`) to one point per
 //! voxel above a threshold, coloured by a transfer function (`--transfer`).
 //! OUT's extension must name a format the registry says `convert` writes.
+//! `--clip-box`, `--clip-plane`, `--classes`, `--filter` and `--returns`
+//! write only the points they keep ([`super::subset_args`]).
 
 use std::path::{Path, PathBuf};
 
@@ -26,6 +28,8 @@ pub struct Args {
     /// A volume's least value that makes a point [default: where the transfer function's opacity rises above 0].
     #[arg(long, allow_negative_numbers = true)]
     pub threshold: Option<f32>,
+    #[command(flatten)]
+    pub subset: super::subset_args::SubsetArgs,
 }
 
 fn parse_transfer(text: &str) -> Result<pointblend::cloud::volume::Transfer, String> {
@@ -105,6 +109,11 @@ pub fn run(args: &Args) -> Result<()> {
     let format = output_format(&args.output)?;
     super::shared::refuse_same_file(&args.output, "the input", &args.input)?;
     if is_volume(&args.input) {
+        if args.subset.is_given() {
+            bail!(
+                "--clip-box, --clip-plane, --classes, --filter and --returns choose points of a cloud, not of a volume"
+            );
+        }
         return run_volume(args, format);
     }
     if args.transfer.is_some() || args.threshold.is_some() {
@@ -113,6 +122,32 @@ pub fn run(args: &Args) -> Result<()> {
     if format.reader == Reader::Copc && args.points.is_none() {
         return run_copc(args);
     }
+    let (cloud, report) = load_for_convert(args)?;
+    let (cloud, left_out) = args.subset.apply(cloud)?;
+    super::shared::prepare_output(&args.output)?;
+    let source = args.input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let mut comments = vec![format!("pointblend convert from {source}")];
+    comments.push(format!("normals {}, radii {}, colours {}", report.normals, report.radii, report.colours));
+    if format.reader != Reader::Ply {
+        cloud::write_las::write_las(&cloud, &args.output)?;
+    } else {
+        cloud::write::write_ply(&cloud, &args.output, &comments)?;
+    }
+    let subset = if args.subset.is_given() { format!(", {left_out} left out by the subset") } else { String::new() };
+    println!(
+        "{} -> {}: {} splats (normals {}, radii {}, mean radius {:.6}{subset})",
+        args.input.display(),
+        args.output.display(),
+        cloud.len(),
+        report.normals,
+        report.radii,
+        cloud.mean_radius()
+    );
+    Ok(())
+}
+
+/// The input as a cloud: its points, or `--points` samples of its surface.
+fn load_for_convert(args: &Args) -> Result<(cloud::PointCloud, cloud::LoadReport)> {
     let (cloud, report) = match args.points {
         Some(0) => bail!("--points must be at least 1"),
         Some(n) => {
@@ -126,25 +161,7 @@ pub fn run(args: &Args) -> Result<()> {
         }
         None => super::shared::load(&args.input)?,
     };
-    super::shared::prepare_output(&args.output)?;
-    let source = args.input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let mut comments = vec![format!("pointblend convert from {source}")];
-    comments.push(format!("normals {}, radii {}, colours {}", report.normals, report.radii, report.colours));
-    if format.reader != Reader::Ply {
-        cloud::write_las::write_las(&cloud, &args.output)?;
-    } else {
-        cloud::write::write_ply(&cloud, &args.output, &comments)?;
-    }
-    println!(
-        "{} -> {}: {} splats (normals {}, radii {}, mean radius {:.6})",
-        args.input.display(),
-        args.output.display(),
-        cloud.len(),
-        report.normals,
-        report.radii,
-        cloud.mean_radius()
-    );
-    Ok(())
+    Ok((cloud, report))
 }
 
 /// To COPC: a LAS/LAZ input's records as they are; any other cloud through
@@ -153,10 +170,11 @@ fn run_copc(args: &Args) -> Result<()> {
     super::shared::prepare_output(&args.output)?;
     let started = std::time::Instant::now();
     let las_input;
-    let input = if cloud::las_file::is_las(&args.input) {
+    let input = if cloud::las_file::is_las(&args.input) && !args.subset.is_given() {
         args.input.as_path()
     } else {
         let (cloud, _) = super::shared::load(&args.input)?;
+        let (cloud, _) = args.subset.apply(cloud)?;
         las_input = pointblend::output::Temporary::with_suffix(".las")?;
         cloud::write_las::write_las(&cloud, las_input.path())?;
         las_input.path()

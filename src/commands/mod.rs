@@ -16,5 +16,6 @@ pub mod render_path;
 pub mod scene_args;
 pub mod shared;
 pub mod stream_args;
+pub mod subset_args;
 pub mod view;
 pub mod view_args;

@@ -122,7 +122,7 @@ pub fn parse_rgb(text: &str) -> Result<[u8; 3], String> {
 }
 
 /// One ASPRS class number of `--classes`.
-fn parse_class(text: &str) -> Result<u8, String> {
+pub(super) fn parse_class(text: &str) -> Result<u8, String> {
     parse::classes(text).map(|c| c[0])
 }
 
@@ -145,7 +145,7 @@ pub fn parse_light(text: &str) -> Result<pointblend::frame::Light, String> {
 }
 
 /// `--clip-hide`: inside or outside.
-fn parse_hidden(text: &str) -> Result<Hidden, String> {
+pub(super) fn parse_hidden(text: &str) -> Result<Hidden, String> {
     match text {
         "inside" => Ok(Hidden::Inside),
         "outside" => Ok(Hidden::Outside),

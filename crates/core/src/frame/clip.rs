@@ -119,6 +119,18 @@ impl ClipRegion {
         self.clip_box.as_ref().map_or(Ok(()), ClipBox::check)
     }
 
+    /// Whether the point at `file` (file coordinates, f64) is kept: on the
+    /// kept side of every plane, and inside the box (outside it when the box
+    /// hides its inside). What `convert` writes of a clipped file.
+    pub fn keeps_file_point(&self, file: DVec3) -> bool {
+        let planes = self.planes.iter().all(|p| DVec3::new(p[0], p[1], p[2]).dot(file) + p[3] >= 0.0);
+        let boxed = self.clip_box.is_none_or(|b| {
+            let inside = (0..3).all(|a| (b.min[a]..=b.max[a]).contains(&file[a]));
+            inside == (b.hide == Hidden::Outside)
+        });
+        planes && boxed
+    }
+
     /// The region in a frame whose points are stored as (file − `origin`) / `unit`.
     pub fn in_frame(&self, origin: DVec3, unit: f64) -> Clip {
         let mut clip = Clip::default();

@@ -1,0 +1,72 @@
+//! What `convert` writes of its input: the points in a clip region, of
+//! some classes, passing attribute filters and of some returns. The same
+//! flags, with the same parsers and meanings, as the viewing commands'
+//! (scene_args.rs), applied to the loaded cloud before it is written.
+
+use anyhow::Result;
+use pointblend::cloud::PointCloud;
+use pointblend::frame::clip::{self, ClipBox, ClipRegion, Hidden};
+use pointblend::style::{Filter, Returns, Style};
+
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct SubsetArgs {
+    /// Write only the points in the box MINX,MINY,MINZ,MAXX,MAXY,MAXZ (file coordinates; edges kept).
+    #[arg(long = "clip-box", value_parser = |t: &str| ClipBox::parse(t).map_err(|e| e.to_string()), allow_hyphen_values = true)]
+    pub clip_box: Option<ClipBox>,
+    /// Which side of --clip-box is left out: outside (write the box's contents) or inside (cut the box away).
+    #[arg(long = "clip-hide", value_parser = super::scene_args::parse_hidden, requires = "clip_box")]
+    pub clip_hide: Option<Hidden>,
+    /// Write only the points on the side of a plane NX,NY,NZ,D where n·x + d >= 0 (repeatable, at most 6).
+    #[arg(long = "clip-plane", value_parser = |t: &str| clip::parse_plane(t).map_err(|e| e.to_string()), allow_hyphen_values = true)]
+    pub clip_planes: Vec<[f64; 4]>,
+    /// Write only these ASPRS classes, e.g. 2,6.
+    #[arg(long, value_delimiter = ',', value_parser = super::scene_args::parse_class)]
+    pub classes: Vec<u8>,
+    /// Write only the points whose attribute NAME lies in MIN..MAX or is one of V1,V2,...:
+    /// NAME=MIN..MAX or NAME=V1,V2 (repeatable; all must hold).
+    #[arg(long = "filter", value_parser = |t: &str| t.parse::<Filter>(), allow_hyphen_values = true)]
+    pub filters: Vec<Filter>,
+    /// Write only these returns: first, last, only (single returns) or a return number N.
+    #[arg(long, value_parser = |t: &str| t.parse::<Returns>())]
+    pub returns: Option<Returns>,
+}
+
+impl SubsetArgs {
+    /// Whether any flag asks for a subset.
+    pub fn is_given(&self) -> bool {
+        self.clip_box.is_some()
+            || !self.clip_planes.is_empty()
+            || !self.classes.is_empty()
+            || !self.filters.is_empty()
+            || self.returns.is_some()
+    }
+
+    /// The points of `cloud` the flags keep, with their attributes; the
+    /// count left out.
+    pub fn apply(&self, cloud: PointCloud) -> Result<(PointCloud, usize)> {
+        if !self.is_given() {
+            return Ok((cloud, 0));
+        }
+        let style = Style {
+            classes: (!self.classes.is_empty()).then(|| self.classes.clone()),
+            filters: self.filters.clone(),
+            returns: self.returns,
+            ..Default::default()
+        };
+        let (mut kept, _) = style.apply(&cloud).map_err(anyhow::Error::msg)?;
+        let region = ClipRegion {
+            clip_box: self.clip_box.map(|b| ClipBox { hide: self.clip_hide.unwrap_or_default(), ..b }),
+            planes: self.clip_planes.clone(),
+        };
+        region.check()?;
+        if !region.is_empty() {
+            let (origin, unit) = (glam::DVec3::from_array(kept.origin), kept.unit());
+            let inside: Vec<u32> = (0..kept.len() as u32)
+                .filter(|&i| region.keeps_file_point(kept.frame_position(i as usize) * unit + origin))
+                .collect();
+            kept = PointCloud { attributes: kept.attributes.gather(&inside), ..kept.select(&inside) };
+        }
+        let left_out = cloud.len() - kept.len();
+        Ok((kept, left_out))
+    }
+}
