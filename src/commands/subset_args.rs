@@ -6,7 +6,7 @@
 use anyhow::Result;
 use pointblend::cloud::PointCloud;
 use pointblend::frame::clip::{self, ClipBox, ClipRegion, Hidden};
-use pointblend::style::{Filter, Returns, Style};
+use pointblend::style::{Filter, Returns, filter};
 
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct SubsetArgs {
@@ -47,13 +47,9 @@ impl SubsetArgs {
         if !self.is_given() {
             return Ok((cloud, 0));
         }
-        let style = Style {
-            classes: (!self.classes.is_empty()).then(|| self.classes.clone()),
-            filters: self.filters.clone(),
-            returns: self.returns,
-            ..Default::default()
-        };
-        let (mut kept, _) = style.apply(&cloud).map_err(anyhow::Error::msg)?;
+        let classes = (!self.classes.is_empty()).then_some(self.classes.as_slice());
+        let keep = filter::kept(&cloud, classes, &self.filters, self.returns).map_err(anyhow::Error::msg)?;
+        let mut kept = PointCloud { attributes: cloud.attributes.gather(&keep), ..cloud.select(&keep) };
         let region = ClipRegion {
             clip_box: self.clip_box.map(|b| ClipBox { hide: self.clip_hide.unwrap_or_default(), ..b }),
             planes: self.clip_planes.clone(),

@@ -115,11 +115,21 @@ impl Returns {
     }
 }
 
-/// The points of `cloud` every filter and the return shorthand keep, or
-/// an error naming an attribute the cloud lacks.
-pub fn kept(cloud: &PointCloud, filters: &[Filter], returns: Option<Returns>) -> Result<Vec<u32>, String> {
+/// The points of `cloud` of the `classes` shown (all when `None`) that every
+/// filter and the return shorthand keep, or an error naming an attribute the
+/// cloud lacks.
+pub fn kept(
+    cloud: &PointCloud,
+    classes: Option<&[u8]>,
+    filters: &[Filter],
+    returns: Option<Returns>,
+) -> Result<Vec<u32>, String> {
     let column = |name: &str, wanted_by: &str| super::column(cloud, name, wanted_by);
     let mut keep = vec![true; cloud.len()];
+    if let Some(shown) = classes {
+        let class = column(names::CLASSIFICATION, "--classes")?;
+        keep.iter_mut().enumerate().for_each(|(i, k)| *k = shown.contains(&(class.get(i) as u8)));
+    }
     for filter in filters {
         let values = column(&filter.name, "--filter")?;
         keep.iter_mut().enumerate().for_each(|(i, k)| *k = *k && filter.holds(values.get(i)));
@@ -155,13 +165,13 @@ mod tests {
         cloud.attributes.push(names::NUMBER_OF_RETURNS, Values::U8(vec![3; n]));
         let range: Filter = "intensity=20..50".parse().unwrap();
         assert_eq!(range.test, Test::Range(20.0, 50.0));
-        assert_eq!(kept(&cloud, std::slice::from_ref(&range), None).unwrap(), vec![2, 3, 4, 5]);
-        assert_eq!(kept(&cloud, &[range], Some(Returns::First)).unwrap(), vec![3]);
+        assert_eq!(kept(&cloud, None, std::slice::from_ref(&range), None).unwrap(), vec![2, 3, 4, 5]);
+        assert_eq!(kept(&cloud, None, &[range], Some(Returns::First)).unwrap(), vec![3]);
         let values: Filter = "intensity=0,110".parse().unwrap();
-        assert_eq!(kept(&cloud, &[values], Some(Returns::Last)).unwrap(), vec![11]);
-        assert_eq!(kept(&cloud, &[], Some(Returns::Number(2))).unwrap(), vec![1, 4, 7, 10]);
-        assert!(kept(&cloud, &[], Some(Returns::Only)).unwrap().is_empty());
-        let missing = kept(&cloud, &["gps_time=0..1".parse().unwrap()], None).unwrap_err();
+        assert_eq!(kept(&cloud, None, &[values], Some(Returns::Last)).unwrap(), vec![11]);
+        assert_eq!(kept(&cloud, None, &[], Some(Returns::Number(2))).unwrap(), vec![1, 4, 7, 10]);
+        assert!(kept(&cloud, None, &[], Some(Returns::Only)).unwrap().is_empty());
+        let missing = kept(&cloud, None, &["gps_time=0..1".parse().unwrap()], None).unwrap_err();
         assert!(missing.contains("gps_time") && missing.contains("intensity"), "{missing}");
         for bad in ["intensity", "=1..2", "intensity=a..2", "intensity=3..2", "intensity=1,x", "intensity="] {
             assert!(bad.parse::<Filter>().is_err(), "{bad}");

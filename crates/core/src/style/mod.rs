@@ -117,11 +117,7 @@ impl Style {
     pub fn apply(&self, cloud: &PointCloud) -> Result<(PointCloud, Applied), String> {
         let mut applied = Applied::default();
         let mut out = if self.classes.is_some() || !self.filters.is_empty() || self.returns.is_some() {
-            let mut keep = filter::kept(cloud, &self.filters, self.returns)?;
-            if let Some(shown) = &self.classes {
-                let class = column(cloud, names::CLASSIFICATION, "--classes")?;
-                keep.retain(|&i| shown.contains(&(class.get(i as usize) as u8)));
-            }
+            let keep = filter::kept(cloud, self.classes.as_deref(), &self.filters, self.returns)?;
             applied.hidden = cloud.len() - keep.len();
             PointCloud {
                 attributes: cloud.attributes.gather(&keep),
