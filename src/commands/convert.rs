@@ -1,6 +1,7 @@
 //! `pointblend convert IN OUT [--points N]`: a mesh or cloud (PLY, LAS,
 //! LAZ, E57) to a splat cloud PLY, or to LAS/LAZ/COPC by OUT's extension, with
-//! every attribute; or a scalar volume (NIfTI-1, `.nii` / `.nii.gz`) to one point per
+//! every attribute (a LAS/LAZ/COPC input to LAS/LAZ: its records copied as
+//! they are, format, scale, offset and CRS kept); or a scalar volume (NIfTI-1, `.nii` / `.nii.gz`) to one point per
 //! voxel above a threshold, coloured by a transfer function (`--transfer`).
 //! OUT's extension must name a format the registry says `convert` writes.
 //! `--clip-box`, `--clip-plane`, `--classes`, `--filter` and `--returns`
@@ -122,6 +123,9 @@ pub fn run(args: &Args) -> Result<()> {
     if format.reader == Reader::Copc && args.points.is_none() {
         return run_copc(args);
     }
+    if cloud::las_file::is_las(&args.input) && format.reader == Reader::Las && args.points.is_none() {
+        return run_records(args);
+    }
     let (cloud, report) = load_for_convert(args)?;
     let (cloud, left_out) = args.subset.apply(cloud)?;
     super::shared::prepare_output(&args.output)?;
@@ -164,7 +168,33 @@ fn load_for_convert(args: &Args) -> Result<(cloud::PointCloud, cloud::LoadReport
     Ok((cloud, report))
 }
 
-/// To COPC: a LAS/LAZ input's records as they are; any other cloud through
+/// LAS/LAZ/COPC to LAS/LAZ: the records the subset keeps (all without
+/// one), copied as they are: point format, scale and offset, CRS and every
+/// field kept.
+fn run_records(args: &Args) -> Result<()> {
+    super::shared::prepare_output(&args.output)?;
+    let started = std::time::Instant::now();
+    let records = cloud::records::Records::read(&args.input, &LoadOptions { progress: true, ..Default::default() })?;
+    let keep = args.subset.kept_records(&records)?;
+    records.write_subset(&keep, &args.output)?;
+    let subset = if args.subset.is_given() {
+        format!(", {} left out by the subset", records.len() - keep.len())
+    } else {
+        String::new()
+    };
+    println!(
+        "{} -> {}: {} of {} point records copied with every field, the scale, offset and CRS kept{subset}, in {:.1} s",
+        args.input.display(),
+        args.output.display(),
+        keep.len(),
+        records.len(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+/// To COPC: a LAS/LAZ input's records as they are (a subset's copied to a
+/// temporary LAS first); any other cloud through
 /// a LAS file of its splats (normals, radii and opacity as extra bytes).
 fn run_copc(args: &Args) -> Result<()> {
     super::shared::prepare_output(&args.output)?;
@@ -172,6 +202,12 @@ fn run_copc(args: &Args) -> Result<()> {
     let las_input;
     let input = if cloud::las_file::is_las(&args.input) && !args.subset.is_given() {
         args.input.as_path()
+    } else if cloud::las_file::is_las(&args.input) {
+        let records = cloud::records::Records::read(&args.input, &LoadOptions::default())?;
+        let keep = args.subset.kept_records(&records)?;
+        las_input = pointblend::output::Temporary::with_suffix(".las")?;
+        records.write_subset(&keep, las_input.path())?;
+        las_input.path()
     } else {
         let (cloud, _) = super::shared::load(&args.input)?;
         let (cloud, _) = args.subset.apply(cloud)?;

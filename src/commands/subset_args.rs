@@ -1,10 +1,14 @@
 //! What `convert` writes of its input: the points in a clip region, of
 //! some classes, passing attribute filters and of some returns. The same
 //! flags, with the same parsers and meanings, as the viewing commands'
-//! (scene_args.rs), applied to the loaded cloud before it is written.
+//! (scene_args.rs), applied to a file's records (or a loaded cloud's
+//! splats) before they are written: every test in f64 file coordinates.
 
 use anyhow::Result;
+use glam::DVec3;
 use pointblend::cloud::PointCloud;
+use pointblend::cloud::attributes::Attributes;
+use pointblend::cloud::records::Records;
 use pointblend::frame::clip::{self, ClipBox, ClipRegion, Hidden};
 use pointblend::style::{Filter, Returns, filter};
 
@@ -47,22 +51,30 @@ impl SubsetArgs {
         if !self.is_given() {
             return Ok((cloud, 0));
         }
+        let (origin, unit) = (glam::DVec3::from_array(cloud.origin), cloud.unit());
+        let keep = self.kept(cloud.len(), &cloud.attributes, |i| cloud.frame_position(i) * unit + origin)?;
+        let kept = PointCloud { attributes: cloud.attributes.gather(&keep), ..cloud.select(&keep) };
+        Ok((kept, cloud.len() - keep.len()))
+    }
+
+    /// The records the flags keep, ascending.
+    pub fn kept_records(&self, records: &Records) -> Result<Vec<u32>> {
+        self.kept(records.len(), &records.attributes, |i| records.positions[i])
+    }
+
+    /// Which of `n` points, with `attributes` and at file positions
+    /// `position(i)` (f64), the flags keep.
+    fn kept(&self, n: usize, attributes: &Attributes, position: impl Fn(usize) -> DVec3) -> Result<Vec<u32>> {
         let classes = (!self.classes.is_empty()).then_some(self.classes.as_slice());
-        let keep = filter::kept(&cloud, classes, &self.filters, self.returns).map_err(anyhow::Error::msg)?;
-        let mut kept = PointCloud { attributes: cloud.attributes.gather(&keep), ..cloud.select(&keep) };
+        let keep = filter::kept_of(attributes, n, classes, &self.filters, self.returns).map_err(anyhow::Error::msg)?;
         let region = ClipRegion {
             clip_box: self.clip_box.map(|b| ClipBox { hide: self.clip_hide.unwrap_or_default(), ..b }),
             planes: self.clip_planes.clone(),
         };
         region.check()?;
-        if !region.is_empty() {
-            let (origin, unit) = (glam::DVec3::from_array(kept.origin), kept.unit());
-            let inside: Vec<u32> = (0..kept.len() as u32)
-                .filter(|&i| region.keeps_file_point(kept.frame_position(i as usize) * unit + origin))
-                .collect();
-            kept = PointCloud { attributes: kept.attributes.gather(&inside), ..kept.select(&inside) };
+        if region.is_empty() {
+            return Ok(keep);
         }
-        let left_out = cloud.len() - kept.len();
-        Ok((kept, left_out))
+        Ok(keep.into_iter().filter(|&i| region.keeps_file_point(position(i as usize))).collect())
     }
 }

@@ -26,6 +26,7 @@ mod load_options;
 pub mod mesh;
 pub mod placement;
 pub mod ply;
+pub mod records;
 pub mod volume;
 pub mod write;
 pub mod write_las;

@@ -19,6 +19,7 @@ use las::point::Classification;
 use super::attributes::{Values, names};
 use super::{CloudError, PointCloud};
 
+pub mod copy_records;
 mod sink;
 
 /// The standard fields, which are not written again as extra bytes.
@@ -28,7 +29,7 @@ const STANDARD: [&str; 10] = names::LAS_STANDARD;
 pub const SPLAT_FIELDS: [&str; 5] = ["nx", "ny", "nz", "radius", "alpha"];
 
 /// Whether `path` should be compressed (a `.laz` name).
-fn is_laz(path: &Path) -> bool {
+pub(crate) fn is_laz(path: &Path) -> bool {
     path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("laz"))
 }
 
@@ -47,17 +48,20 @@ fn descriptor(name: &str, double: bool) -> [u8; 192] {
     d
 }
 
+/// The error of writing `path` as LAS or LAZ.
+fn write_error(path: &Path, e: las::Error) -> CloudError {
+    let format = if is_laz(path) { "LAZ" } else { "LAS" };
+    let reason = match e {
+        // The laz crate's wrapper of an I/O error adds only "IoError: ".
+        las::Error::LasZipError(laz::LasZipError::IoError(io)) => io.to_string(),
+        e => e.to_string(),
+    };
+    CloudError::content(path, format!("cannot write {format}: {reason}"))
+}
+
 /// Writes `cloud` to `path` as LAS, or LAZ when the name ends in `.laz`.
 pub fn write_las(cloud: &PointCloud, path: &Path) -> Result<(), CloudError> {
-    let format = if is_laz(path) { "LAZ" } else { "LAS" };
-    let err = |e: las::Error| {
-        let reason = match e {
-            // The laz crate's wrapper of an I/O error adds only "IoError: ".
-            las::Error::LasZipError(laz::LasZipError::IoError(io)) => io.to_string(),
-            e => e.to_string(),
-        };
-        CloudError::content(path, format!("cannot write {format}: {reason}"))
-    };
+    let err = |e: las::Error| write_error(path, e);
     let attrs = &cloud.attributes;
     let nir = attrs.get(names::NIR);
     let mut extras: Vec<Extra> = Vec::new();
@@ -90,12 +94,27 @@ pub fn write_las(cloud: &PointCloud, path: &Path) -> Result<(), CloudError> {
         *t = las::Transform { scale, offset: cloud.origin[axis] };
     }
     let header = builder.into_header().map_err(err)?;
+    write_with(path, header, |writer| write_points(writer, cloud, &extras))
+}
+
+/// The writer [`write_with`] hands its filler.
+type FileWriter = las::Writer<sink::Fused<std::io::BufWriter<std::fs::File>>>;
+
+/// Writes a LAS, or LAZ when `path` ends in `.laz` (as `header` says), of
+/// the points `fill` writes: into a temporary file beside `path`, closed
+/// explicitly and renamed, so a failure leaves no file.
+fn write_with(
+    path: &Path,
+    header: las::Header,
+    fill: impl FnOnce(&mut FileWriter) -> las::Result<()>,
+) -> Result<(), CloudError> {
+    let err = |e: las::Error| write_error(path, e);
     let target = crate::output::prepare(path).map_err(|e| CloudError::io(path, e))?;
     let dir = crate::output::folder_of(&target);
     let tmp = crate::output::Temporary::new_in(dir).map_err(|e| CloudError::io(path, e))?;
     let file = tmp.reopen().map_err(|e| CloudError::io(path, e))?;
     let mut writer = las::Writer::new(sink::Fused::new(std::io::BufWriter::new(file)), header).map_err(err)?;
-    let written = write_points(&mut writer, cloud, &extras);
+    let written = fill(&mut writer);
     // Always closed here: the crate's writer panics if its drop has to close it and cannot.
     sink::close(writer, written).map_err(err)?;
     crate::output::make_readable(tmp.as_file()).map_err(|e| CloudError::io(path, e))?;

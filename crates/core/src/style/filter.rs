@@ -9,7 +9,7 @@
 use std::str::FromStr;
 
 use crate::cloud::PointCloud;
-use crate::cloud::attributes::names;
+use crate::cloud::attributes::{Attributes, names};
 
 /// What one attribute must be.
 #[derive(Debug, Clone, PartialEq)]
@@ -124,8 +124,19 @@ pub fn kept(
     filters: &[Filter],
     returns: Option<Returns>,
 ) -> Result<Vec<u32>, String> {
-    let column = |name: &str, wanted_by: &str| super::column(cloud, name, wanted_by);
-    let mut keep = vec![true; cloud.len()];
+    kept_of(&cloud.attributes, cloud.len(), classes, filters, returns)
+}
+
+/// [`kept`] over `n` points' `attributes` (a cloud's, or a file's records').
+pub fn kept_of(
+    attributes: &Attributes,
+    n: usize,
+    classes: Option<&[u8]>,
+    filters: &[Filter],
+    returns: Option<Returns>,
+) -> Result<Vec<u32>, String> {
+    let column = |name: &str, wanted_by: &str| super::column_of(attributes, name, wanted_by);
+    let mut keep = vec![true; n];
     if let Some(shown) = classes {
         let class = column(names::CLASSIFICATION, "--classes")?;
         keep.iter_mut().enumerate().for_each(|(i, k)| *k = shown.contains(&(class.get(i) as u8)));
@@ -148,7 +159,7 @@ pub fn kept(
                 };
         }
     }
-    Ok((0..cloud.len() as u32).filter(|&i| keep[i as usize]).collect())
+    Ok((0..n as u32).filter(|&i| keep[i as usize]).collect())
 }
 
 #[cfg(test)]

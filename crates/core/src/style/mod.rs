@@ -22,7 +22,7 @@ pub mod summary;
 pub use colormap::Colormap;
 pub use filter::{Filter, Returns};
 
-use crate::cloud::attributes::names;
+use crate::cloud::attributes::{Attributes, names};
 use crate::cloud::{PointCloud, Values};
 
 /// The name of the pseudo-attribute every summary lists first: each
@@ -183,8 +183,13 @@ impl Style {
 
 /// The column `name` of `cloud`, or an error that lists the columns it has.
 fn column<'a>(cloud: &'a PointCloud, name: &str, wanted_by: &str) -> Result<&'a Values, String> {
-    cloud.attributes.get(name).ok_or_else(|| {
-        let have: Vec<&str> = cloud.attributes.names().collect();
+    column_of(&cloud.attributes, name, wanted_by)
+}
+
+/// [`column`] of a set of attributes.
+fn column_of<'a>(attributes: &'a Attributes, name: &str, wanted_by: &str) -> Result<&'a Values, String> {
+    attributes.get(name).ok_or_else(|| {
+        let have: Vec<&str> = attributes.names().collect();
         let have = if have.is_empty() { "none".to_string() } else { have.join(", ") };
         format!("{wanted_by} needs the '{name}' attribute, which the file lacks (its attributes: {have})")
     })
