@@ -1,4 +1,4 @@
-//! The `pointblend` command line: view | info | render | pick | measure | convert | bench | group.
+//! The `pointblend` command line: view | info | render | pick | measure | profile | convert | bench | group.
 //!
 //! With no subcommand it is `pointblend view`, parsed by the same clap
 //! arguments (so the two cannot differ): the viewer on the demo scene in alg2,
@@ -41,6 +41,8 @@ enum Command {
     Pick(commands::pick::Args),
     /// Measure distances, angles and heights between the surfaces under pixels.
     Measure(commands::pick::Args),
+    /// A cross-section: the points within a slab along a line, drawn from the side and written out.
+    Profile(commands::profile::Args),
     /// Convert a mesh, cloud or volume into splats: PLY with normals, radii and colours, LAS/LAZ, or COPC.
     Convert(commands::convert::Args),
     /// Time every mode and measure its error against the exact reference.
@@ -64,6 +66,7 @@ fn main() -> ExitCode {
         Some(Command::Render(args)) => commands::render::run(&args),
         Some(Command::Pick(args)) => commands::pick::run(&args),
         Some(Command::Measure(args)) => commands::measure::run(&args),
+        Some(Command::Profile(args)) => commands::profile::run(&args),
         Some(Command::Convert(args)) => commands::convert::run(&args),
         Some(Command::Bench(args)) => commands::bench::run(&args),
         Some(Command::Group(args)) => commands::group::run(&args),
@@ -166,7 +169,7 @@ mod tests {
             "clip-hide",
             "clip-plane",
         ];
-        let own: [(&str, &[&str]); 3] = [
+        let own: [(&str, &[&str]); 4] = [
             ("render", &["out", "explain", "diff", "flat-background", "time", "path", "path-frames"]),
             (
                 "bench",
@@ -185,6 +188,7 @@ mod tests {
                 ],
             ),
             ("view", &["screenshot", "exit-after-frames", "screenshot-dir", "out", "time"]),
+            ("profile", &["line", "width", "out", "csv", "points"]),
         ];
         for (name, own) in own {
             let outside: std::collections::BTreeSet<String> =

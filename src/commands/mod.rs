@@ -11,6 +11,7 @@ pub mod main_job;
 pub mod measure;
 pub mod parameter_flags;
 pub mod pick;
+pub mod profile;
 pub mod render;
 pub mod render_path;
 pub mod scene_args;

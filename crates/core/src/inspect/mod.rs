@@ -2,9 +2,12 @@
 //! viewer: what a pick found ([`report`]: the layers of
 //! [`crate::reference::pick`] with the file's attributes, as text, JSON and
 //! CSV) and what a measurement of picked points gives ([`measure`]:
-//! lengths, angles and heights, in f64 file coordinates).
+//! lengths, angles and heights, in f64 file coordinates), and the survey
+//! tools over a file's records: [`profile`] (cross-sections).
 
 pub mod measure;
+pub mod profile;
+pub mod profile_table;
 pub mod report;
 
 pub use measure::{Measurement, Segment, measure};

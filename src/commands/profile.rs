@@ -1,0 +1,151 @@
+//! `pointblend profile FILE --line X1,Y1,X2,Y2 --width W`: a cross-section.
+//! The slab is every point of the file (at full resolution: its records,
+//! [`pointblend::cloud::records`]) within W/2 of the line and between its
+//! ends ([`pointblend::inspect::profile`]), after `--classes`, `--filter`
+//! and `--returns`. `--csv` writes its rows, `--points` its records (LAS/LAZ
+//! copied with every field, or PLY), and `--out` draws it: the file, styled
+//! by the view flags, clipped to the slab by four planes and seen in
+//! orthographic from the right of the line (distance along the line
+//! against height), in any mode, every splat turned to face the viewer
+//! (a section is read point by point; ground seen edge-on would vanish).
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use anyhow::{Context, Result, bail};
+use glam::{DVec2, DVec3};
+use pointblend::cloud::LoadOptions;
+use pointblend::cloud::records::Records;
+use pointblend::frame::{Camera, Projection, RenderMode, UpAxis, View};
+use pointblend::inspect::profile::{self, Profile};
+use pointblend::render::{Frame, GpuRenderer, PreparedScene, Readback};
+use pointblend::style::filter;
+
+use super::shared::{self, ViewArgs};
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[arg(help = super::formats_help::drawn_file())]
+    pub file: PathBuf,
+    /// The profile's line X1,Y1,X2,Y2 on the ground, in file coordinates (the CRS's units).
+    #[arg(long, value_parser = profile::parse_line, allow_hyphen_values = true)]
+    pub line: (DVec2, DVec2),
+    /// The slab's width: the points at most W/2 from the line, between its ends.
+    #[arg(long)]
+    pub width: f64,
+    /// Draw the slab from the side (orthographic, distance along the line against height) to this image.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Write the slab's points as CSV: distance,offset,x,y,z and every attribute, one row per point.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    /// Write the slab's points to this cloud (LAS/LAZ: the records with every field; PLY), by extension.
+    #[arg(long)]
+    pub points: Option<PathBuf>,
+    /// Rendering mode of --out.
+    #[arg(long, default_value_t = RenderMode::DEFAULT, value_parser = shared::mode_parser())]
+    pub mode: RenderMode,
+    /// --out's size, parameters and style; --classes, --filter and --returns choose the slab's points too.
+    #[command(flatten)]
+    pub view: ViewArgs,
+}
+
+pub fn run(args: &Args) -> Result<()> {
+    let (start, end) = args.line;
+    let profile = Profile::new(start, end, args.width).map_err(anyhow::Error::msg)?;
+    for out in [&args.out, &args.csv, &args.points].into_iter().flatten() {
+        shared::refuse_same_file(out, "the input", &args.file)?;
+        shared::prepare_output(out)?;
+    }
+    if pointblend::copc::is_url(&args.file.to_string_lossy()) {
+        bail!("{}: profile reads a local file's every point; download it first", args.file.display());
+    }
+    let records = Records::read(&args.file, &LoadOptions { progress: true, ..Default::default() })?;
+    let scene_flags = &args.view.scene;
+    let classes = (!scene_flags.classes.is_empty()).then_some(scene_flags.classes.as_slice());
+    let chosen =
+        filter::kept_of(&records.attributes, records.len(), classes, &scene_flags.filters, scene_flags.returns)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?;
+    let slab: Vec<u32> = chosen.into_iter().filter(|&i| profile.holds(records.positions[i as usize])).collect();
+    println!(
+        "{}: {} of {} points in the slab ({:.3} long, {} wide, {})",
+        shared::shown_path(&args.file),
+        slab.len(),
+        records.len(),
+        profile.length(),
+        args.width,
+        records.units.horizontal_name()
+    );
+    if let Some(csv) = &args.csv {
+        pointblend::inspect::profile_table::write_csv(&profile, &records, &slab, csv)
+            .with_context(|| format!("{}: cannot write", csv.display()))?;
+        println!("{} rows -> {}", slab.len(), csv.display());
+    }
+    if let Some(points) = &args.points {
+        records.write_subset(&slab, points)?;
+        println!("{} points -> {}", slab.len(), points.display());
+    }
+    if let Some(out) = &args.out {
+        if slab.is_empty() {
+            bail!("{}: no point lies in the slab, so there is nothing to draw", shared::shown_path(&args.file));
+        }
+        let heights = slab.iter().map(|&i| records.positions[i as usize].z);
+        let (low, high) = heights.fold((f64::MAX, f64::MIN), |(l, h), z| (l.min(z), h.max(z)));
+        drop(records);
+        draw(args, &profile, (low, high), out)?;
+    }
+    Ok(())
+}
+
+/// The side view of the slab at `out`.
+fn draw(args: &Args, profile: &Profile, (low, high): (f64, f64), out: &std::path::Path) -> Result<()> {
+    let mut scene = shared::load_scene(&args.file)?;
+    // A cross-section is read point by point: every splat faces the viewer, as a dot, so that
+    // level ground (discs facing up) is not drawn edge-on as a hairline.
+    let side = profile.side().as_vec3();
+    for object in &mut scene.objects {
+        let facing = object.transform.inverse().transform_vector3(side).normalize();
+        Arc::make_mut(&mut object.cloud).normals.iter_mut().for_each(|n| *n = facing);
+    }
+    args.view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
+    let mut settings = args.view.settings(&scene, args.mode)?;
+    let mut region = args.view.scene.clip_region(&scene).map_err(anyhow::Error::msg)?;
+    region.planes.extend(profile.planes());
+    region.check().map_err(|e| anyhow::anyhow!("{e} (the profile's slab takes four of the six planes)"))?;
+    settings.clip = scene.clip_in_frame(&region);
+    let (width, height) = args.view.size;
+    let camera = side_camera(profile, (low, high), scene.frame_placement(), width as f32 / height as f32);
+    let mut gpu = match settings.mode.is_gpu() {
+        true => Some(GpuRenderer::new().context("opening the GPU")?),
+        false => None,
+    };
+    let mut frames = PreparedScene::of(Arc::new(scene));
+    let spec = frames.resolve(&settings, View::still((width, height)));
+    let Frame { image, plan, .. } = frames.render_frame(gpu.as_mut(), &camera, &spec, Readback::ImageWithProgress)?;
+    shared::write_image(&image, out)?;
+    println!("{} {width}x{height} side view -> {}", plan.mode, out.display());
+    Ok(())
+}
+
+/// An orthographic camera from the right of the line, level, framing the
+/// slab's length and its heights `low..high`, in the scene's frame.
+fn side_camera(profile: &Profile, (low, high): (f64, f64), (origin, unit): (DVec3, f64), aspect: f32) -> Camera {
+    let middle = ((profile.start + profile.end) * 0.5).extend((low + high) * 0.5);
+    let half_length = profile.length() * 0.5;
+    let half_height = ((high - low) * 0.5).max(profile.width * 0.5);
+    let mut camera = Camera {
+        target: ((middle - origin) / unit).as_vec3(),
+        distance: 1.0,
+        azimuth_deg: 0.0,
+        elevation_deg: 0.0,
+        fov_y_deg: pointblend::frame::camera::DEFAULT_FOV_DEG,
+        up: UpAxis::PosZ,
+        scene_radius: (DVec2::new(half_length, half_height).length().max(profile.width) / unit) as f32,
+        projection: Projection::Ortho,
+    };
+    camera.look_from_direction(profile.side().as_vec3());
+    // In orthographic the window's half height is tan(fov / 2) · distance.
+    let needed = (half_height.max(half_length / aspect as f64) * 1.05 / unit) as f32;
+    camera.distance = needed / (camera.fov_y_deg.to_radians() * 0.5).tan();
+    camera
+}
