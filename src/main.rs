@@ -40,7 +40,7 @@ enum Command {
     /// List the surface layers a pixel's ray passes (the exact reference's), with their attributes.
     Pick(commands::pick::Args),
     /// Measure distances, angles and heights between the surfaces under pixels.
-    Measure(commands::pick::Args),
+    Measure(commands::measure::Args),
     /// A cross-section: the points within a slab along a line, drawn from the side and written out.
     Profile(commands::profile::Args),
     /// Convert a mesh, cloud or volume into splats: PLY with normals, radii and colours, LAS/LAZ, or COPC.

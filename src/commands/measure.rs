@@ -2,14 +2,32 @@
 //! point under each pixel (as `pick` finds it), and the distance, the
 //! polyline's segments, the angles at its vertices and the height
 //! differences along the view's up axis (crates/core/src/inspect/measure.rs).
+//! With `--polygon`: the horizontal and surface areas inside it and, with
+//! `--volume`, the volume above and below a base, over the file's records
+//! ([`super::measure_area`]).
 
 use anyhow::{Result, bail};
 use pointblend::inspect::measure;
 use serde_json::json;
 
-use super::pick::{Args, Picking};
+use super::pick::Picking;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[command(flatten)]
+    pub pick: super::pick::Args,
+    #[command(flatten)]
+    pub area: super::measure_area::PolygonArgs,
+}
 
 pub fn run(args: &Args) -> Result<()> {
+    if let Some(polygon) = &args.area.polygon {
+        if !args.pick.at.is_empty() {
+            bail!("--polygon measures the file's points inside it; --at picks pixels: give one or the other");
+        }
+        return super::measure_area::run(&args.pick, &args.area, polygon);
+    }
+    let args = &args.pick;
     if args.at.len() < 2 {
         bail!("measure needs at least two --at pixels, {} given", args.at.len());
     }

@@ -9,6 +9,7 @@ pub mod info;
 pub mod info_streamed;
 pub mod main_job;
 pub mod measure;
+pub mod measure_area;
 pub mod parameter_flags;
 pub mod pick;
 pub mod profile;

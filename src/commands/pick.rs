@@ -20,7 +20,7 @@ pub struct Args {
     pub file: PathBuf,
     /// A pixel X,Y (from the top left, in the --size image) whose ray is
     /// cast; repeatable (measure: at least two, in order along the polyline).
-    #[arg(long = "at", value_parser = parse_pixel, required = true)]
+    #[arg(long = "at", value_parser = parse_pixel)]
     pub at: Vec<(u32, u32)>,
     /// Print JSON. pick: {"pixel": [x, y], "layers": [...]} (an array of them
     /// for several --at); measure: {"points", "distance", "segments", "angle_deg", "angles_deg", "height"}.
@@ -89,6 +89,9 @@ impl Picking {
 }
 
 pub fn run(args: &Args) -> Result<()> {
+    if args.at.is_empty() {
+        bail!("pick needs at least one --at pixel X,Y");
+    }
     let picking = Picking::open(&args.file, &args.view, &args.camera, &args.at)?;
     let reports: Vec<PickReport> = args.at.iter().map(|&p| picking.pick(p)).collect();
     if args.json {

@@ -106,6 +106,10 @@ fn draw(args: &Args, profile: &Profile, (low, high): (f64, f64), out: &std::path
     for object in &mut scene.objects {
         let facing = object.transform.inverse().transform_vector3(side).normalize();
         Arc::make_mut(&mut object.cloud).normals.iter_mut().for_each(|n| *n = facing);
+        // And the cloud a style is applied to again (a file without colours is styled on loading).
+        if let Some(styled) = &mut object.styled {
+            Arc::make_mut(&mut styled.source).normals.iter_mut().for_each(|n| *n = facing);
+        }
     }
     args.view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
     let mut settings = args.view.settings(&scene, args.mode)?;

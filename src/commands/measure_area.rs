@@ -1,0 +1,130 @@
+//! `pointblend measure FILE --polygon "X1,Y1 X2,Y2 ..." [--volume [--base
+//! OTHER]] [--cell C]`: areas and volumes over the file's records at full
+//! resolution ([`pointblend::inspect::area_volume`]), after `--classes`,
+//! `--filter` and `--returns`, in the CRS's units; text, or `--json`.
+
+use anyhow::{Result, bail};
+use pointblend::cloud::LoadOptions;
+use pointblend::cloud::records::Records;
+use pointblend::inspect::area_volume::{self, Base, BaseUsed};
+use pointblend::inspect::polygon::Polygon;
+use pointblend::style::filter;
+use serde_json::json;
+
+use super::pick;
+use super::shared;
+
+/// The flags of `measure` that measure inside a polygon.
+#[derive(clap::Args, Debug)]
+pub struct PolygonArgs {
+    /// Measure inside this polygon instead of between pixels: "X1,Y1 X2,Y2 X3,Y3 ..." in file
+    /// coordinates; gives the horizontal area and the surface area of the points inside.
+    #[arg(long, allow_hyphen_values = true)]
+    pub polygon: Option<Polygon>,
+    /// With --polygon: also the volume above and below a base (a plane fitted to the points along
+    /// the polygon's border, or --base).
+    #[arg(long, requires = "polygon")]
+    pub volume: bool,
+    /// With --volume: the base is this other cloud (the same CRS), e.g. the ground before: cut and fill.
+    #[arg(long, requires = "volume", value_name = "FILE")]
+    pub base: Option<std::path::PathBuf>,
+    /// With --polygon: the grid's cell size, in the file's units [default: twice the mean spacing of the points inside].
+    #[arg(long, requires = "polygon")]
+    pub cell: Option<f64>,
+}
+
+/// The records of `file` the scene flags keep, as file positions.
+fn positions(file: &std::path::Path, args: &pick::Args) -> Result<(Vec<glam::DVec3>, Records)> {
+    if pointblend::copc::is_url(&file.to_string_lossy()) {
+        bail!("{}: measure --polygon reads a local file's every point; download it first", file.display());
+    }
+    let records = Records::read(file, &LoadOptions { progress: true, ..Default::default() })?;
+    let flags = &args.view.scene;
+    let classes = (!flags.classes.is_empty()).then_some(flags.classes.as_slice());
+    let kept = filter::kept_of(&records.attributes, records.len(), classes, &flags.filters, flags.returns)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))?;
+    Ok((kept.iter().map(|&i| records.positions[i as usize]).collect(), records))
+}
+
+pub fn run(args: &pick::Args, area: &PolygonArgs, polygon: &Polygon) -> Result<()> {
+    let file = &args.file;
+    let (points, records) = positions(file, args)?;
+    let base_cloud = match &area.base {
+        Some(other) => {
+            let (points, base_records) = positions(other, args)?;
+            if base_records.units != records.units {
+                bail!(
+                    "{} is in {} but the base {} is in {}: give both in one CRS",
+                    file.display(),
+                    records.crs.as_deref().unwrap_or(records.units.horizontal_name()),
+                    other.display(),
+                    base_records.crs.as_deref().unwrap_or(base_records.units.horizontal_name())
+                );
+            }
+            Some(points)
+        }
+        None => None,
+    };
+    let base = match (&base_cloud, area.volume) {
+        (Some(points), _) => Some(Base::Points(points)),
+        (None, true) => Some(Base::BorderPlane),
+        (None, false) => None,
+    };
+    let m = area_volume::area_and_volume(polygon, &points, area.cell, base)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))?;
+    let (h, v) = (records.units.horizontal_name(), records.units.vertical_name());
+    if m.cells_empty > 0 {
+        log::warn!(
+            "{}: {} of the {} cells inside have no point within {} cells and are left out",
+            file.display(),
+            m.cells_empty,
+            m.cells,
+            area_volume::FILL_RINGS
+        );
+    }
+    if args.json {
+        let volume = m.volume.as_ref();
+        let base = volume.map(|v| match &v.base {
+            BaseUsed::Plane { centre, slope_x, slope_y, height, points } => json!({
+                "kind": "plane along the border", "centre": centre.to_array(), "slope_x": slope_x,
+                "slope_y": slope_y, "height": height, "points": points,
+            }),
+            BaseUsed::Cloud { points, cells_without } => json!({
+                "kind": "cloud", "file": area.base.as_ref().map(|p| p.display().to_string()),
+                "points": points, "cells_without": cells_without,
+            }),
+        });
+        let value = json!({
+            "area_horizontal": m.area_horizontal,
+            "area_surface": m.area_surface,
+            "volume_above": volume.map(|v| v.above),
+            "volume_below": volume.map(|v| v.below),
+            "cell": m.cell,
+            "units": h,
+            "vertical_units": v,
+            "epsg": records.units.epsg,
+            "points": m.points,
+            "cells": m.cells,
+            "cells_filled": m.cells_filled,
+            "cells_empty": m.cells_empty,
+            "base": base,
+        });
+        println!("{}", serde_json::to_string_pretty(&value)?);
+        return Ok(());
+    }
+    println!("{}: {} points inside the polygon, on cells of {:.4} {h}", shared::shown_path(file), m.points, m.cell);
+    println!("area: {:.4} square {h} horizontal, {:.4} of surface", m.area_horizontal, m.area_surface);
+    if let Some(volume) = &m.volume {
+        let base = match &volume.base {
+            BaseUsed::Plane { points, .. } => format!("a plane fitted to {points} points along the border"),
+            BaseUsed::Cloud { points, .. } => format!("the {points} points of the base cloud"),
+        };
+        println!(
+            "volume: {:.4} above and {:.4} below {base} ({h} x {h} x {v}), net {:+.4}",
+            volume.above,
+            volume.below,
+            volume.above - volume.below
+        );
+    }
+    Ok(())
+}
