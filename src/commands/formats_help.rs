@@ -29,7 +29,7 @@ fn streaming_commands() -> String {
 /// A file that `render`, `pick` and `measure` draw.
 pub fn drawn_file() -> String {
     format!(
-        "Point cloud ({}), {}, or a {} file or http(s) URL, streamed under the point budget",
+        "Point cloud ({}), {}, or a {} file or http(s) URL, streamed under the point budget; or a virtual point cloud (.vpc) of such files, of which those the view reaches are opened",
         formats::names(whole, "or"),
         scene_files(),
         streamed_formats()

@@ -31,7 +31,7 @@ pub fn run(args: &Args) -> Result<()> {
     if args.at.len() < 2 {
         bail!("measure needs at least two --at pixels, {} given", args.at.len());
     }
-    let picking = Picking::open(&args.file, &args.view, &args.camera, &args.at)?;
+    let picking = Picking::open(args)?;
     let mut points = Vec::with_capacity(args.at.len());
     for &(x, y) in &args.at {
         let report = picking.pick((x, y));

@@ -48,7 +48,23 @@ fn positions(file: &std::path::Path, args: &pick::Args) -> Result<(Vec<glam::DVe
 
 pub fn run(args: &pick::Args, area: &PolygonArgs, polygon: &Polygon) -> Result<()> {
     let file = &args.file;
-    let (points, records) = positions(file, args)?;
+    // Every layer's points (a `.vpc`'s files too), in one CRS.
+    let paths: Vec<std::path::PathBuf> = std::iter::once(file.clone()).chain(args.layers.iter().cloned()).collect();
+    let files = pointblend::scene::layers::layer_files(&paths)?;
+    let (mut points, records) = positions(&files[0].path, args)?;
+    for layer in &files[1..] {
+        let (more, other) = positions(&layer.path, args)?;
+        if other.units != records.units || other.crs != records.crs {
+            bail!(
+                "{}: its CRS is {} but {}'s is {}: layers must share one CRS",
+                layer.path.display(),
+                other.crs.as_deref().unwrap_or(other.units.horizontal_name()),
+                files[0].path.display(),
+                records.crs.as_deref().unwrap_or(records.units.horizontal_name())
+            );
+        }
+        points.extend(more);
+    }
     let base_cloud = match &area.base {
         Some(other) => {
             let (points, base_records) = positions(other, args)?;

@@ -18,6 +18,9 @@ use super::shared::{self, CameraArgs, ViewArgs};
 pub struct Args {
     #[arg(help = super::formats_help::drawn_file())]
     pub file: PathBuf,
+    /// More files picked with the first, as layers (each its own object and origin).
+    #[arg(value_name = "MORE")]
+    pub layers: Vec<PathBuf>,
     /// A pixel X,Y (from the top left, in the --size image) whose ray is
     /// cast; repeatable (measure: at least two, in order along the polyline).
     #[arg(long = "at", value_parser = parse_pixel)]
@@ -51,12 +54,21 @@ pub struct Picking {
 }
 
 impl Picking {
-    pub fn open(file: &std::path::Path, view: &ViewArgs, flags: &CameraArgs, pixels: &[(u32, u32)]) -> Result<Self> {
+    pub fn open(args: &Args) -> Result<Self> {
+        let (file, view, flags, pixels) = (args.file.as_path(), &args.view, &args.camera, &args.at);
         let size = view.size;
         if let Some(&(x, y)) = pixels.iter().find(|(x, y)| *x >= size.0 || *y >= size.1) {
             bail!("pixel {x},{y} is outside the {}x{} image (--size)", size.0, size.1);
         }
-        let (scene, camera) =
+        let (scene, camera) = if shared::is_layered(file, &args.layers) {
+            let (mut scene, camera) = shared::load_layers(file, &args.layers, view, flags)?;
+            view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
+            let camera = match camera {
+                Some(camera) => camera,
+                None => view.camera(flags, &scene)?,
+            };
+            (scene, camera)
+        } else {
             match view.stream.open(file, pointblend::copc::drawn_by_nodes(file, view.stream_budget()?))? {
                 Some(stream) => {
                     let bounds = super::stream_args::bounds_scene(&stream);
@@ -74,7 +86,8 @@ impl Picking {
                     let camera = view.camera(flags, &scene)?;
                     (scene, camera)
                 }
-            };
+            }
+        };
         let settings = view.base_settings(&scene, RenderMode::RULER)?;
         let facts = scene.facts(&scene.flattened());
         let spec = pointblend::frame::resolve(&settings, &facts, &pointblend::frame::View::still(size));
@@ -92,7 +105,7 @@ pub fn run(args: &Args) -> Result<()> {
     if args.at.is_empty() {
         bail!("pick needs at least one --at pixel X,Y");
     }
-    let picking = Picking::open(&args.file, &args.view, &args.camera, &args.at)?;
+    let picking = Picking::open(args)?;
     let reports: Vec<PickReport> = args.at.iter().map(|&p| picking.pick(p)).collect();
     if args.json {
         let value = match reports.as_slice() {

@@ -19,6 +19,10 @@ use super::stream_args::StreamedFlight;
 pub struct Args {
     #[arg(help = super::formats_help::drawn_file())]
     pub file: PathBuf,
+    /// More files drawn with the first, as layers: each its own object, origin and attributes
+    /// (the flags style every layer; a scene file styles each).
+    #[arg(value_name = "MORE")]
+    pub layers: Vec<PathBuf>,
     /// Rendering mode. tiled (exact) becomes the default only once it is at
     /// least as fast as two-pass wherever measured: on an H200 it is the
     /// fastest mode, on lavapipe its frame takes 1.16-2.19 times two-pass's
@@ -125,13 +129,15 @@ pub fn run(args: &Args) -> Result<()> {
     let views = args.path.as_deref().map(ViewPath::read).transpose()?;
     check_outputs(args, views.is_some())?;
     let started = Instant::now();
-    let (mut scene, streamed) = open_scene(args, sidecar.as_ref(), views.as_ref().map(|v| v.camera_at(0.0)))?;
+    let (mut scene, streamed, layers_camera) =
+        open_scene(args, sidecar.as_ref(), views.as_ref().map(|v| v.camera_at(0.0)))?;
     let stream_camera = streamed.as_ref().map(|(camera, _)| *camera);
     let load_seconds = started.elapsed().as_secs_f64();
     let (settings, (width, height)) = frame_settings(args, sidecar.as_ref(), &mut scene)?;
-    let camera = match stream_camera {
-        Some(camera) => camera,
-        None => frame_camera(args, sidecar.as_ref(), &scene)?,
+    // A `.vpc`'s camera was framed on its boxes, to choose the files it reaches.
+    let camera = match (stream_camera, layers_camera.filter(|_| sidecar.is_none())) {
+        (Some(camera), _) | (None, Some(camera)) => camera,
+        (None, None) => frame_camera(args, sidecar.as_ref(), &scene)?,
     };
     let mut gpu = match settings.mode.is_gpu() {
         true => Some(GpuRenderer::new().context("opening the GPU")?),
@@ -209,6 +215,9 @@ fn check_outputs(args: &Args, flying: bool) -> Result<()> {
     Ok(())
 }
 
+/// The scene to draw; a streamed file's first camera and flight; a `.vpc`'s camera.
+type OpenedScene = (Scene, Option<(Camera, StreamedFlight)>, Option<Camera>);
+
 /// The scene to draw, with the command line's materials and a screenshot's
 /// style; a COPC file or URL is streamed: the nodes its view selects under
 /// the point budget, and that view's camera.
@@ -219,8 +228,13 @@ fn open_scene(
     args: &Args,
     sidecar: Option<&Sidecar>,
     first: Option<Camera>,
-) -> Result<(Scene, Option<(Camera, StreamedFlight)>)> {
+) -> Result<OpenedScene> {
     let mut streamed = None;
+    if shared::is_layered(&args.file, &args.layers) {
+        let (mut scene, camera) = shared::load_layers(&args.file, &args.layers, &args.view, &args.camera_flags)?;
+        args.view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
+        return Ok((scene, None, camera));
+    }
     // A screenshot's file is drawn as the window drew it: node by node or whole.
     let by_nodes = match sidecar {
         Some(s) => s.model.nodes || pointblend::copc::is_streamed(&args.file),
@@ -260,7 +274,7 @@ fn open_scene(
         let style = record.style().map_err(|e| anyhow::anyhow!("{}: style: {e}", path.display()))?;
         scene.apply_style(&style).map_err(anyhow::Error::msg)?;
     }
-    Ok((scene, streamed))
+    Ok((scene, streamed, None))
 }
 
 /// The frame's settings and size: the flags', or a screenshot's with its

@@ -38,6 +38,59 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
     Ok(scene)
 }
 
+/// Whether `file` and `more` open as layers: several files, or a `.vpc`.
+pub fn is_layered(file: &Path, more: &[std::path::PathBuf]) -> bool {
+    !more.is_empty() || pointblend::scene::vpc::is_vpc(file)
+}
+
+/// Opens `file` and `more` as layers, each file an object with its own f64
+/// origin. When a `.vpc` gives boxes, the camera is framed on them first
+/// (the flags over the default view) and only the files it reaches are
+/// opened; when that leaves some out, that camera, in the opened scene's
+/// frame, comes back too.
+pub fn load_layers(
+    file: &Path,
+    more: &[std::path::PathBuf],
+    view: &ViewArgs,
+    flags: &CameraArgs,
+) -> Result<(Scene, Option<Camera>)> {
+    use pointblend::scene::layers;
+    let paths: Vec<std::path::PathBuf> = std::iter::once(file.to_path_buf()).chain(more.iter().cloned()).collect();
+    let files = layers::layer_files(&paths)?;
+    let framed = match layers::bounds_scene(&files) {
+        Some(bounds) => {
+            let camera = view.camera(flags, &bounds)?;
+            let aspect = view.size.0 as f32 / view.size.1 as f32;
+            let placement = bounds.frame_placement();
+            Some((camera, placement, aspect))
+        }
+        None => None,
+    };
+    let reached: Vec<&Path> = files
+        .iter()
+        .filter(|f| match (&framed, f.bounds) {
+            (Some((camera, placement, aspect)), Some(b)) => layers::reaches(camera, *aspect, *placement, b),
+            _ => true,
+        })
+        .map(|f| f.path.as_path())
+        .collect();
+    if reached.is_empty() {
+        bail!("{}: none of its {} files lies in the view", file.display(), files.len());
+    }
+    log::info!("opening {} of the layers' {} files (those the view reaches)", reached.len(), files.len());
+    let options = LoadOptions { progress: true, ..Default::default() };
+    let (scene, warnings) = layers::open_layers(&reached, &options)?;
+    for warning in &warnings {
+        log::warn!("{warning}");
+    }
+    // With every file open the view is the layers' own (framed on their points, as `A B C`
+    // frames them); with some left out, the boxes' view that chose them.
+    let camera = framed
+        .filter(|_| reached.len() < files.len())
+        .map(|(camera, from, _)| layers::camera_in_frame(&camera, from, scene.frame_placement()));
+    Ok((scene, camera))
+}
+
 /// `WxH`, e.g. `512x512`.
 pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let (w, h) = text.split_once(['x', 'X']).ok_or_else(|| format!("'{text}' is not WxH, e.g. 512x512"))?;

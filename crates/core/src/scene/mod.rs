@@ -14,8 +14,11 @@
 pub mod animation;
 pub mod environment_map;
 pub mod file;
+mod layer_seams;
+pub mod layers;
 mod material;
 pub mod primitives;
+pub mod vpc;
 
 use std::borrow::Cow;
 use std::ops::Range;

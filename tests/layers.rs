@@ -1,0 +1,145 @@
+//! Layers: several files drawn as one scene, each with its own f64 origin,
+//! on generated tiles far from the origin (UTM). Two halves of a tile drawn
+//! as two layers equal the whole (ε ≤ 0.05) and meet with no gap; a `.vpc`
+//! of three local COPC files draws as the three do as layers, opens only
+//! the files a narrow view reaches, and two CRSs are refused in one line
+//! naming both files.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use common::lidar::{CrsRecord, LidarPoint, tilted_grid, write, write_with_crs};
+
+const ORIGIN: [f64; 3] = [431_000.0, 5_012_000.0, 80.0];
+
+fn pointblend(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pointblend")).args(args).env("WGPU_BACKEND", "vulkan").output().unwrap()
+}
+
+fn render(files: &[&Path], out: &Path, extra: &[&str]) -> (image::RgbaImage, String) {
+    let mut args: Vec<&str> = vec!["render"];
+    args.extend(files.iter().map(|f| f.to_str().unwrap()));
+    args.extend(["--out", out.to_str().unwrap(), "--size", "160x160"]);
+    args.extend(extra);
+    let run = pointblend(&args);
+    assert!(run.status.success(), "{args:?}: {}", String::from_utf8_lossy(&run.stderr));
+    (image::open(out).unwrap().to_rgba8(), String::from_utf8_lossy(&run.stderr).into_owned())
+}
+
+/// A 40 × 40 tile of points 0.5 apart, sloping, far from the origin.
+fn tile() -> Vec<LidarPoint> {
+    tilted_grid(80, 0.5, 0.1, ORIGIN)
+}
+
+/// The tile's points with x (from its west edge) in `from..to`, written to `name`.
+fn part(dir: &Path, name: &str, from: f64, to: f64) -> PathBuf {
+    let points: Vec<LidarPoint> = tile().into_iter().filter(|p| (from..to).contains(&(p.xyz[0] - ORIGIN[0]))).collect();
+    write(&dir.join(name), &points, [ORIGIN[0], ORIGIN[1], 0.0], None)
+}
+
+#[test]
+fn two_halves_as_layers_equal_the_whole_and_meet_with_no_gap() {
+    let dir = tempfile::tempdir().unwrap();
+    let whole = part(dir.path(), "whole.laz", -1.0, 100.0);
+    let (west, east) = (part(dir.path(), "west.laz", -1.0, 19.9), part(dir.path(), "east.las", 19.9, 100.0));
+    let (one, _) = render(&[&whole], &dir.path().join("whole.png"), &[]);
+    let (two, _) = render(&[&west, &east], &dir.path().join("halves.png"), &[]);
+    if let Ok(keep) = std::env::var("POINTBLEND_KEEP_IMAGES") {
+        for name in ["whole.png", "halves.png"] {
+            std::fs::copy(dir.path().join(name), Path::new(&keep).join(format!("layers-{name}"))).unwrap();
+        }
+    }
+    let error = pointblend::reference::compare(&two, &one).unwrap();
+    assert!(error.eps <= 0.05, "ε {} between the halves and the whole", error.eps);
+    // No gap: wherever the whole draws the tile, the halves draw it too.
+    let background = *one.get_pixel(0, 0);
+    let drawn = one.pixels().filter(|p| **p != background).count();
+    let holes = one.pixels().zip(two.pixels()).filter(|(a, b)| **a != background && **b == background).count();
+    assert!(drawn > 5000, "{drawn} pixels drawn");
+    assert!(holes * 1000 <= drawn, "{holes} pixels of the {drawn} the whole draws are empty in the halves");
+}
+
+/// The `las` crate's bounds of a file, as a 3D box.
+fn bounds_of(path: &Path) -> [f64; 6] {
+    let b = las::Reader::from_path(path).unwrap().header().bounds();
+    [b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z]
+}
+
+#[test]
+fn a_vpc_draws_as_its_files_do_as_layers_and_opens_only_those_the_view_reaches() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut copcs = Vec::new();
+    for (k, (from, to)) in [(-1.0, 13.2), (13.2, 26.7), (26.7, 100.0)].into_iter().enumerate() {
+        let laz = part(dir.path(), &format!("t{k}.laz"), from, to);
+        let copc = dir.path().join("tiles").join(format!("t{k}.copc.laz"));
+        std::fs::create_dir_all(copc.parent().unwrap()).unwrap();
+        let run = pointblend(&["convert", laz.to_str().unwrap(), copc.to_str().unwrap()]);
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+        copcs.push(copc);
+    }
+    // `bbox` in degrees, as PDAL writes it; `proj:bbox` in the files' own coordinates.
+    let features: Vec<serde_json::Value> = copcs
+        .iter()
+        .enumerate()
+        .map(|(k, copc)| {
+            serde_json::json!({
+                "type": "Feature", "stac_version": "1.0.0", "id": format!("t{k}"), "geometry": null,
+                "bbox": [-123.0, 45.2, 0.0, -122.9, 45.3, 90.0],
+                "properties": {"proj:bbox": bounds_of(copc), "pc:count": 1},
+                "assets": {"data": {"href": format!("./tiles/t{k}.copc.laz"), "roles": ["data"]}},
+            })
+        })
+        .collect();
+    let vpc = dir.path().join("city.vpc");
+    let collection = serde_json::json!({"type": "FeatureCollection", "features": features});
+    std::fs::write(&vpc, serde_json::to_string_pretty(&collection).unwrap()).unwrap();
+
+    let layers: Vec<&Path> = copcs.iter().map(PathBuf::as_path).collect();
+    let (as_layers, _) = render(&layers, &dir.path().join("layers.png"), &[]);
+    let (from_vpc, log) = render(&[&vpc], &dir.path().join("vpc.png"), &[]);
+    assert!(log.contains("opening 3 of the layers' 3 files"), "{log}");
+    let error = pointblend::reference::compare(&from_vpc, &as_layers).unwrap();
+    assert!(error.eps <= 0.01, "ε {} between the .vpc and its files as layers", error.eps);
+
+    // A plan of the middle of the tile, 6 wide: only the middle file is opened.
+    let narrow = ["--projection", "ortho", "--view", "top", "--distance", "10"];
+    let (middle, log) = render(&[&vpc], &dir.path().join("middle.png"), &narrow);
+    assert!(log.contains("opening 1 of the layers' 3 files"), "{log}");
+    let background = *middle.get_pixel(0, 0);
+    let drawn = middle.pixels().filter(|p| **p != background).count();
+    assert!(drawn * 2 > (middle.width() * middle.height()) as usize, "{drawn} pixels drawn in the narrow view");
+}
+
+#[test]
+fn layers_in_two_crss_are_refused_in_one_line_naming_both() {
+    let dir = tempfile::tempdir().unwrap();
+    let offset = [ORIGIN[0], ORIGIN[1], 0.0];
+    let utm = write_with_crs(
+        &dir.path().join("utm.las"),
+        &tile(),
+        offset,
+        CrsRecord::GeoTiffKeys(&[(1024, 1), (3072, 32610)]),
+    );
+    let other = write_with_crs(
+        &dir.path().join("other.las"),
+        &tile(),
+        offset,
+        CrsRecord::GeoTiffKeys(&[(1024, 1), (3072, 32611)]),
+    );
+    let run = pointblend(&[
+        "render",
+        utm.to_str().unwrap(),
+        other.to_str().unwrap(),
+        "--out",
+        dir.path().join("x.png").to_str().unwrap(),
+    ]);
+    assert!(!run.status.success());
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error")).collect();
+    assert_eq!(errors.len(), 1, "{stderr}");
+    assert!(errors[0].contains("utm.las") && errors[0].contains("other.las"), "{}", errors[0]);
+    assert!(errors[0].contains("32610") && errors[0].contains("32611"), "{}", errors[0]);
+    assert!(!dir.path().join("x.png").exists());
+}
