@@ -103,6 +103,15 @@ fn a_vpc_draws_as_its_files_do_as_layers_and_opens_only_those_the_view_reaches()
     let error = pointblend::reference::compare(&from_vpc, &as_layers).unwrap();
     assert!(error.eps <= 0.01, "ε {} between the .vpc and its files as layers", error.eps);
 
+    // bench (and the viewer) open a .vpc as every one of its files.
+    let out = dir.path().join("bench");
+    let args = ["bench", vpc.to_str().unwrap(), "--modes", "two-pass", "--size", "64x64", "--views", "1"];
+    let run = pointblend(&[&args[..], &["--frames", "1", "--warm-up", "0", "--out", out.to_str().unwrap()]].concat());
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let table = std::fs::read_to_string(out.join("bench.md")).unwrap();
+    let splats = tile().len().to_string();
+    assert!(table.lines().any(|l| l.contains("city.vpc") && l.contains(&format!("| {splats} |"))), "{table}");
+
     // A plan of the middle of the tile, 6 wide: only the middle file is opened.
     let narrow = ["--projection", "ortho", "--view", "top", "--distance", "10"];
     let (middle, log) = render(&[&vpc], &dir.path().join("middle.png"), &narrow);

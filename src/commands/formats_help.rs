@@ -28,18 +28,28 @@ fn streaming_commands() -> String {
 
 /// A file that `render`, `pick` and `measure` draw.
 pub fn drawn_file() -> String {
+    format!("{}; or a virtual point cloud (.vpc) of such files, of which those the view reaches are opened", one_file())
+}
+
+/// A cloud, a scene file, or a streamed file.
+fn one_file() -> String {
     format!(
-        "Point cloud ({}), {}, or a {} file or http(s) URL, streamed under the point budget; or a virtual point cloud (.vpc) of such files, of which those the view reaches are opened",
+        "Point cloud ({}), {}, or a {} file or http(s) URL, streamed under the point budget",
         formats::names(whole, "or"),
         scene_files(),
         streamed_formats()
     )
 }
 
+/// The file `profile` cuts.
+pub fn profiled_file() -> String {
+    format!("Point cloud ({} or {}), every point read", formats::names(whole, "or"), streamed_formats())
+}
+
 /// The files `bench` measures.
 pub fn benched_files() -> String {
     format!(
-        "Point clouds ({}) or {}s; {} files and http(s) URLs are streamed view by view under the point budget (1M unless --point-budget)",
+        "Point clouds ({}), {}s or virtual point clouds (.vpc, every file of each together); {} files and http(s) URLs are streamed view by view under the point budget (1M unless --point-budget)",
         formats::names(whole, "or"),
         scene_files(),
         streamed_formats()
@@ -48,7 +58,10 @@ pub fn benched_files() -> String {
 
 /// The file `view` opens.
 pub fn opened_by_view() -> String {
-    format!("{} [default: the demo scene, assets/demo.toml]", drawn_file())
+    format!(
+        "{}; or a virtual point cloud (.vpc): every file of it [default: the demo scene, assets/demo.toml]",
+        one_file()
+    )
 }
 
 /// The file `info` describes.

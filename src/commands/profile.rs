@@ -25,7 +25,7 @@ use super::shared::{self, ViewArgs};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    #[arg(help = super::formats_help::drawn_file())]
+    #[arg(help = super::formats_help::profiled_file())]
     pub file: PathBuf,
     /// The profile's line X1,Y1,X2,Y2 on the ground, in file coordinates (the CRS's units).
     #[arg(long, value_parser = profile::parse_line, allow_hyphen_values = true)]

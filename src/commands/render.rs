@@ -224,11 +224,7 @@ type OpenedScene = (Scene, Option<(Camera, StreamedFlight)>, Option<Camera>);
 /// The scene to draw; for a streamed file, the nodes the first camera
 /// selects (a flight's `first`, else the sidecar's or the flags'), that
 /// camera, and the stream to select each later camera's nodes from.
-fn open_scene(
-    args: &Args,
-    sidecar: Option<&Sidecar>,
-    first: Option<Camera>,
-) -> Result<OpenedScene> {
+fn open_scene(args: &Args, sidecar: Option<&Sidecar>, first: Option<Camera>) -> Result<OpenedScene> {
     let mut streamed = None;
     if shared::is_layered(&args.file, &args.layers) {
         let (mut scene, camera) = shared::load_layers(&args.file, &args.layers, &args.view, &args.camera_flags)?;

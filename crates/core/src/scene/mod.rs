@@ -147,11 +147,17 @@ pub enum OpenError {
     Scene(#[from] SceneError),
 }
 
-/// Opens `path`: a scene file (`.toml`) or a PLY file (anything else, as a
-/// scene of one object). Returns the scene and the load warnings of its objects.
+/// Opens `path`: a scene file (`.toml`), a virtual point cloud (`.vpc`, its
+/// files as layers) or a cloud file (anything else, as a scene of one object). Returns the scene and the load warnings of its objects.
 pub fn open(path: &Path, options: &LoadOptions) -> Result<(Scene, Vec<String>), OpenError> {
     if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) {
         return Ok(file::read(path, options)?);
+    }
+    if vpc::is_vpc(path) {
+        // Every file of it, as layers (`render` opens only those its view reaches: commands/shared.rs).
+        let files = layers::layer_files(&[path.to_path_buf()])?;
+        let paths: Vec<&Path> = files.iter().map(|f| f.path.as_path()).collect();
+        return layers::open_layers(&paths, options);
     }
     let (scene, report) = Scene::load(path, options)?;
     let warnings = report.warnings.iter().map(|w| format!("{}: {w}", path.display())).collect();
