@@ -8,6 +8,8 @@
 
 mod common;
 
+use std::path::Path;
+
 use common::lidar::{LidarPoint, tilted_grid, write};
 
 const ORIGIN: [f64; 3] = [500_000.0, 4_100_000.0, 100.0];
@@ -131,4 +133,47 @@ fn a_profile_holds_exactly_the_slab_and_draws_it_from_the_side() {
     assert!(top.0 < image.width() / 3, "the highest drawn pixel is at {top:?}, not near the start on the left");
     let drawn = image.pixels().filter(|p| **p != background).count();
     assert!(drawn > 200, "{drawn} pixels drawn");
+}
+
+/// The profile's CSV of `file`, its rows sorted, and the log.
+fn csv_of(file: &Path, dir: &Path, line: &str) -> (Vec<String>, String) {
+    let csv = dir.join(format!("{}.csv", file.file_name().unwrap().to_string_lossy()));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .arg("profile")
+        .arg(file)
+        .args(["--line", line, "--width", "1", "--csv"])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut rows: Vec<String> = text.lines().skip(1).map(str::to_string).collect();
+    rows.sort();
+    (rows, String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+#[test]
+fn a_streamed_profile_reads_only_the_nodes_the_slab_meets_and_finds_what_the_whole_file_holds() {
+    let copc = require!(common::shared_data("lidar/lone-star.copc.laz"));
+    let dir = tempfile::tempdir().unwrap();
+    // The same file as plain LAZ, which is read whole.
+    let whole = dir.path().join("lone-star.laz");
+    std::fs::copy(&copc, &whole).unwrap();
+    // Through the middle, where the deepest nodes are; and in a corner, which few nodes meet.
+    let mut points_read = Vec::new();
+    for line in ["515378,4918355,515392,4918366", "515369,4918343,515384,4918352"] {
+        let (streamed, log) = csv_of(&copc, dir.path(), line);
+        let (read_whole, _) = csv_of(&whole, dir.path(), line);
+        assert!(streamed.len() > 100, "{line}: {} rows", streamed.len());
+        assert_eq!(streamed, read_whole, "{line}: the streamed slab differs from the whole file's");
+        let read: u64 = log
+            .lines()
+            .find_map(|l| {
+                l.split("lone-star.copc.laz: ").nth(1)?.split(" of its 518862 points read").next()?.parse().ok()
+            })
+            .unwrap_or_else(|| panic!("no line of the points read: {log}"));
+        points_read.push(read);
+    }
+    let read = points_read[1];
+    assert!(read < 518_862 / 2, "{read} points read for a slab in one corner");
 }

@@ -43,7 +43,11 @@ fn one_file() -> String {
 
 /// The file `profile` cuts.
 pub fn profiled_file() -> String {
-    format!("Point cloud ({} or {}), every point read", formats::names(whole, "or"), streamed_formats())
+    format!(
+        "Point cloud ({}), every point read; a {} file or http(s) URL: every point of the nodes the slab meets",
+        formats::names(whole, "or"),
+        streamed_formats()
+    )
 }
 
 /// The files `bench` measures.

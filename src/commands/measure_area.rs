@@ -4,7 +4,6 @@
 //! `--filter` and `--returns`, in the CRS's units; text, or `--json`.
 
 use anyhow::{Result, bail};
-use pointblend::cloud::LoadOptions;
 use pointblend::cloud::records::Records;
 use pointblend::inspect::area_volume::{self, Base, BaseUsed};
 use pointblend::inspect::polygon::Polygon;
@@ -33,12 +32,17 @@ pub struct PolygonArgs {
     pub cell: Option<f64>,
 }
 
-/// The records of `file` the scene flags keep, as file positions.
-fn positions(file: &std::path::Path, args: &pick::Args) -> Result<(Vec<glam::DVec3>, Records)> {
-    if pointblend::copc::is_url(&file.to_string_lossy()) {
-        bail!("{}: measure --polygon reads a local file's every point; download it first", file.display());
-    }
-    let records = Records::read(file, &LoadOptions { progress: true, ..Default::default() })?;
+/// The records of `file` around `polygon` (a streamed file's nodes that
+/// meet its box, a margin of `cell` or 5 % of its size around it) the
+/// scene flags keep, as file positions.
+fn positions(
+    file: &std::path::Path,
+    args: &pick::Args,
+    (polygon, cell): (&Polygon, Option<f64>),
+) -> Result<(Vec<glam::DVec3>, Records)> {
+    let (lo, hi) = polygon.bounds();
+    let margin = glam::DVec2::splat(cell.unwrap_or(0.0).max(0.05 * lo.distance(hi)));
+    let records = super::region_records::records_in(file, &args.view.stream, (lo - margin, hi + margin))?;
     let flags = &args.view.scene;
     let classes = (!flags.classes.is_empty()).then_some(flags.classes.as_slice());
     let kept = filter::kept_of(&records.attributes, records.len(), classes, &flags.filters, flags.returns)
@@ -51,9 +55,9 @@ pub fn run(args: &pick::Args, area: &PolygonArgs, polygon: &Polygon) -> Result<(
     // Every layer's points (a `.vpc`'s files too), in one CRS.
     let paths: Vec<std::path::PathBuf> = std::iter::once(file.clone()).chain(args.layers.iter().cloned()).collect();
     let files = pointblend::scene::layers::layer_files(&paths)?;
-    let (mut points, records) = positions(&files[0].path, args)?;
+    let (mut points, records) = positions(&files[0].path, args, (polygon, area.cell))?;
     for layer in &files[1..] {
-        let (more, other) = positions(&layer.path, args)?;
+        let (more, other) = positions(&layer.path, args, (polygon, area.cell))?;
         if other.units != records.units || other.crs != records.crs {
             bail!(
                 "{}: its CRS is {} but {}'s is {}: layers must share one CRS",
@@ -67,7 +71,7 @@ pub fn run(args: &pick::Args, area: &PolygonArgs, polygon: &Polygon) -> Result<(
     }
     let base_cloud = match &area.base {
         Some(other) => {
-            let (points, base_records) = positions(other, args)?;
+            let (points, base_records) = positions(other, args, (polygon, area.cell))?;
             if base_records.units != records.units {
                 bail!(
                     "{} is in {} but the base {} is in {}: give both in one CRS",

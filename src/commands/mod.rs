@@ -13,6 +13,7 @@ pub mod measure_area;
 pub mod parameter_flags;
 pub mod pick;
 pub mod profile;
+pub mod region_records;
 pub mod render;
 pub mod render_path;
 pub mod scene_args;

@@ -1,6 +1,7 @@
 //! `pointblend profile FILE --line X1,Y1,X2,Y2 --width W`: a cross-section.
 //! The slab is every point of the file (at full resolution: its records,
-//! [`pointblend::cloud::records`]) within W/2 of the line and between its
+//! [`pointblend::cloud::records`]; of a streamed file, the records of the
+//! nodes the slab meets, [`super::region_records`]) within W/2 of the line and between its
 //! ends ([`pointblend::inspect::profile`]), after `--classes`, `--filter`
 //! and `--returns`. `--csv` writes its rows, `--points` its records (LAS/LAZ
 //! copied with every field, or PLY), and `--out` draws it: the file, styled
@@ -14,11 +15,10 @@ use std::sync::Arc;
 
 use anyhow::{Context, Result, bail};
 use glam::{DVec2, DVec3};
-use pointblend::cloud::LoadOptions;
-use pointblend::cloud::records::Records;
 use pointblend::frame::{Camera, Projection, RenderMode, UpAxis, View};
 use pointblend::inspect::profile::{self, Profile};
 use pointblend::render::{Frame, GpuRenderer, PreparedScene, Readback};
+use pointblend::scene::Scene;
 use pointblend::style::filter;
 
 use super::shared::{self, ViewArgs};
@@ -57,10 +57,9 @@ pub fn run(args: &Args) -> Result<()> {
         shared::refuse_same_file(out, "the input", &args.file)?;
         shared::prepare_output(out)?;
     }
-    if pointblend::copc::is_url(&args.file.to_string_lossy()) {
-        bail!("{}: profile reads a local file's every point; download it first", args.file.display());
-    }
-    let records = Records::read(&args.file, &LoadOptions { progress: true, ..Default::default() })?;
+    let reach = DVec2::splat(args.width * 0.5);
+    let region = (start.min(end) - reach, start.max(end) + reach);
+    let records = super::region_records::records_in(&args.file, &args.view.stream, region)?;
     let scene_flags = &args.view.scene;
     let classes = (!scene_flags.classes.is_empty()).then_some(scene_flags.classes.as_slice());
     let chosen =
@@ -91,15 +90,30 @@ pub fn run(args: &Args) -> Result<()> {
         }
         let heights = slab.iter().map(|&i| records.positions[i as usize].z);
         let (low, high) = heights.fold((f64::MAX, f64::MIN), |(l, h), z| (l.min(z), h.max(z)));
-        drop(records);
-        draw(args, &profile, (low, high), out)?;
+        let name = args.file.to_string_lossy();
+        let scene = if pointblend::copc::is_streamed(&args.file) || pointblend::copc::is_url(&name) {
+            // A streamed file is drawn from the slab's own records, not opened whole.
+            let slab_file = pointblend::output::Temporary::with_suffix(".las")?;
+            records.write_subset(&slab, slab_file.path())?;
+            drop(records);
+            shared::load_scene(slab_file.path())?
+        } else {
+            drop(records);
+            shared::load_scene(&args.file)?
+        };
+        draw(args, scene, &profile, (low, high), out)?;
     }
     Ok(())
 }
 
 /// The side view of the slab at `out`.
-fn draw(args: &Args, profile: &Profile, (low, high): (f64, f64), out: &std::path::Path) -> Result<()> {
-    let mut scene = shared::load_scene(&args.file)?;
+fn draw(
+    args: &Args,
+    mut scene: Scene,
+    profile: &Profile,
+    (low, high): (f64, f64),
+    out: &std::path::Path,
+) -> Result<()> {
     // A cross-section is read point by point: every splat faces the viewer, as a dot, so that
     // level ground (discs facing up) is not drawn edge-on as a hairline.
     let side = profile.side().as_vec3();

@@ -22,6 +22,9 @@ pub enum RecordSource {
     Las(PathBuf),
     /// Another format's loaded cloud: record i is its splat i.
     Cloud(Box<PointCloud>),
+    /// Records decoded from a streamed file's nodes, as they are in the
+    /// file, under its header: record i is the i-th of `records`.
+    Raw { header: Box<las::Header>, records: Vec<u8> },
 }
 
 /// A file's points.
@@ -79,6 +82,15 @@ impl Records {
         match &self.source {
             RecordSource::Las(input) if !ply => {
                 super::write_las::copy_records::copy_records(input, output, keep).map(drop)
+            }
+            RecordSource::Raw { header, records } if !ply => {
+                super::write_las::copy_records::copy_raw_records(header, records, keep, output).map(drop)
+            }
+            RecordSource::Raw { header, records } => {
+                let all: Vec<u32> = (0..self.len() as u32).collect();
+                let las = crate::output::Temporary::with_suffix(".las").map_err(|e| CloudError::io(output, e))?;
+                super::write_las::copy_records::copy_raw_records(header, records, &all, las.path())?;
+                Records::read(las.path(), &LoadOptions::default())?.write_subset(keep, output)
             }
             RecordSource::Las(input) => {
                 // A splat PLY needs normals and radii: those of the subset's own points, estimated

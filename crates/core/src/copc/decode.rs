@@ -23,6 +23,36 @@ use crate::cloud::las_file::{Columns, laz_check};
 /// corner and side, file coordinates) is where they must lie: a corrupt
 /// chunk often decodes without an error, to points elsewhere.
 pub fn decode(header: &CopcHeader, chunk: &[u8], points: u32, cube: (DVec3, f64)) -> Result<Columns, String> {
+    let mut columns = Columns::default();
+    decode_each(header, chunk, points, cube, &mut |_, batch| columns.extend(&batch))?;
+    Ok(columns)
+}
+
+/// [`decode`], and the node's records as they are in the file (decompressed),
+/// for an export that copies them.
+pub fn decode_with_records(
+    header: &CopcHeader,
+    chunk: &[u8],
+    points: u32,
+    cube: (DVec3, f64),
+) -> Result<(Columns, Vec<u8>), String> {
+    let (mut columns, mut records) = (Columns::default(), Vec::new());
+    decode_each(header, chunk, points, cube, &mut |data, batch| {
+        columns.extend(&batch);
+        records.extend_from_slice(data.raw_bytes());
+    })?;
+    Ok((columns, records))
+}
+
+/// Decodes the chunk batch by batch, each batch checked against the cube
+/// and handed to `take` as records and as columns.
+fn decode_each(
+    header: &CopcHeader,
+    chunk: &[u8],
+    points: u32,
+    cube: (DVec3, f64),
+    take: &mut dyn FnMut(&las::PointData, Columns),
+) -> Result<(), String> {
     let record_len = usize::from(header.las.point_format().len());
     let bytes = points as usize * record_len;
     if bytes > chunk.len().saturating_mul(MOST_RATIO).max(1 << 16) {
@@ -38,7 +68,6 @@ pub fn decode(header: &CopcHeader, chunk: &[u8], points: u32, cube: (DVec3, f64)
     let mut decompressor = LayeredPointRecordDecompressor::new(std::io::Cursor::new(chunk));
     decompressor.set_fields_from(laz.items()).map_err(|e| format!("its LAZ items: {e}"))?;
     let inside = Inside::of(header, cube);
-    let mut columns = Columns::default();
     let mut left = points as usize;
     while left > 0 {
         let batch = left.min(BATCH_POINTS);
@@ -51,15 +80,16 @@ pub fn decode(header: &CopcHeader, chunk: &[u8], points: u32, cube: (DVec3, f64)
             .for_header(&header.las)
             .build_from_bytes(raw)
             .map_err(|e| format!("its records: {e}"))?;
-        let first = columns.len();
+        let mut columns = Columns::default();
         columns.append(&data, &header.fields);
-        let outside = (first..columns.len()).filter(|&i| !inside.holds(&columns, i)).count();
+        let outside = (0..columns.len()).filter(|&i| !inside.holds(&columns, i)).count();
         if outside > 0 {
             return Err(format!("{outside} of its {points} points lie outside its cube (a corrupt chunk?)"));
         }
+        take(&data, columns);
         left -= batch;
     }
-    Ok(columns)
+    Ok(())
 }
 
 /// Records decoded at a time.

@@ -34,6 +34,7 @@ pub(crate) mod node_estimates;
 pub(crate) mod node_groups;
 pub mod octree;
 pub mod redact;
+mod region;
 pub mod source;
 pub mod stream;
 mod stream_frame;

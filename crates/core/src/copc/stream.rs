@@ -96,19 +96,19 @@ pub struct StreamStats {
 }
 
 pub struct CopcStream {
-    source: Box<dyn ByteSource>,
+    pub(super) source: Box<dyn ByteSource>,
     pub header: CopcHeader,
     pub tree: CopcTree,
     cache: NodeCache,
     /// Nodes that failed, with why (skipped from then on).
-    failed: HashMap<u32, String>,
+    pub(super) failed: HashMap<u32, String>,
     /// Failures not logged one by one, for the next summary line.
     unlogged: usize,
     /// `--disk-cache DIR`, in the folder of this source's content.
     disk: Option<DiskCache>,
     /// The nodes of a file held whole ([`super::memory`]), gathered rather than read.
     pub(super) memory: Option<Arc<MemoryNodes>>,
-    options: StreamOptions,
+    pub(super) options: StreamOptions,
     stats: StreamStats,
     /// The levels' lattices for the groups ([`node_groups::lattice_depth`]), fixed at the first labelling.
     lattice_depth: Option<u32>,
@@ -209,26 +209,31 @@ impl CopcStream {
                 return selection;
             }
             for n in pending {
-                // A page read earlier in this round may have settled this node already.
-                let Some((at, size)) = self.tree.nodes[n as usize].page else { continue };
-                let owner = self.tree.nodes[n as usize].key;
-                let page = match self.tree.claim_page(at) {
-                    Ok(()) => self
-                        .source
-                        .read(at, size)
-                        .and_then(|bytes| self.tree.add_page(self.source.name(), Some(owner), &bytes))
-                        .map_err(|e| e.reason),
-                    Err(reason) => Err(reason),
-                };
-                let node = &mut self.tree.nodes[n as usize];
-                if let Err(reason) = page {
-                    node.page = None;
-                    self.fail(n, format!("its hierarchy page: {reason}"));
-                } else if node.page.is_some() {
-                    // The page did not list its own key: the node holds nothing.
-                    node.page = None;
-                }
+                self.read_page(n);
             }
+        }
+    }
+
+    /// Reads the hierarchy page node `n` waits on, if it still waits (a
+    /// page read earlier may have settled it); a page that fails fails the node.
+    pub(super) fn read_page(&mut self, n: u32) {
+        let Some((at, size)) = self.tree.nodes[n as usize].page else { return };
+        let owner = self.tree.nodes[n as usize].key;
+        let page = match self.tree.claim_page(at) {
+            Ok(()) => self
+                .source
+                .read(at, size)
+                .and_then(|bytes| self.tree.add_page(self.source.name(), Some(owner), &bytes))
+                .map_err(|e| e.reason),
+            Err(reason) => Err(reason),
+        };
+        let node = &mut self.tree.nodes[n as usize];
+        if let Err(reason) = page {
+            node.page = None;
+            self.fail(n, format!("its hierarchy page: {reason}"));
+        } else if node.page.is_some() {
+            // The page did not list its own key: the node holds nothing.
+            node.page = None;
         }
     }
 

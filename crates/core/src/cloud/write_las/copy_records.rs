@@ -22,18 +22,42 @@ fn describes_layout(vlr: &las::Vlr) -> bool {
     las::laz::is_laszip_vlr(vlr) || vlr.user_id.trim_end_matches('\0').eq_ignore_ascii_case("copc")
 }
 
+/// The header of a copy of records read under `input`'s header, written to `output`.
+fn copy_header(input: &las::Header, output: &Path) -> Result<las::Header, CloudError> {
+    let mut builder = las::Builder::from(input.clone());
+    builder.vlrs.retain(|v| !describes_layout(v));
+    builder.evlrs.retain(|v| !describes_layout(v));
+    builder.point_format.is_compressed = super::is_laz(output);
+    builder.generating_software = "pointblend".into();
+    builder.into_header().map_err(|e| CloudError::content(output, format!("cannot write: {e}")))
+}
+
+/// Writes the records `keep` (ascending indices) of `records`, raw records
+/// decoded under `header` (a streamed file's nodes), to `output`.
+pub fn copy_raw_records(header: &las::Header, records: &[u8], keep: &[u32], output: &Path) -> Result<u64, CloudError> {
+    let out_header = copy_header(header, output)?;
+    let record_len = usize::from(header.point_format().len());
+    super::write_with(output, out_header, |writer| {
+        for chunk in keep.chunks(BATCH as usize) {
+            let mut bytes = Vec::with_capacity(chunk.len() * record_len);
+            for &k in chunk {
+                let at = k as usize * record_len;
+                bytes.extend_from_slice(&records[at..at + record_len]);
+            }
+            writer.write_points(&las::PointDataBuilder::new().for_header(header).build_from_bytes(bytes)?)?;
+        }
+        Ok(())
+    })?;
+    Ok(keep.len() as u64)
+}
+
 /// Copies the records of `input` whose indices (in file order, ascending)
 /// are in `keep` into `output` (LAZ when its name ends in `.laz`); returns
 /// how many it wrote.
 pub fn copy_records(input: &Path, output: &Path, keep: &[u32]) -> Result<u64, CloudError> {
     debug_assert!(keep.windows(2).all(|w| w[0] < w[1]), "indices must ascend");
     let (mut reader, _) = las_file::open(input)?;
-    let mut builder = las::Builder::from(reader.header().clone());
-    builder.vlrs.retain(|v| !describes_layout(v));
-    builder.evlrs.retain(|v| !describes_layout(v));
-    builder.point_format.is_compressed = super::is_laz(output);
-    builder.generating_software = "pointblend".into();
-    let header = builder.into_header().map_err(|e| CloudError::content(output, format!("cannot write: {e}")))?;
+    let header = copy_header(reader.header(), output)?;
     let input_header = reader.header().clone();
     let compressed = input_header.point_format().is_compressed;
     let declared = input_header.number_of_points();

@@ -1,0 +1,86 @@
+//! A streamed file's points inside a horizontal box, at full resolution:
+//! what `profile` and `measure --polygon` read of a COPC file or URL. The
+//! hierarchy is walked from the root through every node whose cube meets
+//! the box (reading the pages the walk reaches), and every such node that
+//! holds points is read and decoded (in parallel), at every level: COPC
+//! spreads a region's points over all the levels above it. The records
+//! come back as they are in the file too, so an export copies them.
+
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+
+use super::{CopcError, CopcStream, decode};
+use crate::cloud::las_file::{self, Columns};
+use crate::cloud::records::{RecordSource, Records};
+
+impl CopcStream {
+    /// The nodes whose cube meets the box `lo..hi` (x and y, file
+    /// coordinates) and holds points, in file order.
+    fn nodes_meeting(&mut self, (lo, hi): (DVec2, DVec2)) -> Result<Vec<u32>, CopcError> {
+        let root = las::copc::VoxelKey { l: 0, x: 0, y: 0, z: 0 };
+        let Some(root) = self.tree.node(&root) else { return Ok(Vec::new()) };
+        let (mut stack, mut chosen) = (vec![root], Vec::new());
+        while let Some(n) = stack.pop() {
+            self.read_page(n);
+            if let Some(reason) = self.failed.get(&n) {
+                return Err(CopcError::new(self.name(), format!("a node of the region cannot be read: {reason}")));
+            }
+            let node = &self.tree.nodes[n as usize];
+            let (min, side) = self.tree.cube(&node.key);
+            let meets = min.x <= hi.x && min.x + side >= lo.x && min.y <= hi.y && min.y + side >= lo.y;
+            if !meets {
+                continue;
+            }
+            if node.points > 0 {
+                chosen.push(n);
+            }
+            stack.extend(node.children.iter().copied());
+        }
+        chosen.sort_by_key(|&n| self.tree.nodes[n as usize].offset);
+        Ok(chosen)
+    }
+
+    /// Every point of the nodes meeting the box `lo..hi` (x and y, file
+    /// coordinates) as records: a superset of the points in the box, which
+    /// the caller selects from.
+    pub fn region_records(&mut self, (lo, hi): (DVec2, DVec2)) -> Result<Records, CopcError> {
+        let nodes = self.nodes_meeting((lo, hi))?;
+        let total: u64 = nodes.iter().map(|&n| u64::from(self.tree.nodes[n as usize].points)).sum();
+        let bar = crate::progress::bar(total, "reading the region's nodes", self.options.progress);
+        let mut chunks = Vec::with_capacity(nodes.len());
+        for &n in &nodes {
+            let node = &self.tree.nodes[n as usize];
+            chunks.push((n, self.source.read(node.offset, node.byte_size)?));
+        }
+        let decoded: Vec<Result<(Columns, Vec<u8>), String>> = chunks
+            .par_iter()
+            .map(|(n, bytes)| {
+                let node = &self.tree.nodes[*n as usize];
+                let result = decode::decode_with_records(&self.header, bytes, node.points, self.tree.cube(&node.key));
+                bar.inc(u64::from(node.points));
+                result.map_err(|reason| {
+                    let k = node.key;
+                    format!("node {}-{}-{}-{}: {reason}", k.l, k.x, k.y, k.z)
+                })
+            })
+            .collect();
+        bar.finish();
+        let (mut columns, mut records) = (Columns::default(), Vec::new());
+        for result in decoded {
+            let (c, r) = result.map_err(|reason| CopcError::new(self.name(), reason))?;
+            columns.extend(&c);
+            records.extend(r);
+        }
+        let mut warnings = Vec::new();
+        let (data, attributes) = columns.finish(&self.header.fields, String::new(), &mut warnings);
+        let column = |name: &str| &data.vertex_columns[name];
+        let (x, y, z) = (column("x"), column("y"), column("z"));
+        Ok(Records {
+            positions: (0..data.vertex_count).map(|i| DVec3::new(x[i], y[i], z[i])).collect(),
+            attributes,
+            units: las_file::crs_units(&self.header.las),
+            crs: las_file::crs(&self.header.las),
+            source: RecordSource::Raw { header: Box::new(self.header.las.clone()), records },
+        })
+    }
+}
