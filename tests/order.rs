@@ -218,7 +218,7 @@ fn slicing_many_slabs_uses_both_levels() {
     // result must be exactly the full sort.
     let points: Vec<Vec3> =
         (0..20_000).map(|i| Vec3::new(0.0, 0.0, -1.0 - (i * 7919 % 20_000) as f32 * 1e-3)).collect();
-    let ray = ViewRay { eye: Vec3::ZERO, forward: Vec3::NEG_Z };
+    let ray = ViewRay { eye: Vec3::ZERO, forward: Vec3::NEG_Z, parallel: false };
     let (mut sorted, mut sliced) = (Vec::new(), Vec::new());
     full_sort(&points, ray, &mut sorted);
     let slab = BucketSort::new(1e-3 * 0.999).back_to_front(&points, ray, &mut sliced);
@@ -256,7 +256,7 @@ fn the_bsp_visits_its_cells_back_to_front_along_every_pixel_ray_of_real_scans() 
         let scale = bounds.radius();
         for view in standard_views(&cloud, 1.0, 5, &CameraRequest::default()) {
             let ray_view = view.camera.view_ray();
-            let cells = tree.cells_back_to_front(ray_view.eye, (bounds.min, bounds.max));
+            let cells = tree.cells_back_to_front(&ray_view, (bounds.min, bounds.max));
             assert_eq!(cells.iter().map(|(_, run)| run.len()).sum::<usize>(), cloud.len());
             for ((lo, hi), run) in &cells {
                 for &i in *run {

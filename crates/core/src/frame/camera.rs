@@ -83,7 +83,7 @@ pub const Z_UP_ELEVATION_DEG: f32 = 40.0;
 impl Camera {
     /// Where it looks from and along: what back-to-front orders sort for.
     pub fn view_ray(&self) -> crate::spatial::order::ViewRay {
-        crate::spatial::order::ViewRay { eye: self.eye(), forward: -self.direction() }
+        crate::spatial::order::ViewRay { eye: self.eye(), forward: -self.direction(), parallel: self.is_ortho() }
     }
 
     /// A camera that frames a sphere at `centre` with `radius`, for an image of `aspect` = w/h.

@@ -9,7 +9,8 @@
 //! permuted index array.
 //!
 //! Per view, the traversal visits at each split the child on the far side of
-//! the plane from the eye first: every node is visited once and every leaf
+//! the plane from the eye first (in orthographic, where rays are parallel,
+//! the side the view direction runs to, wherever the eye stands): every node is visited once and every leaf
 //! copies its run, so a view costs O(n). Along any ray from the eye, the
 //! cells are met far to near, so a centre of an earlier leaf lies behind
 //! every centre of a later one on that ray; inside a leaf the order is
@@ -24,6 +25,8 @@
 //! along such planes; the bucket order has no such case (tests/order.rs).
 
 use glam::Vec3;
+
+use super::ViewRay;
 
 /// At most this many splats share a leaf (unless they all coincide).
 pub const LEAF_SPLATS: usize = 8;
@@ -88,16 +91,16 @@ impl BspTree {
         id
     }
 
-    /// The splat indices back to front as seen from `eye`, into `out`.
-    pub fn back_to_front(&self, eye: Vec3, out: &mut Vec<u32>) {
+    /// The splat indices back to front as seen from `view`, into `out`.
+    pub fn back_to_front(&self, view: &ViewRay, out: &mut Vec<u32>) {
         out.clear();
         out.reserve(self.indices.len());
-        self.visit_leaves(eye, |run| out.extend_from_slice(run));
+        self.visit_leaves(view, |run| out.extend_from_slice(run));
     }
 
-    /// The leaves back to front as seen from `eye`: each leaf's cell (an
+    /// The leaves back to front as seen from `view`: each leaf's cell (an
     /// axis-aligned box; the root's is `bounds`, the cells tile it) and splats.
-    pub fn cells_back_to_front(&self, eye: Vec3, bounds: (Vec3, Vec3)) -> Vec<((Vec3, Vec3), &[u32])> {
+    pub fn cells_back_to_front(&self, view: &ViewRay, bounds: (Vec3, Vec3)) -> Vec<((Vec3, Vec3), &[u32])> {
         let mut leaves = Vec::new();
         if self.nodes.is_empty() {
             return leaves;
@@ -111,7 +114,7 @@ impl BspTree {
                     low_hi[axis as usize] = value;
                     high_lo[axis as usize] = value;
                     let (low, high) = ((low, (lo, low_hi)), (high, (high_lo, hi)));
-                    if eye[axis as usize] <= value {
+                    if view.far_side_is_high(axis as usize, value) {
                         stack.extend([low, high]);
                     } else {
                         stack.extend([high, low]);
@@ -123,7 +126,7 @@ impl BspTree {
     }
 
     /// Calls `leaf` with each leaf's run, far side of every split first.
-    fn visit_leaves<'a>(&'a self, eye: Vec3, mut leaf: impl FnMut(&'a [u32])) {
+    fn visit_leaves<'a>(&'a self, view: &ViewRay, mut leaf: impl FnMut(&'a [u32])) {
         if self.nodes.is_empty() {
             return;
         }
@@ -134,7 +137,7 @@ impl BspTree {
                 Node::Leaf { start, end } => leaf(&self.indices[start as usize..end as usize]),
                 Node::Split { axis, value, low, high } => {
                     // The far side is popped first.
-                    if eye[axis as usize] <= value {
+                    if view.far_side_is_high(axis as usize, value) {
                         stack.extend([low, high]);
                     } else {
                         stack.extend([high, low]);
@@ -158,4 +161,28 @@ fn median(values: &[f32]) -> f32 {
     let mut v = values.to_vec();
     let mid = v.len() / 2;
     *v.select_nth_unstable_by(mid, f32::total_cmp).1
+}
+
+#[cfg(test)]
+mod parallel_tests {
+    use super::*;
+
+    #[test]
+    fn in_orthographic_the_far_side_is_the_one_the_view_direction_runs_to() {
+        // A row of splats along x, seen nearly from above, the rays leaning to +x: the eye
+        // (beyond the row's +x end) is on the high side of every split, yet along the
+        // parallel rays the high side is the far one.
+        let points: Vec<Vec3> = (0..4096).map(|i| Vec3::new(i as f32 * 0.01, 0.0, 0.0)).collect();
+        let tree = BspTree::build(&points, &vec![0.005; points.len()]);
+        let forward = Vec3::new(0.2, 0.0, -1.0).normalize();
+        let eye = Vec3::new(60.0, 0.0, 5.0);
+        let mut order = Vec::new();
+        tree.back_to_front(&ViewRay { eye, forward, parallel: true }, &mut order);
+        let ends = |order: &[u32]| (points[order[0] as usize].x, points[order[order.len() - 1] as usize].x);
+        let (first, last) = ends(&order);
+        assert!(first > last, "parallel rays: the first splat at x {first}, the last at {last}");
+        tree.back_to_front(&ViewRay { eye, forward, parallel: false }, &mut order);
+        let (first, last) = ends(&order);
+        assert!(first < last, "from the eye: the far end is the low one ({first}, {last})");
+    }
 }

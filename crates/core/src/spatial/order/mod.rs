@@ -36,9 +36,17 @@ use glam::Vec3;
 pub struct ViewRay {
     pub eye: Vec3,
     pub forward: Vec3,
+    /// Orthographic: every ray runs along `forward` (from anywhere), not out of the eye.
+    pub parallel: bool,
 }
 
 impl ViewRay {
+    /// Whether the high side of the plane `axis` = `value` is the far one:
+    /// the side without the eye, or in orthographic the side `forward` runs to.
+    pub fn far_side_is_high(&self, axis: usize, value: f32) -> bool {
+        if self.parallel { self.forward[axis] >= 0.0 } else { self.eye[axis] <= value }
+    }
+
     /// Gunjee's Eq. 12: the distance from the eye to `p` projected on the view direction.
     pub fn depth(&self, p: Vec3) -> f32 {
         (p - self.eye).dot(self.forward)
@@ -99,7 +107,7 @@ impl Orderer {
     pub fn back_to_front(&mut self, points: &[Vec3], view: ViewRay, out: &mut Vec<u32>) -> f32 {
         match self {
             Orderer::Bsp(tree) => {
-                tree.back_to_front(view.eye, out);
+                tree.back_to_front(&view, out);
                 tree.slab()
             }
             Orderer::Bucket(buckets) => buckets.back_to_front(points, view, out),
