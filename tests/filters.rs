@@ -74,3 +74,41 @@ fn a_filter_on_an_attribute_the_file_lacks_is_refused_in_one_line() {
     );
     assert!(line.contains("intensity"), "it lists the attributes the file has: {line}");
 }
+
+/// The columns an image draws in (not its corner's background colour): (first, last).
+fn drawn_columns(image: &image::RgbaImage) -> (u32, u32) {
+    let background = *image.get_pixel(0, 0);
+    let drawn: Vec<u32> =
+        (0..image.width()).filter(|&x| (0..image.height()).any(|y| *image.get_pixel(x, y) != background)).collect();
+    (*drawn.first().expect("nothing drawn"), *drawn.last().unwrap())
+}
+
+#[test]
+fn a_streamed_files_default_view_frames_the_points_its_filters_keep() {
+    // Ground of class 2 in one corner, 8 x 8 of a 40 x 40 tile of class 5.
+    let dir = tempfile::tempdir().unwrap();
+    let origin = [600_000.0, 5_000_000.0, 100.0];
+    let points: Vec<LidarPoint> = tilted_grid(80, 0.5, 0.0, origin)
+        .into_iter()
+        .map(|mut p| {
+            let corner = p.xyz[0] - origin[0] < 8.0 && p.xyz[1] - origin[1] < 8.0;
+            p.class = if corner { 2 } else { 5 };
+            p
+        })
+        .collect();
+    let laz = write(&dir.path().join("tile.laz"), &points, [origin[0], origin[1], 0.0], None);
+    let copc = dir.path().join("tile.copc.laz");
+    let converted = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .arg("convert")
+        .arg(&laz)
+        .arg(&copc)
+        .output()
+        .unwrap();
+    assert!(converted.status.success(), "{}", String::from_utf8_lossy(&converted.stderr));
+    for file in [&laz, &copc] {
+        let out = dir.path().join(format!("{}.png", file.file_name().unwrap().to_string_lossy()));
+        let image = render(&[file.to_str().unwrap(), "--filter", "classification=2", "--size", "128x128"], &out);
+        let (first, last) = drawn_columns(&image);
+        assert!(last - first > 64, "{}: the kept corner spans columns {first}..{last} of 128", file.display());
+    }
+}

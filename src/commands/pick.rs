@@ -70,9 +70,9 @@ impl Picking {
             (scene, camera)
         } else {
             match view.stream.open(file, pointblend::copc::drawn_by_nodes(file, view.stream_budget()?))? {
-                Some(stream) => {
+                Some(mut stream) => {
                     let bounds = super::stream_args::bounds_scene(&stream);
-                    let camera = view.camera(flags, &bounds)?;
+                    let camera = view.camera(flags, &super::stream_args::framing_scene(&mut stream, &view.scene))?;
                     let choosing = pointblend::lod::Choosing::of(&view.base_settings(&bounds, RenderMode::RULER)?);
                     let mut scene =
                         super::stream_args::frame_scene(stream, &camera, size, (view.stream_budget()?, choosing))?.0;

@@ -237,12 +237,15 @@ fn open_scene(args: &Args, sidecar: Option<&Sidecar>, first: Option<Camera>) -> 
         None => pointblend::copc::drawn_by_nodes(&args.file, args.view.stream_budget()?),
     };
     let mut scene = match args.view.stream.open(&args.file, by_nodes)? {
-        Some(stream) => {
+        Some(mut stream) => {
             let bounds = super::stream_args::bounds_scene(&stream);
             let camera = match (first, sidecar) {
                 (Some(camera), _) => camera,
                 (None, Some(s)) => s.camera(),
-                (None, None) => args.view.camera(&args.camera_flags, &bounds)?,
+                (None, None) => {
+                    let framed = super::stream_args::framing_scene(&mut stream, &args.view.scene);
+                    args.view.camera(&args.camera_flags, &framed)?
+                }
             };
             let size = sidecar.map_or(args.view.size, |s| (s.size[0], s.size[1]));
             // Chosen as the frame's settings say: their radius scale, and every node when lit.

@@ -71,6 +71,34 @@ pub fn bounds_scene(stream: &CopcStream) -> Scene {
     Scene::single(stream.file_name(), stream.bounds_cloud(), 0)
 }
 
+/// What the default view of a streamed file frames: with `--classes`,
+/// `--filter` or `--returns`, the points of its root node (a sample of the
+/// whole file) that they keep, in the frame of [`bounds_scene`]; else, or
+/// when the root cannot be read or keeps nothing, its bounds.
+pub fn framing_scene(stream: &mut CopcStream, flags: &super::scene_args::SceneArgs) -> Scene {
+    let bounds = bounds_scene(stream);
+    if flags.classes.is_empty() && flags.filters.is_empty() && flags.returns.is_none() {
+        return bounds;
+    }
+    let Ok(records) = stream.root_records() else { return bounds };
+    let classes = (!flags.classes.is_empty()).then_some(flags.classes.as_slice());
+    let kept =
+        pointblend::style::filter::kept_of(&records.attributes, records.len(), classes, &flags.filters, flags.returns);
+    let Some(kept) = kept.ok().filter(|k| !k.is_empty()) else { return bounds };
+    let frame = &bounds.objects[0].cloud;
+    let origin = glam::DVec3::from_array(frame.origin);
+    let n = kept.len();
+    let cloud = pointblend::cloud::PointCloud {
+        positions: kept.iter().map(|&i| (records.positions[i as usize] - origin).as_vec3()).collect(),
+        normals: vec![glam::Vec3::Z; n],
+        radii: vec![0.0; n],
+        colours: vec![[0; 3]; n],
+        opacity: vec![1.0; n],
+        ..frame.select(&[])
+    };
+    Scene::single(stream.file_name(), cloud, 0)
+}
+
 /// The scene of the nodes `stream` selects from `camera` at `size` under
 /// `budget`, chosen as the frame's settings say (`choosing`), loaded as
 /// needed: the stream's frame as a [`Subset`], as bench and the viewer

@@ -45,10 +45,22 @@ impl CopcStream {
     /// the caller selects from.
     pub fn region_records(&mut self, (lo, hi): (DVec2, DVec2)) -> Result<Records, CopcError> {
         let nodes = self.nodes_meeting((lo, hi))?;
+        self.records_of(&nodes)
+    }
+
+    /// The root node's points as records: a sample of the whole file.
+    pub fn root_records(&mut self) -> Result<Records, CopcError> {
+        let root = las::copc::VoxelKey { l: 0, x: 0, y: 0, z: 0 };
+        let nodes: Vec<u32> = self.tree.node(&root).into_iter().collect();
+        self.records_of(&nodes)
+    }
+
+    /// Every point of `nodes` (in file order) as records.
+    fn records_of(&mut self, nodes: &[u32]) -> Result<Records, CopcError> {
         let total: u64 = nodes.iter().map(|&n| u64::from(self.tree.nodes[n as usize].points)).sum();
         let bar = crate::progress::bar(total, "reading the region's nodes", self.options.progress);
         let mut chunks = Vec::with_capacity(nodes.len());
-        for &n in &nodes {
+        for &n in nodes {
             let node = &self.tree.nodes[n as usize];
             chunks.push((n, self.source.read(node.offset, node.byte_size)?));
         }
