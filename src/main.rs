@@ -185,6 +185,7 @@ mod tests {
                     "out",
                     "animate",
                     "path",
+                    "together",
                 ],
             ),
             ("view", &["screenshot", "exit-after-frames", "screenshot-dir", "out", "time"]),
@@ -221,6 +222,20 @@ mod tests {
         rows.sort();
         assert_eq!(keys, rows, "the sidecar's settings");
         assert_eq!(sidecar.settings(), Ok(settings));
+    }
+
+    /// No subcommand has two flags of one name (say a command's own flag and
+    /// a flattened parameter's): clap checks that only in debug builds, and a
+    /// release build silently gives the value to one of them.
+    #[test]
+    fn no_subcommand_has_two_flags_of_one_name() {
+        use clap::CommandFactory;
+        for sub in Cli::command().get_subcommands() {
+            let mut seen = std::collections::BTreeSet::new();
+            for long in sub.get_arguments().filter_map(|a| a.get_long()) {
+                assert!(seen.insert(long), "`pointblend {}` has two --{long} flags", sub.get_name());
+            }
+        }
     }
 
     /// The window takes every camera, streaming and time flag that `render` takes.

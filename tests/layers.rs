@@ -59,6 +59,17 @@ fn two_halves_as_layers_equal_the_whole_and_meet_with_no_gap() {
     let holes = one.pixels().zip(two.pixels()).filter(|(a, b)| **a != background && **b == background).count();
     assert!(drawn > 5000, "{drawn} pixels drawn");
     assert!(holes * 1000 <= drawn, "{holes} pixels of the {drawn} the whole draws are empty in the halves");
+
+    // bench --together draws the two as layers (without it, each apart).
+    let out = dir.path().join("bench");
+    let args = ["bench", west.to_str().unwrap(), east.to_str().unwrap(), "--together", "--modes", "two-pass"];
+    let more = ["--size", "64x64", "--views", "1", "--frames", "1", "--warm-up", "0", "--out", out.to_str().unwrap()];
+    let run = pointblend(&[&args[..], &more[..]].concat());
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let table = std::fs::read_to_string(out.join("bench.md")).unwrap();
+    let splats = format!("| {} |", tile().len());
+    let rows: Vec<&str> = table.lines().filter(|l| l.contains("| two-pass |")).collect();
+    assert!(!rows.is_empty() && rows.iter().all(|l| l.contains("west+1.vpc") && l.contains(&splats)), "{table}");
 }
 
 /// The `las` crate's bounds of a file, as a 3D box.

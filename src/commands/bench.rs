@@ -15,6 +15,10 @@ use super::shared::ViewArgs;
 pub struct Args {
     #[arg(required = true, help = super::formats_help::benched_files())]
     pub files: Vec<PathBuf>,
+    /// Draw the files together, as layers of one scene (each its own object and origin),
+    /// instead of one benchmark each.
+    #[arg(long)]
+    pub together: bool,
     #[command(flatten)]
     pub view: ViewArgs,
     /// Mode variants to run, comma-separated: a mode name runs it with its
@@ -173,7 +177,18 @@ pub fn run(args: &Args) -> Result<()> {
         ruler,
         no_reference: args.no_reference,
     };
-    let outcome = bench::run(&args.files, &config, &mut renderer)?;
+    let layers = match args.together {
+        true if args.files.len() < 2 => {
+            bail!("--together draws several files as layers of one scene; give at least two")
+        }
+        true => Some(super::shared::layers_file(&args.files)?),
+        false => None,
+    };
+    let files = match &layers {
+        Some(layers) => vec![layers.path.clone()],
+        None => args.files.clone(),
+    };
+    let outcome = bench::run(&files, &config, &mut renderer)?;
     if !outcome.rows.is_empty() {
         print!("{}", bench::report::markdown(&outcome.rows));
     }

@@ -23,16 +23,16 @@ struct Part {
     out: PathBuf,
 }
 
-/// With FILE: every mode on it, into `args.out`. Without: the opaque modes
+/// With `file` (FILE, or the `.vpc` of FILE and MORE): every mode on it, into `args.out`. Without: the opaque modes
 /// on the bundled lion and the transparent ones on the demo scene (the
 /// lion at 0.5 with opaque balls inside and around it) and the lidar demo, each into its own
 /// folder under `args.out`, so that every transparent mode shows what it is
 /// for. Then one compact table, `bench.json` and the plot of all rows, and
 /// the contact sheet `modes.png`.
-pub fn run(args: &Args) -> Result<()> {
+pub fn run(args: &Args, file: Option<&std::path::Path>) -> Result<()> {
     let asset = |name| pointblend::assets::path(name).map_err(anyhow::Error::msg);
-    let parts = match &args.file {
-        Some(file) => vec![Part { model: file.clone(), modes: RenderMode::ALL.to_vec(), out: args.out.clone() }],
+    let parts = match file {
+        Some(file) => vec![Part { model: file.to_path_buf(), modes: RenderMode::ALL.to_vec(), out: args.out.clone() }],
         None => {
             let (transparent, opaque): (Vec<RenderMode>, Vec<RenderMode>) =
                 RenderMode::ALL.into_iter().filter(|m| m.is_gpu()).partition(|m| m.info().transparent);

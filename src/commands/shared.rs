@@ -91,6 +91,38 @@ pub fn load_layers(
     Ok((scene, camera))
 }
 
+/// Several files as one virtual point cloud, for the commands that open
+/// one path (`view A B`, `bench --together`): a `.vpc` listing them (absolute
+/// paths; URLs as they are), named after them, in a temporary folder that
+/// lives as long as this value.
+pub struct LayersFile {
+    _folder: tempfile::TempDir,
+    pub path: std::path::PathBuf,
+}
+
+/// [`LayersFile`] of `files` (at least two).
+pub fn layers_file(files: &[std::path::PathBuf]) -> Result<LayersFile> {
+    let features = files
+        .iter()
+        .map(|file| {
+            let href = if pointblend::copc::is_url(&file.to_string_lossy()) {
+                file.to_string_lossy().into_owned()
+            } else {
+                let absolute = std::fs::canonicalize(file).with_context(|| format!("{}: cannot open", file.display()))?;
+                absolute.to_string_lossy().into_owned()
+            };
+            Ok(serde_json::json!({"type": "Feature", "geometry": null, "properties": {}, "assets": {"data": {"href": href}}}))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let first = files[0].file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let first = first.trim_end_matches(".copc");
+    let folder = tempfile::Builder::new().prefix("pointblend-layers-").tempdir()?;
+    let path = folder.path().join(format!("{first}+{}.vpc", files.len() - 1));
+    let collection = serde_json::json!({"type": "FeatureCollection", "features": features});
+    std::fs::write(&path, serde_json::to_string_pretty(&collection)?)?;
+    Ok(LayersFile { _folder: folder, path })
+}
+
 /// `WxH`, e.g. `512x512`.
 pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let (w, h) = text.split_once(['x', 'X']).ok_or_else(|| format!("'{text}' is not WxH, e.g. 512x512"))?;

@@ -17,6 +17,15 @@ use pointblend::viewer::{self, ViewerError, ViewerOptions};
 pub use super::view_args::Args;
 
 pub fn run(args: &Args) -> Result<()> {
+    // Several files open as the virtual point cloud of them, which lives while the viewer runs.
+    let layers = match &args.file {
+        Some(first) if !args.layers.is_empty() => {
+            let files: Vec<_> = std::iter::once(first.clone()).chain(args.layers.iter().cloned()).collect();
+            Some(super::shared::layers_file(&files)?)
+        }
+        _ => None,
+    };
+    let file = layers.as_ref().map(|l| l.path.clone()).or_else(|| args.file.clone());
     let view = args.camera.as_deref().map(Sidecar::read).transpose()?;
     if let Some(file) = args.file.as_ref().filter(|f| !pointblend::copc::is_url(&f.to_string_lossy())) {
         // Fail early and on one line, before a window opens, when the file is not
@@ -31,7 +40,7 @@ pub fn run(args: &Args) -> Result<()> {
     let shot_clip = view.as_ref().and_then(|v| v.clip.clone()).unwrap_or_default();
     let clip = args.view.scene.clip_region_or(&shot_clip).map_err(anyhow::Error::msg)?;
     let options = ViewerOptions {
-        file: match &args.file {
+        file: match &file {
             Some(file) => Some(file.clone()),
             None if first_run => {
                 Some(pointblend::assets::path(pointblend::assets::DEMO_SCENE).map_err(anyhow::Error::msg)?)
@@ -64,7 +73,7 @@ pub fn run(args: &Args) -> Result<()> {
                 ViewerError::NoDisplay => eprintln!("pointblend: no window: {e}; rendering headless instead"),
                 ViewerError::Window(_) => eprintln!("pointblend: {e}; rendering headless instead"),
             }
-            super::main_job::run(args)
+            super::main_job::run(args, file.as_deref())
         }
     }
 }
