@@ -177,17 +177,7 @@ pub fn run(args: &Args) -> Result<()> {
         ruler,
         no_reference: args.no_reference,
     };
-    let layers = match args.together {
-        true if args.files.len() < 2 => {
-            bail!("--together draws several files as layers of one scene; give at least two")
-        }
-        true => Some(super::shared::layers_file(&args.files)?),
-        false => None,
-    };
-    let files = match &layers {
-        Some(layers) => vec![layers.path.clone()],
-        None => args.files.clone(),
-    };
+    let (files, _layers) = benched(args)?;
     let outcome = bench::run(&files, &config, &mut renderer)?;
     if !outcome.rows.is_empty() {
         print!("{}", bench::report::markdown(&outcome.rows));
@@ -211,4 +201,17 @@ pub fn run(args: &Args) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The models to measure: the files, or with `--together` one `.vpc` of
+/// them (kept alive by the second value while the benchmark runs).
+fn benched(args: &Args) -> Result<(Vec<PathBuf>, Option<super::shared::LayersFile>)> {
+    if !args.together {
+        return Ok((args.files.clone(), None));
+    }
+    if args.files.len() < 2 {
+        bail!("--together draws several files as layers of one scene; give at least two");
+    }
+    let layers = super::shared::layers_file(&args.files)?;
+    Ok((vec![layers.path.clone()], Some(layers)))
 }
