@@ -19,7 +19,7 @@ pub struct Args {
     #[arg(help = super::formats_help::drawn_file())]
     pub file: PathBuf,
     /// More files picked with the first, as layers (each its own object and origin).
-    #[arg(value_name = "MORE")]
+    #[arg(id = "more_files", value_name = "MORE")]
     pub layers: Vec<PathBuf>,
     /// A pixel X,Y (from the top left, in the --size image) whose ray is
     /// cast; repeatable (measure: at least two, in order along the polyline).

@@ -21,7 +21,7 @@ pub struct Args {
     pub file: PathBuf,
     /// More files drawn with the first, as layers: each its own object, origin and attributes
     /// (the flags style every layer; a scene file styles each).
-    #[arg(value_name = "MORE")]
+    #[arg(id = "more_files", value_name = "MORE")]
     pub layers: Vec<PathBuf>,
     /// Rendering mode. tiled (exact) becomes the default only once it is at
     /// least as fast as two-pass wherever measured: on an H200 it is the

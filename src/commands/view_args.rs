@@ -13,7 +13,7 @@ pub struct Args {
     #[arg(help = super::formats_help::opened_by_view())]
     pub file: Option<PathBuf>,
     /// More files opened with the first, as layers of one scene (each its own object and origin).
-    #[arg(value_name = "MORE")]
+    #[arg(id = "more_files", value_name = "MORE")]
     pub layers: Vec<PathBuf>,
     /// Save a screenshot of the whole window (UI included) to this PNG once the
     /// first full-quality frame is shown, then close (for documentation and tests).
