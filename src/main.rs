@@ -228,12 +228,18 @@ mod tests {
     /// a flattened parameter's): clap checks that only in debug builds, and a
     /// release build silently gives the value to one of them.
     #[test]
-    fn no_subcommand_has_two_flags_of_one_name() {
+    fn no_subcommand_has_two_flags_or_arguments_of_one_name() {
         use clap::CommandFactory;
         for sub in Cli::command().get_subcommands() {
             let mut seen = std::collections::BTreeSet::new();
             for long in sub.get_arguments().filter_map(|a| a.get_long()) {
                 assert!(seen.insert(long), "`pointblend {}` has two --{long} flags", sub.get_name());
+            }
+            // Nor two arguments of one id: clap would give both one value (as the MORE files
+            // once took the --layers parameter's).
+            let mut ids = std::collections::BTreeSet::new();
+            for id in sub.get_arguments().map(|a| a.get_id().as_str()) {
+                assert!(ids.insert(id), "`pointblend {}` has two arguments of id {id}", sub.get_name());
             }
         }
     }

@@ -70,6 +70,25 @@ fn two_halves_as_layers_equal_the_whole_and_meet_with_no_gap() {
     let splats = format!("| {} |", tile().len());
     let rows: Vec<&str> = table.lines().filter(|l| l.contains("| two-pass |")).collect();
     assert!(!rows.is_empty() && rows.iter().all(|l| l.contains("west+1.vpc") && l.contains(&splats)), "{table}");
+
+    // view A B with no display: the main job on the two as one scene, every mode.
+    let run = Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .args(["view", west.to_str().unwrap(), east.to_str().unwrap(), "--size", "48x48"])
+        .env("WGPU_BACKEND", "vulkan")
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let rows: Vec<serde_json::Value> =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("out/bench.json")).unwrap()).unwrap();
+    let modes: std::collections::BTreeSet<&str> = rows.iter().filter_map(|r| r["mode"].as_str()).collect();
+    assert!(modes.len() == pointblend::render::RenderMode::ALL.len(), "{modes:?}");
+    for row in &rows {
+        assert_eq!(row["model"].as_str(), Some("west+1.vpc"), "{row}");
+        assert_eq!(row["points"].as_u64(), Some(tile().len() as u64), "{row}");
+    }
 }
 
 /// The `las` crate's bounds of a file, as a 3D box.

@@ -205,13 +205,13 @@ pub fn run(args: &Args) -> Result<()> {
 
 /// The models to measure: the files, or with `--together` one `.vpc` of
 /// them (kept alive by the second value while the benchmark runs).
-fn benched(args: &Args) -> Result<(Vec<PathBuf>, Option<super::shared::LayersFile>)> {
+fn benched(args: &Args) -> Result<(Vec<PathBuf>, Option<super::layers::LayersFile>)> {
     if !args.together {
         return Ok((args.files.clone(), None));
     }
     if args.files.len() < 2 {
         bail!("--together draws several files as layers of one scene; give at least two");
     }
-    let layers = super::shared::layers_file(&args.files)?;
+    let layers = super::layers::layers_file(&args.files)?;
     Ok((vec![layers.path.clone()], Some(layers)))
 }

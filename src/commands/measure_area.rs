@@ -3,7 +3,7 @@
 //! resolution ([`pointblend::inspect::area_volume`]), after `--classes`,
 //! `--filter` and `--returns`, in the CRS's units; text, or `--json`.
 
-use anyhow::{Result, bail};
+use anyhow::Result;
 use pointblend::cloud::records::Records;
 use pointblend::inspect::area_volume::{self, Base, BaseUsed};
 use pointblend::inspect::polygon::Polygon;
@@ -56,31 +56,22 @@ pub fn run(args: &pick::Args, area: &PolygonArgs, polygon: &Polygon) -> Result<(
     let paths: Vec<std::path::PathBuf> = std::iter::once(file.clone()).chain(args.layers.iter().cloned()).collect();
     let files = pointblend::scene::layers::layer_files(&paths)?;
     let (mut points, records) = positions(&files[0].path, args, (polygon, area.cell))?;
+    // One CRS for the layers and the base, checked as `render A B` checks it.
+    let mut crs = pointblend::scene::layers::SharedCrs::default();
+    let mut admit = |path: &std::path::Path, r: &Records| {
+        crs.admit(&path.display().to_string(), r.units.epsg, r.crs.as_deref())
+            .map_err(|why| anyhow::anyhow!("{}: {why}", path.display()))
+    };
+    admit(&files[0].path, &records)?;
     for layer in &files[1..] {
         let (more, other) = positions(&layer.path, args, (polygon, area.cell))?;
-        if other.units != records.units || other.crs != records.crs {
-            bail!(
-                "{}: its CRS is {} but {}'s is {}: layers must share one CRS",
-                layer.path.display(),
-                other.crs.as_deref().unwrap_or(other.units.horizontal_name()),
-                files[0].path.display(),
-                records.crs.as_deref().unwrap_or(records.units.horizontal_name())
-            );
-        }
+        admit(&layer.path, &other)?;
         points.extend(more);
     }
     let base_cloud = match &area.base {
         Some(other) => {
             let (points, base_records) = positions(other, args, (polygon, area.cell))?;
-            if base_records.units != records.units {
-                bail!(
-                    "{} is in {} but the base {} is in {}: give both in one CRS",
-                    file.display(),
-                    records.crs.as_deref().unwrap_or(records.units.horizontal_name()),
-                    other.display(),
-                    base_records.crs.as_deref().unwrap_or(base_records.units.horizontal_name())
-                );
-            }
+            admit(other, &base_records)?;
             Some(points)
         }
         None => None,

@@ -60,10 +60,12 @@ impl Picking {
         if let Some(&(x, y)) = pixels.iter().find(|(x, y)| *x >= size.0 || *y >= size.1) {
             bail!("pixel {x},{y} is outside the {}x{} image (--size)", size.0, size.1);
         }
-        let (scene, camera) = if shared::is_layered(file, &args.layers) {
-            let (mut scene, camera) = shared::load_layers(file, &args.layers, view, flags)?;
+        let (scene, camera) = if super::layers::is_layered(file, &args.layers) {
+            let files = (file, args.layers.as_slice());
+            let opened = super::layers::load_layers(files, view, flags, RenderMode::RULER)?;
+            let mut scene = opened.scene;
             view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
-            let camera = match camera {
+            let camera = match opened.camera {
                 Some(camera) => camera,
                 None => view.camera(flags, &scene)?,
             };

@@ -129,7 +129,7 @@ pub fn run(args: &Args) -> Result<()> {
     let views = args.path.as_deref().map(ViewPath::read).transpose()?;
     check_outputs(args, views.is_some())?;
     let started = Instant::now();
-    let (mut scene, streamed, layers_camera) =
+    let (mut scene, streamed, layers_camera, layers_by_nodes) =
         open_scene(args, sidecar.as_ref(), views.as_ref().map(|v| v.camera_at(0.0)))?;
     let stream_camera = streamed.as_ref().map(|(camera, _)| *camera);
     let load_seconds = started.elapsed().as_secs_f64();
@@ -150,7 +150,7 @@ pub fn run(args: &Args) -> Result<()> {
     // A screenshot of a moving scene names its time; --time overrides it.
     let time = args.time.or(sidecar.as_ref().and_then(|s| s.time));
     let mut frames = moving_frames(scene, time)?;
-    if stream_camera.is_some() {
+    if stream_camera.is_some() || layers_by_nodes {
         frames = frames.streamed(); // the selection applied the budget
     }
     if let Some(views) = &views {
@@ -216,7 +216,8 @@ fn check_outputs(args: &Args, flying: bool) -> Result<()> {
 }
 
 /// The scene to draw; a streamed file's first camera and flight; a `.vpc`'s camera.
-type OpenedScene = (Scene, Option<(Camera, StreamedFlight)>, Option<Camera>);
+/// Whether layers were drawn node by node (under the point budget already).
+type OpenedScene = (Scene, Option<(Camera, StreamedFlight)>, Option<Camera>, bool);
 
 /// The scene to draw, with the command line's materials and a screenshot's
 /// style; a COPC file or URL is streamed: the nodes its view selects under
@@ -226,10 +227,12 @@ type OpenedScene = (Scene, Option<(Camera, StreamedFlight)>, Option<Camera>);
 /// camera, and the stream to select each later camera's nodes from.
 fn open_scene(args: &Args, sidecar: Option<&Sidecar>, first: Option<Camera>) -> Result<OpenedScene> {
     let mut streamed = None;
-    if shared::is_layered(&args.file, &args.layers) {
-        let (mut scene, camera) = shared::load_layers(&args.file, &args.layers, &args.view, &args.camera_flags)?;
+    if super::layers::is_layered(&args.file, &args.layers) {
+        let files = (args.file.as_path(), args.layers.as_slice());
+        let opened = super::layers::load_layers(files, &args.view, &args.camera_flags, args.mode)?;
+        let mut scene = opened.scene;
         args.view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
-        return Ok((scene, None, camera));
+        return Ok((scene, None, opened.camera, opened.by_nodes));
     }
     // A screenshot's file is drawn as the window drew it: node by node or whole.
     let by_nodes = match sidecar {
@@ -273,7 +276,7 @@ fn open_scene(args: &Args, sidecar: Option<&Sidecar>, first: Option<Camera>) -> 
         let style = record.style().map_err(|e| anyhow::anyhow!("{}: style: {e}", path.display()))?;
         scene.apply_style(&style).map_err(anyhow::Error::msg)?;
     }
-    Ok((scene, streamed, None))
+    Ok((scene, streamed, None, false))
 }
 
 /// The frame's settings and size: the flags', or a screenshot's with its

@@ -87,14 +87,11 @@ pub fn framing_scene(stream: &mut CopcStream, flags: &super::scene_args::SceneAr
     let Some(kept) = kept.ok().filter(|k| !k.is_empty()) else { return bounds };
     let frame = &bounds.objects[0].cloud;
     let origin = glam::DVec3::from_array(frame.origin);
-    let n = kept.len();
+    let positions = kept.iter().map(|&i| (records.positions[i as usize] - origin).as_vec3()).collect();
     let cloud = pointblend::cloud::PointCloud {
-        positions: kept.iter().map(|&i| (records.positions[i as usize] - origin).as_vec3()).collect(),
-        normals: vec![glam::Vec3::Z; n],
-        radii: vec![0.0; n],
-        colours: vec![[0; 3]; n],
-        opacity: vec![1.0; n],
-        ..frame.select(&[])
+        origin: frame.origin,
+        z_up: frame.z_up,
+        ..pointblend::cloud::PointCloud::facing_z(positions, 0.0, [0; 3])
     };
     Scene::single(stream.file_name(), cloud, 0)
 }

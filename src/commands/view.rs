@@ -21,7 +21,7 @@ pub fn run(args: &Args) -> Result<()> {
     let layers = match &args.file {
         Some(first) if !args.layers.is_empty() => {
             let files: Vec<_> = std::iter::once(first.clone()).chain(args.layers.iter().cloned()).collect();
-            Some(super::shared::layers_file(&files)?)
+            Some(super::layers::layers_file(&files)?)
         }
         _ => None,
     };

@@ -34,6 +34,9 @@ pub struct Left {
     pub points: u64,
 }
 
+/// Turns a node's chunk into what the caller wants of it, or says why it cannot.
+pub type ChunkDecoder<'a, T> = dyn Fn(u32, &[u8]) -> Result<T, String> + Sync + 'a;
+
 /// Chunks read in one request: their nodes, from `start` to `end`.
 struct Run {
     start: u64,
@@ -65,6 +68,22 @@ impl Fetch<'_> {
                 })
                 .collect();
         }
+        let decode = |n: u32, bytes: &[u8]| {
+            let node = &self.tree.nodes[n as usize];
+            super::decode::decode(self.header, bytes, node.points, self.tree.cube(&node.key))
+        };
+        self.decoded(nodes, &decode, on_done)
+    }
+
+    /// The nodes' chunks, read from the disk cache or fetched (merged, at
+    /// most [`IN_FLIGHT`] requests at a time), each decoded by `decode` as
+    /// it arrives; or why each failed, as they finish (any order).
+    pub fn decoded<T: Send>(
+        &self,
+        nodes: &[u32],
+        decode: &ChunkDecoder<'_, T>,
+        on_done: &(dyn Fn(u64) + Sync),
+    ) -> Vec<(u32, Result<T, String>)> {
         let mut from_disk = Vec::new();
         let mut wanted = Vec::new();
         let mut unusable = 0;
@@ -118,10 +137,8 @@ impl Fetch<'_> {
                 .into_iter()
                 .par_bridge()
                 .map(|(n, bytes)| {
-                    let node = &self.tree.nodes[n as usize];
-                    let result = bytes
-                        .and_then(|b| super::decode::decode(self.header, &b, node.points, self.tree.cube(&node.key)));
-                    on_done(node.points as u64);
+                    let result = bytes.and_then(|b| decode(n, &b));
+                    on_done(u64::from(self.tree.nodes[n as usize].points));
                     (n, result)
                 })
                 .collect()

@@ -16,7 +16,7 @@
 //! load, and build the selection into a [`crate::cloud::PointCloud`].
 //! A point file opened under a point budget is held whole in [`memory`],
 //! sorted into the octree a COPC file of it would hold ([`octree`]), and
-//! streamed from there node by node the same way. [`write`] makes COPC files. [`redact`] masks a URL's credentials in
+//! streamed from there node by node the same way. [`layered`] draws several streamed files under one budget. [`write`] makes COPC files. [`redact`] masks a URL's credentials in
 //! whatever is shown: every [`CopcError`] goes through it.
 
 pub mod budget;
@@ -28,6 +28,7 @@ pub mod header;
 pub(crate) mod held;
 pub mod hierarchy;
 pub mod http;
+pub mod layered;
 pub(crate) mod load;
 pub(crate) mod memory;
 pub(crate) mod node_estimates;

@@ -2,12 +2,12 @@
 //! what `profile` and `measure --polygon` read of a COPC file or URL. The
 //! hierarchy is walked from the root through every node whose cube meets
 //! the box (reading the pages the walk reaches), and every such node that
-//! holds points is read and decoded (in parallel), at every level: COPC
+//! holds points is read through the loader pool ([`super::load`]: nearby
+//! chunks merged, `--disk-cache` used) and decoded in parallel, at every level: COPC
 //! spreads a region's points over all the levels above it. The records
 //! come back as they are in the file too, so an export copies them.
 
 use glam::{DVec2, DVec3};
-use rayon::prelude::*;
 
 use super::{CopcError, CopcStream, decode};
 use crate::cloud::las_file::{self, Columns};
@@ -59,26 +59,23 @@ impl CopcStream {
     fn records_of(&mut self, nodes: &[u32]) -> Result<Records, CopcError> {
         let total: u64 = nodes.iter().map(|&n| u64::from(self.tree.nodes[n as usize].points)).sum();
         let bar = crate::progress::bar(total, "reading the region's nodes", self.options.progress);
-        let mut chunks = Vec::with_capacity(nodes.len());
-        for &n in nodes {
-            let node = &self.tree.nodes[n as usize];
-            chunks.push((n, self.source.read(node.offset, node.byte_size)?));
-        }
-        let decoded: Vec<Result<(Columns, Vec<u8>), String>> = chunks
-            .par_iter()
-            .map(|(n, bytes)| {
-                let node = &self.tree.nodes[*n as usize];
-                let result = decode::decode_with_records(&self.header, bytes, node.points, self.tree.cube(&node.key));
-                bar.inc(u64::from(node.points));
-                result.map_err(|reason| {
-                    let k = node.key;
-                    format!("node {}-{}-{}-{}: {reason}", k.l, k.x, k.y, k.z)
-                })
+        let (source, header, tree, disk) = (self.source.as_ref(), &self.header, &self.tree, self.disk.as_ref());
+        // Through the loader pool: nearby chunks merged, four requests in flight, `--disk-cache` used.
+        let fetch = super::load::Fetch { source, header, tree, disk, memory: None };
+        let decode = |n: u32, bytes: &[u8]| {
+            let node = &tree.nodes[n as usize];
+            decode::decode_with_records(header, bytes, node.points, tree.cube(&node.key)).map_err(|reason| {
+                let k = node.key;
+                format!("node {}-{}-{}-{}: {reason}", k.l, k.x, k.y, k.z)
             })
-            .collect();
+        };
+        let mut decoded = fetch.decoded(nodes, &decode, &|points| bar.inc(points));
+        // In file order, as the nodes were given.
+        let order: std::collections::HashMap<u32, usize> = nodes.iter().enumerate().map(|(k, &n)| (n, k)).collect();
+        decoded.sort_by_key(|(n, _)| order[n]);
         bar.finish();
         let (mut columns, mut records) = (Columns::default(), Vec::new());
-        for result in decoded {
+        for (_, result) in decoded {
             let (c, r) = result.map_err(|reason| CopcError::new(self.name(), reason))?;
             columns.extend(&c);
             records.extend(r);

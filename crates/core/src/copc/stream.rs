@@ -105,7 +105,7 @@ pub struct CopcStream {
     /// Failures not logged one by one, for the next summary line.
     unlogged: usize,
     /// `--disk-cache DIR`, in the folder of this source's content.
-    disk: Option<DiskCache>,
+    pub(super) disk: Option<DiskCache>,
     /// The nodes of a file held whole ([`super::memory`]), gathered rather than read.
     pub(super) memory: Option<Arc<MemoryNodes>>,
     pub(super) options: StreamOptions,

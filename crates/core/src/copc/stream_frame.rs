@@ -29,16 +29,7 @@ impl CopcStream {
                     .as_vec3()
             })
             .collect();
-        PointCloud {
-            normals: vec![Vec3::Z; 8],
-            radii: vec![0.0; 8],
-            colours: vec![[0; 3]; 8],
-            opacity: vec![1.0; 8],
-            positions: corners,
-            origin: o.to_array(),
-            z_up: self.z_up(),
-            ..Default::default()
-        }
+        PointCloud { origin: o.to_array(), z_up: self.z_up(), ..PointCloud::facing_z(corners, 0.0, [0; 3]) }
     }
 
     /// The frame's encoding line with `drawn` nodes drawn, and what the
@@ -66,6 +57,12 @@ impl CopcStream {
             units: las_file::crs_units(&self.header.las),
         };
         (encoding, info)
+    }
+
+    /// The file's CRS as layers compare it: its EPSG code where it has
+    /// one, and its CRS record as text.
+    pub fn crs(&self) -> (Option<u32>, Option<String>) {
+        (las_file::crs_units(&self.header.las).epsg, las_file::crs(&self.header.las))
     }
 
     /// Whether the file's z axis points up (every LAS and LAZ file).

@@ -120,7 +120,7 @@ impl StreamSubset {
     }
 
     /// [`Self::load_step`] of nodes already selected.
-    fn load_selected(&mut self, selection: &Selection, points: u64) -> Left {
+    pub(super) fn load_selected(&mut self, selection: &Selection, points: u64) -> Left {
         let mut left = self.stream.load_up_to(selection, points);
         while left.nodes > 0 && self.stream.drawn(selection).is_empty() {
             left = self.stream.load_up_to(selection, points);
@@ -130,7 +130,12 @@ impl StreamSubset {
     }
 
     /// [`Self::choose_loaded`] of nodes already selected.
-    fn gather_selected(&mut self, selection: &Selection, choosing: Choosing, adding: u64) -> Result<Choice, CopcError> {
+    pub(super) fn gather_selected(
+        &mut self,
+        selection: &Selection,
+        choosing: Choosing,
+        adding: u64,
+    ) -> Result<Choice, CopcError> {
         let (within, held_back) = self.within_adding(selection, adding);
         let drawn = self.stream.drawn(&within);
         let key = self.stream.key_of(&drawn);

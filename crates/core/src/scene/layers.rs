@@ -43,17 +43,7 @@ pub fn bounds_scene(files: &[LayerFile]) -> Option<Scene> {
     let boxes: Vec<(DVec3, DVec3)> = files.iter().filter_map(|f| f.bounds).map(finite_heights).collect();
     let origin = boxes.iter().map(|(lo, hi)| (*lo + *hi) * 0.5).next()?;
     let corners: Vec<Vec3> = boxes.iter().flat_map(|b| corners(*b)).map(|c| (c - origin).as_vec3()).collect();
-    let n = corners.len();
-    let cloud = PointCloud {
-        normals: vec![Vec3::Z; n],
-        radii: vec![0.0; n],
-        colours: vec![[0; 3]; n],
-        opacity: vec![1.0; n],
-        positions: corners,
-        origin: origin.to_array(),
-        z_up: true,
-        ..Default::default()
-    };
+    let cloud = PointCloud { origin: origin.to_array(), z_up: true, ..PointCloud::facing_z(corners, 0.0, [0; 3]) };
     Some(Scene::single("bounds", cloud, 0))
 }
 
@@ -106,15 +96,50 @@ fn crs_name(key: &str) -> String {
     }
 }
 
+/// The one CRS layers share: the first file's that declares one, which
+/// every later file that declares one must have too.
+#[derive(Debug, Default)]
+pub struct SharedCrs {
+    first: Option<(String, String)>,
+}
+
+impl SharedCrs {
+    /// Admits `file` (a path or URL as shown) of CRS `epsg`/`crs`, or says
+    /// in one line, naming both files and both CRSs, why it cannot join.
+    pub fn admit(&mut self, file: &str, epsg: Option<u32>, crs: Option<&str>) -> Result<(), String> {
+        let Some(key) = crs_key(epsg, crs) else { return Ok(()) };
+        match &self.first {
+            Some((other, known)) if *known != key => Err(format!(
+                "its CRS is {} but {other}'s is {}: layers must share one CRS (reproject one first)",
+                crs_name(&key),
+                crs_name(known)
+            )),
+            Some(_) => Ok(()),
+            None => {
+                self.first = Some((file.to_string(), key));
+                Ok(())
+            }
+        }
+    }
+}
+
 /// Opens `files` as one scene, each file an object (a scene file's objects
 /// each), in order; refuses files in different CRSs; mends the seams where
 /// survey layers meet ([`super::layer_seams`]). Returns the scene and the
 /// load warnings, each naming its file.
 pub fn open_layers(files: &[&Path], options: &LoadOptions) -> Result<(Scene, Vec<String>), OpenError> {
+    open_layers_sharing(files, options, &mut SharedCrs::default())
+}
+
+/// [`open_layers`], the files' CRS checked against `crs` (which other layers may have set).
+pub fn open_layers_sharing(
+    files: &[&Path],
+    options: &LoadOptions,
+    crs: &mut SharedCrs,
+) -> Result<(Scene, Vec<String>), OpenError> {
     let mut clouds: Vec<(&Path, Layer)> = Vec::new();
     let mut scenes: Vec<(usize, Scene)> = Vec::new();
     let mut warnings = Vec::new();
-    let mut first_crs: Option<(&Path, String)> = None;
     for &path in files {
         if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) {
             let (layer, more) = super::file::read(path, options)?;
@@ -124,21 +149,8 @@ pub fn open_layers(files: &[&Path], options: &LoadOptions) -> Result<(Scene, Vec
         }
         let (cloud, report) = crate::cloud::load_with(path, options)?;
         warnings.extend(report.warnings.iter().map(|w| format!("{}: {w}", path.display())));
-        if let Some(crs) = crs_key(cloud.units.epsg, report.crs.as_deref()) {
-            match &first_crs {
-                Some((other, known)) if *known != crs => {
-                    let reason = format!(
-                        "its CRS is {} but {}'s is {}: layers must share one CRS (reproject one first)",
-                        crs_name(&crs),
-                        other.display(),
-                        crs_name(known)
-                    );
-                    return Err(CloudError::content(path, reason).into());
-                }
-                Some(_) => {}
-                None => first_crs = Some((path, crs)),
-            }
-        }
+        let shown = path.display().to_string();
+        crs.admit(&shown, cloud.units.epsg, report.crs.as_deref()).map_err(|why| CloudError::content(path, why))?;
         clouds.push((path, Layer { cloud, normals: report.normals, radii: report.radii }));
     }
     if clouds.len() > 1 {

@@ -1,0 +1,191 @@
+//! Several streamed files (COPC files, URLs) drawn as layers under one
+//! point budget: `render A.copc.laz B.copc.laz`, or a `.vpc` of COPC tiles.
+//!
+//! The layers' octrees are selected as one: a forest whose own root (no
+//! points, always refined) has every file's root as a child, and whose
+//! nodes are the files' nodes numbered one file after another. The
+//! selection ([`crate::lod::select_in`], additive refinement) then takes
+//! the node of largest projected spacing next, whichever file it is in,
+//! while the points of all the files together fit the budget: a near tile
+//! gets fine nodes and a far one its top levels, as one file of them all
+//! would. Each file's spheres are moved into the first file's frame (its
+//! origin: file = frame + origin), in which the camera is given. Each
+//! file's chosen nodes are then loaded, estimated and gathered by its own
+//! [`StreamSubset`], as a file alone is, into a cloud with its own origin.
+
+use glam::{DVec3, Vec3};
+
+use super::hierarchy::CopcTree;
+use super::subset::StreamSubset;
+use super::{CopcError, CopcStream, StreamBudget};
+use crate::cloud::LoadOptions;
+use crate::frame::Camera;
+use crate::frame::subset::{Choice, Choosing};
+use crate::lod::{LodTree, Refinement, Selection, select_in};
+
+/// The forest root's coarseness: larger than any node's, so that it is always refined.
+const ROOT_COARSENESS: f32 = 1e30;
+
+/// Streamed files drawn together under one budget.
+pub struct LayeredStreams {
+    /// Each file, with its node cache and its last choice.
+    pub layers: Vec<StreamSubset>,
+    pub budget: StreamBudget,
+}
+
+/// The layers' octrees as one tree (see the module doc).
+struct Forest<'a> {
+    /// Each file's tree and its origin's offset from the first file's.
+    trees: Vec<(&'a CopcTree, Vec3)>,
+    /// The forest's number of each file's first node.
+    bases: Vec<u32>,
+    /// The forest's own root: the number after every file's nodes.
+    root: u32,
+    /// A sphere around the files' roots (centre, reach).
+    around: (Vec3, f32),
+}
+
+impl<'a> Forest<'a> {
+    fn new(trees: Vec<(&'a CopcTree, Vec3)>) -> Self {
+        let mut bases = Vec::with_capacity(trees.len());
+        let mut total = 0u32;
+        for (tree, _) in &trees {
+            bases.push(total);
+            total += tree.nodes.len() as u32;
+        }
+        let spheres: Vec<(Vec3, f32)> = trees
+            .iter()
+            .filter_map(|(tree, offset)| {
+                let (centre, reach, _) = tree.sphere(tree.root()?);
+                Some((centre + *offset, reach))
+            })
+            .collect();
+        let centre = spheres.iter().map(|s| s.0).sum::<Vec3>() / spheres.len().max(1) as f32;
+        let reach = spheres.iter().map(|(c, r)| c.distance(centre) + r).fold(0.0, f32::max);
+        Forest { trees, bases, root: total, around: (centre, reach) }
+    }
+
+    /// The file a forest node is in, and its number there.
+    fn local(&self, node: u32) -> (usize, u32) {
+        let file = self.bases.partition_point(|&b| b <= node) - 1;
+        (file, node - self.bases[file])
+    }
+
+    /// The forest's selection as each file's, in the order chosen (the forest's root left out).
+    fn split(&self, selection: &Selection) -> Vec<Selection> {
+        let mut each: Vec<Selection> = self.trees.iter().map(|_| Selection { nodes: Vec::new(), splats: 0 }).collect();
+        for &node in selection.nodes.iter().filter(|&&n| n != self.root) {
+            let (file, local) = self.local(node);
+            each[file].nodes.push(local);
+            each[file].splats += self.trees[file].0.count(local);
+        }
+        each
+    }
+}
+
+impl LodTree for Forest<'_> {
+    fn refinement(&self) -> Refinement {
+        Refinement::Add
+    }
+    fn root(&self) -> Option<u32> {
+        self.trees.iter().any(|(tree, _)| tree.root().is_some()).then_some(self.root)
+    }
+    fn count(&self, node: u32) -> usize {
+        if node == self.root {
+            return 0;
+        }
+        let (file, local) = self.local(node);
+        self.trees[file].0.count(local)
+    }
+    fn sphere(&self, node: u32) -> (Vec3, f32, f32) {
+        if node == self.root {
+            return (self.around.0, self.around.1, ROOT_COARSENESS);
+        }
+        let (file, local) = self.local(node);
+        let (tree, offset) = self.trees[file];
+        let (centre, reach, spacing) = tree.sphere(local);
+        (centre + offset, reach, spacing)
+    }
+    fn children(&self, node: u32, out: &mut Vec<u32>) {
+        if node == self.root {
+            let roots = self.trees.iter().zip(&self.bases).filter_map(|((tree, _), base)| Some(base + tree.root()?));
+            out.extend(roots);
+            return;
+        }
+        let (file, local) = self.local(node);
+        let start = out.len();
+        self.trees[file].0.children(local, out);
+        for child in &mut out[start..] {
+            *child += self.bases[file];
+        }
+    }
+}
+
+impl LayeredStreams {
+    /// `streams` under `budget` together, each loaded as `load` says.
+    pub fn new(streams: Vec<CopcStream>, budget: StreamBudget, load: LoadOptions) -> Self {
+        let layers = streams.into_iter().map(|s| StreamSubset::new(s, budget, load.clone())).collect();
+        LayeredStreams { layers, budget }
+    }
+
+    /// The origin of the frame the camera is given in: the first file's.
+    pub fn origin(&self) -> DVec3 {
+        self.layers.first().map_or(DVec3::ZERO, |l| l.stream.tree.origin)
+    }
+
+    /// Each file's nodes that `camera` (in the frame of [`Self::origin`])
+    /// selects at `size`, all the files' points within the one budget;
+    /// reads the hierarchy pages the traversal reaches.
+    pub fn select(
+        &mut self,
+        camera: &Camera,
+        size: (u32, u32),
+        choosing: Choosing,
+    ) -> Result<Vec<Selection>, CopcError> {
+        if self.budget == StreamBudget::All {
+            for layer in &self.layers {
+                layer.stream.check_fits(self.budget)?;
+            }
+        }
+        let options = self.budget.select_options(choosing);
+        let origin = self.origin();
+        loop {
+            let each = {
+                let trees = self.layers.iter().map(|l| (&l.stream.tree, (l.stream.tree.origin - origin).as_vec3()));
+                let forest = Forest::new(trees.collect());
+                forest.split(&select_in(&forest, camera, size, options))
+            };
+            let mut pending = false;
+            for (layer, selection) in self.layers.iter_mut().zip(&each) {
+                let waiting: Vec<u32> = layer.stream.tree.pending(&selection.nodes).collect();
+                pending |= !waiting.is_empty();
+                for node in waiting {
+                    layer.stream.read_page(node);
+                }
+            }
+            if !pending {
+                return Ok(each);
+            }
+        }
+    }
+
+    /// Each file's points for `camera` (see [`Self::select`]), its chosen
+    /// nodes loaded and gathered by its own subset: `None` for a file with
+    /// no node in view, else its choice or why it gave no point.
+    pub fn choose(
+        &mut self,
+        camera: &Camera,
+        size: (u32, u32),
+        choosing: Choosing,
+    ) -> Result<Vec<Option<Result<Choice, CopcError>>>, CopcError> {
+        let each = self.select(camera, size, choosing)?;
+        let chosen = self.layers.iter_mut().zip(&each).map(|(layer, selection)| {
+            if selection.nodes.is_empty() {
+                return None;
+            }
+            layer.load_selected(selection, u64::MAX);
+            Some(layer.gather_selected(selection, choosing, u64::MAX))
+        });
+        Ok(chosen.collect())
+    }
+}

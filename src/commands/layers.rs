@@ -1,0 +1,199 @@
+//! Several files as layers (`render A B ...`, `pick`, `measure`, a
+//! `.vpc`): the files a `.vpc`'s boxes place in the view are opened, those
+//! held whole as objects of one scene ([`layers::open_layers`]), the
+//! streamed ones (COPC files, URLs) node by node under one shared point
+//! budget ([`LayeredStreams`]); and a `.vpc` of files, for the commands
+//! that open one path.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use pointblend::cloud::LoadOptions;
+use pointblend::copc::layered::LayeredStreams;
+use pointblend::copc::{CopcStream, is_streamed};
+use pointblend::frame::Camera;
+use pointblend::lod::Choosing;
+use pointblend::render::RenderMode;
+use pointblend::scene::Scene;
+use pointblend::scene::layers::{self, LayerFile, SharedCrs};
+
+use super::shared::{CameraArgs, ViewArgs};
+
+/// The layers opened: their scene, the camera they were chosen for (in the
+/// scene's frame; `None`: the scene's own default view), and whether some
+/// were chosen node by node (under the point budget already).
+pub struct OpenedLayers {
+    pub scene: Scene,
+    pub camera: Option<Camera>,
+    pub by_nodes: bool,
+}
+
+/// Whether `file` and `more` open as layers: several files, or a `.vpc`.
+pub fn is_layered(file: &Path, more: &[PathBuf]) -> bool {
+    !more.is_empty() || pointblend::scene::vpc::is_vpc(file)
+}
+
+/// Opens `file` and `more` as layers, each file an object with its own f64
+/// origin. When a `.vpc` gives boxes, the camera is framed on them first
+/// (the flags over the default view) and only the files it reaches are
+/// opened. Streamed files draw the nodes that camera (else the flags' view
+/// of every layer) selects, all of them under one `--point-budget`.
+pub fn load_layers(
+    (file, more): (&Path, &[PathBuf]),
+    view: &ViewArgs,
+    flags: &CameraArgs,
+    mode: RenderMode,
+) -> Result<OpenedLayers> {
+    let paths: Vec<PathBuf> = std::iter::once(file.to_path_buf()).chain(more.iter().cloned()).collect();
+    let files = layers::layer_files(&paths)?;
+    let framed = match layers::bounds_scene(&files) {
+        Some(bounds) => Some((view.camera(flags, &bounds)?, bounds.frame_placement())),
+        None => None,
+    };
+    let aspect = view.size.0 as f32 / view.size.1 as f32;
+    let reached: Vec<&LayerFile> = files
+        .iter()
+        .filter(|f| match (&framed, f.bounds) {
+            (Some((camera, placement)), Some(b)) => layers::reaches(camera, aspect, *placement, b),
+            _ => true,
+        })
+        .collect();
+    if reached.is_empty() {
+        bail!("{}: none of its {} files lies in the view", file.display(), files.len());
+    }
+    log::info!("opening {} of the layers' {} files (those the view reaches)", reached.len(), files.len());
+    let (streamed, whole): (Vec<&Path>, Vec<&Path>) =
+        reached.iter().map(|f| f.path.as_path()).partition(|p| is_streamed(p));
+    let mut crs = SharedCrs::default();
+    let whole = match whole.is_empty() {
+        true => Scene::default(),
+        false => {
+            let options = LoadOptions { progress: true, ..Default::default() };
+            let (scene, warnings) = layers::open_layers_sharing(&whole, &options, &mut crs)?;
+            warnings.iter().for_each(|w| log::warn!("{w}"));
+            scene
+        }
+    };
+    // With some files left out, the boxes' view that chose them.
+    let framed = framed.filter(|_| reached.len() < files.len());
+    if streamed.is_empty() {
+        let camera = framed.map(|(camera, from)| layers::camera_in_frame(&camera, from, whole.frame_placement()));
+        return Ok(OpenedLayers { scene: whole, camera, by_nodes: false });
+    }
+    let streams = open_streams(&streamed, view, &mut crs)?;
+    streamed_layers(whole, streams, (view, flags, mode), framed)
+}
+
+/// The streamed files, each admitted to the layers' one CRS; each file's
+/// node cache a share of `--cache-mb`.
+fn open_streams(files: &[&Path], view: &ViewArgs, crs: &mut SharedCrs) -> Result<Vec<CopcStream>> {
+    let mut options = view.stream.options(true);
+    options.cache_bytes /= files.len();
+    let mut streams = Vec::with_capacity(files.len());
+    for &path in files {
+        let stream = pointblend::copc::open_nodes(path, options.clone())?;
+        let (epsg, text) = stream.crs();
+        crs.admit(stream.name(), epsg, text.as_deref()).map_err(|why| anyhow::anyhow!("{}: {why}", stream.name()))?;
+        streams.push(stream);
+    }
+    Ok(streams)
+}
+
+/// `whole` and the nodes of `streams` that the camera selects under one
+/// budget: the boxes' camera (`framed`, in the frame it was placed in),
+/// else the flags' view of the layers (the streams' points the filters
+/// keep, as [`super::stream_args::framing_scene`] frames one file).
+fn streamed_layers(
+    whole: Scene,
+    mut streams: Vec<CopcStream>,
+    (view, flags, mode): (&ViewArgs, &CameraArgs, RenderMode),
+    framed: Option<(Camera, (glam::DVec3, f64))>,
+) -> Result<OpenedLayers> {
+    let mut framing = whole.clone();
+    for stream in &mut streams {
+        let scene = super::stream_args::framing_scene(stream, &view.scene);
+        framing.objects.extend(scene.objects);
+    }
+    let (camera, from) = match framed {
+        Some(framed) => framed,
+        None => (view.camera(flags, &framing)?, framing.frame_placement()),
+    };
+    let choosing = Choosing::of(&view.base_settings(&framing, mode)?);
+    let budget = view.stream_budget()?;
+    let mut layered = LayeredStreams::new(streams, budget, LoadOptions { progress: true, ..Default::default() });
+    let in_streams = layers::camera_in_frame(&camera, from, (layered.origin(), 1.0));
+    let chosen = layered.choose(&in_streams, view.size, choosing)?;
+    let mut scene = whole;
+    let mut drawn = 0;
+    for (layer, choice) in layered.layers.iter().zip(chosen) {
+        let stream = &layer.stream;
+        let choice = match choice {
+            None => continue,
+            Some(Err(why)) => {
+                log::warn!("{why}");
+                continue;
+            }
+            Some(Ok(choice)) => choice,
+        };
+        let Some(cloud) = choice.cloud else { continue };
+        log::info!("{}: {} points of {} nodes drawn", stream.name(), cloud.len(), layer.last.drawn);
+        drawn += cloud.len();
+        let object = Scene::single(stream.file_name(), cloud, choice.key).coloured_by_default();
+        scene.objects.extend(object.objects);
+    }
+    if scene.objects.is_empty() {
+        bail!("{}: no point of the layers is in view", shown_first(&layered));
+    }
+    log::info!(
+        "{drawn} points of {} streamed files drawn under one budget of {}",
+        layered.layers.len(),
+        budget_text(budget)
+    );
+    let camera = layers::camera_in_frame(&camera, from, scene.frame_placement());
+    Ok(OpenedLayers { scene, camera: Some(camera), by_nodes: true })
+}
+
+fn shown_first(layered: &LayeredStreams) -> String {
+    layered.layers.first().map(|l| l.stream.name().to_string()).unwrap_or_default()
+}
+
+fn budget_text(budget: pointblend::copc::StreamBudget) -> String {
+    use pointblend::copc::StreamBudget;
+    match budget {
+        StreamBudget::Default => format!("{} points", pointblend::copc::budget::DEFAULT_BUDGET),
+        StreamBudget::Points(n) => format!("{n} points"),
+        StreamBudget::All => "every point".into(),
+    }
+}
+
+/// Several files as one virtual point cloud, for the commands that open
+/// one path (`view A B`, `bench --together`): a `.vpc` listing them (absolute
+/// paths; URLs as they are), named after them, in a temporary folder that
+/// lives as long as this value.
+pub struct LayersFile {
+    _folder: tempfile::TempDir,
+    pub path: PathBuf,
+}
+
+/// [`LayersFile`] of `files` (at least two).
+pub fn layers_file(files: &[PathBuf]) -> Result<LayersFile> {
+    let features = files
+        .iter()
+        .map(|file| {
+            let href = if pointblend::copc::is_url(&file.to_string_lossy()) {
+                file.to_string_lossy().into_owned()
+            } else {
+                let absolute = std::fs::canonicalize(file).with_context(|| format!("{}: cannot open", file.display()))?;
+                absolute.to_string_lossy().into_owned()
+            };
+            Ok(serde_json::json!({"type": "Feature", "geometry": null, "properties": {}, "assets": {"data": {"href": href}}}))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let first = files[0].file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let first = first.trim_end_matches(".copc");
+    let folder = tempfile::Builder::new().prefix("pointblend-layers-").tempdir()?;
+    let path = folder.path().join(format!("{first}+{}.vpc", files.len() - 1));
+    let collection = serde_json::json!({"type": "FeatureCollection", "features": features});
+    std::fs::write(&path, serde_json::to_string_pretty(&collection)?)?;
+    Ok(LayersFile { _folder: folder, path })
+}
