@@ -1,6 +1,8 @@
 //! Layers: several files drawn as one scene, each with its own f64 origin,
 //! on generated tiles far from the origin (UTM). Two halves of a tile drawn
-//! as two layers equal the whole (ε ≤ 0.05) and meet with no gap; a `.vpc`
+//! as two layers equal the whole (ε ≤ 0.05) and meet with no gap, held
+//! whole and streamed (COPC); `view A B` runs its main job on the two as
+//! one scene; a `.vpc`
 //! of three local COPC files draws as the three do as layers, opens only
 //! the files a narrow view reaches, and two CRSs are refused in one line
 //! naming both files.
@@ -59,6 +61,20 @@ fn two_halves_as_layers_equal_the_whole_and_meet_with_no_gap() {
     let holes = one.pixels().zip(two.pixels()).filter(|(a, b)| **a != background && **b == background).count();
     assert!(drawn > 5000, "{drawn} pixels drawn");
     assert!(holes * 1000 <= drawn, "{holes} pixels of the {drawn} the whole draws are empty in the halves");
+
+    // Streamed (COPC): the halves drawn node by node meet as the whole does, their seam mended too.
+    let copc = |file: &Path| {
+        let out = file.with_extension("copc.laz");
+        let run = pointblend(&["convert", file.to_str().unwrap(), out.to_str().unwrap()]);
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+        out
+    };
+    let (whole_copc, west_copc, east_copc) = (copc(&whole), copc(&west), copc(&east));
+    let (one, _) = render(&[&whole_copc], &dir.path().join("whole-copc.png"), &[]);
+    let (two, log) = render(&[&west_copc, &east_copc], &dir.path().join("halves-copc.png"), &[]);
+    assert!(log.contains("points where the streamed layers meet estimated again"), "{log}");
+    let error = pointblend::reference::compare(&two, &one).unwrap();
+    assert!(error.eps <= 0.05, "ε {} between the streamed halves and the whole", error.eps);
 
     // bench --together draws the two as layers (without it, each apart).
     let out = dir.path().join("bench");

@@ -1,8 +1,9 @@
 //! Streamed layers: several COPC files (or a `.vpc` of URLs) drawn node by
 //! node under one `--point-budget`. Two generated tiles side by side, each
 //! of several nodes: together they draw no more than the budget, and the
-//! tile nearer the eye draws more of its nodes; a `.vpc` whose files are
-//! URLs on a real HTTP server draws as the local files do.
+//! tile nearer the eye draws more of its nodes; `bench A B --together`
+//! measures them under that budget; a `.vpc` whose files are URLs on a real
+//! HTTP server draws as the local files do.
 
 mod common;
 
@@ -82,6 +83,28 @@ fn streamed_layers_share_one_budget_and_the_near_tile_draws_more() {
     let background = *image.get_pixel(0, 0);
     let covered = image.pixels().filter(|p| **p != background).count();
     assert!(covered * 4 > (image.width() * image.height()) as usize, "{covered} pixels drawn");
+
+    // bench A B --together measures the two as one scene under the one budget.
+    let out = dir.path().join("bench");
+    let args = ["bench", files[0], files[1], "--together", "--modes", "two-pass", "--views", "1", "--size", "128x128"];
+    let budget = BUDGET.to_string();
+    let more = ["--frames", "1", "--warm-up", "0", "--point-budget", &budget, "--out", out.to_str().unwrap()];
+    let run = pointblend(&[&args[..], &more[..]].concat());
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let rows: Vec<serde_json::Value> =
+        serde_json::from_str(&std::fs::read_to_string(out.join("bench.json")).unwrap()).unwrap();
+    assert!(!rows.is_empty());
+    // Each view says what it selected and read of the files, node by node.
+    let said = String::from_utf8_lossy(&run.stdout);
+    let line = said.lines().find(|l| l.starts_with("west+1.vpc front view: ")).unwrap_or_else(|| panic!("{said}"));
+    let points = format!(" {} points of 2 files", rows[0]["points"]);
+    assert!(line.contains(&points), "{line}");
+    for row in &rows {
+        let points = row["points"].as_u64().unwrap() as usize;
+        assert_eq!(row["model"].as_str(), Some("west+1.vpc"), "{row}");
+        // Both roots (16,384 points each: one per cell of the root's grid) at least, the budget at most.
+        assert!((2 * 16_384..=BUDGET).contains(&points), "{points} points in {row}");
+    }
 
     // The same two as URLs in a `.vpc`, from a real HTTP server: the same frame.
     let server = Nginx::serve(dir.path());

@@ -9,7 +9,8 @@
 //! view, size and parameters. [`report`] writes `bench.json` and `bench.md`,
 //! [`plot`] the error-against-time plot, [`sheet`] the main job's contact sheet. With `--orders`, [`orders`] times
 //! the back-to-front orders on the same views. A streamed file (COPC) is
-//! measured view by view on the nodes each view selects ([`streamed`]).
+//! measured view by view on the nodes each view selects ([`streamed`]), and a
+//! `.vpc` of them under one budget ([`streamed_layers`]).
 
 pub mod cache;
 pub mod config;
@@ -21,6 +22,7 @@ pub mod ruler;
 pub mod run;
 pub mod sheet;
 pub mod streamed;
+pub mod streamed_layers;
 pub mod timing;
 pub mod variants;
 pub mod views;

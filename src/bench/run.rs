@@ -92,12 +92,16 @@ fn bench_model(
     config: &BenchConfig,
     renderer: &mut GpuRenderer,
 ) -> Result<(Vec<BenchRow>, Vec<OrderRow>), BenchError> {
-    if crate::copc::drawn_by_nodes(model, config.stream_budget) {
+    let layered = super::streamed_layers::is_streamed_layers(model);
+    if layered || crate::copc::drawn_by_nodes(model, config.stream_budget) {
         if config.animate.is_some() || config.orders {
             return Err(BenchError::Invalid(format!(
                 "{}: --animate and --orders need a file loaded whole, not drawn node by node (a COPC file, a URL, or a point file under --point-budget N below its points)",
                 model.display()
             )));
+        }
+        if layered {
+            return Ok((super::streamed_layers::bench_streamed_layers(model, config, renderer)?, Vec::new()));
         }
         return Ok((super::streamed::bench_streamed(model, config, renderer)?, Vec::new()));
     }

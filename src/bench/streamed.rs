@@ -77,20 +77,7 @@ pub(super) fn bench_streamed(
             let scene = Scene::single(short.clone(), cloud, choice.key)
                 .with_node_grouping(choice.grouping)
                 .with_node_spans(choice.spans);
-            // The first view's colours (the default's or the flags'), their range fixed, style every later one.
-            let opened = match &pinned {
-                Some(style) => {
-                    let materials =
-                        crate::scene::Materials { style: Some(Arc::clone(style)), ..config.materials.clone() };
-                    set_up(scene, &shown, (config, &materials), open_s + stream_s)?
-                }
-                None => {
-                    let opened =
-                        set_up(scene.coloured_by_default(), &shown, (config, &config.materials), open_s + stream_s)?;
-                    pinned = opened.scene.pinned_style().map(Arc::new);
-                    opened
-                }
-            };
+            let opened = set_up_pinned(scene, &shown, (config, open_s + stream_s), &mut pinned)?;
             costs.prepare_s = stream_s + styled_at.elapsed().as_secs_f64();
             shown_last = Some(match shown_last.take() {
                 // The last selection's GPU copy is kept: a node still drawn stays where it is.
@@ -124,6 +111,23 @@ pub(super) fn bench_streamed(
         rows.extend(view_rows);
     }
     Ok(rows)
+}
+
+/// [`set_up`] of one view's selection: the first view's colours (the
+/// default's or the flags'), their range fixed (`pinned`), style every later one.
+pub(super) fn set_up_pinned(
+    scene: Scene,
+    name: &str,
+    (config, load_s): (&BenchConfig, f64),
+    pinned: &mut Option<Arc<crate::style::Style>>,
+) -> Result<Opened, BenchError> {
+    if let Some(style) = pinned {
+        let materials = crate::scene::Materials { style: Some(Arc::clone(style)), ..config.materials.clone() };
+        return set_up(scene, name, (config, &materials), load_s);
+    }
+    let opened = set_up(scene.coloured_by_default(), name, (config, &config.materials), load_s)?;
+    *pinned = opened.scene.pinned_style().map(Arc::new);
+    Ok(opened)
 }
 
 /// Prints what a view of `short` selected and read.

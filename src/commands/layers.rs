@@ -123,22 +123,29 @@ fn streamed_layers(
     let mut layered = LayeredStreams::new(streams, budget, LoadOptions { progress: true, ..Default::default() });
     let in_streams = layers::camera_in_frame(&camera, from, (layered.origin(), 1.0));
     let chosen = layered.choose(&in_streams, view.size, choosing)?;
-    let mut scene = whole;
-    let mut drawn = 0;
-    for (layer, choice) in layered.layers.iter().zip(chosen) {
-        let stream = &layer.stream;
-        let choice = match choice {
-            None => continue,
-            Some(Err(why)) => {
-                log::warn!("{why}");
-                continue;
+    let mut clouds = Vec::new();
+    let mut keys = Vec::new();
+    for (k, choice) in chosen.into_iter().enumerate() {
+        match choice {
+            Some(Ok(choice)) => {
+                let Some(cloud) = choice.cloud else { continue };
+                let layer = &layered.layers[k];
+                log::info!("{}: {} points of {} nodes drawn", layer.stream.name(), cloud.len(), layer.last.drawn);
+                clouds.push((k, cloud));
+                keys.push(choice.key);
             }
-            Some(Ok(choice)) => choice,
-        };
-        let Some(cloud) = choice.cloud else { continue };
-        log::info!("{}: {} points of {} nodes drawn", stream.name(), cloud.len(), layer.last.drawn);
-        drawn += cloud.len();
-        let object = Scene::single(stream.file_name(), cloud, choice.key).coloured_by_default();
+            Some(Err(why)) => log::warn!("{why}"),
+            None => {}
+        }
+    }
+    let mended = layered.mend_seams(&mut clouds, &LoadOptions::default().estimate);
+    if mended > 0 {
+        log::info!("{mended} points where the streamed layers meet estimated again with their neighbours across");
+    }
+    let drawn: usize = clouds.iter().map(|(_, c)| c.len()).sum();
+    let mut scene = whole;
+    for ((k, cloud), key) in clouds.into_iter().zip(keys) {
+        let object = Scene::single(layered.layers[k].stream.file_name(), cloud, key).coloured_by_default();
         scene.objects.extend(object.objects);
     }
     if scene.objects.is_empty() {

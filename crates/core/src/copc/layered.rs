@@ -11,17 +11,21 @@
 //! would. Each file's spheres are moved into the first file's frame (its
 //! origin: file = frame + origin), in which the camera is given. Each
 //! file's chosen nodes are then loaded, estimated and gathered by its own
-//! [`StreamSubset`], as a file alone is, into a cloud with its own origin.
+//! [`StreamSubset`], as a file alone is, into a cloud with its own origin,
+//! and the seams where two files' clouds meet are estimated again
+//! ([`LayeredStreams::mend_seams`]), as layers held whole are.
 
 use glam::{DVec3, Vec3};
 
 use super::hierarchy::CopcTree;
 use super::subset::StreamSubset;
 use super::{CopcError, CopcStream, StreamBudget};
-use crate::cloud::LoadOptions;
+use crate::cloud::estimate::EstimateOptions;
+use crate::cloud::{LoadOptions, PointCloud, Provenance};
 use crate::frame::Camera;
 use crate::frame::subset::{Choice, Choosing};
 use crate::lod::{LodTree, Refinement, Selection, select_in};
+use crate::scene::layer_seams::{self, Layer};
 
 /// The forest root's coarseness: larger than any node's, so that it is always refined.
 const ROOT_COARSENESS: f32 = 1e30;
@@ -187,5 +191,34 @@ impl LayeredStreams {
             Some(layer.gather_selected(selection, choosing, u64::MAX))
         });
         Ok(chosen.collect())
+    }
+
+    /// Whether layer `k`'s file gives its normals and its radii, or its stream estimated them.
+    fn provenance(&self, k: usize) -> (Provenance, Provenance) {
+        let gives = |name: &str| self.layers[k].stream.header.fields.iter().any(|f| f.name == name);
+        let of = |given: bool| if given { Provenance::FromFile } else { Provenance::Estimated };
+        (of(["nx", "ny", "nz"].into_iter().all(gives)), of(gives("radius")))
+    }
+
+    /// Mends the seams where the chosen clouds of two layers (layer
+    /// number, cloud) meet, as layers held whole are mended
+    /// ([`layer_seams::mend`]): each node was estimated with its own file's
+    /// points only. Returns how many points were estimated again.
+    pub fn mend_seams(&self, clouds: &mut Vec<(usize, PointCloud)>, options: &EstimateOptions) -> usize {
+        if clouds.len() < 2 {
+            return 0;
+        }
+        let order: Vec<usize> = clouds.iter().map(|(k, _)| *k).collect();
+        let mut layers: Vec<Layer> = clouds
+            .drain(..)
+            .map(|(k, cloud)| {
+                let (normals, radii) = self.provenance(k);
+                Layer { cloud, normals, radii }
+            })
+            .collect();
+        let options = EstimateOptions { orient_up: true, ..options.clone() };
+        let mended = layer_seams::mend(&mut layers, &options);
+        clouds.extend(order.into_iter().zip(layers.into_iter().map(|l| l.cloud)));
+        mended
     }
 }

@@ -14,7 +14,7 @@
 pub mod animation;
 pub mod environment_map;
 pub mod file;
-mod layer_seams;
+pub(crate) mod layer_seams;
 pub mod layers;
 mod material;
 pub mod primitives;
