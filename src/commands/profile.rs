@@ -4,7 +4,9 @@
 //! nodes the slab meets, [`super::region_records`]) within W/2 of the line and between its
 //! ends ([`pointblend::inspect::profile`]), after `--classes`, `--filter`
 //! and `--returns`. `--csv` writes its rows, `--points` its records (LAS/LAZ
-//! copied with every field, or PLY), and `--out` draws it: the file, styled
+//! copied with every field, or PLY), and `--out` draws it: the slab's
+//! records and those within W/2 around it (a lidar file; another format as
+//! loaded), styled
 //! by the view flags, clipped to the slab by four planes and seen in
 //! orthographic from the right of the line (distance along the line
 //! against height), in any mode, every splat turned to face the viewer
@@ -15,6 +17,7 @@ use std::sync::Arc;
 
 use anyhow::{Context, Result, bail};
 use glam::{DVec2, DVec3};
+use pointblend::cloud::records::RecordSource;
 use pointblend::frame::{Camera, Projection, RenderMode, UpAxis, View};
 use pointblend::inspect::profile::{self, Profile};
 use pointblend::render::{Frame, GpuRenderer, PreparedScene, Readback};
@@ -57,15 +60,17 @@ pub fn run(args: &Args) -> Result<()> {
         shared::refuse_same_file(out, "the input", &args.file)?;
         shared::prepare_output(out)?;
     }
-    let reach = DVec2::splat(args.width * 0.5);
-    let region = (start.min(end) - reach, start.max(end) + reach);
+    // The points within half a width around the slab size its splats: read them too.
+    let around = profile.widened(args.width * 0.5);
+    let reach = DVec2::splat(around.width * 0.5);
+    let region = (around.start.min(around.end) - reach, around.start.max(around.end) + reach);
     let records = super::region_records::records_in(&args.file, &args.view.stream, region)?;
     let scene_flags = &args.view.scene;
     let classes = (!scene_flags.classes.is_empty()).then_some(scene_flags.classes.as_slice());
     let chosen =
         filter::kept_of(&records.attributes, records.len(), classes, &scene_flags.filters, scene_flags.returns)
             .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?;
-    let slab: Vec<u32> = chosen.into_iter().filter(|&i| profile.holds(records.positions[i as usize])).collect();
+    let slab: Vec<u32> = chosen.iter().copied().filter(|&i| profile.holds(records.positions[i as usize])).collect();
     println!(
         "{}: {} of {} points in the slab ({:.3} long, {} wide, {})",
         shared::shown_path(&args.file),
@@ -90,14 +95,18 @@ pub fn run(args: &Args) -> Result<()> {
         }
         let heights = slab.iter().map(|&i| records.positions[i as usize].z);
         let (low, high) = heights.fold((f64::MAX, f64::MIN), |(l, h), z| (l.min(z), h.max(z)));
-        let name = args.file.to_string_lossy();
-        let scene = if pointblend::copc::is_streamed(&args.file) || pointblend::copc::is_url(&name) {
-            // A streamed file is drawn from the slab's own records, not opened whole.
-            let slab_file = pointblend::output::Temporary::with_suffix(".las")?;
-            records.write_subset(&slab, slab_file.path())?;
+        let scene = if matches!(records.source, RecordSource::Las(_) | RecordSource::Raw { .. }) {
+            // A LAS, LAZ or COPC file (or URL) is drawn from the slab's own records and those
+            // around it, not opened again whole: only their radii are estimated.
+            let prefix = format!("{}-slab-", pointblend::output::safe_stem(&args.file));
+            let slab_file = pointblend::output::Temporary::named(&prefix, ".las")?;
+            // The slab and the points around it: the clip planes cut the drawing to the slab.
+            let near: Vec<u32> = chosen.into_iter().filter(|&i| around.holds(records.positions[i as usize])).collect();
+            records.write_subset(&near, slab_file.path())?;
             drop(records);
             shared::load_scene(slab_file.path())?
         } else {
+            // Another format's records are its loaded splats, with the normals and radii it gives.
             drop(records);
             shared::load_scene(&args.file)?
         };

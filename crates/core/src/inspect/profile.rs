@@ -60,6 +60,13 @@ impl Profile {
 
     /// Whether the point lies in the slab: at most W/2 from the line, and
     /// between its ends (both edges kept).
+    /// The slab grown by `margin` on every side (wider, and past both
+    /// ends): the points around it whose neighbours size its splats.
+    pub fn widened(&self, margin: f64) -> Profile {
+        let (along, _) = self.axes();
+        Profile { start: self.start - along * margin, end: self.end + along * margin, width: self.width + 2.0 * margin }
+    }
+
     pub fn holds(&self, p: DVec3) -> bool {
         let (t, offset) = self.place(p);
         offset.abs() <= self.width * 0.5 && (0.0..=self.length()).contains(&t)
@@ -120,5 +127,20 @@ mod tests {
         assert!(Profile::new(DVec2::ZERO, DVec2::X, 0.0).is_err());
         assert!(parse_line("1,2,3").is_err() && parse_line("1,2,3,nan").is_err());
         assert_eq!(parse_line(" 1, 2,3,4").unwrap(), (DVec2::new(1.0, 2.0), DVec2::new(3.0, 4.0)));
+    }
+
+    #[test]
+    fn the_widened_slab_holds_the_points_around_the_slab() {
+        let profile = Profile::new(DVec2::new(10.0, 0.0), DVec2::new(20.0, 0.0), 2.0).unwrap();
+        let around = profile.widened(1.0);
+        // Beside the slab, and past either end, by less than the margin.
+        for (x, y) in [(15.0, 1.9), (15.0, -1.9), (9.2, 0.0), (20.8, 0.5)] {
+            let p = DVec3::new(x, y, 3.0);
+            assert!(!profile.holds(p) && around.holds(p), "{p}");
+        }
+        for (x, y) in [(15.0, 2.1), (8.9, 0.0), (21.1, 0.0)] {
+            assert!(!around.holds(DVec3::new(x, y, 3.0)), "{x},{y}");
+        }
+        assert!(around.holds(DVec3::new(15.0, 0.0, -100.0)));
     }
 }

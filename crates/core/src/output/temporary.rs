@@ -41,6 +41,12 @@ impl Temporary {
         Self::listed(|| tempfile::Builder::new().suffix(suffix).tempfile())
     }
 
+    /// [`Self::with_suffix`], its name starting with `prefix`: what messages
+    /// about the file's contents show (`autzen-slab-…las`).
+    pub fn named(prefix: &str, suffix: &str) -> io::Result<Self> {
+        Self::listed(|| tempfile::Builder::new().prefix(prefix).suffix(suffix).tempfile())
+    }
+
     fn listed(make: impl FnOnce() -> io::Result<tempfile::NamedTempFile>) -> io::Result<Self> {
         let mut live = live();
         let file = make()?;
