@@ -107,6 +107,11 @@ fn two_halves_as_layers_equal_the_whole_and_meet_with_no_gap() {
     }
 }
 
+/// The `las` crate's count of a file's points.
+fn points_of(path: &Path) -> u64 {
+    las::Reader::from_path(path).unwrap().header().number_of_points()
+}
+
 /// The `las` crate's bounds of a file, as a 3D box.
 fn bounds_of(path: &Path) -> [f64; 6] {
     let b = las::Reader::from_path(path).unwrap().header().bounds();
@@ -133,7 +138,7 @@ fn a_vpc_draws_as_its_files_do_as_layers_and_opens_only_those_the_view_reaches()
             serde_json::json!({
                 "type": "Feature", "stac_version": "1.0.0", "id": format!("t{k}"), "geometry": null,
                 "bbox": [-123.0, 45.2, 0.0, -122.9, 45.3, 90.0],
-                "properties": {"proj:bbox": bounds_of(copc), "pc:count": 1},
+                "properties": {"proj:bbox": bounds_of(copc), "pc:count": points_of(copc), "proj:epsg": 32610},
                 "assets": {"data": {"href": format!("./tiles/t{k}.copc.laz"), "roles": ["data"]}},
             })
         })
@@ -148,6 +153,25 @@ fn a_vpc_draws_as_its_files_do_as_layers_and_opens_only_those_the_view_reaches()
     assert!(log.contains("opening 3 of the layers' 3 files"), "{log}");
     let error = pointblend::reference::compare(&from_vpc, &as_layers).unwrap();
     assert!(error.eps <= 0.01, "ε {} between the .vpc and its files as layers", error.eps);
+
+    // info says what the .vpc states of its files, and names a file that is not there.
+    let run = pointblend(&["info", vpc.to_str().unwrap()]);
+    let said = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let total = tile().len();
+    assert!(said.contains(&format!("points:      {total}\n")) && said.contains(", 3 files"), "{said}");
+    assert!(said.contains("crs:         EPSG:32610") && said.contains("units:       horizontal metre"), "{said}");
+    assert_eq!(said.lines().filter(|l| l.starts_with("layer:")).count(), 3, "{said}");
+    let mut broken = collection.clone();
+    broken["features"][1]["assets"]["data"]["href"] = "./tiles/gone.copc.laz".into();
+    let gone = dir.path().join("gone.vpc");
+    std::fs::write(&gone, broken.to_string()).unwrap();
+    let run = pointblend(&["info", gone.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success() && stderr.contains("gone.vpc: 1 of its 3 files are not there"), "{stderr}");
+    let said = String::from_utf8_lossy(&run.stdout);
+    let line = said.lines().find(|l| l.contains("gone.copc.laz: ")).unwrap_or_else(|| panic!("{said}"));
+    assert!(line.contains(&format!(": {} points", points_of(&copcs[1]))) && line.ends_with("MISSING"), "{line}");
 
     // bench (and the viewer) open a .vpc as every one of its files.
     let out = dir.path().join("bench");

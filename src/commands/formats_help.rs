@@ -71,7 +71,7 @@ pub fn opened_by_view() -> String {
 /// The file `info` describes.
 pub fn described_by_info() -> String {
     format!(
-        "Point cloud file ({}); of a {} file or http(s) URL, its header and hierarchy, without decoding its points",
+        "Point cloud file ({}); of a {} file or http(s) URL, its header and hierarchy, without decoding its points; of a .vpc, what it states of its files",
         formats::names(whole, "or"),
         streamed_formats()
     )
@@ -105,7 +105,7 @@ pub fn grouped_file() -> String {
 /// `pointblend info`'s one-line description.
 pub fn info_about() -> String {
     format!(
-        "Show what a file holds ({}; COPC without decoding) and what loading estimates or repairs",
+        "Show what a file holds ({}; COPC without decoding; a .vpc's files as it lists them) and what loading estimates or repairs",
         formats::names(whole, "or")
     )
 }

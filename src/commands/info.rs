@@ -11,6 +11,9 @@ pub struct Args {
 }
 
 pub fn run(args: &Args) -> Result<()> {
+    if pointblend::scene::vpc::is_vpc(&args.file) {
+        return super::info_vpc::run(&args.file);
+    }
     if pointblend::copc::is_streamed(&args.file) {
         return super::info_streamed::run(&args.file);
     }

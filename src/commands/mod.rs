@@ -7,6 +7,7 @@ pub mod formats_help;
 pub mod group;
 pub mod info;
 pub mod info_streamed;
+pub mod info_vpc;
 pub mod layers;
 pub mod main_job;
 pub mod measure;

@@ -8,7 +8,8 @@
 //! bounds, in the files' own coordinates, come from
 //! `properties["proj:bbox"]` (PDAL writes the native CRS's box there), else
 //! from `bbox`; either may be 2D (4 numbers) or 3D (6). `geometry` may be
-//! null. Anything else is read past.
+//! null. `pc:count` and `proj:epsg`, where given, are read for `info`.
+//! Anything else is read past.
 
 use std::path::{Path, PathBuf};
 
@@ -22,6 +23,10 @@ pub struct VpcFile {
     /// Its bounds (min, max) in file coordinates, if the feature gives them;
     /// a 2D box spans every height.
     pub bounds: Option<(DVec3, DVec3)>,
+    /// Its points, as `properties["pc:count"]` states them.
+    pub points: Option<u64>,
+    /// Its CRS's EPSG code, as `properties["proj:epsg"]` states it.
+    pub epsg: Option<u32>,
 }
 
 /// Whether `path` names a virtual point cloud.
@@ -62,7 +67,9 @@ pub fn read(path: &Path) -> Result<Vec<VpcFile>, String> {
             .pointer("/properties/proj:bbox")
             .and_then(bounds_of)
             .or_else(|| feature.get("bbox").and_then(bounds_of));
-        files.push(VpcFile { path, bounds });
+        let points = feature.pointer("/properties/pc:count").and_then(Value::as_u64);
+        let epsg = feature.pointer("/properties/proj:epsg").and_then(Value::as_u64).and_then(|c| u32::try_from(c).ok());
+        files.push(VpcFile { path, bounds, points, epsg });
     }
     if files.is_empty() {
         return Err("it lists no files (\"features\" is empty)".into());
@@ -80,7 +87,7 @@ mod tests {
         let path = dir.path().join("city.vpc");
         let text = r#"{"type": "FeatureCollection", "features": [
             {"type": "Feature", "geometry": null, "bbox": [-123.1, 44.0, 100, -123.0, 44.1, 200],
-             "properties": {"proj:bbox": [637000.5, 849000, 10, 637100, 849100, 60]},
+             "properties": {"proj:bbox": [637000.5, 849000, 10, 637100, 849100, 60], "pc:count": 1234, "proj:epsg": 2992},
              "assets": {"data": {"href": "./tiles/a.copc.laz", "roles": ["data"]}}},
             {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": []}, "bbox": [1, 2, 3, 4],
              "properties": {}, "assets": {"data": {"href": "/data/b.laz"}}}
@@ -89,6 +96,8 @@ mod tests {
         let files = read(&path).unwrap();
         assert_eq!(files[0].path, dir.path().join("tiles/a.copc.laz"));
         assert_eq!(files[0].bounds, Some((DVec3::new(637000.5, 849000.0, 10.0), DVec3::new(637100.0, 849100.0, 60.0))));
+        assert_eq!((files[0].points, files[0].epsg), (Some(1234), Some(2992)));
+        assert_eq!((files[1].points, files[1].epsg), (None, None));
         assert_eq!(files[1].path, PathBuf::from("/data/b.laz"));
         assert_eq!(files[1].bounds.unwrap().0.truncate(), glam::DVec2::new(1.0, 2.0));
         for bad in [
