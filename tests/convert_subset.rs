@@ -3,7 +3,7 @@
 //! origin, converted with `--classes`, `--filter`, `--returns`, `--clip-box`
 //! and `--clip-plane`. The points written, read back by the `las` crate, are
 //! exactly those an independent selection of the input picks, attributes
-//! included.
+//! included. A subset that keeps no point writes nothing and says so.
 
 mod common;
 
@@ -81,5 +81,31 @@ fn convert_writes_exactly_the_points_each_subset_flag_keeps() {
         let want = expected(&points, keep);
         assert!(!want.is_empty() && want.len() < points.len(), "{flags:?} selects some points: {}", want.len());
         assert_eq!(points_of(&output), want, "{flags:?}");
+    }
+}
+
+#[test]
+fn a_subset_that_keeps_no_point_writes_nothing_and_says_so_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let origin = [500_000.0, 4_200_000.0, 50.0];
+    let points = tilted_grid(10, 0.5, 0.1, origin);
+    let input = write(&dir.path().join("tile.las"), &points, [origin[0], origin[1], 0.0], None);
+    // A box below the tile (its heights mistaken), and a class it lacks; to LAS, COPC and PLY.
+    let below = format!("{},{},-1000,{},{},0", origin[0], origin[1], origin[0] + 10.0, origin[1] + 10.0);
+    for (flags, name) in
+        [(["--clip-box", below.as_str()], "a.las"), (["--classes", "9"], "b.copc.laz"), (["--classes", "9"], "c.ply")]
+    {
+        let output = dir.path().join(name);
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
+            .args(["convert", input.to_str().unwrap(), output.to_str().unwrap()])
+            .args(flags)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error")).collect();
+        assert!(!out.status.success() && errors.len() == 1, "{flags:?}: {stderr}");
+        let said = format!("tile.las: the subset keeps none of its {} points", points.len());
+        assert!(errors[0].contains(&said), "{}", errors[0]);
+        assert!(!output.exists(), "{name} written");
     }
 }

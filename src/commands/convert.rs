@@ -127,7 +127,7 @@ pub fn run(args: &Args) -> Result<()> {
         return run_records(args);
     }
     let (cloud, report) = load_for_convert(args)?;
-    let (cloud, left_out) = args.subset.apply(cloud)?;
+    let (cloud, left_out) = args.subset.apply(cloud, &args.input)?;
     super::shared::prepare_output(&args.output)?;
     let source = args.input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let mut comments = vec![format!("pointblend convert from {source}")];
@@ -175,7 +175,7 @@ fn run_records(args: &Args) -> Result<()> {
     super::shared::prepare_output(&args.output)?;
     let started = std::time::Instant::now();
     let records = cloud::records::Records::read(&args.input, &LoadOptions { progress: true, ..Default::default() })?;
-    let keep = args.subset.kept_records(&records)?;
+    let keep = args.subset.kept_records(&records, &args.input)?;
     records.write_subset(&keep, &args.output)?;
     let subset = if args.subset.is_given() {
         format!(", {} left out by the subset", records.len() - keep.len())
@@ -204,13 +204,13 @@ fn run_copc(args: &Args) -> Result<()> {
         args.input.as_path()
     } else if cloud::las_file::is_las(&args.input) {
         let records = cloud::records::Records::read(&args.input, &LoadOptions::default())?;
-        let keep = args.subset.kept_records(&records)?;
+        let keep = args.subset.kept_records(&records, &args.input)?;
         las_input = pointblend::output::Temporary::with_suffix(".las")?;
         records.write_subset(&keep, las_input.path())?;
         las_input.path()
     } else {
         let (cloud, _) = super::shared::load(&args.input)?;
-        let (cloud, _) = args.subset.apply(cloud)?;
+        let (cloud, _) = args.subset.apply(cloud, &args.input)?;
         las_input = pointblend::output::Temporary::with_suffix(".las")?;
         cloud::write_las::write_las(&cloud, las_input.path())?;
         las_input.path()

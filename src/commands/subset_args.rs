@@ -4,6 +4,8 @@
 //! (scene_args.rs), applied to a file's records (or a loaded cloud's
 //! splats) before they are written: every test in f64 file coordinates.
 
+use std::path::Path;
+
 use anyhow::Result;
 use glam::DVec3;
 use pointblend::cloud::PointCloud;
@@ -47,19 +49,22 @@ impl SubsetArgs {
 
     /// The points of `cloud` the flags keep, with their attributes; the
     /// count left out.
-    pub fn apply(&self, cloud: PointCloud) -> Result<(PointCloud, usize)> {
+    pub fn apply(&self, cloud: PointCloud, input: &Path) -> Result<(PointCloud, usize)> {
         if !self.is_given() {
             return Ok((cloud, 0));
         }
         let (origin, unit) = (glam::DVec3::from_array(cloud.origin), cloud.unit());
         let keep = self.kept(cloud.len(), &cloud.attributes, |i| cloud.frame_position(i) * unit + origin)?;
+        refuse_none_kept(input, keep.len(), cloud.len())?;
         let kept = PointCloud { attributes: cloud.attributes.gather(&keep), ..cloud.select(&keep) };
         Ok((kept, cloud.len() - keep.len()))
     }
 
     /// The records the flags keep, ascending.
-    pub fn kept_records(&self, records: &Records) -> Result<Vec<u32>> {
-        self.kept(records.len(), &records.attributes, |i| records.positions[i])
+    pub fn kept_records(&self, records: &Records, input: &Path) -> Result<Vec<u32>> {
+        let keep = self.kept(records.len(), &records.attributes, |i| records.positions[i])?;
+        refuse_none_kept(input, keep.len(), records.len())?;
+        Ok(keep)
     }
 
     /// Which of `n` points, with `attributes` and at file positions
@@ -77,4 +82,16 @@ impl SubsetArgs {
         }
         Ok(keep.into_iter().filter(|&i| region.keeps_file_point(position(i as usize))).collect())
     }
+}
+
+/// Refuses a subset that keeps none of `total` points (a box or filter that
+/// misses the file), before anything is written: an empty output is a mistake.
+fn refuse_none_kept(input: &Path, kept: usize, total: usize) -> Result<()> {
+    if kept == 0 && total > 0 {
+        anyhow::bail!(
+            "{}: the subset keeps none of its {total} points, so nothing is written (`pointblend info` gives its bounds and attributes)",
+            input.display()
+        );
+    }
+    Ok(())
 }
