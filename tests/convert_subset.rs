@@ -3,11 +3,13 @@
 //! origin, converted with `--classes`, `--filter`, `--returns`, `--clip-box`
 //! and `--clip-plane`. The points written, read back by the `las` crate, are
 //! exactly those an independent selection of the input picks, attributes
-//! included. A subset that keeps no point writes nothing and says so.
+//! included. A subset that keeps no point writes nothing and says so. A
+//! COPC file served over HTTP (a real server) converts as the file does.
 
 mod common;
 
 use common::lidar::{LidarPoint, tilted_grid, write};
+use common::nginx::Nginx;
 use std::path::Path;
 
 fn convert(input: &Path, output: &Path, flags: &[&str]) {
@@ -108,4 +110,27 @@ fn a_subset_that_keeps_no_point_writes_nothing_and_says_so_in_one_line() {
         assert!(errors[0].contains(&said), "{}", errors[0]);
         assert!(!output.exists(), "{name} written");
     }
+}
+
+#[test]
+fn a_copc_url_converts_the_points_of_the_nodes_its_box_meets() {
+    let dir = tempfile::tempdir().unwrap();
+    let origin = [500_000.0, 4_200_000.0, 50.0];
+    let points = tilted_grid(40, 0.5, 0.1, origin);
+    let las = write(&dir.path().join("tile.las"), &points, [origin[0], origin[1], 0.0], None);
+    convert(&las, &dir.path().join("tile.copc.laz"), &[]);
+    let server = Nginx::serve(dir.path());
+    let url = std::path::PathBuf::from(format!("http://127.0.0.1:{}/tile.copc.laz", server.port));
+    let (x0, y0) = (origin[0] + 5.1, origin[1] + 2.6);
+    let clip_box = format!("{x0},{y0},0,{},{},1000", x0 + 7.5, y0 + 10.0);
+    let in_box: Keep = Box::new(move |p| (x0..=x0 + 7.5).contains(&p.xyz[0]) && (y0..=y0 + 10.0).contains(&p.xyz[1]));
+    let boxed = dir.path().join("boxed.laz");
+    convert(&url, &boxed, &["--clip-box", &clip_box]);
+    let want = expected(&points, &in_box);
+    assert!(!want.is_empty() && want.len() < points.len());
+    assert_eq!(points_of(&boxed), want);
+    // To COPC, by class.
+    let ground = dir.path().join("ground.copc.laz");
+    convert(&url, &ground, &["--classes", "2"]);
+    assert_eq!(points_of(&ground), expected(&points, &(Box::new(|p: &LidarPoint| p.class == 2) as Keep)));
 }

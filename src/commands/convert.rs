@@ -120,6 +120,13 @@ pub fn run(args: &Args) -> Result<()> {
     if args.transfer.is_some() || args.threshold.is_some() {
         bail!("--transfer and --threshold apply to volumes (.nii, .nii.gz), not {}", args.input.display());
     }
+    if is_url(&args.input) {
+        if args.points.is_some() {
+            bail!("{}: --points samples a mesh's surface; a URL is a point cloud", args.input.display());
+        }
+        // Its records, of the nodes that meet --clip-box: to LAS/LAZ/PLY as they are, or to COPC.
+        return if format.reader == Reader::Copc { run_copc(args) } else { run_records(args) };
+    }
     if format.reader == Reader::Copc && args.points.is_none() {
         return run_copc(args);
     }
@@ -174,7 +181,7 @@ fn load_for_convert(args: &Args) -> Result<(cloud::PointCloud, cloud::LoadReport
 fn run_records(args: &Args) -> Result<()> {
     super::shared::prepare_output(&args.output)?;
     let started = std::time::Instant::now();
-    let records = cloud::records::Records::read(&args.input, &LoadOptions { progress: true, ..Default::default() })?;
+    let records = input_records(args, true)?;
     let keep = args.subset.kept_records(&records, &args.input)?;
     records.write_subset(&keep, &args.output)?;
     let subset = if args.subset.is_given() {
@@ -200,10 +207,11 @@ fn run_copc(args: &Args) -> Result<()> {
     super::shared::prepare_output(&args.output)?;
     let started = std::time::Instant::now();
     let las_input;
-    let input = if cloud::las_file::is_las(&args.input) && !args.subset.is_given() {
+    let url = is_url(&args.input);
+    let input = if cloud::las_file::is_las(&args.input) && !args.subset.is_given() && !url {
         args.input.as_path()
-    } else if cloud::las_file::is_las(&args.input) {
-        let records = cloud::records::Records::read(&args.input, &LoadOptions::default())?;
+    } else if cloud::las_file::is_las(&args.input) || url {
+        let records = input_records(args, false)?;
         let keep = args.subset.kept_records(&records, &args.input)?;
         las_input = pointblend::output::Temporary::with_suffix(".las")?;
         records.write_subset(&keep, las_input.path())?;
@@ -227,6 +235,21 @@ fn run_copc(args: &Args) -> Result<()> {
         started.elapsed().as_secs_f64()
     );
     Ok(())
+}
+
+/// Whether the input is an http(s) URL (of a COPC file).
+fn is_url(input: &std::path::Path) -> bool {
+    pointblend::copc::is_url(&input.to_string_lossy())
+}
+
+/// The input's records: a URL's of the nodes that meet the subset's box
+/// (every node without one), read node by node; a file's, read whole.
+fn input_records(args: &Args, progress: bool) -> Result<cloud::records::Records> {
+    if is_url(&args.input) {
+        let stream = super::stream_args::StreamArgs::default();
+        return super::region_records::records_in(&args.input, &stream, args.subset.region());
+    }
+    Ok(cloud::records::Records::read(&args.input, &LoadOptions { progress, ..Default::default() })?)
 }
 
 /// Refuses a sample count that the splat indices (u32) or the machine's

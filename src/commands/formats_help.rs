@@ -80,7 +80,7 @@ pub fn described_by_info() -> String {
 /// What `convert` reads.
 pub fn converted_input() -> String {
     format!(
-        "Input: a mesh or cloud ({}; a COPC file is read whole, as LAZ), or a {}",
+        "Input: a mesh or cloud ({}; a COPC file is read whole, as LAZ; of a COPC http(s) URL, the nodes meeting --clip-box), or a {}",
         formats::names(whole, "or"),
         formats::names_with_extensions(|f| f.reader == Reader::Volume)
     )

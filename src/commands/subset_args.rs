@@ -60,6 +60,18 @@ impl SubsetArgs {
         Ok((kept, cloud.len() - keep.len()))
     }
 
+    /// The horizontal box (x and y, file coordinates) that holds every
+    /// point the flags keep: `--clip-box`'s when it keeps its inside, else
+    /// everywhere. A streamed input reads only the nodes meeting it.
+    pub fn region(&self) -> (glam::DVec2, glam::DVec2) {
+        match self.clip_box {
+            Some(b) if self.clip_hide.unwrap_or_default() == Hidden::Outside => {
+                (glam::DVec2::new(b.min[0], b.min[1]), glam::DVec2::new(b.max[0], b.max[1]))
+            }
+            _ => (glam::DVec2::NEG_INFINITY, glam::DVec2::INFINITY),
+        }
+    }
+
     /// The records the flags keep, ascending.
     pub fn kept_records(&self, records: &Records, input: &Path) -> Result<Vec<u32>> {
         let keep = self.kept(records.len(), &records.attributes, |i| records.positions[i])?;
