@@ -106,13 +106,7 @@ pub fn pick_in(
     // direction is 10 mm off at 150 km): eye + direction · depth (the eye
     // being the pixel's place on the eye's plane in orthographic).
     let to_frame = camera.view_matrix_f64().inverse();
-    let tan_y = ((camera.fov_y_deg as f64).to_radians() * 0.5).tan();
-    let half_y = if camera.is_ortho() { tan_y * camera.distance as f64 } else { tan_y };
-    let ndc =
-        glam::DVec2::new((x as f64 + 0.5) / width as f64 * 2.0 - 1.0, 1.0 - (y as f64 + 0.5) / height as f64 * 2.0);
-    let place = ndc * glam::DVec2::new(half_y * width as f64 / height as f64, half_y);
-    let (origin_eye, eye_ray) =
-        if camera.is_ortho() { (place.extend(0.0), DVec3::NEG_Z) } else { (DVec3::ZERO, place.extend(-1.0)) };
+    let (origin_eye, eye_ray) = crate::frame::eye_ray::Lens::ray_f64(camera, (width, height), (x, y));
     let (eye, direction) = (to_frame.transform_point3(origin_eye), to_frame.transform_vector3(eye_ray));
     let mut used = vec![false; sorted.len()];
     let mut layers = Vec::new();
