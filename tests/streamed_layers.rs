@@ -1,7 +1,8 @@
 //! Streamed layers: several COPC files (or a `.vpc` of URLs) drawn node by
 //! node under one `--point-budget`. Two generated tiles side by side, each
 //! of several nodes: together they draw no more than the budget, and the
-//! tile nearer the eye draws more of its nodes; `bench A B --together`
+//! tile nearer the eye draws more of its nodes; a budget below the two roots
+//! together still draws both (no file left out); `bench A B --together`
 //! measures them under that budget; a `.vpc` whose files are URLs on a real
 //! HTTP server draws as the local files do.
 
@@ -44,9 +45,14 @@ fn tiles(dir: &Path) -> [PathBuf; 2] {
 
 /// Renders `files` from the east (the east tile nearer), under the budget; the image and the log.
 fn render(files: &[&str], out: &Path) -> (image::RgbaImage, String) {
+    render_under(files, out, BUDGET)
+}
+
+/// [`render`] under `budget` points.
+fn render_under(files: &[&str], out: &Path, budget: usize) -> (image::RgbaImage, String) {
     let mut args: Vec<&str> = vec!["render"];
     args.extend(files);
-    let budget = BUDGET.to_string();
+    let budget = budget.to_string();
     let view = ["--view", "right", "--elevation", "20", "--distance", "120", "--mode", "two-pass", "--size", "128x128"];
     args.extend(view);
     args.extend(["--point-budget", &budget, "--out", out.to_str().unwrap()]);
@@ -84,9 +90,16 @@ fn streamed_layers_share_one_budget_and_the_near_tile_draws_more() {
     let covered = image.pixels().filter(|p| **p != background).count();
     assert!(covered * 4 > (image.width() * image.height()) as usize, "{covered} pixels drawn");
 
+    // A budget below the two roots together still draws both roots: no file is left out.
+    let (_, log) = render_under(&files, &dir.path().join("tight.png"), 20_000);
+    let (w_root, e_root) = (drawn(&log, "west.copc.laz"), drawn(&log, "east.copc.laz"));
+    assert!(w_root > 0 && e_root > 0 && w_root + e_root > 20_000, "roots {w_root} and {e_root} points:\n{log}");
+    assert!(log.contains("over the one budget of 20000"), "{log}");
+
     // bench A B --together measures the two as one scene under the one budget.
     let out = dir.path().join("bench");
-    let args = ["bench", files[0], files[1], "--together", "--modes", "two-pass", "--views", "1", "--size", "128x128"];
+    // Two views that select the same nodes: the second draws them again.
+    let args = ["bench", files[0], files[1], "--together", "--modes", "two-pass", "--views", "2", "--size", "128x128"];
     let budget = BUDGET.to_string();
     let more = ["--frames", "1", "--warm-up", "0", "--point-budget", &budget, "--out", out.to_str().unwrap()];
     let run = pointblend(&[&args[..], &more[..]].concat());

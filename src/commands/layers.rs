@@ -151,11 +151,14 @@ fn streamed_layers(
     if scene.objects.is_empty() {
         bail!("{}: no point of the layers is in view", shown_first(&layered));
     }
-    log::info!(
-        "{drawn} points of {} streamed files drawn under one budget of {}",
-        layered.layers.len(),
-        budget_text(budget)
-    );
+    let files = layered.layers.len();
+    match budget_points(budget) {
+        Some(limit) if drawn > limit => log::warn!(
+            "{drawn} points of {files} streamed files drawn, over the one budget of {limit}: every file's root in view is drawn whatever it holds (a larger --point-budget refines them)"
+        ),
+        Some(limit) => log::info!("{drawn} points of {files} streamed files drawn under one budget of {limit} points"),
+        None => log::info!("{drawn} points of {files} streamed files drawn (every point)"),
+    }
     let camera = layers::camera_in_frame(&camera, from, scene.frame_placement());
     Ok(OpenedLayers { scene, camera: Some(camera), by_nodes: true })
 }
@@ -164,12 +167,13 @@ fn shown_first(layered: &LayeredStreams) -> String {
     layered.layers.first().map(|l| l.stream.name().to_string()).unwrap_or_default()
 }
 
-fn budget_text(budget: pointblend::copc::StreamBudget) -> String {
+/// The points `budget` allows (`None`: every point).
+fn budget_points(budget: pointblend::copc::StreamBudget) -> Option<usize> {
     use pointblend::copc::StreamBudget;
     match budget {
-        StreamBudget::Default => format!("{} points", pointblend::copc::budget::DEFAULT_BUDGET),
-        StreamBudget::Points(n) => format!("{n} points"),
-        StreamBudget::All => "every point".into(),
+        StreamBudget::Default => Some(pointblend::copc::budget::DEFAULT_BUDGET),
+        StreamBudget::Points(n) => Some(n),
+        StreamBudget::All => None,
     }
 }
 

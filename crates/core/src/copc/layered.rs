@@ -8,7 +8,9 @@
 //! the node of largest projected spacing next, whichever file it is in,
 //! while the points of all the files together fit the budget: a near tile
 //! gets fine nodes and a far one its top levels, as one file of them all
-//! would. Each file's spheres are moved into the first file's frame (its
+//! would. Every file's root in view is drawn whatever the budget, as one
+//! file's root is: a budget below the roots' points together would
+//! otherwise leave whole files out, holes in the view. Each file's spheres are moved into the first file's frame (its
 //! origin: file = frame + origin), in which the camera is given. Each
 //! file's chosen nodes are then loaded, estimated and gathered by its own
 //! [`StreamSubset`], as a file alone is, into a cloud with its own origin,
@@ -35,6 +37,8 @@ pub struct LayeredStreams {
     /// Each file, with its node cache and its last choice.
     pub layers: Vec<StreamSubset>,
     pub budget: StreamBudget,
+    /// Each file's last cloud: what a choice of the same nodes gives again.
+    last: Vec<Option<PointCloud>>,
 }
 
 /// The layers' octrees as one tree (see the module doc).
@@ -110,6 +114,13 @@ impl LodTree for Forest<'_> {
         let (centre, reach, spacing) = tree.sphere(local);
         (centre + offset, reach, spacing)
     }
+    fn always_drawn(&self, node: u32) -> bool {
+        if node == self.root {
+            return false;
+        }
+        let (file, local) = self.local(node);
+        self.trees[file].0.root() == Some(local)
+    }
     fn children(&self, node: u32, out: &mut Vec<u32>) {
         if node == self.root {
             let roots = self.trees.iter().zip(&self.bases).filter_map(|((tree, _), base)| Some(base + tree.root()?));
@@ -128,8 +139,10 @@ impl LodTree for Forest<'_> {
 impl LayeredStreams {
     /// `streams` under `budget` together, each loaded as `load` says.
     pub fn new(streams: Vec<CopcStream>, budget: StreamBudget, load: LoadOptions) -> Self {
-        let layers = streams.into_iter().map(|s| StreamSubset::new(s, budget, load.clone())).collect();
-        LayeredStreams { layers, budget }
+        let layers: Vec<StreamSubset> =
+            streams.into_iter().map(|s| StreamSubset::new(s, budget, load.clone())).collect();
+        let last = vec![None; layers.len()];
+        LayeredStreams { layers, budget, last }
     }
 
     /// The origin of the frame the camera is given in: the first file's.
@@ -175,7 +188,9 @@ impl LayeredStreams {
 
     /// Each file's points for `camera` (see [`Self::select`]), its chosen
     /// nodes loaded and gathered by its own subset: `None` for a file with
-    /// no node in view, else its choice or why it gave no point.
+    /// no node in view, else its choice (always with its cloud: a file
+    /// that draws the same nodes as last time gives its last cloud again)
+    /// or why it gave no point.
     pub fn choose(
         &mut self,
         camera: &Camera,
@@ -183,12 +198,18 @@ impl LayeredStreams {
         choosing: Choosing,
     ) -> Result<Vec<Option<Result<Choice, CopcError>>>, CopcError> {
         let each = self.select(camera, size, choosing)?;
-        let chosen = self.layers.iter_mut().zip(&each).map(|(layer, selection)| {
+        let chosen = self.layers.iter_mut().zip(&mut self.last).zip(&each).map(|((layer, last), selection)| {
             if selection.nodes.is_empty() {
                 return None;
             }
             layer.load_selected(selection, u64::MAX);
-            Some(layer.gather_selected(selection, choosing, u64::MAX))
+            Some(layer.gather_selected(selection, choosing, u64::MAX).map(|mut choice| {
+                match &choice.cloud {
+                    Some(cloud) => *last = Some(cloud.clone()),
+                    None => choice.cloud = last.clone(),
+                }
+                choice
+            }))
         });
         Ok(chosen.collect())
     }

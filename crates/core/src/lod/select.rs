@@ -12,7 +12,8 @@
 //! whose children would overrun the budget, or one finer than
 //! [`SelectOptions::finest_px`]) is drawn as it is. Nodes whose bounding
 //! sphere lies outside the view frustum are dropped. The root is always
-//! drawn when visible, so a budget smaller than the root draws the root.
+//! drawn when visible, so a budget smaller than the root draws the root
+//! (and so is each file's root in a forest of files, [`LodTree::always_drawn`]).
 
 use std::collections::BinaryHeap;
 
@@ -149,6 +150,12 @@ pub trait LodTree {
     /// Adds the node's children to `out` (none for a leaf, or for a node
     /// whose children are not known yet).
     fn children(&self, node: u32, out: &mut Vec<u32>);
+    /// Whether the node is drawn whatever the budget, as the root is
+    /// (under [`Refinement::Add`]): each file's root in a forest of several
+    /// files' trees, so that no visible file is left out.
+    fn always_drawn(&self, _node: u32) -> bool {
+        false
+    }
 }
 
 impl LodTree for Hierarchy {
@@ -212,7 +219,7 @@ pub fn select_in(tree: &impl LodTree, camera: &Camera, size: (u32, u32), options
         let mut drawn = 0;
         while let Some((error_bits, _, at)) = heap.pop() {
             let count = tree.count(at);
-            if at != root && drawn + count > budget {
+            if at != root && !tree.always_drawn(at) && drawn + count > budget {
                 continue;
             }
             drawn += count;
