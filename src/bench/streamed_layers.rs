@@ -17,9 +17,9 @@ use super::report::{BenchRow, ViewCosts};
 use super::views::{NamedView, views_of};
 use super::{BenchConfig, BenchError};
 use crate::cloud::LoadOptions;
+use crate::copc::is_streamed;
 use crate::copc::layered::LayeredStreams;
-use crate::copc::{CopcError, CopcStream, is_streamed};
-use crate::frame::subset::{Choice, Choosing};
+use crate::frame::subset::Choosing;
 use crate::render::{GpuRenderer, PreparedScene};
 use crate::scene::Scene;
 use crate::scene::layers::{self, SharedCrs};
@@ -36,7 +36,7 @@ fn invalid(e: impl std::fmt::Display) -> BenchError {
 
 /// The `.vpc`'s files held whole, as one scene, and its streamed files
 /// opened, all in one CRS; each stream's node cache a share of the run's.
-fn open_files(model: &Path, config: &BenchConfig) -> Result<(Scene, Vec<CopcStream>), BenchError> {
+fn open_files(model: &Path, config: &BenchConfig) -> Result<(Scene, LayeredStreams), BenchError> {
     let files = layers::layer_files(&[model.to_path_buf()]).map_err(invalid)?;
     let (streamed, whole): (Vec<PathBuf>, Vec<PathBuf>) =
         files.into_iter().map(|f| f.path).partition(|p| is_streamed(p));
@@ -51,16 +51,10 @@ fn open_files(model: &Path, config: &BenchConfig) -> Result<(Scene, Vec<CopcStre
             scene
         }
     };
-    let mut options = config.stream.clone();
-    options.cache_bytes /= streamed.len();
-    let mut streams = Vec::with_capacity(streamed.len());
-    for path in &streamed {
-        let stream = crate::copc::open_nodes(path, options.clone()).map_err(invalid)?;
-        let (epsg, text) = stream.crs();
-        crs.admit(stream.name(), epsg, text.as_deref()).map_err(|why| invalid(format!("{}: {why}", stream.name())))?;
-        streams.push(stream);
-    }
-    Ok((whole, streams))
+    let paths: Vec<&Path> = streamed.iter().map(PathBuf::as_path).collect();
+    let load = LoadOptions { progress: config.progress, ..Default::default() };
+    let streams = LayeredStreams::open(&paths, config.stream.clone(), (config.stream_budget, load), &mut crs);
+    Ok((whole, streams.map_err(invalid)?))
 }
 
 /// Every view and variant of a `.vpc` of streamed layers.
@@ -70,18 +64,16 @@ pub(super) fn bench_streamed_layers(
     renderer: &mut GpuRenderer,
 ) -> Result<Vec<BenchRow>, BenchError> {
     let opened_at = Instant::now();
-    let (whole, streams) = open_files(model, config)?;
+    let (whole, mut layered) = open_files(model, config)?;
     let open_s = opened_at.elapsed().as_secs_f64();
     // The views frame the files held whole and the streamed files' bounds.
     let mut framing = whole.clone();
-    for stream in &streams {
+    for stream in layered.layers.iter().map(|l| &l.stream) {
         framing.objects.extend(Scene::single(stream.file_name(), stream.bounds_cloud(), 0).objects);
     }
     let views = views_of(config, &framing.flatten().cloud);
     let from = framing.frame_placement();
     let choosing = Choosing { groups: None, ..Choosing::of(&config.settings) };
-    let load = LoadOptions { progress: config.progress, ..Default::default() };
-    let mut layered = LayeredStreams::new(streams, config.stream_budget, load);
     let name = model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let stem = crate::output::safe_stem(model);
     let mut rows = Vec::new();
@@ -90,8 +82,9 @@ pub(super) fn bench_streamed_layers(
         let before = totals(&layered);
         let started = Instant::now();
         let in_streams = layers::camera_in_frame(&view.camera, from, (layered.origin(), 1.0));
-        let chosen = layered.choose(&in_streams, (config.width, config.height), choosing).map_err(invalid)?;
-        let scene = view_scene(&whole, &layered, chosen);
+        let (streamed, _) = layered.scene(&in_streams, (config.width, config.height), choosing).map_err(invalid)?;
+        let mut scene = whole.clone();
+        scene.objects.extend(streamed.objects);
         if scene.objects.is_empty() {
             return Err(invalid(format!("{name}: no point of the layers is in the {} view", view.name)));
         }
@@ -130,28 +123,6 @@ pub(super) fn bench_streamed_layers(
         )?);
     }
     Ok(rows)
-}
-
-/// `whole` and the layers' chosen clouds, their seams mended.
-fn view_scene(whole: &Scene, layered: &LayeredStreams, chosen: Vec<Option<Result<Choice, CopcError>>>) -> Scene {
-    let mut clouds = Vec::new();
-    let mut keys = Vec::new();
-    for (k, choice) in chosen.into_iter().enumerate() {
-        match choice {
-            Some(Ok(Choice { cloud: Some(cloud), key, .. })) => {
-                clouds.push((k, cloud));
-                keys.push(key);
-            }
-            Some(Err(why)) => log::warn!("{why}"),
-            _ => {}
-        }
-    }
-    layered.mend_seams(&mut clouds, &LoadOptions::default().estimate);
-    let mut scene = whole.clone();
-    for ((k, cloud), key) in clouds.into_iter().zip(keys) {
-        scene.objects.extend(Scene::single(layered.layers[k].stream.file_name(), cloud, key).objects);
-    }
-    scene
 }
 
 /// The rows of one view, its camera moved from the frame the views were

@@ -9,8 +9,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use pointblend::cloud::LoadOptions;
+use pointblend::copc::is_streamed;
 use pointblend::copc::layered::LayeredStreams;
-use pointblend::copc::{CopcStream, is_streamed};
 use pointblend::frame::Camera;
 use pointblend::lod::Choosing;
 use pointblend::render::RenderMode;
@@ -80,23 +80,10 @@ pub fn load_layers(
         let camera = framed.map(|(camera, from)| layers::camera_in_frame(&camera, from, whole.frame_placement()));
         return Ok(OpenedLayers { scene: whole, camera, by_nodes: false });
     }
-    let streams = open_streams(&streamed, view, &mut crs)?;
-    streamed_layers(whole, streams, (view, flags, mode), framed)
-}
-
-/// The streamed files, each admitted to the layers' one CRS; each file's
-/// node cache a share of `--cache-mb`.
-fn open_streams(files: &[&Path], view: &ViewArgs, crs: &mut SharedCrs) -> Result<Vec<CopcStream>> {
-    let mut options = view.stream.options(true);
-    options.cache_bytes /= files.len();
-    let mut streams = Vec::with_capacity(files.len());
-    for &path in files {
-        let stream = pointblend::copc::open_nodes(path, options.clone())?;
-        let (epsg, text) = stream.crs();
-        crs.admit(stream.name(), epsg, text.as_deref()).map_err(|why| anyhow::anyhow!("{}: {why}", stream.name()))?;
-        streams.push(stream);
-    }
-    Ok(streams)
+    let load = LoadOptions { progress: true, ..Default::default() };
+    let budget = (view.stream_budget()?, load);
+    let layered = LayeredStreams::open(&streamed, view.stream.options(true), budget, &mut crs)?;
+    streamed_layers(whole, layered, (view, flags, mode), framed)
 }
 
 /// `whole` and the nodes of `streams` that the camera selects under one
@@ -105,13 +92,13 @@ fn open_streams(files: &[&Path], view: &ViewArgs, crs: &mut SharedCrs) -> Result
 /// keep, as [`super::stream_args::framing_scene`] frames one file).
 fn streamed_layers(
     whole: Scene,
-    mut streams: Vec<CopcStream>,
+    mut layered: LayeredStreams,
     (view, flags, mode): (&ViewArgs, &CameraArgs, RenderMode),
     framed: Option<(Camera, (glam::DVec3, f64))>,
 ) -> Result<OpenedLayers> {
     let mut framing = whole.clone();
-    for stream in &mut streams {
-        let scene = super::stream_args::framing_scene(stream, &view.scene);
+    for layer in &mut layered.layers {
+        let scene = super::stream_args::framing_scene(&mut layer.stream, &view.scene);
         framing.objects.extend(scene.objects);
     }
     let (camera, from) = match framed {
@@ -119,40 +106,15 @@ fn streamed_layers(
         None => (view.camera(flags, &framing)?, framing.frame_placement()),
     };
     let choosing = Choosing::of(&view.base_settings(&framing, mode)?);
-    let budget = view.stream_budget()?;
-    let mut layered = LayeredStreams::new(streams, budget, LoadOptions { progress: true, ..Default::default() });
     let in_streams = layers::camera_in_frame(&camera, from, (layered.origin(), 1.0));
-    let chosen = layered.choose(&in_streams, view.size, choosing)?;
-    let mut clouds = Vec::new();
-    let mut keys = Vec::new();
-    for (k, choice) in chosen.into_iter().enumerate() {
-        match choice {
-            Some(Ok(choice)) => {
-                let Some(cloud) = choice.cloud else { continue };
-                let layer = &layered.layers[k];
-                log::info!("{}: {} points of {} nodes drawn", layer.stream.name(), cloud.len(), layer.last.drawn);
-                clouds.push((k, cloud));
-                keys.push(choice.key);
-            }
-            Some(Err(why)) => log::warn!("{why}"),
-            None => {}
-        }
-    }
-    let mended = layered.mend_seams(&mut clouds, &LoadOptions::default().estimate);
-    if mended > 0 {
-        log::info!("{mended} points where the streamed layers meet estimated again with their neighbours across");
-    }
-    let drawn: usize = clouds.iter().map(|(_, c)| c.len()).sum();
+    let (streamed, drawn) = layered.scene(&in_streams, view.size, choosing)?;
     let mut scene = whole;
-    for ((k, cloud), key) in clouds.into_iter().zip(keys) {
-        let object = Scene::single(layered.layers[k].stream.file_name(), cloud, key).coloured_by_default();
-        scene.objects.extend(object.objects);
-    }
+    scene.objects.extend(streamed.coloured_by_default().objects);
     if scene.objects.is_empty() {
         bail!("{}: no point of the layers is in view", shown_first(&layered));
     }
     let files = layered.layers.len();
-    match budget_points(budget) {
+    match budget_points(layered.budget) {
         Some(limit) if drawn > limit => log::warn!(
             "{drawn} points of {files} streamed files drawn, over the one budget of {limit}: every file's root in view is drawn whatever it holds (a larger --point-budget refines them)"
         ),

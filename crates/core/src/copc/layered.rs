@@ -21,13 +21,15 @@ use glam::{DVec3, Vec3};
 
 use super::hierarchy::CopcTree;
 use super::subset::StreamSubset;
-use super::{CopcError, CopcStream, StreamBudget};
+use super::{CopcError, CopcStream, StreamBudget, StreamOptions};
 use crate::cloud::estimate::EstimateOptions;
 use crate::cloud::{LoadOptions, PointCloud, Provenance};
 use crate::frame::Camera;
 use crate::frame::subset::{Choice, Choosing};
 use crate::lod::{LodTree, Refinement, Selection, select_in};
+use crate::scene::Scene;
 use crate::scene::layer_seams::{self, Layer};
+use crate::scene::layers::SharedCrs;
 
 /// The forest root's coarseness: larger than any node's, so that it is always refined.
 const ROOT_COARSENESS: f32 = 1e30;
@@ -145,6 +147,26 @@ impl LayeredStreams {
         LayeredStreams { layers, budget, last }
     }
 
+    /// Opens `files` (COPC files or URLs) as layers under `budget`, each
+    /// admitted to the layers' one CRS (`crs`), each file's node cache an
+    /// equal share of `options.cache_bytes`.
+    pub fn open(
+        files: &[&std::path::Path],
+        mut options: StreamOptions,
+        (budget, load): (StreamBudget, LoadOptions),
+        crs: &mut SharedCrs,
+    ) -> Result<Self, CopcError> {
+        options.cache_bytes /= files.len().max(1);
+        let mut streams = Vec::with_capacity(files.len());
+        for &path in files {
+            let stream = super::open_nodes(path, options.clone())?;
+            let (epsg, text) = stream.crs();
+            crs.admit(stream.name(), epsg, text.as_deref()).map_err(|why| CopcError::new(stream.name(), why))?;
+            streams.push(stream);
+        }
+        Ok(Self::new(streams, budget, load))
+    }
+
     /// The origin of the frame the camera is given in: the first file's.
     pub fn origin(&self) -> DVec3 {
         self.layers.first().map_or(DVec3::ZERO, |l| l.stream.tree.origin)
@@ -241,5 +263,43 @@ impl LayeredStreams {
         let mended = layer_seams::mend(&mut layers, &options);
         clouds.extend(order.into_iter().zip(layers.into_iter().map(|l| l.cloud)));
         mended
+    }
+
+    /// The scene of what `camera` chooses ([`Self::choose`]): one object
+    /// per file that gives points, named after it, in its own frame, the
+    /// seams where two meet mended ([`Self::mend_seams`]); and the points
+    /// drawn. Each file's share is logged, and a file that gives no point
+    /// is logged and left out.
+    pub fn scene(
+        &mut self,
+        camera: &Camera,
+        size: (u32, u32),
+        choosing: Choosing,
+    ) -> Result<(Scene, usize), CopcError> {
+        let chosen = self.choose(camera, size, choosing)?;
+        let (mut clouds, mut keys) = (Vec::new(), Vec::new());
+        for (k, choice) in chosen.into_iter().enumerate() {
+            match choice {
+                Some(Ok(Choice { cloud: Some(cloud), key, .. })) => {
+                    let layer = &self.layers[k];
+                    log::info!("{}: {} points of {} nodes drawn", layer.stream.name(), cloud.len(), layer.last.drawn);
+                    clouds.push((k, cloud));
+                    keys.push(key);
+                }
+                Some(Err(why)) => log::warn!("{why}"),
+                _ => {}
+            }
+        }
+        let estimate = self.layers.first().map(|l| l.load.estimate.clone()).unwrap_or_default();
+        let mended = self.mend_seams(&mut clouds, &estimate);
+        if mended > 0 {
+            log::info!("{mended} points where the streamed layers meet estimated again with their neighbours across");
+        }
+        let drawn = clouds.iter().map(|(_, c)| c.len()).sum();
+        let mut scene = Scene::default();
+        for ((k, cloud), key) in clouds.into_iter().zip(keys) {
+            scene.objects.extend(Scene::single(self.layers[k].stream.file_name(), cloud, key).objects);
+        }
+        Ok((scene, drawn))
     }
 }
