@@ -117,6 +117,8 @@ pub struct ViewerApp {
     pub(super) window_shot_requested: bool,
     /// While an animation plays: when it started playing, and from which time.
     pub(super) play_clock: Option<(Instant, f64)>,
+    /// Where the wheel last zoomed: the cursor, and the point kept under it.
+    pub(super) zoom_anchor: Option<(egui::Pos2, glam::Vec3)>,
 }
 
 impl ViewerApp {
@@ -149,6 +151,7 @@ impl ViewerApp {
             },
             bookmarks: Vec::new(),
             large_factor: 4,
+            help_shown: false,
         };
         let mut app = Self {
             ui,
@@ -182,6 +185,7 @@ impl ViewerApp {
             frames_since_ready: 0,
             window_shot_requested: false,
             play_clock: None,
+            zoom_anchor: None,
             options,
         };
         match app.options.file.clone().map_or_else(|| crate::assets::path(crate::assets::BUNDLED_MODEL), Ok) {

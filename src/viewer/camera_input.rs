@@ -1,5 +1,14 @@
 //! Mouse and keyboard to camera: orbit (left drag), pan (right or middle
-//! drag), zoom (wheel), re-centre on the surface point under a double-click.
+//! drag), zoom (wheel) towards the point under the cursor, re-centre on the
+//! surface point under a double-click.
+//!
+//! Zooming by a factor f about a point Q scales the eye's offset from Q:
+//! eye' = Q + f·(eye − Q). The orbit camera keeps its direction, so its
+//! target moves the same way, target' = Q + f·(target − Q), and its
+//! distance becomes f·distance. Q stays where it was on screen, in
+//! perspective and in orthographic (whose window scales by f about Q's
+//! place). Q is the surface under the cursor where one is found, else the
+//! cursor's point on the plane through the target facing the camera.
 //!
 //! The orbit camera's near/far planes enclose a sphere around its target, so
 //! when the target moves the sphere grows to keep the whole scene inside.
@@ -51,6 +60,25 @@ pub fn zoom(camera: &mut Camera, scroll: f32) {
     camera.distance = (camera.distance * factor).clamp(camera.scene_radius * 1e-4, camera.scene_radius * 100.0);
 }
 
+/// Zooms by `scroll` about `about` (world), which keeps its place on screen.
+pub fn zoom_about(camera: &mut Camera, scene: &SceneSphere, scroll: f32, about: Vec3) {
+    let before = camera.distance;
+    zoom(camera, scroll);
+    let factor = camera.distance / before;
+    scene.retarget(camera, about + (camera.target - about) * factor);
+}
+
+/// The point at normalised image position `uv` (0..1, y down) on the plane
+/// through the target facing the camera, in a view of `aspect`.
+pub fn on_target_plane(camera: &Camera, uv: Vec2, aspect: f32) -> Vec3 {
+    let ndc = Vec2::new(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
+    // At the target's depth both projections span distance · tan(fov/2) to either side.
+    let half = Vec2::new(aspect, 1.0) * camera.distance * (camera.fov_y_deg.to_radians() * 0.5).tan();
+    let view = camera.view_matrix();
+    let (right, up) = (view.row(0).truncate(), view.row(1).truncate());
+    camera.target + right * ndc.x * half.x + up * ndc.y * half.y
+}
+
 /// The nearest splat surface point under normalised image position `uv`
 /// (0..1, y down) in a view of `aspect`, if any.
 pub fn pick(cloud: &PointCloud, camera: &Camera, uv: Vec2, aspect: f32) -> Option<Vec3> {
@@ -94,6 +122,39 @@ mod tests {
         let hit = pick(&cloud, &camera, Vec2::splat(0.5), 1.0).unwrap();
         assert!((hit - Vec3::new(0.0, 0.0, 0.5)).length() < 1e-4, "{hit}");
         assert!(pick(&cloud, &camera, Vec2::new(0.02, 0.02), 1.0).is_none());
+    }
+
+    /// Where a world point falls on screen, in normalised device coordinates.
+    fn on_screen(camera: &Camera, p: Vec3, aspect: f32) -> Vec2 {
+        let clip = camera.projection(aspect) * camera.view_matrix() * p.extend(1.0);
+        Vec2::new(clip.x, clip.y) / clip.w
+    }
+
+    #[test]
+    fn zooming_keeps_the_point_under_the_cursor_in_both_projections() {
+        let scene = SceneSphere { centre: Vec3::ZERO, radius: 1.0 };
+        for projection in [crate::frame::Projection::Perspective, crate::frame::Projection::Ortho] {
+            let mut camera = Camera::framing(Vec3::ZERO, 1.0, 1.5);
+            camera.projection = projection;
+            camera.azimuth_deg = 30.0;
+            let uv = Vec2::new(0.8, 0.3);
+            let on_plane = on_target_plane(&camera, uv, 1.5);
+            let ndc = Vec2::new(0.6, 0.4);
+            assert!((on_screen(&camera, on_plane, 1.5) - ndc).length() < 1e-4, "{projection}");
+            // A surface point off the target's plane, under some other pixel.
+            let surface = on_plane + camera.direction() * 0.3;
+            let seen = on_screen(&camera, surface, 1.5);
+            for (about, at) in [(on_plane, ndc), (surface, seen)] {
+                let mut zoomed = camera;
+                zoom_about(&mut zoomed, &scene, 300.0, about);
+                assert!(zoomed.distance < camera.distance * 0.6, "it zoomed in");
+                let after = on_screen(&zoomed, about, 1.5);
+                assert!((after - at).length() < 1e-4, "{projection}: {at} moved to {after}");
+            }
+            let mut centred = camera;
+            zoom(&mut centred, 300.0);
+            assert!((on_screen(&centred, surface, 1.5) - seen).length() > 0.05, "a plain zoom moves it");
+        }
     }
 
     #[test]

@@ -33,11 +33,13 @@ mod parameter_widgets;
 mod preview;
 mod refine_steps;
 mod render_thread;
+mod scale_bar;
 mod state;
 mod stats;
 mod stream_source;
 mod streaming;
 mod view3d;
+mod view_keys;
 mod widgets;
 
 pub use app::{ViewerApp, ViewerOptions};

@@ -9,7 +9,7 @@ use egui::{RichText, Ui};
 
 use super::state::{Action, JobKind, PanelInfo, ScreenshotSize, UiState};
 use super::widgets::{job_row, thousands};
-use crate::frame::RenderMode;
+use crate::frame::{Projection, RenderMode};
 
 pub fn controls(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>) -> Vec<Action> {
     let mut actions = Vec::new();
@@ -174,6 +174,7 @@ fn camera_section(ui: &mut Ui, state: &mut UiState, actions: &mut Vec<Action>) {
     if state.camera.fov_y_deg != before {
         actions.push(Action::CameraMoved);
     }
+    projection_widgets(ui, state, actions);
     ui.horizontal(|ui| {
         if ui.button("Home").on_hover_text("reset the camera (Home key)").clicked() {
             actions.push(Action::ResetCamera);
@@ -204,10 +205,32 @@ fn camera_section(ui: &mut Ui, state: &mut UiState, actions: &mut Vec<Action>) {
     }
     ui.add(
         egui::Label::new(
-            RichText::new("drag: orbit · right/middle drag: pan · wheel: zoom · double-click: centre").weak(),
+            RichText::new("drag: orbit · right/middle drag: pan · wheel: zoom · double-click: centre · H: help").weak(),
         )
         .wrap(),
     );
+}
+
+/// Perspective or orthographic (O), and the named views (1-7).
+fn projection_widgets(ui: &mut Ui, state: &mut UiState, actions: &mut Vec<Action>) {
+    ui.horizontal(|ui| {
+        for projection in [Projection::Perspective, Projection::Ortho] {
+            let chosen = ui.selectable_value(&mut state.camera.projection, projection, projection.name());
+            if chosen.on_hover_text("O switches perspective and orthographic").changed() {
+                actions.push(Action::CameraMoved);
+            }
+        }
+        ui.checkbox(&mut state.help_shown, "help").on_hover_text("the view's keys and mouse inputs (H)");
+    });
+    ui.horizontal_wrapped(|ui| {
+        ui.label("view:");
+        for (key, view) in super::view_keys::VIEW_KEYS {
+            if ui.small_button(view.name()).on_hover_text(format!("key {}", key.name())).clicked() {
+                state.camera.look_from(view);
+                actions.push(Action::CameraMoved);
+            }
+        }
+    });
 }
 
 fn screenshot_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, actions: &mut Vec<Action>) {

@@ -260,6 +260,7 @@ mod tests {
             inspect: Default::default(),
             bookmarks: Vec::new(),
             large_factor: 4,
+            help_shown: false,
         }
     }
 

@@ -95,6 +95,8 @@ pub struct UiState {
     pub bookmarks: Vec<Camera>,
     /// N of Ctrl+Shift+S: a screenshot at N × the view's size.
     pub large_factor: u32,
+    /// Whether the help overlay lists the view's inputs (H).
+    pub help_shown: bool,
 }
 
 /// What a click in the 3D view does.

@@ -1,7 +1,9 @@
 //! The 3D view: the latest frame from the render thread, the camera controls
-//! on it (orbit, pan, zoom, double-click to re-centre), the inspection tools'
-//! input and overlay (`inspect.rs`), keyboard shortcuts,
-//! the frame-rate count and the scripted screenshot-and-exit sequence.
+//! on it (orbit, pan, zoom to the cursor, double-click to re-centre), the
+//! inspection tools' input and overlay (`inspect.rs`), keyboard shortcuts
+//! (the view keys and the help overlay: `view_keys.rs`), the scale bar of an
+//! orthographic view (`scale_bar.rs`), the frame-rate count and the scripted
+//! screenshot-and-exit sequence.
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -9,7 +11,7 @@ use std::time::{Duration, Instant};
 use glam::Vec2;
 
 use super::app::ViewerApp;
-use super::camera_input;
+use super::{camera_input, scale_bar, view_keys};
 
 impl ViewerApp {
     /// Handles dropped files and keyboard shortcuts.
@@ -27,6 +29,13 @@ impl ViewerApp {
         }
         if ctx.input(|i| i.key_pressed(egui::Key::Home)) && !ctx.egui_wants_keyboard_input() {
             self.reset_camera();
+        }
+        for key in view_keys::pressed(ctx) {
+            if key == view_keys::ViewKey::Help {
+                self.ui.help_shown = !self.ui.help_shown;
+            } else if view_keys::apply(&mut self.ui.camera, key) {
+                self.camera_moved();
+            }
         }
     }
 
@@ -55,6 +64,15 @@ impl ViewerApp {
         if let Some(legend) = self.legend() {
             super::legend::draw(&painter, rect, &legend);
         }
+        if let Some(model) = &self.model {
+            let cloud = &model.cloud;
+            if let Some(bar) = scale_bar::of(&self.ui.camera, rect.height(), cloud.scale_exponent, &cloud.units) {
+                scale_bar::draw(&painter, rect, &bar);
+            }
+        }
+        if self.ui.help_shown {
+            view_keys::draw_help(&painter, rect);
+        }
         if let Some(e) = &self.frame_error {
             painter.text(
                 rect.center(),
@@ -79,7 +97,10 @@ impl ViewerApp {
         if response.hovered() {
             let scroll = ui.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
-                camera_input::zoom(&mut self.ui.camera, scroll);
+                if let Some(cursor) = response.hover_pos() {
+                    let about = self.zoom_anchor(cursor, rect);
+                    camera_input::zoom_about(&mut self.ui.camera, &self.scene, scroll, about);
+                }
                 moved = true;
             }
         }
@@ -96,6 +117,22 @@ impl ViewerApp {
         if moved {
             self.camera_moved();
         }
+    }
+
+    /// The point a wheel zoom keeps under the cursor at `cursor`: the surface
+    /// there, else the cursor's point on the target's plane. Kept while the
+    /// cursor stays put, which the zoom keeps it under, so a turn of the
+    /// wheel looks for the surface once.
+    fn zoom_anchor(&mut self, cursor: egui::Pos2, rect: egui::Rect) -> glam::Vec3 {
+        if let Some((_, point)) = self.zoom_anchor.filter(|(at, _)| at.distance(cursor) < 0.5) {
+            return point;
+        }
+        let uv = Vec2::new((cursor.x - rect.left()) / rect.width(), (cursor.y - rect.top()) / rect.height());
+        let aspect = rect.width() / rect.height().max(1.0);
+        let surface = self.model.as_ref().and_then(|m| camera_input::pick(&m.cloud, &self.ui.camera, uv, aspect));
+        let point = surface.unwrap_or_else(|| camera_input::on_target_plane(&self.ui.camera, uv, aspect));
+        self.zoom_anchor = Some((cursor, point));
+        point
     }
 
     /// `--screenshot` / `--exit-after-frames`: once settled, count frames, then shoot and close.
