@@ -68,6 +68,8 @@ pub(super) struct ShownFrame {
     pub image: Arc<image::RgbaImage>,
     pub key: FrameKey,
     pub stats: FrameStats,
+    /// Its nearest surface per pixel, where its mode keeps one.
+    pub front_depth: Option<Arc<crate::frame::FrontDepth>>,
 }
 
 /// What a measurement job returns before its texture exists.
@@ -119,6 +121,8 @@ pub struct ViewerApp {
     pub(super) play_clock: Option<(Instant, f64)>,
     /// Where the wheel last zoomed: the cursor, and the point kept under it.
     pub(super) zoom_anchor: Option<(egui::Pos2, glam::Vec3)>,
+    /// Where the pointer is over the window, for the status line.
+    pub(super) pointer: Option<egui::Pos2>,
 }
 
 impl ViewerApp {
@@ -186,6 +190,7 @@ impl ViewerApp {
             window_shot_requested: false,
             play_clock: None,
             zoom_anchor: None,
+            pointer: None,
             options,
         };
         match app.options.file.clone().map_or_else(|| crate::assets::path(crate::assets::BUNDLED_MODEL), Ok) {
@@ -301,6 +306,7 @@ impl eframe::App for ViewerApp {
         self.ui.apply_light_angles();
         self.apply(&ctx, actions);
         self.ensure_clip_box();
+        self.status_bar(ui);
         egui::CentralPanel::no_frame().show(ui, |ui| self.view_ui(ui));
         self.refine_stream(&ctx);
         self.ensure_grouping(&ctx);

@@ -180,10 +180,12 @@ impl ViewerApp {
                         Some(shown) => {
                             shown.texture.set(colour, egui::TextureOptions::LINEAR);
                             (shown.image, shown.key, shown.stats) = (image, key, result.stats);
+                            shown.front_depth = result.front_depth;
                         }
                         None => {
                             let texture = ctx.load_texture("view", colour, egui::TextureOptions::LINEAR);
-                            self.shown = Some(ShownFrame { texture, image, key, stats: result.stats });
+                            let (stats, front_depth) = (result.stats, result.front_depth);
+                            self.shown = Some(ShownFrame { texture, image, key, stats, front_depth });
                         }
                     }
                 }

@@ -19,6 +19,7 @@ mod annotate;
 mod app;
 mod camera_input;
 mod colour_panel;
+mod cursor_coordinates;
 mod export;
 mod frames;
 mod inspect;

@@ -17,7 +17,7 @@ use std::sync::mpsc::{self, Receiver, Sender};
 use std::time::Instant;
 
 use crate::frame::spec::Preview;
-use crate::frame::{Camera, RenderSettings, Sidecar, View};
+use crate::frame::{Camera, FrontDepth, RenderSettings, Sidecar, View};
 use crate::grouping::cache::Cache;
 use crate::progress::{self, Tracker};
 use crate::render::{Frame, GpuRenderer, PreparedScene, RenderPlan, SceneGrouping};
@@ -78,6 +78,9 @@ pub struct FrameResult {
     pub purpose: Purpose,
     pub image: Result<Arc<image::RgbaImage>, String>,
     pub stats: FrameStats,
+    /// The view frame's nearest surface per pixel, where its mode keeps one
+    /// (two-pass): the cursor's coordinates are read from it.
+    pub front_depth: Option<Arc<FrontDepth>>,
 }
 
 /// The handle the window keeps.
@@ -170,6 +173,7 @@ fn serve(inbox: Receiver<FrameRequest>, outbox: Sender<FrameResult>, repaint: eg
                     purpose: request.purpose.clone(),
                     image: Err(e.clone()),
                     stats: FrameStats::default(),
+                    front_depth: None,
                 },
             };
             let result = finish(result);
@@ -213,15 +217,25 @@ fn draw(r: &mut GpuRenderer, scenes: &mut Scenes, request: &FrameRequest) -> Fra
             .render_frame(Some(&mut *r), &request.camera, &spec, crate::render::Readback::Image)
             .map_err(|e| e.to_string())
     });
+    let mut front_depth = None;
     let image = frame.map(|Frame { image, plan, report }| {
         stats.report = report.lines();
         stats.splats_drawn = plan.splats;
         stats.pass_ms = if plan.steps.is_empty() { Vec::new() } else { pass_times(r, &plan) };
         describe_plan(&mut stats, &plan);
+        if matches!(request.purpose, Purpose::Display) {
+            front_depth = match r.front_depth(&plan, &request.camera) {
+                Ok(depth) => depth.map(Arc::new),
+                Err(e) => {
+                    log::warn!("reading the frame's depth back: {e}");
+                    None
+                }
+            };
+        }
         image
     });
     stats.frame_ms = started.elapsed().as_secs_f64() * 1e3;
-    FrameResult { id: request.id, purpose: request.purpose.clone(), image: image.map(Arc::new), stats }
+    FrameResult { id: request.id, purpose: request.purpose.clone(), image: image.map(Arc::new), stats, front_depth }
 }
 
 /// The model this request draws, with the request's grouping handed in; one

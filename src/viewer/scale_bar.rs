@@ -2,8 +2,8 @@
 //!
 //! In orthographic, one point of the view spans the same length everywhere:
 //! the window's height (2 · [`Camera::half_extent_y`], in the cloud's units)
-//! over the view's height in points, times 10^`scale_exponent` for the
-//! file's units. The bar's length is the longest 1, 2 or 5 × 10^k of those
+//! over the view's height in points, times the frame's unit (file units per
+//! unit of the frame, [`crate::scene::Scene::frame_placement`]). The bar's length is the longest 1, 2 or 5 × 10^k of those
 //! units that fits in [`LONGEST_POINTS`]. A perspective view has no one
 //! scale, so it gets no bar.
 
@@ -23,13 +23,13 @@ pub struct ScaleBar {
     pub label: String,
 }
 
-/// The bar of a view of `view_height` points through `camera`, for a cloud
-/// whose units are 10^`scale_exponent` of the file's, in `units`; `None` in perspective.
-pub fn of(camera: &Camera, view_height: f32, scale_exponent: i32, units: &CrsUnits) -> Option<ScaleBar> {
+/// The bar of a view of `view_height` points through `camera`, in a frame
+/// whose unit is `unit` file units, in the file's `units`; `None` in perspective.
+pub fn of(camera: &Camera, view_height: f32, unit: f64, units: &CrsUnits) -> Option<ScaleBar> {
     if !camera.is_ortho() || view_height <= 0.0 {
         return None;
     }
-    let per_point = 2.0 * camera.half_extent_y() as f64 / view_height as f64 * 10f64.powi(scale_exponent);
+    let per_point = 2.0 * camera.half_extent_y() as f64 / view_height as f64 * unit;
     if !(per_point.is_finite() && per_point > 0.0) {
         return None;
     }
@@ -101,17 +101,17 @@ mod tests {
     fn the_bar_spans_its_length_at_the_view_scale_in_the_files_units() {
         let mut camera = Camera::framing(glam::Vec3::ZERO, 10.0, 1.0);
         let metres = CrsUnits { horizontal: Some(Unit::of_metres(1.0, "metre")), ..Default::default() };
-        assert!(of(&camera, 500.0, 0, &metres).is_none(), "no bar in perspective");
+        assert!(of(&camera, 500.0, 1.0, &metres).is_none(), "no bar in perspective");
         camera.projection = Projection::Ortho;
-        let bar = of(&camera, 500.0, 0, &metres).unwrap();
+        let bar = of(&camera, 500.0, 1.0, &metres).unwrap();
         let per_point = 2.0 * camera.half_extent_y() as f64 / 500.0;
         assert!((bar.points as f64 * per_point - bar.length).abs() < 1e-6 * bar.length);
         assert!(bar.points <= LONGEST_POINTS && bar.points > LONGEST_POINTS * 0.4);
         assert!(bar.label.ends_with(" m"), "{}", bar.label);
-        // A cloud held in thousandths of the file's units: the same view spans 1000 × fewer file units.
-        let scaled = of(&camera, 500.0, -3, &metres).unwrap();
+        // A frame in thousandths of the file's units: the same view spans 1000 × fewer file units.
+        let scaled = of(&camera, 500.0, 1e-3, &metres).unwrap();
         assert!((scaled.length - bar.length / 1000.0).abs() < 1e-9 * bar.length, "{scaled:?}");
         let feet = CrsUnits { horizontal: Some(Unit::of_metres(1200.0 / 3937.0, "")), ..Default::default() };
-        assert!(of(&camera, 500.0, 0, &feet).unwrap().label.ends_with(" US ft"));
+        assert!(of(&camera, 500.0, 1.0, &feet).unwrap().label.ends_with(" US ft"));
     }
 }

@@ -65,8 +65,8 @@ impl ViewerApp {
             super::legend::draw(&painter, rect, &legend);
         }
         if let Some(model) = &self.model {
-            let cloud = &model.cloud;
-            if let Some(bar) = scale_bar::of(&self.ui.camera, rect.height(), cloud.scale_exponent, &cloud.units) {
+            let (_, unit) = model.scene.frame_placement();
+            if let Some(bar) = scale_bar::of(&self.ui.camera, rect.height(), unit, &model.cloud.units) {
                 scale_bar::draw(&painter, rect, &bar);
             }
         }

@@ -30,7 +30,7 @@ pub const HELP_KEY: Key = Key::H;
 
 /// Every input of the 3D view: (the input, what it does), as the help
 /// overlay and the user guide's table give them.
-pub const INPUTS: [(&str, &str); 19] = [
+pub const INPUTS: [(&str, &str); 20] = [
     ("left drag", "orbit"),
     ("right or middle drag", "pan"),
     ("wheel", "zoom to the point under the cursor"),
@@ -50,6 +50,7 @@ pub const INPUTS: [(&str, &str); 19] = [
     ("click (Inspect: pick)", "list every layer under the pixel"),
     ("click (Inspect: measure)", "add the surface under the pixel to the measured polyline"),
     ("drag a clip-box handle", "move that face of the clip box"),
+    ("cursor over the view", "its file coordinates in the status line (two-pass)"),
 ];
 
 /// What a key pressed asks of the view.

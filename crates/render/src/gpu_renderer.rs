@@ -10,7 +10,7 @@ use super::readback;
 use super::renderer::Renderer;
 use super::report::{FrameReport, SubFrames, TileLists};
 use crate::frame::settings::RenderSettings;
-use crate::frame::{Camera, FrameSpec, View, resolve};
+use crate::frame::{Camera, FrameSpec, FrontDepth, View, resolve};
 use crate::grouping::Grouping;
 use crate::scene::Scene;
 use crate::subframe::{self, SubFrame};
@@ -309,6 +309,20 @@ impl GpuRenderer {
     /// [`Renderer::stop_early`] on this renderer.
     pub fn stop_early(&mut self, on: bool) {
         self.renderer.stop_early(on);
+    }
+
+    /// The nearest surface per pixel of the last frame, drawn by `plan` from
+    /// `camera`, where its plan keeps one (two-pass) and it was drawn whole
+    /// (a frame drawn in sub-frames keeps only its last part's targets).
+    pub fn front_depth(&self, plan: &RenderPlan, camera: &Camera) -> Result<Option<FrontDepth>, GpuError> {
+        let Some(front) = plan.front_depth else { return Ok(None) };
+        let size = (plan.width, plan.height);
+        let Some(texture) = self.renderer.target_texture(front.target).filter(|t| (t.width(), t.height()) == size)
+        else {
+            return Ok(None);
+        };
+        let buffer = readback::read_depth32(&self.ctx, texture)?;
+        Ok(Some(FrontDepth::from_buffer(camera, size, &buffer, front.push)))
     }
 
     fn output_texture(&self) -> Result<&wgpu::Texture, GpuError> {

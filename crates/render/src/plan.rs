@@ -159,6 +159,18 @@ pub struct RenderPlan {
     /// The frame is clipped: its splat passes and tile raster are built
     /// with `CLIP` and test every fragment's point (crates/core/src/frame/clip.rs).
     pub clipped: bool,
+    /// The target left holding the nearest surface per pixel, if the plan
+    /// keeps one (what the cursor's coordinates are read from).
+    pub front_depth: Option<FrontDepthTarget>,
+}
+
+/// A depth target holding the frame's nearest surface per pixel: view
+/// depth mapped to 0..1 over near..far, pushed back by `push` view units
+/// ([`pointblend_core::frame::FrontDepth::from_buffer`] undoes both).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrontDepthTarget {
+    pub target: TargetId,
+    pub push: f32,
 }
 
 impl RenderPlan {
@@ -177,6 +189,7 @@ impl RenderPlan {
             buffers: Vec::new(),
             notes: Vec::new(),
             clipped: false,
+            front_depth: None,
         }
     }
 
@@ -208,6 +221,7 @@ impl RenderPlan {
             buffers: Vec::new(),
             notes: Vec::new(),
             clipped: false,
+            front_depth: None,
         }
     }
 

@@ -1,4 +1,5 @@
-//! Copying a rendered texture back into an `image::RgbaImage`.
+//! Copying a rendered texture back: the frame into an `image::RgbaImage`,
+//! a depth target into its f32 values.
 //!
 //! Buffer copies need rows padded to 256 bytes; the padding is stripped here.
 
@@ -6,8 +7,26 @@ use super::context::{GpuContext, GpuError};
 
 /// Reads an `Rgba8Unorm` (or `Rgba8UnormSrgb`) texture into an image.
 pub fn read_rgba8(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<image::RgbaImage, GpuError> {
+    let pixels = read_texels(ctx, texture, wgpu::TextureAspect::All, 4)?;
     let (width, height) = (texture.width(), texture.height());
-    let row = width as usize * 4;
+    image::RgbaImage::from_raw(width, height, pixels).ok_or_else(|| GpuError::Readback("size mismatch".into()))
+}
+
+/// Reads a `Depth32Float` texture's values, row by row from the top.
+pub fn read_depth32(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<Vec<f32>, GpuError> {
+    let bytes = read_texels(ctx, texture, wgpu::TextureAspect::DepthOnly, 4)?;
+    Ok(bytes.chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect())
+}
+
+/// The bytes of a texture's first layer (`texel` bytes each), rows unpadded.
+fn read_texels(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    aspect: wgpu::TextureAspect,
+    texel: usize,
+) -> Result<Vec<u8>, GpuError> {
+    let (width, height) = (texture.width(), texture.height());
+    let row = width as usize * texel;
     let padded =
         row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT as usize) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT as usize;
     let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -19,7 +38,7 @@ pub fn read_rgba8(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<image::Rg
     let mut encoder =
         ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("Readback::encoder") });
     encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
+        wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect },
         wgpu::TexelCopyBufferInfo {
             buffer: &buffer,
             layout: wgpu::TexelCopyBufferLayout {
@@ -38,11 +57,11 @@ pub fn read_rgba8(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<image::Rg
     ctx.wait_idle()?;
     receiver.recv().map_err(|e| GpuError::Readback(e.to_string()))?.map_err(|e| GpuError::Readback(e.to_string()))?;
     let mapped = buffer.get_mapped_range(..).map_err(|e| GpuError::Readback(e.to_string()))?;
-    let mut pixels = Vec::with_capacity(row * height as usize);
+    let mut bytes = Vec::with_capacity(row * height as usize);
     for r in 0..height as usize {
-        pixels.extend_from_slice(&mapped[r * padded..r * padded + row]);
+        bytes.extend_from_slice(&mapped[r * padded..r * padded + row]);
     }
     drop(mapped);
     buffer.unmap();
-    image::RgbaImage::from_raw(width, height, pixels).ok_or_else(|| GpuError::Readback("size mismatch".into()))
+    Ok(bytes)
 }

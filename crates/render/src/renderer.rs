@@ -144,6 +144,11 @@ impl Renderer {
         self.pool.descs()
     }
 
+    /// The texture of a target the pool holds now (of the last frame's plan).
+    pub fn target_texture(&self, id: TargetId) -> Option<&wgpu::Texture> {
+        self.pool.texture(id)
+    }
+
     /// Bytes of the targets the pool holds now.
     pub fn allocated_bytes(&self) -> u64 {
         self.pool.bytes()

@@ -68,8 +68,8 @@ impl SumPrecision {
 
 struct PooledTarget {
     desc: TargetDesc,
-    /// Keeps the texture alive; the views below are what passes use.
-    _texture: wgpu::Texture,
+    /// What the views below view (passes use them; a read-back copies the texture).
+    texture: wgpu::Texture,
     whole: wgpu::TextureView,
     layers: Vec<wgpu::TextureView>,
 }
@@ -98,6 +98,11 @@ impl TargetPool {
 
     fn get(&self, id: TargetId) -> Option<&PooledTarget> {
         self.targets.iter().find(|t| t.desc.id == id)
+    }
+
+    /// The texture of a target.
+    pub fn texture(&self, id: TargetId) -> Option<&wgpu::Texture> {
+        self.get(id).map(|t| &t.texture)
     }
 
     /// The view of the whole target (an array view for arrays).
@@ -151,7 +156,10 @@ fn create(device: &wgpu::Device, desc: &TargetDesc) -> PooledTarget {
         usage: if desc.storage {
             wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING
         } else {
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING
+            // COPY_SRC: a plan's front depth is read back (`readback::read_depth32`).
+            wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC
         },
         view_formats: &[],
     });
@@ -171,5 +179,5 @@ fn create(device: &wgpu::Device, desc: &TargetDesc) -> PooledTarget {
             (0..layers).map(|k| view(wgpu::TextureViewDimension::D2, k, Some(1))).collect(),
         ),
     };
-    PooledTarget { desc: desc.clone(), _texture: texture, whole, layers }
+    PooledTarget { desc: desc.clone(), texture, whole, layers }
 }

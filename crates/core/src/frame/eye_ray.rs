@@ -48,11 +48,17 @@ impl Lens {
     /// [`Self::ray`] in f64, from the camera's own values, in eye space
     /// (origin, direction): what a pick far from the origin casts (an f32
     /// direction is 10 mm off at 150 km).
-    pub fn ray_f64(camera: &Camera, (width, height): (u32, u32), (x, y): (u32, u32)) -> (DVec3, DVec3) {
+    pub fn ray_f64(camera: &Camera, size: (u32, u32), (x, y): (u32, u32)) -> (DVec3, DVec3) {
+        Self::ray_f64_at(camera, size, DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5))
+    }
+
+    /// [`Self::ray_f64`] through the image position `at`, in pixels from
+    /// the image's upper left corner (a pixel's centre is at its index + 0.5).
+    pub fn ray_f64_at(camera: &Camera, (width, height): (u32, u32), at: DVec2) -> (DVec3, DVec3) {
         let tan_y = (f64::from(camera.fov_y_deg).to_radians() * 0.5).tan();
         let half_y = if camera.is_ortho() { tan_y * f64::from(camera.distance) } else { tan_y };
         let (w, h) = (f64::from(width.max(1)), f64::from(height.max(1)));
-        let ndc = DVec2::new((f64::from(x) + 0.5) / w * 2.0 - 1.0, 1.0 - (f64::from(y) + 0.5) / h * 2.0);
+        let ndc = DVec2::new(at.x / w * 2.0 - 1.0, 1.0 - at.y / h * 2.0);
         let place = ndc * DVec2::new(half_y * w / h, half_y);
         if camera.is_ortho() { (place.extend(0.0), DVec3::NEG_Z) } else { (DVec3::ZERO, place.extend(-1.0)) }
     }

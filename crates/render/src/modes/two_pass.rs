@@ -22,7 +22,7 @@ use super::eye_dome::{self, FrontDepth};
 use super::{FrameDesc, GpuMode};
 use crate::frame::Quality;
 use crate::passes::{Blend, ColourOutput, Command, DepthTest, FullscreenPass, Output, SplatPass};
-use crate::plan::{Layout, RenderPlan, Step, TargetDesc, TargetId};
+use crate::plan::{FrontDepthTarget, Layout, RenderPlan, Step, TargetDesc, TargetId};
 use crate::shaders::Variant;
 use crate::targets::{ACCUM_FORMAT, DEPTH_FORMAT};
 use std::ops::Range;
@@ -264,6 +264,10 @@ impl GpuMode for TwoPass {
             if weight_only(frame, &OWN) { ", weights only" } else { "" }
         );
         let steps = steps(frame, &OWN, 0..frame.splats as u32);
-        frame.plan(variant, 1, steps, targets(frame, &OWN))
+        let mut plan = frame.plan(variant, 1, steps, targets(frame, &OWN));
+        // The visibility pass pushed the front back by ε; the nearest-splat pass wrote it as it is.
+        let push = if filtered(frame, &OWN) { frame.epsilon } else { 0.0 };
+        plan.front_depth = Some(FrontDepthTarget { target: OWN.depth, push });
+        plan
     }
 }
