@@ -1,7 +1,8 @@
 //! The colour panel of a scan with attributes: what the colours show (the
 //! file's colours, its classes, the elevation or any attribute), the
 //! colormap, the range over the column's histogram, each class shown or
-//! hidden with its opacity, and an attribute as opacity. Every edit becomes
+//! hidden with its opacity, an attribute as opacity, and the filters
+//! (`filter_panel.rs`). Every edit becomes
 //! one [`Action::SetStyle`]: the model is restyled from the file's own values
 //! in the background ([`crate::style`]), so every mode and the reference draw it.
 
@@ -34,6 +35,7 @@ pub fn colour_section(ui: &mut Ui, model: &ModelInfo<'_>, actions: &mut Vec<Acti
         classes_widget(ui, &mut edited, &summary.classes);
     }
     opacity_by_widget(ui, &mut edited, summary);
+    super::filter_panel::filter_section(ui, &mut edited, summary);
     if edited != current {
         actions.push(Action::SetStyle((!edited.is_plain()).then_some(edited)));
     }

@@ -142,8 +142,11 @@ impl ViewerApp {
         self.home = fresh;
         // The same file with other materials (the opacity slider) keeps the view.
         let same_geometry = self.model.as_ref().is_some_and(|m| {
-            // Another selection of the same streamed file is the same geometry too.
-            m.path == model.path && (m.hash == model.hash || (m.streamed.is_some() && model.streamed.is_some()))
+            // Another selection of the same streamed file is the same geometry too, and so
+            // are the same file's points filtered otherwise (in the same frame: the camera means the same).
+            let same_frame = m.scene.frame_placement() == model.scene.frame_placement();
+            m.path == model.path
+                && (m.hash == model.hash || (m.streamed.is_some() && model.streamed.is_some()) || same_frame)
         });
         self.ui.camera = match &self.options.view {
             _ if same_geometry => self.ui.camera,

@@ -21,6 +21,7 @@ mod camera_input;
 mod colour_panel;
 mod cursor_coordinates;
 mod export;
+mod filter_panel;
 mod frames;
 mod inspect;
 mod inspect_panel;
