@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::viewer::{drag, harness, options, settled_in, wait_for};
+use common::viewer::{drag, harness, options, save_screenshot, settled_in, wait_for};
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -136,17 +136,6 @@ fn bench_image(sidecar: &Path, cache: &Path) -> image::RgbaImage {
     let spec = frames.resolve(&settings, pointblend::frame::View::still((config.width, config.height)));
     let timed = pointblend::bench::timing::time_frames(&mut renderer, &mut frames, &view.camera(), &spec, &config);
     timed.unwrap().0.image
-}
-
-/// Ctrl+S, then the PNG it saved in `shots`.
-fn save_screenshot(h: &mut Harness<'_, ViewerApp>, shots: &Path) -> PathBuf {
-    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
-    wait_for(h, "the screenshot", |app| app.status().is_some_and(|s| s.starts_with("saved")));
-    std::fs::read_dir(shots)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .find(|p| p.extension().is_some_and(|e| e == "png"))
-        .expect("a PNG in the screenshot folder")
 }
 
 /// `pointblend render FILE --camera SIDECAR`: the image.

@@ -4,30 +4,17 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use common::lidar::{tilted_grid, write};
-use common::viewer::{harness_sized, options, settled_in, wait_for};
-use egui_kittest::Harness;
+use common::viewer::{harness_sized, options, save_screenshot, settled_in, wait_for};
 use egui_kittest::kittest::Queryable;
 use pointblend::render::RenderMode;
 use pointblend::style::Returns;
-use pointblend::viewer::{ViewerApp, ViewerOptions};
+use pointblend::viewer::ViewerOptions;
 
 /// A window tall enough to show the colour panel's filters.
 const TALL: [f32; 2] = [900.0, 1300.0];
-
-/// Ctrl+S, then the PNG it saved in `shots`.
-fn save_screenshot(h: &mut Harness<'_, ViewerApp>, shots: &Path) -> PathBuf {
-    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
-    wait_for(h, "the screenshot", |app| app.status().is_some_and(|s| s.starts_with("saved")));
-    std::fs::read_dir(shots)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .find(|p| p.extension().is_some_and(|e| e == "png"))
-        .expect("a PNG in the screenshot folder")
-}
 
 #[test]
 fn ticking_the_first_returns_draws_what_render_returns_first_draws() {

@@ -69,3 +69,14 @@ pub fn click(h: &mut Harness<'_, ViewerApp>, at: egui::Pos2) {
     h.step();
     h.step();
 }
+
+/// Ctrl+S, then the PNG it saved in `shots`.
+pub fn save_screenshot(h: &mut Harness<'_, ViewerApp>, shots: &Path) -> std::path::PathBuf {
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
+    wait_for(h, "the screenshot", |app| app.status().is_some_and(|s| s.starts_with("saved")));
+    std::fs::read_dir(shots)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "png"))
+        .expect("a PNG in the screenshot folder")
+}
