@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::viewer::{drag, harness, options, save_screenshot, settled_in, wait_for};
+use common::viewer::{Dropped, drag, harness, options, save_screenshot, settled_in, wait_for};
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -16,18 +16,6 @@ use egui_kittest::kittest::Queryable;
 use pointblend::grouping::cache::Cache;
 use pointblend::render::{RenderMode, RenderSettings};
 use pointblend::viewer::{ViewerApp, ViewerOptions};
-
-#[derive(Debug)]
-struct Dropped(PathBuf);
-
-impl egui::DroppedFile for Dropped {
-    fn path(&self) -> &Path {
-        &self.0
-    }
-    fn bytes(&self) -> Result<Vec<u8>, String> {
-        std::fs::read(&self.0).map_err(|e| e.to_string())
-    }
-}
 
 /// Share of pixels whose largest channel differs by more than 8/255, over
 /// the images' common centre: the panel's width follows its rows (a slower

@@ -150,23 +150,20 @@ pub struct LayersFile {
 
 /// [`LayersFile`] of `files` (at least two).
 pub fn layers_file(files: &[PathBuf]) -> Result<LayersFile> {
-    let features = files
+    let hrefs = files
         .iter()
         .map(|file| {
-            let href = if pointblend::copc::is_url(&file.to_string_lossy()) {
-                file.to_string_lossy().into_owned()
-            } else {
-                let absolute = std::fs::canonicalize(file).with_context(|| format!("{}: cannot open", file.display()))?;
-                absolute.to_string_lossy().into_owned()
-            };
-            Ok(serde_json::json!({"type": "Feature", "geometry": null, "properties": {}, "assets": {"data": {"href": href}}}))
+            if pointblend::copc::is_url(&file.to_string_lossy()) {
+                return Ok(file.to_string_lossy().into_owned());
+            }
+            let absolute = std::fs::canonicalize(file).with_context(|| format!("{}: cannot open", file.display()))?;
+            Ok(absolute.to_string_lossy().into_owned())
         })
         .collect::<Result<Vec<_>>>()?;
     let first = files[0].file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let first = first.trim_end_matches(".copc");
     let folder = tempfile::Builder::new().prefix("pointblend-layers-").tempdir()?;
     let path = folder.path().join(format!("{first}+{}.vpc", files.len() - 1));
-    let collection = serde_json::json!({"type": "FeatureCollection", "features": features});
-    std::fs::write(&path, serde_json::to_string_pretty(&collection)?)?;
+    pointblend::scene::vpc::write(&hrefs, &path)?;
     Ok(LayersFile { _folder: folder, path })
 }

@@ -51,6 +51,7 @@ impl ViewerApp {
             screenshot_dir: &self.options.screenshot_dir,
             status: self.status.as_deref(),
             streaming: self.model.as_ref().and_then(|m| m.streamed.as_ref()).map(|s| (s.status(), self.load.is_some())),
+            layers: &self.layers,
         }
     }
 
@@ -58,7 +59,9 @@ impl ViewerApp {
     pub(super) fn apply(&mut self, ctx: &egui::Context, actions: Vec<Action>) {
         for action in actions {
             match action {
-                Action::Open(path) => self.open(ctx, &path),
+                Action::Open(path) => self.open_or_add(ctx, &path),
+                Action::ShowLayer(k, shown) => self.show_layer(ctx, k, shown),
+                Action::RemoveLayer(k) => self.remove_layer(ctx, k),
                 Action::Cancel(JobKind::Load) => self.cancel_load(),
                 Action::Cancel(JobKind::Grouping) => {
                     if let Some((_, job)) = self.grouping_job.take() {

@@ -123,6 +123,16 @@ pub struct ViewerApp {
     pub(super) zoom_anchor: Option<(egui::Pos2, glam::Vec3)>,
     /// Where the pointer is over the window, for the status line.
     pub(super) pointer: Option<egui::Pos2>,
+    /// The files opened as layers, and the list before the change being
+    /// loaded (put back if it fails).
+    pub(super) layers: Vec<super::state::Layer>,
+    pub(super) layers_before: Option<Vec<super::state::Layer>>,
+    /// Where the layers' `.vpc` files are written.
+    pub(super) layers_folder: Option<tempfile::TempDir>,
+    /// The next model adopted keeps the view (a change of the layers).
+    pub(super) keep_view: bool,
+    /// The frame placement (origin, unit) of the last model adopted.
+    pub(super) placement_shown: Option<(glam::DVec3, f64)>,
 }
 
 impl ViewerApp {
@@ -191,10 +201,15 @@ impl ViewerApp {
             play_clock: None,
             zoom_anchor: None,
             pointer: None,
+            layers: Vec::new(),
+            layers_before: None,
+            layers_folder: None,
+            keep_view: false,
+            placement_shown: None,
             options,
         };
         match app.options.file.clone().map_or_else(|| crate::assets::path(crate::assets::BUNDLED_MODEL), Ok) {
-            Ok(file) => app.open(&ctx, &file),
+            Ok(file) => app.open_first(&ctx, &file),
             Err(e) => app.load_error = Some(e),
         }
         app

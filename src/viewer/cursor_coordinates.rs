@@ -63,17 +63,18 @@ impl ViewerApp {
             None => "move the cursor over the view for its coordinates".into(),
             Some(Reading::Point(p)) => describe(p, &units),
             Some(Reading::Nothing) => "no surface under the cursor".into(),
-            Some(Reading::NoDepth) => "coordinates under the cursor are read from two-pass's depth; \
-                                        this frame has none"
-                .into(),
+            Some(Reading::NoDepth) => {
+                "no coordinates: they are read from two-pass's depth, which this frame has not".into()
+            }
         }
     }
 
     /// The status line under the view.
     pub(super) fn status_bar(&mut self, ui: &mut egui::Ui) {
         self.pointer = ui.ctx().input(|i| i.pointer.hover_pos());
+        // One line whatever the text, so the view's height does not change with it.
         egui::Panel::bottom("status").show(ui, |ui| {
-            ui.label(egui::RichText::new(self.status_line()).monospace());
+            ui.add(egui::Label::new(egui::RichText::new(self.status_line()).monospace()).truncate());
         });
     }
 }

@@ -119,8 +119,18 @@ impl ViewerApp {
             self.load = None;
             self.interim = Default::default();
             match result.and_then(|r| r) {
-                Ok(model) => self.adopt(model),
-                Err(e) => self.load_error = Some(e),
+                Ok(model) => {
+                    self.layers_before = None;
+                    self.adopt(model)
+                }
+                Err(e) => {
+                    // A layer that could not be opened is not listed.
+                    if let Some(before) = self.layers_before.take() {
+                        self.layers = before;
+                    }
+                    self.keep_view = false;
+                    self.load_error = Some(e)
+                }
             }
         } else if self.load.is_some() {
             if let Some(model) = self.take_interim() {
@@ -148,8 +158,19 @@ impl ViewerApp {
             m.path == model.path
                 && (m.hash == model.hash || (m.streamed.is_some() && model.streamed.is_some()) || same_frame)
         });
+        let placement = model.scene.frame_placement();
+        let kept = std::mem::take(&mut self.keep_view).then_some(self.placement_shown).flatten();
+        self.placement_shown = Some(placement);
         self.ui.camera = match &self.options.view {
             _ if same_geometry => self.ui.camera,
+            // Another set of layers: the same place, in the new frame.
+            _ if kept.is_some_and(|(_, unit)| unit == placement.1) => {
+                let (origin, unit) = kept.expect("checked");
+                let mut camera = self.ui.camera;
+                let moved = camera.target + ((origin - placement.0) / unit).as_vec3();
+                self.scene.retarget(&mut camera, moved);
+                camera
+            }
             // The starting view of a sidecar applies to the first model only.
             Some(view) if self.model.is_none() => view.camera(),
             _ => fresh,

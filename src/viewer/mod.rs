@@ -26,6 +26,8 @@ mod frames;
 mod inspect;
 mod inspect_panel;
 mod jobs;
+mod layer_list;
+mod layers_panel;
 mod legend;
 mod lights_panel;
 mod loading;

@@ -75,14 +75,15 @@ fn model_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, actions
             ui.label("no model loaded");
         }
     }
+    super::layers_panel::layers_section(ui, info.layers, actions);
     ui.horizontal(|ui| {
         if ui.button("Open…").clicked() {
-            let kinds = ["ply", "PLY", "las", "LAS", "laz", "LAZ", "e57", "E57", "toml"];
+            let kinds = ["ply", "PLY", "las", "LAS", "laz", "LAZ", "e57", "E57", "vpc", "toml"];
             if let Some(path) = rfd::FileDialog::new().add_filter("point cloud or scene", &kinds).pick_file() {
                 actions.push(Action::Open(path));
             }
         }
-        ui.label(RichText::new("or drop a PLY, LAS, LAZ or E57 file").weak());
+        ui.label(RichText::new("or drop files: each adds a layer").weak());
     });
     if let Some(e) = info.load_error {
         ui.colored_label(egui::Color32::LIGHT_RED, format!("Could not open: {e}"));

@@ -244,6 +244,7 @@ mod tests {
             screenshot_dir: std::path::Path::new("."),
             status: None,
             streaming: None,
+            layers: &[],
         }
     }
 

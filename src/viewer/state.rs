@@ -200,6 +200,9 @@ pub enum Action {
     SetStyle(Option<crate::style::Style>),
     /// Show this error where load errors are shown (a bundled file that is missing).
     ShowError(String),
+    /// Show (true) or hide layer k.
+    ShowLayer(usize, bool),
+    RemoveLayer(usize),
 }
 
 /// The model on screen, as the panels show it.
@@ -247,10 +250,26 @@ pub struct PanelInfo<'a> {
     pub status: Option<&'a str>,
     /// A streamed file's state, and whether a new view is being loaded.
     pub streaming: Option<(super::stream_source::StreamStatus, bool)>,
+    /// The files opened as layers.
+    pub layers: &'a [Layer],
 }
 
 impl PanelInfo<'_> {
     pub fn job(&self, kind: JobKind) -> Option<&JobInfo> {
         self.jobs.iter().find(|j| j.kind == kind)
+    }
+}
+
+/// One layer: its file (or URL) and whether it is shown.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Layer {
+    pub path: PathBuf,
+    pub shown: bool,
+}
+
+impl Layer {
+    pub fn name(&self) -> String {
+        let text = self.path.to_string_lossy();
+        text.rsplit(['/', '\\']).next().unwrap_or(&text).to_string()
     }
 }

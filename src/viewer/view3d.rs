@@ -17,8 +17,8 @@ impl ViewerApp {
     /// Handles dropped files and keyboard shortcuts.
     pub(super) fn handle_input(&mut self, ctx: &egui::Context) {
         let dropped: Vec<PathBuf> = ctx.input(|i| i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).collect());
-        if let Some(path) = dropped.first() {
-            self.open(ctx, path);
+        for path in &dropped {
+            self.open_or_add(ctx, path);
         }
         let command_shift = egui::Modifiers::COMMAND | egui::Modifiers::SHIFT;
         if ctx.input_mut(|i| i.consume_key(command_shift, egui::Key::S)) {

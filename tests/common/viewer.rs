@@ -80,3 +80,16 @@ pub fn save_screenshot(h: &mut Harness<'_, ViewerApp>, shots: &Path) -> std::pat
         .find(|p| p.extension().is_some_and(|e| e == "png"))
         .expect("a PNG in the screenshot folder")
 }
+
+/// A file dropped on the window.
+#[derive(Debug)]
+pub struct Dropped(pub std::path::PathBuf);
+
+impl egui::DroppedFile for Dropped {
+    fn path(&self) -> &Path {
+        &self.0
+    }
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}

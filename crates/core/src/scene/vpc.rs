@@ -77,6 +77,20 @@ pub fn read(path: &Path) -> Result<Vec<VpcFile>, String> {
     Ok(files)
 }
 
+/// Writes a virtual point cloud at `path` listing `hrefs` in order (absolute
+/// paths or URLs, as [`read`] takes them; no bounds: they are read from the files).
+pub fn write(hrefs: &[String], path: &Path) -> std::io::Result<()> {
+    let features: Vec<Value> = hrefs
+        .iter()
+        .map(|href| {
+            serde_json::json!({"type": "Feature", "geometry": null, "properties": {}, "assets": {"data": {"href": href}}})
+        })
+        .collect();
+    let collection = serde_json::json!({"type": "FeatureCollection", "features": features});
+    let text = serde_json::to_string_pretty(&collection).map_err(std::io::Error::other)?;
+    std::fs::write(path, text)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

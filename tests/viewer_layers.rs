@@ -1,0 +1,61 @@
+//! Layers in the viewer, driven with egui_kittest: a file dropped on the
+//! window is added as a layer beside the one shown (not in its place), the
+//! view stays where it was, and the layer list's box hides the layer again.
+
+mod common;
+
+use std::sync::Arc;
+
+use common::lidar::{tilted_grid, write};
+use common::viewer::{Dropped, harness_sized, options, settled_in, wait_for};
+use egui::accesskit::Role;
+use egui_kittest::kittest::Queryable;
+use glam::DVec3;
+use pointblend::render::RenderMode;
+use pointblend::viewer::{ViewerApp, ViewerOptions};
+
+const TALL: [f32; 2] = [900.0, 1300.0];
+
+/// Whether the frame on screen drew something at the file point `p`.
+fn drawn_at(app: &ViewerApp, p: DVec3) -> bool {
+    let (image, _) = app.shown_frame().unwrap();
+    let view = app.view_rect();
+    let at =
+        (app.screen_position(p).expect("in front of the camera") - view.min) * (image.width() as f32 / view.width());
+    let inside = at.x >= 0.0 && at.y >= 0.0 && (at.x as u32) < image.width() && (at.y as u32) < image.height();
+    inside && image.get_pixel(at.x as u32, at.y as u32).0[..3] != common::background_rgb()
+}
+
+fn objects(app: &ViewerApp) -> usize {
+    app.model().map_or(0, |m| m.scene.objects.len())
+}
+
+#[test]
+fn a_dropped_file_is_added_as_a_layer_and_the_list_hides_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let west = write(&dir.path().join("west.las"), &tilted_grid(60, 0.5, 0.0, [1000.0, 2000.0, 50.0]), [0.0; 3], None);
+    let east = write(&dir.path().join("east.las"), &tilted_grid(60, 0.5, 0.0, [1034.0, 2000.0, 50.0]), [0.0; 3], None);
+    let (west_centre, east_centre) = (DVec3::new(1015.0, 2015.0, 50.0), DVec3::new(1049.0, 2015.0, 50.0));
+    let viewer = ViewerOptions { file: Some(west), mode: Some(RenderMode::TwoPass), ..options(dir.path()) };
+    let mut h = harness_sized(viewer, TALL);
+    wait_for(&mut h, "the west tile", settled_in(RenderMode::TwoPass));
+    assert_eq!(h.state().layers().len(), 1, "the file opened is the first layer");
+    let camera = h.state().camera();
+
+    h.input_mut().dropped_files.push(Arc::new(Dropped(east.clone())));
+    h.step();
+    wait_for(&mut h, "both tiles", |app| settled_in(RenderMode::TwoPass)(app) && objects(app) == 2);
+    let names: Vec<String> = h.state().layers().iter().map(|l| l.name()).collect();
+    assert_eq!(names, ["west.las", "east.las"], "the dropped file is added, not opened in place");
+    let kept = h.state().camera();
+    assert!((kept.target - camera.target).length() < 1e-3 * camera.distance, "the view stays where it was");
+    h.key_press(egui::Key::Home);
+    wait_for(&mut h, "both tiles framed", |app| settled_in(RenderMode::TwoPass)(app) && app.camera() != kept);
+    assert!(drawn_at(h.state(), west_centre) && drawn_at(h.state(), east_centre), "both tiles are drawn");
+
+    h.get_by_role_and_label(Role::CheckBox, "east.las").click();
+    wait_for(&mut h, "the east tile hidden", |app| settled_in(RenderMode::TwoPass)(app) && objects(app) == 1);
+    assert!(!h.state().layers()[1].shown);
+    assert!(drawn_at(h.state(), west_centre), "the west tile stays");
+    assert!(!drawn_at(h.state(), east_centre), "the east tile is hidden");
+}
