@@ -214,6 +214,7 @@ mod tests {
             hash: String::new(),
             splats: 1,
             nodes: false,
+            layers: Vec::new(),
         };
         let camera = pointblend::frame::Camera::framing(glam::Vec3::ZERO, 1.0, 1.0);
         let sidecar = Sidecar::new(model, &camera, &settings, (8, 8));

@@ -457,8 +457,14 @@ fn a_sidecar_gets_the_checks_the_flags_get() {
     use pointblend::frame::{Camera, RenderMode, RenderSettings, Sidecar};
     let dir = test_dir();
     let settings = RenderSettings { mode: RenderMode::RULER, ..Default::default() };
-    let model_info =
-        SidecarModel { name: "lion.ply".into(), path: String::new(), hash: String::new(), splats: 1, nodes: false };
+    let model_info = SidecarModel {
+        name: "lion.ply".into(),
+        path: String::new(),
+        hash: String::new(),
+        splats: 1,
+        nodes: false,
+        layers: Vec::new(),
+    };
     let valid = Sidecar::new(model_info, &Camera::framing(glam::Vec3::ZERO, 1.0, 1.0), &settings, (32, 32));
     let valid = serde_json::to_value(&valid).unwrap();
     let cases: [(&str, &str, serde_json::Value, &str); 10] = [

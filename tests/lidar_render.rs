@@ -135,6 +135,7 @@ fn a_screenshots_sidecar_brings_its_colours_by_attribute_back() {
         hash: String::new(),
         splats: count,
         nodes: false,
+        layers: Vec::new(),
     };
     let style = pointblend::style::Style {
         color_by: Some(pointblend::style::ColorBy::Classification),
@@ -166,8 +167,14 @@ fn a_bad_style_value_is_refused_in_the_parsers_words_from_flags_scene_files_and_
     let file = lidar::write(&dir.path().join("t.laz"), &tilted_grid(20, 0.5, 0.0, [0.0; 3]), [0.0; 3], None);
     let (scene, _) = pointblend::scene::open(&file, &Default::default()).unwrap();
     let camera = Camera::default_for(&scene.flatten().cloud, 1.0);
-    let model =
-        SidecarModel { name: "t.laz".into(), path: String::new(), hash: String::new(), splats: 400, nodes: false };
+    let model = SidecarModel {
+        name: "t.laz".into(),
+        path: String::new(),
+        hash: String::new(),
+        splats: 400,
+        nodes: false,
+        layers: Vec::new(),
+    };
     let sidecar = Sidecar::new(model, &camera, &RenderSettings::default(), (128, 128));
     let cases = [
         (

@@ -7,8 +7,7 @@ mod common;
 use std::process::Command;
 
 use common::lidar::{tilted_grid, write};
-use common::viewer::{harness_sized, options, save_screenshot, settled_in, wait_for};
-use egui_kittest::kittest::Queryable;
+use common::viewer::{choose, harness_sized, options, save_screenshot, settled_in, wait_for};
 use pointblend::render::RenderMode;
 use pointblend::style::Returns;
 use pointblend::viewer::ViewerOptions;
@@ -40,11 +39,7 @@ fn ticking_the_first_returns_draws_what_render_returns_first_draws() {
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let rendered = image::open(&rendered).unwrap().to_rgba8();
 
-    h.get_by_label("returns").click();
-    for _ in 0..3 {
-        h.step();
-    }
-    h.get_by_label("first").click();
+    choose(&mut h, "returns", "first");
     wait_for(&mut h, "the first returns", |app| {
         settled_in(RenderMode::TwoPass)(app)
             && app.model().is_some_and(|m| m.style.as_ref().is_some_and(|s| s.returns == Some(Returns::First)))

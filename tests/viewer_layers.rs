@@ -7,7 +7,7 @@ mod common;
 use std::sync::Arc;
 
 use common::lidar::{tilted_grid, write};
-use common::viewer::{Dropped, harness_sized, options, settled_in, wait_for};
+use common::viewer::{Dropped, choose, harness_sized, options, save_screenshot, settled_in, wait_for};
 use egui::accesskit::Role;
 use egui_kittest::kittest::Queryable;
 use glam::DVec3;
@@ -58,4 +58,61 @@ fn a_dropped_file_is_added_as_a_layer_and_the_list_hides_it() {
     assert!(!h.state().layers()[1].shown);
     assert!(drawn_at(h.state(), west_centre), "the west tile stays");
     assert!(!drawn_at(h.state(), east_centre), "the east tile is hidden");
+}
+
+/// Mean |ΔR| + |ΔG| + |ΔB| per pixel, in 0-255 steps.
+fn mean_difference(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
+    assert_eq!(a.dimensions(), b.dimensions());
+    let sum: u64 =
+        a.pixels().zip(b.pixels()).map(|(p, q)| (0..3).map(|c| u64::from(p[c].abs_diff(q[c]))).sum::<u64>()).sum();
+    sum as f64 / f64::from(a.width() * a.height())
+}
+
+#[test]
+fn a_screenshot_of_an_ortho_filtered_two_layer_view_is_drawn_again_by_render_camera() {
+    let dir = tempfile::tempdir().unwrap();
+    let west = write(&dir.path().join("west.las"), &tilted_grid(60, 0.5, 0.1, [1000.0, 2000.0, 50.0]), [0.0; 3], None);
+    let east = write(&dir.path().join("east.las"), &tilted_grid(60, 0.5, 0.1, [1031.0, 2000.0, 54.0]), [0.0; 3], None);
+    let shots = dir.path().join("shots");
+    let viewer = ViewerOptions { file: Some(west.clone()), mode: Some(RenderMode::TwoPass), ..options(&shots) };
+    let mut h = harness_sized(viewer, TALL);
+    wait_for(&mut h, "the west tile", settled_in(RenderMode::TwoPass));
+    h.input_mut().dropped_files.push(Arc::new(Dropped(east.clone())));
+    h.step();
+    wait_for(&mut h, "both tiles", |app| settled_in(RenderMode::TwoPass)(app) && objects(app) == 2);
+    for key in [egui::Key::Home, egui::Key::Num1, egui::Key::O] {
+        h.key_press(key);
+        h.step();
+    }
+    choose(&mut h, "returns", "first");
+    wait_for(&mut h, "the first returns of both tiles from the top", |app| {
+        settled_in(RenderMode::TwoPass)(app)
+            && app.camera().projection == pointblend::frame::Projection::Ortho
+            && app
+                .model()
+                .is_some_and(|m| m.style.as_ref().is_some_and(|s| s.returns.is_some()) && m.scene.objects.len() == 2)
+    });
+    let png = save_screenshot(&mut h, &shots);
+    let sidecar = png.with_extension("json");
+    let recorded: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&sidecar).unwrap()).unwrap();
+    assert_eq!(recorded["model"]["layers"].as_array().map(Vec::len), Some(2), "the sidecar names both layers");
+    assert_eq!(recorded["camera"]["projection"], "ortho");
+    assert_eq!(recorded["style"]["returns"], "first");
+
+    let again = dir.path().join("again.png");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .args(["render".as_ref(), west.as_os_str(), east.as_os_str(), "--camera".as_ref(), sidecar.as_os_str()])
+        .arg("--out")
+        .arg(&again)
+        .env("POINTBLEND_CACHE", dir.path().join("cache"))
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let shot = image::open(&png).unwrap().to_rgba8();
+    let rendered = image::open(&again).unwrap().to_rgba8();
+    let every = h.state().shown_frame().unwrap().0.clone();
+    assert!(mean_difference(&shot, &every) < 0.05, "the screenshot is the view");
+
+    let epsilon = mean_difference(&shot, &rendered);
+    assert!(epsilon <= 0.05, "render --camera draws the screenshot again: ε = {epsilon:.3}");
 }

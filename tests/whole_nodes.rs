@@ -158,7 +158,8 @@ fn a_screenshot_of_nodes_renders_nodes_and_one_of_the_whole_file_renders_it_whol
     let laz = made_laz(dir.path(), 300);
     for nodes in [true, false] {
         let path = laz.display().to_string();
-        let model = SidecarModel { name: "tile.laz".into(), path, hash: "0".into(), splats: 1, nodes };
+        let model =
+            SidecarModel { name: "tile.laz".into(), path, hash: "0".into(), splats: 1, nodes, layers: Vec::new() };
         let settings = pointblend::render::RenderSettings { point_budget: Some(40_000), ..Default::default() };
         let camera = Camera::framing(glam::Vec3::ZERO, 80.0, 1.0);
         let shot = dir.path().join(format!("shot-{nodes}.json"));

@@ -232,6 +232,7 @@ fn open_scene(args: &Args, sidecar: Option<&Sidecar>, first: Option<Camera>) -> 
         let opened = super::layers::load_layers(files, &args.view, &args.camera_flags, args.mode)?;
         let mut scene = opened.scene;
         args.view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
+        apply_screenshot_style(args, sidecar, &mut scene)?;
         return Ok((scene, None, opened.camera, opened.by_nodes));
     }
     // A screenshot's file is drawn as the window drew it: node by node or whole.
@@ -269,14 +270,19 @@ fn open_scene(args: &Args, sidecar: Option<&Sidecar>, first: Option<Camera>) -> 
         None => shared::load_scene(&args.file)?,
     };
     args.view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
-    // A screenshot's colours by attribute, unless the command line gives its own.
+    apply_screenshot_style(args, sidecar, &mut scene)?;
+    Ok((scene, streamed, None, false))
+}
+
+/// A screenshot's colours by attribute and filters, unless the command line gives its own.
+fn apply_screenshot_style(args: &Args, sidecar: Option<&Sidecar>, scene: &mut Scene) -> Result<()> {
     if let (None, Some(record), Some(path)) =
         (args.view.scene.style(), sidecar.and_then(|s| s.style.as_ref()), &args.camera)
     {
         let style = record.style().map_err(|e| anyhow::anyhow!("{}: style: {e}", path.display()))?;
         scene.apply_style(&style).map_err(anyhow::Error::msg)?;
     }
-    Ok((scene, streamed, None, false))
+    Ok(())
 }
 
 /// The frame's settings and size: the flags', or a screenshot's with its

@@ -58,6 +58,7 @@ impl ViewerApp {
             hash: model.hash_hex(),
             splats: model.cloud.len(),
             nodes: model.streamed.is_some(),
+            layers: self.shown_layer_files(),
         };
         let style = model.style.as_deref().map(crate::style::record::StyleRecord::from);
         let region = self.ui.inspect.region();

@@ -39,6 +39,12 @@ impl ViewerApp {
         self.open(ctx, file);
     }
 
+    /// The files of the shown layers, when there are several (a screenshot's sidecar names them).
+    pub(super) fn shown_layer_files(&self) -> Vec<String> {
+        let shown: Vec<String> = self.layers.iter().filter(|l| l.shown).map(|l| href(&l.path)).collect();
+        if shown.len() < 2 { Vec::new() } else { shown }
+    }
+
     /// The layers, as the panel lists them.
     pub fn layers(&self) -> &[Layer] {
         &self.layers

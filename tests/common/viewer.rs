@@ -93,3 +93,13 @@ impl egui::DroppedFile for Dropped {
         std::fs::read(&self.0).map_err(|e| e.to_string())
     }
 }
+
+/// Opens the combo box labelled `combo` and clicks its item `item`.
+pub fn choose(h: &mut Harness<'_, ViewerApp>, combo: &str, item: &str) {
+    use egui_kittest::kittest::Queryable;
+    h.get_by_label(combo).click();
+    for _ in 0..3 {
+        h.step();
+    }
+    h.get_by_label(item).click();
+}

@@ -38,6 +38,10 @@ pub struct SidecarModel {
     /// point file held in memory as a tree of nodes); absent: whole.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub nodes: bool,
+    /// The files shown as layers, when the window showed several (`path`
+    /// is then the window's own `.vpc` of them): `render A B --camera`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub layers: Vec<String>,
 }
 
 /// The camera, as the orbit parameters [`Camera`] uses.
@@ -258,6 +262,7 @@ mod tests {
             hash: "00ff".into(),
             splats: 7,
             nodes: false,
+            layers: Vec::new(),
         };
         let sidecar = Sidecar::new(model, &camera, &settings, (300, 200));
         let dir = tempfile::tempdir().unwrap();
