@@ -8,7 +8,6 @@ use pointblend::cloud::records::Records;
 use pointblend::inspect::area_volume::{self, Base, BaseUsed};
 use pointblend::inspect::polygon::Polygon;
 use pointblend::style::filter;
-use serde_json::json;
 
 use super::pick;
 use super::shared;
@@ -94,32 +93,8 @@ pub fn run(args: &pick::Args, area: &PolygonArgs, polygon: &Polygon) -> Result<(
         );
     }
     if args.json {
-        let volume = m.volume.as_ref();
-        let base = volume.map(|v| match &v.base {
-            BaseUsed::Plane { centre, slope_x, slope_y, height, points } => json!({
-                "kind": "plane along the border", "centre": centre.to_array(), "slope_x": slope_x,
-                "slope_y": slope_y, "height": height, "points": points,
-            }),
-            BaseUsed::Cloud { points, cells_without } => json!({
-                "kind": "cloud", "file": area.base.as_ref().map(|p| p.display().to_string()),
-                "points": points, "cells_without": cells_without,
-            }),
-        });
-        let value = json!({
-            "area_horizontal": m.area_horizontal,
-            "area_surface": m.area_surface,
-            "volume_above": volume.map(|v| v.above),
-            "volume_below": volume.map(|v| v.below),
-            "cell": m.cell,
-            "units": h,
-            "vertical_units": v,
-            "epsg": records.units.epsg,
-            "points": m.points,
-            "cells": m.cells,
-            "cells_filled": m.cells_filled,
-            "cells_empty": m.cells_empty,
-            "base": base,
-        });
+        let base_file = area.base.as_ref().map(|p| p.display().to_string());
+        let value = area_volume::report_json(&m, &records.units, base_file);
         println!("{}", serde_json::to_string_pretty(&value)?);
         return Ok(());
     }

@@ -52,6 +52,7 @@ impl ViewerApp {
             status: self.status.as_deref(),
             streaming: self.model.as_ref().and_then(|m| m.streamed.as_ref()).map(|s| (s.status(), self.load.is_some())),
             layers: &self.layers,
+            polygon: self.polygon_report.as_ref().map(|(_, report)| report),
         }
     }
 

@@ -133,6 +133,8 @@ pub struct ViewerApp {
     pub(super) keep_view: bool,
     /// The frame placement (origin, unit) of the last model adopted.
     pub(super) placement_shown: Option<(glam::DVec3, f64)>,
+    /// The polygon's measure, and what it was measured of (vertices, volume, model generation).
+    pub(super) polygon_report: Option<(super::state::PolygonKey, Result<super::state::PolygonReport, String>)>,
 }
 
 impl ViewerApp {
@@ -206,6 +208,7 @@ impl ViewerApp {
             layers_folder: None,
             keep_view: false,
             placement_shown: None,
+            polygon_report: None,
             options,
         };
         match app.options.file.clone().map_or_else(|| crate::assets::path(crate::assets::BUNDLED_MODEL), Ok) {
@@ -321,6 +324,7 @@ impl eframe::App for ViewerApp {
         self.ui.apply_light_angles();
         self.apply(&ctx, actions);
         self.ensure_clip_box();
+        self.measure_polygon();
         self.status_bar(ui);
         egui::CentralPanel::no_frame().show(ui, |ui| self.view_ui(ui));
         self.refine_stream(&ctx);

@@ -129,8 +129,11 @@ impl ViewerApp {
         let to_pixel = |v: f32, side: u32| ((v * ppp).floor().max(0.0) as u32).min(side.saturating_sub(1));
         let pixel = [to_pixel(pos.x - rect.left(), self.view_size.0), to_pixel(pos.y - rect.top(), self.view_size.1)];
         let Some(report) = self.pick_pixel(pixel) else { return };
-        if self.ui.inspect.tool == Tool::Measure {
+        if matches!(self.ui.inspect.tool, Tool::Measure | Tool::Polygon) {
             match report.layers.first() {
+                Some(nearest) if self.ui.inspect.tool == Tool::Polygon => {
+                    self.ui.inspect.polygon.push(nearest.position)
+                }
                 Some(nearest) => self.ui.inspect.measured.push((pixel, nearest.position)),
                 None => self.status = Some(format!("pixel ({}, {}) shows no surface to measure", pixel[0], pixel[1])),
             }
@@ -257,6 +260,16 @@ impl ViewerApp {
         }
         for p in measured.iter().flatten() {
             painter.circle_filled(*p, 4.0, line.color);
+        }
+        let corners: Vec<egui::Pos2> = inspect.polygon.iter().filter_map(|p| projector.to_screen(*p)).collect();
+        let edge = egui::Stroke::new(2.0, egui::Color32::from_rgb(120, 255, 140));
+        if corners.len() >= 2 {
+            let mut closed = corners.clone();
+            closed.push(corners[0]);
+            painter.add(egui::Shape::line(closed, edge));
+        }
+        for p in &corners {
+            painter.circle_filled(*p, 4.0, edge.color);
         }
     }
 }

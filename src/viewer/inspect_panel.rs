@@ -17,6 +17,9 @@ pub fn inspect_section(ui: &mut Ui, state: &mut UiState, has_model: bool) {
         ui.radio_value(&mut inspect.tool, Tool::Pick, "pick").on_hover_text("list every layer under the pixel");
         ui.radio_value(&mut inspect.tool, Tool::Measure, "measure")
             .on_hover_text("add the surface under the pixel to the measured polyline");
+        ui.radio_value(&mut inspect.tool, Tool::Polygon, "polygon").on_hover_text(
+            "add the surface under the pixel as a vertex of the polygon to measure areas and volumes in",
+        );
     });
     ui.add_enabled_ui(has_model, |ui| {
         ui.checkbox(&mut inspect.clip_on, "clip box").on_hover_text(

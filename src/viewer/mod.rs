@@ -34,6 +34,8 @@ mod loading;
 mod model;
 mod panels;
 mod parameter_widgets;
+mod polygon_measure;
+mod polygon_panel;
 mod preview;
 mod refine_steps;
 mod render_thread;

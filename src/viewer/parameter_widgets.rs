@@ -245,6 +245,7 @@ mod tests {
             status: None,
             streaming: None,
             layers: &[],
+            polygon: None,
         }
     }
 

@@ -109,6 +109,8 @@ pub enum Tool {
     Pick,
     /// Add the nearest surface under the pixel to the measured polyline.
     Measure,
+    /// Add the nearest surface under the pixel as a vertex of the polygon (its x and y).
+    Polygon,
 }
 
 /// The inspection tools' state: the clip region (file coordinates), the
@@ -126,6 +128,10 @@ pub struct Inspection {
     pub measured: Vec<([u32; 2], glam::DVec3)>,
     /// The box face whose handle is being dragged (axis · 2 + max).
     pub dragging: Option<usize>,
+    /// The polygon's vertices (file coordinates; its area is horizontal) and
+    /// whether its volume is measured too (above a plane fitted along its border).
+    pub polygon: Vec<glam::DVec3>,
+    pub polygon_volume: bool,
 }
 
 impl Inspection {
@@ -252,6 +258,8 @@ pub struct PanelInfo<'a> {
     pub streaming: Option<(super::stream_source::StreamStatus, bool)>,
     /// The files opened as layers.
     pub layers: &'a [Layer],
+    /// The polygon's measure, or why there is none, once it has three vertices.
+    pub polygon: Option<&'a Result<PolygonReport, String>>,
 }
 
 impl PanelInfo<'_> {
@@ -272,4 +280,21 @@ impl Layer {
         let text = self.path.to_string_lossy();
         text.rsplit(['/', '\\']).next().unwrap_or(&text).to_string()
     }
+}
+
+/// What a polygon's measure was made of: its vertices, whether the volume
+/// was asked for, and the model's generation.
+pub type PolygonKey = (Vec<glam::DVec3>, bool, u64);
+
+/// The polygon's measure, as the panel shows it: `measure --polygon`'s figures and its JSON.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PolygonReport {
+    pub area_horizontal: f64,
+    pub area_surface: f64,
+    /// Above and below the base, when the volume is measured.
+    pub volume: Option<(f64, f64)>,
+    pub points: usize,
+    pub units: String,
+    /// What `measure --polygon --json` prints for the same polygon and points.
+    pub json: String,
 }

@@ -192,6 +192,42 @@ fn fit_plane(points: &[DVec3]) -> Option<BaseUsed> {
     Some(BaseUsed::Plane { centre: centre.truncate(), slope_x, slope_y, height: centre.z, points: points.len() })
 }
 
+/// What `measure --polygon --json` prints of `m`: areas, volumes, the cell,
+/// the units and EPSG code of `units`, the cell counts and the base (its
+/// `base_file` for a cloud base). The viewer copies the same.
+pub fn report_json(
+    m: &AreaVolume,
+    units: &crate::cloud::crs_units::CrsUnits,
+    base_file: Option<String>,
+) -> serde_json::Value {
+    use serde_json::json;
+    let volume = m.volume.as_ref();
+    let base = volume.map(|v| match &v.base {
+        BaseUsed::Plane { centre, slope_x, slope_y, height, points } => json!({
+            "kind": "plane along the border", "centre": centre.to_array(), "slope_x": slope_x,
+            "slope_y": slope_y, "height": height, "points": points,
+        }),
+        BaseUsed::Cloud { points, cells_without } => json!({
+            "kind": "cloud", "file": base_file, "points": points, "cells_without": cells_without,
+        }),
+    });
+    json!({
+        "area_horizontal": m.area_horizontal,
+        "area_surface": m.area_surface,
+        "volume_above": volume.map(|v| v.above),
+        "volume_below": volume.map(|v| v.below),
+        "cell": m.cell,
+        "units": units.horizontal_name(),
+        "vertical_units": units.vertical_name(),
+        "epsg": units.epsg,
+        "points": m.points,
+        "cells": m.cells,
+        "cells_filled": m.cells_filled,
+        "cells_empty": m.cells_empty,
+        "base": base,
+    })
+}
+
 /// The horizontal and surface areas inside `polygon` of `points` (file
 /// coordinates), on cells of side `cell` (default: twice the mean
 /// spacing), and the volume above `base` when one is given.

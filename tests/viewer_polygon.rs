@@ -1,0 +1,81 @@
+//! The polygon tool in the viewer, driven with egui_kittest: four clicks on
+//! the orthographic top view of a sloping tile make a polygon whose areas
+//! and volume are `measure --polygon --volume`'s for the same vertices (to
+//! the precision the window holds its points in), in the JSON `measure
+//! --json` prints, which the panel copies.
+
+mod common;
+
+use common::lidar::{tilted_grid, write};
+use common::viewer::{click, harness_sized, options, settled_in, wait_for};
+use egui_kittest::kittest::Queryable;
+use glam::DVec3;
+use pointblend::render::RenderMode;
+use pointblend::viewer::{ViewerApp, ViewerOptions};
+
+const TALL: [f32; 2] = [900.0, 1300.0];
+
+fn settled_ortho_top(app: &ViewerApp) -> bool {
+    settled_in(RenderMode::TwoPass)(app)
+        && app.shown_frame().is_some_and(|(_, k)| {
+            k.camera.projection == pointblend::frame::Projection::Ortho && k.camera.elevation_deg == 90.0
+        })
+}
+
+#[test]
+fn a_polygon_clicked_on_the_top_view_measures_what_measure_polygon_measures() {
+    let dir = tempfile::tempdir().unwrap();
+    // 40 m square rising 1 in 5 eastwards, with a bump in the middle so that the volume is not zero.
+    let mut points = tilted_grid(80, 0.5, 0.2, [1000.0, 2000.0, 50.0]);
+    for p in &mut points {
+        let d = ((p.xyz[0] - 1020.0).powi(2) + (p.xyz[1] - 2020.0).powi(2)).sqrt();
+        p.xyz[2] += (3.0 - 0.5 * d).max(0.0);
+    }
+    let file = write(&dir.path().join("slope.las"), &points, [0.0; 3], None);
+    let viewer = ViewerOptions { file: Some(file.clone()), mode: Some(RenderMode::TwoPass), ..options(dir.path()) };
+    let mut h = harness_sized(viewer, TALL);
+    wait_for(&mut h, "the tile", settled_in(RenderMode::TwoPass));
+    for key in [egui::Key::Num1, egui::Key::O] {
+        h.key_press(key);
+        h.step();
+    }
+    wait_for(&mut h, "the orthographic top view", settled_ortho_top);
+    h.get_by_label("polygon").click();
+    h.step();
+    for (x, y) in [(1010.0, 2010.0), (1031.0, 2008.0), (1030.0, 2031.0), (1009.0, 2029.0)] {
+        let at = h.state().screen_position(DVec3::new(x, y, 50.0 + 0.2 * (x - 1000.0))).expect("in view");
+        click(&mut h, at);
+    }
+    assert_eq!(h.state().inspection().polygon.len(), 4, "four vertices clicked");
+    h.get_by_label("volume").click();
+    wait_for(&mut h, "the polygon's measure with its volume", |app| {
+        app.polygon_report().is_some_and(|r| r.as_ref().is_ok_and(|r| r.volume.is_some()))
+    });
+    let report = h.state().polygon_report().unwrap().clone().unwrap();
+    let shown: serde_json::Value = serde_json::from_str(&report.json).unwrap();
+
+    let text: Vec<String> = h.state().inspection().polygon.iter().map(|v| format!("{},{}", v.x, v.y)).collect();
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .args(["measure".as_ref(), file.as_os_str()])
+        .args(["--polygon", &text.join(" "), "--volume", "--json"])
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let measured: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(shown["points"], measured["points"], "the same points inside");
+    let value = |json: &serde_json::Value, key: &str| json[key].as_f64().unwrap();
+    for key in ["area_horizontal", "cell"] {
+        let (a, b) = (value(&shown, key), value(&measured, key));
+        assert!((a - b).abs() <= 1e-9 * b.abs(), "{key}: the viewer {a}, measure {b}");
+    }
+    // The window holds the points as f32 around the tile's centre, to within
+    // RESIDUAL_KEPT of a file unit (measure reads the records in f64): each
+    // cell's height, and the base plane's, may move by that much.
+    let height_slack = 2.0 * value(&measured, "area_horizontal") * pointblend::cloud::placement::RESIDUAL_KEPT;
+    for key in ["area_surface", "volume_above", "volume_below"] {
+        let (a, b) = (value(&shown, key), value(&measured, key));
+        assert!((a - b).abs() <= height_slack, "{key}: the viewer {a}, measure {b}, more than {height_slack} apart");
+    }
+    assert!(shown["volume_above"].as_f64().unwrap() > 1.0, "the bump stands above the border's plane: {shown}");
+    assert_eq!(shown["base"]["points"], measured["base"]["points"], "the base plane is fitted to the same points");
+}
