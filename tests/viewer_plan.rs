@@ -2,8 +2,9 @@
 //! ortho key and a view key change the camera's projection and direction,
 //! two equal roofs at different heights cover equal areas in the
 //! orthographic top view (and unequal ones in perspective, which the test
-//! also checks, so that it can tell the two apart), and the help key shows
-//! the list of the view's inputs.
+//! also checks, so that it can tell the two apart), the help key shows
+//! the list of the view's inputs, and fly mode's W flies along the view
+//! while a drag turns it about the eye.
 
 mod common;
 
@@ -114,4 +115,41 @@ fn the_help_key_lists_the_views_inputs() {
     let hidden = h.render().expect("the window renders");
     let left = changed(&before, &hidden);
     assert!(left < 0.01, "H hides it again: {:.1}% of the corner still differs", 100.0 * left);
+}
+
+fn key(h: &mut egui_kittest::Harness<'_, ViewerApp>, key: egui::Key, pressed: bool) {
+    let modifiers = egui::Modifiers::default();
+    h.input_mut().events.push(egui::Event::Key { key, physical_key: None, pressed, repeat: false, modifiers });
+    h.step();
+}
+
+#[test]
+fn in_fly_mode_w_flies_along_the_view_and_a_drag_looks_around_the_eye() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(options(dir.path()));
+    wait_for(&mut h, "the lion in two-pass", settled_in(RenderMode::TwoPass));
+    let start = h.state().camera();
+    key(&mut h, egui::Key::W, true);
+    key(&mut h, egui::Key::W, false);
+    assert_eq!(h.state().camera(), start, "W does nothing outside fly mode");
+
+    press(&mut h, egui::Key::F);
+    key(&mut h, egui::Key::W, true);
+    for _ in 0..10 {
+        h.step();
+    }
+    key(&mut h, egui::Key::W, false);
+    let flown = h.state().camera();
+    let moved = flown.eye() - start.eye();
+    assert!(moved.length() > 0.01 * start.distance, "W flew: {moved}");
+    assert!(moved.normalize().dot(-start.direction()) > 0.999, "along the view: {moved}");
+    assert_eq!((flown.azimuth_deg, flown.elevation_deg), (start.azimuth_deg, start.elevation_deg));
+    h.step();
+    assert_eq!(h.state().camera(), flown, "the flight stops when W is let go");
+
+    let centre = h.state().view_rect().center();
+    common::viewer::drag(&mut h, centre, centre + egui::vec2(60.0, 0.0), 4);
+    let looked = h.state().camera();
+    assert!((looked.eye() - flown.eye()).length() < 1e-3 * start.distance, "a drag in fly mode keeps the eye");
+    assert!((looked.azimuth_deg - flown.azimuth_deg).abs() > 5.0, "and turns the view");
 }

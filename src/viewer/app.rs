@@ -168,6 +168,7 @@ impl ViewerApp {
             bookmarks: Vec::new(),
             large_factor: 4,
             help_shown: false,
+            fly: false,
         };
         let mut app = Self {
             ui,

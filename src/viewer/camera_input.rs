@@ -60,6 +60,31 @@ pub fn zoom(camera: &mut Camera, scroll: f32) {
     camera.distance = (camera.distance * factor).clamp(camera.scene_radius * 1e-4, camera.scene_radius * 100.0);
 }
 
+/// Fly mode's mouse look: turns the view by the drag about the eye, which
+/// stays where it is (the target swings round it at the same distance).
+pub fn look(camera: &mut Camera, scene: &SceneSphere, drag: Vec2) {
+    let eye = camera.target + camera.direction() * camera.distance;
+    camera.azimuth_deg = (camera.azimuth_deg + drag.x * ORBIT_DEG_PER_POINT).rem_euclid(360.0);
+    camera.elevation_deg = (camera.elevation_deg - drag.y * ORBIT_DEG_PER_POINT).clamp(-89.5, 89.5);
+    scene.retarget(camera, eye - camera.direction() * camera.distance);
+}
+
+/// Fly mode's step: moves the eye and the target together by `step` =
+/// (right, up, forward) in the scene's units, forward being where the view looks.
+pub fn fly(camera: &mut Camera, scene: &SceneSphere, step: Vec3) {
+    let view = camera.view_matrix();
+    let (right, up) = (view.row(0).truncate(), view.row(1).truncate());
+    let forward = -camera.direction();
+    scene.retarget(camera, camera.target + right * step.x + up * step.y + forward * step.z);
+}
+
+/// Fly mode's speed, in scene units per second: half the depth of the
+/// surface under the cursor, else half the distance to the target, so a
+/// flight slows as it nears what it looks at.
+pub fn fly_speed(camera: &Camera, depth_under_cursor: Option<f32>) -> f32 {
+    0.5 * depth_under_cursor.filter(|d| *d > 0.0).unwrap_or(camera.distance)
+}
+
 /// Zooms by `scroll` about `about` (world), which keeps its place on screen.
 pub fn zoom_about(camera: &mut Camera, scene: &SceneSphere, scroll: f32, about: Vec3) {
     let before = camera.distance;
@@ -155,6 +180,24 @@ mod tests {
             zoom(&mut centred, 300.0);
             assert!((on_screen(&centred, surface, 1.5) - seen).length() > 0.05, "a plain zoom moves it");
         }
+    }
+
+    #[test]
+    fn mouse_look_keeps_the_eye_and_a_fly_step_moves_it_along_the_view() {
+        let scene = SceneSphere { centre: Vec3::ZERO, radius: 1.0 };
+        let camera = Camera::framing(Vec3::ZERO, 1.0, 1.0);
+        let eye = camera.eye();
+        let mut looked = camera;
+        look(&mut looked, &scene, Vec2::new(50.0, -30.0));
+        assert!((looked.eye() - eye).length() < 1e-4, "the eye stays: {} and {eye}", looked.eye());
+        assert!((looked.azimuth_deg - camera.azimuth_deg).abs() > 10.0 && looked.target != camera.target);
+        let mut flown = camera;
+        fly(&mut flown, &scene, Vec3::new(0.0, 0.0, 0.5));
+        let moved = flown.eye() - eye;
+        assert!((moved - (-camera.direction() * 0.5)).length() < 1e-4, "forward is where the view looks: {moved}");
+        assert_eq!(flown.distance, camera.distance);
+        assert_eq!(fly_speed(&camera, Some(4.0)), 2.0, "half the depth under the cursor a second");
+        assert_eq!(fly_speed(&camera, None), 0.5 * camera.distance);
     }
 
     #[test]

@@ -44,6 +44,17 @@ impl ViewerApp {
         Some(front.point_at(at).map_or(Reading::Nothing, |p| Reading::Point(origin + p * unit)))
     }
 
+    /// The view depth of the surface under the pointer in the frame on screen (fly mode's speed).
+    pub(super) fn depth_under_pointer(&self) -> Option<f32> {
+        let (pointer, shown) = (self.pointer?, self.shown.as_ref()?);
+        let front = shown.front_depth.as_ref()?;
+        let rect = self.view_rect;
+        let (w, h) = front.size;
+        let x = (pointer.x - rect.left()) / rect.width() * w as f32;
+        let y = (pointer.y - rect.top()) / rect.height() * h as f32;
+        (x >= 0.0 && y >= 0.0).then(|| front.depth_at(x as u32, y as u32)).flatten()
+    }
+
     /// The file coordinates of the surface under the pointer, if it is over one.
     pub fn cursor_coordinates(&self) -> Option<DVec3> {
         match self.status_reading() {

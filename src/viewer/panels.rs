@@ -223,6 +223,7 @@ fn projection_widgets(ui: &mut Ui, state: &mut UiState, actions: &mut Vec<Action
             }
         }
         ui.checkbox(&mut state.help_shown, "help").on_hover_text("the view's keys and mouse inputs (H)");
+        ui.checkbox(&mut state.fly, "fly").on_hover_text("W A S D Q E move the eye, a drag looks around (F)");
     });
     ui.horizontal_wrapped(|ui| {
         ui.label("view:");

@@ -263,6 +263,7 @@ mod tests {
             bookmarks: Vec::new(),
             large_factor: 4,
             help_shown: false,
+            fly: false,
         }
     }
 

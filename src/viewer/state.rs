@@ -97,6 +97,8 @@ pub struct UiState {
     pub large_factor: u32,
     /// Whether the help overlay lists the view's inputs (H).
     pub help_shown: bool,
+    /// Fly mode (F): W A S D Q E move the eye, a drag looks around.
+    pub fly: bool,
 }
 
 /// What a click in the 3D view does.

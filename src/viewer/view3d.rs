@@ -31,12 +31,27 @@ impl ViewerApp {
             self.reset_camera();
         }
         for key in view_keys::pressed(ctx) {
-            if key == view_keys::ViewKey::Help {
-                self.ui.help_shown = !self.ui.help_shown;
-            } else if view_keys::apply(&mut self.ui.camera, key) {
-                self.camera_moved();
+            match key {
+                view_keys::ViewKey::Help => self.ui.help_shown = !self.ui.help_shown,
+                view_keys::ViewKey::Fly => self.ui.fly = !self.ui.fly,
+                _ if view_keys::apply(&mut self.ui.camera, key) => self.camera_moved(),
+                _ => {}
             }
         }
+        self.fly_keys(ctx);
+    }
+
+    /// Fly mode: the W A S D Q E held move the eye by this frame's share of the speed.
+    fn fly_keys(&mut self, ctx: &egui::Context) {
+        let direction = view_keys::fly_direction(ctx);
+        if !self.ui.fly || direction == glam::Vec3::ZERO {
+            return;
+        }
+        let seconds = ctx.input(|i| i.stable_dt).min(0.1);
+        let speed = camera_input::fly_speed(&self.ui.camera, self.depth_under_pointer());
+        camera_input::fly(&mut self.ui.camera, &self.scene, direction.normalize() * speed * seconds);
+        self.camera_moved();
+        ctx.request_repaint();
     }
 
     /// The 3D view: the latest frame, and the camera controls on it.
@@ -87,7 +102,10 @@ impl ViewerApp {
         // A clip-box handle's drag moves the box, not the camera; a click picks or measures.
         let taken = self.inspect_input(&response, rect, ppp);
         if response.dragged_by(egui::PointerButton::Primary) && !taken {
-            camera_input::orbit(&mut self.ui.camera, to_vec(response.drag_delta()));
+            match self.ui.fly {
+                true => camera_input::look(&mut self.ui.camera, &self.scene, to_vec(response.drag_delta())),
+                false => camera_input::orbit(&mut self.ui.camera, to_vec(response.drag_delta())),
+            }
             moved = true;
         }
         if response.dragged_by(egui::PointerButton::Secondary) || response.dragged_by(egui::PointerButton::Middle) {

@@ -4,7 +4,8 @@
 //! The digits 1-7 look from the named views of [`NamedView::ALL`] (top,
 //! bottom, front, back, left, right, iso: the same directions as `--view`),
 //! `O` switches between perspective and orthographic (`--projection`), `H`
-//! shows or hides the help. The keys act only while no text field takes
+//! shows or hides the help, `F` switches fly mode (W A S D Q E held move
+//! the eye, `camera_input::fly`). The keys act only while no text field takes
 //! the keyboard. [`INPUTS`] is the one list of the view's inputs: the
 //! overlay draws it, and a test holds the user guide's table to it.
 
@@ -27,11 +28,22 @@ pub const VIEW_KEYS: [(Key, NamedView); 7] = [
 pub const PROJECTION_KEY: Key = Key::O;
 /// Shows or hides the help overlay.
 pub const HELP_KEY: Key = Key::H;
+/// Switches fly mode.
+pub const FLY_KEY: Key = Key::F;
+/// Fly mode's moves while held: (key, (right, up, forward)).
+pub const FLY_KEYS: [(Key, [f32; 3]); 6] = [
+    (Key::W, [0.0, 0.0, 1.0]),
+    (Key::S, [0.0, 0.0, -1.0]),
+    (Key::A, [-1.0, 0.0, 0.0]),
+    (Key::D, [1.0, 0.0, 0.0]),
+    (Key::Q, [0.0, -1.0, 0.0]),
+    (Key::E, [0.0, 1.0, 0.0]),
+];
 
 /// Every input of the 3D view: (the input, what it does), as the help
 /// overlay and the user guide's table give them.
-pub const INPUTS: [(&str, &str); 20] = [
-    ("left drag", "orbit"),
+pub const INPUTS: [(&str, &str); 22] = [
+    ("left drag", "orbit (in fly mode: look around)"),
     ("right or middle drag", "pan"),
     ("wheel", "zoom to the point under the cursor"),
     ("double-click", "re-centre on the surface under the cursor"),
@@ -45,6 +57,8 @@ pub const INPUTS: [(&str, &str); 20] = [
     ("6", "right view"),
     ("7", "iso view"),
     ("H", "show or hide this help"),
+    ("F", "fly mode on or off"),
+    ("W A S D Q E", "fly forward, left, back, right, down, up (fly mode; half the depth under the cursor a second)"),
     ("Ctrl+S", "save the 3D view"),
     ("Ctrl+Shift+S", "save the 3D view at N × its size"),
     ("click (Inspect: pick)", "list every layer under the pixel"),
@@ -59,6 +73,21 @@ pub enum ViewKey {
     Look(NamedView),
     SwitchProjection,
     Help,
+    Fly,
+}
+
+/// Fly mode's move this frame, as (right, up, forward) directions of the
+/// keys held (none while a text field has the keyboard or a modifier is held).
+pub fn fly_direction(ctx: &egui::Context) -> glam::Vec3 {
+    if ctx.egui_wants_keyboard_input() {
+        return glam::Vec3::ZERO;
+    }
+    ctx.input(|i| {
+        if !i.modifiers.is_none() {
+            return glam::Vec3::ZERO;
+        }
+        FLY_KEYS.iter().filter(|(key, _)| i.key_down(*key)).map(|(_, d)| glam::Vec3::from_array(*d)).sum()
+    })
 }
 
 /// The view keys pressed this frame, in the order above (none while a text
@@ -77,6 +106,9 @@ pub fn pressed(ctx: &egui::Context) -> Vec<ViewKey> {
         if plain(HELP_KEY) {
             keys.push(ViewKey::Help);
         }
+        if plain(FLY_KEY) {
+            keys.push(ViewKey::Fly);
+        }
         keys
     })
 }
@@ -86,7 +118,7 @@ pub fn apply(camera: &mut Camera, key: ViewKey) -> bool {
     match key {
         ViewKey::Look(view) => camera.look_from(view),
         ViewKey::SwitchProjection => camera.projection = other(camera.projection),
-        ViewKey::Help => return false,
+        ViewKey::Help | ViewKey::Fly => return false,
     }
     true
 }
@@ -131,7 +163,7 @@ mod tests {
                 INPUTS.iter().find(|(input, _)| *input == digit).unwrap_or_else(|| panic!("no help for {digit}"));
             assert_eq!(line.1, format!("{} view", view.name()));
         }
-        for key in [PROJECTION_KEY, HELP_KEY] {
+        for key in [PROJECTION_KEY, HELP_KEY, FLY_KEY] {
             assert!(INPUTS.iter().any(|(input, _)| *input == key.name()), "no help for {}", key.name());
         }
     }
