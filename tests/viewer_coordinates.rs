@@ -7,10 +7,10 @@
 mod common;
 
 use common::lidar::{CrsRecord, tilted_grid, write_with_crs};
-use common::viewer::{harness, options, settled_in, wait_for};
+use common::viewer::{harness, options, settled_in, settled_ortho_top, to_ortho_top, wait_for};
 use egui_kittest::kittest::Queryable;
 use glam::DVec3;
-use pointblend::frame::{Projection, UpAxis};
+use pointblend::frame::UpAxis;
 use pointblend::render::RenderMode;
 use pointblend::viewer::{ViewerApp, ViewerOptions};
 
@@ -51,25 +51,13 @@ fn wheel(h: &mut egui_kittest::Harness<'_, ViewerApp>, points: f32) {
     panic!("the wheel zoomed to {} of {want}", h.state().camera().distance);
 }
 
-fn settled_ortho_top(app: &ViewerApp) -> bool {
-    settled_in(RenderMode::TwoPass)(app)
-        && app
-            .shown_frame()
-            .is_some_and(|(_, k)| k.camera.projection == Projection::Ortho && k.camera.elevation_deg == 90.0)
-}
-
 #[test]
 fn the_status_line_gives_the_file_coordinates_under_the_cursor_to_the_files_scale() {
     let dir = tempfile::tempdir().unwrap();
     let (file, known) = utm_tile(dir.path());
     let mut h = harness(ViewerOptions { file: Some(file), mode: Some(RenderMode::TwoPass), ..options(dir.path()) });
-    wait_for(&mut h, "the tile in two-pass", settled_in(RenderMode::TwoPass));
+    to_ortho_top(&mut h);
     assert_eq!(h.state().camera().up, UpAxis::PosZ, "a lidar tile is z up");
-    for key in [egui::Key::Num1, egui::Key::O] {
-        h.key_press(key);
-        h.step();
-    }
-    wait_for(&mut h, "the orthographic top view", settled_ortho_top);
 
     // Zoomed in about the known point: a pixel's footprint (the depth is
     // read per pixel) becomes a few millimetres across.

@@ -7,20 +7,13 @@
 mod common;
 
 use common::lidar::{tilted_grid, write};
-use common::viewer::{click, harness_sized, options, settled_in, wait_for};
+use common::viewer::{click, harness_sized, options, to_ortho_top, wait_for};
 use egui_kittest::kittest::Queryable;
 use glam::DVec3;
 use pointblend::render::RenderMode;
-use pointblend::viewer::{ViewerApp, ViewerOptions};
+use pointblend::viewer::ViewerOptions;
 
 const TALL: [f32; 2] = [900.0, 1300.0];
-
-fn settled_ortho_top(app: &ViewerApp) -> bool {
-    settled_in(RenderMode::TwoPass)(app)
-        && app.shown_frame().is_some_and(|(_, k)| {
-            k.camera.projection == pointblend::frame::Projection::Ortho && k.camera.elevation_deg == 90.0
-        })
-}
 
 #[test]
 fn a_polygon_clicked_on_the_top_view_measures_what_measure_polygon_measures() {
@@ -34,12 +27,7 @@ fn a_polygon_clicked_on_the_top_view_measures_what_measure_polygon_measures() {
     let file = write(&dir.path().join("slope.las"), &points, [0.0; 3], None);
     let viewer = ViewerOptions { file: Some(file.clone()), mode: Some(RenderMode::TwoPass), ..options(dir.path()) };
     let mut h = harness_sized(viewer, TALL);
-    wait_for(&mut h, "the tile", settled_in(RenderMode::TwoPass));
-    for key in [egui::Key::Num1, egui::Key::O] {
-        h.key_press(key);
-        h.step();
-    }
-    wait_for(&mut h, "the orthographic top view", settled_ortho_top);
+    to_ortho_top(&mut h);
     h.get_by_label("polygon").click();
     h.step();
     for (x, y) in [(1010.0, 2010.0), (1031.0, 2008.0), (1030.0, 2031.0), (1009.0, 2029.0)] {

@@ -63,6 +63,7 @@ impl ViewerApp {
                 Action::Open(path) => self.open_or_add(ctx, &path),
                 Action::ShowLayer(k, shown) => self.show_layer(ctx, k, shown),
                 Action::RemoveLayer(k) => self.remove_layer(ctx, k),
+                Action::ExportSelection(path) => self.export_selection(ctx, &path),
                 Action::Cancel(JobKind::Load) => self.cancel_load(),
                 Action::Cancel(JobKind::Grouping) => {
                     if let Some((_, job)) = self.grouping_job.take() {

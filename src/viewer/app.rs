@@ -135,6 +135,8 @@ pub struct ViewerApp {
     pub(super) placement_shown: Option<(glam::DVec3, f64)>,
     /// The polygon's measure, and what it was measured of (vertices, volume, model generation).
     pub(super) polygon_report: Option<(super::state::PolygonKey, Result<super::state::PolygonReport, String>)>,
+    /// The selection being exported: the line to report when it is done.
+    pub(super) export: Option<Job<Result<String, String>>>,
 }
 
 impl ViewerApp {
@@ -210,6 +212,7 @@ impl ViewerApp {
             keep_view: false,
             placement_shown: None,
             polygon_report: None,
+            export: None,
             options,
         };
         match app.options.file.clone().map_or_else(|| crate::assets::path(crate::assets::BUNDLED_MODEL), Ok) {
@@ -303,6 +306,7 @@ impl ViewerApp {
         self.poll_grouping();
         self.poll_measurement(ctx);
         self.poll_frames(ctx);
+        self.poll_export();
     }
 }
 

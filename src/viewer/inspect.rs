@@ -180,6 +180,9 @@ impl ViewerApp {
     /// (the camera stays), a click picks or measures. Returns whether the
     /// input was taken (the camera must not move for it).
     pub(super) fn inspect_input(&mut self, response: &egui::Response, rect: egui::Rect, ppp: f32) -> bool {
+        if self.ui.inspect.tool == Tool::Select {
+            return self.select_input(response);
+        }
         let Some(projector) = self.projector(rect) else { return false };
         if response.drag_started_by(egui::PointerButton::Primary) {
             let press = response.interact_pointer_pos().map(|p| p - response.drag_delta());

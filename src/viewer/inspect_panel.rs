@@ -5,13 +5,13 @@
 
 use egui::{RichText, Ui};
 
-use super::state::{Tool, UiState};
+use super::state::{Action, Tool, UiState};
 use crate::frame::clip::Hidden;
 
 pub fn inspect_section(ui: &mut Ui, state: &mut UiState, has_model: bool) {
     ui.heading("Inspect");
     let inspect = &mut state.inspect;
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         ui.label("click:");
         ui.radio_value(&mut inspect.tool, Tool::Look, "look").on_hover_text("the view only moves the camera");
         ui.radio_value(&mut inspect.tool, Tool::Pick, "pick").on_hover_text("list every layer under the pixel");
@@ -20,6 +20,8 @@ pub fn inspect_section(ui: &mut Ui, state: &mut UiState, has_model: bool) {
         ui.radio_value(&mut inspect.tool, Tool::Polygon, "polygon").on_hover_text(
             "add the surface under the pixel as a vertex of the polygon to measure areas and volumes in",
         );
+        ui.radio_value(&mut inspect.tool, Tool::Select, "select")
+            .on_hover_text("drag a box: the points of every shown layer inside it are the selection");
     });
     ui.add_enabled_ui(has_model, |ui| {
         ui.checkbox(&mut inspect.clip_on, "clip box").on_hover_text(
@@ -73,4 +75,23 @@ pub fn inspect_section(ui: &mut Ui, state: &mut UiState, has_model: bool) {
             inspect.measured.clear();
         }
     }
+}
+
+/// The selection's buttons: export it (a file dialog), or clear it.
+pub fn selection_section(ui: &mut Ui, state: &mut UiState, actions: &mut Vec<Action>) {
+    let inspect = &mut state.inspect;
+    if inspect.selection.is_none() {
+        return;
+    }
+    ui.horizontal(|ui| {
+        if ui.button("export selection…").on_hover_text("LAS, LAZ or PLY, every field kept").clicked() {
+            let kinds = ["las", "laz", "ply"];
+            if let Some(path) = rfd::FileDialog::new().add_filter("points", &kinds).save_file() {
+                actions.push(Action::ExportSelection(path));
+            }
+        }
+        if ui.button("clear selection").clicked() {
+            inspect.selection = None;
+        }
+    });
 }

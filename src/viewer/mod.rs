@@ -40,6 +40,7 @@ mod preview;
 mod refine_steps;
 mod render_thread;
 mod scale_bar;
+mod selection;
 mod state;
 mod stats;
 mod stream_source;

@@ -113,6 +113,15 @@ pub enum Tool {
     Measure,
     /// Add the nearest surface under the pixel as a vertex of the polygon (its x and y).
     Polygon,
+    /// A drag draws a box: the points on screen inside it are the selection.
+    Select,
+}
+
+/// A selection's box on screen, and the view it was drawn on (points).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScreenBox {
+    pub rect: egui::Rect,
+    pub view: egui::Rect,
 }
 
 /// The inspection tools' state: the clip region (file coordinates), the
@@ -134,6 +143,9 @@ pub struct Inspection {
     /// whether its volume is measured too (above a plane fitted along its border).
     pub polygon: Vec<glam::DVec3>,
     pub polygon_volume: bool,
+    /// Where the select tool's drag was pressed, while it is drawn, and the selection's box.
+    pub selecting: Option<egui::Pos2>,
+    pub selection: Option<ScreenBox>,
 }
 
 impl Inspection {
@@ -211,6 +223,8 @@ pub enum Action {
     /// Show (true) or hide layer k.
     ShowLayer(usize, bool),
     RemoveLayer(usize),
+    /// Write the selected points to this file (LAS, LAZ or PLY).
+    ExportSelection(PathBuf),
 }
 
 /// The model on screen, as the panels show it.

@@ -76,6 +76,7 @@ impl ViewerApp {
             painter.image(shown.texture.id(), rect, uv, egui::Color32::WHITE);
         }
         self.draw_inspection(&painter, rect);
+        self.draw_selection(&painter);
         if let Some(legend) = self.legend() {
             super::legend::draw(&painter, rect, &legend);
         }

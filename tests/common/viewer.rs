@@ -103,3 +103,21 @@ pub fn choose(h: &mut Harness<'_, ViewerApp>, combo: &str, item: &str) {
     }
     h.get_by_label(item).click();
 }
+
+/// Settled in two-pass, drawn orthographic from the top.
+pub fn settled_ortho_top(app: &ViewerApp) -> bool {
+    settled_in(RenderMode::TwoPass)(app)
+        && app.shown_frame().is_some_and(|(_, k)| {
+            k.camera.projection == pointblend::frame::Projection::Ortho && k.camera.elevation_deg == 90.0
+        })
+}
+
+/// The model in two-pass, then keys 1 (top) and O (orthographic), until that view is drawn.
+pub fn to_ortho_top(h: &mut Harness<'_, ViewerApp>) {
+    wait_for(h, "the model in two-pass", settled_in(RenderMode::TwoPass));
+    for key in [egui::Key::Num1, egui::Key::O] {
+        h.key_press(key);
+        h.step();
+    }
+    wait_for(h, "the orthographic top view", settled_ortho_top);
+}

@@ -1,0 +1,60 @@
+//! Box selection in the viewer, driven with egui_kittest: a box dragged on
+//! the orthographic top view of a lidar tile selects the points under it,
+//! and exporting it writes those points, and no other, as `convert` writes
+//! a subset: the format, the scale and every field kept, extra bytes too.
+
+mod common;
+
+use common::lidar::{ExtraField, tilted_grid, write_fields};
+use common::viewer::{drag, harness_sized, options, to_ortho_top, wait_for};
+use egui_kittest::kittest::Queryable;
+use glam::DVec3;
+use pointblend::render::RenderMode;
+use pointblend::viewer::ViewerOptions;
+
+const TALL: [f32; 2] = [900.0, 1300.0];
+
+/// Every point of a LAS file as it reads back.
+fn points_of(path: &std::path::Path) -> (las::Header, Vec<las::Point>) {
+    let mut reader = las::Reader::from_path(path).unwrap();
+    let header = reader.header().clone();
+    (header, reader.read_all().unwrap().points().map(Result::unwrap).collect())
+}
+
+#[test]
+fn a_box_selection_exports_the_points_inside_it_with_every_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let points = tilted_grid(60, 0.5, 0.0, [1000.0, 2000.0, 50.0]);
+    let extra = [ExtraField { name: "height", scale: None }];
+    let file = write_fields(&dir.path().join("tile.las"), &points, [0.0; 3], &extra);
+    let viewer = ViewerOptions { file: Some(file.clone()), mode: Some(RenderMode::TwoPass), ..options(dir.path()) };
+    let mut h = harness_sized(viewer, TALL);
+    to_ortho_top(&mut h);
+    h.get_by_label("select").click();
+    h.step();
+    let (lo, hi) = (DVec3::new(1010.2, 2010.2, 50.0), DVec3::new(1021.3, 2018.3, 50.0));
+    let (from, to) = (h.state().screen_position(lo).unwrap(), h.state().screen_position(hi).unwrap());
+    let camera = h.state().camera();
+    drag(&mut h, from, to, 6);
+    assert_eq!(h.state().camera(), camera, "the select tool's drag does not orbit");
+    assert!(h.state().inspection().selection.is_some());
+
+    let out = dir.path().join("selected.las");
+    let ctx = h.ctx.clone();
+    h.state_mut().export_selection(&ctx, &out);
+    wait_for(&mut h, "the export", |app| !app.is_exporting());
+    assert!(h.state().status().is_some_and(|s| s.starts_with("exported")), "{:?}", h.state().status());
+
+    let (header_in, all) = points_of(&file);
+    let (header_out, selected) = points_of(&out);
+    assert_eq!(header_out.point_format(), header_in.point_format(), "the point format, extra bytes included");
+    assert_eq!(header_out.transforms(), header_in.transforms(), "the scale and offset");
+    // In the top view x runs right and y up: the box is this rectangle of the file.
+    let inside = |p: &las::Point| (lo.x..=hi.x).contains(&p.x) && (lo.y..=hi.y).contains(&p.y);
+    let want: Vec<&las::Point> = all.iter().filter(|p| inside(p)).collect();
+    assert!(want.len() > 300, "{} points in the box", want.len());
+    assert_eq!(selected.len(), want.len(), "the points inside the box, and no other");
+    for (got, want) in selected.iter().zip(want) {
+        assert_eq!(got, want, "every field of the point");
+    }
+}
