@@ -135,6 +135,8 @@ pub struct ViewerApp {
     pub(super) placement_shown: Option<(glam::DVec3, f64)>,
     /// The polygon's measure, and what it was measured of (vertices, volume, model generation).
     pub(super) polygon_report: Option<(super::state::PolygonKey, Result<super::state::PolygonReport, String>)>,
+    /// The profile's slab, and what it was cut from.
+    pub(super) profile_slab: Option<(super::state::ProfileKey, Result<super::state::ProfileSlab, String>)>,
     /// The selection being exported: the line to report when it is done.
     pub(super) export: Option<Job<Result<String, String>>>,
 }
@@ -213,6 +215,7 @@ impl ViewerApp {
             placement_shown: None,
             polygon_report: None,
             export: None,
+            profile_slab: None,
             options,
         };
         match app.options.file.clone().map_or_else(|| crate::assets::path(crate::assets::BUNDLED_MODEL), Ok) {
@@ -330,7 +333,10 @@ impl eframe::App for ViewerApp {
         self.apply(&ctx, actions);
         self.ensure_clip_box();
         self.measure_polygon();
+        self.cut_profile();
         self.status_bar(ui);
+        let profile_actions = self.profile_side_panel(ui);
+        self.apply(&ctx, profile_actions);
         egui::CentralPanel::no_frame().show(ui, |ui| self.view_ui(ui));
         self.refine_stream(&ctx);
         self.ensure_grouping(&ctx);

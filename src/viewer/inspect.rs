@@ -129,8 +129,11 @@ impl ViewerApp {
         let to_pixel = |v: f32, side: u32| ((v * ppp).floor().max(0.0) as u32).min(side.saturating_sub(1));
         let pixel = [to_pixel(pos.x - rect.left(), self.view_size.0), to_pixel(pos.y - rect.top(), self.view_size.1)];
         let Some(report) = self.pick_pixel(pixel) else { return };
-        if matches!(self.ui.inspect.tool, Tool::Measure | Tool::Polygon) {
+        if matches!(self.ui.inspect.tool, Tool::Measure | Tool::Polygon | Tool::Profile) {
             match report.layers.first() {
+                Some(nearest) if self.ui.inspect.tool == Tool::Profile => {
+                    self.ui.inspect.add_profile_end(nearest.position)
+                }
                 Some(nearest) if self.ui.inspect.tool == Tool::Polygon => {
                     self.ui.inspect.polygon.push(nearest.position)
                 }
@@ -274,5 +277,31 @@ impl ViewerApp {
         for p in &corners {
             painter.circle_filled(*p, 4.0, edge.color);
         }
+        draw_profile(painter, &projector, inspect);
     }
+}
+
+/// The profile's line, and its slab's outline at the line's height.
+fn draw_profile(painter: &egui::Painter, projector: &Projector, inspect: &super::state::Inspection) {
+    let colour = egui::Color32::from_rgb(255, 170, 60);
+    let ends: Vec<egui::Pos2> = inspect.profile_line.iter().filter_map(|p| projector.to_screen(*p)).collect();
+    for p in &ends {
+        painter.circle_filled(*p, 4.0, colour);
+    }
+    let [a, b] = inspect.profile_line[..] else { return };
+    if let [p, q] = ends[..] {
+        painter.line_segment([p, q], egui::Stroke::new(2.0, colour));
+    }
+    let Ok(profile) = crate::inspect::profile::Profile::new(a.truncate(), b.truncate(), inspect.profile_width) else {
+        return;
+    };
+    let (_, left) = profile.axes();
+    let half = left * profile.width * 0.5;
+    let z = (a.z + b.z) * 0.5;
+    let outline: Vec<egui::Pos2> =
+        [profile.start + half, profile.end + half, profile.end - half, profile.start - half, profile.start + half]
+            .iter()
+            .filter_map(|c| projector.to_screen(c.extend(z)))
+            .collect();
+    painter.add(egui::Shape::line(outline, egui::Stroke::new(1.0, colour)));
 }

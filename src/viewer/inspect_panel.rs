@@ -22,6 +22,8 @@ pub fn inspect_section(ui: &mut Ui, state: &mut UiState, has_model: bool) {
         );
         ui.radio_value(&mut inspect.tool, Tool::Select, "select")
             .on_hover_text("drag a box: the points of every shown layer inside it are the selection");
+        ui.radio_value(&mut inspect.tool, Tool::Profile, "profile")
+            .on_hover_text("click the two ends of a profile's line (on the top view): its slab opens beside the view");
     });
     ui.add_enabled_ui(has_model, |ui| {
         ui.checkbox(&mut inspect.clip_on, "clip box").on_hover_text(

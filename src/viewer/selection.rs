@@ -16,7 +16,6 @@ use glam::{DVec3, Mat4, Vec2};
 use super::app::ViewerApp;
 use super::jobs::Job;
 use super::state::ScreenBox;
-use crate::cloud::LoadOptions;
 use crate::cloud::records::Records;
 
 /// What a screen box selects of: the camera's view-projection, the frame's
@@ -102,8 +101,8 @@ impl ViewerApp {
         self.export = Some(job);
     }
 
-    /// The files a selection is taken from: the shown layers, else the model's file.
-    fn selected_files(&self, model_path: &Path) -> Vec<PathBuf> {
+    /// The files a selection or a profile is taken from: the shown layers, else the model's file.
+    pub(super) fn selected_files(&self, model_path: &Path) -> Vec<PathBuf> {
         let shown: Vec<PathBuf> = self.layers.iter().filter(|l| l.shown).map(|l| l.path.clone()).collect();
         if shown.is_empty() { vec![model_path.to_path_buf()] } else { shown }
     }
@@ -125,17 +124,6 @@ impl ViewerApp {
     }
 }
 
-/// Where layer `file` of several is written: OUTPUT's stem, a dash and the layer's.
-fn output_of(output: &Path, file: &Path, several: bool) -> PathBuf {
-    if !several {
-        return output.to_path_buf();
-    }
-    let stem = output.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    let layer = crate::output::safe_stem(file);
-    let extension = output.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default();
-    output.with_file_name(format!("{stem}-{layer}.{extension}"))
-}
-
 /// Writes each file's selected records; what was written, in a line.
 fn export(
     files: &[PathBuf],
@@ -143,33 +131,13 @@ fn export(
     style: Option<&crate::style::Style>,
     output: &Path,
 ) -> Result<String, String> {
-    let mut written = Vec::new();
-    let mut total = 0;
-    for file in files {
-        let shown = crate::copc::shown(&file.to_string_lossy());
-        crate::progress::stage(&format!("reading {shown}"));
-        let records = Records::read(file, &LoadOptions::default()).map_err(|e| e.to_string())?;
-        let kept = match style {
-            Some(s) => crate::style::filter::kept_of(
-                &records.attributes,
-                records.len(),
-                s.classes.as_deref(),
-                &s.filters,
-                s.returns,
-            )
-            .map_err(|e| format!("{shown}: {e}"))?,
-            None => (0..records.len() as u32).collect(),
-        };
-        let keep: Vec<u32> = kept.into_iter().filter(|&i| selector.holds(records.positions[i as usize])).collect();
+    let write = |records: &Records, keep: &[u32], out: &Path| {
         if keep.is_empty() {
-            continue;
+            return Ok(false);
         }
-        let out = output_of(output, file, files.len() > 1);
-        crate::progress::stage(&format!("writing {}", out.display()));
-        records.write_subset(&keep, &out).map_err(|e| e.to_string())?;
-        total += keep.len();
-        written.push(out.display().to_string());
-    }
+        records.write_subset(keep, out).map(|()| true).map_err(|e| e.to_string())
+    };
+    let (total, written) = super::export_points::export_each(files, style, output, |p| selector.holds(p), write)?;
     if written.is_empty() {
         return Err("the box holds no point".into());
     }

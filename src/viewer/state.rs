@@ -115,6 +115,8 @@ pub enum Tool {
     Polygon,
     /// A drag draws a box: the points on screen inside it are the selection.
     Select,
+    /// Two clicks: the ends of a profile's line (their x and y).
+    Profile,
 }
 
 /// A selection's box on screen, and the view it was drawn on (points).
@@ -146,9 +148,24 @@ pub struct Inspection {
     /// Where the select tool's drag was pressed, while it is drawn, and the selection's box.
     pub selecting: Option<egui::Pos2>,
     pub selection: Option<ScreenBox>,
+    /// The profile's line (its ends, file coordinates) and its slab's width (file units).
+    pub profile_line: Vec<glam::DVec3>,
+    pub profile_width: f64,
 }
 
 impl Inspection {
+    /// A profile tool's click: the line's next end (a third click starts a new line).
+    pub fn add_profile_end(&mut self, p: glam::DVec3) {
+        if self.profile_line.len() == 2 {
+            self.profile_line.clear();
+        }
+        self.profile_line.push(p);
+        if self.profile_line.len() == 2 && self.profile_width <= 0.0 {
+            // A first width: a twentieth of the line.
+            self.profile_width = self.profile_line[0].truncate().distance(self.profile_line[1].truncate()) / 20.0;
+        }
+    }
+
     /// The region frames are clipped by: the box and planes while the clip is on.
     pub fn region(&self) -> crate::frame::ClipRegion {
         if !self.clip_on {
@@ -225,6 +242,8 @@ pub enum Action {
     RemoveLayer(usize),
     /// Write the selected points to this file (LAS, LAZ or PLY).
     ExportSelection(PathBuf),
+    /// Write the profile's slab to this file (CSV rows, or LAS, LAZ or PLY points).
+    ExportProfile(PathBuf),
 }
 
 /// The model on screen, as the panels show it.
@@ -313,4 +332,16 @@ pub struct PolygonReport {
     pub units: String,
     /// What `measure --polygon --json` prints for the same polygon and points.
     pub json: String,
+}
+
+/// What a profile's slab was cut from: the line's ends, the width's bits and the model's generation.
+pub type ProfileKey = (Vec<glam::DVec3>, u64, u64);
+
+/// A profile's slab of the points on screen: its points (file coordinates)
+/// and their colours as the view draws them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProfileSlab {
+    pub profile: crate::inspect::profile::Profile,
+    pub points: Vec<glam::DVec3>,
+    pub colours: Vec<[u8; 3]>,
 }
