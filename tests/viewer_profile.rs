@@ -1,12 +1,13 @@
 //! The profile tool in the viewer, driven with egui_kittest: a line clicked
 //! on the orthographic top view of a lidar tile cuts a slab holding the
-//! points `profile` holds for the same line and width, and the panel's CSV
-//! export is the file `profile --csv` writes.
+//! points `profile` holds for the same line and width, the panel's CSV
+//! export is the file `profile --csv` writes, and a screenshot's sidecar
+//! records the line and the width.
 
 mod common;
 
 use common::lidar::{tilted_grid, write};
-use common::viewer::{click, harness_sized, options, to_ortho_top, wait_for};
+use common::viewer::{click, harness_sized, options, save_screenshot, to_ortho_top, wait_for};
 use egui_kittest::kittest::Queryable;
 use glam::DVec3;
 use pointblend::render::RenderMode;
@@ -75,4 +76,10 @@ fn a_profile_drawn_on_the_top_view_holds_the_points_profile_holds() {
     h.state_mut().export_profile(&ctx, &exported);
     wait_for(&mut h, "the export", |app| !app.is_exporting());
     assert_eq!(std::fs::read(&exported).unwrap(), std::fs::read(&csv).unwrap(), "the panel's CSV is profile --csv's");
+
+    let sidecar = save_screenshot(&mut h, dir.path()).with_extension("json");
+    let recorded =
+        pointblend::frame::Sidecar::read(&sidecar).unwrap().profile.expect("the sidecar records the profile");
+    assert_eq!(recorded.line, [a.x, a.y, b.x, b.y]);
+    assert_eq!(recorded.width, inspect.profile_width);
 }

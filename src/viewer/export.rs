@@ -64,7 +64,15 @@ impl ViewerApp {
         let region = self.ui.inspect.region();
         let clip = (!region.is_empty()).then_some(region);
         let lights = crate::frame::sidecar::lights::records(&settings.lights, model.scene.frame_placement());
+        let profile = match self.ui.inspect.profile_line[..] {
+            [a, b] => Some(crate::frame::sidecar::ProfileRecord {
+                line: [a.x, a.y, b.x, b.y],
+                width: self.ui.inspect.profile_width,
+            }),
+            _ => None,
+        };
         let sidecar = Box::new(Sidecar {
+            profile,
             time: key.time,
             style,
             clip,

@@ -89,6 +89,17 @@ pub struct Sidecar {
     /// The scene lights, in file coordinates (absent: the headlight).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub lights: Vec<lights::LightRecord>,
+    /// The viewer's profile, if one was open: its line and width, as
+    /// `profile --line X1,Y1,X2,Y2 --width W` takes them (recorded; `render` draws no profile).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub profile: Option<ProfileRecord>,
+}
+
+/// A profile's line (X1, Y1, X2, Y2, file coordinates) and its slab's width.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ProfileRecord {
+    pub line: [f64; 4],
+    pub width: f64,
 }
 
 const UP_AXES: [(UpAxis, [f32; 3]); 6] = [
@@ -177,6 +188,7 @@ impl Sidecar {
             style: None,
             clip: None,
             lights: Vec::new(),
+            profile: None,
         }
     }
 
