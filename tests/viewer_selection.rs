@@ -5,12 +5,12 @@
 
 mod common;
 
-use common::lidar::{ExtraField, tilted_grid, write_fields};
-use common::viewer::{drag, harness_sized, options, to_ortho_top, wait_for};
+use common::lidar::{ExtraField, tilted_grid, write, write_fields};
+use common::viewer::{drag, harness_sized, options, settled_ortho_top, to_ortho_top, wait_for};
 use egui_kittest::kittest::Queryable;
 use glam::DVec3;
 use pointblend::render::RenderMode;
-use pointblend::viewer::ViewerOptions;
+use pointblend::viewer::{ViewerApp, ViewerOptions};
 
 const TALL: [f32; 2] = [900.0, 1300.0];
 
@@ -57,4 +57,43 @@ fn a_box_selection_exports_the_points_inside_it_with_every_field() {
     for (got, want) in selected.iter().zip(want) {
         assert_eq!(got, want, "every field of the point");
     }
+}
+
+/// Whether the frame on screen drew something at the file point `p`.
+fn drawn_at(app: &ViewerApp, p: DVec3) -> bool {
+    let (image, _) = app.shown_frame().unwrap();
+    let view = app.view_rect();
+    let at = (app.screen_position(p).unwrap() - view.min) * (image.width() as f32 / view.width());
+    image.get_pixel(at.x as u32, at.y as u32).0[..3] != common::background_rgb()
+}
+
+#[test]
+fn keep_only_clips_the_view_to_the_selection_and_hide_hides_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = write(&dir.path().join("tile.las"), &tilted_grid(60, 0.5, 0.0, [1000.0, 2000.0, 50.0]), [0.0; 3], None);
+    let viewer = ViewerOptions { file: Some(file), mode: Some(RenderMode::TwoPass), ..options(dir.path()) };
+    let mut h = harness_sized(viewer, TALL);
+    to_ortho_top(&mut h);
+    h.get_by_label("select").click();
+    h.step();
+    let on = |x: f64, y: f64| DVec3::new(x, y, 50.0);
+    let select = |h: &mut egui_kittest::Harness<'_, ViewerApp>, lo: DVec3, hi: DVec3| {
+        let (from, to) = (h.state().screen_position(lo).unwrap(), h.state().screen_position(hi).unwrap());
+        drag(h, from, to, 6);
+    };
+    select(&mut h, on(1005.0, 2005.0), on(1025.0, 2025.0));
+    h.get_by_label("keep only").click();
+    wait_for(&mut h, "the view clipped to the box", |app| {
+        settled_ortho_top(app) && app.shown_frame().is_some_and(|(_, k)| !k.settings.clip.is_empty())
+    });
+    assert!(drawn_at(h.state(), on(1015.0, 2015.0)), "inside the box is drawn");
+    assert!(!drawn_at(h.state(), on(1027.0, 2015.0)) && !drawn_at(h.state(), on(1015.0, 2003.0)), "outside is clipped");
+
+    select(&mut h, on(1010.0, 2010.0), on(1020.0, 2020.0));
+    h.get_by_label("hide").click();
+    wait_for(&mut h, "the second box hidden", |app| {
+        settled_ortho_top(app) && app.inspection().selection.is_none() && !drawn_at(app, on(1015.0, 2015.0))
+    });
+    assert!(drawn_at(h.state(), on(1007.0, 2015.0)), "the rest of the first box stays");
+    assert!(!drawn_at(h.state(), on(1027.0, 2015.0)), "and outside it stays clipped");
 }

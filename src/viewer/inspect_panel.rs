@@ -92,6 +92,16 @@ pub fn selection_section(ui: &mut Ui, state: &mut UiState, actions: &mut Vec<Act
                 actions.push(Action::ExportSelection(path));
             }
         }
+        if ui
+            .button("keep only")
+            .on_hover_text("clip the view to the selection (every mode; recorded in sidecars)")
+            .clicked()
+        {
+            actions.push(Action::KeepSelection(true));
+        }
+        if ui.button("hide").on_hover_text("hide the selection (an orthographic plan or elevation view)").clicked() {
+            actions.push(Action::KeepSelection(false));
+        }
         if ui.button("clear selection").clicked() {
             inspect.selection = None;
         }

@@ -44,6 +44,7 @@ mod refine_steps;
 mod render_thread;
 mod scale_bar;
 mod selection;
+mod selection_clip;
 mod state;
 mod stats;
 mod stream_source;

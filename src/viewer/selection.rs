@@ -52,7 +52,8 @@ impl ViewerApp {
         }
         let Some(start) = inspect.selecting else { return false };
         if let Some(now) = response.interact_pointer_pos() {
-            inspect.selection = Some(ScreenBox { rect: egui::Rect::from_two_pos(start, now), view: self.view_rect });
+            let rect = egui::Rect::from_two_pos(start, now);
+            inspect.selection = Some(ScreenBox { rect, view: self.view_rect, camera: self.ui.camera });
         }
         if response.drag_stopped() {
             inspect.selecting = None;
@@ -80,7 +81,7 @@ impl ViewerApp {
         let view = selection.view;
         let (origin, unit) = model.scene.frame_placement();
         let aspect = view.width() / view.height().max(1.0);
-        let camera = self.ui.camera;
+        let camera = selection.camera;
         let to_ndc = |p: egui::Pos2| {
             Vec2::new((p.x - view.left()) / view.width() * 2.0 - 1.0, 1.0 - (p.y - view.top()) / view.height() * 2.0)
         };
@@ -116,6 +117,40 @@ impl ViewerApp {
                 Err(e) => format!("export failed: {e}"),
             });
         }
+    }
+
+    /// Keeps only the selection (`keep`), or hides it, by the clip every mode
+    /// draws (recorded in sidecars): the four planes through the box's edges
+    /// keep its inside; hiding it is a clip box with its inside hidden, which
+    /// a box on screen is only in an orthographic plan or elevation view.
+    pub(super) fn clip_to_selection(&mut self, keep: bool) {
+        let (Some(model), Some(selection)) = (&self.model, self.ui.inspect.selection) else { return };
+        let (origin, unit) = model.scene.frame_placement();
+        let bounds = model.cloud.bounds();
+        let inspect = &mut self.ui.inspect;
+        if keep {
+            let planes = super::selection_clip::frustum_planes(&selection, origin, unit);
+            let given = inspect.clip_planes.len();
+            if given + planes.len() > crate::frame::clip::MAX_CLIP_PLANES {
+                self.status = Some(format!("the clip already has {given} planes: keeping the selection needs 4 more"));
+                return;
+            }
+            inspect.clip_planes.extend(planes);
+        } else {
+            let Some(b) = bounds else { return };
+            let file = |p: glam::Vec3| p.as_dvec3() * unit + origin;
+            match super::selection_clip::axis_box(&selection, origin, unit, (file(b.min), file(b.max))) {
+                Some(clip_box) => inspect.clip_box = Some(clip_box),
+                None => {
+                    self.status =
+                        Some("hiding a selection needs an orthographic plan or elevation view (O, 1-6)".into());
+                    return;
+                }
+            }
+        }
+        inspect.clip_on = true;
+        inspect.selection = None;
+        self.camera_moved();
     }
 
     /// Whether an export is under way.

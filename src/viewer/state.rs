@@ -119,11 +119,12 @@ pub enum Tool {
     Profile,
 }
 
-/// A selection's box on screen, and the view it was drawn on (points).
+/// A selection's box on screen, the view it was drawn on (points), and the camera it was drawn through.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ScreenBox {
     pub rect: egui::Rect,
     pub view: egui::Rect,
+    pub camera: crate::frame::Camera,
 }
 
 /// The inspection tools' state: the clip region (file coordinates), the
@@ -242,6 +243,8 @@ pub enum Action {
     RemoveLayer(usize),
     /// Write the selected points to this file (LAS, LAZ or PLY).
     ExportSelection(PathBuf),
+    /// Clip the view to the selection (true), or hide it (false).
+    KeepSelection(bool),
     /// Write the profile's slab to this file (CSV rows, or LAS, LAZ or PLY points).
     ExportProfile(PathBuf),
 }
