@@ -152,13 +152,7 @@ pub struct LayersFile {
 pub fn layers_file(files: &[PathBuf]) -> Result<LayersFile> {
     let hrefs = files
         .iter()
-        .map(|file| {
-            if pointblend::copc::is_url(&file.to_string_lossy()) {
-                return Ok(file.to_string_lossy().into_owned());
-            }
-            let absolute = std::fs::canonicalize(file).with_context(|| format!("{}: cannot open", file.display()))?;
-            Ok(absolute.to_string_lossy().into_owned())
-        })
+        .map(|file| pointblend::scene::vpc::href(file).with_context(|| format!("{}: cannot open", file.display())))
         .collect::<Result<Vec<_>>>()?;
     let first = files[0].file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let first = first.trim_end_matches(".copc");

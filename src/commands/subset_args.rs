@@ -53,8 +53,7 @@ impl SubsetArgs {
         if !self.is_given() {
             return Ok((cloud, 0));
         }
-        let (origin, unit) = (glam::DVec3::from_array(cloud.origin), cloud.unit());
-        let keep = self.kept(cloud.len(), &cloud.attributes, |i| cloud.frame_position(i) * unit + origin)?;
+        let keep = self.kept(cloud.len(), &cloud.attributes, |i| cloud.file_position(i))?;
         refuse_none_kept(input, keep.len(), cloud.len())?;
         let kept = PointCloud { attributes: cloud.attributes.gather(&keep), ..cloud.select(&keep) };
         Ok((kept, cloud.len() - keep.len()))

@@ -137,7 +137,7 @@ pub struct ViewerApp {
     pub(super) polygon_report: Option<(super::state::PolygonKey, Result<super::state::PolygonReport, String>)>,
     /// The profile's slab, and what it was cut from.
     pub(super) profile_slab: Option<(super::state::ProfileKey, Result<super::state::ProfileSlab, String>)>,
-    /// The selection being exported: the line to report when it is done.
+    /// A selection or a profile being exported: the line to report when it is done.
     pub(super) export: Option<Job<Result<String, String>>>,
 }
 

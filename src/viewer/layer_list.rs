@@ -118,11 +118,8 @@ impl ViewerApp {
     }
 }
 
-/// A layer's file as a `.vpc` names it: absolute, or the URL as it is.
+/// A layer's file as a `.vpc` names it ([`vpc::href`]); one that cannot be
+/// found as it is, so that opening it names it in the error.
 fn href(path: &Path) -> String {
-    let text = path.to_string_lossy();
-    if crate::copc::is_url(&text) {
-        return text.into_owned();
-    }
-    std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()).to_string_lossy().into_owned()
+    vpc::href(path).unwrap_or_else(|_| path.to_string_lossy().into_owned())
 }

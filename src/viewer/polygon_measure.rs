@@ -39,9 +39,7 @@ impl ViewerApp {
 fn file_points(scene: &crate::scene::Scene) -> Vec<DVec3> {
     let mut points = Vec::new();
     for object in &scene.objects {
-        let cloud = &object.cloud;
-        let (origin, unit) = (DVec3::from_array(cloud.origin), cloud.unit());
-        points.extend((0..cloud.len()).map(|i| origin + cloud.frame_position(i) * unit));
+        points.extend((0..object.cloud.len()).map(|i| object.cloud.file_position(i)));
     }
     points
 }

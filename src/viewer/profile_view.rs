@@ -10,7 +10,6 @@
 
 use std::path::{Path, PathBuf};
 
-use glam::DVec3;
 
 use super::app::ViewerApp;
 use super::jobs::Job;
@@ -35,9 +34,8 @@ impl ViewerApp {
             let mut slab = ProfileSlab { profile, points: Vec::new(), colours: Vec::new() };
             for object in &model.scene.objects {
                 let cloud = &object.cloud;
-                let (origin, unit) = (DVec3::from_array(cloud.origin), cloud.unit());
                 for i in 0..cloud.len() {
-                    let p = origin + cloud.frame_position(i) * unit;
+                    let p = cloud.file_position(i);
                     if profile.holds(p) {
                         slab.points.push(p);
                         slab.colours.push(cloud.colours.get(i).copied().unwrap_or([200; 3]));

@@ -223,9 +223,14 @@ fn draw(r: &mut GpuRenderer, scenes: &mut Scenes, request: &FrameRequest) -> Fra
         stats.splats_drawn = plan.splats;
         stats.pass_ms = if plan.steps.is_empty() { Vec::new() } else { pass_times(r, &plan) };
         describe_plan(&mut stats, &plan);
-        if matches!(request.purpose, Purpose::Display) {
+        // A still view's frame: a preview is drawn while the camera moves, when no coordinate holds still.
+        if matches!(request.purpose, Purpose::Display) && request.preview.is_none() {
+            let reading = Instant::now();
             front_depth = match r.front_depth(&plan, &request.camera) {
-                Ok(depth) => depth.map(Arc::new),
+                Ok(depth) => {
+                    log::debug!("front depth read back in {:.2} ms", reading.elapsed().as_secs_f64() * 1e3);
+                    depth.map(Arc::new)
+                }
                 Err(e) => {
                     log::warn!("reading the frame's depth back: {e}");
                     None

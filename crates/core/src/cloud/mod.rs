@@ -153,6 +153,11 @@ impl PointCloud {
         self.positions[i].as_dvec3() + residual.as_dvec3()
     }
 
+    /// Splat `i`'s position in the file's coordinates (the CRS's units), f64.
+    pub fn file_position(&self, i: usize) -> glam::DVec3 {
+        self.frame_position(i) * self.unit() + glam::DVec3::from_array(self.origin)
+    }
+
     pub fn unit(&self) -> f64 {
         10f64.powi(self.scale_exponent)
     }

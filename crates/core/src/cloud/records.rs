@@ -56,8 +56,7 @@ impl Records {
             });
         }
         let (cloud, report) = super::load_with(path, options)?;
-        let (origin, unit) = (DVec3::from_array(cloud.origin), cloud.unit());
-        let positions = (0..cloud.len()).map(|i| cloud.frame_position(i) * unit + origin).collect();
+        let positions = (0..cloud.len()).map(|i| cloud.file_position(i)).collect();
         Ok(Records {
             positions,
             attributes: cloud.attributes.clone(),

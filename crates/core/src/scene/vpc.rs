@@ -77,6 +77,15 @@ pub fn read(path: &Path) -> Result<Vec<VpcFile>, String> {
     Ok(files)
 }
 
+/// How a `.vpc` names `path`: a URL as it is, a file by its absolute path.
+pub fn href(path: &Path) -> std::io::Result<String> {
+    let text = path.to_string_lossy();
+    if text.starts_with("http://") || text.starts_with("https://") {
+        return Ok(text.into_owned());
+    }
+    Ok(std::fs::canonicalize(path)?.to_string_lossy().into_owned())
+}
+
 /// Writes a virtual point cloud at `path` listing `hrefs` in order (absolute
 /// paths or URLs, as [`read`] takes them; no bounds: they are read from the files).
 pub fn write(hrefs: &[String], path: &Path) -> std::io::Result<()> {
