@@ -10,7 +10,6 @@
 
 use std::path::{Path, PathBuf};
 
-
 use super::app::ViewerApp;
 use super::jobs::Job;
 use super::state::ProfileSlab;
