@@ -126,23 +126,6 @@ fn bench_image(sidecar: &Path, cache: &Path) -> image::RgbaImage {
     timed.unwrap().0.image
 }
 
-/// `pointblend render FILE --camera SIDECAR`: the image.
-fn render_again(file: &Path, sidecar: &Path, dir: &Path) -> image::RgbaImage {
-    let again = dir.join("again.png");
-    let output = Command::new(env!("CARGO_BIN_EXE_pointblend"))
-        .arg("render")
-        .arg(file)
-        .arg("--camera")
-        .arg(sidecar)
-        .arg("--out")
-        .arg(&again)
-        .env("POINTBLEND_CACHE", dir.join("cache"))
-        .output()
-        .unwrap();
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    image::open(&again).unwrap().to_rgba8()
-}
-
 /// The viewer, `render` and bench draw the same image of one view: all
 /// three make it through `PreparedScene::render_frame`.
 #[test]
@@ -157,7 +140,7 @@ fn a_screenshot_and_its_sidecar_reproduce_the_image_through_render_and_bench() {
     let shot = image::open(&png).unwrap().to_rgba8();
     assert_eq!(Some(shot.dimensions()), h.state().shown_frame().map(|(i, _)| i.dimensions()));
 
-    let rendered = render_again(&common::bundled_model(), &sidecar, dir.path());
+    let rendered = common::viewer::render_again(&[&common::bundled_model()], &sidecar, dir.path());
     assert_eq!(rendered.dimensions(), shot.dimensions());
     let differing = rendered.pixels().zip(shot.pixels()).filter(|(a, b)| a != b).count();
     assert_eq!(differing, 0, "{differing} pixels differ between the screenshot and its re-render");
@@ -502,7 +485,7 @@ fn a_lit_screenshot_is_rendered_again_with_its_lights() {
         "in file coordinates, as the scene file gives it: {at}"
     );
     let shot = image::open(&png).unwrap().to_rgba8();
-    let rendered = render_again(&file, &png.with_extension("json"), dir.path());
+    let rendered = common::viewer::render_again(&[&file], &png.with_extension("json"), dir.path());
     assert_eq!(rendered.dimensions(), shot.dimensions());
     let differing = rendered.pixels().zip(shot.pixels()).filter(|(a, b)| a != b).count();
     assert_eq!(differing, 0, "{differing} pixels differ between the lit screenshot and its re-render");

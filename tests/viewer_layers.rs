@@ -60,14 +60,6 @@ fn a_dropped_file_is_added_as_a_layer_and_the_list_hides_it() {
     assert!(!drawn_at(h.state(), east_centre), "the east tile is hidden");
 }
 
-/// Mean |ΔR| + |ΔG| + |ΔB| per pixel, in 0-255 steps.
-fn mean_difference(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
-    assert_eq!(a.dimensions(), b.dimensions());
-    let sum: u64 =
-        a.pixels().zip(b.pixels()).map(|(p, q)| (0..3).map(|c| u64::from(p[c].abs_diff(q[c]))).sum::<u64>()).sum();
-    sum as f64 / f64::from(a.width() * a.height())
-}
-
 #[test]
 fn a_screenshot_of_an_ortho_filtered_two_layer_view_is_drawn_again_by_render_camera() {
     let dir = tempfile::tempdir().unwrap();
@@ -99,20 +91,11 @@ fn a_screenshot_of_an_ortho_filtered_two_layer_view_is_drawn_again_by_render_cam
     assert_eq!(recorded["camera"]["projection"], "ortho");
     assert_eq!(recorded["style"]["returns"], "first");
 
-    let again = dir.path().join("again.png");
-    let output = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
-        .args(["render".as_ref(), west.as_os_str(), east.as_os_str(), "--camera".as_ref(), sidecar.as_os_str()])
-        .arg("--out")
-        .arg(&again)
-        .env("POINTBLEND_CACHE", dir.path().join("cache"))
-        .output()
-        .unwrap();
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let shot = image::open(&png).unwrap().to_rgba8();
-    let rendered = image::open(&again).unwrap().to_rgba8();
+    let rendered = common::viewer::render_again(&[&west, &east], &sidecar, dir.path());
     let every = h.state().shown_frame().unwrap().0.clone();
-    assert!(mean_difference(&shot, &every) < 0.05, "the screenshot is the view");
+    assert!(common::mean_difference(&shot, &every) < 0.05, "the screenshot is the view");
 
-    let epsilon = mean_difference(&shot, &rendered);
+    let epsilon = common::mean_difference(&shot, &rendered);
     assert!(epsilon <= 0.05, "render --camera draws the screenshot again: ε = {epsilon:.3}");
 }

@@ -92,6 +92,7 @@ impl SceneArgs {
             opacity_by: self.opacity_by.clone(),
             filters: self.filters.clone(),
             returns: self.returns,
+            regions: Vec::new(),
         };
         // `--color-by rgb` alone asks for the file's own colours, over a default colouring.
         (self.color_by.is_some() || !style.is_plain()).then_some(style)

@@ -64,7 +64,8 @@ impl ViewerApp {
                 Action::ShowLayer(k, shown) => self.show_layer(ctx, k, shown),
                 Action::RemoveLayer(k) => self.remove_layer(ctx, k),
                 Action::ExportSelection(path) => self.export_selection(ctx, &path),
-                Action::KeepSelection(keep) => self.clip_to_selection(keep),
+                Action::KeepSelection(keep) => self.clip_to_selection(ctx, keep),
+                Action::ClearRegions => self.clear_regions(ctx),
                 Action::ExportProfile(path) => self.export_profile(ctx, &path),
                 Action::Cancel(JobKind::Load) => self.cancel_load(),
                 Action::Cancel(JobKind::Grouping) => {

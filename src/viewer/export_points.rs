@@ -1,7 +1,7 @@
 //! What the selection's and the profile's exports share: each file's
 //! records read again in f64, as `convert` and `profile` read them
-//! ([`crate::cloud::records::Records`]); those the colour panel's classes
-//! and filters keep and the tool takes; each file written to an output of
+//! ([`crate::cloud::records::Records`]); those the colour panel's classes,
+//! filters and kept or hidden selections keep and the tool takes; each file written to an output of
 //! its own when there are several (`OUT-LAYER.ext`).
 
 use std::path::{Path, PathBuf};
@@ -42,13 +42,16 @@ pub fn export_each(
 /// The records `style`'s classes and filters keep (all without a style), as the view shows them.
 fn kept_by(records: &Records, style: Option<&crate::style::Style>) -> Result<Vec<u32>, String> {
     match style {
-        Some(s) => crate::style::filter::kept_of(
-            &records.attributes,
-            records.len(),
-            s.classes.as_deref(),
-            &s.filters,
-            s.returns,
-        ),
+        Some(s) => {
+            let kept = crate::style::filter::kept_of(
+                &records.attributes,
+                records.len(),
+                s.classes.as_deref(),
+                &s.filters,
+                s.returns,
+            )?;
+            Ok(crate::style::region::shown_by(&s.regions, kept, |i| records.positions[i]))
+        }
         None => Ok((0..records.len() as u32).collect()),
     }
 }

@@ -183,7 +183,7 @@ impl ViewerApp {
     /// (the camera stays), a click picks or measures. Returns whether the
     /// input was taken (the camera must not move for it).
     pub(super) fn inspect_input(&mut self, response: &egui::Response, rect: egui::Rect, ppp: f32) -> bool {
-        if self.ui.inspect.tool == Tool::Select {
+        if matches!(self.ui.inspect.tool, Tool::Select | Tool::Lasso) {
             return self.select_input(response);
         }
         let Some(projector) = self.projector(rect) else { return false };

@@ -22,6 +22,8 @@ pub fn inspect_section(ui: &mut Ui, state: &mut UiState, has_model: bool) {
         );
         ui.radio_value(&mut inspect.tool, Tool::Select, "select")
             .on_hover_text("drag a box: the points of every shown layer inside it are the selection");
+        ui.radio_value(&mut inspect.tool, Tool::Lasso, "lasso")
+            .on_hover_text("drag an outline: the points of every shown layer inside it are the selection");
         ui.radio_value(&mut inspect.tool, Tool::Profile, "profile")
             .on_hover_text("click the two ends of a profile's line (on the top view): its slab opens beside the view");
     });
@@ -79,27 +81,34 @@ pub fn inspect_section(ui: &mut Ui, state: &mut UiState, has_model: bool) {
     }
 }
 
-/// The selection's buttons: export it (a file dialog), or clear it.
-pub fn selection_section(ui: &mut Ui, state: &mut UiState, actions: &mut Vec<Action>) {
+/// The selection's buttons: export it (a file dialog), keep only it, hide
+/// it, or clear it; and, when selections were kept or hidden by the style
+/// (`regions` of them), a button that shows every point again.
+pub fn selection_section(ui: &mut Ui, state: &mut UiState, regions: usize, actions: &mut Vec<Action>) {
+    if regions > 0 {
+        ui.horizontal(|ui| {
+            ui.label(format!("{regions} selection(s) kept or hidden"));
+            if ui.button("show all").on_hover_text("show the points the kept or hidden selections dropped").clicked() {
+                actions.push(Action::ClearRegions);
+            }
+        });
+    }
     let inspect = &mut state.inspect;
     if inspect.selection.is_none() {
         return;
     }
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         if ui.button("export selection…").on_hover_text("LAS, LAZ or PLY, every field kept").clicked() {
             let kinds = ["las", "laz", "ply"];
             if let Some(path) = rfd::FileDialog::new().add_filter("points", &kinds).save_file() {
                 actions.push(Action::ExportSelection(path));
             }
         }
-        if ui
-            .button("keep only")
-            .on_hover_text("clip the view to the selection (every mode; recorded in sidecars)")
-            .clicked()
-        {
+        let cut = "a box is cut per pixel by the clip; a lasso drops whole points (every mode; recorded in sidecars)";
+        if ui.button("keep only").on_hover_text(cut).clicked() {
             actions.push(Action::KeepSelection(true));
         }
-        if ui.button("hide").on_hover_text("hide the selection (an orthographic plan or elevation view)").clicked() {
+        if ui.button("hide").on_hover_text(cut).clicked() {
             actions.push(Action::KeepSelection(false));
         }
         if ui.button("clear selection").clicked() {

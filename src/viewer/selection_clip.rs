@@ -7,12 +7,12 @@
 
 use glam::{DVec2, DVec3};
 
-use super::state::ScreenBox;
+use super::state::ScreenSelection;
 use crate::frame::clip::{ClipBox, Hidden};
 use crate::frame::eye_ray::Lens;
 
 /// The ray (origin, direction) through a point of the view (points), in file coordinates.
-fn ray(selection: &ScreenBox, at: egui::Pos2, origin: DVec3, unit: f64) -> (DVec3, DVec3) {
+fn ray(selection: &ScreenSelection, at: egui::Pos2, origin: DVec3, unit: f64) -> (DVec3, DVec3) {
     let view = selection.view;
     let size = (view.width().max(1.0) as u32, view.height().max(1.0) as u32);
     let place = DVec2::new(f64::from(at.x - view.left()), f64::from(at.y - view.top()));
@@ -22,7 +22,7 @@ fn ray(selection: &ScreenBox, at: egui::Pos2, origin: DVec3, unit: f64) -> (DVec
 }
 
 /// The four planes `[nx, ny, nz, d]` (n·x + d ≥ 0 kept) whose inside is what the box shows.
-pub fn frustum_planes(selection: &ScreenBox, origin: DVec3, unit: f64) -> Vec<[f64; 4]> {
+pub fn frustum_planes(selection: &ScreenSelection, origin: DVec3, unit: f64) -> Vec<[f64; 4]> {
     let r = selection.rect;
     let corners = [r.left_top(), r.right_top(), r.right_bottom(), r.left_bottom()];
     let rays: Vec<(DVec3, DVec3)> = corners.iter().map(|c| ray(selection, *c, origin, unit)).collect();
@@ -44,7 +44,7 @@ pub fn frustum_planes(selection: &ScreenBox, origin: DVec3, unit: f64) -> Vec<[f
 
 /// The file box a screen box spans in an orthographic view along an axis,
 /// through `bounds` along it, its inside hidden; none in other views.
-pub fn axis_box(selection: &ScreenBox, origin: DVec3, unit: f64, bounds: (DVec3, DVec3)) -> Option<ClipBox> {
+pub fn axis_box(selection: &ScreenSelection, origin: DVec3, unit: f64, bounds: (DVec3, DVec3)) -> Option<ClipBox> {
     if !selection.camera.is_ortho() {
         return None;
     }

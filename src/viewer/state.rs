@@ -115,14 +115,19 @@ pub enum Tool {
     Polygon,
     /// A drag draws a box: the points on screen inside it are the selection.
     Select,
+    /// A drag draws a free outline: the points on screen inside it are the selection.
+    Lasso,
     /// Two clicks: the ends of a profile's line (their x and y).
     Profile,
 }
 
-/// A selection's box on screen, the view it was drawn on (points), and the camera it was drawn through.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ScreenBox {
+/// A selection drawn on screen: its box (a lasso's bounds), a lasso's
+/// outline (empty for a box), the view it was drawn on (points), and the
+/// camera it was drawn through.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScreenSelection {
     pub rect: egui::Rect,
+    pub lasso: Vec<egui::Pos2>,
     pub view: egui::Rect,
     pub camera: crate::frame::Camera,
 }
@@ -146,9 +151,9 @@ pub struct Inspection {
     /// whether its volume is measured too (above a plane fitted along its border).
     pub polygon: Vec<glam::DVec3>,
     pub polygon_volume: bool,
-    /// Where the select tool's drag was pressed, while it is drawn, and the selection's box.
+    /// Where the select tool's drag was pressed, while it is drawn, and the selection.
     pub selecting: Option<egui::Pos2>,
-    pub selection: Option<ScreenBox>,
+    pub selection: Option<ScreenSelection>,
     /// The profile's line (its ends, file coordinates) and its slab's width (file units).
     pub profile_line: Vec<glam::DVec3>,
     pub profile_width: f64,
@@ -245,6 +250,8 @@ pub enum Action {
     ExportSelection(PathBuf),
     /// Clip the view to the selection (true), or hide it (false).
     KeepSelection(bool),
+    /// Show again the points kept or hidden selections dropped (the style's regions).
+    ClearRegions,
     /// Write the profile's slab to this file (CSV rows, or LAS, LAZ or PLY points).
     ExportProfile(PathBuf),
 }

@@ -42,7 +42,7 @@ pub const FLY_KEYS: [(Key, [f32; 3]); 6] = [
 
 /// Every input of the 3D view: (the input, what it does), as the help
 /// overlay and the user guide's table give them.
-pub const INPUTS: [(&str, &str); 25] = [
+pub const INPUTS: [(&str, &str); 26] = [
     ("left drag", "orbit (in fly mode: look around)"),
     ("right or middle drag", "pan"),
     ("wheel", "zoom to the point under the cursor"),
@@ -65,6 +65,7 @@ pub const INPUTS: [(&str, &str); 25] = [
     ("click (Inspect: measure)", "add the surface under the pixel to the measured polyline"),
     ("drag a clip-box handle", "move that face of the clip box"),
     ("drag (Inspect: select)", "draw the selection's box"),
+    ("drag (Inspect: lasso)", "draw the selection's outline"),
     ("click (Inspect: polygon)", "add the surface under the pixel as a vertex of the polygon"),
     ("click (Inspect: profile)", "set an end of the profile's line"),
     ("cursor over the view", "its file coordinates in the status line (two-pass)"),

@@ -423,3 +423,11 @@ pub fn render_mode(
     let mut gpu = renderer.upload(scene, grouping.as_ref());
     renderer.render_image(&mut gpu, &camera, settings, size, size).expect("render").0
 }
+
+/// Mean |ΔR| + |ΔG| + |ΔB| per pixel, in 0-255 steps.
+pub fn mean_difference(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
+    assert_eq!(a.dimensions(), b.dimensions());
+    let sum: u64 =
+        a.pixels().zip(b.pixels()).map(|(p, q)| (0..3).map(|c| u64::from(p[c].abs_diff(q[c]))).sum::<u64>()).sum();
+    sum as f64 / f64::from(a.width() * a.height())
+}

@@ -48,12 +48,22 @@ fn press(pos: egui::Pos2, pressed: bool) -> egui::Event {
 
 /// A primary-button drag from `from` to `to` in `steps` moves.
 pub fn drag(h: &mut Harness<'_, ViewerApp>, from: egui::Pos2, to: egui::Pos2, steps: u32) {
+    drag_path(h, &[from, to], steps);
+}
+
+/// A primary drag through `path`'s points in turn, in `steps` moves between each two.
+pub fn drag_path(h: &mut Harness<'_, ViewerApp>, path: &[egui::Pos2], steps: u32) {
+    let (from, to) = (path[0], path[path.len() - 1]);
     h.input_mut().events.push(egui::Event::PointerMoved(from));
     h.input_mut().events.push(press(from, true));
     h.step();
-    for k in 1..=steps {
-        h.input_mut().events.push(egui::Event::PointerMoved(from + (to - from) * (k as f32 / steps as f32)));
-        h.step();
+    for leg in path.windows(2) {
+        for k in 1..=steps {
+            h.input_mut()
+                .events
+                .push(egui::Event::PointerMoved(leg[0] + (leg[1] - leg[0]) * (k as f32 / steps as f32)));
+            h.step();
+        }
     }
     h.input_mut().events.push(press(to, false));
     h.step();
@@ -120,4 +130,21 @@ pub fn to_ortho_top(h: &mut Harness<'_, ViewerApp>) {
         h.step();
     }
     wait_for(h, "the orthographic top view", settled_ortho_top);
+}
+
+/// `render FILES --camera SIDECAR` into `dir`: the image it draws.
+pub fn render_again(files: &[&Path], sidecar: &Path, dir: &Path) -> image::RgbaImage {
+    let again = dir.join("again.png");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
+        .arg("render")
+        .args(files)
+        .arg("--camera")
+        .arg(sidecar)
+        .arg("--out")
+        .arg(&again)
+        .env("POINTBLEND_CACHE", dir.join("cache"))
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    image::open(&again).unwrap().to_rgba8()
 }

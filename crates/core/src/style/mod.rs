@@ -17,6 +17,7 @@ pub mod colormap;
 pub mod filter;
 pub mod parse;
 pub mod record;
+pub mod region;
 pub mod summary;
 
 pub use colormap::Colormap;
@@ -65,6 +66,8 @@ pub struct Style {
     pub filters: Vec<Filter>,
     /// Only these returns are shown.
     pub returns: Option<Returns>,
+    /// Selections drawn on screen, each kept or hidden ([`region`]).
+    pub regions: Vec<region::Region>,
 }
 
 /// What applying a style did, for the legend and the log.
@@ -106,6 +109,7 @@ impl Style {
             && self.opacity_by.is_none()
             && self.filters.is_empty()
             && self.returns.is_none()
+            && self.regions.is_empty()
     }
 
     /// A text that identifies the style (for cache keys).
@@ -116,8 +120,10 @@ impl Style {
     /// `cloud` as this style shows it; an error names what the cloud lacks.
     pub fn apply(&self, cloud: &PointCloud) -> Result<(PointCloud, Applied), String> {
         let mut applied = Applied::default();
-        let mut out = if self.classes.is_some() || !self.filters.is_empty() || self.returns.is_some() {
+        let hides = self.classes.is_some() || !self.filters.is_empty() || self.returns.is_some();
+        let mut out = if hides || !self.regions.is_empty() {
             let keep = filter::kept(cloud, self.classes.as_deref(), &self.filters, self.returns)?;
+            let keep = region::shown_by(&self.regions, keep, |i| cloud.file_position(i));
             applied.hidden = cloud.len() - keep.len();
             PointCloud {
                 attributes: cloud.attributes.gather(&keep),

@@ -25,6 +25,9 @@ pub struct StyleRecord {
     /// `first`, `last`, `only` or a return number.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub returns: Option<String>,
+    /// Selections drawn on screen, kept or hidden.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub regions: Vec<super::region::Region>,
 }
 
 impl From<&Style> for StyleRecord {
@@ -38,6 +41,7 @@ impl From<&Style> for StyleRecord {
             opacity_by: style.opacity_by.clone(),
             filters: style.filters.iter().map(super::Filter::text).collect(),
             returns: style.returns.map(super::Returns::text),
+            regions: style.regions.clone(),
         }
     }
 }
@@ -66,6 +70,7 @@ impl StyleRecord {
             opacity_by: self.opacity_by.clone(),
             filters: self.filters.iter().map(|f| f.parse()).collect::<Result<_, _>>()?,
             returns: self.returns.as_deref().map(str::parse).transpose()?,
+            regions: self.regions.iter().map(|r| r.check().map(|()| r.clone())).collect::<Result<_, _>>()?,
         })
     }
 }
@@ -85,6 +90,13 @@ mod tests {
             opacity_by: Some("intensity".into()),
             filters: vec!["gps_time=10.5..20".parse().unwrap(), "classification=2,6".parse().unwrap()],
             returns: Some(super::super::Returns::Last),
+            regions: vec![super::super::region::Region {
+                view_projection: glam::DMat4::IDENTITY.to_cols_array(),
+                origin: [500_000.25, 4_100_000.5, 12.0],
+                unit: 0.001,
+                outline: vec![[-0.5, -0.5], [0.5, -0.25], [0.0, 0.75]],
+                keep: false,
+            }],
         };
         let json = serde_json::to_string(&StyleRecord::from(&style)).unwrap();
         let back: StyleRecord = serde_json::from_str(&json).unwrap();
