@@ -99,3 +99,60 @@ fn a_screenshot_of_an_ortho_filtered_two_layer_view_is_drawn_again_by_render_cam
     let epsilon = common::mean_difference(&shot, &rendered);
     assert!(epsilon <= 0.05, "render --camera draws the screenshot again: ε = {epsilon:.3}");
 }
+
+#[test]
+fn a_layers_colour_and_opacity_are_drawn_kept_and_drawn_again_by_render_camera() {
+    let dir = tempfile::tempdir().unwrap();
+    let west = write(&dir.path().join("west.las"), &tilted_grid(60, 0.5, 0.0, [1000.0, 2000.0, 50.0]), [0.0; 3], None);
+    let east = write(&dir.path().join("east.las"), &tilted_grid(60, 0.5, 0.0, [1034.0, 2000.0, 50.0]), [0.0; 3], None);
+    let east_centre = DVec3::new(1049.0, 2015.0, 50.0);
+    let shots = dir.path().join("shots");
+    let mode = RenderMode::DepthPeel;
+    let viewer = ViewerOptions { file: Some(west.clone()), mode: Some(mode), ..options(&shots) };
+    let mut h = harness_sized(viewer, TALL);
+    wait_for(&mut h, "the west tile", settled_in(mode));
+    h.input_mut().dropped_files.push(Arc::new(Dropped(east.clone())));
+    h.step();
+    wait_for(&mut h, "both tiles", |app| settled_in(mode)(app) && objects(app) == 2);
+    h.key_press(egui::Key::Home);
+    h.step();
+
+    let red = [220, 60, 50];
+    let east_look = |app: &ViewerApp| app.model().map(|m| m.scene.objects[1].material);
+    choose(&mut h, "colour 2", "red");
+    wait_for(&mut h, "the east tile red", |app| {
+        settled_in(mode)(app) && objects(app) == 2 && east_look(app).is_some_and(|m| m.colour == Some(red))
+    });
+    assert_eq!(h.state().model().unwrap().scene.objects[0].material.colour, None, "the west tile keeps its colours");
+    let (image, _) = h.state().shown_frame().unwrap();
+    let view = h.state().view_rect();
+    let at = (h.state().screen_position(east_centre).unwrap() - view.min) * (image.width() as f32 / view.width());
+    let [r, g, b, _] = image.get_pixel(at.x as u32, at.y as u32).0;
+    assert!(r > 2 * g.max(b), "the east tile is drawn red: {r},{g},{b}");
+
+    // A click 40 % along layer 2's opacity slider.
+    let slider = h.get_by_role_and_label(Role::Slider, "opacity 2").rect();
+    let at = egui::pos2(slider.left() + 0.4 * slider.width(), slider.center().y);
+    common::viewer::click(&mut h, at);
+    wait_for(&mut h, "the east tile translucent", |app| {
+        settled_in(mode)(app) && east_look(app).is_some_and(|m| m.opacity < 0.6 && m.opacity > 0.2)
+    });
+    let set = east_look(h.state()).unwrap();
+    assert_eq!(set.colour, Some(red), "the colour stays");
+    assert_eq!(h.state().model().unwrap().scene.objects[0].material.opacity, 1.0, "the west tile stays opaque");
+
+    h.get_by_role_and_label(Role::CheckBox, "east.las").click();
+    wait_for(&mut h, "the east tile hidden", |app| settled_in(mode)(app) && objects(app) == 1);
+    h.get_by_role_and_label(Role::CheckBox, "east.las").click();
+    wait_for(&mut h, "the east tile shown again", |app| settled_in(mode)(app) && objects(app) == 2);
+    assert_eq!(east_look(h.state()), Some(set), "shown again, the layer keeps its look");
+
+    let png = save_screenshot(&mut h, &shots);
+    let sidecar = png.with_extension("json");
+    let recorded: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&sidecar).unwrap()).unwrap();
+    assert_eq!(recorded["looks"][1]["colour"], serde_json::json!(red), "the sidecar records each layer's look");
+    let shot = image::open(&png).unwrap().to_rgba8();
+    let rendered = common::viewer::render_again(&[&west, &east], &sidecar, dir.path());
+    let epsilon = common::mean_difference(&shot, &rendered);
+    assert!(epsilon <= 0.05, "render --camera draws the screenshot again: ε = {epsilon:.3}");
+}

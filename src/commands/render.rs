@@ -274,13 +274,18 @@ fn open_scene(args: &Args, sidecar: Option<&Sidecar>, first: Option<Camera>) -> 
     Ok((scene, streamed, None, false))
 }
 
-/// A screenshot's colours by attribute and filters, unless the command line gives its own.
+/// A screenshot's colours by attribute and filters, unless the command
+/// line gives its own, and each object's opacity and colour (each layer's),
+/// unless it gives `--opacity` or `--color`.
 fn apply_screenshot_style(args: &Args, sidecar: Option<&Sidecar>, scene: &mut Scene) -> Result<()> {
-    if let (None, Some(record), Some(path)) =
-        (args.view.scene.style(), sidecar.and_then(|s| s.style.as_ref()), &args.camera)
-    {
+    let (Some(sidecar), Some(path)) = (sidecar, &args.camera) else { return Ok(()) };
+    if let (None, Some(record)) = (args.view.scene.style(), sidecar.style.as_ref()) {
         let style = record.style().map_err(|e| anyhow::anyhow!("{}: style: {e}", path.display()))?;
         scene.apply_style(&style).map_err(anyhow::Error::msg)?;
+    }
+    let flags = &args.view.scene;
+    if !sidecar.looks.is_empty() && flags.opacity.is_none() && flags.colour.is_none() {
+        scene.set_looks(&sidecar.looks).map_err(|e| anyhow::anyhow!("{}: looks: {e}", path.display()))?;
     }
     Ok(())
 }

@@ -52,6 +52,7 @@ impl ViewerApp {
             status: self.status.as_deref(),
             streaming: self.model.as_ref().and_then(|m| m.streamed.as_ref()).map(|s| (s.status(), self.load.is_some())),
             layers: &self.layers,
+            layer_looks: self.layer_looks(),
             polygon: self.polygon_report.as_ref().map(|(_, report)| report),
         }
     }
@@ -61,6 +62,7 @@ impl ViewerApp {
         for action in actions {
             match action {
                 Action::Open(path) => self.open_or_add(ctx, &path),
+                Action::SetLayerLook(k, look) => self.set_layer_look(ctx, k, look),
                 Action::ShowLayer(k, shown) => self.show_layer(ctx, k, shown),
                 Action::RemoveLayer(k) => self.remove_layer(ctx, k),
                 Action::ExportSelection(path) => self.export_selection(ctx, &path),

@@ -127,6 +127,8 @@ pub struct ViewerApp {
     /// loaded (put back if it fails).
     pub(super) layers: Vec<super::state::Layer>,
     pub(super) layers_before: Option<Vec<super::state::Layer>>,
+    /// The looks the next model opened gets, one per object (the shown layers' where one was set).
+    pub(super) pending_looks: Option<Vec<crate::scene::Look>>,
     /// Where the layers' `.vpc` files are written.
     pub(super) layers_folder: Option<tempfile::TempDir>,
     /// The next model adopted keeps the view (a change of the layers).
@@ -160,6 +162,7 @@ impl ViewerApp {
             camera,
             screenshot_size: ScreenshotSize::Window,
             opacity_pending: None,
+            layer_opacity_pending: None,
             time: options.time.unwrap_or(0.0),
             playing: false,
             moving_budget: super::state::DEFAULT_MOVING_BUDGET,
@@ -210,6 +213,7 @@ impl ViewerApp {
             pointer: None,
             layers: Vec::new(),
             layers_before: None,
+            pending_looks: None,
             layers_folder: None,
             keep_view: false,
             placement_shown: None,

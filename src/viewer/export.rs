@@ -71,8 +71,11 @@ impl ViewerApp {
             }),
             _ => None,
         };
+        let looks = model.scene.looks();
+        let looks = if looks.iter().all(|l| *l == Default::default()) { Vec::new() } else { looks };
         let sidecar = Box::new(Sidecar {
             profile,
+            looks,
             time: key.time,
             style,
             clip,

@@ -10,12 +10,16 @@
 //! file, each with its f64 origin, one CRS, their seams mended). One shown
 //! layer is opened as the file itself. The camera stays where it was, moved
 //! by the difference of the frames' origins when the first layer changes.
+//! A layer's opacity and colour ([`Look`]) are its object's material
+//! ([`crate::scene::Scene::set_looks`]): set on the model on screen, and
+//! again on each model the shown layers open as; a screenshot's sidecar
+//! records them for `render --camera`.
 
 use std::path::{Path, PathBuf};
 
 use super::app::ViewerApp;
 use super::state::Layer;
-use crate::scene::vpc;
+use crate::scene::{Look, vpc};
 
 /// The files a path opens as layers: a `.vpc`'s files, else the path; none
 /// for a scene file or the bundled model, which are not layers.
@@ -35,7 +39,7 @@ pub fn layers_of(path: &Path) -> Vec<PathBuf> {
 impl ViewerApp {
     /// Opens the file the window starts with; it is the first layer (a `.vpc`'s files are the layers).
     pub(super) fn open_first(&mut self, ctx: &egui::Context, file: &Path) {
-        self.layers = layers_of(file).into_iter().map(|path| Layer { path, shown: true }).collect();
+        self.layers = layers_of(file).into_iter().map(|path| Layer { path, shown: true, look: None }).collect();
         self.open(ctx, file);
     }
 
@@ -55,12 +59,12 @@ impl ViewerApp {
     pub(super) fn open_or_add(&mut self, ctx: &egui::Context, path: &Path) {
         let added = layers_of(path);
         if self.layers.is_empty() || added.is_empty() {
-            self.layers = added.into_iter().map(|path| Layer { path, shown: true }).collect();
+            self.layers = added.into_iter().map(|path| Layer { path, shown: true, look: None }).collect();
             self.layers_before = None;
             return self.open(ctx, path);
         }
         self.layers_before = Some(self.layers.clone());
-        self.layers.extend(added.into_iter().map(|path| Layer { path, shown: true }));
+        self.layers.extend(added.into_iter().map(|path| Layer { path, shown: true, look: None }));
         self.open_shown_layers(ctx);
     }
 
@@ -82,8 +86,55 @@ impl ViewerApp {
         }
     }
 
+    /// Each layer's look as drawn: a shown layer's object's material, a
+    /// hidden one's as set (else the flags' opacity and colour).
+    pub(super) fn layer_looks(&self) -> Vec<Look> {
+        let drawn = self.model.as_ref().map(|m| m.scene.looks()).unwrap_or_default();
+        let shown = self.layers.iter().filter(|l| l.shown).count();
+        let mut at = 0;
+        let default = self.flags_look();
+        self.layers
+            .iter()
+            .map(|layer| {
+                let drawn_look = layer.shown.then(|| drawn.get(at).filter(|_| drawn.len() == shown)).flatten();
+                at += usize::from(layer.shown);
+                drawn_look.copied().or(layer.look).unwrap_or(default)
+            })
+            .collect()
+    }
+
+    /// The look the command line's `--opacity` and `--color` give an object.
+    fn flags_look(&self) -> Look {
+        let materials = &self.options.materials;
+        Look { opacity: materials.opacity.unwrap_or(1.0), colour: materials.colour }
+    }
+
+    /// Draws layer `k` in `look`; a shown layer's object now, a hidden one's when it is shown.
+    pub(super) fn set_layer_look(&mut self, ctx: &egui::Context, k: usize, look: Look) {
+        let mut drawn = self.layer_looks();
+        let Some(layer) = self.layers.get_mut(k) else { return };
+        layer.look = Some(look);
+        if !layer.shown {
+            return;
+        }
+        drawn[k] = look;
+        let shown: Vec<Look> = self.layers.iter().zip(drawn).filter(|(l, _)| l.shown).map(|(_, d)| d).collect();
+        let cache = self.cache();
+        self.remake(ctx, format!("layer {} look", k + 1), move |model, generation| {
+            Ok(model.with_looks(&shown, generation)?.with_hierarchy(&cache))
+        });
+    }
+
+    /// The looks the shown layers open in, when one was set.
+    fn shown_looks(&self) -> Option<Vec<Look>> {
+        let shown = self.layers.iter().filter(|l| l.shown);
+        let set = shown.clone().any(|l| l.look.is_some());
+        set.then(|| shown.map(|l| l.look.unwrap_or(self.flags_look())).collect())
+    }
+
     /// Opens the shown layers as one model, keeping the view; none shown clears the view.
     fn open_shown_layers(&mut self, ctx: &egui::Context) {
+        self.pending_looks = self.shown_looks();
         let shown: Vec<&Layer> = self.layers.iter().filter(|l| l.shown).collect();
         self.keep_view = true;
         match shown.as_slice() {

@@ -19,6 +19,8 @@ impl ViewerApp {
         self.generations += 1;
         let generation = self.generations;
         let path = path.to_path_buf();
+        // A streamed file's nodes are drawn in the flags' looks.
+        let looks = self.pending_looks.take();
         if self.drawn_by_nodes(&path) {
             return self.open_streamed(ctx, path, generation);
         }
@@ -27,7 +29,14 @@ impl ViewerApp {
         let environment = self.options.environment.clone();
         let cache = self.cache();
         self.load = Some(Job::spawn(label, ctx.clone(), move || {
-            let model = Model::load(&path, generation, &materials)?;
+            let mut model = Model::load(&path, generation, &materials)?;
+            // The layers' opacities and colours, one per object.
+            if let Some(looks) = looks {
+                match model.with_looks(&looks, generation) {
+                    Ok(looked) => model = looked,
+                    Err(e) => log::warn!("the layers' looks were not applied: {e}"),
+                }
+            }
             let model = match environment {
                 Some(env) => {
                     let map = EnvironmentMap::load(&env).map_err(|e| e.to_string())?;
@@ -43,6 +52,9 @@ impl ViewerApp {
     /// background: the same geometry as a new model (new upload; the grouping
     /// comes back from the cache, keyed by geometry), with the camera kept.
     pub fn set_opacity(&mut self, ctx: &egui::Context, opacity: f32) {
+        for look in self.layers.iter_mut().filter_map(|l| l.look.as_mut()) {
+            look.opacity = opacity;
+        }
         let cache = self.cache();
         self.remake(ctx, format!("opacity {opacity:.2}"), move |model, generation| {
             Ok(model.with_opacity(opacity, generation).with_hierarchy(&cache))
@@ -86,7 +98,7 @@ impl ViewerApp {
     /// Remakes the model on screen in the background by `remake` (given it
     /// and its new generation), in place of any load under way; the camera
     /// is kept, and an error is shown as the load error with the model kept.
-    fn remake(
+    pub(super) fn remake(
         &mut self,
         ctx: &egui::Context,
         label: String,
@@ -100,7 +112,7 @@ impl ViewerApp {
     }
 
     /// Where groupings and hierarchies are cached.
-    fn cache(&self) -> crate::grouping::cache::Cache {
+    pub(super) fn cache(&self) -> crate::grouping::cache::Cache {
         self.options.cache.clone().unwrap_or_else(crate::grouping::cache::Cache::from_env)
     }
 

@@ -99,6 +99,16 @@ impl Model {
         Model { unstyled: Arc::new(unstyled), style: self.style.clone(), ..model }
     }
 
+    /// This model with object k in `looks[k]` (each layer's opacity and colour).
+    pub fn with_looks(&self, looks: &[crate::scene::Look], generation: u64) -> Result<Model, String> {
+        let mut scene = (*self.scene).clone();
+        scene.set_looks(looks)?;
+        let mut unstyled = (*self.unstyled).clone();
+        unstyled.set_looks(looks)?;
+        let model = Self::with_summary(&self.path, scene, self.warnings.clone(), generation, self.summary.clone());
+        Ok(Model { unstyled: Arc::new(unstyled), style: self.style.clone(), ..model })
+    }
+
     /// This model in the environment map `map` (or in none).
     pub fn with_environment(
         &self,

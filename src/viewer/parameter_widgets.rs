@@ -245,6 +245,7 @@ mod tests {
             status: None,
             streaming: None,
             layers: &[],
+            layer_looks: Vec::new(),
             polygon: None,
         }
     }
@@ -256,6 +257,7 @@ mod tests {
             light_angles: (0.0, 0.0),
             screenshot_size: ScreenshotSize::Window,
             opacity_pending: None,
+            layer_opacity_pending: None,
             time: 0.0,
             playing: false,
             moving_budget: 100_000,

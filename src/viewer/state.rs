@@ -83,6 +83,8 @@ pub struct UiState {
     /// The opacity slider's value while it is dragged, and until the model
     /// holds the value it was let go at.
     pub opacity_pending: Option<f32>,
+    /// A layer's opacity slider while it is dragged: the layer and its value.
+    pub layer_opacity_pending: Option<(usize, f32)>,
     /// A moving scene's time (seconds) and whether it plays.
     pub time: f64,
     pub playing: bool,
@@ -245,6 +247,8 @@ pub enum Action {
     ShowError(String),
     /// Show (true) or hide layer k.
     ShowLayer(usize, bool),
+    /// Draw layer k in this opacity and colour.
+    SetLayerLook(usize, crate::scene::Look),
     RemoveLayer(usize),
     /// Write the selected points to this file (LAS, LAZ or PLY).
     ExportSelection(PathBuf),
@@ -303,6 +307,8 @@ pub struct PanelInfo<'a> {
     pub streaming: Option<(super::stream_source::StreamStatus, bool)>,
     /// The files opened as layers.
     pub layers: &'a [Layer],
+    /// Each layer's opacity and colour as drawn (as set, for a hidden one).
+    pub layer_looks: Vec<crate::scene::Look>,
     /// The polygon's measure, or why there is none, once it has three vertices.
     pub polygon: Option<&'a Result<PolygonReport, String>>,
 }
@@ -313,11 +319,13 @@ impl PanelInfo<'_> {
     }
 }
 
-/// One layer: its file (or URL) and whether it is shown.
+/// One layer: its file (or URL), whether it is shown, and its opacity and
+/// colour where the list set them (none: as the file and the flags give them).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Layer {
     pub path: PathBuf,
     pub shown: bool,
+    pub look: Option<crate::scene::Look>,
 }
 
 impl Layer {

@@ -6,9 +6,13 @@
 //!
 //! [`Materials`] are the overrides the command line gives every object of a
 //! scene (`--opacity`, `--color`, and colour and opacity by attribute), as
-//! `render`, `bench` and the viewer apply them.
+//! `render`, `bench` and the viewer apply them. A [`Look`] is one object's
+//! opacity and colour, as the viewer's layer list sets them per layer and
+//! a screenshot's sidecar records them for `render --camera`.
 
 use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
 
 use crate::style::Style;
 
@@ -70,5 +74,77 @@ impl Material {
     /// The opacity a splat of opacity `own` has, in 0..1.
     pub fn opacity(&self, own: f32) -> f32 {
         (own * self.opacity).clamp(0.0, 1.0)
+    }
+}
+
+/// One object's opacity and the colour that replaces its splats' own (none: theirs).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Look {
+    pub opacity: f32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub colour: Option<[u8; 3]>,
+}
+
+impl Default for Look {
+    fn default() -> Self {
+        Self { opacity: 1.0, colour: None }
+    }
+}
+
+impl Look {
+    /// The look of an object drawn in `material`.
+    pub fn of(material: &Material) -> Self {
+        Self { opacity: material.opacity, colour: material.colour }
+    }
+
+    /// Checks the opacity is in 0..1.
+    pub fn check(&self) -> Result<(), String> {
+        if (0.0..=1.0).contains(&self.opacity) {
+            Ok(())
+        } else {
+            Err(format!("'{}' is not an opacity in 0..1", self.opacity))
+        }
+    }
+}
+
+impl super::Scene {
+    /// Each object's look, in order.
+    pub fn looks(&self) -> Vec<Look> {
+        self.objects.iter().map(|o| Look::of(&o.material)).collect()
+    }
+
+    /// Gives object k `looks[k]` (two-sided when it or its style is
+    /// translucent); an error when the counts
+    /// differ or an opacity is not in 0..1.
+    pub fn set_looks(&mut self, looks: &[Look]) -> Result<(), String> {
+        if looks.len() != self.objects.len() {
+            return Err(format!("{} looks for {} objects", looks.len(), self.objects.len()));
+        }
+        for (object, look) in self.objects.iter_mut().zip(looks) {
+            look.check()?;
+            object.material.opacity = look.opacity;
+            let translucent = object.styled.as_ref().is_some_and(|s| s.applied.translucent);
+            object.material.two_sided = look.opacity < 1.0 || translucent;
+            object.material.colour = look.colour;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn looks_set_each_objects_material_and_refuse_a_wrong_count_or_opacity() {
+        let mut scene = super::super::Scene::single("a", crate::cloud::PointCloud::default(), 1);
+        scene.objects.push(scene.objects[0].clone());
+        let looks = [Look { opacity: 0.25, colour: Some([200, 10, 10]) }, Look::default()];
+        scene.set_looks(&looks).unwrap();
+        assert_eq!(scene.looks(), looks);
+        assert!(scene.objects[0].material.two_sided && !scene.objects[1].material.two_sided);
+        assert_eq!(scene.set_looks(&looks[..1]).unwrap_err(), "1 looks for 2 objects");
+        let bad = [Look { opacity: 1.5, colour: None }, Look::default()];
+        assert_eq!(scene.set_looks(&bad).unwrap_err(), "'1.5' is not an opacity in 0..1");
     }
 }

@@ -34,7 +34,7 @@ pub use file::SceneError;
 /// The scale factors an object or a keyframe may have: beyond them a model's
 /// splats leave what f32 arithmetic can draw (a blank or garbled image).
 pub const SCALES: std::ops::RangeInclusive<f32> = 1e-6..=1e6;
-pub use material::{Material, Materials};
+pub use material::{Look, Material, Materials};
 
 /// One object of a scene.
 #[derive(Debug, Clone)]

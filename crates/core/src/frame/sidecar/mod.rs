@@ -93,6 +93,10 @@ pub struct Sidecar {
     /// `profile --line X1,Y1,X2,Y2 --width W` takes them (recorded; `render` draws no profile).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub profile: Option<ProfileRecord>,
+    /// Each object's opacity and colour (a layer's each), where the window
+    /// changed one from the file's (absent: as loaded).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub looks: Vec<crate::scene::Look>,
 }
 
 /// A profile's line (X1, Y1, X2, Y2, file coordinates) and its slab's width.
@@ -189,6 +193,7 @@ impl Sidecar {
             clip: None,
             lights: Vec::new(),
             profile: None,
+            looks: Vec::new(),
         }
     }
 
