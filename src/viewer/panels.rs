@@ -26,7 +26,7 @@ pub fn controls(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>) -> Vec<A
     super::inspect_panel::inspect_section(ui, state, info.model.is_some());
     let regions = info.model.as_ref().and_then(|m| m.style).map_or(0, |s| s.regions.len());
     super::inspect_panel::selection_section(ui, state, regions, &mut actions);
-    super::polygon_panel::polygon_section(ui, state, info.polygon);
+    super::polygon_panel::polygon_section(ui, state, info.polygon, info.layers);
     ui.separator();
     super::stats::stats_section(ui, info);
     ui.separator();

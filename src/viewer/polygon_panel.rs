@@ -5,16 +5,39 @@
 
 use egui::{RichText, Ui};
 
-use super::state::{PolygonReport, UiState};
+use super::state::{Layer, PolygonReport, UiState};
 
-pub fn polygon_section(ui: &mut Ui, state: &mut UiState, report: Option<&Result<PolygonReport, String>>) {
+pub fn polygon_section(
+    ui: &mut Ui,
+    state: &mut UiState,
+    report: Option<&Result<PolygonReport, String>>,
+    layers: &[Layer],
+) {
     let inspect = &mut state.inspect;
     if inspect.polygon.is_empty() {
         return;
     }
     ui.label(format!("polygon: {} vertices (click to add)", inspect.polygon.len()));
     ui.checkbox(&mut inspect.polygon_volume, "volume")
-        .on_hover_text("the volume above and below a plane fitted to the points along the border");
+        .on_hover_text("the volume above and below a plane fitted to the points along the border, or a base layer");
+    let shown: Vec<&Layer> = layers.iter().filter(|l| l.shown).collect();
+    if inspect.polygon_volume && shown.len() > 1 {
+        let name = |base: &Option<std::path::PathBuf>| match base {
+            Some(path) => format!("layer {}", Layer::name_of(path)),
+            None => "the border's plane".to_string(),
+        };
+        egui::ComboBox::new("volume against", "volume against")
+            .selected_text(name(&inspect.polygon_base))
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut inspect.polygon_base, None, name(&None));
+                for layer in shown {
+                    let label = format!("layer {}", layer.name());
+                    ui.selectable_value(&mut inspect.polygon_base, Some(layer.path.clone()), label);
+                }
+            })
+            .response
+            .on_hover_text("a base layer (e.g. the ground before): the other layers' cut and fill against it");
+    }
     match report {
         Some(Ok(r)) => {
             let u = &r.units;

@@ -153,6 +153,8 @@ pub struct Inspection {
     /// whether its volume is measured too (above a plane fitted along its border).
     pub polygon: Vec<glam::DVec3>,
     pub polygon_volume: bool,
+    /// The layer the volume is measured against (its file), instead of the border's plane.
+    pub polygon_base: Option<PathBuf>,
     /// Where the select tool's drag was pressed, while it is drawn, and the selection.
     pub selecting: Option<egui::Pos2>,
     pub selection: Option<ScreenSelection>,
@@ -330,14 +332,19 @@ pub struct Layer {
 
 impl Layer {
     pub fn name(&self) -> String {
-        let text = self.path.to_string_lossy();
+        Self::name_of(&self.path)
+    }
+
+    /// The name of a layer's file or URL: its last part.
+    pub fn name_of(path: &Path) -> String {
+        let text = path.to_string_lossy();
         text.rsplit(['/', '\\']).next().unwrap_or(&text).to_string()
     }
 }
 
 /// What a polygon's measure was made of: its vertices, whether the volume
-/// was asked for, and the model's generation.
-pub type PolygonKey = (Vec<glam::DVec3>, bool, u64);
+/// was asked for and against which layer, and the model's generation.
+pub type PolygonKey = (Vec<glam::DVec3>, bool, Option<PathBuf>, u64);
 
 /// The polygon's measure, as the panel shows it: `measure --polygon`'s figures and its JSON.
 #[derive(Debug, Clone, PartialEq)]
