@@ -6,21 +6,20 @@
 //! and `--returns`. `--csv` writes its rows, `--points` its records (LAS/LAZ
 //! copied with every field, or PLY), and `--out` draws it: the slab's
 //! records and those within W/2 around it (a lidar file; another format as
-//! loaded), styled
-//! by the view flags, clipped to the slab by four planes and seen in
-//! orthographic from the right of the line (distance along the line
-//! against height), in any mode, every splat turned to face the viewer
-//! (a section is read point by point; ground seen edge-on would vanish).
+//! loaded), styled by the view flags, drawn as
+//! [`pointblend::render::section`] draws a section: clipped to the slab by
+//! four planes and seen in orthographic from the right of the line
+//! (distance along the line against height), in any mode, every splat
+//! turned to face the viewer.
 
 use std::path::PathBuf;
-use std::sync::Arc;
 
 use anyhow::{Context, Result, bail};
-use glam::{DVec2, DVec3};
+use glam::DVec2;
 use pointblend::cloud::records::RecordSource;
-use pointblend::frame::{Camera, Projection, RenderMode, UpAxis, View};
+use pointblend::frame::RenderMode;
 use pointblend::inspect::profile::{self, Profile};
-use pointblend::render::{Frame, GpuRenderer, PreparedScene, Readback};
+use pointblend::render::section;
 use pointblend::scene::Scene;
 use pointblend::style::filter;
 
@@ -115,64 +114,15 @@ pub fn run(args: &Args) -> Result<()> {
     Ok(())
 }
 
-/// The side view of the slab at `out`.
-fn draw(
-    args: &Args,
-    mut scene: Scene,
-    profile: &Profile,
-    (low, high): (f64, f64),
-    out: &std::path::Path,
-) -> Result<()> {
-    // A cross-section is read point by point: every splat faces the viewer, as a dot, so that
-    // level ground (discs facing up) is not drawn edge-on as a hairline.
-    let side = profile.side().as_vec3();
-    for object in &mut scene.objects {
-        let facing = object.transform.inverse().transform_vector3(side).normalize();
-        Arc::make_mut(&mut object.cloud).normals.iter_mut().for_each(|n| *n = facing);
-        // And the cloud a style is applied to again (a file without colours is styled on loading).
-        if let Some(styled) = &mut object.styled {
-            Arc::make_mut(&mut styled.source).normals.iter_mut().for_each(|n| *n = facing);
-        }
-    }
+/// The side view of the slab at `out` ([`pointblend::render::section`]).
+fn draw(args: &Args, mut scene: Scene, profile: &Profile, heights: (f64, f64), out: &std::path::Path) -> Result<()> {
+    section::face_the_side(&mut scene, profile);
     args.view.scene.apply_materials(&mut scene).map_err(anyhow::Error::msg)?;
-    let mut settings = args.view.settings(&scene, args.mode)?;
-    let mut region = args.view.scene.clip_region(&scene).map_err(anyhow::Error::msg)?;
-    region.planes.extend(profile.planes());
-    region.check().map_err(|e| anyhow::anyhow!("{e} (the profile's slab takes four of the six planes)"))?;
-    settings.clip = scene.clip_in_frame(&region);
+    let settings = args.view.settings(&scene, args.mode)?;
+    let region = args.view.scene.clip_region(&scene).map_err(anyhow::Error::msg)?;
     let (width, height) = args.view.size;
-    let camera = side_camera(profile, (low, high), scene.frame_placement(), width as f32 / height as f32);
-    let mut gpu = match settings.mode.is_gpu() {
-        true => Some(GpuRenderer::new().context("opening the GPU")?),
-        false => None,
-    };
-    let mut frames = PreparedScene::of(Arc::new(scene));
-    let spec = frames.resolve(&settings, View::still((width, height)));
-    let Frame { image, plan, .. } = frames.render_frame(gpu.as_mut(), &camera, &spec, Readback::ImageWithProgress)?;
+    let (image, mode) = section::draw(scene, profile, heights, settings, region, (width, height))?;
     shared::write_image(&image, out)?;
-    println!("{} {width}x{height} side view -> {}", plan.mode, out.display());
+    println!("{mode} {width}x{height} side view -> {}", out.display());
     Ok(())
-}
-
-/// An orthographic camera from the right of the line, level, framing the
-/// slab's length and its heights `low..high`, in the scene's frame.
-fn side_camera(profile: &Profile, (low, high): (f64, f64), (origin, unit): (DVec3, f64), aspect: f32) -> Camera {
-    let middle = ((profile.start + profile.end) * 0.5).extend((low + high) * 0.5);
-    let half_length = profile.length() * 0.5;
-    let half_height = ((high - low) * 0.5).max(profile.width * 0.5);
-    let mut camera = Camera {
-        target: ((middle - origin) / unit).as_vec3(),
-        distance: 1.0,
-        azimuth_deg: 0.0,
-        elevation_deg: 0.0,
-        fov_y_deg: pointblend::frame::camera::DEFAULT_FOV_DEG,
-        up: UpAxis::PosZ,
-        scene_radius: (DVec2::new(half_length, half_height).length().max(profile.width) / unit) as f32,
-        projection: Projection::Ortho,
-    };
-    camera.look_from_direction(profile.side().as_vec3());
-    // In orthographic the window's half height is tan(fov / 2) · distance.
-    let needed = (half_height.max(half_length / aspect as f64) * 1.05 / unit) as f32;
-    camera.distance = needed / (camera.fov_y_deg.to_radians() * 0.5).tan();
-    camera
 }

@@ -1,5 +1,6 @@
 //! The inspection tools in the 3D view: the clip box drawn with a handle on
-//! each face (dragging one moves that face along its axis), a click that
+//! each face (dragging one moves that face along its axis), the profile's
+//! slab with a handle on each long side (dragging one sets its width), a click that
 //! picks (the exact reference's layers under the pixel,
 //! crates/core/src/reference/pick.rs) or adds a measured point, and the
 //! markers and labels of both drawn over the frame.
@@ -14,6 +15,18 @@ use crate::inspect::PickReport;
 
 /// Points within which a press grabs a handle.
 const HANDLE_REACH: f32 = 10.0;
+
+/// The `dragging` value of the profile's width handles (0-5 are the clip box's faces).
+const WIDTH_HANDLE: usize = 6;
+
+/// The profile's width handles: the middles of its slab's long sides, at the line's height.
+fn width_handles(inspect: &super::state::Inspection) -> Option<[DVec3; 2]> {
+    let [a, b] = inspect.profile_line[..] else { return None };
+    let profile = crate::inspect::profile::Profile::new(a.truncate(), b.truncate(), inspect.profile_width).ok()?;
+    let (_, left) = profile.axes();
+    let (middle, half) = ((a + b) * 0.5, (left * profile.width * 0.5).extend(0.0));
+    Some([middle + half, middle - half])
+}
 
 /// Screen positions (points) of file coordinates, for the view on screen.
 struct Projector {
@@ -144,14 +157,38 @@ impl ViewerApp {
         self.ui.inspect.picked = Some(report);
     }
 
-    /// The handle (box face) within reach of `pos`, nearest first.
+    /// The handle (a box face, or the profile's width) within reach of `pos`, nearest first.
     fn handle_at(&self, pos: egui::Pos2, projector: &Projector) -> Option<usize> {
-        let b = self.ui.inspect.clip_box.as_ref().filter(|_| self.ui.inspect.clip_on)?;
-        (0..6)
-            .filter_map(|face| Some((face, projector.to_screen(face_centre(b, face))?.distance(pos))))
+        let inspect = &self.ui.inspect;
+        let faces =
+            inspect.clip_box.as_ref().filter(|_| inspect.clip_on).map(|b| (0..6).map(|f| (f, face_centre(b, f))));
+        let widths = width_handles(inspect).map(|w| w.map(|p| (WIDTH_HANDLE, p)));
+        faces
+            .into_iter()
+            .flatten()
+            .chain(widths.into_iter().flatten())
+            .filter_map(|(handle, p)| Some((handle, projector.to_screen(p)?.distance(pos))))
             .filter(|(_, d)| *d <= HANDLE_REACH)
             .min_by(|a, b| a.1.total_cmp(&b.1))
-            .map(|(face, _)| face)
+            .map(|(handle, _)| handle)
+    }
+
+    /// Sets the profile's width to twice the pointer's distance from its
+    /// line, across it on screen (exact in an orthographic top view).
+    fn drag_width(&mut self, at: egui::Pos2, projector: &Projector) {
+        let inspect = &mut self.ui.inspect;
+        let Some([side, other]) = width_handles(inspect) else { return };
+        let middle = (side + other) * 0.5;
+        let unit_across = (side - middle).normalize_or_zero();
+        let (Some(m), Some(c)) = (projector.to_screen(middle), projector.to_screen(middle + unit_across)) else {
+            return;
+        };
+        let across = c - m;
+        if across.length_sq() < 1e-6 {
+            return; // the slab is seen edge-on
+        }
+        let offset = f64::from((at - m).dot(across) / across.length_sq());
+        inspect.profile_width = (2.0 * offset.abs()).max(1e-6);
     }
 
     /// Moves the dragged face along its axis by the drag's share of the axis on screen.
@@ -192,8 +229,12 @@ impl ViewerApp {
             self.ui.inspect.dragging = press.and_then(|p| self.handle_at(p, &projector));
         }
         if let Some(face) = self.ui.inspect.dragging {
-            if response.dragged_by(egui::PointerButton::Primary) {
-                self.drag_face(face, response.drag_delta(), &projector);
+            match response.interact_pointer_pos() {
+                Some(at) if face == WIDTH_HANDLE => self.drag_width(at, &projector),
+                _ if response.dragged_by(egui::PointerButton::Primary) => {
+                    self.drag_face(face, response.drag_delta(), &projector)
+                }
+                _ => {}
             }
             if response.drag_stopped() {
                 self.ui.inspect.dragging = None;
@@ -304,4 +345,11 @@ fn draw_profile(painter: &egui::Painter, projector: &Projector, inspect: &super:
             .filter_map(|c| projector.to_screen(c.extend(z)))
             .collect();
     painter.add(egui::Shape::line(outline, egui::Stroke::new(1.0, colour)));
+    for handle in width_handles(inspect).into_iter().flatten() {
+        if let Some(p) = projector.to_screen(handle) {
+            let active = inspect.dragging == Some(WIDTH_HANDLE);
+            let fill = if active { egui::Color32::WHITE } else { colour };
+            painter.circle(p, 6.0, fill, egui::Stroke::new(1.0, egui::Color32::BLACK));
+        }
+    }
 }

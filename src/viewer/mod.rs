@@ -39,6 +39,7 @@ mod polygon_measure;
 mod polygon_panel;
 mod preview;
 mod profile_panel;
+mod profile_pick;
 mod profile_view;
 mod refine_steps;
 mod render_thread;

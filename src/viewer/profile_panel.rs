@@ -1,10 +1,13 @@
 //! The profile's panel under the view: the slab's width (its handle), the
 //! points it holds, the section drawn as distance along the line against
-//! height at one scale in both (each point in the view's colour), and the
-//! buttons that export it as `profile --csv` and `profile --points` do.
+//! height at one scale in both (each point in the view's colour), picked
+//! and measured by clicks (`profile_pick.rs`), and the
+//! buttons that export it as `profile --csv`, `profile --points` and
+//! `profile --out` do.
 
 use egui::{Color32, RichText, Ui};
 
+use super::profile_pick::{SectionLayout, SectionMeasure};
 use super::state::{Action, Inspection, ProfileSlab};
 
 /// Most points drawn in the panel (every n-th beyond it); the export writes all.
@@ -28,7 +31,7 @@ pub fn profile_panel(
             return actions;
         }
     };
-    section(ui, slab);
+    section(ui, slab, inspect, units);
     actions
 }
 
@@ -63,31 +66,61 @@ fn width_and_buttons(
                 actions.push(Action::ExportProfile(path));
             }
         }
+        if ui.button("export PNG…").on_hover_text("the section drawn as profile --out draws it").clicked() {
+            if let Some(path) = rfd::FileDialog::new().add_filter("image", &["png", "jpg"]).save_file() {
+                actions.push(Action::ExportProfile(path));
+            }
+        }
         if ui.button("close").clicked() {
             inspect.profile_line.clear();
         }
     }
 }
 
-/// The slab from the side: distance along the line to the right, height up, one scale.
-fn section(ui: &mut Ui, slab: &ProfileSlab) {
-    let size = ui.available_size().max(egui::vec2(50.0, 50.0));
-    let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
-    let painter = ui.painter_at(rect);
-    painter.rect_filled(rect, 0.0, Color32::from_gray(20));
-    let (lo, hi) =
-        slab.points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p.z), hi.max(p.z)));
+/// The slab from the side: distance along the line to the right, height up,
+/// one scale; a click picks the point drawn nearest to it, two measure
+/// between them (`profile_pick.rs`).
+fn section(ui: &mut Ui, slab: &ProfileSlab, inspect: &mut Inspection, units: &str) {
     if slab.points.is_empty() {
         ui.label(RichText::new("no point in the slab").weak());
         return;
     }
-    let length = slab.profile.length();
-    let scale = (f64::from(rect.width() - 8.0) / length).min(f64::from(rect.height() - 8.0) / (hi - lo).max(1e-9));
+    let marks = inspect.profile_marks.clone();
+    match marks[..] {
+        [a] => ui.label(format!(
+            "picked: {:.3} {units} along, height {:.3} (x {:.3}, y {:.3})",
+            slab.profile.place(a).0,
+            a.z,
+            a.x,
+            a.y
+        )),
+        [a, b] => ui.label(RichText::new(SectionMeasure::between(slab, a, b).text(units)).strong()),
+        _ => ui.label(RichText::new("click the section to pick a point, twice to measure").weak()),
+    };
+    let size = ui.available_size().max(egui::vec2(50.0, 50.0));
+    let (rect, response) = ui.allocate_exact_size(size, egui::Sense::click());
+    let layout = SectionLayout::fitting(slab, rect);
+    inspect.profile_layout = Some(layout);
+    if let Some(at) = response.interact_pointer_pos().filter(|_| response.clicked()) {
+        if let Some(p) = layout.nearest(slab, at) {
+            if inspect.profile_marks.len() == 2 {
+                inspect.profile_marks.clear();
+            }
+            inspect.profile_marks.push(p);
+        }
+    }
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 0.0, Color32::from_gray(20));
     let step = slab.points.len().div_ceil(DRAWN_AT_MOST).max(1);
     for (p, c) in slab.points.iter().zip(&slab.colours).step_by(step) {
-        let (distance, _) = slab.profile.place(*p);
-        let x = rect.left() + 4.0 + (distance * scale) as f32;
-        let y = rect.bottom() - 4.0 - ((p.z - lo) * scale) as f32;
-        painter.circle_filled(egui::pos2(x, y), 1.2, Color32::from_rgb(c[0], c[1], c[2]));
+        painter.circle_filled(layout.screen(slab, *p), 1.2, Color32::from_rgb(c[0], c[1], c[2]));
+    }
+    let mark = Color32::from_rgb(255, 220, 60);
+    let drawn: Vec<egui::Pos2> = inspect.profile_marks.iter().map(|p| layout.screen(slab, *p)).collect();
+    if let [a, b] = drawn[..] {
+        painter.line_segment([a, b], egui::Stroke::new(1.5, mark));
+    }
+    for at in drawn {
+        painter.circle_stroke(at, 4.0, egui::Stroke::new(1.5, mark));
     }
 }

@@ -6,7 +6,9 @@
 //! width or the model changes, and shown under the view
 //! (`profile_panel.rs`). Exporting reads each file's records again, as the
 //! command does, and writes the slab's CSV (`profile --csv`) or its records
-//! (`profile --points`), in the background.
+//! (`profile --points`), in the background; a PNG is the section drawn as
+//! `profile --out` draws it ([`crate::render::section`]), of the points on
+//! screen, in the view's mode, style and clip, at the panel section's size.
 
 use std::path::{Path, PathBuf};
 
@@ -65,13 +67,35 @@ impl ViewerApp {
     }
 
     /// Writes the slab of every shown file to `output`: CSV rows (`.csv`),
-    /// or the records (LAS, LAZ, PLY), in the background.
+    /// the records (LAS, LAZ, PLY), or the section drawn (PNG, JPEG), in the background.
     pub fn export_profile(&mut self, ctx: &egui::Context, output: &Path) {
         let (Some(model), Some(Ok(slab))) = (&self.model, self.profile_slab()) else {
             self.status = Some("no profile to export: click its line's two ends with the profile tool".into());
             return;
         };
         let profile = slab.profile;
+        if crate::output::ImageFormat::of(output).is_ok() {
+            let heights = slab.points.iter().fold((f64::MAX, f64::MIN), |(l, h), p| (l.min(p.z), h.max(p.z)));
+            if slab.points.is_empty() {
+                self.status = Some("the slab holds no point, so there is nothing to draw".into());
+                return;
+            }
+            let mut scene = (*model.scene).clone();
+            // The panel's section at its size on screen (at least 64 pixels a side).
+            let ppp = ctx.pixels_per_point();
+            let panel = self.ui.inspect.profile_layout.map_or(egui::vec2(1024.0, 256.0), |l| l.rect.size() * ppp);
+            let size = (panel.x.round().max(64.0) as u32, panel.y.round().max(64.0) as u32);
+            let (settings, region) = (self.ui.settings, self.ui.inspect.region());
+            let output = output.to_path_buf();
+            self.export = Some(Job::spawn("drawing the profile", ctx.clone(), move || {
+                crate::render::section::face_the_side(&mut scene, &profile);
+                let (image, mode) = crate::render::section::draw(scene, &profile, heights, settings, region, size)
+                    .map_err(|e| e.to_string())?;
+                crate::output::save_image(&image, &output).map_err(|e| format!("{}: {e}", output.display()))?;
+                Ok(format!("drew the profile ({mode}, {}x{}) to {}", size.0, size.1, output.display()))
+            }));
+            return;
+        }
         let files = self.selected_files(&model.path);
         let style = model.style.as_deref().cloned();
         let output = output.to_path_buf();

@@ -161,6 +161,9 @@ pub struct Inspection {
     /// The profile's line (its ends, file coordinates) and its slab's width (file units).
     pub profile_line: Vec<glam::DVec3>,
     pub profile_width: f64,
+    /// The points picked on the profile's section (at most two: a measure) and where it was last drawn.
+    pub profile_marks: Vec<glam::DVec3>,
+    pub profile_layout: Option<super::profile_pick::SectionLayout>,
 }
 
 impl Inspection {
@@ -169,6 +172,7 @@ impl Inspection {
         if self.profile_line.len() == 2 {
             self.profile_line.clear();
         }
+        self.profile_marks.clear();
         self.profile_line.push(p);
         if self.profile_line.len() == 2 && self.profile_width <= 0.0 {
             // A first width: a twentieth of the line.

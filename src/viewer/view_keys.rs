@@ -42,7 +42,7 @@ pub const FLY_KEYS: [(Key, [f32; 3]); 6] = [
 
 /// Every input of the 3D view: (the input, what it does), as the help
 /// overlay and the user guide's table give them.
-pub const INPUTS: [(&str, &str); 26] = [
+pub const INPUTS: [(&str, &str); 28] = [
     ("left drag", "orbit (in fly mode: look around)"),
     ("right or middle drag", "pan"),
     ("wheel", "zoom to the point under the cursor"),
@@ -68,6 +68,8 @@ pub const INPUTS: [(&str, &str); 26] = [
     ("drag (Inspect: lasso)", "draw the selection's outline"),
     ("click (Inspect: polygon)", "add the surface under the pixel as a vertex of the polygon"),
     ("click (Inspect: profile)", "set an end of the profile's line"),
+    ("drag a profile's side handle", "set the slab's width"),
+    ("click the profile's section", "pick the point nearest; a second click measures the rise and slope"),
     ("cursor over the view", "its file coordinates in the status line (two-pass)"),
 ];
 

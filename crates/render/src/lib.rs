@@ -55,6 +55,7 @@ pub mod record;
 pub mod renderer;
 pub mod report;
 pub mod scene_cache;
+pub mod section;
 pub mod shaders;
 pub mod subframe;
 pub mod target_id;

@@ -281,7 +281,12 @@ mod tests {
             nodes: false,
             layers: Vec::new(),
         };
-        let sidecar = Sidecar::new(model, &camera, &settings, (300, 200));
+        let mut sidecar = Sidecar::new(model, &camera, &settings, (300, 200));
+        // File coordinates far from the origin come back to the last bit (the viewer's profile
+        // line once came back one bit off: JSON numbers are now parsed exactly).
+        let line = [1004.0077452159455, 2011.9775082895771, 1035.9657060557554, 2023.0247046292645];
+        sidecar.profile = Some(ProfileRecord { line, width: 1.6000000000000014 });
+        sidecar.looks = vec![crate::scene::Look { opacity: 0.38, colour: Some([220, 60, 50]) }];
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("view.json");
         sidecar.write(&path).unwrap();
