@@ -156,3 +156,57 @@ fn a_layers_colour_and_opacity_are_drawn_kept_and_drawn_again_by_render_camera()
     let epsilon = common::mean_difference(&shot, &rendered);
     assert!(epsilon <= 0.05, "render --camera draws the screenshot again: ε = {epsilon:.3}");
 }
+
+/// Two COPC tiles side by side in x (west, east) of 115,600 points each, several nodes a tile.
+fn copc_tiles(dir: &std::path::Path) -> [std::path::PathBuf; 2] {
+    let (side, spacing, origin) = (340, 0.3, [431_000.0, 5_012_000.0, 80.0]);
+    ["west", "east"].map(|name| {
+        let k = if name == "west" { 0.0 } else { 1.0 };
+        let from = [origin[0] + k * side as f64 * spacing, origin[1], origin[2]];
+        let laz = write(&dir.join(format!("{name}.laz")), &tilted_grid(side, spacing, 0.02, from), from, None);
+        let copc = dir.join(format!("{name}.copc.laz"));
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_pointblend"))
+            .args(["convert".as_ref(), laz.as_os_str(), copc.as_os_str()])
+            .output()
+            .unwrap();
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+        copc
+    })
+}
+
+/// The east tile comes from a real HTTP server, its URL typed in the Model section.
+#[test]
+fn streamed_layers_share_the_windows_one_budget_and_the_statistics_give_each_share() {
+    let dir = tempfile::tempdir().unwrap();
+    let [west, _] = copc_tiles(dir.path());
+    let server = common::nginx::Nginx::serve(dir.path());
+    let budget = 60_000;
+    let parameters = vec![(pointblend::frame::Parameter::PointBudget, budget.to_string())];
+    let viewer = ViewerOptions { file: Some(west), mode: Some(RenderMode::TwoPass), parameters, ..options(dir.path()) };
+    let mut h = harness_sized(viewer, TALL);
+    wait_for(&mut h, "the west tile", settled_in(RenderMode::TwoPass));
+    h.get_by_label("URL").focus();
+    h.step();
+    h.get_by_label("URL").type_text(&server.url("east.copc.laz"));
+    h.step();
+    h.get_by_label("open URL").click();
+    h.step();
+    let shares = |app: &ViewerApp| app.stream_status().map(|s| s.layers).unwrap_or_default();
+    wait_for(&mut h, "both tiles streamed", |app| settled_in(RenderMode::TwoPass)(app) && shares(app).len() == 2);
+    h.key_press(egui::Key::Home);
+    wait_for(&mut h, "both tiles framed", |app| {
+        settled_in(RenderMode::TwoPass)(app)
+            && app.stream_status().is_some_and(|s| s.view.is_some_and(|v| v.camera == app.camera()))
+    });
+    let layers = shares(h.state());
+    let names: Vec<&str> = layers.iter().map(|(name, _, _)| name.as_str()).collect();
+    assert_eq!(names, ["west.copc.laz", "east.copc.laz"]);
+    let total: usize = layers.iter().map(|(_, points, _)| points).sum();
+    assert!(layers.iter().all(|(_, points, nodes)| *points > 0 && *nodes > 0), "each tile drawn: {layers:?}");
+    assert!(total <= budget && total > budget / 2, "{total} points drawn under the one budget of {budget}: {layers:?}");
+    assert_eq!(h.state().model().map(|m| m.scene.objects.len()), Some(2), "one object per file");
+    for (name, _, nodes) in &layers {
+        let share = [format!("{name}: "), format!(" points of {nodes} nodes")];
+        assert!(share.iter().all(|part| h.query_by_label_contains(part).is_some()), "the statistics give {share:?}");
+    }
+}

@@ -100,7 +100,8 @@ fn a_polygons_volume_against_a_base_layer_is_measure_bases_cut_and_fill() {
     let after = write(&dir.path().join("after.las"), &slope(3.0), [0.0; 3], None);
     let before = write(&dir.path().join("before.las"), &slope(0.0), [0.0; 3], None);
     let viewer = ViewerOptions { file: Some(after.clone()), mode: Some(RenderMode::TwoPass), ..options(dir.path()) };
-    let mut h = harness_sized(viewer, TALL);
+    // Taller: the two layers' rows push the polygon's section down the panel.
+    let mut h = harness_sized(viewer, [900.0, 1700.0]);
     wait_for(&mut h, "the ground after", settled_in(RenderMode::TwoPass));
     h.input_mut().dropped_files.push(std::sync::Arc::new(Dropped(before.clone())));
     h.step();

@@ -163,6 +163,7 @@ impl ViewerApp {
             screenshot_size: ScreenshotSize::Window,
             opacity_pending: None,
             layer_opacity_pending: None,
+            url_text: String::new(),
             time: options.time.unwrap_or(0.0),
             playing: false,
             moving_budget: super::state::DEFAULT_MOVING_BUDGET,

@@ -48,6 +48,7 @@ mod selection;
 mod selection_clip;
 mod state;
 mod stats;
+mod stream_layers;
 mod stream_source;
 mod streaming;
 mod view3d;

@@ -88,6 +88,19 @@ fn model_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, actions
         }
         ui.label(RichText::new("or drop files: each adds a layer").weak());
     });
+    ui.horizontal(|ui| {
+        let field =
+            egui::TextEdit::singleline(&mut state.url_text).hint_text("https://…/tile.copc.laz").desired_width(120.0);
+        let label = ui.label("URL");
+        ui.add(field)
+            .labelled_by(label.id)
+            .on_hover_text("a COPC file or a .vpc over HTTP(S): streamed node by node, added as a layer");
+        let url = state.url_text.trim();
+        let opens = url.starts_with("http://") || url.starts_with("https://");
+        if ui.add_enabled(opens, egui::Button::new("open URL")).clicked() {
+            actions.push(Action::Open(std::path::PathBuf::from(url)));
+        }
+    });
     if let Some(e) = info.load_error {
         ui.colored_label(egui::Color32::LIGHT_RED, format!("Could not open: {e}"));
     }

@@ -258,6 +258,7 @@ mod tests {
             screenshot_size: ScreenshotSize::Window,
             opacity_pending: None,
             layer_opacity_pending: None,
+            url_text: String::new(),
             time: 0.0,
             playing: false,
             moving_budget: 100_000,

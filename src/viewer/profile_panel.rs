@@ -7,8 +7,8 @@
 
 use egui::{Color32, RichText, Ui};
 
-use super::profile_pick::{SectionLayout, SectionMeasure};
-use super::state::{Action, Inspection, ProfileSlab};
+use super::profile_pick::SectionMeasure;
+use super::state::{Action, Inspection, ProfileSlab, SectionLayout};
 
 /// Most points drawn in the panel (every n-th beyond it); the export writes all.
 const DRAWN_AT_MOST: usize = 60_000;

@@ -9,18 +9,10 @@
 
 use glam::DVec3;
 
-use super::state::ProfileSlab;
+use super::state::{ProfileSlab, SectionLayout};
 
 /// How far from a drawn point (points on screen) a click still takes it.
 pub const PICK_REACH: f32 = 8.0;
-
-/// Where the section is drawn: its rectangle, the lowest height, and points on screen per file unit.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SectionLayout {
-    pub rect: egui::Rect,
-    pub low: f64,
-    pub scale: f64,
-}
 
 /// The margin kept inside the section's rectangle, in points.
 const MARGIN: f32 = 4.0;

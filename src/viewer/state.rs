@@ -83,6 +83,8 @@ pub struct UiState {
     /// The opacity slider's value while it is dragged, and until the model
     /// holds the value it was let go at.
     pub opacity_pending: Option<f32>,
+    /// The URL typed in the Model section, to open.
+    pub url_text: String,
     /// A layer's opacity slider while it is dragged: the layer and its value.
     pub layer_opacity_pending: Option<(usize, f32)>,
     /// A moving scene's time (seconds) and whether it plays.
@@ -163,7 +165,7 @@ pub struct Inspection {
     pub profile_width: f64,
     /// The points picked on the profile's section (at most two: a measure) and where it was last drawn.
     pub profile_marks: Vec<glam::DVec3>,
-    pub profile_layout: Option<super::profile_pick::SectionLayout>,
+    pub profile_layout: Option<SectionLayout>,
 }
 
 impl Inspection {
@@ -365,6 +367,15 @@ pub struct PolygonReport {
 
 /// What a profile's slab was cut from: the line's ends, the width's bits and the model's generation.
 pub type ProfileKey = (Vec<glam::DVec3>, u64, u64);
+
+/// Where the profile's section is drawn: its rectangle, the lowest
+/// height, and points on screen per file unit (`profile_pick.rs`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SectionLayout {
+    pub rect: egui::Rect,
+    pub low: f64,
+    pub scale: f64,
+}
 
 /// A profile's slab of the points on screen: its points (file coordinates)
 /// and their colours as the view draws them.

@@ -119,4 +119,8 @@ fn streaming_lines(ui: &mut Ui, s: &super::stream_source::StreamStatus, refining
         s.stats.failed
     ));
     ui.label(format!("node cache: {:.0} of {:.0} MB ({nodes} nodes)", used as f64 / 1e6, bound as f64 / 1e6));
+    // Streamed layers: each file's share of the one budget.
+    for (name, points, nodes) in &s.layers {
+        ui.label(format!("{name}: {} points of {nodes} nodes", thousands(*points)));
+    }
 }

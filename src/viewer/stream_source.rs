@@ -14,7 +14,9 @@
 //! frame beyond those wait for the next ones, so one frame's upload is
 //! bounded (524,288 points are 18.9 MB of records per GPU copy). The
 //! job's progress bar is the "refining" bar, and the statistics show what
-//! is shown, what was read, how fast, and the cache.
+//! is shown, what was read, how fast, and the cache. A `.vpc` of streamed
+//! files (the layers' own, or one opened) is one source of several streams
+//! under one budget (`stream_layers.rs`).
 
 use std::path::Path;
 use std::sync::{Arc, Mutex};
@@ -57,16 +59,25 @@ pub struct StreamStatus {
     pub mb_per_s: Option<f64>,
     /// The view the last selection was made for.
     pub view: Option<ViewKey>,
+    /// Streamed layers: each file's name, and the points and nodes of it drawn.
+    pub layers: Vec<(String, usize, usize)>,
+}
+
+/// What a source streams: one file, or several as layers under one budget.
+pub(super) enum Streams {
+    One(Box<StreamSubset>),
+    Layers(crate::copc::layered::LayeredStreams),
 }
 
 /// A streamed file, shared by the models of its selections.
 pub struct StreamedSource {
     /// The stream, whose frames are chosen as a [`Subset`] (as `render` and bench choose theirs).
-    subset: Mutex<StreamSubset>,
-    status: Mutex<StreamStatus>,
-    /// The file's bounds ([`crate::copc::CopcStream::bounds_cloud`]), kept so that the
-    /// window frames the file without waiting for a loading step's lock.
-    bounds: crate::cloud::PointCloud,
+    pub(super) streams: Mutex<Streams>,
+    pub(super) status: Mutex<StreamStatus>,
+    /// The file's bounds ([`crate::copc::CopcStream::bounds_cloud`]; the
+    /// layers' together), kept so that the window frames the file without
+    /// waiting for a loading step's lock.
+    pub(super) bounds: crate::cloud::PointCloud,
 }
 
 impl std::fmt::Debug for StreamedSource {
@@ -77,11 +88,14 @@ impl std::fmt::Debug for StreamedSource {
 
 impl StreamedSource {
     pub fn open(path: &Path, options: StreamOptions) -> Result<Arc<Self>, String> {
+        if crate::scene::vpc::is_vpc(path) {
+            return Self::open_layers(path, options);
+        }
         let stream = crate::copc::open_nodes(path, options).map_err(|e| e.to_string())?;
         let bounds = stream.bounds_cloud();
         let subset = StreamSubset::new(stream, StreamBudget::Default, LoadOptions::default());
         let status = Mutex::new(StreamStatus::default());
-        Ok(Arc::new(Self { subset: Mutex::new(subset), status, bounds }))
+        Ok(Arc::new(Self { streams: Mutex::new(Streams::One(Box::new(subset))), status, bounds }))
     }
 
     pub fn status(&self) -> StreamStatus {
@@ -111,6 +125,9 @@ impl StreamedSource {
         view: ViewKey,
         (interim, pace): (&mut ShowStep<'_>, &dyn Fn() -> Duration),
     ) -> Result<Option<Shown>, String> {
+        if self.is_layered() {
+            return self.layers_scene(view).map(Some);
+        }
         let started = Instant::now();
         crate::progress::stage("selecting and loading nodes");
         let mut shown: Option<Instant> = None;
@@ -145,20 +162,26 @@ impl StreamedSource {
         }
     }
 
-    fn subset(&self) -> Result<std::sync::MutexGuard<'_, StreamSubset>, String> {
-        self.subset.lock().map_err(|_| "the stream was poisoned".to_string())
+    /// `work` on the one file's stream, under the source's lock.
+    fn with_subset<R>(&self, work: impl FnOnce(&mut StreamSubset) -> Result<R, String>) -> Result<R, String> {
+        let mut streams = self.streams.lock().map_err(|_| "the stream was poisoned".to_string())?;
+        match &mut *streams {
+            Streams::One(subset) => work(subset),
+            Streams::Layers(_) => Err("the source streams layers".to_string()),
+        }
     }
 
     /// One loading step of [`Self::scene`]; returns what remains to load,
     /// and the points the next step loads.
     fn load_step(&self, view: ViewKey) -> Result<(Left, u64), String> {
-        let mut subset = self.subset()?;
-        let before = subset.stream.stats();
-        subset.budget = view.budget;
-        let step = (subset.last.points as u64).clamp(FIRST_STEP, LARGEST_STEP);
-        let left = subset.load_step(&view.camera, view.size, view.choosing, step).map_err(|e| e.to_string())?;
-        self.record(&subset, view, before)?;
-        Ok((left, step))
+        self.with_subset(|subset| {
+            let before = subset.stream.stats();
+            subset.budget = view.budget;
+            let step = (subset.last.points as u64).clamp(FIRST_STEP, LARGEST_STEP);
+            let left = subset.load_step(&view.camera, view.size, view.choosing, step).map_err(|e| e.to_string())?;
+            self.record(subset, view, before)?;
+            Ok((left, step))
+        })
     }
 
     /// The scene of the nodes of `view` loaded so far, adding at most
@@ -166,24 +189,27 @@ impl StreamedSource {
     /// last one drew), `left` nodes short of the view; and the nodes loaded
     /// but held back by that bound.
     fn gather(&self, name: &str, view: ViewKey, left: usize, adding: u64) -> Result<(Option<Shown>, usize), String> {
-        let mut subset = self.subset()?;
-        let before = subset.stream.stats();
-        let choice = subset.choose_loaded(&view.camera, view.size, view.choosing, adding).map_err(|e| e.to_string())?;
-        self.record(&subset, view, before)?;
-        let last = &subset.last;
-        log::info!(
-            "{}: {} points of {} nodes, {left} nodes left to load",
-            subset.stream.name(),
-            last.points,
-            last.drawn
-        );
-        let (grouping, spans) = (choice.grouping, choice.spans);
-        let scene = choice.cloud.map(|cloud| {
-            let scene =
-                Scene::single(name.to_string(), cloud, choice.key).with_node_grouping(grouping).with_node_spans(spans);
-            (scene, last.warnings.clone())
-        });
-        Ok((scene, last.held_back))
+        self.with_subset(|subset| {
+            let before = subset.stream.stats();
+            let choice =
+                subset.choose_loaded(&view.camera, view.size, view.choosing, adding).map_err(|e| e.to_string())?;
+            self.record(subset, view, before)?;
+            let last = &subset.last;
+            log::info!(
+                "{}: {} points of {} nodes, {left} nodes left to load",
+                subset.stream.name(),
+                last.points,
+                last.drawn
+            );
+            let (grouping, spans) = (choice.grouping, choice.spans);
+            let scene = choice.cloud.map(|cloud| {
+                let scene = Scene::single(name.to_string(), cloud, choice.key)
+                    .with_node_grouping(grouping)
+                    .with_node_spans(spans);
+                (scene, last.warnings.clone())
+            });
+            Ok((scene, last.held_back))
+        })
     }
 
     /// What the statistics show after a step that began at `before`.
@@ -202,6 +228,7 @@ impl StreamedSource {
             cache: stream.cache_usage(),
             mb_per_s: if read > 0 && seconds > 0.0 { Some(read as f64 / 1e6 / seconds) } else { status.mb_per_s },
             view: Some(view),
+            layers: Vec::new(),
         };
         Ok(())
     }

@@ -95,9 +95,10 @@ impl ViewerApp {
         }));
     }
 
-    /// Whether the window draws `path` node by node ([`crate::copc::window_draws_by_nodes`]).
+    /// Whether the window draws `path` node by node ([`crate::copc::window_draws_by_nodes`]),
+    /// or a `.vpc` of streamed files as layers under one budget.
     pub(super) fn drawn_by_nodes(&self, path: &std::path::Path) -> bool {
-        crate::copc::window_draws_by_nodes(path, self.stream_budget())
+        super::stream_layers::streams_layers(path) || crate::copc::window_draws_by_nodes(path, self.stream_budget())
     }
 
     /// The budget a streamed view selects under: the panel's, else every
@@ -105,6 +106,11 @@ impl ViewerApp {
     fn stream_budget(&self) -> StreamBudget {
         let all = self.options.parameters.iter().any(|(p, v)| *p == crate::frame::Parameter::PointBudget && v == "all");
         StreamBudget::of_settings(self.ui.settings.point_budget, all)
+    }
+
+    /// What the statistics show of the streamed model on screen, if it is streamed.
+    pub fn stream_status(&self) -> Option<super::stream_source::StreamStatus> {
+        Some(self.model.as_ref()?.streamed.as_ref()?.status())
     }
 
     /// A new slot for the steps of the job about to start (a cancelled

@@ -167,6 +167,12 @@ impl LayeredStreams {
         Ok(Self::new(streams, budget, load))
     }
 
+    /// Selects under `budget` from now on, all the files' points within it.
+    pub fn set_budget(&mut self, budget: StreamBudget) {
+        self.budget = budget;
+        self.layers.iter_mut().for_each(|l| l.budget = budget);
+    }
+
     /// The origin of the frame the camera is given in: the first file's.
     pub fn origin(&self) -> DVec3 {
         self.layers.first().map_or(DVec3::ZERO, |l| l.stream.tree.origin)

@@ -12,6 +12,7 @@ pub mod eye_ray;
 pub mod front_depth;
 pub mod kernel;
 pub mod lights;
+pub mod look;
 pub mod modes;
 pub mod parameters;
 pub mod prefilter;

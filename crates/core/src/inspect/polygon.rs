@@ -55,16 +55,7 @@ impl Polygon {
 
     /// Whether `p` is inside (even-odd rule).
     pub fn contains(&self, p: DVec2) -> bool {
-        let mut inside = false;
-        for (a, b) in self.edges() {
-            if (a.y > p.y) != (b.y > p.y) {
-                let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
-                if p.x < x {
-                    inside = !inside;
-                }
-            }
-        }
-        inside
+        crate::spatial::even_odd::contains(&self.vertices, p)
     }
 
     /// The distance from `p` to the nearest edge.

@@ -7,12 +7,11 @@
 //! [`Materials`] are the overrides the command line gives every object of a
 //! scene (`--opacity`, `--color`, and colour and opacity by attribute), as
 //! `render`, `bench` and the viewer apply them. A [`Look`] is one object's
-//! opacity and colour, as the viewer's layer list sets them per layer and
-//! a screenshot's sidecar records them for `render --camera`.
+//! opacity and colour ([`crate::frame::look`]), set per object here.
 
 use std::sync::Arc;
 
-use serde::{Deserialize, Serialize};
+pub use crate::frame::look::Look;
 
 use crate::style::Style;
 
@@ -77,40 +76,10 @@ impl Material {
     }
 }
 
-/// One object's opacity and the colour that replaces its splats' own (none: theirs).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Look {
-    pub opacity: f32,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub colour: Option<[u8; 3]>,
-}
-
-impl Default for Look {
-    fn default() -> Self {
-        Self { opacity: 1.0, colour: None }
-    }
-}
-
-impl Look {
-    /// The look of an object drawn in `material`.
-    pub fn of(material: &Material) -> Self {
-        Self { opacity: material.opacity, colour: material.colour }
-    }
-
-    /// Checks the opacity is in 0..1.
-    pub fn check(&self) -> Result<(), String> {
-        if (0.0..=1.0).contains(&self.opacity) {
-            Ok(())
-        } else {
-            Err(format!("'{}' is not an opacity in 0..1", self.opacity))
-        }
-    }
-}
-
 impl super::Scene {
     /// Each object's look, in order.
     pub fn looks(&self) -> Vec<Look> {
-        self.objects.iter().map(|o| Look::of(&o.material)).collect()
+        self.objects.iter().map(|o| Look { opacity: o.material.opacity, colour: o.material.colour }).collect()
     }
 
     /// Gives object k `looks[k]` (two-sided when it or its style is

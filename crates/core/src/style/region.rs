@@ -2,8 +2,8 @@
 //! hidden. A region is a shape in normalised device coordinates (a box's
 //! four corners or a lasso's outline) and the camera it was drawn through;
 //! it holds every point in front of that camera whose place on screen falls
-//! inside the shape (by the even-odd rule,
-//! [`crate::inspect::polygon::Polygon::contains`]), at any depth: a prism
+//! inside the shape (by the even-odd rule, [`crate::spatial::even_odd`]),
+//! at any depth: a prism
 //! through the scene in orthographic, a cone from the eye in perspective, as
 //! a segmentation tool cuts. It is part of the [`super::Style`], beside the
 //! attribute filters, so the view, every mode, the reference, the viewer's
@@ -13,8 +13,6 @@
 
 use glam::{DMat4, DVec2, DVec3};
 use serde::{Deserialize, Serialize};
-
-use crate::inspect::polygon::Polygon;
 
 /// A shape on screen through a camera, and whether its inside is kept or hidden.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -39,8 +37,8 @@ impl Region {
         if clip.w <= 0.0 || !clip.is_finite() {
             return false;
         }
-        let outline = Polygon { vertices: self.outline.iter().map(|v| DVec2::from(*v)).collect() };
-        outline.contains(DVec2::new(clip.x / clip.w, clip.y / clip.w))
+        let outline: Vec<DVec2> = self.outline.iter().map(|v| DVec2::from(*v)).collect();
+        crate::spatial::even_odd::contains(&outline, DVec2::new(clip.x / clip.w, clip.y / clip.w))
     }
 
     /// Whether the point at `file` is shown: held and kept, or not held and hidden.

@@ -96,7 +96,7 @@ pub struct Sidecar {
     /// Each object's opacity and colour (a layer's each), where the window
     /// changed one from the file's (absent: as loaded).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub looks: Vec<crate::scene::Look>,
+    pub looks: Vec<super::look::Look>,
 }
 
 /// A profile's line (X1, Y1, X2, Y2, file coordinates) and its slab's width.
@@ -286,7 +286,7 @@ mod tests {
         // line once came back one bit off: JSON numbers are now parsed exactly).
         let line = [1004.0077452159455, 2011.9775082895771, 1035.9657060557554, 2023.0247046292645];
         sidecar.profile = Some(ProfileRecord { line, width: 1.6000000000000014 });
-        sidecar.looks = vec![crate::scene::Look { opacity: 0.38, colour: Some([220, 60, 50]) }];
+        sidecar.looks = vec![super::super::look::Look { opacity: 0.38, colour: Some([220, 60, 50]) }];
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("view.json");
         sidecar.write(&path).unwrap();
