@@ -81,6 +81,15 @@ impl Model {
     /// This model coloured and made translucent by `style` (or as loaded),
     /// from the file's own values; an error names what the file lacks.
     pub fn with_style(&self, style: Option<Arc<Style>>, generation: u64) -> Result<Model, String> {
+        // No colours named: those the first object is drawn in (survey data's default), so the panel shows them.
+        let first = self.unstyled.objects.first().map(|o| &o.cloud);
+        let style = match (style, first) {
+            (Some(s), Some(cloud)) if s.color_by.is_none() => {
+                let color_by = Style::default_for(cloud).and_then(|d| d.color_by);
+                Some(Arc::new(Style { color_by, ..(*s).clone() }))
+            }
+            (style, _) => style,
+        };
         let mut scene = (*self.unstyled).clone();
         if let Some(style) = &style {
             scene.apply_style(style)?;

@@ -138,12 +138,14 @@ pub fn other(projection: Projection) -> Projection {
 }
 
 /// The help overlay: [`INPUTS`] in two columns over a dark panel in the
-/// view's upper right corner.
+/// view's upper right corner, as wide as its longest line (at most the view's width).
 pub fn draw_help(painter: &Painter, view: Rect) {
     let font = FontId::proportional(13.0);
     let row = 17.0;
-    let key_width = 170.0;
-    let size = vec2(key_width + 330.0, row * (INPUTS.len() as f32 + 1.0) + 12.0);
+    let width = |text: &str| painter.layout_no_wrap(text.to_string(), font.clone(), Color32::WHITE).size().x;
+    let key_width = INPUTS.iter().map(|(input, _)| width(input)).fold(0.0, f32::max) + 24.0;
+    let does_width = INPUTS.iter().map(|(_, does)| width(does)).fold(0.0, f32::max) + 16.0;
+    let size = vec2((key_width + does_width).min(view.width() - 20.0), row * (INPUTS.len() as f32 + 1.0) + 12.0);
     let panel = Rect::from_min_size(pos2(view.right() - size.x - 10.0, view.top() + 10.0), size);
     painter.rect_filled(panel, 4.0, Color32::from_black_alpha(200));
     let mut y = panel.top() + 6.0;

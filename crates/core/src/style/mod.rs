@@ -133,7 +133,13 @@ impl Style {
         } else {
             cloud.clone()
         };
-        match &self.color_by {
+        // No colours asked for, on survey data without colours: the colours it opens in (its
+        // classes or its elevation), as with no style at all, so a filter alone keeps them.
+        let color_by = match &self.color_by {
+            None => Style::default_for(cloud).and_then(|s| s.color_by),
+            given => given.clone(),
+        };
+        match &color_by {
             None | Some(ColorBy::Rgb) => {}
             Some(ColorBy::Classification) => {
                 let class = column(&out, names::CLASSIFICATION, "classification colours")?;
@@ -232,6 +238,19 @@ mod tests {
         cloud.attributes.push("intensity", Values::U16((0..n as u16).collect()));
         cloud.attributes.push(names::CLASSIFICATION, Values::U8((0..n).map(|i| [2, 5][i % 2]).collect()));
         cloud
+    }
+
+    #[test]
+    fn a_filter_alone_keeps_the_colours_survey_data_opens_in() {
+        let survey = PointCloud { colourless: true, z_up: true, ..cloud(6) };
+        let filter = Style { filters: vec!["intensity=1..4".parse().unwrap()], ..Default::default() };
+        let (filtered, _) = filter.apply(&survey).unwrap();
+        let want: Vec<[u8; 3]> = [5, 2, 5, 2].iter().map(|&c| classes::colour(c)).collect();
+        assert_eq!(filtered.colours, want, "classes, as with no style");
+        let rgb = Style { color_by: Some(ColorBy::Rgb), ..filter.clone() };
+        assert_eq!(rgb.apply(&survey).unwrap().0.colours, vec![[10, 20, 30]; 4], "rgb asked for: the file's own");
+        let coloured = PointCloud { colourless: false, ..survey };
+        assert_eq!(filter.apply(&coloured).unwrap().0.colours, vec![[10, 20, 30]; 4], "a file with colours keeps them");
     }
 
     #[test]
