@@ -46,8 +46,13 @@ fn a_box_selection_exports_the_points_inside_it_with_every_field() {
     let out = dir.path().join("selected.las");
     let ctx = h.ctx.clone();
     h.state_mut().export_selection(&ctx, &out);
+    // A second export asked while the first runs waits its turn: the first is not dropped.
+    let second = dir.path().join("second.las");
+    h.state_mut().export_selection(&ctx, &second);
+    assert!(h.state().status().is_some_and(|s| s.contains("under way")), "{:?}", h.state().status());
     wait_for(&mut h, "the export", |app| !app.is_exporting());
     assert!(h.state().status().is_some_and(|s| s.starts_with("exported")), "{:?}", h.state().status());
+    assert!(!second.exists(), "the second export was not started");
 
     let (header_in, all) = points_of(&file);
     let (header_out, selected) = points_of(&out);

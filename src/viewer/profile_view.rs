@@ -69,6 +69,9 @@ impl ViewerApp {
     /// Writes the slab of every shown file to `output`: CSV rows (`.csv`),
     /// the records (LAS, LAZ, PLY), or the section drawn (PNG, JPEG), in the background.
     pub fn export_profile(&mut self, ctx: &egui::Context, output: &Path) {
+        if self.export_under_way() {
+            return;
+        }
         let (Some(model), Some(Ok(slab))) = (&self.model, self.profile_slab()) else {
             self.status = Some("no profile to export: click its line's two ends with the profile tool".into());
             return;

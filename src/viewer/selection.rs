@@ -103,6 +103,9 @@ impl ViewerApp {
     /// Exports the selection to `output` in the background (its count and
     /// files in the status line when done).
     pub fn export_selection(&mut self, ctx: &egui::Context, output: &Path) {
+        if self.export_under_way() {
+            return;
+        }
         let (Some(model), Some(selection)) = (&self.model, &self.ui.inspect.selection) else {
             self.status = Some("no selection to export: draw a box or a lasso with the select or lasso tool".into());
             return;
@@ -183,6 +186,15 @@ impl ViewerApp {
     /// Whether an export is under way.
     pub fn is_exporting(&self) -> bool {
         self.export.is_some()
+    }
+
+    /// Whether an export is under way, said in the status line: one runs at a time, and its report is kept.
+    pub(super) fn export_under_way(&mut self) -> bool {
+        let busy = self.export.is_some();
+        if busy {
+            self.status = Some("an export is under way: the next one starts when it is done".into());
+        }
+        busy
     }
 }
 
