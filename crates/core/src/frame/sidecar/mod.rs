@@ -202,9 +202,12 @@ impl Sidecar {
         let shown = path.display().to_string();
         let text =
             crate::input::read_settings(path).map_err(|source| SidecarError::Io { path: shown.clone(), source })?;
-        let sidecar: Sidecar = serde_json::from_str(&text)
-            .map_err(|e| SidecarError::Format { path: shown.clone(), message: e.to_string() })?;
         let bad = |message: String| SidecarError::Format { path: shown.clone(), message };
+        // Through a JSON value: its numbers are read exactly as f64 (file coordinates to the last
+        // bit), and one too large for an f32 field becomes infinite there, which the checks below
+        // name, rather than a parse error at a column.
+        let value: serde_json::Value = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+        let sidecar: Sidecar = serde_json::from_value(value).map_err(|e| bad(e.to_string()))?;
         // The checks the command line's flags get.
         sidecar.settings().and_then(|s| s.check()).map_err(bad)?;
         sidecar.camera.check().map_err(bad)?;
