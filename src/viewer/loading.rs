@@ -19,7 +19,7 @@ impl ViewerApp {
         self.generations += 1;
         let generation = self.generations;
         let path = path.to_path_buf();
-        // A streamed file's nodes are drawn in the flags' looks.
+        // The shown layers' looks, taken for this load (a streamed file's nodes keep the flags' looks).
         let looks = self.pending_looks.take();
         if self.drawn_by_nodes(&path) {
             return self.open_streamed(ctx, path, generation);

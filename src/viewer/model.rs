@@ -100,22 +100,24 @@ impl Model {
 
     /// This model with every object at `opacity` (and two-sided when below 1).
     pub fn with_opacity(&self, opacity: f32, generation: u64) -> Model {
-        let mut scene = (*self.scene).clone();
-        scene.set_opacity(opacity);
-        let mut unstyled = (*self.unstyled).clone();
-        unstyled.set_opacity(opacity);
-        let model = Self::with_summary(&self.path, scene, self.warnings.clone(), generation, self.summary.clone());
-        Model { unstyled: Arc::new(unstyled), style: self.style.clone(), ..model }
+        self.with_materials(generation, |scene| scene.set_opacity(opacity))
     }
 
     /// This model with object k in `looks[k]` (each layer's opacity and colour).
     pub fn with_looks(&self, looks: &[crate::scene::Look], generation: u64) -> Result<Model, String> {
+        let mut checked = Ok(());
+        let model = self.with_materials(generation, |scene| checked = scene.set_looks(looks));
+        checked.map(|()| model)
+    }
+
+    /// This model with `edit` made to its objects' materials, drawn and as loaded alike.
+    fn with_materials(&self, generation: u64, mut edit: impl FnMut(&mut Scene)) -> Model {
         let mut scene = (*self.scene).clone();
-        scene.set_looks(looks)?;
+        edit(&mut scene);
         let mut unstyled = (*self.unstyled).clone();
-        unstyled.set_looks(looks)?;
+        edit(&mut unstyled);
         let model = Self::with_summary(&self.path, scene, self.warnings.clone(), generation, self.summary.clone());
-        Ok(Model { unstyled: Arc::new(unstyled), style: self.style.clone(), ..model })
+        Model { unstyled: Arc::new(unstyled), style: self.style.clone(), ..model }
     }
 
     /// This model in the environment map `map` (or in none).
