@@ -467,7 +467,8 @@ fn a_sidecar_gets_the_checks_the_flags_get() {
     };
     let valid = Sidecar::new(model_info, &Camera::framing(glam::Vec3::ZERO, 1.0, 1.0), &settings, (32, 32));
     let valid = serde_json::to_value(&valid).unwrap();
-    let cases: [(&str, &str, serde_json::Value, &str); 10] = [
+    let unordered = serde_json::json!([{"opacity": 1.0, "clip": {"min": [5.0, 0.0, 0.0], "max": [1.0, 1.0, 1.0]}}]);
+    let cases: [(&str, &str, serde_json::Value, &str); 12] = [
         ("size", "", serde_json::json!([100000, 100000]), "1..=16384"),
         ("parameters", "epsilon", serde_json::json!("0"), "epsilon=0: expected a positive"),
         ("parameters", "epsilon", serde_json::json!("-1"), "epsilon=-1: expected a positive"),
@@ -478,6 +479,8 @@ fn a_sidecar_gets_the_checks_the_flags_get() {
         ("parameters", "supersample", serde_json::json!("0"), "supersample=0: expected"),
         ("parameters", "no-such-key", serde_json::json!("1"), "'no-such-key' is not a parameter"),
         ("camera", "scene_radius", serde_json::json!(1e39), "camera"),
+        ("looks", "", unordered, "looks: the clip box must have finite corners with min <= max"),
+        ("looks", "", serde_json::json!([{"opacity": 2.0}]), "looks: '2' is not an opacity in 0..1"),
     ];
     for (section, key, value, expected) in cases {
         let mut bad = valid.clone();

@@ -1,13 +1,15 @@
 //! Layers in the viewer, driven with egui_kittest: a file dropped on the
 //! window is added as a layer beside the one shown (not in its place), the
-//! view stays where it was, and the layer list's box hides the layer again.
+//! view stays where it was, and the layer list's box hides the layer again;
+//! each layer's colour, opacity and cut to the clip box, drawn again by
+//! `render --camera`; streamed layers under one budget.
 
 mod common;
 
 use std::sync::Arc;
 
 use common::lidar::{tilted_grid, write};
-use common::viewer::{Dropped, choose, harness_sized, options, save_screenshot, settled_in, wait_for};
+use common::viewer::{Dropped, choose, drag, harness_sized, options, save_screenshot, settled_in, wait_for};
 use egui::accesskit::Role;
 use egui_kittest::kittest::Queryable;
 use glam::DVec3;
@@ -100,15 +102,23 @@ fn a_screenshot_of_an_ortho_filtered_two_layer_view_is_drawn_again_by_render_cam
     assert!(epsilon <= 0.05, "render --camera draws the screenshot again: ε = {epsilon:.3}");
 }
 
-#[test]
-fn a_layers_colour_and_opacity_are_drawn_kept_and_drawn_again_by_render_camera() {
-    let dir = tempfile::tempdir().unwrap();
-    let west = write(&dir.path().join("west.las"), &tilted_grid(60, 0.5, 0.0, [1000.0, 2000.0, 50.0]), [0.0; 3], None);
-    let east = write(&dir.path().join("east.las"), &tilted_grid(60, 0.5, 0.0, [1034.0, 2000.0, 50.0]), [0.0; 3], None);
-    let east_centre = DVec3::new(1049.0, 2015.0, 50.0);
-    let shots = dir.path().join("shots");
-    let mode = RenderMode::DepthPeel;
-    let viewer = ViewerOptions { file: Some(west.clone()), mode: Some(mode), ..options(&shots) };
+/// A 60 × 60 tile of points 0.5 apart, level, from x = `x0`.
+fn tile(x0: f64) -> Vec<common::lidar::LidarPoint> {
+    tilted_grid(60, 0.5, 0.0, [x0, 2000.0, 50.0])
+}
+
+/// Where the east tile starts: 4 units east of the west one's end.
+const EAST_X: f64 = 1034.0;
+
+/// The west tile open in `mode` (screenshots in `dir/shots`), the east one
+/// dropped beside it, both framed (Home); the window and the two files.
+fn two_tiles(
+    dir: &std::path::Path,
+    mode: RenderMode,
+) -> (egui_kittest::Harness<'static, ViewerApp>, std::path::PathBuf, std::path::PathBuf) {
+    let west = write(&dir.join("west.las"), &tile(1000.0), [0.0; 3], None);
+    let east = write(&dir.join("east.las"), &tile(EAST_X), [0.0; 3], None);
+    let viewer = ViewerOptions { file: Some(west.clone()), mode: Some(mode), ..options(&dir.join("shots")) };
     let mut h = harness_sized(viewer, TALL);
     wait_for(&mut h, "the west tile", settled_in(mode));
     h.input_mut().dropped_files.push(Arc::new(Dropped(east.clone())));
@@ -116,6 +126,16 @@ fn a_layers_colour_and_opacity_are_drawn_kept_and_drawn_again_by_render_camera()
     wait_for(&mut h, "both tiles", |app| settled_in(mode)(app) && objects(app) == 2);
     h.key_press(egui::Key::Home);
     h.step();
+    (h, west, east)
+}
+
+#[test]
+fn a_layers_colour_and_opacity_are_drawn_kept_and_drawn_again_by_render_camera() {
+    let dir = tempfile::tempdir().unwrap();
+    let east_centre = DVec3::new(1049.0, 2015.0, 50.0);
+    let shots = dir.path().join("shots");
+    let mode = RenderMode::DepthPeel;
+    let (mut h, west, east) = two_tiles(dir.path(), mode);
 
     let red = [220, 60, 50];
     let east_look = |app: &ViewerApp| app.model().map(|m| m.scene.objects[1].material);
@@ -154,6 +174,62 @@ fn a_layers_colour_and_opacity_are_drawn_kept_and_drawn_again_by_render_camera()
     let shot = image::open(&png).unwrap().to_rgba8();
     let rendered = common::viewer::render_again(&[&west, &east], &sidecar, dir.path());
     let epsilon = common::mean_difference(&shot, &rendered);
+    assert!(epsilon <= 0.05, "render --camera draws the screenshot again: ε = {epsilon:.3}");
+}
+
+#[test]
+fn a_layer_cut_to_the_clip_box_stays_cut_while_the_other_is_whole_and_render_camera_cuts_it_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let shots = dir.path().join("shots");
+    let mode = RenderMode::TwoPass;
+    let (mut h, west, east) = two_tiles(dir.path(), mode);
+    wait_for(&mut h, "both tiles framed", settled_in(mode));
+
+    // The clip box's +x face dragged to the middle of the east tile.
+    h.get_by_label("clip box").click();
+    wait_for(&mut h, "the clip box", |app| app.is_settled() && app.inspection().clip_box.is_some());
+    let handle = h.state().clip_handle(1).expect("the +x handle is on screen");
+    let to = h.state().screen_position(DVec3::new(1049.0, 2015.0, 50.0)).unwrap();
+    drag(&mut h, handle, to, 8);
+    wait_for(&mut h, "the clipped frame", |app| {
+        settled_in(mode)(app) && app.shown_frame().is_some_and(|(_, k)| !k.settings.clip.is_empty())
+    });
+    let clip_box = h.state().inspection().clip_box.unwrap();
+    let east_cut = |app: &ViewerApp| app.model().and_then(|m| m.scene.objects.get(1).and_then(|o| o.clip_box()));
+    h.get_by_role_and_label(Role::CheckBox, "clip 2").click();
+    wait_for(&mut h, "the east tile cut", |app| settled_in(mode)(app) && east_cut(app) == Some(clip_box));
+    h.get_by_label("clip box").click();
+    wait_for(&mut h, "the clip switched off", |app| {
+        settled_in(mode)(app) && app.shown_frame().is_some_and(|(_, k)| k.settings.clip.is_empty())
+    });
+
+    let model = h.state().model().unwrap();
+    let inside =
+        |p: &common::lidar::LidarPoint| (0..3).all(|a| (clip_box.min[a]..=clip_box.max[a]).contains(&p.xyz[a]));
+    let expected = tile(EAST_X).iter().filter(|p| inside(p)).count();
+    assert!(expected > 0 && expected < 3600, "the box holds part of the east tile: {expected} points");
+    assert_eq!(model.scene.objects[1].cloud.len(), expected, "the east tile keeps the points inside the box");
+    assert_eq!(model.scene.objects[0].cloud.len(), 3600, "the west tile stays whole");
+    assert_eq!(model.scene.objects[0].clip_box(), None);
+    let (west_edge, east_edge) = (DVec3::new(1029.0, 2015.0, 50.0), DVec3::new(1063.0, 2015.0, 50.0));
+    assert!(drawn_at(h.state(), west_edge), "the west tile is drawn to its east edge");
+    assert!(!drawn_at(h.state(), east_edge), "the east tile's far half is cut");
+
+    let png = save_screenshot(&mut h, &shots);
+    let sidecar = png.with_extension("json");
+    let recorded: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&sidecar).unwrap()).unwrap();
+    assert_eq!(
+        recorded["looks"][1]["clip"]["max"][0],
+        serde_json::json!(clip_box.max[0]),
+        "the sidecar records the cut"
+    );
+    assert!(recorded["looks"][0].get("clip").is_none(), "and the whole layer without one");
+    // The screenshot, for people to look at (target/tmp).
+    std::fs::copy(&png, std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("viewer-layer-cut.png")).unwrap();
+    let shot = image::open(&png).unwrap().to_rgba8();
+    let rendered = common::viewer::render_again(&[&west, &east], &sidecar, dir.path());
+    let epsilon = common::mean_difference(&shot, &rendered);
+    eprintln!("{expected} of 3600 east points kept; render --camera ε = {epsilon:.4}");
     assert!(epsilon <= 0.05, "render --camera draws the screenshot again: ε = {epsilon:.3}");
 }
 

@@ -9,8 +9,8 @@ use pointblend::frame::{Camera, Parameter, RenderMode, RenderSettings, Sidecar, 
 use pointblend::lod::Choosing;
 use pointblend::reference::{self, ReferenceOptions};
 use pointblend::render::{Frame, GpuRenderer, PreparedScene, Readback};
-use pointblend::scene::Scene;
 use pointblend::scene::environment_map::EnvironmentMap;
+use pointblend::scene::{Look, Scene};
 
 use super::shared::{self, CameraArgs, ViewArgs};
 use super::stream_args::StreamedFlight;
@@ -275,8 +275,8 @@ fn open_scene(args: &Args, sidecar: Option<&Sidecar>, first: Option<Camera>) -> 
 }
 
 /// A screenshot's colours by attribute and filters, unless the command
-/// line gives its own, and each object's opacity and colour (each layer's),
-/// unless it gives `--opacity` or `--color`.
+/// line gives its own, each object's opacity and colour (each layer's),
+/// unless it gives `--opacity` or `--color`, and each object's cut.
 fn apply_screenshot_style(args: &Args, sidecar: Option<&Sidecar>, scene: &mut Scene) -> Result<()> {
     let (Some(sidecar), Some(path)) = (sidecar, &args.camera) else { return Ok(()) };
     if let (None, Some(record)) = (args.view.scene.style(), sidecar.style.as_ref()) {
@@ -284,8 +284,14 @@ fn apply_screenshot_style(args: &Args, sidecar: Option<&Sidecar>, scene: &mut Sc
         scene.apply_style(&style).map_err(anyhow::Error::msg)?;
     }
     let flags = &args.view.scene;
-    if !sidecar.looks.is_empty() && flags.opacity.is_none() && flags.colour.is_none() {
-        scene.set_looks(&sidecar.looks).map_err(|e| anyhow::anyhow!("{}: looks: {e}", path.display()))?;
+    if !sidecar.looks.is_empty() {
+        let mut looks = sidecar.looks.clone();
+        if (flags.opacity.is_some() || flags.colour.is_some()) && looks.len() == scene.objects.len() {
+            // The flags' opacity and colour, and each layer's cut as recorded.
+            looks =
+                scene.looks().into_iter().zip(&sidecar.looks).map(|(now, l)| Look { clip: l.clip, ..now }).collect();
+        }
+        scene.set_looks(&looks).map_err(|e| anyhow::anyhow!("{}: looks: {e}", path.display()))?;
     }
     Ok(())
 }

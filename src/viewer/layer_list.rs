@@ -10,8 +10,8 @@
 //! file, each with its f64 origin, one CRS, their seams mended). One shown
 //! layer is opened as the file itself. The camera stays where it was, moved
 //! by the difference of the frames' origins when the first layer changes.
-//! A layer's opacity and colour ([`Look`]) are its object's material
-//! ([`crate::scene::Scene::set_looks`]): set on the model on screen, and
+//! A layer's opacity, colour and cut ([`Look`]) are its object's material
+//! and box ([`crate::scene::Scene::set_looks`]): set on the model on screen, and
 //! again on each model the shown layers open as; a screenshot's sidecar
 //! records them for `render --camera`.
 
@@ -106,7 +106,7 @@ impl ViewerApp {
     /// The look the command line's `--opacity` and `--color` give an object.
     fn flags_look(&self) -> Look {
         let materials = &self.options.materials;
-        Look { opacity: materials.opacity.unwrap_or(1.0), colour: materials.colour }
+        Look { opacity: materials.opacity.unwrap_or(1.0), colour: materials.colour, clip: None }
     }
 
     /// Draws layer `k` in `look`; a shown layer's object now, a hidden one's when it is shown.

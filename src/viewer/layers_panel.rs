@@ -1,10 +1,12 @@
 //! The Model section's list of layers (`layer_list.rs`), once there are
 //! two: per layer a box to show or hide it, its opacity, a colour that
-//! replaces its splats' own, and its remove button, as [`Action`]s.
+//! replaces its splats' own, a box to cut it to the Inspect section's clip
+//! box ([`crate::scene::cut`]), and its remove button, as [`Action`]s.
 
 use egui::{RichText, Ui};
 
 use super::state::{Action, PanelInfo};
+use crate::frame::clip::{ClipBox, Hidden};
 use crate::scene::Look;
 
 /// The colours a layer can be drawn in instead of its own, by name.
@@ -27,10 +29,12 @@ fn colour_name(colour: Option<[u8; 3]>) -> String {
     }
 }
 
-/// The panel's list: per layer its box (shown or hidden), opacity, colour and remove button.
+/// The panel's list: per layer its box (shown or hidden), opacity, colour,
+/// cut (to `clip_box`, the Inspect section's) and remove button.
 pub fn layers_section(
     ui: &mut Ui,
     info: &PanelInfo<'_>,
+    clip_box: Option<ClipBox>,
     pending: &mut Option<(usize, f32)>,
     actions: &mut Vec<Action>,
 ) {
@@ -66,7 +70,43 @@ pub fn layers_section(
                 actions.push(Action::SetLayerLook(k, Look { colour, ..look }));
             }
         });
+        ui.horizontal(|ui| {
+            ui.add_space(18.0);
+            // Streamed layers load each view's nodes afresh, uncut.
+            let clip_box = clip_box.filter(|_| info.streaming.is_none());
+            cut_box(ui, k, look, clip_box, actions);
+        });
     }
+}
+
+/// Layer k's cut: ticked, the layer keeps only its points the clip box keeps (as the box is now).
+fn cut_box(ui: &mut Ui, k: usize, look: Look, clip_box: Option<ClipBox>, actions: &mut Vec<Action>) {
+    let mut cut = look.clip.is_some();
+    let tip = match look.clip {
+        Some(b) => format!("cut to {} (untick: whole again)", box_text(&b)),
+        None => "keep only this layer's points the Inspect clip box keeps, as the box is now; \
+                 the other layers stay whole once the clip is switched off"
+            .to_string(),
+    };
+    let enabled = cut || clip_box.is_some();
+    let checkbox = egui::Checkbox::new(&mut cut, format!("clip {}", k + 1));
+    let response = ui
+        .add_enabled(enabled, checkbox)
+        .on_hover_text(tip)
+        .on_disabled_hover_text("switch the clip box on in Inspect first (streamed layers are not cut)");
+    if response.changed() {
+        actions.push(Action::SetLayerLook(k, Look { clip: if cut { clip_box } else { None }, ..look }));
+    }
+}
+
+/// A box in a line: its extent, and which side it hides.
+fn box_text(b: &ClipBox) -> String {
+    let side = match b.hide {
+        Hidden::Outside => "keeping the inside",
+        Hidden::Inside => "hiding the inside",
+    };
+    let axis = |a: usize| format!("{:.3}..{:.3}", b.min[a], b.max[a]);
+    format!("x {}, y {}, z {}, {side}", axis(0), axis(1), axis(2))
 }
 
 /// Layer k's opacity: its own value while dragged, set when let go.

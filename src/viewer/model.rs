@@ -103,14 +103,17 @@ impl Model {
         self.with_materials(generation, |scene| scene.set_opacity(opacity))
     }
 
-    /// This model with object k in `looks[k]` (each layer's opacity and colour).
+    /// This model with object k in `looks[k]` (each layer's opacity, colour and cut).
     pub fn with_looks(&self, looks: &[crate::scene::Look], generation: u64) -> Result<Model, String> {
         let mut checked = Ok(());
-        let model = self.with_materials(generation, |scene| checked = scene.set_looks(looks));
+        let model = self.with_materials(generation, |scene| {
+            let set = scene.set_looks(looks);
+            checked = std::mem::replace(&mut checked, Ok(())).and(set);
+        });
         checked.map(|()| model)
     }
 
-    /// This model with `edit` made to its objects' materials, drawn and as loaded alike.
+    /// This model with `edit` made to its objects' materials (and cuts), drawn and as loaded alike.
     fn with_materials(&self, generation: u64, mut edit: impl FnMut(&mut Scene)) -> Model {
         let mut scene = (*self.scene).clone();
         edit(&mut scene);

@@ -78,7 +78,8 @@ fn model_section(ui: &mut Ui, state: &mut UiState, info: &PanelInfo<'_>, actions
             ui.label("no model loaded");
         }
     }
-    super::layers_panel::layers_section(ui, info, &mut state.layer_opacity_pending, actions);
+    let clip_box = state.inspect.clip_box;
+    super::layers_panel::layers_section(ui, info, clip_box, &mut state.layer_opacity_pending, actions);
     ui.horizontal(|ui| {
         if ui.button("Open…").clicked() {
             let kinds = ["ply", "PLY", "las", "LAS", "laz", "LAZ", "e57", "E57", "vpc", "toml"];

@@ -371,6 +371,7 @@ impl Reader<'_> {
             animation,
             surface,
             styled: None,
+            cut: None,
         };
         if !style.is_plain() {
             let two_sided = object.material.two_sided;

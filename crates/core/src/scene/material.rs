@@ -79,18 +79,24 @@ impl Material {
 impl super::Scene {
     /// Each object's look, in order.
     pub fn looks(&self) -> Vec<Look> {
-        self.objects.iter().map(|o| Look { opacity: o.material.opacity, colour: o.material.colour }).collect()
+        let look = |o: &super::SceneObject| Look {
+            opacity: o.material.opacity,
+            colour: o.material.colour,
+            clip: o.clip_box(),
+        };
+        self.objects.iter().map(look).collect()
     }
 
     /// Gives object k `looks[k]` (two-sided when it or its style is
-    /// translucent); an error when the counts
-    /// differ or an opacity is not in 0..1.
+    /// translucent), cut to its box ([`super::cut`]); an error when the
+    /// counts differ, a look is not valid, or an object's file lacks what its style reads.
     pub fn set_looks(&mut self, looks: &[Look]) -> Result<(), String> {
         if looks.len() != self.objects.len() {
             return Err(format!("{} looks for {} objects", looks.len(), self.objects.len()));
         }
         for (object, look) in self.objects.iter_mut().zip(looks) {
             look.check()?;
+            object.set_cut(look.clip)?;
             object.material.opacity = look.opacity;
             let translucent = object.styled.as_ref().is_some_and(|s| s.applied.translucent);
             object.material.two_sided = look.opacity < 1.0 || translucent;
@@ -108,12 +114,12 @@ mod tests {
     fn looks_set_each_objects_material_and_refuse_a_wrong_count_or_opacity() {
         let mut scene = super::super::Scene::single("a", crate::cloud::PointCloud::default(), 1);
         scene.objects.push(scene.objects[0].clone());
-        let looks = [Look { opacity: 0.25, colour: Some([200, 10, 10]) }, Look::default()];
+        let looks = [Look { opacity: 0.25, colour: Some([200, 10, 10]), clip: None }, Look::default()];
         scene.set_looks(&looks).unwrap();
         assert_eq!(scene.looks(), looks);
         assert!(scene.objects[0].material.two_sided && !scene.objects[1].material.two_sided);
         assert_eq!(scene.set_looks(&looks[..1]).unwrap_err(), "1 looks for 2 objects");
-        let bad = [Look { opacity: 1.5, colour: None }, Look::default()];
+        let bad = [Look { opacity: 1.5, ..Look::default() }, Look::default()];
         assert_eq!(scene.set_looks(&bad).unwrap_err(), "'1.5' is not an opacity in 0..1");
     }
 }

@@ -12,6 +12,7 @@
 //! flattens to its cloud as it is, without a copy.
 
 pub mod animation;
+pub mod cut;
 pub mod environment_map;
 pub mod file;
 pub(crate) mod layer_seams;
@@ -53,6 +54,8 @@ pub struct SceneObject {
     pub surface: Option<Arc<crate::hybrid::Surface>>,
     /// The colour and opacity by attribute `cloud` shows, and the object before it.
     pub styled: Option<Styled>,
+    /// The box the object is cut to, and the object before it ([`cut`]).
+    pub cut: Option<Arc<cut::Cut>>,
 }
 
 /// A style applied to an object, and what the object was before it (so a
@@ -176,6 +179,7 @@ impl Scene {
             animation: None,
             surface: None,
             styled: None,
+            cut: None,
         };
         Scene { objects: vec![object], ..Default::default() }
     }

@@ -214,6 +214,7 @@ impl Sidecar {
         if let Some(clip) = &sidecar.clip {
             clip.check().map_err(|e| bad(format!("clip: {e}")))?;
         }
+        sidecar.looks.iter().try_for_each(|look| look.check()).map_err(|e| bad(format!("looks: {e}")))?;
         let lights = sidecar.lights().map_err(|e| bad(format!("lights: {e}")))?;
         super::Lights::new(&lights).map_err(|e| bad(format!("lights: {e}")))?;
         super::settings::check_image_size(sidecar.size[0], sidecar.size[1]).map_err(|e| bad(format!("size {e}")))?;
@@ -289,7 +290,12 @@ mod tests {
         // line once came back one bit off: JSON numbers are now parsed exactly).
         let line = [1004.0077452159455, 2011.9775082895771, 1035.9657060557554, 2023.0247046292645];
         sidecar.profile = Some(ProfileRecord { line, width: 1.6000000000000014 });
-        sidecar.looks = vec![super::super::look::Look { opacity: 0.38, colour: Some([220, 60, 50]) }];
+        let clip = super::super::clip::ClipBox {
+            min: [1004.0077452159455, 2000.0, -5.0],
+            max: [1035.9657060557554, 2023.0247046292645, 90.0],
+            hide: super::super::clip::Hidden::Inside,
+        };
+        sidecar.looks = vec![super::super::look::Look { opacity: 0.38, colour: Some([220, 60, 50]), clip: Some(clip) }];
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("view.json");
         sidecar.write(&path).unwrap();
