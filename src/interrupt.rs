@@ -7,6 +7,12 @@
 //! hidden `.tmpXXXXXX` of up to the output's size stayed in the output's
 //! folder. The signals are taken by `signal-hook`'s iterator on a thread of
 //! its own, so the removal runs as ordinary code, not in a signal handler.
+//!
+//! A write to a closed pipe (`pointblend info FILE | head`) ends the
+//! process quietly, as it ends a C tool: Rust ignores SIGPIPE, and each
+//! print to a stdout whose reader had gone panicked with a backtrace.
+//! Sockets are not touched by it: the standard library sends with
+//! MSG_NOSIGNAL.
 
 /// Installs the handler; a failure to install it is logged, not fatal.
 #[cfg(unix)]
@@ -32,3 +38,13 @@ pub fn install() {
 
 #[cfg(not(unix))]
 pub fn install() {}
+
+/// Gives SIGPIPE its default action back: the process ends at a write to a closed pipe.
+#[cfg(unix)]
+pub fn end_quietly_on_a_closed_pipe() {
+    // SAFETY: called at start-up, before any thread is spawned; SIG_DFL is a valid action.
+    unsafe { libc::signal(libc::SIGPIPE, libc::SIG_DFL) };
+}
+
+#[cfg(not(unix))]
+pub fn end_quietly_on_a_closed_pipe() {}

@@ -58,6 +58,7 @@ fn main() -> ExitCode {
         // The las crate's "upgrading las version" names no file; the reader logs its own line that does.
         .filter_module("las::header", log::LevelFilter::Error)
         .init();
+    interrupt::end_quietly_on_a_closed_pipe();
     interrupt::install();
     let cli = Cli::parse();
     let result = match cli.command {

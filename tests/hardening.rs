@@ -752,3 +752,25 @@ fn pipes_devices_and_oversized_settings_files_are_refused_in_one_line_without_re
     }
     assert!(!out.exists());
 }
+
+/// `pointblend info FILE | head`: the reader gone, the next print ends the
+/// process as SIGPIPE ends a C tool, with no panic and no backtrace.
+#[cfg(unix)]
+#[test]
+fn a_closed_pipe_ends_a_command_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    let dir = test_dir();
+    let mut child = pointblend(dir.path())
+        .arg("info")
+        .arg(model())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The reading end closed before anything is printed.
+    drop(child.stdout.take());
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(output.status.signal(), Some(13), "ended by SIGPIPE: {:?}, {stderr}", output.status);
+}
