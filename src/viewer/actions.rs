@@ -44,7 +44,7 @@ impl ViewerApp {
             grouping_error: self.grouping_error.as_deref(),
             shown: self.shown.as_ref().map(|s| ShownInfo { key: &s.key, stats: &s.stats }),
             current: self.current_key(),
-            ui_fps: self.ui_fps,
+            ui_fps: self.frame_clock.fps(),
             slowest_ui_frame_ms: self.slowest_ui_frame_ms(),
             measurement: self.measurement.as_ref(),
             measure_error: self.measure_error.as_deref(),

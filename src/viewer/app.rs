@@ -111,10 +111,8 @@ pub struct ViewerApp {
     pub(super) measurement: Option<Measurement>,
     pub(super) measure_error: Option<String>,
     pub(super) status: Option<String>,
-    pub(super) ui_fps: f32,
-    /// UI frame intervals of the last two seconds, for the slowest one.
-    pub(super) recent_ui_frames: std::collections::VecDeque<(Instant, f32)>,
-    pub(super) last_ui_frame: Option<Instant>,
+    /// The window's frame rate and slowest frame, for the statistics.
+    pub(super) frame_clock: super::frame_clock::FrameClock,
     pub(super) frames_since_ready: u64,
     pub(super) window_shot_requested: bool,
     /// While an animation plays: when it started playing, and from which time.
@@ -204,9 +202,7 @@ impl ViewerApp {
             measurement: None,
             measure_error: None,
             status: None,
-            ui_fps: 0.0,
-            recent_ui_frames: Default::default(),
-            last_ui_frame: None,
+            frame_clock: Default::default(),
             frames_since_ready: 0,
             window_shot_requested: false,
             play_clock: None,
@@ -279,7 +275,7 @@ impl ViewerApp {
 
     /// The slowest UI frame of the last two seconds, in ms.
     pub fn slowest_ui_frame_ms(&self) -> f32 {
-        self.recent_ui_frames.iter().map(|(_, ms)| *ms).fold(0.0, f32::max)
+        self.frame_clock.slowest_ms()
     }
 
     pub(super) fn camera_moved(&mut self) {
@@ -321,7 +317,7 @@ impl ViewerApp {
 impl eframe::App for ViewerApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
-        self.count_ui_frame();
+        self.frame_clock.tick(Instant::now(), ctx.requested_repaint_last_pass());
         self.poll(&ctx);
         self.handle_input(&ctx);
         self.play(&ctx);

@@ -23,6 +23,7 @@ mod cursor_coordinates;
 mod export;
 mod export_points;
 mod filter_panel;
+mod frame_clock;
 mod frames;
 mod inspect;
 mod inspect_panel;

@@ -2,11 +2,10 @@
 //! on it (orbit, pan, zoom to the cursor, double-click to re-centre), the
 //! inspection tools' input and overlay (`inspect.rs`), keyboard shortcuts
 //! (the view keys and the help overlay: `view_keys.rs`), the scale bar of an
-//! orthographic view (`scale_bar.rs`), the frame-rate count and the scripted
+//! orthographic view (`scale_bar.rs`) and the scripted
 //! screenshot-and-exit sequence.
 
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
 
 use glam::Vec2;
 
@@ -191,20 +190,5 @@ impl ViewerApp {
             }
             close.send_viewport_cmd(egui::ViewportCommand::Close);
         });
-    }
-
-    pub(super) fn count_ui_frame(&mut self) {
-        let now = Instant::now();
-        if let Some(last) = self.last_ui_frame {
-            let seconds = now.duration_since(last).as_secs_f32().max(1e-4);
-            let fps = 1.0 / seconds;
-            self.ui_fps = if self.ui_fps == 0.0 { fps } else { 0.9 * self.ui_fps + 0.1 * fps };
-            self.recent_ui_frames.push_back((now, seconds * 1e3));
-            while self.recent_ui_frames.front().is_some_and(|(t, _)| now.duration_since(*t) > Duration::from_secs(2)) {
-                self.recent_ui_frames.pop_front();
-            }
-            log::debug!("UI frame {:.1} ms", seconds * 1e3);
-        }
-        self.last_ui_frame = Some(now);
     }
 }
