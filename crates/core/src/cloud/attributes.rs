@@ -8,6 +8,8 @@
 //! Columns follow the splats through loading: re-ordered and thinned by
 //! [`Attributes::gather`] as records are skipped and copies merged.
 
+use rayon::prelude::*;
+
 /// The names of the channels the lidar readers fill (extra-bytes attributes keep their own names).
 pub mod names {
     pub const INTENSITY: &str = "intensity";
@@ -59,6 +61,19 @@ impl Values {
 
     pub fn is_empty(&self) -> bool {
         self.len() == 0
+    }
+
+    /// Whether any value is other than zero (NaN counts as other, −0 as
+    /// zero): a column of zeros is a field the file leaves unused. One match
+    /// per column, on every core: a match per value took about 2 ms of a
+    /// 700K-point LAZ file's load.
+    pub fn any_nonzero(&self) -> bool {
+        match self {
+            Values::U8(v) => v.par_iter().any(|&x| x != 0),
+            Values::U16(v) => v.par_iter().any(|&x| x != 0),
+            Values::F32(v) => v.par_iter().any(|&x| x != 0.0),
+            Values::F64(v) => v.par_iter().any(|&x| x != 0.0),
+        }
     }
 
     /// Value `i` as f64.
@@ -191,5 +206,23 @@ mod tests {
         assert_eq!(g.get("gps_time").unwrap().get(1), 1.5);
         assert!(g.is_consistent(2));
         assert_eq!(summary(&Values::U8(vec![2, 6, 6, 2, 9])), (2.0, 9.0, Some(3)));
+    }
+
+    #[test]
+    fn a_column_is_unused_only_when_every_value_is_zero() {
+        let far = |v: f64| {
+            let mut column = vec![0.0; 100_000];
+            column[99_999] = v;
+            column
+        };
+        assert!(!Values::F64(far(0.0)).any_nonzero());
+        assert!(!Values::F64(far(-0.0)).any_nonzero(), "-0 is zero");
+        assert!(Values::F64(far(f64::NAN)).any_nonzero(), "NaN is not zero");
+        assert!(Values::F64(far(1e-300)).any_nonzero());
+        assert!(Values::F32(vec![0.0, 0.0, 0.5]).any_nonzero());
+        assert!(!Values::U8(vec![0; 70_000]).any_nonzero());
+        let mut last = vec![0u16; 70_000];
+        last[69_999] = 1;
+        assert!(Values::U16(last).any_nonzero());
     }
 }

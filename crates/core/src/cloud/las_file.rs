@@ -30,6 +30,8 @@
 use std::collections::HashMap;
 use std::path::Path;
 
+use rayon::prelude::*;
+
 use super::CloudError;
 use super::attributes::{Attributes, Values, names};
 use super::file_info::FileInfo;
@@ -318,7 +320,7 @@ impl Columns {
                 warnings.push("every RGB value is 0 (an unused channel); the default colour is used".into());
             } else {
                 for (name, column) in ["red", "green", "blue"].into_iter().zip(rgb) {
-                    vertex_columns.insert(name.to_string(), column.into_iter().map(f64::from).collect());
+                    vertex_columns.insert(name.to_string(), column.par_iter().map(|&v| f64::from(v)).collect());
                     vertex_types.insert(name.to_string(), kind);
                     properties.push(name);
                 }
@@ -326,7 +328,7 @@ impl Columns {
         }
         let mut attributes = Attributes::default();
         let mut keep = |name: &str, values: Values| {
-            if (0..values.len()).any(|i| values.get(i) != 0.0) {
+            if values.any_nonzero() {
                 attributes.push(name, values);
             }
         };

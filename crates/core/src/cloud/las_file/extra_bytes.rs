@@ -14,6 +14,7 @@
 //! suffix, `_2` and up, with a warning.
 
 use crate::cloud::attributes::Values;
+use rayon::prelude::*;
 
 /// One named extra-bytes field of a record.
 #[derive(Debug, Clone)]
@@ -151,9 +152,9 @@ impl Field {
     pub fn narrowest(&self, values: Vec<f64>) -> Values {
         let unscaled = self.scale == 1.0 && self.add == 0.0;
         match self.kind {
-            1 if unscaled => Values::U8(values.iter().map(|&v| v as u8).collect()),
-            3 if unscaled => Values::U16(values.iter().map(|&v| v as u16).collect()),
-            2 | 4 | 9 if unscaled => Values::F32(values.iter().map(|&v| v as f32).collect()),
+            1 if unscaled => Values::U8(values.par_iter().map(|&v| v as u8).collect()),
+            3 if unscaled => Values::U16(values.par_iter().map(|&v| v as u16).collect()),
+            2 | 4 | 9 if unscaled => Values::F32(values.par_iter().map(|&v| v as f32).collect()),
             _ => Values::F64(values),
         }
     }
