@@ -13,8 +13,9 @@
 //! name already taken (by an earlier field or a standard attribute) gets a
 //! suffix, `_2` and up, with a warning.
 
-use crate::cloud::attributes::Values;
 use rayon::prelude::*;
+
+use crate::cloud::attributes::Values;
 
 /// One named extra-bytes field of a record.
 #[derive(Debug, Clone)]
