@@ -6,7 +6,7 @@ mod common;
 
 use std::sync::Arc;
 
-use common::tolerances::{BOUNDARY_RIM_PIXELS, MAX_BUDGET_HOLE_SHARE};
+use common::tolerances::{BOUNDARY_RIM_PIXELS, MAX_BUDGET_HOLES};
 use pointblend::cloud;
 use pointblend::frame::{Camera, Selection, View};
 use pointblend::reference::{self, ReferenceOptions};
@@ -107,10 +107,7 @@ fn every_gpu_mode_draws_a_budgeted_frame_closer_to_the_reference_than_a_subsampl
             scene.len()
         );
         assert!(eps < sub_eps, "{mode}: the hierarchy's splats (ε {eps}) are no better than a subsample's ({sub_eps})");
-        assert!(
-            holes as f64 <= MAX_BUDGET_HOLE_SHARE * inside.len() as f64,
-            "{mode}: {holes} background pixels inside"
-        );
+        assert!(holes <= MAX_BUDGET_HOLES, "{mode}: {holes} background pixels inside");
     }
 }
 

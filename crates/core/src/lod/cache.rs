@@ -13,7 +13,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use super::{CELLS, COVER, Hierarchy, LEAF_SPLATS, MAX_DEPTH, Node};
+use super::{CELL_HALF_DIAGONAL, CELLS, Hierarchy, LEAF_SPLATS, MAX_DEPTH, Node};
 use crate::cloud::PointCloud;
 use crate::grouping::cache::Cache;
 use crate::hash::fnv1a;
@@ -35,7 +35,7 @@ pub enum EntryError {
 
 /// The path of the entry for a model of geometry hash `hash`.
 pub fn path_for(cache: &Cache, hash: u64) -> std::path::PathBuf {
-    let key = fnv1a(hash, format!("lod|v1|{LEAF_SPLATS}|{CELLS}|{MAX_DEPTH}|{COVER}").as_bytes());
+    let key = fnv1a(hash, format!("lod|v2|{LEAF_SPLATS}|{CELLS}|{MAX_DEPTH}|reach|{CELL_HALF_DIAGONAL}").as_bytes());
     cache.dir.join(format!("lod-{key:016x}.bin"))
 }
 

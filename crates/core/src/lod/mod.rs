@@ -7,16 +7,17 @@
 //! original splats; every other node is split in eight and holds a subsample
 //! of its subtree: one representative per occupied cell of a
 //! [`CELLS`]³ grid over its cube, at the mean position, normal, colour and
-//! opacity of the splats in that cell, with its radius grown to cover the
-//! cell (√3/2 of the cell's side, or the largest member radius if that is
-//! more), so a node's representatives close the surface the way its
-//! originals do. A child's cells are half as wide, so each level doubles the
-//! resolution. [`select`] picks the nodes a frame draws, [`cache`] keeps
-//! built hierarchies on disk.
+//! opacity of the splats in that cell, with the radius that reaches as far
+//! across its disc as the farthest of their discs does, so a node's
+//! representatives close the surface the way its originals do. A child's
+//! cells are half as wide, so each level doubles the resolution.
+//! [`select`] picks the nodes a frame draws, [`cache`] keeps built
+//! hierarchies on disk.
 //!
 //! The build partitions splat indices in place (a counting sort into
-//! octants per node, subtrees in parallel) and averages each inner node's
-//! cells in one pass over its subtree: O(n · depth) work.
+//! octants per node, subtrees in parallel) and makes each inner node's
+//! representatives in two passes over its subtree (the cells' sums, then
+//! each disc's reach): O(n · depth) work.
 
 pub mod cache;
 pub mod select;
@@ -38,10 +39,10 @@ pub use select::{LodTree, Refinement, SelectOptions, Selection, gather, select, 
 pub const LEAF_SPLATS: usize = 256;
 /// Representative cells per side of an inner node's cube.
 pub const CELLS: usize = 12;
+/// A cell's half-diagonal, in cell sides: an inner node's coarseness, for the selection.
+const CELL_HALF_DIAGONAL: f32 = 0.866;
 /// Deepest level; a node there is a leaf whatever it holds (coincident splats).
 pub const MAX_DEPTH: u32 = 21;
-/// A representative's radius, in cell sides: the half-diagonal of the cube.
-pub(crate) const COVER: f32 = 0.866;
 /// Subtrees with more splats than this are built in parallel.
 const PARALLEL_SPLATS: usize = 32_768;
 
@@ -60,7 +61,9 @@ pub struct Node {
     /// Radius of the sphere around `centre` that holds every disc of its
     /// subtree and its own (at radius scale 1).
     pub reach: f32,
-    /// The largest radius of its own splats: how coarse it is (its error, on screen).
+    /// How coarse it is (its error, on screen): a leaf's largest splat
+    /// radius; an inner node's cell half-diagonal, or its subtree's largest
+    /// splat radius where that is more.
     pub radius: f32,
 }
 
@@ -150,7 +153,11 @@ fn build_node(cloud: &PointCloud, indices: &mut [u32], centre: Vec3, half: f32, 
         return Built { centre, half, own, children: Vec::new(), reach, radius };
     }
     let own = representatives(cloud, indices, centre, half);
-    let radius = own.radii.iter().copied().fold(0.0f32, f32::max);
+    // Its coarseness: the half-diagonal of its cells (or its widest original's
+    // radius where that is more), not its widest representative, which a
+    // single cell of scattered splats would set.
+    let widest_original = indices.iter().map(|&i| cloud.radii[i as usize]).fold(0.0f32, f32::max);
+    let radius = (CELL_HALF_DIAGONAL * 2.0 * half / CELLS as f32).max(widest_original);
     // A representative's disc may reach past every original's.
     let reach = own.positions.iter().zip(&own.radii).map(|(p, r)| (*p - centre).length() + r).fold(reach, f32::max);
     // Counting sort of the indices into the eight octants.
@@ -203,52 +210,79 @@ struct Cell {
     first_normal: Vec3,
     colour: [u32; 3],
     opacity: f32,
-    radius: f32,
     two_sided: bool,
 }
 
-/// One representative splat per occupied cell of a [`CELLS`]³ grid over the cube.
+impl Cell {
+    fn mean_position(&self) -> Vec3 {
+        self.position / self.count as f32
+    }
+
+    /// The mean normal; where opposite normals (the two sides of a thin
+    /// part) cancel, the first splat's.
+    fn mean_normal(&self) -> Vec3 {
+        if self.normal.length() > 0.1 * self.count as f32 { self.normal.normalize() } else { self.first_normal }
+    }
+}
+
+/// One representative splat per occupied cell of a [`CELLS`]³ grid over the
+/// cube: at the mean position of the cell's splats, facing their mean
+/// normal, with their mean colour and opacity. Its radius is the farthest
+/// any of their discs reaches across its plane (a splat's offset from the
+/// mean, without its part along the normal, plus its radius), so the
+/// representatives cover what their splats cover: no hole opens where the
+/// originals leave none. (A fixed √3/2 of the cell's side left pinholes
+/// where a cell's splats lie off its centre: 3-6 pixels at 192² on half
+/// the lion under a quarter of it, docs/BENCHMARKS.md 2026-12-02.)
 fn representatives(cloud: &PointCloud, indices: &[u32], centre: Vec3, half: f32) -> PointCloud {
     let side = 2.0 * half / CELLS as f32;
     let origin = centre - Vec3::splat(half);
-    let mut cells = vec![Cell::default(); CELLS * CELLS * CELLS];
     let last = CELLS as i32 - 1;
-    for &i in indices {
-        let i = i as usize;
-        let p = cloud.positions[i];
+    let cell_of = |p: Vec3| {
         // Truncation, not floor: the offset is never negative inside the cube.
         let at = |v: f32| ((v / side) as i32).clamp(0, last) as usize;
         let rel = p - origin;
-        let cell = &mut cells[at(rel.x) + CELLS * (at(rel.y) + CELLS * at(rel.z))];
+        at(rel.x) + CELLS * (at(rel.y) + CELLS * at(rel.z))
+    };
+    let mut cells = vec![Cell::default(); CELLS * CELLS * CELLS];
+    for &i in indices {
+        let i = i as usize;
+        let cell = &mut cells[cell_of(cloud.positions[i])];
         if cell.count == 0 {
             cell.first_normal = cloud.normals[i];
         }
         cell.count += 1;
-        cell.position += p;
+        cell.position += cloud.positions[i];
         cell.normal += cloud.normals[i];
         for c in 0..3 {
             cell.colour[c] += cloud.colours[i][c] as u32;
         }
         cell.opacity += cloud.opacity[i];
-        cell.radius = cell.radius.max(cloud.radii[i]);
         cell.two_sided |= cloud.is_two_sided(i);
     }
-    let occupied: Vec<&Cell> = cells.iter().filter(|c| c.count > 0).collect();
-    let any_two_sided = occupied.iter().any(|c| c.two_sided);
-    let n = |c: &Cell| c.count as f32;
+    let discs: Vec<(Vec3, Vec3)> = cells
+        .iter()
+        .map(|c| if c.count == 0 { (Vec3::ZERO, Vec3::Z) } else { (c.mean_position(), c.mean_normal()) })
+        .collect();
+    let mut reach = vec![0.0f32; cells.len()];
+    for &i in indices {
+        let i = i as usize;
+        let k = cell_of(cloud.positions[i]);
+        let (mean, normal) = discs[k];
+        let offset = cloud.positions[i] - mean;
+        let across = (offset - normal * offset.dot(normal)).length() + cloud.radii[i];
+        reach[k] = reach[k].max(across);
+    }
+    let occupied: Vec<usize> = (0..cells.len()).filter(|&k| cells[k].count > 0).collect();
+    let any_two_sided = occupied.iter().any(|&k| cells[k].two_sided);
+    let n = |k: usize| cells[k].count as f32;
     PointCloud {
-        positions: occupied.iter().map(|c| c.position / n(c)).collect(),
-        normals: occupied
-            .iter()
-            .map(|c| {
-                // Opposite normals (the two sides of a thin part) cancel: keep the first's.
-                if c.normal.length() > 0.1 * n(c) { c.normal.normalize() } else { c.first_normal }
-            })
-            .collect(),
-        radii: occupied.iter().map(|c| (COVER * side).max(c.radius)).collect(),
-        colours: occupied.iter().map(|c| c.colour.map(|s| (s as f32 / n(c)).round() as u8)).collect(),
-        opacity: occupied.iter().map(|c| c.opacity / n(c)).collect(),
-        two_sided: if any_two_sided { occupied.iter().map(|c| c.two_sided).collect() } else { Vec::new() },
+        positions: occupied.iter().map(|&k| discs[k].0).collect(),
+        normals: occupied.iter().map(|&k| discs[k].1).collect(),
+        radii: occupied.iter().map(|&k| reach[k]).collect(),
+        colours: occupied.iter().map(|&k| cells[k].colour.map(|s| (s as f32 / n(k)).round() as u8)).collect(),
+        opacity: occupied.iter().map(|&k| cells[k].opacity / n(k)).collect(),
+        two_sided: if any_two_sided { occupied.iter().map(|&k| cells[k].two_sided).collect() } else { Vec::new() },
         ..PointCloud::default()
     }
 }
@@ -347,6 +381,28 @@ mod tests {
         let root = &h.nodes[0];
         assert!(root.count as usize <= CELLS * CELLS * CELLS);
         assert_eq!(h.originals, cloud.len());
+    }
+
+    /// Every splat's disc lies within a representative's, measured across
+    /// that representative's plane: on a sphere, whose cells' splats sit
+    /// off their cells' centres, coarse splats then leave no hole.
+    #[test]
+    fn each_splats_disc_lies_within_a_representatives() {
+        let cloud = crate::scene::primitives::sphere(30_000, 1.0, Vec3::new(0.2, -0.1, 0.3));
+        let indices: Vec<u32> = (0..cloud.len() as u32).collect();
+        let (centre, half) = bounding_cube(&cloud);
+        let reps = representatives(&cloud, &indices, centre, half);
+        assert!(reps.len() > 100 && reps.len() < cloud.len(), "{} representatives", reps.len());
+        let side = 2.0 * half / CELLS as f32;
+        for (p, r) in cloud.positions.iter().zip(&cloud.radii) {
+            let covered = reps.positions.iter().zip(&reps.normals).zip(&reps.radii).any(|((m, n), reach)| {
+                let offset = *p - *m;
+                let along = offset.dot(*n);
+                // Its own cell's disc, not one across the sphere.
+                along.abs() < side && (offset - *n * along).length() + r <= reach * (1.0 + 1e-5)
+            });
+            assert!(covered, "the disc at {p} (radius {r}) lies within no representative's");
+        }
     }
 
     #[test]
