@@ -13,7 +13,6 @@ pub mod e57bytes;
 pub mod fuzz;
 pub mod lidar;
 pub mod nginx;
-pub mod nodes;
 pub mod plywriter;
 pub mod source;
 pub mod tolerances;

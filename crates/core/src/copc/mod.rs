@@ -9,7 +9,8 @@
 //! selection lacks (at most four requests in flight), [`disk`] keeps the
 //! chunks fetched on disk (`--disk-cache`), [`cache`] keeps
 //! decoded nodes in an LRU bounded in bytes (with each node's normals and
-//! radii, estimated once by [`node_estimates`], and its groups, labelled
+//! radii, estimated once by [`node_estimates`] and drawn as the deepest
+//! node drawn at their position estimated them ([`drawn_estimates`]), and its groups, labelled
 //! once by [`node_groups`]), and [`stream`] puts them
 //! together: select by projected spacing (additive refinement, the same
 //! selection as the in-memory hierarchy's, [`crate::lod::select_in`]),
@@ -23,6 +24,7 @@ pub mod budget;
 pub(crate) mod cache;
 pub(crate) mod decode;
 pub(crate) mod disk;
+mod drawn_estimates;
 mod facing;
 pub mod header;
 pub(crate) mod held;

@@ -16,15 +16,18 @@
 //! (their normals hold; their radii grow a little).
 //!
 //! A radius follows the density of the node's level and the coarser ones.
-//! Where finer nodes are drawn too, the density is theirs: a frame draws a
-//! point's radius scaled by the ratio of the median radii of the deepest
-//! node drawn at its position and of its own node ([`drawn_radii`], as
-//! Potree's adaptive point size follows the deepest visible node at a
-//! point). That is a walk down the drawn children per point, with no
-//! neighbour search: a selection estimated whole made the radii follow
-//! whatever was drawn with them by estimating again.
+//! Where finer nodes are drawn too, the density and the surface are
+//! theirs. So a node, when it arrives, also estimates the points of its
+//! loaded ancestors that lie in its cube, with the same neighbours as its
+//! own ([`Refined`]): what a coarse point is where this node is the deepest
+//! drawn at its position. A frame draws each point with the estimate of
+//! the deepest node drawn there ([`super::drawn_estimates`], as Potree's
+//! adaptive point size follows the deepest visible node at a point). So
+//! with every node drawn a coarse point has the neighbours the whole
+//! file would give it, and nothing is estimated again when finer nodes come
+//! or go.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 
 use glam::{DVec3, Vec3};
 use las::copc::VoxelKey;
@@ -110,93 +113,117 @@ impl FileFacing {
 }
 
 /// What a node's points were given once, when it arrived: their normals and
-/// radii, and the median radius that [`drawn_radii`] scales by.
+/// radii, the median radius that [`super::drawn_estimates`] scales by where
+/// no finer estimate is at hand, and its ancestors' points in its cube as
+/// estimated at its density.
 pub struct NodeEstimates {
     pub estimates: Estimates,
     /// 0 when no radius is positive.
     pub median_radius: f32,
+    /// One per ancestor that was loaded when the node arrived.
+    pub refined: Vec<Refined>,
+}
+
+/// An ancestor's points that lie in a node's cube, estimated with the
+/// node's neighbours: as they are drawn where the node is the deepest.
+pub struct Refined {
+    /// The ancestor, and its points' indices among its records.
+    pub node: u32,
+    pub points: Vec<u32>,
+    pub normals: Vec<Vec3>,
+    pub radii: Vec<f32>,
 }
 
 impl NodeEstimates {
     /// Bytes held, for the node cache's accounting.
     pub fn bytes(&self) -> usize {
-        self.estimates.normals.len() * 12 + self.estimates.radii.len() * 4
+        let refined: usize = self.refined.iter().map(|r| r.points.len() * (4 + 12 + 4)).sum();
+        self.estimates.normals.len() * 12 + self.estimates.radii.len() * 4 + refined
+    }
+
+    /// What this node made of `ancestor`'s points, if it was loaded when this node arrived.
+    pub fn refined_for(&self, ancestor: u32) -> Option<&Refined> {
+        self.refined.iter().find(|r| r.node == ancestor)
     }
 }
 
 /// The normals and radii of `node`'s points (`own`, as decoded), estimated
-/// with the points of `halo` that lie within its grown cube, their signs
-/// chosen by the file's `facing`.
+/// with the points of the loaded nodes `halo` that lie within its grown
+/// cube, their signs chosen by the file's `facing`; and, with the same
+/// neighbours, those of its ancestors' points (among `halo`) that lie in its cube.
 pub(super) fn estimate(
     tree: &CopcTree,
     node: u32,
-    (own, halo): (&Columns, &[&Columns]),
+    (own, halo): (&Columns, &[(u32, &Columns)]),
     options: &EstimateOptions,
     facing: FileFacing,
 ) -> NodeEstimates {
     let (lo, hi) = grown_cube(tree, node);
     let centre = (lo + hi) * 0.5;
+    let key = tree.nodes[node as usize].key;
     // Relative to the node's centre, f32 keeps the points' own precision at any extent.
     let local = |c: &Columns, i: usize| DVec3::new(c.x[i], c.y[i], c.z[i]);
     let finite: Vec<usize> = (0..own.len()).filter(|&i| local(own, i).is_finite()).collect();
-    let own_points: Vec<Vec3> = finite.iter().map(|&i| (local(own, i) - centre).as_vec3()).collect();
+    let mut queries: Vec<Vec3> = finite.iter().map(|&i| (local(own, i) - centre).as_vec3()).collect();
+    let mut refined: Vec<Refined> = Vec::new();
     let mut around = Vec::new();
-    for columns in halo {
+    for &(m, columns) in halo {
+        let above = tree.nodes[m as usize].key;
+        let ancestor = above.l < key.l && key_at(tree, above, centre, key.l) == key;
+        let mut inside = Vec::new();
         for i in 0..columns.len() {
             let p = local(columns, i);
-            if p.cmpge(lo).all() && p.cmple(hi).all() {
+            if !(p.cmpge(lo).all() && p.cmple(hi).all()) {
+                continue;
+            }
+            if ancestor && key_at(tree, above, p, key.l) == key {
+                inside.push(i as u32);
+            } else {
                 around.push((p - centre).as_vec3());
             }
         }
+        if ancestor {
+            queries.extend(inside.iter().map(|&i| (local(columns, i as usize) - centre).as_vec3()));
+            refined.push(Refined { node: m, points: inside, normals: Vec::new(), radii: Vec::new() });
+        }
     }
-    let (normals, radii) = estimate_node(&own_points, &around, options, facing.relative_to(centre));
+    let (mut normals, mut radii) = estimate_node(&queries, &around, options, facing.relative_to(centre));
+    let (mut more_normals, mut more_radii) = (normals.split_off(finite.len()), radii.split_off(finite.len()));
+    for r in &mut refined {
+        let rest = (more_normals.split_off(r.points.len()), more_radii.split_off(r.points.len()));
+        (r.normals, r.radii) =
+            (std::mem::replace(&mut more_normals, rest.0), std::mem::replace(&mut more_radii, rest.1));
+    }
     let median_radius = median_radius(&radii).unwrap_or(0.0);
     let mut out = Estimates { normals: vec![Vec3::Z; own.len()], radii: vec![0.0; own.len()] };
     for (k, &i) in finite.iter().enumerate() {
         out.normals[i] = normals[k];
         out.radii[i] = radii[k];
     }
-    NodeEstimates { estimates: out, median_radius }
+    NodeEstimates { estimates: out, median_radius, refined }
 }
 
-/// The radii `node`'s points are drawn with among the `drawn` nodes, when
-/// finer nodes are drawn at some of their positions (`None`: as
-/// estimated): each point's estimated radius scaled from its node's density
-/// to that of the deepest node drawn at its position, by the ratio of their
-/// median radii (`medians`, each node's estimated with the levels down to its own).
-pub(super) fn drawn_radii(
-    tree: &CopcTree,
-    (node, own, radii): (u32, &Columns, &[f32]),
-    (drawn, medians): (&HashSet<u32>, &HashMap<u32, f32>),
-) -> Option<Vec<f32>> {
-    let this = &tree.nodes[node as usize];
-    let median = |n: u32| medians.get(&n).copied().filter(|m| *m > 0.0);
-    if !this.children.iter().any(|c| drawn.contains(c)) {
-        return None;
+/// The key at `level` of the cube that holds `p`, found from the cube of
+/// `from` (which holds it) down by halves, a point on a half's boundary
+/// going to the upper half: the one rule for where a point lies.
+pub(super) fn key_at(tree: &CopcTree, from: VoxelKey, p: DVec3, level: i32) -> VoxelKey {
+    let mut key = from;
+    while key.l < level {
+        key = child_at(tree, key, p);
     }
-    let own_median = median(node)?;
-    let scaled = (0..own.len())
-        .map(|i| {
-            let p = DVec3::new(own.x[i], own.y[i], own.z[i]);
-            let (mut key, mut deepest) = (this.key, node);
-            loop {
-                let (min, side) = tree.cube(&key);
-                let half = min + DVec3::splat(side * 0.5);
-                let child = VoxelKey {
-                    l: key.l + 1,
-                    x: 2 * key.x + i32::from(p.x >= half.x),
-                    y: 2 * key.y + i32::from(p.y >= half.y),
-                    z: 2 * key.z + i32::from(p.z >= half.z),
-                };
-                match tree.node(&child).filter(|c| drawn.contains(c)) {
-                    Some(c) => (key, deepest) = (child, c),
-                    None => break,
-                }
-            }
-            radii[i] * median(deepest).map_or(1.0, |m| (m / own_median).min(1.0))
-        })
-        .collect();
-    Some(scaled)
+    key
+}
+
+/// The child of `key`'s cube that holds `p` (by halves, as [`key_at`]).
+pub(super) fn child_at(tree: &CopcTree, key: VoxelKey, p: DVec3) -> VoxelKey {
+    let (min, side) = tree.cube(&key);
+    let half = min + DVec3::splat(side * 0.5);
+    VoxelKey {
+        l: key.l + 1,
+        x: 2 * key.x + i32::from(p.x >= half.x),
+        y: 2 * key.y + i32::from(p.y >= half.y),
+        z: 2 * key.z + i32::from(p.z >= half.z),
+    }
 }
 
 /// Whether `node` stands for finer points that are not drawn: a child of
@@ -206,7 +233,7 @@ pub(super) fn stands_for_more(tree: &CopcTree, node: u32, drawn: &HashSet<u32>) 
 }
 
 /// Each splat's radius given by the file, grown to at least its record's
-/// estimated radius as drawn (`drawn_radii`) where its record's node is
+/// estimated radius as drawn ([`super::drawn_estimates`]) where its record's node is
 /// `coarse` (it stands for finer points not drawn), so a coarse view has no
 /// holes; elsewhere the file's radius stands. `splat_of[i]`: record i's
 /// splat; nothing is grown when the estimates do not match the records.

@@ -73,6 +73,7 @@ pub(super) fn lattice_depth(root_side: f64, root_median_radius: f32) -> u32 {
 
 /// A labelled node near the one labelled: its points, what they were given, and their groups.
 pub(super) struct LabelledNode<'a> {
+    pub node: u32,
     pub level: i32,
     pub columns: &'a Columns,
     pub estimates: &'a NodeEstimates,
@@ -162,14 +163,24 @@ pub(super) fn label(
     let (lo, hi) = grown_cube(tree, node);
     let level = tree.nodes[node as usize].key.l;
     for near in halo {
-        // A coarser node's radii as drawn where this level is the deepest (see `drawn_radii`).
+        // A coarser node's radii as drawn where this level is the deepest
+        // (`super::drawn_estimates`): this node's estimate of its points in
+        // this node's cube, and elsewhere its own scaled to this level's density.
         let scale = if near.level < level { estimates.median_radius / near.estimates.median_radius } else { 1.0 };
         let scale = if scale.is_finite() && scale > 0.0 { scale.min(1.0) } else { 1.0 };
         let c = near.columns;
-        for i in 0..c.len() {
+        let mut radii: Vec<f32> = near.estimates.estimates.radii.iter().map(|r| r * scale).collect();
+        if let Some(refined) = estimates.refined_for(near.node) {
+            for (&i, &r) in refined.points.iter().zip(&refined.radii) {
+                if let Some(radius) = radii.get_mut(i as usize) {
+                    *radius = r;
+                }
+            }
+        }
+        for (i, &radius) in radii.iter().enumerate().take(c.len()) {
             let p = DVec3::new(c.x[i], c.y[i], c.z[i]);
             if p.cmpge(lo).all() && p.cmple(hi).all() {
-                placed.add(local(c, i), near.estimates.estimates.radii[i] * scale, near.labels[i]);
+                placed.add(local(c, i), radius, near.labels[i]);
             }
         }
     }
@@ -234,12 +245,13 @@ pub(super) fn label_new(
                     .into_iter()
                     .filter_map(|m| {
                         let level = tree.nodes[m as usize].key.l;
-                        Some((level, shared.peek(m)?, shared.estimates(m)?, shared.labels(m, options)?))
+                        Some((m, level, shared.peek(m)?, shared.estimates(m)?, shared.labels(m, options)?))
                     })
                     .collect();
                 let halo: Vec<LabelledNode> = kept
                     .iter()
-                    .map(|(level, columns, estimates, labels)| LabelledNode {
+                    .map(|(node, level, columns, estimates, labels)| LabelledNode {
+                        node: *node,
                         level: *level,
                         columns,
                         estimates,

@@ -37,6 +37,7 @@ use super::load::{Fetch, Left};
 use super::source::{ByteSource, is_url};
 use rayon::prelude::*;
 
+use super::drawn_estimates;
 use super::node_estimates::{self, NodeEstimates};
 use super::node_groups;
 use crate::cloud::attributes::names;
@@ -344,27 +345,29 @@ impl CopcStream {
         let nodes: Vec<(u32, Arc<Columns>, Option<Arc<NodeEstimates>>)> =
             drawn.iter().map(|&n| (n, self.cache.get(n).expect("checked above"), self.cache.estimates(n))).collect();
         let drawn_set: std::collections::HashSet<u32> = drawn.iter().copied().collect();
-        let medians: std::collections::HashMap<u32, f32> =
-            nodes.iter().filter_map(|(n, _, e)| Some((*n, e.as_ref()?.median_radius))).collect();
+        let all: HashMap<u32, &NodeEstimates> =
+            nodes.iter().filter_map(|(n, _, e)| Some((*n, e.as_deref()?))).collect();
         let tree = &self.tree;
-        // Radii scaled where finer nodes are drawn; the others are drawn as estimated.
-        let scaled: Vec<Option<Vec<f32>>> = nodes
+        // Where finer nodes are drawn, as the deepest of them estimated them; the others as estimated.
+        let as_drawn: Vec<Option<(Vec<glam::Vec3>, Vec<f32>)>> = nodes
             .par_iter()
-            .map(|(n, own, e)| {
-                let radii = &e.as_ref()?.estimates.radii;
-                node_estimates::drawn_radii(tree, (*n, own, radii), (&drawn_set, &medians))
-            })
+            .map(|(n, own, e)| drawn_estimates::drawn_estimates(tree, (*n, own, e.as_deref()?), (&drawn_set, &all)))
             .collect();
         // Records of nodes that stand for finer points not drawn: a radius the file gives grows there.
         let mut coarse = Vec::new();
-        for ((n, own, e), scaled) in nodes.iter().zip(scaled) {
+        for ((n, own, e), as_drawn) in nodes.iter().zip(as_drawn) {
             columns.extend(own);
             coarse.extend(std::iter::repeat_n(node_estimates::stands_for_more(tree, *n, &drawn_set), own.len()));
             if let Some(e) = e {
-                estimates.normals.extend_from_slice(&e.estimates.normals);
-                match scaled {
-                    Some(radii) => estimates.radii.extend(radii),
-                    None => estimates.radii.extend_from_slice(&e.estimates.radii),
+                match as_drawn {
+                    Some((normals, radii)) => {
+                        estimates.normals.extend(normals);
+                        estimates.radii.extend(radii);
+                    }
+                    None => {
+                        estimates.normals.extend_from_slice(&e.estimates.normals);
+                        estimates.radii.extend_from_slice(&e.estimates.radii);
+                    }
                 }
             }
         }
@@ -461,7 +464,8 @@ impl CopcStream {
             .filter_map(|&n| {
                 let own = cache.peek(n)?;
                 let around = node_estimates::halo_nodes(tree, n, &|m| cache.contains(m));
-                let halo: Vec<&Columns> = around.iter().filter_map(|&m| cache.peek(m).map(|c| c.as_ref())).collect();
+                let halo: Vec<(u32, &Columns)> =
+                    around.iter().filter_map(|&m| cache.peek(m).map(|c| (m, c.as_ref()))).collect();
                 Some((n, node_estimates::estimate(tree, n, (own, &halo), options, facing)))
             })
             .collect();
