@@ -127,7 +127,7 @@ pub struct NodeEstimates {
 /// An ancestor's points that lie in a node's cube, estimated with the
 /// node's neighbours: as they are drawn where the node is the deepest.
 pub struct Refined {
-    /// The ancestor, and its points' indices among its records.
+    /// The ancestor, and its points' indices among its records (ascending).
     pub node: u32,
     pub points: Vec<u32>,
     pub normals: Vec<Vec3>,

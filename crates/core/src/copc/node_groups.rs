@@ -169,18 +169,13 @@ pub(super) fn label(
         let scale = if near.level < level { estimates.median_radius / near.estimates.median_radius } else { 1.0 };
         let scale = if scale.is_finite() && scale > 0.0 { scale.min(1.0) } else { 1.0 };
         let c = near.columns;
-        let mut radii: Vec<f32> = near.estimates.estimates.radii.iter().map(|r| r * scale).collect();
-        if let Some(refined) = estimates.refined_for(near.node) {
-            for (&i, &r) in refined.points.iter().zip(&refined.radii) {
-                if let Some(radius) = radii.get_mut(i as usize) {
-                    *radius = r;
-                }
-            }
-        }
-        for (i, &radius) in radii.iter().enumerate().take(c.len()) {
+        // This node's estimates of the near node's points, in index order.
+        let mut refined = estimates.refined_for(near.node).map(|r| r.points.iter().zip(&r.radii).peekable());
+        for (i, &own_radius) in near.estimates.estimates.radii.iter().enumerate().take(c.len()) {
+            let mine = refined.as_mut().and_then(|r| r.next_if(|(at, _)| **at as usize == i)).map(|(_, &r)| r);
             let p = DVec3::new(c.x[i], c.y[i], c.z[i]);
             if p.cmpge(lo).all() && p.cmple(hi).all() {
-                placed.add(local(c, i), radius, near.labels[i]);
+                placed.add(local(c, i), mine.unwrap_or(own_radius * scale), near.labels[i]);
             }
         }
     }

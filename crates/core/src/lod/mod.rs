@@ -143,21 +143,20 @@ fn octant(p: Vec3, centre: Vec3) -> usize {
 }
 
 fn build_node(cloud: &PointCloud, indices: &mut [u32], centre: Vec3, half: f32, depth: u32) -> Built {
-    let reach = indices
-        .iter()
-        .map(|&i| (cloud.positions[i as usize] - centre).length() + cloud.radii[i as usize])
-        .fold(0.0f32, f32::max);
+    // The sphere holding every disc, and the widest disc.
+    let (reach, widest) = indices.iter().fold((0.0f32, 0.0f32), |(reach, widest), &i| {
+        let r = cloud.radii[i as usize];
+        (reach.max((cloud.positions[i as usize] - centre).length() + r), widest.max(r))
+    });
     if indices.len() <= LEAF_SPLATS || depth >= MAX_DEPTH {
         let own = cloud.select(indices);
-        let radius = own.radii.iter().copied().fold(0.0f32, f32::max);
-        return Built { centre, half, own, children: Vec::new(), reach, radius };
+        return Built { centre, half, own, children: Vec::new(), reach, radius: widest };
     }
     let own = representatives(cloud, indices, centre, half);
     // Its coarseness: the half-diagonal of its cells (or its widest original's
     // radius where that is more), not its widest representative, which a
     // single cell of scattered splats would set.
-    let widest_original = indices.iter().map(|&i| cloud.radii[i as usize]).fold(0.0f32, f32::max);
-    let radius = (CELL_HALF_DIAGONAL * 2.0 * half / CELLS as f32).max(widest_original);
+    let radius = (CELL_HALF_DIAGONAL * 2.0 * half / CELLS as f32).max(widest);
     // A representative's disc may reach past every original's.
     let reach = own.positions.iter().zip(&own.radii).map(|(p, r)| (*p - centre).length() + r).fold(reach, f32::max);
     // Counting sort of the indices into the eight octants.
@@ -245,9 +244,11 @@ fn representatives(cloud: &PointCloud, indices: &[u32], centre: Vec3, half: f32)
         at(rel.x) + CELLS * (at(rel.y) + CELLS * at(rel.z))
     };
     let mut cells = vec![Cell::default(); CELLS * CELLS * CELLS];
-    for &i in indices {
+    // Each splat's cell, kept for the second pass (CELLS³ fits a u16).
+    let cell_index: Vec<u16> = indices.iter().map(|&i| cell_of(cloud.positions[i as usize]) as u16).collect();
+    for (&i, &k) in indices.iter().zip(&cell_index) {
         let i = i as usize;
-        let cell = &mut cells[cell_of(cloud.positions[i])];
+        let cell = &mut cells[usize::from(k)];
         if cell.count == 0 {
             cell.first_normal = cloud.normals[i];
         }
@@ -265,9 +266,8 @@ fn representatives(cloud: &PointCloud, indices: &[u32], centre: Vec3, half: f32)
         .map(|c| if c.count == 0 { (Vec3::ZERO, Vec3::Z) } else { (c.mean_position(), c.mean_normal()) })
         .collect();
     let mut reach = vec![0.0f32; cells.len()];
-    for &i in indices {
-        let i = i as usize;
-        let k = cell_of(cloud.positions[i]);
+    for (&i, &k) in indices.iter().zip(&cell_index) {
+        let (i, k) = (i as usize, usize::from(k));
         let (mean, normal) = discs[k];
         let offset = cloud.positions[i] - mean;
         let across = (offset - normal * offset.dot(normal)).length() + cloud.radii[i];
