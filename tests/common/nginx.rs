@@ -113,6 +113,9 @@ http {{
 }
 
 /// What the server at `port` answers to a plain GET, or `None` when nothing answers.
+/// Written over a socket, not with an HTTP client: a probe must tell
+/// "nothing listens yet" from "another server answers" (any status), and
+/// `ureq` is not among the tests' dependencies.
 fn answer(port: u16) -> Option<String> {
     use std::io::{Read, Write};
     let mut stream = std::net::TcpStream::connect(("127.0.0.1", port)).ok()?;

@@ -11,9 +11,10 @@
 //! cell takes its candidates from the 3×3×3 block of cells around it, keeps
 //! the k closest (selected among those within a guess from the previous
 //! point of its cell, where k of them are), and is exact when its k-th
-//! distance is within the block (no point outside the block can be closer). The few points that fail the
-//! test take the block of cells within [`MAX_RING`] instead; those still
-//! failing (outliers far from everything) are left to the caller's tree.
+//! distance is within the block (no point outside the block can be
+//! closer). The few points that fail the test take the block of cells
+//! within [`MAX_RING`] instead; those still failing (outliers far from
+//! everything) are left to the caller's tree.
 
 use glam::Vec3;
 use rayon::prelude::*;
