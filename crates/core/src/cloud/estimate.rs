@@ -183,6 +183,10 @@ fn across(direction: Vec3, towards: Vec3) -> Option<Vec3> {
     (towards - direction * direction.dot(towards)).try_normalize().filter(|n| n.dot(towards) > 1e-3)
 }
 
+/// Points a neighbourhood's covariance is gathered for on the stack (itself
+/// and up to 63 neighbours); a larger one is gathered on the heap.
+const STACK_NEIGHBOURHOOD: usize = 64;
+
 fn estimate_normals(cloud: &mut PointCloud, nb: &Neighbours, needed: &[bool], k: usize) {
     let positions = &cloud.positions;
     let k = k.min(nb.k);
@@ -192,31 +196,56 @@ fn estimate_normals(cloud: &mut PointCloud, nb: &Neighbours, needed: &[bool], k:
             return None;
         }
         let around = &around[..k];
-        if !residuals.is_empty() {
+        // Each neighbour is read once, into this list (itself first), and
+        // the centre and covariance are made from it.
+        let mut stack = [Vec3::ZERO; STACK_NEIGHBOURHOOD];
+        let mut heap = Vec::new();
+        let points: &mut [Vec3] = if k < STACK_NEIGHBOURHOOD {
+            &mut stack[..k + 1]
+        } else {
+            heap.resize(k + 1, Vec3::ZERO);
+            &mut heap
+        };
+        let centre = if !residuals.is_empty() {
             // Far from the origin f32 positions are millimetres coarse: the
             // neighbourhood is taken relative to splat i (a difference of
             // close f32 values is exact) with what f32 lost added back.
-            let local = |j: usize| (positions[j] - positions[i]) + (residuals[j] - residuals[i]);
-            let centre = around.iter().map(|&j| local(j as usize)).sum::<Vec3>() / (k + 1) as f32;
-            let mut cov = Mat3::ZERO;
-            for d in std::iter::once(Vec3::ZERO).chain(around.iter().map(|&j| local(j as usize))).map(|p| p - centre) {
-                cov += Mat3::from_cols(d * d.x, d * d.y, d * d.z);
+            for (slot, &j) in points[1..].iter_mut().zip(around) {
+                let j = j as usize;
+                *slot = (positions[j] - positions[i]) + (residuals[j] - residuals[i]);
             }
-            return Some(smallest_eigenvector(cov).unwrap_or(Vec3::Z));
-        }
-        let centre = (positions[i] + around.iter().map(|&j| positions[j as usize]).sum::<Vec3>()) / (k + 1) as f32;
-        let mut cov = Mat3::ZERO;
-        for p in std::iter::once(positions[i]).chain(around.iter().map(|&j| positions[j as usize])) {
-            let d = p - centre;
-            cov += Mat3::from_cols(d * d.x, d * d.y, d * d.z);
-        }
-        Some(smallest_eigenvector(cov).unwrap_or(Vec3::Z))
+            points[1..].iter().sum::<Vec3>() / (k + 1) as f32
+        } else {
+            points[0] = positions[i];
+            for (slot, &j) in points[1..].iter_mut().zip(around) {
+                *slot = positions[j as usize];
+            }
+            (points[0] + points[1..].iter().sum::<Vec3>()) / (k + 1) as f32
+        };
+        Some(smallest_eigenvector(covariance(points, centre)).unwrap_or(Vec3::Z))
     });
     for (n, estimated) in cloud.normals.iter_mut().zip(normals) {
         if let Some(estimated) = estimated {
             *n = estimated;
         }
     }
+}
+
+/// The sum of (p - centre)(p - centre)ᵀ over `points`: its six distinct
+/// entries accumulated once each (a product and its mirror are the same
+/// f32, so the matrix is the one a full outer product per point makes).
+fn covariance(points: &[Vec3], centre: Vec3) -> Mat3 {
+    let (mut xx, mut xy, mut xz, mut yy, mut yz, mut zz) = (0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32);
+    for p in points {
+        let d = *p - centre;
+        xx += d.x * d.x;
+        xy += d.y * d.x;
+        xz += d.z * d.x;
+        yy += d.y * d.y;
+        yz += d.z * d.y;
+        zz += d.z * d.z;
+    }
+    Mat3::from_cols(Vec3::new(xx, xy, xz), Vec3::new(xy, yy, yz), Vec3::new(xz, yz, zz))
 }
 
 /// Unit eigenvector of the smallest eigenvalue of a symmetric 3x3 matrix.
@@ -528,6 +557,25 @@ mod tests {
             let cov = Mat3::IDENTITY - Mat3::from_cols(n * n.x, n * n.y, n * n.z);
             let e = smallest_eigenvector(cov).unwrap();
             assert!(e.dot(n).abs() > 1.0 - 1e-5, "{e} vs {n}");
+        }
+    }
+
+    #[test]
+    fn the_covariance_is_the_sum_of_full_outer_products_bit_for_bit() {
+        let mut seed = 11u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 40) as f32 / (1u64 << 24) as f32 * 7.0 - 3.0
+        };
+        for _ in 0..200 {
+            let points: Vec<Vec3> = (0..17).map(|_| Vec3::new(next(), next(), next() * 0.01)).collect();
+            let centre = points.iter().sum::<Vec3>() / 17.0;
+            let mut full = Mat3::ZERO;
+            for d in points.iter().map(|p| *p - centre) {
+                full += Mat3::from_cols(d * d.x, d * d.y, d * d.z);
+            }
+            let bits = |m: Mat3| m.to_cols_array().map(f32::to_bits);
+            assert_eq!(bits(covariance(&points, centre)), bits(full));
         }
     }
 

@@ -6,14 +6,15 @@
 //! point; here the points of one cell share one candidate list.
 //!
 //! The cell size is set so that an occupied cell holds about
-//! [`TARGET_PER_CELL`] points (surface scans fill cells as h², so two or three
-//! rounds of counting converge). Points are sorted by cell. Every point of a
-//! cell takes its candidates from the 3×3×3 block of cells around it, keeps
-//! the k closest (selected among those within a guess from the previous
-//! point of its cell, where k of them are), and is exact when its k-th
-//! distance is within the block (no point outside the block can be
-//! closer). The few points that fail the test take the block of cells
-//! within [`MAX_RING`] instead; those still failing (outliers far from
+//! [`TARGET_PER_CELL`] points (surface scans fill cells as h², so two or
+//! three rounds of counting converge). Points are sorted by cell. Every point
+//! of a cell takes its candidates from the 3×3×3 block of cells around it (a
+//! few runs of the sorted order, one per column of cells, whose distances are
+//! computed from one array per axis), keeps the k closest (selected among
+//! those within a guess from the point before it, where k of them are), and
+//! is exact when its k-th distance is within the block (no point outside the
+//! block can be closer). The few points that fail the test take the block of
+//! cells within [`MAX_RING`] instead; those still failing (outliers far from
 //! everything) are left to the caller's tree.
 
 use glam::Vec3;
@@ -42,9 +43,13 @@ struct Grid {
     starts: Vec<u32>,
     /// Point indices, sorted by cell.
     sorted: Vec<u32>,
-    /// The points' positions in that order, so a block's candidates are read
-    /// from a few contiguous runs (read through `sorted` they were cache misses).
-    pos: Vec<Vec3>,
+    /// The points' coordinates in that order, one array per axis, so a
+    /// block's candidates are a few contiguous runs of each (read through
+    /// `sorted` they were cache misses) whose distances are computed
+    /// several at a time.
+    xs: Vec<f32>,
+    ys: Vec<f32>,
+    zs: Vec<f32>,
 }
 
 fn key(c: [i64; 3]) -> u64 {
@@ -52,18 +57,24 @@ fn key(c: [i64; 3]) -> u64 {
 }
 
 impl Grid {
+    /// The point at place `r` in sorted order.
+    fn at(&self, r: u32) -> Vec3 {
+        let r = r as usize;
+        Vec3::new(self.xs[r], self.ys[r], self.zs[r])
+    }
+
     fn cell_of(&self, p: Vec3) -> [i64; 3] {
         let c = ((p - self.lo) / self.h).floor();
         [c.x as i64, c.y as i64, c.z as i64]
     }
 
     /// The places in sorted order of the points of the cells within `ring`
-    /// of cell `centre`, into `out`. A column of cells (one x and y, z
+    /// of cell `centre`, into `out` as runs. A column of cells (one x and y, z
     /// ascending) is a run of consecutive keys, so its occupied cells are
     /// consecutive in `cells` and their points in `sorted`: one run per
     /// column, found from its lowest occupied cell (27 hash lookups a cell
     /// were a sixth of a terrain's neighbour search).
-    fn block(&self, centre: [i64; 3], ring: i64, out: &mut Vec<u32>) {
+    fn block(&self, centre: [i64; 3], ring: i64, out: &mut Vec<std::ops::Range<u32>>) {
         let inside = |v: i64| (0..1 << 21).contains(&v);
         let (z0, z1) = ((centre[2] - ring).max(0), (centre[2] + ring).min((1 << 21) - 1));
         for x in (centre[0] - ring..=centre[0] + ring).filter(|&x| inside(x)) {
@@ -71,7 +82,7 @@ impl Grid {
                 let Some(first) = (z0..=z1).find_map(|z| self.lookup.get(&key([x, y, z]))) else { continue };
                 let (first, last) = (*first as usize, key([x, y, z1]));
                 let end = first + 1 + self.cells[first + 1..].iter().take_while(|&&c| c <= last).count();
-                out.extend(self.starts[first]..self.starts[end]);
+                out.push(self.starts[first]..self.starts[end]);
             }
         }
     }
@@ -88,7 +99,9 @@ impl Grid {
             lookup: Default::default(),
             starts: Vec::new(),
             sorted: Vec::new(),
-            pos: Vec::new(),
+            xs: Vec::new(),
+            ys: Vec::new(),
+            zs: Vec::new(),
         };
         let mut keyed: Vec<(u64, u32)> =
             points.par_iter().enumerate().map(|(i, p)| (key(grid.cell_of(*p)), i as u32)).collect();
@@ -101,7 +114,8 @@ impl Grid {
         }
         grid.starts.push(keyed.len() as u32);
         grid.sorted = keyed.into_iter().map(|(_, i)| i).collect();
-        grid.pos = grid.sorted.iter().map(|&i| points[i as usize]).collect();
+        let axis = |a: usize| grid.sorted.par_iter().map(|&i| points[i as usize][a]).collect();
+        (grid.xs, grid.ys, grid.zs) = (axis(0), axis(1), axis(2));
         grid.lookup = grid.cells.iter().enumerate().map(|(at, &k)| (k, at as u32)).collect();
         Some(grid)
     }
@@ -154,33 +168,37 @@ pub fn k_nearest(
     }
     let left = std::sync::Mutex::new(Vec::new());
     let widened = std::sync::atomic::AtomicUsize::new(0);
-    let scratches = || (Vec::new(), Vec::new());
-    rows.into_par_iter().enumerate().with_min_len(64).for_each_init(scratches, |(scratch, candidates), (c, idx)| {
-        let members = grid.starts[c]..grid.starts[c + 1];
-        let centre = grid.cell_of(grid.pos[members.start as usize]);
-        candidates.clear();
-        grid.block(centre, 1, candidates);
-        // The wider block, made for the first point of the cell that needs it and kept for the others.
-        let mut wider: Vec<u32> = Vec::new();
-        // The previous point's k-th squared distance, grown: a guess at this one's.
-        let mut guess = f32::INFINITY;
-        for (row, r) in members.clone().enumerate() {
-            if grid.sorted[r as usize] as usize >= queries {
-                continue;
+    // A task's scratch lists, and its last point's k-th squared distance,
+    // grown: a guess at the next one's (the next cell is the one above or
+    // beside, as dense).
+    let scratches = || (Scratch::default(), Vec::new(), f32::INFINITY);
+    rows.into_par_iter().enumerate().with_min_len(64).for_each_init(
+        scratches,
+        |(scratch, candidates, guess), (c, idx)| {
+            let members = grid.starts[c]..grid.starts[c + 1];
+            let centre = grid.cell_of(grid.at(members.start));
+            candidates.clear();
+            grid.block(centre, 1, candidates);
+            // The wider block, made for the first point of the cell that needs it and kept for the others.
+            let mut wider = Vec::new();
+            for (row, r) in members.clone().enumerate() {
+                if grid.sorted[r as usize] as usize >= queries {
+                    continue;
+                }
+                let q = grid.at(r);
+                let mut row = Row { idx: &mut idx[row * k..(row + 1) * k], scratch };
+                let kth = nearest_among(&grid, r, candidates, &mut row, *guess);
+                *guess = kth.map_or(f32::INFINITY, |d| d * d * GUESS_GROWTH);
+                if kth.is_none_or(|kth| kth > inside_block(&grid, q, centre, 1))
+                    && widened.fetch_add(1, std::sync::atomic::Ordering::Relaxed) < usize::MAX
+                    && !widen(&grid, r, centre, &mut row, &mut wider)
+                {
+                    left.lock().unwrap_or_else(|e| e.into_inner()).push(grid.sorted[r as usize]);
+                }
             }
-            let q = grid.pos[r as usize];
-            let mut row = Row { idx: &mut idx[row * k..(row + 1) * k], scratch };
-            let kth = nearest_among(&grid, r, candidates, &mut row, guess);
-            guess = kth.map_or(f32::INFINITY, |d| d * d * GUESS_GROWTH);
-            if kth.is_none_or(|kth| kth > inside_block(&grid, q, centre, 1))
-                && widened.fetch_add(1, std::sync::atomic::Ordering::Relaxed) < usize::MAX
-                && !widen(&grid, r, centre, &mut row, &mut wider)
-            {
-                left.lock().unwrap_or_else(|e| e.into_inner()).push(grid.sorted[r as usize]);
-            }
-        }
-        on_progress(members.len() as u64);
-    });
+            on_progress(members.len() as u64);
+        },
+    );
     let widened = widened.load(std::sync::atomic::Ordering::Relaxed);
     log::debug!("grid k-nn: cell {h}, {per_cell:.1} points per cell, {widened} points searched beyond their block");
     let neighbours = Neighbours::in_row_order(k, sorted_indices, grid.sorted, queries);
@@ -195,60 +213,90 @@ fn inside_block(grid: &Grid, q: Vec3, centre: [i64; 3], ring: i64) -> f32 {
     (q - block_lo).min(block_hi - q).min_element()
 }
 
-/// Where one point's k neighbours go (k = the rows' length), and a scratch
-/// list of candidates as `squared distance bits << 32 | point index` (a
-/// non-negative f32's bits order as the value does, so plain u64 order is
-/// distance, then index).
-struct Row<'a> {
-    idx: &'a mut [u32],
-    scratch: &'a mut Vec<u64>,
+/// A task's scratch lists: the candidates' squared distances (as bits),
+/// and the candidates kept as `squared distance bits << 32 | point index`
+/// (a non-negative f32's bits order as the value does, so plain u64 order
+/// is distance, then index).
+#[derive(Default)]
+struct Scratch {
+    distances: Vec<u32>,
+    keys: Vec<u64>,
 }
 
-/// The k nearest of `candidates` (places in sorted order) to the point at
-/// place `r` (itself excluded), nearest first, into `row` as point indices,
-/// and the k-th's distance; `None` when there are fewer than k others.
-/// `guess` is a squared distance the k-th likely lies within (the previous
-/// point of the cell's, grown by [`GUESS_GROWTH`]): the k nearest are
-/// selected from the candidates within it when at least k are, which
-/// holds them all, so the rows are exact whatever the guess.
-fn nearest_among(grid: &Grid, r: u32, candidates: &[u32], row: &mut Row<'_>, guess: f32) -> Option<f32> {
-    let (q, k) = (grid.pos[r as usize], row.idx.len());
-    if candidates.len() <= k {
+/// Where one point's k neighbours go (k = the rows' length), and the task's scratch lists.
+struct Row<'a> {
+    idx: &'a mut [u32],
+    scratch: &'a mut Scratch,
+}
+
+/// The k nearest of the points in `runs` (places in sorted order) to the
+/// point at place `r` (itself excluded), nearest first, into `row` as point
+/// indices, and the k-th's distance; `None` when there are fewer than k
+/// others. `guess` is a squared distance the k-th likely lies within (the
+/// previous point's, grown by [`GUESS_GROWTH`]): the k nearest are selected
+/// from the candidates within it when at least k are, which holds them
+/// all, so the rows are exact whatever the guess.
+fn nearest_among(grid: &Grid, r: u32, runs: &[std::ops::Range<u32>], row: &mut Row<'_>, guess: f32) -> Option<f32> {
+    let (q, k) = (grid.at(r), row.idx.len());
+    let count: usize = runs.iter().map(|run| run.len()).sum();
+    if count <= k {
         return None;
     }
-    let scratch = &mut *row.scratch;
-    scratch.resize(candidates.len(), u64::MAX);
-    // Ties go to the lower point index.
-    let key = |j: u32| {
-        ((grid.pos[j as usize].distance_squared(q).max(0.0).to_bits() as u64) << 32) | grid.sorted[j as usize] as u64
-    };
-    // The point itself is among the candidates (its own cell is in every
-    // block): its key is the largest of all. Keys are written in place and
-    // kept (the count moved on) only when within `limit`: no branch (a
-    // filtered iterator grew the list one checked push at a time, a fifth
-    // of an airborne tile's load).
-    let within = |limit: u64, scratch: &mut [u64]| {
-        let mut kept = 0;
-        for &j in candidates {
-            let key = if j == r { u64::MAX } else { key(j) };
-            scratch[kept] = key;
-            kept += usize::from(key <= limit);
+    let Scratch { distances, keys } = &mut *row.scratch;
+    // Every candidate's squared distance, a run at a time over the axes'
+    // arrays (no gather, no branch: the compiler computes several at once).
+    distances.resize(count, 0);
+    let mut at = 0;
+    for run in runs {
+        let (from, to) = (run.start as usize, run.end as usize);
+        let out = &mut distances[at..at + run.len()];
+        for (((d, x), y), z) in out.iter_mut().zip(&grid.xs[from..to]).zip(&grid.ys[from..to]).zip(&grid.zs[from..to]) {
+            let (dx, dy, dz) = (x - q.x, y - q.y, z - q.z);
+            *d = (dx * dx + dy * dy + dz * dz).max(0.0).to_bits();
+        }
+        if run.contains(&r) {
+            // The point itself (its own cell is in every block): above every
+            // limit but the last, and then the largest key.
+            out[(r - run.start) as usize] = u32::MAX;
+        }
+        at += run.len();
+    }
+    // Keys are written in place and kept (the count moved on) only when
+    // within `limit`: no branch (a filtered iterator grew the list one
+    // checked push at a time, a fifth of an airborne tile's load). Ties go
+    // to the lower point index.
+    keys.resize(count, u64::MAX);
+    let within = |limit: u32, keys: &mut [u64]| {
+        let (mut kept, mut at) = (0, 0);
+        for run in runs {
+            let places = &grid.sorted[run.start as usize..run.end as usize];
+            for (&d, &point) in distances[at..at + run.len()].iter().zip(places) {
+                keys[kept] = (u64::from(d) << 32) | u64::from(point);
+                kept += usize::from(d <= limit);
+            }
+            at += run.len();
         }
         kept
     };
     // Those within the guess first; when fewer than k are, the guess was
     // too small: all of them.
-    let mut kept = within((u64::from(guess.to_bits()) << 32) | u64::from(u32::MAX), scratch);
+    let mut kept = within(guess.to_bits(), keys);
     if kept < k {
-        kept = within(u64::MAX, scratch);
+        kept = within(u32::MAX, keys);
     }
-    let scratch = &mut scratch[..kept];
-    scratch.select_nth_unstable(k - 1);
-    scratch[..k].sort_unstable();
-    for (slot, &packed) in scratch[..k].iter().enumerate() {
+    let keys = &mut keys[..kept];
+    // Within a good guess few more than k are kept: sorting them all is
+    // cheaper than selecting first.
+    if kept > 2 * k {
+        keys.select_nth_unstable(k - 1);
+        keys[..k].sort_unstable();
+    } else {
+        keys.sort_unstable();
+    }
+    for (slot, &packed) in keys[..k].iter().enumerate() {
         row.idx[slot] = packed as u32;
     }
-    Some(f32::from_bits((scratch[k - 1] >> 32) as u32).sqrt())
+    Some(f32::from_bits((keys[k - 1] >> 32) as u32).sqrt())
 }
 
 /// The neighbours of the point at place `r` from the block of cells within
@@ -256,8 +304,8 @@ fn nearest_among(grid: &Grid, r: u32, candidates: &[u32], row: &mut Row<'_>, gue
 /// not. `wider` keeps that block's points for the next point of the same
 /// cell (on an airborne tile 6 % of the points widen, most of them beside
 /// another of their cell that does).
-fn widen(grid: &Grid, r: u32, centre: [i64; 3], row: &mut Row<'_>, wider: &mut Vec<u32>) -> bool {
-    let q = grid.pos[r as usize];
+fn widen(grid: &Grid, r: u32, centre: [i64; 3], row: &mut Row<'_>, wider: &mut Vec<std::ops::Range<u32>>) -> bool {
+    let q = grid.at(r);
     if wider.is_empty() {
         grid.block(centre, MAX_RING, wider);
     }
