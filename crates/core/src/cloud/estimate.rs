@@ -1,25 +1,26 @@
 //! Estimating what a file lacks: normals (PCA + consistent orientation) and radii.
 //!
 //! Normals: the eigenvector of the smallest eigenvalue of the covariance of
-//! each point's k nearest neighbours. Their signs are made consistent by
-//! propagating along a minimum spanning tree of the neighbour graph, with edge
-//! cost 1 - |n_i . n_j| (Hoppe et al. 1992), so orientation never flips
-//! across a smooth surface. Each connected piece then gets its global sign:
-//! towards the scanner when the file's origin lies outside the cloud and sees
-//! (almost) every point from the front, as in a single-view scan; otherwise
-//! outwards, away from the cloud's centre. Airborne scans (LAS/LAZ, and
-//! geo-referenced terrain) have no scanner position to face: their normals
-//! face up (+z), each on its own, with no tree to propagate along
-//! ([`EstimateOptions::orient_up`]).
+//! each point's k nearest neighbours ([`super::eigen`]). Their signs are made
+//! consistent by propagating along a minimum spanning tree of the neighbour
+//! graph, with edge cost 1 - |n_i . n_j| (Hoppe et al. 1992), so orientation
+//! never flips across a smooth surface. Each connected piece then gets its
+//! global sign: towards the scanner when the file's origin lies outside the
+//! cloud and sees (almost) every point from the front, as in a single-view
+//! scan; otherwise outwards, away from the cloud's centre. Airborne scans
+//! (LAS/LAZ, and geo-referenced terrain) have no scanner position to face:
+//! their normals face up (+z), each on its own, with no tree to propagate
+//! along ([`EstimateOptions::orient_up`]).
 //!
 //! Radii: a multiple of the mean distance to the k nearest neighbours, so
 //! neighbouring splats overlap and cover the surface; outliers are clamped
 //! to a multiple of the median.
 
-use glam::{DVec3, Mat3, Vec3};
+use glam::Vec3;
 use rayon::prelude::*;
 
 use super::PointCloud;
+use super::eigen::{covariance, smallest_eigenvector};
 use crate::spatial::knn::{self, Neighbours};
 
 /// Radii are clamped to this multiple of the median radius.
@@ -132,6 +133,8 @@ fn complete_first(
         let neighbours = knn::k_nearest_of_first(&cloud.positions, queries, k, &tick);
         bar.finish();
         log::debug!("{} nearest neighbours of {} points: {:.3} s", k, cloud.len(), started.elapsed().as_secs_f64());
+        // Each point's radius before clamping, when the normals' pass made them.
+        let mut raw_radii = None;
         if any_normal {
             match line_direction(&cloud.positions) {
                 // A line has no surface normal: face the splats across the line, towards the front view (+z).
@@ -144,7 +147,8 @@ fn complete_first(
                 }
                 None => {
                     let started = std::time::Instant::now();
-                    estimate_normals(cloud, &neighbours, needs_normal, options.normal_neighbours);
+                    let radii = any_radius.then(|| (radius_neighbours(options, neighbours.k), options.radius_scale));
+                    raw_radii = estimate_normals(cloud, &neighbours, needs_normal, options.normal_neighbours, radii);
                     log::debug!("normals: {:.3} s", started.elapsed().as_secs_f64());
                     let started = std::time::Instant::now();
                     match facing {
@@ -156,7 +160,7 @@ fn complete_first(
             }
         }
         if any_radius {
-            let (isolated, clamped) = estimate_radii(cloud, &neighbours, needs_radius, options);
+            let (isolated, clamped) = estimate_radii(cloud, &neighbours, needs_radius, options, raw_radii);
             out.isolated_points = isolated;
             out.clamped_radii = clamped;
         }
@@ -187,13 +191,24 @@ fn across(direction: Vec3, towards: Vec3) -> Option<Vec3> {
 /// and up to 63 neighbours); a larger one is gathered on the heap.
 const STACK_NEIGHBOURHOOD: usize = 64;
 
-fn estimate_normals(cloud: &mut PointCloud, nb: &Neighbours, needed: &[bool], k: usize) {
+/// The normals of the points `needed`, from their `k` nearest; and, with
+/// `radii` (neighbours, scale), every point's radius before clamping
+/// ([`raw_radius`]) from the same rows while they are read (a pass of its
+/// own read every row and neighbour again).
+fn estimate_normals(
+    cloud: &mut PointCloud,
+    nb: &Neighbours,
+    needed: &[bool],
+    k: usize,
+    radii: Option<(usize, f32)>,
+) -> Option<Vec<f32>> {
     let positions = &cloud.positions;
     let k = k.min(nb.k);
     let residuals = &cloud.residuals;
-    let normals = nb.map_rows(|i, around| {
+    let estimated = nb.map_rows(|i, around| {
+        let radius = radii.map_or(0.0, |(kr, scale)| raw_radius(positions, i, &around[..kr], scale));
         if !needed[i] {
-            return None;
+            return (None, radius);
         }
         let around = &around[..k];
         // Each neighbour is read once, into this list (itself first), and
@@ -222,119 +237,14 @@ fn estimate_normals(cloud: &mut PointCloud, nb: &Neighbours, needed: &[bool], k:
             }
             (points[0] + points[1..].iter().sum::<Vec3>()) / (k + 1) as f32
         };
-        Some(smallest_eigenvector(covariance(points, centre)).unwrap_or(Vec3::Z))
+        (Some(smallest_eigenvector(covariance(points, centre)).unwrap_or(Vec3::Z)), radius)
     });
-    for (n, estimated) in cloud.normals.iter_mut().zip(normals) {
+    for (n, (estimated, _)) in cloud.normals.iter_mut().zip(&estimated) {
         if let Some(estimated) = estimated {
-            *n = estimated;
+            *n = *estimated;
         }
     }
-}
-
-/// The sum of (p - centre)(p - centre)ᵀ over `points`: its six distinct
-/// entries accumulated once each (a product and its mirror are the same
-/// f32, so the matrix is the one a full outer product per point makes).
-fn covariance(points: &[Vec3], centre: Vec3) -> Mat3 {
-    let (mut xx, mut xy, mut xz, mut yy, mut yz, mut zz) = (0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32);
-    for p in points {
-        let d = *p - centre;
-        xx += d.x * d.x;
-        xy += d.y * d.x;
-        xz += d.z * d.x;
-        yy += d.y * d.y;
-        yz += d.z * d.y;
-        zz += d.z * d.z;
-    }
-    Mat3::from_cols(Vec3::new(xx, xy, xz), Vec3::new(xy, yy, yz), Vec3::new(xz, yz, zz))
-}
-
-/// Unit eigenvector of the smallest eigenvalue of a symmetric 3x3 matrix.
-///
-/// In closed form where the smallest eigenvalue stands apart (a surface's
-/// neighbourhood: the common case, a third of the time of the sweeps), else
-/// by cyclic Jacobi rotations ([`jacobi_smallest_eigenvector`]). No
-/// linear-algebra crate for one call.
-pub fn smallest_eigenvector(m: Mat3) -> Option<Vec3> {
-    closed_form_smallest_eigenvector(m).or_else(|| jacobi_smallest_eigenvector(m))
-}
-
-/// The smallest eigenvalue by the trigonometric solution of the
-/// characteristic cubic (Smith 1961), in f64 on the matrix scaled to unit
-/// size; its eigenvector as the largest cross product of two rows of
-/// A - λI. `None` where the two smallest eigenvalues are within 1e-6 of the
-/// spread, or the cross products vanish: the sweeps decide there.
-fn closed_form_smallest_eigenvector(m: Mat3) -> Option<Vec3> {
-    let a = m.to_cols_array_2d().map(|c| c.map(|v| v as f64));
-    let scale = a.iter().flatten().fold(0.0f64, |s, v| s.max(v.abs()));
-    if !(scale > 0.0 && scale.is_finite()) {
-        return None;
-    }
-    let a = a.map(|c| c.map(|v| v / scale));
-    let off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
-    let q = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
-    let p2 = (a[0][0] - q).powi(2) + (a[1][1] - q).powi(2) + (a[2][2] - q).powi(2) + 2.0 * off;
-    let p = (p2 / 6.0).sqrt();
-    if p < 1e-12 {
-        return None;
-    }
-    let b = a.map(|c| c.map(|v| v / p));
-    let b =
-        [[b[0][0] - q / p, b[0][1], b[0][2]], [b[1][0], b[1][1] - q / p, b[1][2]], [b[2][0], b[2][1], b[2][2] - q / p]];
-    let det = b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) - b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0])
-        + b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0]);
-    let phi = (det / 2.0).clamp(-1.0, 1.0).acos() / 3.0;
-    let third = 2.0 * std::f64::consts::PI / 3.0;
-    let smallest = q + 2.0 * p * (phi + third).cos();
-    let middle = q + 2.0 * p * (phi - third).cos();
-    if middle - smallest < 1e-6 * p {
-        return None;
-    }
-    let rows: [DVec3; 3] = std::array::from_fn(|i| DVec3::new(a[0][i], a[1][i], a[2][i]) - smallest * DVec3::AXES[i]);
-    let best = [rows[0].cross(rows[1]), rows[0].cross(rows[2]), rows[1].cross(rows[2])]
-        .into_iter()
-        .max_by(|x, y| x.length_squared().total_cmp(&y.length_squared()))?;
-    let len = best.length();
-    (len > 1e-9 && len.is_finite()).then(|| (best / len).as_vec3())
-}
-
-/// Unit eigenvector of the smallest eigenvalue by cyclic Jacobi rotations:
-/// exact for any symmetric matrix, also where eigenvalues repeat.
-pub fn jacobi_smallest_eigenvector(m: Mat3) -> Option<Vec3> {
-    let mut a = m.to_cols_array_2d().map(|c| c.map(|v| v as f64));
-    let mut v = [[1.0f64, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    for _sweep in 0..24 {
-        let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
-        if off < 1e-30 {
-            break;
-        }
-        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
-            if a[p][q].abs() < 1e-300 {
-                continue;
-            }
-            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
-            let t = if theta == 0.0 { 1.0 } else { t };
-            let c = 1.0 / (t * t + 1.0).sqrt();
-            let s = t * c;
-            for row in a.iter_mut() {
-                let (akp, akq) = (row[p], row[q]);
-                row[p] = c * akp - s * akq;
-                row[q] = s * akp + c * akq;
-            }
-            let (row_p, row_q) = (a[p], a[q]);
-            a[p] = std::array::from_fn(|k| c * row_p[k] - s * row_q[k]);
-            a[q] = std::array::from_fn(|k| s * row_p[k] + c * row_q[k]);
-            for row in v.iter_mut() {
-                let (vp, vq) = (row[p], row[q]);
-                row[p] = c * vp - s * vq;
-                row[q] = s * vp + c * vq;
-            }
-        }
-    }
-    let smallest = (0..3).min_by(|&x, &y| a[x][x].total_cmp(&a[y][y]))?;
-    let e = Vec3::new(v[0][smallest] as f32, v[1][smallest] as f32, v[2][smallest] as f32);
-    let len = e.length();
-    (len.is_finite() && len > 1e-6).then(|| e / len)
+    radii.map(|_| estimated.into_iter().map(|(_, radius)| radius).collect())
 }
 
 /// Makes estimated normal signs consistent (MST propagation), then picks each
@@ -509,23 +419,37 @@ pub fn median_radius(radii: &[f32]) -> Option<f32> {
 }
 
 /// Returns (isolated points, clamped radii).
+/// Neighbours whose mean distance sets a radius, of rows of `k`.
+fn radius_neighbours(options: &EstimateOptions, k: usize) -> usize {
+    options.radius_neighbours.min(k).max(1)
+}
+
+/// Point i's radius before clamping: `scale` × the mean distance to the
+/// neighbours `around` that are not at its place (the distances the search
+/// measured: f32 positions, as it reads them); 0 when none is.
+fn raw_radius(positions: &[Vec3], i: usize, around: &[u32], scale: f32) -> f32 {
+    let (sum, count) = around
+        .iter()
+        .map(|&j| positions[j as usize].distance_squared(positions[i]).max(0.0).sqrt())
+        .filter(|&x| x > 0.0 && x.is_finite())
+        .fold((0.0f32, 0u32), |(sum, count), x| (sum + x, count + 1));
+    if count == 0 { 0.0 } else { scale * sum / count as f32 }
+}
+
+/// The radii of the points `needed`: each point's raw radius (`raw` when
+/// the normals' pass made them), clamped to [`MAX_RADIUS_OVER_MEDIAN`] ×
+/// the median of every point's.
 fn estimate_radii(
     cloud: &mut PointCloud,
     nb: &Neighbours,
     needed: &[bool],
     options: &EstimateOptions,
+    raw: Option<Vec<f32>>,
 ) -> (usize, usize) {
-    let k = options.radius_neighbours.min(nb.k).max(1);
+    let k = radius_neighbours(options, nb.k);
     let positions = &cloud.positions;
-    // The distances the search measured (f32 positions, as it reads them).
-    let raw: Vec<f32> = nb.map_rows(|i, around| {
-        let (sum, count) = around[..k]
-            .iter()
-            .map(|&j| positions[j as usize].distance_squared(positions[i]).max(0.0).sqrt())
-            .filter(|&x| x > 0.0 && x.is_finite())
-            .fold((0.0f32, 0u32), |(sum, count), x| (sum + x, count + 1));
-        if count == 0 { 0.0 } else { options.radius_scale * sum / count as f32 }
-    });
+    let raw =
+        raw.unwrap_or_else(|| nb.map_rows(|i, around| raw_radius(positions, i, &around[..k], options.radius_scale)));
     // Every point coincides when none is positive: give them a radius that is visible.
     let median = median_radius(&raw).unwrap_or(1.0);
     let (mut isolated, mut clamped) = (0, 0);
@@ -544,72 +468,4 @@ fn estimate_radii(
         };
     }
     (isolated, clamped)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_smallest_eigenvector_of_a_flat_covariance_is_its_normal() {
-        // Points spread in a plane with normal n: covariance = I - n n^T (scaled).
-        for n in [Vec3::X, Vec3::new(1.0, 2.0, -0.5).normalize(), Vec3::new(-0.3, 0.1, 0.9).normalize()] {
-            let cov = Mat3::IDENTITY - Mat3::from_cols(n * n.x, n * n.y, n * n.z);
-            let e = smallest_eigenvector(cov).unwrap();
-            assert!(e.dot(n).abs() > 1.0 - 1e-5, "{e} vs {n}");
-        }
-    }
-
-    #[test]
-    fn the_covariance_is_the_sum_of_full_outer_products_bit_for_bit() {
-        let mut seed = 11u64;
-        let mut next = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 40) as f32 / (1u64 << 24) as f32 * 7.0 - 3.0
-        };
-        for _ in 0..200 {
-            let points: Vec<Vec3> = (0..17).map(|_| Vec3::new(next(), next(), next() * 0.01)).collect();
-            let centre = points.iter().sum::<Vec3>() / 17.0;
-            let mut full = Mat3::ZERO;
-            for d in points.iter().map(|p| *p - centre) {
-                full += Mat3::from_cols(d * d.x, d * d.y, d * d.z);
-            }
-            let bits = |m: Mat3| m.to_cols_array().map(f32::to_bits);
-            assert_eq!(bits(covariance(&points, centre)), bits(full));
-        }
-    }
-
-    #[test]
-    fn the_closed_form_agrees_with_the_sweeps_on_random_neighbourhoods() {
-        let mut seed = 3u64;
-        let mut next = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 40) as f32 / (1u64 << 24) as f32 - 0.5
-        };
-        let mut closed = 0;
-        for round in 0..2000 {
-            // A noisy patch of 17 points: flat, thick, or a blob.
-            let thickness = [0.01, 0.2, 1.0][round % 3];
-            let (u, v) = (Vec3::new(next(), next(), next()).normalize(), Vec3::new(next(), next(), next()).normalize());
-            let n = u.cross(v).normalize();
-            let points: Vec<Vec3> = (0..17).map(|_| u * next() + v * next() + n * next() * thickness).collect();
-            let centre = points.iter().sum::<Vec3>() / 17.0;
-            let cov = points.iter().fold(Mat3::ZERO, |c, p| {
-                let d = *p - centre;
-                c + Mat3::from_cols(d * d.x, d * d.y, d * d.z)
-            });
-            let (Some(a), Some(b)) = (closed_form_smallest_eigenvector(cov), jacobi_smallest_eigenvector(cov)) else {
-                continue;
-            };
-            closed += 1;
-            assert!(a.dot(b).abs() > 1.0 - 1e-4, "{a} vs {b} for {cov}");
-        }
-        assert!(closed > 1900, "the closed form decided only {closed} of 2000");
-    }
-
-    #[test]
-    fn a_zero_matrix_has_no_preferred_direction_but_gives_a_unit_vector() {
-        let e = smallest_eigenvector(Mat3::ZERO).unwrap();
-        assert!((e.length() - 1.0).abs() < 1e-6);
-    }
 }

@@ -13,6 +13,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
 use super::attributes::Attributes;
 use super::colour::to_u8;
@@ -289,15 +290,16 @@ fn read_positions(
 ) -> Result<(Vec<DVec3>, Vec<bool>), CloudError> {
     let n = data.vertex_count;
     let xyz = columns(data, &["x", "y", "z"]).ok_or_else(|| CloudError::content(path, "vertices have no x/y/z"))?;
-    let positions: Vec<DVec3> = (0..n).map(|i| DVec3::new(xyz[0][i], xyz[1][i], xyz[2][i])).collect();
+    // In parallel: on one thread these passes were a twentieth of a 2M-point file's load.
+    let positions: Vec<DVec3> = (0..n).into_par_iter().map(|i| DVec3::new(xyz[0][i], xyz[1][i], xyz[2][i])).collect();
     let mut malformed = vec![false; n];
     for &i in &data.malformed_vertices {
         if let Some(m) = malformed.get_mut(i) {
             *m = true;
         }
     }
-    let keep: Vec<bool> = positions.iter().zip(&malformed).map(|(p, m)| p.is_finite() && !m).collect();
-    let non_finite = positions.iter().zip(&malformed).filter(|(p, m)| !p.is_finite() && !**m).count();
+    let keep: Vec<bool> = positions.par_iter().zip(&malformed).map(|(p, m)| p.is_finite() && !m).collect();
+    let non_finite = positions.par_iter().zip(&malformed).filter(|(p, m)| !p.is_finite() && !**m).count();
     skipped_records(data, non_finite, warnings);
     Ok((positions, keep))
 }

@@ -14,6 +14,7 @@ pub mod crs_units;
 pub mod duplicates;
 pub mod e57_file;
 mod e57_sections;
+mod eigen;
 mod error;
 pub mod estimate;
 mod file_info;
