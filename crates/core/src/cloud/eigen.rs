@@ -43,19 +43,7 @@ pub fn smallest_eigenvector(m: Mat3) -> Option<Vec3> {
 /// A - λI. `None` where the two smallest eigenvalues are within 1e-6 of the
 /// spread, or the cross products vanish: the sweeps decide there.
 fn closed_form_smallest_eigenvector(m: Mat3) -> Option<Vec3> {
-    let a = m.to_cols_array_2d().map(|c| c.map(|v| v as f64));
-    let scale = a.iter().flatten().fold(0.0f64, |s, v| s.max(v.abs()));
-    if !(scale > 0.0 && scale.is_finite()) {
-        return None;
-    }
-    let a = a.map(|c| c.map(|v| v / scale));
-    let off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
-    let q = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
-    let p2 = (a[0][0] - q).powi(2) + (a[1][1] - q).powi(2) + (a[2][2] - q).powi(2) + 2.0 * off;
-    let p = (p2 / 6.0).sqrt();
-    if p < 1e-12 {
-        return None;
-    }
+    let (a, q, p) = unit_scaled(m)?;
     let (smallest, middle) = newton_smallest_eigenvalues(&a).unwrap_or_else(|| trigonometric_eigenvalues(&a, q, p));
     if middle - smallest < 1e-6 * p {
         return None;
@@ -66,6 +54,23 @@ fn closed_form_smallest_eigenvector(m: Mat3) -> Option<Vec3> {
         .max_by(|x, y| x.length_squared().total_cmp(&y.length_squared()))?;
     let len = best.length();
     (len > 1e-9 && len.is_finite()).then(|| (best / len).as_vec3())
+}
+
+/// `m` in f64 divided by its largest entry, with a third of its trace `q`
+/// and its spread `p` = √(|A - qI|²/6); `None` where it is zero, not
+/// finite, or a multiple of the identity (every direction is an eigenvector).
+fn unit_scaled(m: Mat3) -> Option<([[f64; 3]; 3], f64, f64)> {
+    let a = m.to_cols_array_2d().map(|c| c.map(|v| v as f64));
+    let scale = a.iter().flatten().fold(0.0f64, |s, v| s.max(v.abs()));
+    if !(scale > 0.0 && scale.is_finite()) {
+        return None;
+    }
+    let a = a.map(|c| c.map(|v| v / scale));
+    let off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+    let q = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
+    let p2 = (a[0][0] - q).powi(2) + (a[1][1] - q).powi(2) + (a[2][2] - q).powi(2) + 2.0 * off;
+    let p = (p2 / 6.0).sqrt();
+    (p >= 1e-12).then_some((a, q, p))
 }
 
 /// Newton steps at most, from 0 to the smallest eigenvalue: a surface's
@@ -233,27 +238,14 @@ mod tests {
     #[test]
     fn newtons_eigenvalues_are_the_trigonometric_ones_on_flat_and_thick_patches() {
         let mut random = uniform(9);
-        let mut next = || random() - 0.5;
+        let mut next = || random() as f32 - 0.5;
         let mut settled = 0;
         for round in 0..3000 {
-            // A patch of 17 points, from flat to a blob, as the closed form scales it.
+            // A patch of 17 points, from flat to a blob.
             let thickness = [0.001, 0.01, 0.2, 1.0][round % 4];
-            let points: Vec<[f64; 3]> = (0..17).map(|_| [next(), next() * 0.7, next() * thickness]).collect();
-            let mean = |k: usize| points.iter().map(|p| p[k]).sum::<f64>() / 17.0;
-            let centre = [mean(0), mean(1), mean(2)];
-            let mut a = [[0.0f64; 3]; 3];
-            for p in &points {
-                for (r, row) in a.iter_mut().enumerate() {
-                    for (c, v) in row.iter_mut().enumerate() {
-                        *v += (p[r] - centre[r]) * (p[c] - centre[c]);
-                    }
-                }
-            }
-            let scale = a.iter().flatten().fold(0.0f64, |s, v| s.max(v.abs()));
-            let a = a.map(|row| row.map(|v| v / scale));
-            let q = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
-            let off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
-            let p = (((a[0][0] - q).powi(2) + (a[1][1] - q).powi(2) + (a[2][2] - q).powi(2) + 2.0 * off) / 6.0).sqrt();
+            let points: Vec<Vec3> = (0..17).map(|_| Vec3::new(next(), next() * 0.7, next() * thickness)).collect();
+            let centre = points.iter().sum::<Vec3>() / 17.0;
+            let Some((a, q, p)) = unit_scaled(covariance(&points, centre)) else { continue };
             let (smallest, middle) = trigonometric_eigenvalues(&a, q, p);
             if let Some((newton_smallest, newton_middle)) = newton_smallest_eigenvalues(&a) {
                 settled += 1;

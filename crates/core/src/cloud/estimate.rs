@@ -418,7 +418,6 @@ pub fn median_radius(radii: &[f32]) -> Option<f32> {
     (!sorted.is_empty()).then(|| *sorted.select_nth_unstable_by(mid, f32::total_cmp).1)
 }
 
-/// Returns (isolated points, clamped radii).
 /// Neighbours whose mean distance sets a radius, of rows of `k`.
 fn radius_neighbours(options: &EstimateOptions, k: usize) -> usize {
     options.radius_neighbours.min(k).max(1)
@@ -438,7 +437,7 @@ fn raw_radius(positions: &[Vec3], i: usize, around: &[u32], scale: f32) -> f32 {
 
 /// The radii of the points `needed`: each point's raw radius (`raw` when
 /// the normals' pass made them), clamped to [`MAX_RADIUS_OVER_MEDIAN`] ×
-/// the median of every point's.
+/// the median of every point's. Returns (isolated points, clamped radii).
 fn estimate_radii(
     cloud: &mut PointCloud,
     nb: &Neighbours,
