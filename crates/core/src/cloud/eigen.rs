@@ -30,8 +30,7 @@ pub(crate) fn covariance(points: &[Vec3], centre: Vec3) -> Mat3 {
 ///
 /// In closed form where the smallest eigenvalue stands apart (a surface's
 /// neighbourhood: the common case, a third of the time of the sweeps), else
-/// by cyclic Jacobi rotations ([`jacobi_smallest_eigenvector`]). No
-/// linear-algebra crate for one call.
+/// by cyclic Jacobi rotations ([`jacobi_smallest_eigenvector`]).
 pub fn smallest_eigenvector(m: Mat3) -> Option<Vec3> {
     closed_form_smallest_eigenvector(m).or_else(|| jacobi_smallest_eigenvector(m))
 }
@@ -91,8 +90,7 @@ fn newton_smallest_eigenvalues(a: &[[f64; 3]; 3]) -> Option<(f64, f64)> {
     let c2 = a[0][0] + a[1][1] + a[2][2];
     let c1 = a[0][0] * a[1][1] - a[0][1] * a[0][1] + a[0][0] * a[2][2] - a[0][2] * a[0][2] + a[1][1] * a[2][2]
         - a[1][2] * a[1][2];
-    let c0 = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
-        + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+    let c0 = determinant(a);
     let g = |l: f64| ((c2 - l) * l - c1) * l + c0;
     let slope = |l: f64| (2.0 * c2 - 3.0 * l) * l - c1;
     if !(c0 > 0.0 && c2 > 0.0) {
@@ -125,11 +123,15 @@ fn trigonometric_eigenvalues(a: &[[f64; 3]; 3], q: f64, p: f64) -> (f64, f64) {
     let b = a.map(|c| c.map(|v| v / p));
     let b =
         [[b[0][0] - q / p, b[0][1], b[0][2]], [b[1][0], b[1][1] - q / p, b[1][2]], [b[2][0], b[2][1], b[2][2] - q / p]];
-    let det = b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) - b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0])
-        + b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0]);
-    let phi = (det / 2.0).clamp(-1.0, 1.0).acos() / 3.0;
+    let phi = (determinant(&b) / 2.0).clamp(-1.0, 1.0).acos() / 3.0;
     let third = 2.0 * std::f64::consts::PI / 3.0;
     (q + 2.0 * p * (phi + third).cos(), q + 2.0 * p * (phi - third).cos())
+}
+
+/// The determinant of `m`, by its first row.
+fn determinant(m: &[[f64; 3]; 3]) -> f64 {
+    m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
 }
 
 /// Unit eigenvector of the smallest eigenvalue by cyclic Jacobi rotations:
@@ -184,6 +186,11 @@ mod tests {
         }
     }
 
+    /// The covariance of `points` about their mean, as the estimation makes it.
+    fn centred_covariance(points: &[Vec3]) -> Mat3 {
+        covariance(points, points.iter().sum::<Vec3>() / points.len() as f32)
+    }
+
     #[test]
     fn the_smallest_eigenvector_of_a_flat_covariance_is_its_normal() {
         // Points spread in a plane with normal n: covariance = I - n n^T (scaled).
@@ -221,11 +228,7 @@ mod tests {
             let (u, v) = (Vec3::new(next(), next(), next()).normalize(), Vec3::new(next(), next(), next()).normalize());
             let n = u.cross(v).normalize();
             let points: Vec<Vec3> = (0..17).map(|_| u * next() + v * next() + n * next() * thickness).collect();
-            let centre = points.iter().sum::<Vec3>() / 17.0;
-            let cov = points.iter().fold(Mat3::ZERO, |c, p| {
-                let d = *p - centre;
-                c + Mat3::from_cols(d * d.x, d * d.y, d * d.z)
-            });
+            let cov = centred_covariance(&points);
             let (Some(a), Some(b)) = (closed_form_smallest_eigenvector(cov), jacobi_smallest_eigenvector(cov)) else {
                 continue;
             };
@@ -244,8 +247,7 @@ mod tests {
             // A patch of 17 points, from flat to a blob.
             let thickness = [0.001, 0.01, 0.2, 1.0][round % 4];
             let points: Vec<Vec3> = (0..17).map(|_| Vec3::new(next(), next() * 0.7, next() * thickness)).collect();
-            let centre = points.iter().sum::<Vec3>() / 17.0;
-            let Some((a, q, p)) = unit_scaled(covariance(&points, centre)) else { continue };
+            let Some((a, q, p)) = unit_scaled(centred_covariance(&points)) else { continue };
             let (smallest, middle) = trigonometric_eigenvalues(&a, q, p);
             if let Some((newton_smallest, newton_middle)) = newton_smallest_eigenvalues(&a) {
                 settled += 1;
